@@ -1,0 +1,50 @@
+// The options of one job, resolved from the scene's defaults and the user's overrides. The local
+// renderer (`tessera-worker render`) and the farm resolve them with the same function so that the
+// same command line means the same job, and the same bits.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "job/job_plan.h"
+#include "scene/scene.h"
+
+namespace tessera {
+
+/// What a user may override; an empty optional keeps the scene's value or the default.
+struct JobOverrides {
+  std::optional<int64_t> spp;
+  std::optional<int> width, height;
+  std::optional<int> tile_size;
+  std::optional<int64_t> batch_spp;
+  std::optional<int64_t> seed;
+  std::optional<int> max_depth;
+  std::optional<std::string> isa;  ///< Embree ISA to pin ("sse2", "sse4.2", "avx", "avx2", "avx512")
+};
+
+struct JobOptions {
+  int width = 0, height = 0;
+  uint32_t spp = 0;
+  int max_depth = -1;  ///< Mitsuba convention; -1 unbounded
+  uint64_t seed = 0;
+  int tile_size = 64;
+  uint32_t batch_spp = 0;  ///< resolved: never 0
+  std::string isa;         ///< empty = Embree picks the best for the CPU
+
+  JobPlan plan() const;
+};
+
+/// Limits on what a job may ask for (issue 7 makes them configurable).
+struct JobLimits {
+  int64_t max_spp = int64_t(1) << 31;
+  int max_dimension = 32768;  ///< width and height
+  int max_tile = 4096;
+};
+
+/// Resolves and validates. Throws std::invalid_argument with a message naming the option, e.g.
+/// "--spp: must be >= 1 (got -3)".
+JobOptions resolve_job_options(const Scene& scene, const JobOverrides& overrides,
+                               const JobLimits& limits = {});
+
+}  // namespace tessera

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# The whole test suite, from a fresh Debian 12 machine: installs what is needed, builds a
+# release build and runs every test, then builds with AddressSanitizer + UndefinedBehaviorSanitizer
+# and runs every test but the long statistical ones (label "slow") under them.
+set -euo pipefail
+ROOT="$(cd "$(dirname "$0")/.." && pwd)"
+"$ROOT/scripts/install-deps.sh"
+
+JOBS="${JOBS:-$(nproc)}"
+
+echo "== release build"
+BUILD_DIR="$ROOT/build" "$ROOT/scripts/build.sh" -DCMAKE_BUILD_TYPE=Release
+echo "== release tests"
+(cd "$ROOT/build" && ctest --output-on-failure -j "$JOBS" --timeout 1200)
+
+if [ "${TESSERA_SKIP_SANITIZERS:-0}" != "1" ]; then
+  echo "== sanitizer build (ASan + UBSan)"
+  BUILD_DIR="$ROOT/build-asan" "$ROOT/scripts/build.sh" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTESSERA_SANITIZE=ON
+  echo "== sanitizer tests"
+  (cd "$ROOT/build-asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+     ctest --output-on-failure -j "$JOBS" --timeout 1200 -LE slow)
+fi
+echo "== all tests passed"

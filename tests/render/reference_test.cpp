@@ -1,0 +1,119 @@
+// The renderer against Mitsuba 3's reference images of the Cornell box, and the invariances a
+// correct renderer has: scale, an invisible glass sphere.
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "accum/film.h"
+#include "image_compare.h"
+#include "local_render.h"
+#include "scene/scene_loader.h"
+
+namespace tessera {
+namespace {
+
+const std::string kSource = TESSERA_SOURCE_DIR;
+
+Scene cornell() { return load_scene_file(kSource + "/scenes/cornell.json"); }
+
+RgbImage render(const Scene& scene, uint32_t spp, int max_depth, uint64_t seed = 0, int size = 0) {
+  JobOverrides o;
+  o.spp = spp;
+  o.max_depth = max_depth;
+  o.seed = int64_t(seed);
+  if (size > 0) o.width = o.height = size;
+  const JobOptions options = resolve_job_options(scene, o);
+  const LocalRenderResult r = render_job(scene, options);
+  return resolve_image(options.width, options.height, r.tiles);
+}
+
+struct ReferenceCase {
+  int max_depth;
+  const char* reference;
+};
+
+class CornellReference : public ::testing::TestWithParam<ReferenceCase> {};
+
+TEST_P(CornellReference, MeanAndRmseMatchMitsuba) {
+  const ReferenceCase c = GetParam();
+  const RgbImage ref = read_image(kSource + "/tests/data/reference/cbox/" + c.reference);
+  const RgbImage img = render(cornell(), 1024, c.max_depth);
+  ASSERT_EQ(img.width, ref.width);
+  ASSERT_EQ(img.height, ref.height);
+  const glm::dvec3 got = test::channel_means(img), want = test::channel_means(ref);
+  const double error = test::rmse(img, ref);
+  std::printf("max_depth %d: mean %.6f %.6f %.6f (reference %.6f %.6f %.6f), RMSE %.5f\n",
+              c.max_depth, got.x, got.y, got.z, want.x, want.y, want.z, error);
+  for (int ch = 0; ch < 3; ++ch) {
+    EXPECT_NEAR(got[ch], want[ch], 0.002 * want[ch]) << "channel " << ch;
+  }
+  EXPECT_LE(error, 0.0065);
+}
+
+INSTANTIATE_TEST_SUITE_P(Depths, CornellReference,
+                         ::testing::Values(ReferenceCase{-1, "ref_unbounded.exr"},
+                                           ReferenceCase{8, "ref_depth8.exr"},
+                                           ReferenceCase{2, "ref_depth2.exr"}),
+                         [](const auto& info) {
+                           return info.param.max_depth < 0 ? std::string("unbounded")
+                                                           : "depth" + std::to_string(info.param.max_depth);
+                         });
+
+/// Scales every length of a scene by k.
+Scene scaled(Scene s, double k) {
+  s.camera.position *= k;
+  s.camera.look_at *= k;
+  s.camera.focus_distance *= k;
+  s.camera.aperture_radius *= k;
+  for (Shape& sh : s.shapes) {
+    for (glm::dvec3& p : sh.positions) p *= k;
+    sh.center *= k;
+    sh.radius *= k;
+  }
+  return s;
+}
+
+TEST(Invariance, CornellBoxLooksTheSameAtEveryScale) {
+  // Radiance does not depend on scale, so with the same random numbers the images agree far
+  // closer than two renders with different seeds do.
+  const Scene base = cornell();
+  const RgbImage one = render(base, 64, -1, 0, 128);
+  const RgbImage other_seed = render(base, 64, -1, 1, 128);
+  const double noise = test::rmse(one, other_seed);
+  for (double k : {1e-3, 1e4}) {
+    const RgbImage img = render(scaled(base, k), 64, -1, 0, 128);
+    const double diff = test::rmse(img, one);
+    std::printf("scale %g: RMSE to scale 1 %.5f (seed-to-seed noise %.5f)\n", k, diff, noise);
+    EXPECT_LT(diff, 0.5 * noise) << "scale " << k;
+    const glm::dvec3 a = test::channel_means(img), b = test::channel_means(one);
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(a[ch], b[ch], 0.005 * b[ch]);
+  }
+}
+
+TEST(Invariance, GlassOfIndexOneIsInvisible) {
+  Scene with = cornell();
+  Material glass;
+  glass.name = "index one";
+  glass.type = MaterialType::glass;
+  glass.ior = 1.0;
+  with.materials.push_back(glass);
+  Shape sphere;
+  sphere.kind = Shape::Kind::sphere;
+  sphere.center = {0.3, -0.2, 0.3};
+  sphere.radius = 0.35;
+  sphere.material = uint32_t(with.materials.size() - 1);
+  with.shapes.push_back(sphere);
+
+  const RgbImage without_img = render(cornell(), 256, -1, 0, 128);
+  const RgbImage other_seed = render(cornell(), 256, -1, 1, 128);
+  const RgbImage with_img = render(with, 256, -1, 0, 128);
+  const double noise = test::rmse(without_img, other_seed);
+  const double diff = test::rmse(with_img, without_img);
+  std::printf("IOR 1.0 sphere: RMSE to the empty box %.5f (seed-to-seed noise %.5f)\n", diff, noise);
+  EXPECT_LT(diff, 1.25 * noise);
+  const glm::dvec3 a = test::channel_means(with_img), b = test::channel_means(without_img);
+  for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(a[ch], b[ch], 0.005 * b[ch]);
+}
+
+}  // namespace
+}  // namespace tessera

@@ -1,0 +1,158 @@
+// tessera-worker: the farm's worker (`--server HOST:PORT`) and the local renderer (`render`).
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
+
+#include "accum/film.h"
+#include "image/image_output.h"
+#include "local_render.h"
+#include "progress_bar.h"
+#include "scene/scene_error.h"
+#include "scene/scene_loader.h"
+#ifdef TESSERA_HAVE_FARM
+#include "farm/farm_worker.h"
+#endif
+
+namespace {
+
+struct RenderArgs {
+  std::string scene;
+  std::vector<std::string> outputs;
+  tessera::JobOverrides overrides;
+  int threads = 0;
+  bool half = false;
+  bool quiet = false;
+};
+
+std::string lower_extension(const std::filesystem::path& p) {
+  std::string ext = p.extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+int run_render(const RenderArgs& args) {
+  for (const std::string& out : args.outputs) {
+    const std::string ext = lower_extension(out);
+    if (ext != ".exr" && ext != ".png") {
+      throw std::invalid_argument("-o " + out + ": the output must end in .exr or .png");
+    }
+  }
+  const tessera::Scene scene = tessera::load_scene_file(args.scene);
+  const tessera::JobOptions options = tessera::resolve_job_options(scene, args.overrides);
+
+  std::optional<tbb::global_control> thread_limit;
+  if (args.threads > 0) {
+    thread_limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(args.threads));
+  }
+  const uint64_t total = uint64_t(options.width) * uint64_t(options.height) * options.spp;
+  tessera::ProgressBar bar(args.quiet ? nullptr : stderr, total);
+  const tessera::LocalRenderResult result =
+      tessera::render_job(scene, options, [&](uint64_t done) { bar.update(done); });
+  bar.finish(total);
+
+  const tessera::RgbImage image = tessera::resolve_image(options.width, options.height, result.tiles);
+  uint64_t nan = 0, inf = 0;
+  for (const tessera::Accumulation& t : result.tiles) {
+    nan += t.nan_dropped;
+    inf += t.inf_dropped;
+  }
+  const double rel_error = tessera::estimate_relative_error(result.tiles);
+
+  tessera::ImageWriteOptions write;
+  write.half = args.half;
+  write.metadata = {
+      {"tessera:renderer", "tessera-worker " TESSERA_VERSION},
+      {"tessera:scene_file", std::filesystem::path(args.scene).filename().string()},
+      {"tessera:spp", std::to_string(options.spp)},
+      {"tessera:max_depth", std::to_string(options.max_depth)},
+      {"tessera:seed", std::to_string(options.seed)},
+      {"tessera:tile", std::to_string(options.tile_size)},
+      {"tessera:batch", std::to_string(options.batch_spp)},
+      {"tessera:isa", result.isa},
+      {"tessera:estimated_relative_error", std::to_string(rel_error)},
+      {"tessera:nan_inf_dropped", std::to_string(nan + inf)},
+  };
+  for (const std::string& out : args.outputs) tessera::write_image(image, out, write);
+
+  const double seconds = result.seconds;
+  std::fprintf(stderr,
+               "rendered %dx%d, %u spp in %.2f s: %s samples/s, %s rays/s (%llu rays, %llu shadow "
+               "rays), estimated relative error %.4f, NaN/Inf dropped %llu, isa %s\n",
+               options.width, options.height, options.spp, seconds,
+               tessera::si_count(double(result.stats.samples) / seconds).c_str(),
+               tessera::si_count(double(result.stats.rays + result.stats.shadow_rays) / seconds).c_str(),
+               static_cast<unsigned long long>(result.stats.rays),
+               static_cast<unsigned long long>(result.stats.shadow_rays), rel_error,
+               static_cast<unsigned long long>(nan + inf), result.isa.c_str());
+  return 0;
+}
+
+template <typename T>
+void optional_option(CLI::App* app, const std::string& name, std::optional<T>& target,
+                     const std::string& help) {
+  app->add_option_function<T>(name, [&target](const T& v) { target = v; }, help);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"tessera-worker: Tessera's render worker and local renderer"};
+  app.require_subcommand(0, 1);
+
+  RenderArgs render;
+  CLI::App* render_cmd = app.add_subcommand(
+      "render", "Render a scene locally through the farm's tile/batch/merge path");
+  render_cmd->add_option("scene", render.scene, "Scene file (.json)")->required();
+  render_cmd->add_option("-o,--output", render.outputs, "Output image(s): .exr (linear float) or .png (sRGB)")
+      ->required();
+  optional_option(render_cmd, "--spp", render.overrides.spp, "Samples per pixel (default: the scene's)");
+  optional_option(render_cmd, "--width", render.overrides.width, "Image width in pixels");
+  optional_option(render_cmd, "--height", render.overrides.height, "Image height in pixels");
+  optional_option(render_cmd, "--tile", render.overrides.tile_size, "Tile size in pixels (default 64)");
+  optional_option(render_cmd, "--batch", render.overrides.batch_spp, "Samples per pixel in one work unit (default: derived from the job)");
+  optional_option(render_cmd, "--seed", render.overrides.seed, "Random seed (default: the scene's)");
+  optional_option(render_cmd, "--max-depth", render.overrides.max_depth,
+                  "Path segments including the camera ray, -1 = unbounded (Mitsuba's convention)");
+  optional_option(render_cmd, "--isa", render.overrides.isa, "Pin Embree's instruction set (sse2, sse4.2, avx, avx2, avx512)");
+  render_cmd->add_option("--threads", render.threads, "Threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  render_cmd->add_flag("--half", render.half, "Write EXR as half floats (clamped to half's range)");
+  render_cmd->add_flag("-q,--quiet", render.quiet, "No progress bar");
+
+#ifdef TESSERA_HAVE_FARM
+  tessera::FarmWorkerConfig farm;
+  farm.server = "127.0.0.1:50051";
+  app.add_option("--server", farm.server, "Server address HOST:PORT")->envname("TESSERA_SERVER");
+  app.add_option("--threads", farm.threads, "Render threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  app.add_option("--cache", farm.cache_dir, "Folder caching scene bundles")->envname("TESSERA_CACHE");
+  app.add_option("--token", farm.token, "Access token")->envname("TESSERA_TOKEN");
+  app.add_option("--name", farm.name, "Worker name shown by the server (default: host name and pid)");
+#endif
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (render_cmd->parsed()) return run_render(render);
+#ifdef TESSERA_HAVE_FARM
+    return tessera::run_farm_worker(farm);
+#else
+    std::fprintf(stderr, "tessera-worker: this build has no farm mode; use `tessera-worker render`\n");
+    return 2;
+#endif
+  } catch (const tessera::SceneError& e) {
+    std::fprintf(stderr, "tessera-worker: %s\n", e.what());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tessera-worker: %s\n", e.what());
+  }
+  return 1;
+}

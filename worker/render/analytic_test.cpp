@@ -1,0 +1,148 @@
+// Renders with known answers: the white furnace and the irradiance under a square light.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "renderer.h"
+#include "test_scenes.h"
+
+namespace tessera {
+namespace {
+
+JobOptions small_job(int w, int h, uint32_t spp, int max_depth = -1) {
+  JobOptions o;
+  o.width = w;
+  o.height = h;
+  o.spp = spp;
+  o.max_depth = max_depth;
+  o.seed = 11;
+  o.tile_size = 64;
+  o.batch_spp = spp;
+  return o;
+}
+
+/// Mean radiance per channel over the accumulation, and the largest pixel deviation.
+glm::dvec3 mean_rgb(const Accumulation& acc) {
+  glm::dvec3 sum(0.0);
+  uint64_t n = 0;
+  for (size_t i = 0; i < acc.pixels(); ++i) {
+    sum += glm::dvec3(acc.rgb[i * 3], acc.rgb[i * 3 + 1], acc.rgb[i * 3 + 2]);
+    n += acc.count[i];
+  }
+  return sum / double(n);
+}
+
+Scene furnace_scene(bool sphere_enclosure, double albedo, double le, double scale) {
+  Scene s;
+  s.camera.position = {0.1 * scale, 0.05 * scale, 0.2 * scale};
+  s.camera.look_at = {0.3 * scale, -0.2 * scale, -0.5 * scale};
+  s.camera.fov_deg = 90;
+  const uint32_t m = test::add_diffuse(s, {albedo, albedo, albedo});
+  Shape enclosure = sphere_enclosure
+                        ? test::sphere({0, 0, 0}, scale, m, /*inward=*/true)
+                        : test::box({-scale, -scale, -scale}, {scale, scale, scale}, m, true);
+  enclosure.emission = {le, le, le};
+  s.shapes.push_back(enclosure);
+  return s;
+}
+
+struct FurnaceCase {
+  bool sphere;
+  double albedo;
+  double scale;
+};
+
+class WhiteFurnace : public ::testing::TestWithParam<FurnaceCase> {};
+
+TEST_P(WhiteFurnace, ConvergesToEmissionOverOneMinusAlbedo) {
+  const FurnaceCase c = GetParam();
+  const double le = 0.7;
+  const Scene s = furnace_scene(c.sphere, c.albedo, le, c.scale);
+  // Inside a sphere, next-event estimation is exact (cos cos / d^2 is constant over the
+  // sphere), so the estimator is nearly noise-free. In a box, light points near an edge of the
+  // shading face make 1/d^2 heavy-tailed: unbiased, but it needs many more samples.
+  const uint32_t spp = c.sphere ? 512 : 16384;
+  const double pixel_tolerance = c.sphere ? 0.06 : 0.12;
+  const Renderer renderer(s, small_job(4, 4, spp));
+  const Accumulation acc = renderer.render({0, 0, 4, 4}, 0, spp);
+  const double expected = le / (1.0 - c.albedo);
+  const glm::dvec3 mean = mean_rgb(acc);
+  for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(mean[ch], expected, 0.01 * expected);
+  for (size_t i = 0; i < acc.pixels(); ++i) {
+    EXPECT_NEAR(acc.rgb[i * 3] / acc.count[i], expected, pixel_tolerance * expected) << "pixel " << i;
+  }
+  EXPECT_EQ(acc.nan_dropped + acc.inf_dropped, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Enclosures, WhiteFurnace,
+                         ::testing::Values(FurnaceCase{true, 0.5, 1.0}, FurnaceCase{false, 0.5, 1.0},
+                                           FurnaceCase{true, 0.8, 1.0}, FurnaceCase{false, 0.8, 1e-3},
+                                           FurnaceCase{true, 0.3, 1e4}));
+
+/// Irradiance at a point h below the corner of a parallel a x b rectangle of radiance Le,
+/// divided by Le: pi times the differential-area-to-rectangle form factor (Howell's catalogue
+/// of configuration factors, B-3).
+double corner_irradiance_over_le(double a, double b, double h) {
+  const double x = a / h, y = b / h;
+  const double sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
+  return 0.5 * (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy));
+}
+
+TEST(DirectLighting, IrradianceUnderASquareLightMatchesTheClosedForm) {
+  // A Lambertian floor of albedo rho under a square light of side 2 at height h, centred
+  // above the origin; the camera looks at the origin from the side through a 1-pixel,
+  // 0.01-degree view, so the pixel's radiance is rho / pi * E(origin).
+  const double h = 1.5, half = 1.0, rho = 0.6, le = 3.0;
+  Scene s;
+  const uint32_t floor_m = test::add_diffuse(s, {rho, rho, rho});
+  const uint32_t light_m = test::add_diffuse(s, {0, 0, 0});
+  s.shapes.push_back(test::quad({-50, 0, 50}, {50, 0, 50}, {50, 0, -50}, {-50, 0, -50}, floor_m));
+  Shape light = test::quad({-half, h, -half}, {half, h, -half}, {half, h, half}, {-half, h, half},
+                           light_m);  // counter-clockwise seen from below: faces down
+  light.emission = {le, le, le};
+  s.shapes.push_back(light);
+  s.camera.position = {4.0, 0.5, 0.0};
+  s.camera.look_at = {0, 0, 0};
+  s.camera.fov_deg = 0.01;
+
+  const double e_over_le = 4.0 * corner_irradiance_over_le(half, half, h);
+  const double expected = rho / M_PI * le * e_over_le;
+  const Renderer renderer(s, small_job(1, 1, 1 << 16, 2));
+  const Accumulation acc = renderer.render({0, 0, 1, 1}, 0, 1 << 16);
+  EXPECT_NEAR(acc.rgb[0] / acc.count[0], expected, 0.003 * expected);
+}
+
+TEST(DirectLighting, NoEmittersRendersBlackAndTracesNoShadowRays) {
+  Scene s;
+  const uint32_t m = test::add_diffuse(s, {0.8, 0.8, 0.8});
+  s.shapes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, m, true));
+  s.camera.position = {0, 0, 0};
+  s.camera.look_at = {0, 0, -1};
+  const Renderer renderer(s, small_job(4, 4, 16));
+  RenderStats stats;
+  const Accumulation acc = renderer.render({0, 0, 4, 4}, 0, 16, &stats);
+  for (double v : acc.rgb) EXPECT_EQ(v, 0.0);
+  EXPECT_EQ(stats.shadow_rays, 0u);
+  EXPECT_GT(stats.rays, 0u);
+}
+
+TEST(DirectLighting, OneSidedLightIsDarkBehind) {
+  // The camera sees the back of a one-sided light: black. Two-sided: its radiance.
+  for (bool two_sided : {false, true}) {
+    Scene s;
+    const uint32_t m = test::add_diffuse(s, {0, 0, 0});
+    Shape light = test::quad({-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, m);  // faces +z
+    light.emission = {2, 2, 2};
+    light.two_sided_emission = two_sided;
+    s.shapes.push_back(light);
+    s.camera.position = {0, 0, -3};
+    s.camera.look_at = {0, 0, 0};
+    s.camera.fov_deg = 10;
+    const Renderer renderer(s, small_job(2, 2, 4));
+    const Accumulation acc = renderer.render({0, 0, 2, 2}, 0, 4);
+    EXPECT_EQ(acc.rgb[0] / acc.count[0], two_sided ? 2.0 : 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace tessera

@@ -1,0 +1,59 @@
+// Spawning rays off surfaces without self-intersection, by floating-point error bounds
+// (pbrt-v4's OffsetRayOrigin; Pharr, Jakob, Humphreys, "Physically Based Rendering", 4th ed.,
+// section 6.8). There is no global epsilon: the offset is as large as the error of the
+// computed hit point, which scales with the point's magnitude, so scenes of any scale work.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+namespace tessera {
+
+/// gamma(n) = n u / (1 - n u), the bound on the relative error of n chained float operations.
+constexpr float gamma_bound(int n) {
+  constexpr float u = std::numeric_limits<float>::epsilon() * 0.5f;
+  return (float(n) * u) / (1.0f - float(n) * u);
+}
+
+/// The error box of a point interpolated on triangle (p0, p1, p2). pbrt bounds the error of
+/// b0 p0 + b1 p1 + b2 p2 per axis; Embree, though, finds hits with its own float arithmetic
+/// on vertex coordinates relative to the ray origin, so a ray leaving the triangle can be
+/// reported to hit it again at an error as large as a few ulps of the largest coordinate
+/// involved, along any axis (an axis-aligned floor at y = 0 has no error in y by pbrt's bound
+/// yet is hit again). The bound is therefore that ulp-scaled magnitude on every axis.
+inline glm::vec3 triangle_point_error(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p);
+
+/// A surface point with a conservative absolute error bound per coordinate.
+struct SurfacePoint {
+  glm::vec3 p;        ///< computed point
+  glm::vec3 p_error;  ///< |computed - exact| <= p_error, per coordinate
+  glm::vec3 ng;       ///< unit geometric normal (either orientation)
+};
+
+/// The origin for a ray leaving `sp` in direction w: p pushed along the geometric normal, to
+/// the side w points to, past the error box, then rounded one more ulp away.
+inline glm::vec3 offset_ray_origin(const SurfacePoint& sp, glm::vec3 w) {
+  const float d = glm::dot(glm::abs(sp.ng), sp.p_error);
+  glm::vec3 offset = d * sp.ng;
+  if (glm::dot(w, sp.ng) < 0) offset = -offset;
+  glm::vec3 po = sp.p + offset;
+  for (int i = 0; i < 3; ++i) {
+    if (offset[i] > 0) {
+      po[i] = std::nextafter(po[i], std::numeric_limits<float>::infinity());
+    } else if (offset[i] < 0) {
+      po[i] = std::nextafter(po[i], -std::numeric_limits<float>::infinity());
+    }
+  }
+  return po;
+}
+
+inline glm::vec3 triangle_point_error(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p) {
+  const glm::vec3 m = glm::max(glm::max(glm::abs(p0), glm::abs(p1)), glm::max(glm::abs(p2), glm::abs(p)));
+  return glm::vec3(gamma_bound(7) * std::max(m.x, std::max(m.y, m.z)));
+}
+
+}  // namespace tessera

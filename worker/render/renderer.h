@@ -1,0 +1,52 @@
+// The unit of work of Tessera: render(scene, tile rectangle, sample range) -> accumulation.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "accum/accumulation.h"
+#include "job/job_options.h"
+#include "scene/scene.h"
+
+namespace tessera {
+
+class TraceableScene;
+
+/// Work counters of one render() call, for benchmarks and tests (not part of the result).
+struct RenderStats {
+  uint64_t samples = 0;      ///< camera samples (paths) traced
+  uint64_t rays = 0;         ///< closest-hit queries: camera rays and bounces
+  uint64_t shadow_rays = 0;  ///< occlusion queries for next-event estimation
+};
+
+/// Renders work units of one job. Built once per (scene, job options), then shared by threads:
+/// render() is const and thread-safe.
+///
+/// Determinism: the Accumulation returned for (tile, sample range) depends only on the scene,
+/// the options and those arguments; each pixel's samples are summed in sample-index order, and
+/// every random number is a pure function of (seed, pixel, sample index, dimension).
+class Renderer {
+ public:
+  /// Builds the render-ready scene (Embree BVH). Throws SceneError when the scene cannot be
+  /// rendered (for example an Embree ISA the CPU lacks).
+  Renderer(const Scene& scene, const JobOptions& options);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Renders samples [sample_begin, sample_end) of every pixel of `tile`, in parallel over the
+  /// calling thread's TBB arena. `tile` must lie inside the image; sample_end > sample_begin.
+  /// `stats`, when given, receives the work counters (added to what it holds).
+  Accumulation render(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
+                      RenderStats* stats = nullptr) const;
+
+  const JobOptions& options() const;
+  /// The instruction set Embree uses, for provenance ("avx2", ...).
+  std::string isa() const;
+
+ private:
+  std::unique_ptr<TraceableScene> scene_;
+  JobOptions options_;
+};
+
+}  // namespace tessera

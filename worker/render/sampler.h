@@ -1,0 +1,95 @@
+// Random numbers as a pure function of (seed, pixel, sample index, dimension).
+//
+// The sequence is a shuffled, Owen-scrambled 2D Sobol sequence padded across dimension pairs
+// (Burley 2020, "Practical Hash-based Owen Scrambling"; the hash is pbrt-v4's FastOwenScrambler).
+// Each pair of dimensions of each pixel gets its own index shuffle and its own scrambles, keyed
+// by a hash of (seed, pixel, pair). Shuffling by Owen-scrambling the index maps every aligned
+// block of 2^k indices onto an aligned block, so every power-of-two batch of samples [b*B,
+// (b+1)*B) is itself a (0,k,2)-net: stratification survives any batch size that is a power of
+// two, and nothing depends on tiles, threads or workers (DESIGN.md, determinism contract).
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec2.hpp>
+
+namespace tessera {
+
+/// Reverses the 32 bits of v.
+constexpr uint32_t reverse_bits32(uint32_t v) {
+  v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+  v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+  v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
+  v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
+  return (v >> 16) | (v << 16);
+}
+
+/// 64-bit finaliser of MurmurHash3: a bijective mix with good avalanche.
+constexpr uint64_t mix64(uint64_t k) {
+  k ^= k >> 33;
+  k *= 0xff51afd7ed558ccdull;
+  k ^= k >> 33;
+  k *= 0xc4ceb9fe1a85ec53ull;
+  k ^= k >> 33;
+  return k;
+}
+
+constexpr uint64_t hash_combine(uint64_t seed, uint64_t v) {
+  return mix64(seed ^ (v + 0x9e3779b97f4a7c15ull + (seed << 6) + (seed >> 2)));
+}
+
+/// Nested uniform (Owen) scramble of the bits of v, most significant bit first.
+constexpr uint32_t owen_scramble(uint32_t v, uint32_t seed) {
+  v = reverse_bits32(v);
+  v ^= v * 0x3d20adeau;
+  v += seed;
+  v *= (seed >> 16) | 1u;
+  v ^= v * 0x05526c56u;
+  v ^= v * 0x53a22864u;
+  return reverse_bits32(v);
+}
+
+/// The first two dimensions of the Sobol sequence, as 32-bit fixed-point fractions.
+constexpr uint32_t sobol_dim0(uint32_t i) { return reverse_bits32(i); }
+constexpr uint32_t sobol_dim1(uint32_t i) {
+  uint32_t r = 0;
+  for (uint32_t v = 1u << 31; i != 0; i >>= 1, v ^= v >> 1) {
+    if (i & 1u) r ^= v;
+  }
+  return r;
+}
+
+/// A 32-bit fixed-point fraction as a float in [0, 1) (24 bits kept, so never 1).
+constexpr float to_unit_float(uint32_t x) { return float(x >> 8) * 0x1p-24f; }
+
+/// The sample stream of one (pixel, sample index): each get*() call takes the next dimension.
+/// Callers must consume dimensions in the same order for every sample (the integrator lays
+/// them out per path vertex) so that a dimension means the same thing across samples.
+class PixelSampler {
+ public:
+  PixelSampler(uint64_t seed, int x, int y, uint32_t sample_index)
+      : pixel_key_(hash_combine(hash_combine(mix64(seed), uint64_t(uint32_t(x))), uint64_t(uint32_t(y)))),
+        index_(sample_index) {}
+
+  /// The next pair of dimensions, each in [0, 1).
+  glm::vec2 get2d() {
+    const uint64_t h = hash_combine(pixel_key_, pair_++);
+    const uint32_t shuffled = owen_scramble(index_, uint32_t(h));
+    const uint32_t x = owen_scramble(sobol_dim0(shuffled), uint32_t(h >> 32));
+    const uint32_t y = owen_scramble(sobol_dim1(shuffled), uint32_t(mix64(h)));
+    return {to_unit_float(x), to_unit_float(y)};
+  }
+
+  /// The next dimension alone (the first of a fresh pair).
+  float get1d() { return get2d().x; }
+
+  /// Skips to a fixed pair index, so that each path vertex starts at a known dimension.
+  void set_pair(uint32_t pair) { pair_ = pair; }
+
+ private:
+  uint64_t pixel_key_;
+  uint32_t index_;
+  uint32_t pair_ = 0;
+};
+
+}  // namespace tessera

@@ -1,0 +1,101 @@
+#include "sampler.h"
+
+#include <set>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace tessera {
+namespace {
+
+/// True when the n = 2^k points have exactly one point in every elementary interval of
+/// shape 2^-a x 2^-(k-a): the (0,k,2)-net property of a stratified base-2 sequence.
+bool is_net(const std::vector<glm::vec2>& pts) {
+  const int n = int(pts.size());
+  int k = 0;
+  while ((1 << k) < n) ++k;
+  for (int a = 0; a <= k; ++a) {
+    const int nx = 1 << a, ny = 1 << (k - a);
+    std::vector<int> cells(size_t(n), 0);
+    for (const glm::vec2 p : pts) {
+      const int cx = int(p.x * float(nx)), cy = int(p.y * float(ny));
+      if (++cells[size_t(cy * nx + cx)] > 1) return false;
+    }
+  }
+  return true;
+}
+
+std::vector<glm::vec2> pair_points(uint64_t seed, int x, int y, uint32_t pair, uint32_t begin,
+                                   uint32_t count) {
+  std::vector<glm::vec2> pts;
+  for (uint32_t i = begin; i < begin + count; ++i) {
+    PixelSampler s(seed, x, y, i);
+    s.set_pair(pair);
+    pts.push_back(s.get2d());
+  }
+  return pts;
+}
+
+TEST(Sampler, IsAPureFunctionOfSeedPixelIndexAndDimension) {
+  PixelSampler a(7, 3, 4, 123), b(7, 3, 4, 123);
+  for (int d = 0; d < 40; ++d) {
+    const glm::vec2 ua = a.get2d(), ub = b.get2d();
+    EXPECT_EQ(ua.x, ub.x);
+    EXPECT_EQ(ua.y, ub.y);
+  }
+}
+
+TEST(Sampler, ValuesLieInTheUnitSquare) {
+  for (uint32_t i = 0; i < 4096; ++i) {
+    PixelSampler s(1, int(i % 13), int(i / 13), i);
+    for (int d = 0; d < 12; ++d) {
+      const glm::vec2 u = s.get2d();
+      ASSERT_GE(u.x, 0.0f);
+      ASSERT_LT(u.x, 1.0f);
+      ASSERT_GE(u.y, 0.0f);
+      ASSERT_LT(u.y, 1.0f);
+    }
+  }
+}
+
+TEST(Sampler, EveryPowerOfTwoPrefixOfEveryPairIsStratified) {
+  for (uint32_t pair = 0; pair < 8; ++pair) {
+    for (uint32_t n : {4u, 16u, 64u, 256u, 1024u}) {
+      EXPECT_TRUE(is_net(pair_points(42, 17, 5, pair, 0, n))) << "pair " << pair << " n " << n;
+    }
+  }
+}
+
+TEST(Sampler, EveryAlignedBatchIsStratified) {
+  // A work unit of B = 2^k samples starting at a multiple of B is a net on its own, so
+  // stratification does not depend on how a job is cut into batches.
+  for (uint32_t batch : {0u, 1u, 5u, 13u}) {
+    EXPECT_TRUE(is_net(pair_points(3, 100, 200, 4, batch * 64, 64))) << "batch " << batch;
+  }
+}
+
+TEST(Sampler, SeedsPixelsAndPairsAreDecorrelated) {
+  const auto base = pair_points(1, 10, 10, 2, 0, 16);
+  EXPECT_NE(base, pair_points(2, 10, 10, 2, 0, 16));  // seed
+  EXPECT_NE(base, pair_points(1, 11, 10, 2, 0, 16));  // pixel
+  EXPECT_NE(base, pair_points(1, 10, 10, 3, 0, 16));  // dimension pair
+}
+
+TEST(Sampler, MeanOfManySamplesIsUniform) {
+  double sum_x = 0, sum_y = 0, sum_xy = 0;
+  const int n = 1 << 16;
+  for (int i = 0; i < n; ++i) {
+    PixelSampler s(9, i % 256, i / 256, 0);  // one sample from each of many pixels
+    s.set_pair(5);
+    const glm::vec2 u = s.get2d();
+    sum_x += u.x;
+    sum_y += u.y;
+    sum_xy += double(u.x) * u.y;
+  }
+  EXPECT_NEAR(sum_x / n, 0.5, 0.005);
+  EXPECT_NEAR(sum_y / n, 0.5, 0.005);
+  EXPECT_NEAR(sum_xy / n, 0.25, 0.005);  // x and y independent
+}
+
+}  // namespace
+}  // namespace tessera

@@ -1,0 +1,85 @@
+// Scenes built in code for the renderer's tests (no parser involved).
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "scene/scene.h"
+
+namespace tessera::test {
+
+inline uint32_t add_diffuse(Scene& s, glm::dvec3 albedo, bool two_sided = false) {
+  Material m;
+  m.name = "m" + std::to_string(s.materials.size());
+  m.type = MaterialType::diffuse;
+  m.reflectance = albedo;
+  m.two_sided = two_sided;
+  s.materials.push_back(m);
+  return uint32_t(s.materials.size() - 1);
+}
+
+inline uint32_t add_material(Scene& s, MaterialType type, double ior = 1.5) {
+  Material m;
+  m.name = "m" + std::to_string(s.materials.size());
+  m.type = type;
+  m.ior = ior;
+  s.materials.push_back(m);
+  return uint32_t(s.materials.size() - 1);
+}
+
+/// A quad v0..v3, counter-clockwise seen from the front.
+inline Shape quad(glm::dvec3 v0, glm::dvec3 v1, glm::dvec3 v2, glm::dvec3 v3, uint32_t material) {
+  Shape sh;
+  sh.kind = Shape::Kind::triangles;
+  sh.positions = {v0, v1, v2, v3};
+  sh.indices = {{0, 1, 2}, {0, 2, 3}};
+  sh.material = material;
+  sh.origin = "quad";
+  return sh;
+}
+
+inline Shape sphere(glm::dvec3 center, double radius, uint32_t material, bool inward = false) {
+  Shape sh;
+  sh.kind = Shape::Kind::sphere;
+  sh.center = center;
+  sh.radius = radius;
+  sh.flip_normals = inward;
+  sh.material = material;
+  sh.origin = "sphere";
+  return sh;
+}
+
+/// An axis-aligned box [lo, hi], faces outward, or inward when `inward`.
+inline Shape box(glm::dvec3 lo, glm::dvec3 hi, uint32_t material, bool inward) {
+  Shape sh;
+  sh.kind = Shape::Kind::triangles;
+  for (int i = 0; i < 8; ++i) {
+    sh.positions.push_back({(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z});
+  }
+  // Outward counter-clockwise faces.
+  const std::vector<glm::u32vec3> faces = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6},
+                                           {0, 1, 5}, {0, 5, 4}, {2, 6, 7}, {2, 7, 3},
+                                           {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  for (glm::u32vec3 f : faces) sh.indices.push_back(inward ? glm::u32vec3(f.x, f.z, f.y) : f);
+  sh.material = material;
+  sh.origin = "box";
+  return sh;
+}
+
+/// Scales every length of the scene by `k` (geometry and camera), keeping the image the same.
+inline void scale_scene(Scene& s, double k) {
+  s.camera.position *= k;
+  s.camera.look_at *= k;
+  s.camera.focus_distance *= k;
+  s.camera.aperture_radius *= k;
+  for (Shape& sh : s.shapes) {
+    for (glm::dvec3& p : sh.positions) p *= k;
+    sh.center *= k;
+    sh.radius *= k;
+  }
+}
+
+}  // namespace tessera::test

@@ -1,0 +1,62 @@
+// Warps from the unit square to the domains the renderer samples, with their densities.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace tessera {
+
+inline constexpr float kPi = 3.14159265358979323846f;
+inline constexpr float kInvPi = 0.31830988618379067154f;
+
+/// Shirley-Chiu concentric map of [0,1)^2 onto the unit disk (area preserving, low distortion).
+inline glm::vec2 square_to_concentric_disk(glm::vec2 u) {
+  const glm::vec2 o = 2.0f * u - glm::vec2(1.0f);
+  if (o.x == 0.0f && o.y == 0.0f) return {0.0f, 0.0f};
+  float r, theta;
+  if (std::abs(o.x) > std::abs(o.y)) {
+    r = o.x;
+    theta = (kPi / 4.0f) * (o.y / o.x);
+  } else {
+    r = o.y;
+    theta = (kPi / 2.0f) - (kPi / 4.0f) * (o.x / o.y);
+  }
+  return {r * std::cos(theta), r * std::sin(theta)};
+}
+
+/// Cosine-weighted direction on the hemisphere around +z (Malley's method): pdf = cos(theta)/pi.
+inline glm::vec3 square_to_cosine_hemisphere(glm::vec2 u) {
+  const glm::vec2 d = square_to_concentric_disk(u);
+  const float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));
+  return {d.x, d.y, z};
+}
+
+inline float cosine_hemisphere_pdf(float cos_theta) { return cos_theta > 0 ? cos_theta * kInvPi : 0; }
+
+/// Barycentrics (b1, b2) of a uniformly distributed point on a triangle (Heitz 2019's
+/// low-distortion map, which keeps the stratification of u).
+inline glm::vec2 square_to_triangle(glm::vec2 u) {
+  float b0, b1;
+  if (u.y > u.x) {
+    b0 = u.x / 2.0f;
+    b1 = u.y - b0;
+  } else {
+    b1 = u.y / 2.0f;
+    b0 = u.x - b1;
+  }
+  return {b0, b1};  // weights of v1 and v2; v0 gets 1 - b0 - b1
+}
+
+/// Uniform direction on the unit sphere: pdf = 1 / (4 pi).
+inline glm::vec3 square_to_uniform_sphere(glm::vec2 u) {
+  const float z = 1.0f - 2.0f * u.x;
+  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  const float phi = 2.0f * kPi * u.y;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+}  // namespace tessera
