@@ -68,8 +68,8 @@ EmitterSample Emitter::sample(glm::vec2 u) const {
   const glm::vec3 p0 = g.positions[tri.x], p1 = g.positions[tri.y], p2 = g.positions[tri.z];
   const float b0 = 1.0f - b.x - b.y;
   s.sp.p = b0 * p0 + b.x * p1 + b.y * p2;
-  s.sp.p_error = triangle_point_error(p0, p1, p2, s.sp.p);
-  s.sp.ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+  s.sp.p_error = glm::vec3(g.point_errors[i]);
+  s.sp.ng = g.face_normals[i];
   return s;
 }
 

@@ -16,6 +16,10 @@ struct Geometry {
   std::vector<glm::vec3> positions;
   std::vector<glm::u32vec3> indices;
   std::vector<glm::vec3> normals;  ///< per vertex; empty = flat shading
+  /// Per triangle, precomputed: unit geometric normal (counter-clockwise front) and the error
+  /// bound of points on it (ray_offset.h, triangle_point_error).
+  std::vector<glm::vec3> face_normals;
+  std::vector<float> point_errors;
 
   // Kind::sphere, in double: the user-geometry intersector solves in double precision.
   glm::dvec3 center{0.0};

@@ -85,7 +85,7 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
     if (max_depth >= 0 && vertex + 2 > max_depth) break;
 
     sampler.set_pair(kCameraPairs + kPairsPerVertex * uint32_t(vertex));
-    const glm::vec2 u_choice = sampler.get2d();
+    const glm::vec2 u_choice = sampler.get2d_independent();
     const glm::vec2 u_light = sampler.get2d();
     const glm::vec2 u_scatter = sampler.get2d();
 

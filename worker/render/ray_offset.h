@@ -5,6 +5,8 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -27,6 +29,24 @@ constexpr float gamma_bound(int n) {
 /// yet is hit again). The bound is therefore that ulp-scaled magnitude on every axis.
 inline glm::vec3 triangle_point_error(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p);
 
+/// The next float above v (pbrt-v4's NextFloatUp), without libm's errno handling.
+inline float next_float_up(float v) {
+  if (std::isinf(v) && v > 0.f) return v;
+  if (v == -0.f) v = 0.f;
+  uint32_t bits = std::bit_cast<uint32_t>(v);
+  bits = v >= 0 ? bits + 1 : bits - 1;
+  return std::bit_cast<float>(bits);
+}
+
+/// The next float below v.
+inline float next_float_down(float v) {
+  if (std::isinf(v) && v < 0.f) return v;
+  if (v == 0.f) v = -0.f;
+  uint32_t bits = std::bit_cast<uint32_t>(v);
+  bits = v > 0 ? bits - 1 : bits + 1;
+  return std::bit_cast<float>(bits);
+}
+
 /// A surface point with a conservative absolute error bound per coordinate.
 struct SurfacePoint {
   glm::vec3 p;        ///< computed point
@@ -43,17 +63,22 @@ inline glm::vec3 offset_ray_origin(const SurfacePoint& sp, glm::vec3 w) {
   glm::vec3 po = sp.p + offset;
   for (int i = 0; i < 3; ++i) {
     if (offset[i] > 0) {
-      po[i] = std::nextafter(po[i], std::numeric_limits<float>::infinity());
+      po[i] = next_float_up(po[i]);
     } else if (offset[i] < 0) {
-      po[i] = std::nextafter(po[i], -std::numeric_limits<float>::infinity());
+      po[i] = next_float_down(po[i]);
     }
   }
   return po;
 }
 
-inline glm::vec3 triangle_point_error(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p) {
-  const glm::vec3 m = glm::max(glm::max(glm::abs(p0), glm::abs(p1)), glm::max(glm::abs(p2), glm::abs(p)));
-  return glm::vec3(gamma_bound(7) * std::max(m.x, std::max(m.y, m.z)));
+inline float max_abs_coordinate(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2) {
+  const glm::vec3 m = glm::max(glm::max(glm::abs(p0), glm::abs(p1)), glm::abs(p2));
+  return std::max(m.x, std::max(m.y, m.z));
+}
+
+inline glm::vec3 triangle_point_error(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 /*p*/) {
+  // p is a convex combination of the vertices, so it is no larger than they are.
+  return glm::vec3(gamma_bound(7) * max_abs_coordinate(p0, p1, p2));
 }
 
 }  // namespace tessera

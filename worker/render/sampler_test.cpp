@@ -36,6 +36,15 @@ std::vector<glm::vec2> pair_points(uint64_t seed, int x, int y, uint32_t pair, u
   return pts;
 }
 
+TEST(Sampler, TabulatedSobolMatchesTheBitwiseDefinition) {
+  for (uint32_t i = 0; i < 100000; ++i) {
+    const uint32_t x = i * 2654435761u;
+    ASSERT_EQ(sobol_dim1(x), sobol_dim1_reference(x)) << x;
+  }
+  EXPECT_EQ(reverse_bits32(1u), 0x80000000u);
+  EXPECT_EQ(reverse_bits32(0x12345678u), 0x1e6a2c48u);
+}
+
 TEST(Sampler, IsAPureFunctionOfSeedPixelIndexAndDimension) {
   PixelSampler a(7, 3, 4, 123), b(7, 3, 4, 123);
   for (int d = 0; d < 40; ++d) {

@@ -79,6 +79,12 @@ void TraceableScene::add_triangles(const Shape& shape) {
   for (const glm::dvec3& p : shape.positions) g->positions.emplace_back(p);
   for (const glm::dvec3& n : shape.normals) g->normals.push_back(glm::normalize(glm::vec3(n)));
   g->indices = shape.indices;
+  for (const glm::u32vec3& tri : g->indices) {
+    const glm::vec3 p0 = g->positions[tri.x], p1 = g->positions[tri.y], p2 = g->positions[tri.z];
+    const glm::dvec3 n = glm::cross(glm::dvec3(p1) - glm::dvec3(p0), glm::dvec3(p2) - glm::dvec3(p0));
+    g->face_normals.emplace_back(glm::normalize(n));
+    g->point_errors.push_back(gamma_bound(7) * max_abs_coordinate(p0, p1, p2));
+  }
   g->material = shape.material;
   g->emission = glm::vec3(shape.emission);
   g->two_sided_emission = shape.two_sided_emission;
@@ -162,8 +168,8 @@ bool TraceableScene::intersect(const Ray& ray, Hit* hit) const {
   const glm::vec3 p0 = g.positions[tri.x], p1 = g.positions[tri.y], p2 = g.positions[tri.z];
   const float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1.0f - b1 - b2;
   hit->sp.p = b0 * p0 + b1 * p1 + b2 * p2;
-  hit->sp.p_error = triangle_point_error(p0, p1, p2, hit->sp.p);
-  hit->sp.ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+  hit->sp.p_error = glm::vec3(g.point_errors[rh.hit.primID]);
+  hit->sp.ng = g.face_normals[rh.hit.primID];
   if (g.normals.empty()) {
     hit->ns = hit->sp.ng;
   } else {

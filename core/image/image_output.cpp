@@ -1,0 +1,277 @@
+// Image files through OpenImageIO: EXR (linear float32 or half) and PNG (8-bit sRGB).
+//
+// Every value is sanitised here, before OIIO sees it, so that the bits in a file do not depend
+// on how an OIIO version converts NaN, Inf or out-of-range values: NaN/Inf become 0, half output
+// is clamped to half's finite range, PNG output is clamped to [0, 1] and quantised with
+// round-to-nearest (no dithering: the same image always gives the same bytes).
+#include "image/image_output.h"
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+#include <OpenImageIO/strutil.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <random>
+#include <stdexcept>
+#include <string_view>
+#include <system_error>
+
+namespace tessera {
+namespace {
+
+enum class FileFormat { kExr, kPng };
+
+constexpr const char* kSupportedExtensions = ".exr, .png";
+constexpr float kHalfMax = 65504.0f;  // largest finite half
+
+/// "exr", ".EXR" -> kExr; anything else -> nullopt.
+std::optional<FileFormat> format_from_extension(std::string_view ext) {
+  if (!ext.empty() && ext.front() == '.') ext.remove_prefix(1);
+  std::string lower(ext);
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  if (lower == "exr") return FileFormat::kExr;
+  if (lower == "png") return FileFormat::kPng;
+  return std::nullopt;
+}
+
+const char* oiio_format_name(FileFormat format) {
+  return format == FileFormat::kExr ? "openexr" : "png";
+}
+
+void check_dimensions(const RgbImage& image, const std::string& what) {
+  if (image.width <= 0 || image.height <= 0) {
+    throw std::runtime_error(what + ": image has no pixels (" + std::to_string(image.width) + "x" +
+                             std::to_string(image.height) + ")");
+  }
+  const size_t expected = size_t(image.width) * size_t(image.height) * 3;
+  if (image.rgb.size() != expected) {
+    throw std::runtime_error(what + ": image holds " + std::to_string(image.rgb.size()) +
+                             " floats, " + std::to_string(image.width) + "x" +
+                             std::to_string(image.height) + " RGB needs " +
+                             std::to_string(expected));
+  }
+}
+
+float finite_or_zero(float v) { return std::isfinite(v) ? v : 0.0f; }
+
+/// What OIIO is handed: the file's spec and sanitised pixels (float for EXR, uint8 for PNG).
+struct PreparedImage {
+  OIIO::ImageSpec spec;
+  std::vector<float> f32;
+  std::vector<uint8_t> u8;
+
+  OIIO::TypeDesc data_type() const {
+    return u8.empty() ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;
+  }
+  const void* data() const {
+    return u8.empty() ? static_cast<const void*>(f32.data()) : static_cast<const void*>(u8.data());
+  }
+};
+
+PreparedImage prepare(const RgbImage& image, FileFormat format, const ImageWriteOptions& options) {
+  PreparedImage prepared;
+  if (format == FileFormat::kExr) {
+    const OIIO::TypeDesc file_type = options.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
+    prepared.spec = OIIO::ImageSpec(image.width, image.height, 3, file_type);
+    prepared.spec.attribute("oiio:ColorSpace", "Linear");
+    prepared.f32.resize(image.rgb.size());
+    for (size_t i = 0; i < image.rgb.size(); ++i) {
+      float v = finite_or_zero(image.rgb[i]);
+      // Half's conversion turns anything above 65519.99 into Inf: clamp first.
+      if (options.half) v = std::clamp(v, -kHalfMax, kHalfMax);
+      prepared.f32[i] = v;
+    }
+  } else {
+    prepared.spec = OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    prepared.spec.attribute("oiio:ColorSpace", "sRGB");
+    prepared.u8.resize(image.rgb.size());
+    for (size_t i = 0; i < image.rgb.size(); ++i) {
+      const float v = std::clamp(finite_or_zero(image.rgb[i]), 0.0f, 1.0f);
+      prepared.u8[i] = uint8_t(std::lround(linear_to_srgb(v) * 255.0f));
+    }
+  }
+  for (const auto& [key, value] : options.metadata) prepared.spec.attribute(key, value);
+  return prepared;
+}
+
+/// Creates an ImageOutput for `format`, optionally bound to an in-memory proxy.
+std::unique_ptr<OIIO::ImageOutput> create_output(FileFormat format, const std::string& what,
+                                                 OIIO::Filesystem::IOProxy* proxy) {
+  auto out = OIIO::ImageOutput::create(oiio_format_name(format), proxy);
+  if (!out) {
+    throw std::runtime_error(what + ": OpenImageIO has no " + oiio_format_name(format) +
+                             " writer: " + OIIO::geterror());
+  }
+  if (proxy != nullptr && !out->supports("ioproxy")) {
+    throw std::runtime_error(what + ": the OpenImageIO " + oiio_format_name(format) +
+                             " writer cannot write to memory");
+  }
+  return out;
+}
+
+/// Opens `name` on `out`, writes all pixels and closes; throws naming `what` on any failure.
+void write_prepared(OIIO::ImageOutput& out, const std::string& name, const PreparedImage& image,
+                    const std::string& what) {
+  if (!out.open(name, image.spec)) throw std::runtime_error(what + ": " + out.geterror());
+  const bool written = out.write_image(image.data_type(), image.data());
+  const std::string write_error = written ? std::string() : out.geterror();
+  const bool closed = out.close();
+  if (!written) throw std::runtime_error(what + ": " + write_error);
+  if (!closed) throw std::runtime_error(what + ": " + out.geterror());
+}
+
+/// A temporary file beside the destination, removed unless released after a successful rename.
+class TempFile {
+ public:
+  explicit TempFile(const std::filesystem::path& destination) {
+    std::random_device random;
+    const uint64_t nonce = (uint64_t(random()) << 32) ^ random();
+    char suffix[40];
+    std::snprintf(suffix, sizeof suffix, ".tmp-%ld-%016llx", long(::getpid()),
+                  static_cast<unsigned long long>(nonce));
+    // Hidden, and keeping the extension last so that nothing mistakes it for a finished image.
+    path_ = destination.parent_path() /
+            ("." + destination.filename().string() + suffix + destination.extension().string());
+  }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  ~TempFile() {
+    if (!released_) {
+      std::error_code ignored;
+      std::filesystem::remove(path_, ignored);
+    }
+  }
+  const std::filesystem::path& path() const { return path_; }
+  void release() { released_ = true; }
+
+ private:
+  std::filesystem::path path_;
+  bool released_ = false;
+};
+
+/// Flushes a file (or folder) to stable storage, so that a rename cannot outlive its content
+/// across a power loss. Throws on failure when `required`.
+void fsync_path(const std::filesystem::path& path, bool required, const std::string& what) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    if (required)
+      throw std::runtime_error(what + ": cannot reopen to sync: " + std::strerror(errno));
+    return;
+  }
+  const bool ok = ::fsync(fd) == 0;
+  const int sync_errno = errno;
+  ::close(fd);
+  if (!ok && required) {
+    throw std::runtime_error(what + ": fsync failed: " + std::strerror(sync_errno));
+  }
+}
+
+/// sRGB to linear, the inverse of linear_to_srgb.
+float srgb_to_linear(float srgb) {
+  const double s = srgb;
+  return float(s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4));
+}
+
+/// Whether pixels read from a file with `spec` are sRGB-encoded: as the file says, or, when it
+/// says nothing, when its samples are integers (8/16-bit PNG, JPEG... are sRGB by convention).
+bool is_srgb_encoded(const OIIO::ImageSpec& spec) {
+  const std::string colorspace = spec.get_string_attribute("oiio:ColorSpace");
+  if (!colorspace.empty()) return OIIO::Strutil::iequals(colorspace, "sRGB");
+  return !spec.format.is_floating_point();
+}
+
+}  // namespace
+
+float linear_to_srgb(float linear) {
+  // IEC 61966-2-1, in double so the 8-bit rounding that follows is not disturbed by float error.
+  const double l = linear;
+  return float(l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055);
+}
+
+void write_image(const RgbImage& image, const std::filesystem::path& path,
+                 const ImageWriteOptions& options) {
+  const std::string what = "cannot write image '" + path.string() + "'";
+  const std::optional<FileFormat> format = format_from_extension(path.extension().string());
+  if (!format) {
+    throw std::runtime_error(what + ": unsupported extension '" + path.extension().string() +
+                             "' (supported: " + kSupportedExtensions + ")");
+  }
+  check_dimensions(image, what);
+  const PreparedImage prepared = prepare(image, *format, options);
+
+  // Written beside the destination and renamed over it: readers see the old file or the whole
+  // new one, never a partial image, even if this process dies midway.
+  TempFile temp(path);
+  auto out = create_output(*format, what, nullptr);
+  write_prepared(*out, temp.path().string(), prepared, what);
+  out.reset();
+  fsync_path(temp.path(), true, what);
+  std::error_code error;
+  std::filesystem::rename(temp.path(), path, error);
+  if (error)
+    throw std::runtime_error(what + ": cannot rename the temporary file: " + error.message());
+  temp.release();
+  const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+  fsync_path(folder, false, what);  // best effort: some file systems refuse to sync a folder
+}
+
+std::string encode_image(const RgbImage& image, const std::string& format,
+                         const ImageWriteOptions& options) {
+  const std::string what = "cannot encode image as '" + format + "'";
+  const std::optional<FileFormat> file_format = format_from_extension(format);
+  if (!file_format) throw std::runtime_error(what + ": unsupported format (supported: exr, png)");
+  check_dimensions(image, what);
+  const PreparedImage prepared = prepare(image, *file_format, options);
+
+  OIIO::Filesystem::IOVecOutput memory;
+  auto out = create_output(*file_format, what, &memory);
+  write_prepared(*out, *file_format == FileFormat::kExr ? "memory.exr" : "memory.png", prepared,
+                 what);
+  out.reset();
+  const std::vector<unsigned char>& bytes = memory.buffer();
+  return std::string(bytes.begin(), bytes.end());
+}
+
+RgbImage read_image(const std::filesystem::path& path) {
+  const std::string what = "cannot read image '" + path.string() + "'";
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) throw std::runtime_error(what + ": " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
+    throw std::runtime_error(what + ": it has no pixels");
+  }
+  const int channels = std::min(spec.nchannels, 3);
+  const size_t pixels = size_t(spec.width) * size_t(spec.height);
+  std::vector<float> read(pixels * size_t(channels));
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, read.data())) {
+    throw std::runtime_error(what + ": " + in->geterror());
+  }
+  const bool srgb = is_srgb_encoded(spec);
+  in->close();
+
+  RgbImage image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.rgb.resize(pixels * 3);
+  for (size_t p = 0; p < pixels; ++p) {
+    for (int c = 0; c < 3; ++c) {
+      // One or two channels (grey, grey + alpha): the first is replicated.
+      const float v = read[p * channels + (channels == 3 ? c : 0)];
+      image.rgb[p * 3 + c] = srgb ? srgb_to_linear(v) : v;
+    }
+  }
+  return image;
+}
+
+}  // namespace tessera
