@@ -24,4 +24,26 @@ double rmse(const RgbImage& a, const RgbImage& b) {
   return std::sqrt(sum / double(a.rgb.size()));
 }
 
+RgbImage downsample(const RgbImage& image, int k) {
+  if (image.width % k != 0 || image.height % k != 0) throw std::invalid_argument("downsample: size");
+  RgbImage out;
+  out.width = image.width / k;
+  out.height = image.height / k;
+  out.rgb.assign(size_t(out.width) * size_t(out.height) * 3, 0.0f);
+  for (int y = 0; y < out.height; ++y) {
+    for (int x = 0; x < out.width; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        double sum = 0;
+        for (int j = 0; j < k; ++j) {
+          for (int i = 0; i < k; ++i) {
+            sum += image.rgb[(size_t(y * k + j) * size_t(image.width) + size_t(x * k + i)) * 3 + size_t(c)];
+          }
+        }
+        out.rgb[(size_t(y) * size_t(out.width) + size_t(x)) * 3 + size_t(c)] = float(sum / (k * k));
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace tessera::test

@@ -1,0 +1,136 @@
+// The scene bundle: bundle paths, reading files from the scene's folder, load_scene_file.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "scene/scene_test_support.h"
+
+namespace tessera {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string bundle_error(const std::string& path) {
+  try {
+    check_bundle_path(path, "ctx");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(SceneBundlePath, NormalisesRelativePaths) {
+  EXPECT_EQ(check_bundle_path("meshes/bunny.ply", "ctx"), "meshes/bunny.ply");
+  EXPECT_EQ(check_bundle_path("./meshes/./bunny.ply", "ctx"), "meshes/bunny.ply");
+  EXPECT_EQ(check_bundle_path("meshes\\bunny.ply", "ctx"), "meshes/bunny.ply");
+  EXPECT_EQ(check_bundle_path("a..b/c...obj", "ctx"), "a..b/c...obj");  // ".." only as a component
+}
+
+TEST(SceneBundlePath, RefusesPathsLeavingTheBundle) {
+  EXPECT_EQ(bundle_error("../x.obj"),
+            "ctx: path must stay inside the scene's folder (\"../x.obj\")");
+  EXPECT_EQ(bundle_error("a/..\\..\\x.obj"),
+            "ctx: path must stay inside the scene's folder (\"a/..\\..\\x.obj\")");
+  EXPECT_EQ(bundle_error("/x.obj"),
+            "ctx: path must be relative to the scene's folder (\"/x.obj\")");
+  EXPECT_EQ(bundle_error("\\\\server\\x.obj"),
+            "ctx: path must be relative to the scene's folder (\"\\\\server\\x.obj\")");
+  EXPECT_EQ(bundle_error("d:x.obj"),
+            "ctx: path must be relative to the scene's folder (\"d:x.obj\")");
+  EXPECT_EQ(bundle_error("a//x.obj"), "ctx: path must not have an empty component (\"a//x.obj\")");
+  EXPECT_EQ(bundle_error("meshes/"), "ctx: path must not have an empty component (\"meshes/\")");
+  EXPECT_EQ(bundle_error("."), "ctx: path must name a file (\".\")");
+  EXPECT_EQ(bundle_error(""), "ctx: path must not be empty");
+  EXPECT_EQ(bundle_error(std::string("a\0b", 3)),
+            "ctx: path must not contain a NUL character (\"a\\x00b\")");
+}
+
+/// A fresh folder under the system's temporary directory, removed afterwards.
+class SceneBundle : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() /
+            ("tessera-scene-test-" + std::to_string(::getpid()) + "-" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(root_);
+    fs::create_directories(root_ / "scene" / "meshes");
+    write("scene/meshes/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    write("outside.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  void write(const std::string& relative, const std::string& text) {
+    std::ofstream(root_ / relative, std::ios::binary) << text;
+  }
+  fs::path folder() const { return root_ / "scene"; }
+
+  static std::string read_error(const FileReader& reader, const std::string& path) {
+    try {
+      reader(path);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  }
+
+  fs::path root_;
+};
+
+TEST_F(SceneBundle, FolderReaderReadsFilesInside) {
+  FileReader reader = folder_reader(folder());
+  EXPECT_EQ(reader("meshes/tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  write("scene/empty.ply", "");
+  EXPECT_EQ(reader("empty.ply"), "");
+  EXPECT_EQ(read_error(reader, "meshes/none.obj"),
+            "meshes/none.obj: no such file in the scene's folder");
+  EXPECT_EQ(read_error(reader, "meshes"), "meshes: not a regular file");
+  EXPECT_EQ(read_error(reader, "../outside.obj"),
+            "../outside.obj: path must stay inside the scene's folder (\"../outside.obj\")");
+}
+
+TEST_F(SceneBundle, FolderReaderRefusesSymlinks) {
+  fs::create_symlink(root_ / "outside.obj", folder() / "meshes" / "escape.obj");
+  fs::create_symlink("tri.obj", folder() / "meshes" / "alias.obj");
+  fs::create_directory_symlink(root_, folder() / "up");
+  FileReader reader = folder_reader(folder());
+  EXPECT_EQ(read_error(reader, "meshes/escape.obj"),
+            "meshes/escape.obj: symbolic links are not allowed in a scene's folder");
+  EXPECT_EQ(read_error(reader, "meshes/alias.obj"),
+            "meshes/alias.obj: symbolic links are not allowed in a scene's folder");
+  EXPECT_EQ(read_error(reader, "up/outside.obj"),
+            "up/outside.obj: symbolic links are not allowed in a scene's folder");
+}
+
+TEST_F(SceneBundle, LoadSceneFileReadsMeshesBesideIt) {
+  write("scene/cornell.json", R"({"tessera": 1, "materials": {"white": {}},
+      "shapes": [{"type": "mesh", "file": "meshes/tri.obj", "material": "white"}]})");
+  Scene scene = load_scene_file(folder() / "cornell.json");
+  ASSERT_EQ(scene.shapes.size(), 1u);
+  EXPECT_EQ(scene.referenced_files, (std::vector<std::string>{"meshes/tri.obj"}));
+}
+
+TEST_F(SceneBundle, LoadSceneFileErrors) {
+  write("scene/broken.json", "{\"tessera\": 1,\n  \"film\": {\"width\": 12,}\n}");
+  try {
+    load_scene_file(folder() / "broken.json");
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_STREQ(e.what(),
+                 "broken.json: line 2, column 24: syntax error while parsing object key - "
+                 "unexpected '}'; expected string literal");
+  }
+  write("scene/missing.json", R"({"tessera": 1, "materials": {"white": {}},
+      "shapes": [{"type": "mesh", "file": "meshes/x.ply", "material": "white"}]})");
+  try {
+    load_scene_file(folder() / "missing.json");
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_STREQ(e.what(), "shapes[0].file: meshes/x.ply: no such file in the scene's folder");
+  }
+  EXPECT_THROW(load_scene_file(folder() / "absent.json"), SceneError);
+}
+
+}  // namespace
+}  // namespace tessera

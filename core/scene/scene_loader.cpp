@@ -1,0 +1,79 @@
+// parse_scene and load_scene_file (scene_loader.h): the top level of scene format v1.
+#include "scene/scene_loader.h"
+
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+
+#include "scene/json_document.h"
+#include "scene/json_value.h"
+#include "scene/material_parser.h"
+#include "scene/scene_error.h"
+#include "scene/settings_parser.h"
+#include "scene/shape_parser.h"
+
+namespace tessera {
+namespace {
+
+constexpr int kFormatVersion = 1;
+
+void check_version(const JsonValue& root) {
+  JsonValue version = root.at("tessera");
+  if (!version.json().is_number()) version.fail("must be the format version, 1");
+  int64_t v = version.integer(INT64_MIN, INT64_MAX);
+  if (v != kFormatVersion) {
+    version.fail("unsupported format version " + std::to_string(v) + " (this build reads 1)");
+  }
+}
+
+void parse_shapes(const JsonValue& shapes, ShapeContext& context, Scene& scene) {
+  for (const JsonValue& shape : shapes.elements()) parse_shape(shape, context, scene.shapes);
+}
+
+/// Parses scene text; `source_name` names it in JSON syntax errors.
+Scene parse_scene_text(std::string_view json_text, const std::string& source_name,
+                       const FileReader& reader) {
+  Json document = parse_json_document(json_text, source_name);
+  if (!document.is_object()) {
+    throw SceneError(source_name + ": a scene must be a JSON object ({\"tessera\": 1, ...})");
+  }
+  JsonValue root(document, "");
+  root.expect_object({"tessera", "camera", "film", "render", "materials", "shapes"}, "a scene");
+  check_version(root);
+  Scene scene;
+  if (std::optional<JsonValue> camera = root.find("camera")) scene.camera = parse_camera(*camera);
+  if (std::optional<JsonValue> film = root.find("film")) scene.film = parse_film(*film);
+  if (std::optional<JsonValue> render = root.find("render")) scene.render = parse_render(*render);
+  MaterialTable materials;
+  if (std::optional<JsonValue> m = root.find("materials")) parse_materials(*m, materials);
+  ShapeContext context{materials, reader, scene.referenced_files};
+  if (std::optional<JsonValue> shapes = root.find("shapes")) parse_shapes(*shapes, context, scene);
+  scene.materials = materials.take();
+  return scene;
+}
+
+std::string read_scene_file(const std::filesystem::path& scene_file) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(scene_file, error)) {
+    throw SceneError(scene_file.string() + ": no such file");
+  }
+  std::ifstream in(scene_file, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.is_open() || in.bad()) throw SceneError(scene_file.string() + ": cannot be read");
+  return text;
+}
+
+}  // namespace
+
+Scene parse_scene(std::string_view json_text, const FileReader& reader) {
+  return parse_scene_text(json_text, "scene", reader);
+}
+
+Scene load_scene_file(const std::filesystem::path& scene_file) {
+  std::string text = read_scene_file(scene_file);
+  std::filesystem::path folder = scene_file.parent_path();
+  if (folder.empty()) folder = ".";
+  return parse_scene_text(text, scene_file.filename().string(), folder_reader(folder));
+}
+
+}  // namespace tessera

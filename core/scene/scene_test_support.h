@@ -1,0 +1,74 @@
+// Helpers shared by the scene library's tests (core/scene/*_test.cpp).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+#include <map>
+#include <string>
+
+#include "scene/scene.h"
+#include "scene/scene_error.h"
+#include "scene/scene_loader.h"
+
+namespace tessera::testing {
+
+/// A FileReader over in-memory files, failing as folder_reader does for missing ones.
+inline FileReader memory_reader(std::map<std::string, std::string> files) {
+  return [files = std::move(files)](const std::string& path) -> std::string {
+    auto it = files.find(path);
+    if (it == files.end()) throw SceneError(path + ": no such file in the scene's folder");
+    return it->second;
+  };
+}
+
+/// A scene with a "white" diffuse material and the given shapes (JSON array elements).
+inline std::string scene_with_shapes(const std::string& shapes, const std::string& extra = "") {
+  return R"({"tessera": 1, "materials": {"white": {"type": "diffuse", "reflectance": [0.8, 0.8, 0.8]},
+             "mirror": {"type": "mirror"}, "glass": {"type": "glass"}}, )" +
+         extra + R"("shapes": [)" + shapes + "]}";
+}
+
+inline Scene parse(const std::string& json, std::map<std::string, std::string> files = {}) {
+  return parse_scene(json, memory_reader(std::move(files)));
+}
+
+/// The message parse_scene throws for `json`, or "(no error)".
+inline std::string error_of(const std::string& json,
+                            std::map<std::string, std::string> files = {}) {
+  try {
+    parse(json, std::move(files));
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+/// The geometric normal (from the winding) of triangle `t`, unit length.
+inline glm::dvec3 face_normal(const Shape& shape, size_t t) {
+  const glm::u32vec3& i = shape.indices[t];
+  const std::vector<glm::dvec3>& p = shape.positions;
+  return glm::normalize(glm::cross(p[i.y] - p[i.x], p[i.z] - p[i.x]));
+}
+
+inline glm::dvec3 face_center(const Shape& shape, size_t t) {
+  const glm::u32vec3& i = shape.indices[t];
+  return (shape.positions[i.x] + shape.positions[i.y] + shape.positions[i.z]) / 3.0;
+}
+
+inline double shape_area(const Shape& shape) {
+  double area = 0;
+  for (const glm::u32vec3& i : shape.indices) {
+    const std::vector<glm::dvec3>& p = shape.positions;
+    area += 0.5 * glm::length(glm::cross(p[i.y] - p[i.x], p[i.z] - p[i.x]));
+  }
+  return area;
+}
+
+inline void expect_near(const glm::dvec3& a, const glm::dvec3& b, double tolerance = 1e-9) {
+  EXPECT_NEAR(a.x, b.x, tolerance);
+  EXPECT_NEAR(a.y, b.y, tolerance);
+  EXPECT_NEAR(a.z, b.z, tolerance);
+}
+
+}  // namespace tessera::testing
