@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Issue 2's measurement: time to reach Mitsuba's 256-spp RMSE on the Cornell box (depth 8), both
+# renderers on the same 2 cores in the same run. Tessera runs before and after Mitsuba so load
+# drifts show; medians are over all of its runs.
+# Usage: bench/cornell_vs_mitsuba.sh [TESSERA_SPP=64] [RUNS=5]   (repository root; needs
+# build/bin/tessera-worker and the .venv-bench of bench/README.md)
+set -euo pipefail
+SPP=${1:-64}
+RUNS=${2:-5}
+REF=tests/data/reference/cbox/ref_depth8.exr
+PY=.venv-bench/bin/python
+mkdir -p out
+echo "== $(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores,$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2)"
+echo "load before: $(cat /proc/loadavg)"
+times=()
+tessera_runs() {
+  for r in $(seq "$RUNS"); do
+    start=$(date +%s.%N)
+    build/bin/tessera-worker render scenes/cornell.json --spp "$SPP" --max-depth 8 --threads 2 \
+      --seed "$r" -q -o out/tessera_cbox.exr 2>/dev/null
+    end=$(date +%s.%N)
+    times+=("$(echo "$end - $start" | bc)")
+  done
+}
+tessera_runs
+$PY bench/mitsuba_cbox.py --spp 256 --max-depth 8 --threads 2 --runs "$RUNS" --ref "$REF" -o out/mitsuba_cbox.exr
+tessera_runs
+echo "load after: $(cat /proc/loadavg)"
+median=$(printf '%s\n' "${times[@]}" | sort -n | awk '{a[NR]=$1} END {print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}')
+echo "tessera ${SPP} spp wall times (s): ${times[*]}"
+echo "tessera ${SPP} spp median: ${median} s (process wall time: start-up, BVH build and EXR write included)"
+echo "tessera ${SPP} spp image vs reference:"
+$PY bench/compare_exr.py out/tessera_cbox.exr "$REF"
