@@ -82,6 +82,12 @@ int run_render(const RenderArgs& args) {
   };
   for (const std::string& out : args.outputs) tessera::write_image(image, out, write);
 
+  for (const tessera::Accumulation& t : result.tiles) {
+    for (const tessera::DroppedSample& d : t.dropped_examples) {
+      std::fprintf(stderr, "dropped a NaN/Inf sample: pixel (%d, %d), sample index %u\n", d.x, d.y,
+                   d.sample_index);
+    }
+  }
   const double seconds = result.seconds;
   std::fprintf(stderr,
                "rendered %dx%d, %u spp in %.2f s: %s samples/s, %s rays/s (%llu rays, %llu shadow "

@@ -58,8 +58,9 @@ Accumulation Renderer::render(const TileRect& tile, uint32_t sample_begin, uint3
         const size_t i = row * size_t(tile.width()) + size_t(x - tile.x0);
         double sum_r = 0, sum_g = 0, sum_b = 0, sum_l2 = 0;
         uint32_t n = 0;
+        const uint64_t pixel_key = PixelSampler::pixel_key(seed, x, y);
         for (uint32_t s = sample_begin; s < sample_end; ++s) {
-          PixelSampler sampler(seed, x, y, s);
+          PixelSampler sampler(pixel_key, s);
           const glm::vec2 u_film = sampler.get2d();
           const glm::vec2 u_lens = sampler.get2d();
           const Ray ray = scene.camera().generate_ray({float(x) + u_film.x, float(y) + u_film.y}, u_lens);

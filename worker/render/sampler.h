@@ -38,15 +38,21 @@ constexpr uint64_t hash_combine(uint64_t seed, uint64_t v) {
   return mix64(seed ^ (v + 0x9e3779b97f4a7c15ull + (seed << 6) + (seed >> 2)));
 }
 
-/// Nested uniform (Owen) scramble of the bits of v, most significant bit first.
-constexpr uint32_t owen_scramble(uint32_t v, uint32_t seed) {
-  v = reverse_bits32(v);
+/// The hash at the heart of the Owen scramble (pbrt-v4's FastOwenScrambler), applied to the
+/// bit-reversed value: a Laine-Karras-style permutation that only lets each bit depend on the
+/// bits below it.
+constexpr uint32_t laine_karras_hash(uint32_t v, uint32_t seed) {
   v ^= v * 0x3d20adeau;
   v += seed;
   v *= (seed >> 16) | 1u;
   v ^= v * 0x05526c56u;
   v ^= v * 0x53a22864u;
-  return reverse_bits32(v);
+  return v;
+}
+
+/// Nested uniform (Owen) scramble of the bits of v, most significant bit first.
+constexpr uint32_t owen_scramble(uint32_t v, uint32_t seed) {
+  return reverse_bits32(laine_karras_hash(reverse_bits32(v), seed));
 }
 
 /// The first two dimensions of the Sobol sequence, as 32-bit fixed-point fractions.
@@ -55,12 +61,14 @@ namespace detail {
 
 /// The generator matrix of Sobol's second dimension (Pascal's triangle mod 2) applied byte by
 /// byte: table[k][b] is the contribution of byte k of the index having value b.
+/// With `reversed`, the columns are bit-reversed: the table then gives reverse_bits32 of the
+/// point, since bit reversal commutes with XOR.
 struct Sobol1Tables {
   uint32_t table[4][256];
-  constexpr Sobol1Tables() : table{} {
+  constexpr explicit Sobol1Tables(bool reversed) : table{} {
     uint32_t columns[32] = {};
     uint32_t v = 1u << 31;
-    for (int bit = 0; bit < 32; ++bit, v ^= v >> 1) columns[bit] = v;
+    for (int bit = 0; bit < 32; ++bit, v ^= v >> 1) columns[bit] = reversed ? reverse_bits32(v) : v;
     for (int k = 0; k < 4; ++k) {
       for (uint32_t b = 0; b < 256; ++b) {
         uint32_t r = 0;
@@ -73,13 +81,22 @@ struct Sobol1Tables {
   }
 };
 
-inline constexpr Sobol1Tables kSobol1{};
+inline constexpr Sobol1Tables kSobol1{false};
+inline constexpr Sobol1Tables kSobol1Reversed{true};
 
 }  // namespace detail
 
 constexpr uint32_t sobol_dim1(uint32_t i) {
   return detail::kSobol1.table[0][i & 0xffu] ^ detail::kSobol1.table[1][(i >> 8) & 0xffu] ^
          detail::kSobol1.table[2][(i >> 16) & 0xffu] ^ detail::kSobol1.table[3][i >> 24];
+}
+
+/// reverse_bits32(sobol_dim1(i)).
+constexpr uint32_t sobol_dim1_reversed(uint32_t i) {
+  return detail::kSobol1Reversed.table[0][i & 0xffu] ^
+         detail::kSobol1Reversed.table[1][(i >> 8) & 0xffu] ^
+         detail::kSobol1Reversed.table[2][(i >> 16) & 0xffu] ^
+         detail::kSobol1Reversed.table[3][i >> 24];
 }
 
 /// The reference definition of sobol_dim1, bit by bit (for tests).
@@ -99,22 +116,40 @@ constexpr float to_unit_float(uint32_t x) { return float(x >> 8) * 0x1p-24f; }
 /// them out per path vertex) so that a dimension means the same thing across samples.
 class PixelSampler {
  public:
+  /// The per-pixel key every dimension's hash starts from.
+  static constexpr uint64_t pixel_key(uint64_t seed, int x, int y) {
+    return hash_combine(hash_combine(mix64(seed), uint64_t(uint32_t(x))), uint64_t(uint32_t(y)));
+  }
+
   PixelSampler(uint64_t seed, int x, int y, uint32_t sample_index)
-      : pixel_key_(hash_combine(hash_combine(mix64(seed), uint64_t(uint32_t(x))), uint64_t(uint32_t(y)))),
-        index_(sample_index) {}
+      : PixelSampler(pixel_key(seed, x, y), sample_index) {}
+
+  PixelSampler(uint64_t pixel_key, uint32_t sample_index)
+      : pixel_key_(pixel_key), index_(sample_index), index_reversed_(reverse_bits32(sample_index)) {}
 
   /// Dimension pairs from this one on are independent hashed uniforms, not Sobol points:
   /// past the first few bounces stratification no longer lowers the error measurably, and a
   /// hash costs a fraction of three Owen scrambles.
   static constexpr uint32_t kSobolPairs = 14;
 
-  /// The next pair of dimensions, each in [0, 1).
+  /// The next pair of dimensions, each in [0, 1): the shuffled, scrambled Sobol point
+  ///   shuffled = owen_scramble(index, s0)
+  ///   x = owen_scramble(sobol_dim0(shuffled), s1),  y = owen_scramble(sobol_dim1(shuffled), s2)
+  /// computed with three bit reversals instead of seven (sobol_dim0 is a reversal; reversals
+  /// cancel; the index's reversal is computed once per sample).
   glm::vec2 get2d() {
+    if (pair_ >= kSobolPairs) return get2d_independent();
     const uint64_t h = hash_combine(pixel_key_, pair_++);
-    if (pair_ > kSobolPairs) {
-      --pair_;
-      return get2d_independent();
-    }
+    const uint32_t shuffled = reverse_bits32(laine_karras_hash(index_reversed_, uint32_t(h)));
+    const uint32_t x = reverse_bits32(laine_karras_hash(shuffled, uint32_t(h >> 32)));
+    const uint32_t y =
+        reverse_bits32(laine_karras_hash(sobol_dim1_reversed(shuffled), uint32_t(mix64(h))));
+    return {to_unit_float(x), to_unit_float(y)};
+  }
+
+  /// get2d() by its definition, without the algebra (for tests).
+  glm::vec2 get2d_reference() {
+    const uint64_t h = hash_combine(pixel_key_, pair_++);
     const uint32_t shuffled = owen_scramble(index_, uint32_t(h));
     const uint32_t x = owen_scramble(sobol_dim0(shuffled), uint32_t(h >> 32));
     const uint32_t y = owen_scramble(sobol_dim1(shuffled), uint32_t(mix64(h)));
@@ -139,6 +174,7 @@ class PixelSampler {
  private:
   uint64_t pixel_key_;
   uint32_t index_;
+  uint32_t index_reversed_;
   uint32_t pair_ = 0;
 };
 

@@ -45,6 +45,17 @@ TEST(Sampler, TabulatedSobolMatchesTheBitwiseDefinition) {
   EXPECT_EQ(reverse_bits32(0x12345678u), 0x1e6a2c48u);
 }
 
+TEST(Sampler, FastPathEqualsTheDefinition) {
+  for (uint32_t i = 0; i < 5000; ++i) {
+    PixelSampler fast(99, int(i % 37), int(i / 37), i * 7919u), ref(99, int(i % 37), int(i / 37), i * 7919u);
+    for (uint32_t d = 0; d < PixelSampler::kSobolPairs; ++d) {
+      const glm::vec2 a = fast.get2d(), b = ref.get2d_reference();
+      ASSERT_EQ(a.x, b.x);
+      ASSERT_EQ(a.y, b.y);
+    }
+  }
+}
+
 TEST(Sampler, IsAPureFunctionOfSeedPixelIndexAndDimension) {
   PixelSampler a(7, 3, 4, 123), b(7, 3, 4, 123);
   for (int d = 0; d < 40; ++d) {

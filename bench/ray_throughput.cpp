@@ -1,0 +1,115 @@
+// tessera-bench-rays SCENE [--seconds S] [--threads N]: Embree's raw ray throughput on a scene
+// (the limit the renderer can approach) beside the renderer's own rays/s on the same scene.
+//
+// Raw rays: a pool of path-like rays — from the camera through random pixels, then from each
+// first hit in a cosine-distributed direction — traced with closest-hit queries in parallel,
+// nothing else done per ray. The renderer: one 64x64-tile batch after another through
+// Renderer::render, counting its closest-hit and shadow rays.
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "render/frame.h"
+#include "render/renderer.h"
+#include "scene/scene_loader.h"
+#include "render/traceable_scene.h"
+#include "render/warp.h"
+
+using namespace tessera;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<Ray> make_rays(const TraceableScene& scene, int width, int height, size_t count) {
+  std::vector<Ray> rays;
+  rays.reserve(count);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  while (rays.size() < count) {
+    const Ray camera = scene.camera().generate_ray({u(rng) * float(width), u(rng) * float(height)}, {0.5f, 0.5f});
+    rays.push_back(camera);
+    Hit hit;
+    if (!scene.intersect(camera, &hit)) continue;
+    glm::vec3 n = glm::dot(camera.d, hit.sp.ng) < 0 ? hit.sp.ng : -hit.sp.ng;
+    SurfacePoint sp = hit.sp;
+    sp.ng = n;
+    const glm::vec3 w = Frame(n).to_world(square_to_cosine_hemisphere({u(rng), u(rng)}));
+    rays.push_back({offset_ray_origin(sp, w), w});
+  }
+  return rays;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Embree's raw ray throughput against the renderer's, on one scene"};
+  std::string scene_file;
+  double seconds = 5;
+  int threads = 0;
+  uint32_t spp = 16;
+  app.add_option("scene", scene_file, "Scene file")->required();
+  app.add_option("--seconds", seconds, "Time per measurement");
+  app.add_option("--threads", threads, "Threads (default: all cores)");
+  app.add_option("--spp", spp, "Samples per pixel per renderer batch");
+  CLI11_PARSE(app, argc, argv);
+  std::optional<tbb::global_control> limit;
+  if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
+
+  const Scene scene = load_scene_file(scene_file);
+  JobOverrides overrides;
+  overrides.spp = spp;
+  overrides.max_depth = 8;
+  const JobOptions options = resolve_job_options(scene, overrides);
+  const TraceableScene traceable(scene, options.width, options.height, "");
+  const std::vector<Ray> rays = make_rays(traceable, options.width, options.height, 1 << 20);
+
+  uint64_t traced = 0;
+  std::atomic<uint64_t> hits{0};
+  auto t0 = std::chrono::steady_clock::now();
+  while (seconds_since(t0) < seconds) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+      uint64_t local = 0;
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        Hit hit;
+        local += traceable.intersect(rays[i], &hit) ? 1 : 0;
+      }
+      hits += local;
+    });
+    traced += rays.size();
+  }
+  const double raw_rate = double(traced) / seconds_since(t0);
+
+  const Renderer renderer(scene, options);
+  RenderStats stats;
+  t0 = std::chrono::steady_clock::now();
+  uint32_t batch = 0;
+  const std::vector<TileRect> tiles = options.plan().tiles();
+  while (seconds_since(t0) < seconds) {
+    for (const TileRect& tile : tiles) {
+      renderer.render(tile, batch * spp, (batch + 1) * spp, &stats);
+    }
+    ++batch;
+  }
+  const double elapsed = seconds_since(t0);
+  const double render_rays = double(stats.rays + stats.shadow_rays) / elapsed;
+  std::printf("scene %s, isa %s\n", scene_file.c_str(), traceable.isa().c_str());
+  std::printf("embree raw closest-hit rays: %.2f M rays/s (%zu rays in the pool, %.1f %% hit)\n",
+              raw_rate / 1e6, rays.size(), 100.0 * double(hits) / double(traced));
+  std::printf("renderer: %.2f M samples/s, %.2f M rays/s (closest-hit %.2f M/s + shadow %.2f M/s), "
+              "%.1f %% of the raw rate\n",
+              double(stats.samples) / elapsed / 1e6, render_rays / 1e6, double(stats.rays) / elapsed / 1e6,
+              double(stats.shadow_rays) / elapsed / 1e6, 100.0 * render_rays / raw_rate);
+  return 0;
+}

@@ -1,0 +1,331 @@
+#include "farm_worker.h"
+
+#include <tbb/info.h>
+#include <tbb/task_arena.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <iostream>
+#include <stdexcept>
+
+#include "accum/accumulation_codec.h"
+#include "backoff.h"
+#include "bundle_cache.h"
+#include "renderer_cache.h"
+#include "scene/scene_error.h"
+#include "stop_signal.h"
+#include "unit_render.h"
+#include "wire/job_options_wire.h"
+#include "wire/rpc_channel.h"
+#include "wire/scene_bundle.h"
+#include "worker_client.h"
+
+namespace tessera {
+namespace farm {
+namespace {
+
+using std::chrono::milliseconds;
+
+/// How long a LeaseUnit call may wait on the server for work (a signal cancels it at once).
+constexpr uint32_t kLeaseWaitMs = 5000;
+/// How long to keep retrying an upload while the server is unreachable before dropping the
+/// result (its lease is revoked by then: a restarted server re-queues every lease).
+constexpr milliseconds kUploadGiveUp{120'000};
+
+void log(const std::string& line) { std::cerr << "tessera-worker: " << line << std::endl; }
+
+/// A unit that cannot be rendered here (bad bundle, renderer error): handed back as failed.
+class UnitFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The server cannot be reached or refuses us in a way retrying may fix.
+class Transient : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Retrying cannot fix it (bad token): the worker exits 1.
+class Fatal : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The server forgot this worker (a new database): register again.
+class UnknownWorker : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+bool is_transient(grpc::StatusCode code) {
+  switch (code) {
+    case grpc::StatusCode::UNAVAILABLE:
+    case grpc::StatusCode::DEADLINE_EXCEEDED:
+    case grpc::StatusCode::CANCELLED:
+    case grpc::StatusCode::RESOURCE_EXHAUSTED:
+    case grpc::StatusCode::ABORTED:
+    case grpc::StatusCode::INTERNAL:
+    case grpc::StatusCode::UNKNOWN:
+      return true;
+    default:
+      return false;
+  }
+}
+
+/// Throws the exception the status calls for; returns on OK.
+void check(const grpc::Status& status, const char* call) {
+  if (status.ok()) return;
+  const std::string line = std::string(call) + ": " + wire::status_line(status);
+  switch (status.error_code()) {
+    case grpc::StatusCode::UNAUTHENTICATED:
+    case grpc::StatusCode::PERMISSION_DENIED:
+    case grpc::StatusCode::UNIMPLEMENTED:
+      throw Fatal(line);
+    default:
+      break;
+  }
+  if (is_transient(status.error_code())) throw Transient(line);
+  if (status.error_code() == grpc::StatusCode::NOT_FOUND &&
+      status.error_message().rfind("no worker", 0) == 0) {
+    throw UnknownWorker(line);
+  }
+  throw UnitFailure(line);
+}
+
+std::string default_name() {
+  std::array<char, 256> host{};
+  if (gethostname(host.data(), host.size() - 1) != 0) host[0] = 0;
+  return std::string(host.data()) + ":" + std::to_string(getpid());
+}
+
+/// The ISA Embree picks on this machine, found by building a one-sphere scene.
+std::string probe_isa() {
+  try {
+    Scene scene;
+    scene.materials.push_back(Material{});
+    Shape sphere;
+    sphere.kind = Shape::Kind::sphere;
+    scene.shapes.push_back(sphere);
+    JobOptions options;
+    options.width = options.height = 1;
+    options.spp = options.batch_spp = 1;
+    options.tile_size = 1;
+    return Renderer(scene, options).isa();
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+class FarmWorker {
+ public:
+  FarmWorker(const FarmWorkerConfig& config, StopSignal& stop)
+      : config_(config),
+        stop_(stop),
+        client_(config.server, config.token),
+        bundles_(config.cache_dir.empty() ? BundleCache::default_dir() : config.cache_dir),
+        arena_(config.threads > 0 ? config.threads : tbb::task_arena::automatic) {}
+
+  int run() {
+    log("serving " + config_.server + " with " + std::to_string(threads()) +
+        " thread(s), bundle cache " + bundles_.dir().string());
+    try {
+      while (!stop_.requested()) {
+        try {
+          if (worker_id_ == 0) register_worker();
+          lease_and_render();
+          if (unreachable_) log("server reachable again");
+          unreachable_ = false;
+          backoff_.reset();
+        } catch (const Transient& e) {
+          if (!unreachable_ && !stop_.requested()) log(std::string(e.what()) + "; retrying");
+          unreachable_ = true;
+          stop_.wait_for(backoff_.next());
+        } catch (const UnknownWorker& e) {
+          log(std::string(e.what()) + "; registering again");
+          worker_id_ = 0;
+        }
+      }
+    } catch (const Fatal& e) {
+      log(e.what());
+      return 1;
+    }
+    log("stopped");
+    return 0;
+  }
+
+ private:
+  int threads() const {
+    return config_.threads > 0 ? config_.threads : tbb::info::default_concurrency();
+  }
+
+  void register_worker() {
+    v1::RegisterRequest request;
+    request.set_name(config_.name.empty() ? default_name() : config_.name);
+    request.set_threads(uint32_t(threads()));
+    if (isa_.empty()) isa_ = probe_isa();
+    request.set_isa(isa_);
+    request.set_version(TESSERA_VERSION);
+    v1::RegisterResponse response;
+    check(client_.register_worker(request, &response), "Register");
+    worker_id_ = response.worker_id();
+    log("registered as worker " + std::to_string(worker_id_) + " (" + request.name() + ")");
+  }
+
+  void lease_and_render() {
+    v1::LeaseUnitRequest request;
+    request.set_worker_id(worker_id_);
+    request.set_wait_ms(kLeaseWaitMs);
+    v1::LeaseUnitResponse lease;
+    const grpc::Status status = client_.lease(request, &lease, stop_);
+    if (stop_.requested()) {
+      // A unit leased as the signal arrived goes straight back.
+      if (status.ok() && lease.leased()) release(lease.lease_id(), false, "worker stopping");
+      return;
+    }
+    check(status, "LeaseUnit");
+    if (!lease.leased()) return;
+    try {
+      render_and_upload(lease);
+    } catch (const UnitFailure& e) {
+      log("job " + std::to_string(lease.unit().job_id()) + ": " + e.what() +
+          "; handing the unit back");
+      release(lease.lease_id(), true, e.what());
+    }
+  }
+
+  std::shared_ptr<const Renderer> renderer_for(const v1::WorkUnit& unit) {
+    const std::string key = unit.bundle_sha256() + "/" + unit.options().SerializeAsString();
+    return renderers_.get(key, [&] {
+      std::optional<wire::BundleContents> bundle = bundles_.get(unit.bundle_sha256());
+      if (!bundle) bundle = fetch_bundle(unit.bundle_sha256());
+      try {
+        const Scene scene = wire::parse_bundle_scene(*bundle);
+        const JobOptions options = wire::options_from_proto(unit.options());
+        log("job " + std::to_string(unit.job_id()) + ": building the renderer for " +
+            bundle->scene_file);
+        return std::make_unique<Renderer>(scene, options);
+      } catch (const SceneError& e) {
+        throw UnitFailure(e.what());
+      } catch (const std::invalid_argument& e) {
+        throw UnitFailure(e.what());
+      }
+    });
+  }
+
+  wire::BundleContents fetch_bundle(const std::string& sha256) {
+    v1::FetchBundleRequest request;
+    request.set_sha256(sha256);
+    v1::FetchBundleResponse response;
+    check(client_.fetch_bundle(request, &response), "FetchBundle");
+    try {
+      wire::BundleContents bundle = wire::bundle_from_proto(response.bundle());
+      bundles_.put(sha256, bundle);  // checks the hash
+      return bundle;
+    } catch (const wire::BundleError& e) {
+      throw UnitFailure(e.what());
+    }
+  }
+
+  void render_and_upload(const v1::LeaseUnitResponse& lease) {
+    const v1::WorkUnit& unit = lease.unit();
+    const std::shared_ptr<const Renderer> renderer = renderer_for(unit);
+    const TileRect tile{unit.x0(), unit.y0(), unit.x1(), unit.y1()};
+    const milliseconds interval(std::max<uint32_t>(50, lease.heartbeat_interval_ms()));
+    const auto heartbeat = [&] {
+      v1::HeartbeatRequest request;
+      request.set_worker_id(worker_id_);
+      request.set_lease_id(lease.lease_id());
+      v1::HeartbeatResponse response;
+      const grpc::Status status = client_.heartbeat(request, &response, std::max(interval, milliseconds(5000)));
+      if (!status.ok()) return LeaseCheck::unreachable;
+      return response.valid() ? LeaseCheck::valid : LeaseCheck::gone;
+    };
+    const UnitRenderResult rendered = render_unit(*renderer, arena_, tile, unit.sample_begin(),
+                                                  unit.sample_end(), heartbeat, interval, stop_);
+    switch (rendered.outcome) {
+      case UnitOutcome::lease_lost:
+        log("job " + std::to_string(unit.job_id()) + ": lease gone (expired or job ended); unit dropped");
+        return;
+      case UnitOutcome::abandoned:
+        release(lease.lease_id(), false, "worker stopping");
+        return;
+      case UnitOutcome::rendered:
+        break;
+    }
+    v1::UploadResultRequest request;
+    request.set_worker_id(worker_id_);
+    request.set_lease_id(lease.lease_id());
+    request.set_job_id(unit.job_id());
+    request.set_tile(unit.tile());
+    request.set_batch(unit.batch());
+    request.set_accumulation(encode_accumulation(rendered.result));
+    request.set_isa(renderer->isa());
+    request.set_render_ms(uint32_t(rendered.elapsed.count()));
+    upload(request);
+  }
+
+  /// Delivers a result, retrying while the server is unreachable (up to kUploadGiveUp, or until
+  /// a second signal).
+  void upload(const v1::UploadResultRequest& request) {
+    const auto give_up = std::chrono::steady_clock::now() + kUploadGiveUp;
+    Backoff backoff;
+    for (;;) {
+      v1::UploadResultResponse response;
+      const grpc::Status status = client_.upload(request, &response);
+      if (status.ok()) {
+        if (!response.accepted()) {
+          log("job " + std::to_string(request.job_id()) + ": result dropped by the server: " +
+              response.reason());
+        }
+        return;
+      }
+      if (!is_transient(status.error_code())) {
+        check(status, "UploadResult");  // throws: fatal, unknown worker, or a unit failure
+      }
+      if (stop_.count() >= 2 || std::chrono::steady_clock::now() > give_up) {
+        log("job " + std::to_string(request.job_id()) + ": giving up delivering a result: " +
+            wire::status_line(status));
+        return;
+      }
+      stop_.wait_for(backoff.next());
+    }
+  }
+
+  /// Hands a unit back; failures to reach the server are only logged (the lease then expires).
+  void release(const std::string& lease_id, bool failed, const std::string& message) {
+    v1::ReleaseUnitRequest request;
+    request.set_worker_id(worker_id_);
+    request.set_lease_id(lease_id);
+    request.set_reason(failed ? v1::ReleaseUnitRequest::REASON_FAILED
+                              : v1::ReleaseUnitRequest::REASON_SHUTDOWN);
+    request.set_message(message);
+    v1::ReleaseUnitResponse response;
+    const grpc::Status status = client_.release(request, &response);
+    if (!status.ok()) log("ReleaseUnit: " + wire::status_line(status) + " (the lease will expire)");
+  }
+
+  const FarmWorkerConfig& config_;
+  StopSignal& stop_;
+  WorkerClient client_;
+  BundleCache bundles_;
+  RendererCache renderers_;
+  tbb::task_arena arena_;
+  Backoff backoff_;
+  uint64_t worker_id_ = 0;
+  std::string isa_;
+  bool unreachable_ = false;
+};
+
+}  // namespace
+}  // namespace farm
+
+int run_farm_worker(const FarmWorkerConfig& config) {
+  if (config.server.empty()) throw std::invalid_argument("--server: HOST:PORT is required");
+  farm::StopSignal stop;  // before any thread starts: they inherit the blocked signals
+  farm::FarmWorker worker(config, stop);
+  return worker.run();
+}
+
+}  // namespace tessera

@@ -1,0 +1,67 @@
+#include "unit_render.h"
+
+#include <tbb/task_group.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
+namespace tessera::farm {
+
+UnitRenderResult render_unit(const Renderer& renderer, tbb::task_arena& arena, const TileRect& tile,
+                             uint32_t sample_begin, uint32_t sample_end,
+                             const std::function<LeaseCheck()>& heartbeat,
+                             std::chrono::milliseconds heartbeat_interval, const StopSignal& stop) {
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  UnitRenderResult out;
+  tbb::task_group_context context;
+  std::atomic<int> cancelled_as{0};  // 0 none, 1 lease lost, 2 abandoned
+  std::mutex mu;
+  std::condition_variable cv;
+  bool done = false;
+
+  std::thread watchdog([&] {
+    // Checks for a second signal often (100 ms), heartbeats at the server's interval.
+    auto next_heartbeat = clock::now() + heartbeat_interval;
+    std::unique_lock lock(mu);
+    while (!done) {
+      cv.wait_for(lock, std::chrono::milliseconds(100), [&] { return done; });
+      if (done) break;
+      if (stop.count() >= 2) {
+        cancelled_as = 2;
+        context.cancel_group_execution();
+        break;
+      }
+      if (clock::now() < next_heartbeat) continue;
+      lock.unlock();
+      const LeaseCheck check = heartbeat();
+      lock.lock();
+      next_heartbeat = clock::now() + heartbeat_interval;
+      if (check == LeaseCheck::gone) {
+        cancelled_as = 1;
+        context.cancel_group_execution();
+        break;
+      }
+    }
+  });
+
+  arena.execute([&] {
+    tbb::task_group group(context);
+    group.run_and_wait([&] { out.result = renderer.render(tile, sample_begin, sample_end); });
+  });
+  {
+    std::lock_guard lock(mu);
+    done = true;
+  }
+  cv.notify_all();
+  watchdog.join();
+
+  out.elapsed = std::chrono::duration_cast<std::chrono::milliseconds>(clock::now() - start);
+  if (cancelled_as == 1) out.outcome = UnitOutcome::lease_lost;
+  if (cancelled_as == 2) out.outcome = UnitOutcome::abandoned;
+  return out;
+}
+
+}  // namespace tessera::farm

@@ -1,0 +1,41 @@
+// Rendering one leased unit: all of the worker's cores (its TBB arena) on the unit, while a
+// watchdog thread heartbeats the lease and cancels the render when the lease is gone (expired,
+// job cancelled) or a second stop signal asks to abandon the unit.
+#pragma once
+
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+
+#include "accum/accumulation.h"
+#include "render/renderer.h"
+#include "stop_signal.h"
+
+namespace tessera::farm {
+
+enum class LeaseCheck { valid, gone, unreachable };
+
+enum class UnitOutcome {
+  rendered,    ///< `result` holds the unit's accumulation
+  lease_lost,  ///< the server said the lease is gone: drop the unit
+  abandoned    ///< a second stop signal: hand the unit back
+};
+
+struct UnitRenderResult {
+  UnitOutcome outcome = UnitOutcome::rendered;
+  Accumulation result;
+  std::chrono::milliseconds elapsed{0};
+};
+
+/// Renders samples [sample_begin, sample_end) of `tile` in `arena`. `heartbeat()` is called
+/// every `heartbeat_interval` from the watchdog thread; when it returns LeaseCheck::gone the
+/// render is cancelled (TBB group cancellation) and lease_lost returned. `unreachable` keeps
+/// rendering: the lease may still be current when the server is back.
+UnitRenderResult render_unit(const Renderer& renderer, tbb::task_arena& arena, const TileRect& tile,
+                             uint32_t sample_begin, uint32_t sample_end,
+                             const std::function<LeaseCheck()>& heartbeat,
+                             std::chrono::milliseconds heartbeat_interval, const StopSignal& stop);
+
+}  // namespace tessera::farm

@@ -1,0 +1,72 @@
+#include "worker_client.h"
+
+#include "wire/rpc_channel.h"
+
+namespace tessera::farm {
+namespace {
+
+using std::chrono::milliseconds;
+
+/// Deadlines, milliseconds. Bundles and results can be large (tens of MB): generous.
+constexpr milliseconds kRegisterTimeout{10'000};
+constexpr milliseconds kLeaseMargin{10'000};
+constexpr milliseconds kFetchTimeout{300'000};
+constexpr milliseconds kUploadTimeout{120'000};
+constexpr milliseconds kReleaseTimeout{10'000};
+
+}  // namespace
+
+WorkerClient::WorkerClient(const std::string& server, std::string token)
+    : token_(std::move(token)),
+      stub_(v1::WorkerService::NewStub(wire::make_channel(server))) {}
+
+void WorkerClient::prepare(grpc::ClientContext& context, milliseconds timeout) const {
+  wire::prepare_context(context, token_, timeout);
+}
+
+grpc::Status WorkerClient::register_worker(const v1::RegisterRequest& request,
+                                           v1::RegisterResponse* response) {
+  grpc::ClientContext context;
+  prepare(context, kRegisterTimeout);
+  return stub_->Register(&context, request, response);
+}
+
+grpc::Status WorkerClient::lease(const v1::LeaseUnitRequest& request,
+                                 v1::LeaseUnitResponse* response, StopSignal& stop) {
+  grpc::ClientContext context;
+  prepare(context, milliseconds(request.wait_ms()) + kLeaseMargin);
+  stop.set_cancellable(&context);
+  grpc::Status status = stub_->LeaseUnit(&context, request, response);
+  stop.set_cancellable(nullptr);
+  return status;
+}
+
+grpc::Status WorkerClient::heartbeat(const v1::HeartbeatRequest& request,
+                                     v1::HeartbeatResponse* response, milliseconds timeout) {
+  grpc::ClientContext context;
+  prepare(context, timeout);
+  return stub_->Heartbeat(&context, request, response);
+}
+
+grpc::Status WorkerClient::fetch_bundle(const v1::FetchBundleRequest& request,
+                                        v1::FetchBundleResponse* response) {
+  grpc::ClientContext context;
+  prepare(context, kFetchTimeout);
+  return stub_->FetchBundle(&context, request, response);
+}
+
+grpc::Status WorkerClient::upload(const v1::UploadResultRequest& request,
+                                  v1::UploadResultResponse* response) {
+  grpc::ClientContext context;
+  prepare(context, kUploadTimeout);
+  return stub_->UploadResult(&context, request, response);
+}
+
+grpc::Status WorkerClient::release(const v1::ReleaseUnitRequest& request,
+                                   v1::ReleaseUnitResponse* response) {
+  grpc::ClientContext context;
+  prepare(context, kReleaseTimeout);
+  return stub_->ReleaseUnit(&context, request, response);
+}
+
+}  // namespace tessera::farm

@@ -1,0 +1,39 @@
+// The worker's side of tessera.v1.WorkerService: one method per RPC, each with its deadline and
+// the bearer token. Statuses are returned, not thrown: the worker loop decides what to retry.
+#pragma once
+
+#include <grpcpp/grpcpp.h>
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "stop_signal.h"
+#include "tessera/v1/worker_service.grpc.pb.h"
+
+namespace tessera::farm {
+
+class WorkerClient {
+ public:
+  WorkerClient(const std::string& server, std::string token);
+
+  grpc::Status register_worker(const v1::RegisterRequest& request, v1::RegisterResponse* response);
+  /// Long poll: the deadline covers the server's wait (request.wait_ms) plus a margin. The call
+  /// is cancelled at once when `stop` receives a signal.
+  grpc::Status lease(const v1::LeaseUnitRequest& request, v1::LeaseUnitResponse* response,
+                     StopSignal& stop);
+  grpc::Status heartbeat(const v1::HeartbeatRequest& request, v1::HeartbeatResponse* response,
+                         std::chrono::milliseconds timeout);
+  grpc::Status fetch_bundle(const v1::FetchBundleRequest& request,
+                            v1::FetchBundleResponse* response);
+  grpc::Status upload(const v1::UploadResultRequest& request, v1::UploadResultResponse* response);
+  grpc::Status release(const v1::ReleaseUnitRequest& request, v1::ReleaseUnitResponse* response);
+
+ private:
+  void prepare(grpc::ClientContext& context, std::chrono::milliseconds timeout) const;
+
+  std::string token_;
+  std::unique_ptr<v1::WorkerService::Stub> stub_;
+};
+
+}  // namespace tessera::farm
