@@ -66,8 +66,9 @@ std::vector<PendingGroup> group_faces(const std::vector<tinyobj::shape_t>& shape
       group.face_sizes.push_back(size);
       offset += size;
     }
-    if (offset != mesh.indices.size())
+    if (offset != mesh.indices.size()) {
       throw SceneError(path + ": a face has more than 255 vertices");
+    }
   }
   return groups;
 }

@@ -254,6 +254,10 @@ TEST(ObjLoader, BadFilesNameTheFileAndWhatIsWrong) {
   EXPECT_EQ(error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", {}, R"(, "material": "white")"),
             "shapes[0].file: meshes/m.obj: Failed parse `f' line(e.g. zero value for face index. "
             "line 4.)");
+  std::string big = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf";
+  for (int k = 0; k < 300; ++k) big += " " + std::to_string(1 + k % 3);
+  EXPECT_EQ(error(big + "\n", {}, R"(, "material": "white")"),
+            "shapes[0].file: meshes/m.obj: a face has more than 255 vertices");
   EXPECT_EQ(error("v 0 0 0\n", {}, R"(, "material": "white")"),
             "shapes[0].file: meshes/m.obj: no triangles (0 degenerate faces dropped)");
 }

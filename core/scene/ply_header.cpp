@@ -183,8 +183,9 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& name) {
       has_format = true;
     } else if (keyword == "element") {
       PlyElement element = parse_element(line, name);
-      if (header.find(element.name))
+      if (header.find(element.name)) {
         fail(name, line.number, "element \"" + printable(element.name) + "\" declared twice");
+      }
       header.elements.push_back(std::move(element));
     } else if (keyword == "property") {
       if (header.elements.empty()) fail(name, line.number, "property before any element");

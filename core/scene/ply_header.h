@@ -1,8 +1,9 @@
 // The header of a PLY file (http://paulbourke.net/dataformats/ply/).
 //
-// Tessera reads PLY itself: Debian 12 has no PLY library that reads all three encodings with
-// the checks a render farm needs (bounded allocation, exact errors on truncated or hostile
-// files); assimp reads PLY but pulls in dozens of formats and reports errors loosely.
+// Tessera reads PLY itself: Debian 12 packages no small PLY library (no rply, tinyply or
+// happly); those that read PLY (assimp, VTK, PCL) are large multi-format or point-cloud
+// libraries, and a render farm reading users' files needs bounded allocation and exact errors
+// on truncated or hostile files, which is little code to own.
 #pragma once
 
 #include <cstddef>

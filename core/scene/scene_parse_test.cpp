@@ -1,6 +1,10 @@
 // Scene format v1: the top level, camera, film, render and materials.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+#include <numbers>
+
 #include "scene/scene_test_support.h"
 
 namespace tessera {
@@ -65,6 +69,28 @@ TEST(SceneParse, DesignDocumentExampleParses) {
   EXPECT_TRUE(scene.shapes[2].is_emitter());
   EXPECT_FALSE(scene.shapes[2].two_sided_emission);
   EXPECT_EQ(scene.shapes[0].origin, "shapes[0]");
+}
+
+TEST(SceneParse, DocumentationExampleParses) {
+  // docs/scenes.md's complete example (its first json block), as if saved in scenes/.
+  std::ifstream doc(TESSERA_SOURCE_DIR "/docs/scenes.md");
+  std::string text((std::istreambuf_iterator<char>(doc)), std::istreambuf_iterator<char>());
+  size_t start = text.find("```json\n");
+  ASSERT_NE(start, std::string::npos);
+  start += 8;
+  std::string json = text.substr(start, text.find("```", start) - start);
+  Scene scene = parse_scene(json, folder_reader(TESSERA_SOURCE_DIR "/scenes"));
+  ASSERT_EQ(scene.shapes.size(), 9u);
+  for (size_t wall = 0; wall < 5; ++wall) {  // the room faces inward
+    const Shape& quad = scene.shapes[wall];
+    glm::dvec3 to_center = glm::dvec3(0, 1, 0) - testing::face_center(quad, 0);
+    EXPECT_GT(glm::dot(testing::face_normal(quad, 0), to_center), 0) << wall;
+  }
+  const Shape& light = scene.shapes[5];
+  EXPECT_NEAR(light.emission.x, 40 / (std::numbers::pi * 0.25), 1e-9);
+  EXPECT_EQ(scene.materials[light.material].name, "(black)");
+  EXPECT_EQ(scene.shapes[8].indices.size(), 69451u);
+  EXPECT_EQ(scene.referenced_files, std::vector<std::string>{"meshes/bunny.ply"});
 }
 
 TEST(SceneParse, FovAxisValues) {

@@ -55,8 +55,9 @@ Camera parse_camera(const JsonValue& value) {
       fov->fail("must be in (0, 180) degrees (got " + format_number(camera.fov_deg) + ")");
     }
   }
-  if (std::optional<JsonValue> axis = value.find("fov_axis"))
+  if (std::optional<JsonValue> axis = value.find("fov_axis")) {
     camera.fov_axis = parse_fov_axis(*axis);
+  }
   if (std::optional<JsonValue> aperture = value.find("aperture_radius")) {
     camera.aperture_radius = aperture->number();
     if (camera.aperture_radius < 0) {

@@ -151,8 +151,9 @@ SphereGeometry build_sphere(const JsonValue& shape) {
   sphere.center = shape.vec3_or("center", sphere.center);
   if (std::optional<JsonValue> radius = shape.find("radius")) {
     sphere.radius = radius->number();
-    if (!(sphere.radius > 0))
+    if (!(sphere.radius > 0)) {
       radius->fail("must be > 0 (got " + format_number(sphere.radius) + ")");
+    }
   }
   return sphere;
 }

@@ -29,18 +29,19 @@ struct Part {
 std::vector<std::string_view> keys_of(std::string_view type) {
   std::vector<std::string_view> keys = {"type",      "material",     "emission", "power",
                                         "two_sided", "flip_normals", "transform"};
-  if (type == "quad" || type == "tetrahedron")
+  if (type == "quad" || type == "tetrahedron") {
     keys.push_back("vertices");
-  else if (type == "sphere")
+  } else if (type == "sphere") {
     keys.insert(keys.end(), {"center", "radius"});
-  else if (type == "triangles")
+  } else if (type == "triangles") {
     keys.insert(keys.end(), {"vertices", "indices", "normals"});
-  else if (type == "box")
+  } else if (type == "box") {
     keys.insert(keys.end(), {"min", "max"});
-  else if (type == "mesh")
+  } else if (type == "mesh") {
     keys.insert(keys.end(), {"file", "face_normals"});
-  else
+  } else {
     return {};
+  }
   return keys;
 }
 
@@ -142,8 +143,9 @@ void place_mesh(Part& part, const Transform& transform, bool flip, const JsonVal
 /// Removes parts of a mesh file left without triangles; an error when none is left.
 void drop_empty_parts(std::vector<Part>& parts, const JsonValue& value) {
   size_t dropped = 0;
-  for (const Part& part : parts)
-    dropped += part.is_sphere || !part.mesh.indices.empty() ? 0 : part.dropped;
+  for (const Part& part : parts) {
+    if (!part.is_sphere && part.mesh.indices.empty()) dropped += part.dropped;
+  }
   std::erase_if(parts, [](const Part& p) { return !p.is_sphere && p.mesh.indices.empty(); });
   if (parts.empty()) {
     std::string file = value.has("file") ? value.at("file").string() + ": " : "";
@@ -190,7 +192,9 @@ Shape make_shape(Part& part, const JsonValue& value, bool flip, bool several) {
   shape.flip_normals = flip;
   shape.dropped_triangles = part.dropped;
   shape.origin = value.path();
-  if (several || !part.label.empty()) shape.origin += " (" + part.label + ")";
+  if (several || !part.label.empty()) {
+    shape.origin += " (" + (part.label.empty() ? "no material" : printable(part.label)) + ")";
+  }
   return shape;
 }
 
@@ -214,10 +218,11 @@ void parse_shape(const JsonValue& value, ShapeContext& context, std::vector<Shap
 
   std::vector<Part> parts = build_parts(value, type, !declared.has_value(), context);
   for (Part& part : parts) {
-    if (part.is_sphere)
+    if (part.is_sphere) {
       place_sphere(part, transform, value);
-    else
+    } else {
       place_mesh(part, transform, flip, value, type);
+    }
   }
   if (type == "mesh") drop_empty_parts(parts, value);
   double area = 0;
