@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
@@ -30,8 +31,9 @@ glm::vec3 emitted(const Geometry& g, glm::vec3 ng, glm::vec3 w) {
 
 /// Next-event estimation at a Lambertian point: f * Le * G / pdf for one sampled light point,
 /// or zero when it is occluded or faces away.
-glm::dvec3 sample_direct(const TraceableScene& scene, const SurfacePoint& sp, glm::vec3 ns,
-                         glm::vec3 albedo, glm::vec2 u_pick, glm::vec2 u_point,
+/// `origin` is sp offset to the front side (where every direction it accepts points).
+glm::dvec3 sample_direct(const TraceableScene& scene, const SurfacePoint& sp, glm::vec3 origin,
+                         glm::vec3 ns, glm::vec3 albedo, glm::vec2 u_pick, glm::vec2 u_point,
                          PathCounters& counters) {
   float pick_pmf = 0;
   const uint32_t index = scene.light_selector().pick(u_pick.x, &pick_pmf);
@@ -48,7 +50,7 @@ glm::dvec3 sample_direct(const TraceableScene& scene, const SurfacePoint& sp, gl
   const float cos_light = std::abs(glm::dot(ls.sp.ng, wi));
   if (le == glm::vec3(0.0f) || cos_light <= 0) return glm::dvec3(0.0);
 
-  const glm::vec3 from = offset_ray_origin(sp, wi);
+  const glm::vec3 from = origin;
   const glm::vec3 to = offset_ray_origin(ls.sp, -wi);
   ++counters.shadow_rays;
   if (scene.occluded(from, to - from, 1.0f)) return glm::dvec3(0.0);
@@ -74,7 +76,7 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
     Hit hit;
     ++counters.rays;
     if (!scene.intersect(ray, &hit)) break;
-    const glm::vec3 wo = -glm::normalize(ray.d);
+    const glm::vec3 wo = -ray.d;  // every ray the integrator spawns has a unit direction
     const Geometry& g = *hit.geometry;
 
     if (count_emission) {
@@ -94,6 +96,7 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
     glm::vec3 ns = hit.ns;
     const bool front = glm::dot(wo, sp.ng) > 0;
     glm::vec3 wi;
+    std::optional<glm::vec3> front_origin;
 
     if (m.type == MaterialType::glass) {
       // Glass is two-sided by nature: entering from the front, leaving from the back.
@@ -125,9 +128,11 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
         if (glm::dot(wi, sp.ng) <= 0) break;
         count_emission = true;
       } else {
+        // Both the shadow ray and the bounce leave on the front side: one offset serves both.
+        front_origin = offset_ray_origin(sp, sp.ng);
         if (have_lights) {
-          radiance += glm::dvec3(beta) *
-                      sample_direct(scene, sp, ns, m.albedo, u_choice, u_light, counters);
+          radiance += glm::dvec3(beta) * sample_direct(scene, sp, *front_origin, ns, m.albedo,
+                                                       u_choice, u_light, counters);
         }
         wi = Frame(ns).to_world(square_to_cosine_hemisphere(u_scatter));
         if (glm::dot(wi, sp.ng) <= 0) break;
@@ -142,7 +147,7 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
       if (u_choice.y >= survival) break;
       beta /= survival;
     }
-    ray.o = offset_ray_origin(sp, wi);
+    ray.o = front_origin ? *front_origin : offset_ray_origin(sp, wi);
     ray.d = wi;
     ray.t_max = std::numeric_limits<float>::infinity();
   }
