@@ -87,10 +87,8 @@ void check(const grpc::Status& status, const char* call) {
       break;
   }
   if (is_transient(status.error_code())) throw Transient(line);
-  if (status.error_code() == grpc::StatusCode::NOT_FOUND &&
-      status.error_message().rfind("no worker", 0) == 0) {
-    throw UnknownWorker(line);
-  }
+  // The only FAILED_PRECONDITION of WorkerService: our worker id is unknown (worker_service.proto).
+  if (status.error_code() == grpc::StatusCode::FAILED_PRECONDITION) throw UnknownWorker(line);
   throw UnitFailure(line);
 }
 
@@ -145,13 +143,22 @@ class FarmWorker {
         } catch (const UnknownWorker& e) {
           log(std::string(e.what()) + "; registering again");
           worker_id_ = 0;
+        } catch (const Fatal&) {
+          throw;
+        } catch (const std::exception& e) {
+          // Unexpected (out of memory, a full cache disk): keep serving after a pause.
+          log(std::string("unexpected error: ") + e.what() + "; retrying");
+          stop_.wait_for(backoff_.next());
         }
       }
     } catch (const Fatal& e) {
       log(e.what());
       return 1;
     }
-    log("stopped");
+    log("stopped after delivering " + std::to_string(units_uploaded_) + " unit(s), " +
+        std::to_string(result_bytes_) + " result bytes" +
+        (units_uploaded_ ? " (" + std::to_string(result_bytes_ / units_uploaded_) + " per unit)"
+                         : std::string()));
     return 0;
   }
 
@@ -195,10 +202,19 @@ class FarmWorker {
     }
   }
 
-  std::shared_ptr<const Renderer> renderer_for(const v1::WorkUnit& unit) {
+  /// The job's renderer; `built` says whether it had to be made (bundle fetched or read, BVH
+  /// built), which may take longer than a heartbeat interval.
+  std::shared_ptr<const Renderer> renderer_for(const v1::WorkUnit& unit, bool& built) {
     const std::string key = unit.bundle_sha256() + "/" + unit.options().SerializeAsString();
+    built = false;
     return renderers_.get(key, [&] {
-      std::optional<wire::BundleContents> bundle = bundles_.get(unit.bundle_sha256());
+      built = true;
+      std::optional<wire::BundleContents> bundle;
+      try {
+        bundle = bundles_.get(unit.bundle_sha256());
+      } catch (const wire::BundleError& e) {
+        throw UnitFailure(e.what());
+      }
       if (!bundle) bundle = fetch_bundle(unit.bundle_sha256());
       try {
         const Scene scene = wire::parse_bundle_scene(*bundle);
@@ -208,7 +224,8 @@ class FarmWorker {
         return std::make_unique<Renderer>(scene, options);
       } catch (const SceneError& e) {
         throw UnitFailure(e.what());
-      } catch (const std::invalid_argument& e) {
+      } catch (const std::exception& e) {
+        // Bad options, or the renderer refusing the scene (an ISA this CPU lacks, ...).
         throw UnitFailure(e.what());
       }
     });
@@ -230,7 +247,8 @@ class FarmWorker {
 
   void render_and_upload(const v1::LeaseUnitResponse& lease) {
     const v1::WorkUnit& unit = lease.unit();
-    const std::shared_ptr<const Renderer> renderer = renderer_for(unit);
+    bool built = false;
+    const std::shared_ptr<const Renderer> renderer = renderer_for(unit, built);
     const TileRect tile{unit.x0(), unit.y0(), unit.x1(), unit.y1()};
     const milliseconds interval(std::max<uint32_t>(50, lease.heartbeat_interval_ms()));
     const auto heartbeat = [&] {
@@ -242,6 +260,11 @@ class FarmWorker {
       if (!status.ok()) return LeaseCheck::unreachable;
       return response.valid() ? LeaseCheck::valid : LeaseCheck::gone;
     };
+    // Building the renderer may have taken a while: renew the lease before rendering.
+    if (built && heartbeat() == LeaseCheck::gone) {
+      log("job " + std::to_string(unit.job_id()) + ": lease gone while preparing; unit dropped");
+      return;
+    }
     const UnitRenderResult rendered = render_unit(*renderer, arena_, tile, unit.sample_begin(),
                                                   unit.sample_end(), heartbeat, interval, stop_);
     switch (rendered.outcome) {
@@ -275,6 +298,8 @@ class FarmWorker {
       v1::UploadResultResponse response;
       const grpc::Status status = client_.upload(request, &response);
       if (status.ok()) {
+        ++units_uploaded_;
+        result_bytes_ += request.accumulation().size();
         if (!response.accepted()) {
           log("job " + std::to_string(request.job_id()) + ": result dropped by the server: " +
               response.reason());
@@ -316,6 +341,8 @@ class FarmWorker {
   uint64_t worker_id_ = 0;
   std::string isa_;
   bool unreachable_ = false;
+  uint64_t units_uploaded_ = 0;  ///< results delivered (accepted or dropped)
+  uint64_t result_bytes_ = 0;    ///< their encoded accumulation bytes
 };
 
 }  // namespace

@@ -1,0 +1,89 @@
+// tessera: the render farm's command-line client (docs/farm.md).
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <optional>
+
+#include "commands.h"
+
+namespace {
+
+template <typename T>
+void optional_option(CLI::App* app, const std::string& name, std::optional<T>& target,
+                     const std::string& help) {
+  app->add_option_function<T>(name, [&target](const T& v) { target = v; }, help);
+}
+
+void json_flag(CLI::App* app, bool& json) {
+  app->add_flag("--json", json, "Machine-readable JSON on stdout");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace tc = tessera::client;
+  CLI::App app{"tessera: submit scenes to a Tessera render farm and follow them"};
+  app.require_subcommand(1);
+  app.fallthrough();  // global options may follow the subcommand
+
+  tc::GlobalOptions g;
+  app.add_option("--server", g.server, "Server address HOST:PORT")
+      ->envname("TESSERA_SERVER")
+      ->capture_default_str();
+  app.add_option("--token", g.token, "Access token (sent as 'authorization: Bearer TOKEN')")
+      ->envname("TESSERA_TOKEN");
+  app.add_option("--timeout", g.timeout_s, "Deadline of each call in seconds")
+      ->envname("TESSERA_TIMEOUT")
+      ->check(CLI::Range(0.1, 86400.0))
+      ->capture_default_str();
+
+  tc::SubmitOptions submit;
+  CLI::App* submit_cmd = app.add_subcommand("submit", "Submit a scene as a job");
+  submit_cmd->add_option("scene", submit.scene, "Scene file (.json)")->required();
+  optional_option(submit_cmd, "--spp", submit.overrides.spp, "Samples per pixel (default: the scene's)");
+  optional_option(submit_cmd, "--max-depth", submit.overrides.max_depth,
+                  "Path segments including the camera ray, -1 = unbounded");
+  optional_option(submit_cmd, "--width", submit.overrides.width, "Image width in pixels");
+  optional_option(submit_cmd, "--height", submit.overrides.height, "Image height in pixels");
+  optional_option(submit_cmd, "--tile", submit.overrides.tile_size, "Tile size in pixels (default 64)");
+  optional_option(submit_cmd, "--batch", submit.overrides.batch_spp,
+                  "Samples per pixel in one work unit (default: derived from the job)");
+  optional_option(submit_cmd, "--seed", submit.overrides.seed, "Random seed (default: the scene's)");
+  optional_option(submit_cmd, "--isa", submit.overrides.isa,
+                  "Pin Embree's instruction set on every worker (sse2, sse4.2, avx, avx2, avx512)");
+  submit_cmd->add_option("--priority", submit.priority, "Higher runs first (default 0)");
+  submit_cmd->add_flag("--wait", submit.wait, "Follow the job until it ends (progress on stderr)");
+  submit_cmd->add_option("-o,--output", submit.output,
+                         "Write the final image here (.exr or .png); implies --wait");
+  json_flag(submit_cmd, g.json);
+
+  uint64_t job_id = 0;
+  std::string output;
+  CLI::App* status_cmd = app.add_subcommand("status", "Show a job");
+  status_cmd->add_option("job", job_id, "Job id")->required();
+  json_flag(status_cmd, g.json);
+  CLI::App* watch_cmd = app.add_subcommand("watch", "Follow a job with a progress bar until it ends");
+  watch_cmd->add_option("job", job_id, "Job id")->required();
+  json_flag(watch_cmd, g.json);
+  CLI::App* get_cmd = app.add_subcommand("get", "Download a job's image (the current preview while it renders)");
+  get_cmd->add_option("job", job_id, "Job id")->required();
+  get_cmd->add_option("-o,--output", output, "Output file (.exr or .png)")->required();
+  json_flag(get_cmd, g.json);
+  CLI::App* cancel_cmd = app.add_subcommand("cancel", "Cancel a job");
+  cancel_cmd->add_option("job", job_id, "Job id")->required();
+  json_flag(cancel_cmd, g.json);
+  CLI::App* list_cmd = app.add_subcommand("list", "List jobs, newest first");
+  json_flag(list_cmd, g.json);
+  CLI::App* workers_cmd = app.add_subcommand("workers", "List workers");
+  json_flag(workers_cmd, g.json);
+
+  CLI11_PARSE(app, argc, argv);
+
+  if (submit_cmd->parsed()) return tc::submit(g, submit);
+  if (status_cmd->parsed()) return tc::status(g, job_id);
+  if (watch_cmd->parsed()) return tc::watch(g, job_id);
+  if (get_cmd->parsed()) return tc::get(g, job_id, output);
+  if (cancel_cmd->parsed()) return tc::cancel(g, job_id);
+  if (list_cmd->parsed()) return tc::list(g);
+  if (workers_cmd->parsed()) return tc::workers(g);
+  return 2;
+}

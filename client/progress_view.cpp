@@ -1,0 +1,71 @@
+#include "progress_view.h"
+
+#include <cmath>
+#include <string>
+
+#include "job_client.h"
+
+namespace tessera::client {
+namespace {
+
+std::string si(double v) {
+  const char* units[] = {"", "k", "M", "G", "T"};
+  int u = 0;
+  while (std::abs(v) >= 1000 && u < 4) {
+    v /= 1000;
+    ++u;
+  }
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f%s", v, units[u]);
+  return buf;
+}
+
+std::string duration(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "--:--";
+  const long s = long(std::lround(seconds));
+  char buf[32];
+  if (s >= 3600) {
+    std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
+  } else {
+    std::snprintf(buf, sizeof buf, "%02ld:%02ld", s / 60, s % 60);
+  }
+  return buf;
+}
+
+}  // namespace
+
+void ProgressView::update(const v1::JobInfo& job) {
+  if (!out_) return;
+  const auto& o = job.options();
+  const double total = double(o.width()) * double(o.height()) * double(o.spp());
+  const double done = job.progress() * total;
+  const auto now = clock::now();
+  history_.emplace_back(now, done);
+  while (history_.size() > 2 && now - history_.front().first > std::chrono::seconds(10)) {
+    history_.pop_front();
+  }
+  double rate = 0;
+  if (history_.size() >= 2) {
+    const double dt =
+        std::chrono::duration<double>(history_.back().first - history_.front().first).count();
+    if (dt > 0) rate = (history_.back().second - history_.front().second) / dt;
+  }
+  constexpr int kWidth = 30;
+  const int filled = int(job.progress() * kWidth);
+  std::string bar(size_t(filled), '#');
+  bar.resize(kWidth, '.');
+  const double eta = rate > 0 ? (total - done) / rate : NAN;
+  std::fprintf(out_, "\rjob %llu %-9s [%s] %5.1f%%  %s samples/s  ETA %s  ",
+               static_cast<unsigned long long>(job.id()), state_name(job.state()).c_str(),
+               bar.c_str(), 100.0 * job.progress(), si(rate).c_str(),
+               is_final(job.state()) ? "00:00" : duration(eta).c_str());
+  std::fflush(out_);
+  drawn_ = true;
+}
+
+void ProgressView::finish() {
+  if (out_ && drawn_) std::fputc('\n', out_);
+  drawn_ = false;
+}
+
+}  // namespace tessera::client

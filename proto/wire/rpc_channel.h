@@ -1,0 +1,38 @@
+// Channels and per-call settings shared by every gRPC client of the farm (the CLI, the worker,
+// the tests), and the server's matching limits.
+#pragma once
+
+#include <grpcpp/grpcpp.h>
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+namespace tessera::wire {
+
+/// Largest message either side accepts, bytes: a scene bundle with big meshes, an EXR image, or
+/// the accumulation of a 4096x4096 tile all fit.
+inline constexpr int kMaxMessageBytes = 1 << 30;
+
+/// Keepalive ping period and how long to wait for its answer, milliseconds. Both ends use them:
+/// a dead peer is noticed within about a minute even on an idle connection.
+inline constexpr int kKeepaliveTimeMs = 30'000;
+inline constexpr int kKeepaliveTimeoutMs = 10'000;
+
+/// An insecure channel to `address` ("host:port") with keepalive and the message size limits.
+/// The bearer token is per call (prepare_context), so the channel itself carries no secret.
+std::shared_ptr<grpc::Channel> make_channel(const std::string& address);
+
+/// Sets the call's deadline (now + timeout) and, when `token` is not empty, the metadata
+/// `authorization: Bearer <token>`. Every client call goes through this: no call without a
+/// deadline.
+void prepare_context(grpc::ClientContext& context, const std::string& token,
+                     std::chrono::milliseconds timeout);
+
+/// One line for people: "UNAVAILABLE: failed to connect to all addresses".
+std::string status_line(const grpc::Status& status);
+
+/// The name of a status code ("DEADLINE_EXCEEDED").
+const char* status_code_name(grpc::StatusCode code);
+
+}  // namespace tessera::wire

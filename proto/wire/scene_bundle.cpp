@@ -1,0 +1,180 @@
+#include "wire/scene_bundle.h"
+
+#include <cstdint>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "scene/scene_error.h"
+#include "wire/sha256.h"
+
+namespace tessera::wire {
+namespace {
+
+constexpr std::string_view kMagic = "tessera-bundle-v1\n";
+
+std::string checked_path(const std::string& path, const std::string& context) {
+  try {
+    return check_bundle_path(path, context);
+  } catch (const SceneError& e) {
+    throw BundleError(e.what());
+  }
+}
+
+void put_u64(std::string& out, uint64_t v) {
+  for (int i = 0; i < 8; ++i) out.push_back(char((v >> (8 * i)) & 0xff));
+}
+
+void put_string(std::string& out, std::string_view s) {
+  put_u64(out, s.size());
+  out.append(s);
+}
+
+/// Reads length-prefixed fields, never past the end.
+class Reader {
+ public:
+  explicit Reader(std::string_view bytes) : bytes_(bytes) {}
+
+  uint64_t u64() {
+    if (bytes_.size() - pos_ < 8) throw BundleError("bundle: truncated");
+    uint64_t v = 0;
+    for (int i = 0; i < 8; ++i) v |= uint64_t(uint8_t(bytes_[pos_ + i])) << (8 * i);
+    pos_ += 8;
+    return v;
+  }
+
+  std::string string() {
+    const uint64_t n = u64();
+    if (n > bytes_.size() - pos_) throw BundleError("bundle: truncated");
+    std::string s(bytes_.substr(pos_, n));
+    pos_ += n;
+    return s;
+  }
+
+  bool expect(std::string_view literal) {
+    if (bytes_.substr(pos_, literal.size()) != literal) return false;
+    pos_ += literal.size();
+    return true;
+  }
+
+  bool at_end() const { return pos_ == bytes_.size(); }
+
+ private:
+  std::string_view bytes_;
+  size_t pos_ = 0;
+};
+
+std::string scene_folder(const std::string& scene_file) {
+  const size_t slash = scene_file.rfind('/');
+  return slash == std::string::npos ? std::string() : scene_file.substr(0, slash + 1);
+}
+
+std::string read_file_bytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path.string() + ": cannot open");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (!in && !in.eof()) throw SceneError(path.string() + ": read failed");
+  return std::move(ss).str();
+}
+
+}  // namespace
+
+BundleContents bundle_from_proto(const v1::SceneBundle& bundle) {
+  BundleContents out;
+  if (bundle.scene_file().empty()) throw BundleError("bundle: scene_file is empty");
+  out.scene_file = checked_path(bundle.scene_file(), "bundle scene_file");
+  for (int i = 0; i < bundle.files_size(); ++i) {
+    const auto& f = bundle.files(i);
+    const std::string path =
+        checked_path(f.path(), "bundle files[" + std::to_string(i) + "] \"" + f.path() + "\"");
+    if (!out.files.emplace(path, f.data()).second) {
+      throw BundleError("bundle files[" + std::to_string(i) + "]: duplicate path \"" + path + "\"");
+    }
+  }
+  if (!out.files.contains(out.scene_file)) {
+    throw BundleError("bundle: scene file \"" + out.scene_file + "\" is not among its files");
+  }
+  return out;
+}
+
+v1::SceneBundle bundle_to_proto(const BundleContents& bundle) {
+  v1::SceneBundle out;
+  out.set_scene_file(bundle.scene_file);
+  for (const auto& [path, data] : bundle.files) {
+    auto* f = out.add_files();
+    f->set_path(path);
+    f->set_data(data);
+  }
+  return out;
+}
+
+std::string canonical_bytes(const BundleContents& bundle) {
+  size_t size = kMagic.size() + 16 + bundle.scene_file.size();
+  for (const auto& [path, data] : bundle.files) size += 16 + path.size() + data.size();
+  std::string out;
+  out.reserve(size);
+  out.append(kMagic);
+  put_string(out, bundle.scene_file);
+  put_u64(out, bundle.files.size());
+  for (const auto& [path, data] : bundle.files) {  // std::map: sorted by path bytes
+    put_string(out, path);
+    put_string(out, data);
+  }
+  return out;
+}
+
+BundleContents parse_canonical(std::string_view bytes) {
+  Reader in(bytes);
+  if (!in.expect(kMagic)) throw BundleError("bundle: not a tessera bundle (bad magic)");
+  v1::SceneBundle proto;
+  proto.set_scene_file(in.string());
+  const uint64_t count = in.u64();
+  std::string previous;
+  for (uint64_t i = 0; i < count; ++i) {
+    auto* f = proto.add_files();
+    f->set_path(in.string());
+    if (i > 0 && f->path() <= previous) throw BundleError("bundle: files not in canonical order");
+    previous = f->path();
+    f->set_data(in.string());
+  }
+  if (!in.at_end()) throw BundleError("bundle: trailing bytes");
+  return bundle_from_proto(proto);
+}
+
+std::string bundle_sha256(const BundleContents& bundle) {
+  return sha256_hex(canonical_bytes(bundle));
+}
+
+FileReader bundle_reader(const BundleContents& bundle) {
+  auto files = std::make_shared<const std::map<std::string, std::string>>(bundle.files);
+  const std::string folder = scene_folder(bundle.scene_file);
+  return [files, folder](const std::string& relative_path) -> std::string {
+    const auto it = files->find(folder + relative_path);
+    if (it == files->end()) throw SceneError(relative_path + ": not in the scene bundle");
+    return it->second;
+  };
+}
+
+Scene parse_bundle_scene(const BundleContents& bundle) {
+  return parse_scene(bundle.files.at(bundle.scene_file), bundle_reader(bundle));
+}
+
+BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene_out) {
+  Scene scene = load_scene_file(scene_file);
+  BundleContents out;
+  out.scene_file = scene_file.filename().string();
+  out.files.emplace(out.scene_file, read_file_bytes(scene_file));
+  const FileReader reader = folder_reader(scene_file.parent_path().empty()
+                                              ? std::filesystem::path(".")
+                                              : scene_file.parent_path());
+  for (const std::string& rel : scene.referenced_files) {
+    const std::string path = check_bundle_path(rel, "referenced file");
+    if (path == out.scene_file) continue;
+    out.files.emplace(path, reader(path));
+  }
+  if (scene_out) *scene_out = std::move(scene);
+  return out;
+}
+
+}  // namespace tessera::wire

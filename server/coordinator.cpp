@@ -1,0 +1,316 @@
+#include "coordinator.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "accum/accumulation_codec.h"
+#include "farm_error.h"
+#include "job/job_options.h"
+#include "scene/scene_error.h"
+#include "store/migrations.h"
+#include "wire/job_options_wire.h"
+#include "wire/scene_bundle.h"
+#include "wire/sha256.h"
+
+namespace tessera::server {
+namespace {
+
+FarmError invalid(const std::string& message) {
+  return FarmError(ErrorCode::invalid_argument, message);
+}
+
+FarmError job_not_found(int64_t job_id) {
+  return FarmError(ErrorCode::not_found, "no job " + std::to_string(job_id));
+}
+
+std::optional<std::string> read_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return std::move(ss).str();
+}
+
+}  // namespace
+
+Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
+    : clock_(clock),
+      db_(config.db_path),
+      jobs_(db_),
+      workers_(db_),
+      leases_(db_, jobs_, clock_, config.lease_ms),
+      scheduler_(db_, leases_, clock_),
+      merger_(db_, clock_),
+      output_(config.output_dir) {
+  migrate(db_, clock_.now_unix_ms());
+}
+
+int Coordinator::resume() {
+  std::vector<int64_t> unfinished;
+  {
+    std::lock_guard lock(mu_);
+    leases_.revoke_all();
+    unfinished = jobs_.unfinished();
+  }
+  for (int64_t id : unfinished) {
+    std::optional<JobRecord> job;
+    {
+      std::lock_guard lock(mu_);
+      job = jobs_.get(id);
+    }
+    if (job && job->units_total > 0 && job->counters.results_merged == job->units_total) {
+      finish_job(id);
+    }
+  }
+  changes_.notify();
+  return int(unfinished.size());
+}
+
+JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobRequestOptions& options,
+                              int priority) {
+  wire::BundleContents contents;
+  try {
+    contents = wire::bundle_from_proto(bundle);
+  } catch (const wire::BundleError& e) {
+    throw invalid(e.what());
+  }
+  Scene scene;
+  try {
+    scene = wire::parse_bundle_scene(contents);
+  } catch (const SceneError& e) {
+    throw invalid(e.what());
+  } catch (const std::exception& e) {
+    throw invalid(contents.scene_file + ": " + e.what());
+  }
+  JobOptions resolved;
+  try {
+    resolved = resolve_job_options(scene, wire::overrides_from_proto(options));
+  } catch (const std::invalid_argument& e) {
+    throw invalid(e.what());
+  }
+  NewJob job;
+  job.bundle_bytes = wire::canonical_bytes(contents);
+  job.bundle_sha256 = wire::sha256_hex(job.bundle_bytes);
+  job.scene_file = contents.scene_file;
+  job.options = resolved;
+  job.priority = priority;
+  JobRecord record;
+  {
+    std::lock_guard lock(mu_);
+    const int64_t id = jobs_.create(job, clock_.now_unix_ms());
+    record = *jobs_.get(id);
+  }
+  changes_.notify();
+  return record;
+}
+
+JobRecord Coordinator::job(int64_t job_id) {
+  std::lock_guard lock(mu_);
+  std::optional<JobRecord> record = jobs_.get(job_id);
+  if (!record) throw job_not_found(job_id);
+  return *record;
+}
+
+std::vector<JobRecord> Coordinator::jobs(uint32_t limit) {
+  std::lock_guard lock(mu_);
+  return jobs_.list(limit);
+}
+
+JobRecord Coordinator::cancel(int64_t job_id) {
+  JobRecord record;
+  {
+    std::lock_guard lock(mu_);
+    switch (jobs_.cancel(job_id, clock_.now_unix_ms())) {
+      case CancelOutcome::not_found: throw job_not_found(job_id);
+      case CancelOutcome::already_final: {
+        const JobRecord current = *jobs_.get(job_id);
+        throw FarmError(ErrorCode::failed_precondition,
+                        "job " + std::to_string(job_id) + " is already " +
+                            std::string(to_string(current.state)));
+      }
+      case CancelOutcome::cancelled: break;
+    }
+    record = *jobs_.get(job_id);
+  }
+  changes_.notify();
+  return record;
+}
+
+JobImage Coordinator::image(int64_t job_id, const std::string& format) {
+  if (format != "exr" && format != "png") throw invalid("image format must be exr or png");
+  JobRecord record;
+  std::vector<TileRecord> tiles;
+  {
+    std::lock_guard lock(mu_);
+    std::optional<JobRecord> found = jobs_.get(job_id);
+    if (!found) throw job_not_found(job_id);
+    record = std::move(*found);
+  }
+  JobImage out;
+  out.final = record.state == JobState::done;
+  out.spp = record.spp_merged;
+  out.width = record.options.width;
+  out.height = record.options.height;
+  if (out.final) {
+    const std::string& path = format == "exr" ? record.output_exr : record.output_png;
+    if (std::optional<std::string> bytes = read_file(path)) {
+      out.bytes = std::move(*bytes);
+      return out;
+    }
+    // The file was removed: the merged tiles are still in the store, encode them again.
+  }
+  {
+    std::lock_guard lock(mu_);
+    tiles = jobs_.tiles(job_id);
+  }
+  ImageWriteOptions options;
+  options.metadata = JobOutput::provenance(record);
+  out.bytes = encode_image(JobOutput::resolve(record, tiles), format, options);
+  return out;
+}
+
+std::vector<WorkerRecord> Coordinator::workers() {
+  std::lock_guard lock(mu_);
+  return workers_.list();
+}
+
+bool Coordinator::online(const WorkerRecord& worker) const {
+  return clock_.now_unix_ms() - worker.last_seen_unix_ms <= 3 * leases_.lease_ms();
+}
+
+int64_t Coordinator::register_worker(const WorkerRegistration& info) {
+  int64_t id = 0;
+  {
+    std::lock_guard lock(mu_);
+    id = workers_.register_worker(info, clock_.now_unix_ms());
+  }
+  changes_.notify();
+  return id;
+}
+
+void Coordinator::touch_or_throw(int64_t worker_id) {
+  if (!workers_.touch(worker_id, clock_.now_unix_ms())) {
+    // FAILED_PRECONDITION, not NOT_FOUND: the worker tells "register again" by the code alone.
+    throw FarmError(ErrorCode::failed_precondition,
+                    "no worker " + std::to_string(worker_id) + ": register again");
+  }
+}
+
+std::optional<LeasedUnit> Coordinator::lease(int64_t worker_id, std::chrono::milliseconds wait,
+                                             const std::function<bool()>& cancelled) {
+  const auto deadline = std::chrono::steady_clock::now() + wait;
+  for (;;) {
+    // Read the version before looking, so a change made while we look wakes the wait below.
+    const uint64_t seen = changes_.version();
+    std::optional<LeasedUnit> unit;
+    {
+      std::lock_guard lock(mu_);
+      touch_or_throw(worker_id);
+      if (std::optional<Lease> lease = scheduler_.lease_next(worker_id)) {
+        const JobRecord job = *jobs_.get(lease->job_id);
+        const JobPlan plan = job.options.plan();
+        unit = LeasedUnit{*lease, *jobs_.tile_rect(lease->job_id, lease->tile),
+                          plan.batch_begin(lease->batch), plan.batch_end(lease->batch),
+                          job.options, job.bundle_sha256};
+      }
+    }
+    if (unit) {
+      changes_.notify();
+      return unit;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= deadline || changes_.stopped() || (cancelled && cancelled())) return std::nullopt;
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now);
+    changes_.wait(seen, std::min(left, std::chrono::milliseconds(250)));
+  }
+}
+
+std::optional<int64_t> Coordinator::heartbeat(int64_t worker_id, const std::string& lease_id) {
+  std::lock_guard lock(mu_);
+  touch_or_throw(worker_id);
+  return leases_.heartbeat(worker_id, lease_id);
+}
+
+std::string Coordinator::bundle(const std::string& sha256) {
+  if (!wire::is_sha256_hex(sha256)) {
+    throw invalid("bundle hash must be 64 lowercase hex characters (got \"" + sha256 + "\")");
+  }
+  std::lock_guard lock(mu_);
+  std::optional<std::string> bytes = jobs_.bundle_bytes(sha256);
+  if (!bytes) throw FarmError(ErrorCode::not_found, "no bundle " + sha256);
+  return std::move(*bytes);
+}
+
+AcceptOutcome Coordinator::upload(const UnitResult& result) {
+  Accumulation decoded;
+  try {
+    decoded = decode_accumulation(result.encoded);
+  } catch (const CodecError& e) {
+    throw invalid(std::string("result does not decode: ") + e.what());
+  }
+  AcceptOutcome outcome;
+  {
+    std::lock_guard lock(mu_);
+    touch_or_throw(result.worker_id);
+    outcome = merger_.accept(result, decoded);
+  }
+  changes_.notify();
+  if (outcome.job_complete) finish_job(result.job_id);
+  return outcome;
+}
+
+ReleaseOutcome Coordinator::release(int64_t worker_id, const std::string& lease_id,
+                                    ReleaseReason reason, const std::string& message) {
+  ReleaseOutcome outcome;
+  {
+    std::lock_guard lock(mu_);
+    touch_or_throw(worker_id);
+    outcome = leases_.release(worker_id, lease_id, reason, message);
+  }
+  changes_.notify();
+  return outcome;
+}
+
+int Coordinator::expire_leases() {
+  int expired = 0;
+  {
+    std::lock_guard lock(mu_);
+    expired = leases_.expire_due();
+  }
+  if (expired > 0) changes_.notify();
+  return expired;
+}
+
+void Coordinator::finish_job(int64_t job_id) {
+  JobRecord record;
+  std::vector<TileRecord> tiles;
+  {
+    std::lock_guard lock(mu_);
+    std::optional<JobRecord> found = jobs_.get(job_id);
+    if (!found || found->state != JobState::running || finishing_.contains(job_id)) return;
+    finishing_.insert(job_id);
+    record = std::move(*found);
+    tiles = jobs_.tiles(job_id);
+  }
+  const int64_t now = clock_.now_unix_ms();
+  record.finished_unix_ms = now;
+  std::optional<OutputFiles> files;
+  std::string error;
+  try {
+    files = output_.write(record, tiles);
+  } catch (const std::exception& e) {
+    error = std::string("writing the output failed: ") + e.what();
+  }
+  {
+    std::lock_guard lock(mu_);
+    finishing_.erase(job_id);
+    if (files) {
+      jobs_.finish(job_id, files->exr.string(), files->png.string(), now);
+    } else {
+      jobs_.fail(job_id, error, now);
+    }
+  }
+  changes_.notify();
+}
+
+}  // namespace tessera::server

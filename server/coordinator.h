@@ -1,0 +1,118 @@
+// The farm's coordinator: one object owning the store and the components that act on it (job
+// store, worker registry, lease table, scheduler, merger, output), serialising every store
+// operation behind one mutex over one SQLite connection. The gRPC services translate protos and
+// call it; it decodes results, parses scenes and encodes images outside the lock.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "change_notifier.h"
+#include "clock.h"
+#include "job_output.h"
+#include "job_store.h"
+#include "lease_table.h"
+#include "scheduler.h"
+#include "store/sqlite.h"
+#include "tessera/v1/job.pb.h"
+#include "tile_merger.h"
+#include "worker_registry.h"
+
+namespace tessera::server {
+
+struct CoordinatorConfig {
+  std::string db_path = "var/tessera.db";        ///< ":memory:" in tests
+  std::filesystem::path output_dir = "var/outputs";
+  int64_t lease_ms = 30'000;                     ///< lease length; heartbeats extend it
+};
+
+/// A unit leased to a worker, with what it needs to render it.
+struct LeasedUnit {
+  Lease lease;
+  TileRect rect;
+  uint32_t sample_begin = 0, sample_end = 0;
+  JobOptions options;
+  std::string bundle_sha256;
+};
+
+struct JobImage {
+  std::string bytes;
+  bool final = false;
+  uint32_t spp = 0;
+  int width = 0, height = 0;
+};
+
+class Coordinator {
+ public:
+  /// Opens (creating) the database and applies migrations. Throws SqliteError.
+  Coordinator(const CoordinatorConfig& config, const Clock& clock);
+
+  /// At server start: leases granted before are revoked (units back in the queue, counted as
+  /// expired), and jobs whose every unit is merged but whose output was not written are
+  /// finished. Returns the number of unfinished jobs resumed.
+  int resume();
+
+  /// Validates the bundle (paths, parse_scene) and the options (resolve_job_options), then
+  /// queues the job. Throws FarmError(invalid_argument) with the one-line reason; nothing is
+  /// stored then.
+  JobRecord submit(const v1::SceneBundle& bundle, const v1::JobRequestOptions& options,
+                   int priority);
+  /// Throws FarmError(not_found).
+  JobRecord job(int64_t job_id);
+  std::vector<JobRecord> jobs(uint32_t limit);
+  /// Throws FarmError: not_found, failed_precondition when already finished.
+  JobRecord cancel(int64_t job_id);
+  /// `format` is "exr" or "png". The final output when the job is done, else a preview.
+  JobImage image(int64_t job_id, const std::string& format);
+
+  std::vector<WorkerRecord> workers();
+  /// True when the worker called within the last three lease periods.
+  bool online(const WorkerRecord& worker) const;
+
+  int64_t register_worker(const WorkerRegistration& info);
+  /// Leases a unit, waiting up to `wait` for one to appear (long poll) unless `cancelled()`
+  /// says the caller went away. nullopt: no work. Every worker call throws
+  /// FarmError(failed_precondition) for an unknown worker id (register again).
+  std::optional<LeasedUnit> lease(int64_t worker_id, std::chrono::milliseconds wait,
+                                  const std::function<bool()>& cancelled);
+  /// The new expiry, or nullopt when the lease is not current.
+  std::optional<int64_t> heartbeat(int64_t worker_id, const std::string& lease_id);
+  /// The canonical bundle bytes. Throws FarmError(not_found).
+  std::string bundle(const std::string& sha256);
+  /// Decodes and accepts a result; writes the job's output when it completes the job. Throws
+  /// FarmError(invalid_argument) on bytes that do not decode or do not fit the unit.
+  AcceptOutcome upload(const UnitResult& result);
+  ReleaseOutcome release(int64_t worker_id, const std::string& lease_id, ReleaseReason reason,
+                         const std::string& message);
+  /// Returns expired leases' units to the queue; called by the LeaseReaper.
+  int expire_leases();
+
+  ChangeNotifier& changes() { return changes_; }
+  int64_t lease_ms() const { return leases_.lease_ms(); }
+  const Clock& clock() const { return clock_; }
+
+ private:
+  /// Writes the output of a fully merged job and marks it done (or failed with the reason).
+  void finish_job(int64_t job_id);
+  void touch_or_throw(int64_t worker_id);
+
+  const Clock& clock_;
+  std::mutex mu_;  ///< guards db_ and every component below
+  Database db_;
+  JobStore jobs_;
+  WorkerRegistry workers_;
+  LeaseTable leases_;
+  Scheduler scheduler_;
+  TileMerger merger_;
+  JobOutput output_;
+  std::set<int64_t> finishing_;  ///< jobs whose output is being written (guarded by mu_)
+  ChangeNotifier changes_;
+};
+
+}  // namespace tessera::server

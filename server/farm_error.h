@@ -1,0 +1,22 @@
+// An error the farm reports to its caller, with the gRPC code it maps to. what() is one line a
+// person can act on.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace tessera::server {
+
+enum class ErrorCode { invalid_argument, not_found, failed_precondition, internal };
+
+class FarmError : public std::runtime_error {
+ public:
+  FarmError(ErrorCode code, const std::string& message)
+      : std::runtime_error(message), code_(code) {}
+  ErrorCode code() const { return code_; }
+
+ private:
+  ErrorCode code_;
+};
+
+}  // namespace tessera::server

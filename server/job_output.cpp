@@ -1,0 +1,73 @@
+#include "job_output.h"
+
+#include <numeric>
+#include <system_error>
+
+#include "accum/accumulation_codec.h"
+#include "accum/film.h"
+#include "wire/job_options_wire.h"
+
+namespace tessera::server {
+namespace {
+
+std::string joined(const std::vector<std::string>& items) {
+  std::string out;
+  for (const std::string& s : items) out += (out.empty() ? "" : ",") + s;
+  return out;
+}
+
+void write_atomically(const RgbImage& image, const std::filesystem::path& path,
+                      const ImageWriteOptions& options) {
+  // write_image picks the format from the extension: keep it last in the temporary name.
+  std::filesystem::path temp = path;
+  temp.replace_extension(".partial" + path.extension().string());
+  write_image(image, temp, options);
+  std::error_code ec;
+  std::filesystem::rename(temp, path, ec);
+  if (ec) throw std::runtime_error(path.string() + ": cannot rename into place: " + ec.message());
+}
+
+}  // namespace
+
+RgbImage JobOutput::resolve(const JobRecord& job, const std::vector<TileRecord>& tiles) {
+  std::vector<Accumulation> merged;
+  merged.reserve(tiles.size());
+  for (const TileRecord& t : tiles) {
+    if (!t.accumulation.empty()) merged.push_back(decode_accumulation(t.accumulation));
+  }
+  return resolve_image(job.options.width, job.options.height, merged);
+}
+
+std::map<std::string, std::string> JobOutput::provenance(const JobRecord& job) {
+  std::map<std::string, std::string> m;
+  m["tessera:job_id"] = std::to_string(job.id);
+  m["tessera:scene_file"] = job.scene_file;
+  m["tessera:scene_sha256"] = job.bundle_sha256;
+  m["tessera:job_options"] = wire::options_to_json(job.options);
+  m["tessera:spp"] = std::to_string(job.spp_merged);
+  m["tessera:renderer_version"] = joined(job.versions);
+  m["tessera:isa"] = joined(job.isas);
+  m["tessera:nan_dropped"] = std::to_string(job.counters.nan_dropped);
+  m["tessera:inf_dropped"] = std::to_string(job.counters.inf_dropped);
+  if (job.started_unix_ms > 0 && job.finished_unix_ms >= job.started_unix_ms) {
+    m["tessera:wall_time_s"] = std::to_string(double(job.finished_unix_ms - job.started_unix_ms) / 1000.0);
+  }
+  return m;
+}
+
+OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TileRecord>& tiles) const {
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) throw std::runtime_error(dir_.string() + ": cannot create: " + ec.message());
+  const RgbImage image = resolve(job, tiles);
+  ImageWriteOptions options;
+  options.metadata = provenance(job);
+  const std::string stem = "job-" + std::to_string(job.id);
+  OutputFiles files{std::filesystem::absolute(dir_ / (stem + ".exr")),
+                    std::filesystem::absolute(dir_ / (stem + ".png"))};
+  write_atomically(image, files.exr, options);
+  write_atomically(image, files.png, options);
+  return files;
+}
+
+}  // namespace tessera::server

@@ -1,0 +1,42 @@
+// A job's image: assembled from its merged tiles (resolve_image), written as EXR (float32, with
+// provenance attributes) and PNG when the job finishes, or encoded in memory as a preview.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "image/image_output.h"
+#include "job_store.h"
+
+namespace tessera::server {
+
+struct OutputFiles {
+  std::filesystem::path exr, png;
+};
+
+class JobOutput {
+ public:
+  explicit JobOutput(std::filesystem::path output_dir) : dir_(std::move(output_dir)) {}
+
+  /// The image of the merged samples so far: per pixel the mean of what is merged, black where
+  /// nothing is. Throws CodecError when a stored tile does not decode.
+  static RgbImage resolve(const JobRecord& job, const std::vector<TileRecord>& tiles);
+
+  /// The provenance written in EXR headers and PNG text chunks (all keys "tessera:..."): job id,
+  /// scene file, scene bundle SHA-256, resolved options (JSON), spp reached, renderer versions,
+  /// worker ISAs, NaN/Inf samples dropped, wall time.
+  static std::map<std::string, std::string> provenance(const JobRecord& job);
+
+  /// Writes <output_dir>/job-<id>.exr and .png (each written to a temporary name, then renamed,
+  /// so a reader never sees half a file). Throws std::runtime_error naming the file.
+  OutputFiles write(const JobRecord& job, const std::vector<TileRecord>& tiles) const;
+
+  const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+}  // namespace tessera::server

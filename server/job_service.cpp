@@ -1,0 +1,125 @@
+#include "job_service.h"
+
+#include <thread>
+
+#include "proto_convert.h"
+#include "rpc_guard.h"
+
+namespace tessera::server {
+namespace {
+
+int64_t job_id_of(uint64_t id) {
+  if (id == 0 || id > uint64_t(INT64_MAX)) {
+    throw FarmError(ErrorCode::invalid_argument, "job id must be >= 1");
+  }
+  return int64_t(id);
+}
+
+bool is_final_proto(v1::JobState state) {
+  return state == v1::JOB_STATE_DONE || state == v1::JOB_STATE_FAILED ||
+         state == v1::JOB_STATE_CANCELLED;
+}
+
+}  // namespace
+
+grpc::Status JobServiceImpl::SubmitJob(grpc::ServerContext* context,
+                                       const v1::SubmitJobRequest* request,
+                                       v1::SubmitJobResponse* response) {
+  return guarded(auth_, *context, "SubmitJob", [&] {
+    *response->mutable_job() =
+        to_proto(coordinator_.submit(request->bundle(), request->options(), request->priority()));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request,
+                                    v1::JobInfo* response) {
+  return guarded(auth_, *context, "GetJob", [&] {
+    *response = to_proto(coordinator_.job(job_id_of(request->job_id())));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::ListJobs(grpc::ServerContext* context,
+                                      const v1::ListJobsRequest* request,
+                                      v1::ListJobsResponse* response) {
+  return guarded(auth_, *context, "ListJobs", [&] {
+    const uint32_t limit = request->limit() == 0 ? 1000 : request->limit();
+    for (const JobRecord& job : coordinator_.jobs(limit)) *response->add_jobs() = to_proto(job);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::CancelJob(grpc::ServerContext* context,
+                                       const v1::CancelJobRequest* request,
+                                       v1::JobInfo* response) {
+  return guarded(auth_, *context, "CancelJob", [&] {
+    *response = to_proto(coordinator_.cancel(job_id_of(request->job_id())));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::WatchJob(grpc::ServerContext* context,
+                                      const v1::WatchJobRequest* request,
+                                      grpc::ServerWriter<v1::JobInfo>* writer) {
+  return guarded(auth_, *context, "WatchJob", [&]() -> grpc::Status {
+    const int64_t job_id = job_id_of(request->job_id());
+    const auto interval =
+        std::chrono::milliseconds(request->min_interval_ms() == 0 ? 250 : request->min_interval_ms());
+    ChangeNotifier& changes = coordinator_.changes();
+    uint64_t seen = changes.version();
+    v1::JobInfo info = to_proto(coordinator_.job(job_id));
+    std::string last = info.SerializeAsString();
+    if (!writer->Write(info)) return {grpc::StatusCode::CANCELLED, "client went away"};
+    auto last_write = std::chrono::steady_clock::now();
+    while (!is_final_proto(info.state())) {
+      if (context->IsCancelled()) return {grpc::StatusCode::CANCELLED, "client went away"};
+      if (changes.stopped()) return {grpc::StatusCode::UNAVAILABLE, "server shutting down"};
+      seen = changes.wait(seen, std::chrono::milliseconds(1000));
+      // Rate limit: at most one message per interval (the job may change thousands of times).
+      const auto next = last_write + interval;
+      if (std::chrono::steady_clock::now() < next) std::this_thread::sleep_until(next);
+      info = to_proto(coordinator_.job(job_id));
+      std::string current = info.SerializeAsString();
+      if (current == last) continue;
+      if (!writer->Write(info)) return {grpc::StatusCode::CANCELLED, "client went away"};
+      last = std::move(current);
+      last_write = std::chrono::steady_clock::now();
+    }
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::GetImage(grpc::ServerContext* context,
+                                      const v1::GetImageRequest* request,
+                                      v1::GetImageResponse* response) {
+  return guarded(auth_, *context, "GetImage", [&] {
+    const v1::ImageFormat format =
+        request->format() == v1::IMAGE_FORMAT_UNSPECIFIED ? v1::IMAGE_FORMAT_EXR : request->format();
+    if (format != v1::IMAGE_FORMAT_EXR && format != v1::IMAGE_FORMAT_PNG) {
+      throw FarmError(ErrorCode::invalid_argument, "unknown image format");
+    }
+    JobImage image =
+        coordinator_.image(job_id_of(request->job_id()), format == v1::IMAGE_FORMAT_EXR ? "exr" : "png");
+    response->set_data(std::move(image.bytes));
+    response->set_format(format);
+    response->set_final(image.final);
+    response->set_spp(image.spp);
+    response->set_width(image.width);
+    response->set_height(image.height);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::ListWorkers(grpc::ServerContext* context,
+                                         const v1::ListWorkersRequest*,
+                                         v1::ListWorkersResponse* response) {
+  return guarded(auth_, *context, "ListWorkers", [&] {
+    for (const WorkerRecord& w : coordinator_.workers()) {
+      *response->add_workers() = to_proto(w, coordinator_.online(w));
+    }
+    return grpc::Status::OK;
+  });
+}
+
+}  // namespace tessera::server

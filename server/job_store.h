@@ -1,0 +1,110 @@
+// Jobs, their bundles, tiles and units in the SQLite store: creation, reads, and the job-level
+// transitions (cancel, fail, finish) applied through the state machine as compare-and-set.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "accum/tile_rect.h"
+#include "job/job_options.h"
+#include "job_state.h"
+#include "store/sqlite.h"
+
+namespace tessera::server {
+
+/// Counters of a job (proto JobCounters documents each).
+struct JobCounters {
+  uint32_t units_done = 0;
+  uint32_t units_leased = 0;
+  uint32_t results_merged = 0;
+  uint32_t results_dropped = 0;
+  uint32_t leases_expired = 0;
+  uint32_t units_released = 0;
+  uint64_t samples_merged = 0;  ///< pixel samples merged: sum over merged units of pixels * spp
+  uint64_t nan_dropped = 0;
+  uint64_t inf_dropped = 0;
+};
+
+struct JobRecord {
+  int64_t id = 0;
+  JobState state = JobState::queued;
+  int priority = 0;
+  std::string bundle_sha256;
+  std::string scene_file;
+  JobOptions options;
+  uint32_t tile_count = 0;
+  uint32_t batch_count = 0;
+  uint32_t units_total = 0;
+  JobCounters counters;
+  int64_t submitted_unix_ms = 0, started_unix_ms = 0, finished_unix_ms = 0;
+  std::string error;
+  std::string output_exr, output_png;
+  uint32_t spp_merged = 0;           ///< minimum over tiles of samples per pixel merged
+  std::vector<std::string> isas;     ///< distinct ISAs of accepted results, sorted
+  std::vector<std::string> versions; ///< distinct renderer versions of accepted results, sorted
+
+  /// Samples merged over samples asked, in [0, 1]; exactly 1 when every unit is merged.
+  double progress() const;
+};
+
+/// A tile's merged state as stored.
+struct TileRecord {
+  uint32_t tile = 0;
+  TileRect rect;
+  uint32_t next_batch = 0;    ///< batches [0, next_batch) are merged
+  std::string accumulation;   ///< encode_accumulation bytes; empty = nothing merged yet
+};
+
+struct NewJob {
+  std::string bundle_sha256;
+  std::string scene_file;
+  std::string bundle_bytes;  ///< canonical serialization, stored once per hash
+  JobOptions options;
+  int priority = 0;
+};
+
+enum class CancelOutcome { cancelled, not_found, already_final };
+
+class JobStore {
+ public:
+  /// Jobs with more units than this are refused at submit (raise --tile or --batch).
+  static constexpr uint64_t kMaxUnitsPerJob = uint64_t(1) << 22;
+
+  explicit JobStore(Database& db) : db_(db) {}
+
+  /// Stores the bundle (once per hash), the job (queued), its tiles and its units, in one
+  /// transaction. Returns the job id. Throws FarmError(invalid_argument) when the plan has more
+  /// than kMaxUnitsPerJob units.
+  int64_t create(const NewJob& job, int64_t now_unix_ms);
+
+  std::optional<JobRecord> get(int64_t job_id);
+  /// Newest first, at most `limit`.
+  std::vector<JobRecord> list(uint32_t limit);
+  /// Ids of jobs not final (queued or running), oldest first.
+  std::vector<int64_t> unfinished();
+
+  /// queued|running -> cancelled; its queued and leased units -> cancelled (leases revoked),
+  /// pending results deleted. One transaction.
+  CancelOutcome cancel(int64_t job_id, int64_t now_unix_ms);
+  /// queued|running -> failed with `message`; units cancelled. Call inside a transaction.
+  /// Returns false when the job was already final.
+  bool fail_in_transaction(int64_t job_id, const std::string& message, int64_t now_unix_ms);
+  /// fail_in_transaction in its own transaction.
+  bool fail(int64_t job_id, const std::string& message, int64_t now_unix_ms);
+  /// running -> done with the output files, only when every unit is merged. Returns false when
+  /// the job was not running (cancelled meanwhile) or not fully merged.
+  bool finish(int64_t job_id, const std::string& output_exr, const std::string& output_png,
+              int64_t now_unix_ms);
+
+  std::vector<TileRecord> tiles(int64_t job_id);
+  std::optional<TileRect> tile_rect(int64_t job_id, uint32_t tile);
+  /// The canonical bundle bytes by hash; nullopt when unknown.
+  std::optional<std::string> bundle_bytes(const std::string& sha256);
+
+ private:
+  Database& db_;
+};
+
+}  // namespace tessera::server

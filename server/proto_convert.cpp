@@ -1,0 +1,66 @@
+#include "proto_convert.h"
+
+#include "wire/job_options_wire.h"
+
+namespace tessera::server {
+
+v1::JobState to_proto(JobState state) {
+  switch (state) {
+    case JobState::queued: return v1::JOB_STATE_QUEUED;
+    case JobState::running: return v1::JOB_STATE_RUNNING;
+    case JobState::done: return v1::JOB_STATE_DONE;
+    case JobState::failed: return v1::JOB_STATE_FAILED;
+    case JobState::cancelled: return v1::JOB_STATE_CANCELLED;
+  }
+  return v1::JOB_STATE_UNSPECIFIED;
+}
+
+v1::JobInfo to_proto(const JobRecord& job) {
+  v1::JobInfo out;
+  out.set_id(uint64_t(job.id));
+  out.set_state(to_proto(job.state));
+  out.set_priority(job.priority);
+  out.set_scene_file(job.scene_file);
+  out.set_bundle_sha256(job.bundle_sha256);
+  *out.mutable_options() = wire::options_to_proto(job.options);
+  auto* c = out.mutable_counters();
+  c->set_units_total(job.units_total);
+  c->set_units_done(job.counters.units_done);
+  c->set_units_leased(job.counters.units_leased);
+  c->set_results_merged(job.counters.results_merged);
+  c->set_results_dropped(job.counters.results_dropped);
+  c->set_leases_expired(job.counters.leases_expired);
+  c->set_units_released(job.counters.units_released);
+  c->set_nan_dropped(job.counters.nan_dropped);
+  c->set_inf_dropped(job.counters.inf_dropped);
+  out.set_progress(job.progress());
+  out.set_spp_merged(job.spp_merged);
+  out.set_submitted_unix_ms(job.submitted_unix_ms);
+  out.set_started_unix_ms(job.started_unix_ms);
+  out.set_finished_unix_ms(job.finished_unix_ms);
+  out.set_error(job.error);
+  out.set_output_exr(job.output_exr);
+  out.set_output_png(job.output_png);
+  for (const std::string& isa : job.isas) out.add_worker_isas(isa);
+  return out;
+}
+
+v1::WorkerInfo to_proto(const WorkerRecord& w, bool online) {
+  v1::WorkerInfo out;
+  out.set_id(uint64_t(w.id));
+  out.set_name(w.info.name);
+  out.set_threads(w.info.threads);
+  out.set_isa(w.info.isa);
+  out.set_last_seen_unix_ms(w.last_seen_unix_ms);
+  out.set_online(online);
+  if (w.job_id) {
+    out.set_job_id(uint64_t(*w.job_id));
+    out.set_tile(w.tile);
+    out.set_batch(w.batch);
+  }
+  out.set_units_done(w.units_done);
+  out.set_units_lost(w.units_lost);
+  return out;
+}
+
+}  // namespace tessera::server

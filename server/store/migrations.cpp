@@ -1,0 +1,166 @@
+#include "store/migrations.h"
+
+#include <stdexcept>
+
+namespace tessera::server {
+
+const std::vector<Migration>& schema_migrations() {
+  static const std::vector<Migration> kMigrations = {
+      {1, "jobs, units, leases, bundles, tiles, pending results, workers", R"sql(
+-- Scene bundles by SHA-256 of their canonical serialization (proto/wire/scene_bundle.h).
+CREATE TABLE bundles (
+  sha256          TEXT PRIMARY KEY,
+  scene_file      TEXT NOT NULL,
+  data            BLOB NOT NULL,             -- the canonical serialization
+  size_bytes      INTEGER NOT NULL,
+  created_unix_ms INTEGER NOT NULL
+);
+
+CREATE TABLE workers (
+  id                 INTEGER PRIMARY KEY AUTOINCREMENT,
+  name               TEXT NOT NULL,
+  threads            INTEGER NOT NULL,
+  isa                TEXT NOT NULL,
+  version            TEXT NOT NULL,
+  registered_unix_ms INTEGER NOT NULL,
+  last_seen_unix_ms  INTEGER NOT NULL,
+  units_done         INTEGER NOT NULL DEFAULT 0,   -- results accepted
+  units_lost         INTEGER NOT NULL DEFAULT 0    -- leases expired or results dropped
+);
+
+CREATE TABLE jobs (
+  id                INTEGER PRIMARY KEY AUTOINCREMENT,  -- never reused
+  state             TEXT NOT NULL
+                    CHECK (state IN ('queued', 'running', 'done', 'failed', 'cancelled')),
+  priority          INTEGER NOT NULL,
+  bundle_sha256     TEXT NOT NULL REFERENCES bundles (sha256),
+  scene_file        TEXT NOT NULL,
+  -- resolved job options (core/job/job_options.h)
+  width             INTEGER NOT NULL,
+  height            INTEGER NOT NULL,
+  spp               INTEGER NOT NULL,
+  max_depth         INTEGER NOT NULL,
+  seed              INTEGER NOT NULL,   -- uint64 stored as its int64 bit pattern
+  tile_size         INTEGER NOT NULL,
+  batch_spp         INTEGER NOT NULL,
+  isa               TEXT NOT NULL,
+  tile_count        INTEGER NOT NULL,
+  batch_count       INTEGER NOT NULL,
+  units_total       INTEGER NOT NULL,   -- tile_count * batch_count
+  -- counters, each updated in the transaction of the event it counts
+  units_done        INTEGER NOT NULL DEFAULT 0,
+  results_merged    INTEGER NOT NULL DEFAULT 0,
+  results_dropped   INTEGER NOT NULL DEFAULT 0,
+  leases_expired    INTEGER NOT NULL DEFAULT 0,
+  units_released    INTEGER NOT NULL DEFAULT 0,
+  samples_merged    INTEGER NOT NULL DEFAULT 0,   -- pixel samples: sum of pixels * batch spp
+  nan_dropped       INTEGER NOT NULL DEFAULT 0,
+  inf_dropped       INTEGER NOT NULL DEFAULT 0,
+  submitted_unix_ms INTEGER NOT NULL,
+  started_unix_ms   INTEGER NOT NULL DEFAULT 0,
+  finished_unix_ms  INTEGER NOT NULL DEFAULT 0,
+  error             TEXT NOT NULL DEFAULT '',
+  output_exr        TEXT NOT NULL DEFAULT '',
+  output_png        TEXT NOT NULL DEFAULT ''
+);
+CREATE INDEX jobs_schedule ON jobs (state, priority DESC, submitted_unix_ms, id);
+
+-- The merged accumulation of each tile: batches [0, next_batch) summed in batch order.
+CREATE TABLE tiles (
+  job_id       INTEGER NOT NULL REFERENCES jobs (id) ON DELETE CASCADE,
+  tile         INTEGER NOT NULL,          -- row-major index in the job's plan
+  x0           INTEGER NOT NULL,
+  y0           INTEGER NOT NULL,
+  x1           INTEGER NOT NULL,
+  y1           INTEGER NOT NULL,
+  next_batch   INTEGER NOT NULL DEFAULT 0,
+  accumulation BLOB,                      -- encode_accumulation; NULL until batch 0 is merged
+  PRIMARY KEY (job_id, tile)
+) WITHOUT ROWID;
+
+-- Work units (job, tile, batch) and their lease. lease_id is set exactly when state = 'leased'.
+CREATE TABLE units (
+  id                    INTEGER PRIMARY KEY,
+  job_id                INTEGER NOT NULL REFERENCES jobs (id) ON DELETE CASCADE,
+  tile                  INTEGER NOT NULL,
+  batch                 INTEGER NOT NULL,
+  state                 TEXT NOT NULL
+                        CHECK (state IN ('queued', 'leased', 'done', 'cancelled')),
+  lease_id              TEXT,
+  worker_id             INTEGER REFERENCES workers (id),
+  lease_expires_unix_ms INTEGER,
+  failures              INTEGER NOT NULL DEFAULT 0,
+  UNIQUE (job_id, tile, batch),
+  FOREIGN KEY (job_id, tile) REFERENCES tiles (job_id, tile) ON DELETE CASCADE,
+  CHECK ((state = 'leased') = (lease_id IS NOT NULL))
+);
+CREATE INDEX units_queue ON units (job_id, state, batch, tile);
+CREATE UNIQUE INDEX units_lease ON units (lease_id) WHERE lease_id IS NOT NULL;
+CREATE INDEX units_worker ON units (worker_id) WHERE state = 'leased';
+CREATE INDEX units_expiry ON units (lease_expires_unix_ms) WHERE state = 'leased';
+
+-- Accepted results that arrived before their tile's previous batches were merged.
+CREATE TABLE pending_results (
+  job_id           INTEGER NOT NULL,
+  tile             INTEGER NOT NULL,
+  batch            INTEGER NOT NULL,
+  accumulation     BLOB NOT NULL,         -- encode_accumulation, as uploaded
+  received_unix_ms INTEGER NOT NULL,
+  PRIMARY KEY (job_id, tile, batch),
+  FOREIGN KEY (job_id, tile) REFERENCES tiles (job_id, tile) ON DELETE CASCADE
+) WITHOUT ROWID;
+
+-- Failures a worker reported on a job (ReleaseUnit REASON_FAILED); 2 block it from the job.
+CREATE TABLE job_worker_failures (
+  job_id     INTEGER NOT NULL REFERENCES jobs (id) ON DELETE CASCADE,
+  worker_id  INTEGER NOT NULL REFERENCES workers (id),
+  failures   INTEGER NOT NULL,
+  last_error TEXT NOT NULL,
+  PRIMARY KEY (job_id, worker_id)
+) WITHOUT ROWID;
+
+-- Which renderers made a job's accepted results (provenance).
+CREATE TABLE job_contributors (
+  job_id  INTEGER NOT NULL REFERENCES jobs (id) ON DELETE CASCADE,
+  isa     TEXT NOT NULL,
+  version TEXT NOT NULL,
+  PRIMARY KEY (job_id, isa, version)
+) WITHOUT ROWID;
+)sql"},
+  };
+  return kMigrations;
+}
+
+int schema_version(Database& db) {
+  db.exec(
+      "CREATE TABLE IF NOT EXISTS schema_migrations ("
+      " version INTEGER PRIMARY KEY, name TEXT NOT NULL, applied_unix_ms INTEGER NOT NULL)");
+  auto q = db.prepare("SELECT COALESCE(MAX(version), 0) FROM schema_migrations");
+  q->step();
+  return int(q->int64(0));
+}
+
+int migrate(Database& db, int64_t now_unix_ms) {
+  int version = schema_version(db);
+  const auto& all = schema_migrations();
+  if (version > int(all.size())) {
+    throw std::runtime_error("database schema version " + std::to_string(version) +
+                             " is newer than this tessera-server knows (" +
+                             std::to_string(all.size()) + ")");
+  }
+  for (const Migration& m : all) {
+    if (m.version <= version) continue;
+    Transaction tx(db);
+    db.exec(m.sql);
+    db.prepare("INSERT INTO schema_migrations (version, name, applied_unix_ms) VALUES (?, ?, ?)")
+        ->bind(1, m.version)
+        .bind(2, m.name)
+        .bind(3, now_unix_ms)
+        .run();
+    tx.commit();
+    version = m.version;
+  }
+  return version;
+}
+
+}  // namespace tessera::server

@@ -1,0 +1,29 @@
+// The store's schema as numbered migrations (Flamenco's habit): each runs once, in its own
+// transaction, and is recorded in schema_migrations. Never edit a released migration; add one.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "store/sqlite.h"
+
+namespace tessera::server {
+
+struct Migration {
+  int version;       ///< 1, 2, 3, ... in order, no gaps
+  std::string name;  ///< what it does, for people reading schema_migrations
+  std::string sql;
+};
+
+/// Every migration of the schema, in order. docs/farm.md describes the resulting schema.
+const std::vector<Migration>& schema_migrations();
+
+/// Applies the migrations `db` lacks, each in a BEGIN IMMEDIATE transaction, and returns the
+/// schema version reached. Throws SqliteError; throws std::runtime_error when the database
+/// was written by a newer Tessera (a version above every known migration).
+int migrate(Database& db, int64_t now_unix_ms);
+
+/// The highest migration applied to `db` (0 for a new database).
+int schema_version(Database& db);
+
+}  // namespace tessera::server

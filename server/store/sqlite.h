@@ -1,0 +1,140 @@
+// RAII wrappers over SQLite's C API: a connection, prepared statements, and write transactions.
+// Errors are thrown as SqliteError carrying SQLite's (extended) result code, so callers decide
+// by code, never by matching message text (STYLE.md habit 10).
+#pragma once
+
+#include <sqlite3.h>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+
+namespace tessera::server {
+
+class SqliteError : public std::runtime_error {
+ public:
+  SqliteError(int code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  /// SQLite's extended result code (SQLITE_BUSY, SQLITE_CONSTRAINT_FOREIGNKEY, ...).
+  int code() const { return code_; }
+  /// The primary result code (extended & 0xff).
+  int primary_code() const { return code_ & 0xff; }
+
+ private:
+  int code_;
+};
+
+/// A prepared statement. Parameters are bound by 1-based index; columns read by 0-based index.
+/// Owned by a Database's statement cache (see Database::prepare) or by its creator.
+class Statement {
+ public:
+  Statement(sqlite3* db, std::string_view sql);
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+
+  Statement& bind(int index, int64_t value);
+  Statement& bind(int index, int value) { return bind(index, int64_t(value)); }
+  Statement& bind(int index, uint32_t value) { return bind(index, int64_t(value)); }
+  Statement& bind(int index, double value);
+  /// Text (copied by SQLite).
+  Statement& bind(int index, std::string_view text);
+  Statement& bind(int index, const char* text) { return bind(index, std::string_view(text)); }
+  Statement& bind(int index, const std::string& text) { return bind(index, std::string_view(text)); }
+  Statement& bind_blob(int index, std::string_view bytes);
+  Statement& bind_null(int index);
+  template <typename T>
+  Statement& bind(int index, const std::optional<T>& value) {
+    return value ? bind(index, *value) : bind_null(index);
+  }
+
+  /// Advances: true when a row is available, false when done. Throws SqliteError.
+  bool step();
+  /// Steps a statement that returns no rows (or ignores them) to completion.
+  void run();
+  /// Clears bindings and rewinds, ready to bind and step again.
+  void reset();
+
+  int64_t int64(int column) const;
+  double real(int column) const;
+  std::string text(int column) const;
+  std::string blob(int column) const;
+  bool is_null(int column) const;
+
+ private:
+  struct Finalizer {
+    void operator()(sqlite3_stmt* s) const { sqlite3_finalize(s); }
+  };
+  sqlite3* db_;
+  std::unique_ptr<sqlite3_stmt, Finalizer> stmt_;
+};
+
+/// A borrowed cached statement, reset when it goes out of scope so that no half-stepped read
+/// keeps a snapshot of the database open. Use as `auto q = db.prepare(sql); q->bind(1, x);`.
+class StatementUse {
+ public:
+  explicit StatementUse(Statement& s) : s_(&s) {}
+  StatementUse(StatementUse&& other) noexcept : s_(std::exchange(other.s_, nullptr)) {}
+  StatementUse(const StatementUse&) = delete;
+  StatementUse& operator=(const StatementUse&) = delete;
+  StatementUse& operator=(StatementUse&&) = delete;
+  ~StatementUse() {
+    if (s_) s_->reset();
+  }
+  Statement* operator->() const { return s_; }
+  Statement& operator*() const { return *s_; }
+
+ private:
+  Statement* s_;
+};
+
+/// One connection. Opened in WAL mode with foreign keys on and a busy timeout. Not thread-safe:
+/// the server serialises access (server/coordinator.h).
+class Database {
+ public:
+  /// Opens (creating) `path`; ":memory:" for tests. Throws SqliteError naming the file.
+  explicit Database(const std::string& path, int busy_timeout_ms = 5000);
+  Database(const Database&) = delete;
+  Database& operator=(const Database&) = delete;
+
+  /// Runs SQL without parameters (schema, pragmas). Throws SqliteError.
+  void exec(std::string_view sql);
+
+  /// A statement prepared once per connection and reused (bindings cleared). Do not hold two
+  /// uses of the same SQL text at once.
+  StatementUse prepare(const std::string& sql);
+
+  int64_t last_insert_rowid() const;
+  /// Rows changed by the last INSERT/UPDATE/DELETE.
+  int changes() const;
+
+  sqlite3* handle() const { return db_.get(); }
+
+ private:
+  struct Closer {
+    void operator()(sqlite3* db) const { sqlite3_close_v2(db); }
+  };
+  std::unique_ptr<sqlite3, Closer> db_;
+  std::map<std::string, std::unique_ptr<Statement>, std::less<>> cache_;
+};
+
+/// A write transaction: BEGIN IMMEDIATE on construction (takes the write lock at once, so two
+/// writers never deadlock upgrading), ROLLBACK on destruction unless commit() was called.
+class Transaction {
+ public:
+  explicit Transaction(Database& db);
+  ~Transaction();
+  Transaction(const Transaction&) = delete;
+  Transaction& operator=(const Transaction&) = delete;
+
+  void commit();
+
+ private:
+  Database& db_;
+  bool done_ = false;
+};
+
+}  // namespace tessera::server

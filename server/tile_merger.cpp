@@ -1,0 +1,202 @@
+#include "tile_merger.h"
+
+#include <optional>
+#include <vector>
+
+#include "accum/accumulation_codec.h"
+#include "farm_error.h"
+#include "job/job_plan.h"
+#include "job_state.h"
+
+namespace tessera::server {
+namespace {
+
+std::string s(UnitState state) { return std::string(to_string(state)); }
+
+struct UnitContext {
+  int64_t unit_id = 0;
+  TileRect rect;
+  JobPlan plan;
+  uint32_t next_batch = 0;
+  std::optional<std::string> tile_accumulation;  ///< nullopt: nothing merged yet
+};
+
+std::optional<UnitContext> load_unit(Database& db, const UnitResult& r) {
+  auto q = db.prepare(R"sql(
+      SELECT u.id, t.x0, t.y0, t.x1, t.y1, t.next_batch, t.accumulation,
+             j.width, j.height, j.tile_size, j.spp, j.batch_spp
+      FROM units u
+      JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile
+      JOIN jobs j ON j.id = u.job_id
+      WHERE u.job_id = ? AND u.tile = ? AND u.batch = ?)sql");
+  q->bind(1, r.job_id).bind(2, r.tile).bind(3, r.batch);
+  if (!q->step()) return std::nullopt;
+  UnitContext c;
+  c.unit_id = q->int64(0);
+  c.rect = {int(q->int64(1)), int(q->int64(2)), int(q->int64(3)), int(q->int64(4))};
+  c.next_batch = uint32_t(q->int64(5));
+  if (!q->is_null(6)) c.tile_accumulation = q->blob(6);
+  c.plan.width = int(q->int64(7));
+  c.plan.height = int(q->int64(8));
+  c.plan.tile_size = int(q->int64(9));
+  c.plan.spp = uint32_t(q->int64(10));
+  c.plan.batch_spp = uint32_t(q->int64(11));
+  return c;
+}
+
+void validate(const UnitResult& r, const UnitContext& c, const Accumulation& acc) {
+  const std::string unit = "job " + std::to_string(r.job_id) + " tile " + std::to_string(r.tile) +
+                           " batch " + std::to_string(r.batch);
+  if (!(acc.rect == c.rect) || acc.pixels() != size_t(c.rect.pixel_count()) ||
+      acc.rgb.size() != acc.pixels() * 3 || acc.lum2.size() != acc.pixels()) {
+    throw FarmError(ErrorCode::invalid_argument,
+                    "result for " + unit + " does not cover the unit's tile");
+  }
+  const uint32_t samples = c.plan.batch_end(r.batch) - c.plan.batch_begin(r.batch);
+  for (uint32_t n : acc.count) {
+    if (n > samples) {
+      throw FarmError(ErrorCode::invalid_argument,
+                      "result for " + unit + " has a pixel with " + std::to_string(n) +
+                          " samples; the batch has " + std::to_string(samples));
+    }
+  }
+}
+
+/// Counters of the merged results, added to the job in one UPDATE.
+struct MergeTally {
+  uint32_t results = 0;
+  uint64_t pixel_samples = 0;
+  uint64_t nan = 0, inf = 0;
+
+  void add(const Accumulation& acc, uint32_t batch_samples) {
+    ++results;
+    pixel_samples += uint64_t(acc.pixels()) * batch_samples;
+    nan += acc.nan_dropped;
+    inf += acc.inf_dropped;
+  }
+};
+
+}  // namespace
+
+AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decoded) {
+  AcceptOutcome outcome;
+  Transaction tx(db_);
+  const std::optional<UnitContext> c = load_unit(db_, r);
+  if (!c) {
+    throw FarmError(ErrorCode::not_found, "no unit job " + std::to_string(r.job_id) + " tile " +
+                                              std::to_string(r.tile) + " batch " +
+                                              std::to_string(r.batch));
+  }
+  validate(r, *c, decoded);
+
+  // The compare-and-set: only the current lease of this unit, held by this worker, completes it.
+  const UnitState done = *next_state(UnitState::leased, UnitEvent::accept);
+  db_.prepare(
+         "UPDATE units SET state = ?, lease_id = NULL, lease_expires_unix_ms = NULL"
+         " WHERE id = ? AND lease_id = ? AND worker_id = ? AND state = ?")
+      ->bind(1, s(done))
+      .bind(2, c->unit_id)
+      .bind(3, r.lease_id)
+      .bind(4, r.worker_id)
+      .bind(5, s(UnitState::leased))
+      .run();
+  if (db_.changes() != 1) {
+    db_.prepare("UPDATE jobs SET results_dropped = results_dropped + 1 WHERE id = ?")
+        ->bind(1, r.job_id)
+        .run();
+    db_.prepare("UPDATE workers SET units_lost = units_lost + 1 WHERE id = ?")
+        ->bind(1, r.worker_id)
+        .run();
+    tx.commit();
+    outcome.reason =
+        "lease " + r.lease_id + " is not the current lease of the unit (expired and re-leased, "
+        "already delivered, or the job ended)";
+    return outcome;
+  }
+  outcome.accepted = true;
+  db_.prepare("UPDATE jobs SET units_done = units_done + 1 WHERE id = ?")->bind(1, r.job_id).run();
+  db_.prepare("UPDATE workers SET units_done = units_done + 1 WHERE id = ?")
+      ->bind(1, r.worker_id)
+      .run();
+  db_.prepare(
+         "INSERT OR IGNORE INTO job_contributors (job_id, isa, version)"
+         " SELECT ?, ?, version FROM workers WHERE id = ?")
+      ->bind(1, r.job_id)
+      .bind(2, r.isa)
+      .bind(3, r.worker_id)
+      .run();
+
+  if (r.batch != c->next_batch) {
+    // Earlier batches of this tile are missing: keep the result, durably, until they come.
+    db_.prepare(
+           "INSERT INTO pending_results (job_id, tile, batch, accumulation, received_unix_ms)"
+           " VALUES (?, ?, ?, ?, ?)")
+        ->bind(1, r.job_id)
+        .bind(2, r.tile)
+        .bind(3, r.batch)
+        .bind_blob(4, r.encoded)
+        .bind(5, clock_.now_unix_ms())
+        .run();
+  } else {
+    // Merge this batch, then every waiting successor, strictly in batch order.
+    Accumulation tile = c->tile_accumulation ? decode_accumulation(*c->tile_accumulation)
+                                             : Accumulation(c->rect);
+    MergeTally tally;
+    uint32_t next = c->next_batch;
+    tile.merge(decoded);
+    tally.add(decoded, c->plan.batch_end(next) - c->plan.batch_begin(next));
+    ++next;
+    for (;;) {
+      std::optional<std::string> waiting;
+      {
+        auto q = db_.prepare(
+            "SELECT accumulation FROM pending_results WHERE job_id = ? AND tile = ? AND batch = ?");
+        q->bind(1, r.job_id).bind(2, r.tile).bind(3, next);
+        if (q->step()) waiting = q->blob(0);
+      }
+      if (!waiting) break;
+      const Accumulation successor = decode_accumulation(*waiting);
+      tile.merge(successor);
+      tally.add(successor, c->plan.batch_end(next) - c->plan.batch_begin(next));
+      db_.prepare("DELETE FROM pending_results WHERE job_id = ? AND tile = ? AND batch = ?")
+          ->bind(1, r.job_id)
+          .bind(2, r.tile)
+          .bind(3, next)
+          .run();
+      ++next;
+    }
+    db_.prepare(
+           "UPDATE tiles SET next_batch = ?, accumulation = ? WHERE job_id = ? AND tile = ?"
+           " AND next_batch = ?")
+        ->bind(1, next)
+        .bind_blob(2, encode_accumulation(tile))
+        .bind(3, r.job_id)
+        .bind(4, r.tile)
+        .bind(5, c->next_batch)
+        .run();
+    if (db_.changes() != 1) {
+      throw FarmError(ErrorCode::internal, "tile " + std::to_string(r.tile) + " of job " +
+                                               std::to_string(r.job_id) +
+                                               " changed during its merge");
+    }
+    db_.prepare(
+           "UPDATE jobs SET results_merged = results_merged + ?, samples_merged = samples_merged"
+           " + ?, nan_dropped = nan_dropped + ?, inf_dropped = inf_dropped + ? WHERE id = ?")
+        ->bind(1, tally.results)
+        .bind(2, int64_t(tally.pixel_samples))
+        .bind(3, int64_t(tally.nan))
+        .bind(4, int64_t(tally.inf))
+        .bind(5, r.job_id)
+        .run();
+    outcome.merged = tally.results;
+  }
+  {
+    auto q = db_.prepare("SELECT results_merged = units_total FROM jobs WHERE id = ?");
+    q->bind(1, r.job_id);
+    outcome.job_complete = q->step() && q->int64(0) != 0;
+  }
+  tx.commit();
+  return outcome;
+}
+
+}  // namespace tessera::server

@@ -1,0 +1,50 @@
+// Accepting work-unit results and merging them per tile in batch order (the determinism
+// contract's rule 3). Accepting is one transaction: compare-and-set the unit leased -> done on
+// its current lease id, then either merge the result (and any waiting successors) into the
+// tile's accumulation, or, when earlier batches of the tile are still missing, store it in
+// pending_results until they arrive. A tile's accumulation starts at zeros and adds batches
+// 0, 1, 2, ... exactly as `tessera-worker render` does, so the pixels are bit-identical.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "accum/accumulation.h"
+#include "clock.h"
+#include "store/sqlite.h"
+
+namespace tessera::server {
+
+struct UnitResult {
+  int64_t worker_id = 0;
+  std::string lease_id;
+  int64_t job_id = 0;
+  uint32_t tile = 0;
+  uint32_t batch = 0;
+  std::string encoded;  ///< encode_accumulation bytes, as uploaded (stored if it must wait)
+  std::string isa;      ///< the ISA the worker rendered with
+};
+
+struct AcceptOutcome {
+  bool accepted = false;      ///< false: dropped (stale or duplicate lease), counted on the job
+  std::string reason;         ///< why it was dropped
+  uint32_t merged = 0;        ///< results merged by this call (this one and waiting successors)
+  bool job_complete = false;  ///< every unit of the job is now merged
+};
+
+class TileMerger {
+ public:
+  TileMerger(Database& db, const Clock& clock) : db_(db), clock_(clock) {}
+
+  /// Accepts `result` whose decoded accumulation is `decoded` (decoded by the caller, outside
+  /// any lock). Throws FarmError: not_found for an unknown unit, invalid_argument when `decoded`
+  /// does not cover the unit's tile or holds more samples per pixel than the batch has (the
+  /// lease stays current: the worker may retry with a good result).
+  AcceptOutcome accept(const UnitResult& result, const Accumulation& decoded);
+
+ private:
+  Database& db_;
+  const Clock& clock_;
+};
+
+}  // namespace tessera::server

@@ -1,0 +1,123 @@
+#include "worker_service.h"
+
+#include <algorithm>
+
+#include "rpc_guard.h"
+#include "wire/job_options_wire.h"
+#include "wire/scene_bundle.h"
+
+namespace tessera::server {
+namespace {
+
+int64_t worker_id_of(uint64_t id) {
+  if (id == 0 || id > uint64_t(INT64_MAX)) {
+    throw FarmError(ErrorCode::invalid_argument, "worker id must be >= 1 (register first)");
+  }
+  return int64_t(id);
+}
+
+}  // namespace
+
+grpc::Status WorkerServiceImpl::Register(grpc::ServerContext* context,
+                                         const v1::RegisterRequest* request,
+                                         v1::RegisterResponse* response) {
+  return guarded(auth_, *context, "Register", [&] {
+    WorkerRegistration info{request->name(), request->threads(), request->isa(),
+                            request->version()};
+    if (info.name.empty()) info.name = context->peer();
+    response->set_worker_id(uint64_t(coordinator_.register_worker(info)));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status WorkerServiceImpl::LeaseUnit(grpc::ServerContext* context,
+                                          const v1::LeaseUnitRequest* request,
+                                          v1::LeaseUnitResponse* response) {
+  return guarded(auth_, *context, "LeaseUnit", [&] {
+    const auto wait = std::chrono::milliseconds(std::min(request->wait_ms(), kMaxLeaseWaitMs));
+    const std::optional<LeasedUnit> unit = coordinator_.lease(
+        worker_id_of(request->worker_id()), wait, [context] { return context->IsCancelled(); });
+    response->set_heartbeat_interval_ms(uint32_t(std::max<int64_t>(50, coordinator_.lease_ms() / 3)));
+    if (!unit) {
+      response->set_leased(false);
+      return grpc::Status::OK;
+    }
+    response->set_leased(true);
+    response->set_lease_id(unit->lease.lease_id);
+    response->set_expires_unix_ms(unit->lease.expires_unix_ms);
+    v1::WorkUnit* u = response->mutable_unit();
+    u->set_job_id(uint64_t(unit->lease.job_id));
+    u->set_tile(unit->lease.tile);
+    u->set_x0(unit->rect.x0);
+    u->set_y0(unit->rect.y0);
+    u->set_x1(unit->rect.x1);
+    u->set_y1(unit->rect.y1);
+    u->set_batch(unit->lease.batch);
+    u->set_sample_begin(unit->sample_begin);
+    u->set_sample_end(unit->sample_end);
+    *u->mutable_options() = wire::options_to_proto(unit->options);
+    u->set_bundle_sha256(unit->bundle_sha256);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status WorkerServiceImpl::Heartbeat(grpc::ServerContext* context,
+                                          const v1::HeartbeatRequest* request,
+                                          v1::HeartbeatResponse* response) {
+  return guarded(auth_, *context, "Heartbeat", [&] {
+    const std::optional<int64_t> expires =
+        coordinator_.heartbeat(worker_id_of(request->worker_id()), request->lease_id());
+    response->set_valid(expires.has_value());
+    response->set_expires_unix_ms(expires.value_or(0));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status WorkerServiceImpl::FetchBundle(grpc::ServerContext* context,
+                                            const v1::FetchBundleRequest* request,
+                                            v1::FetchBundleResponse* response) {
+  return guarded(auth_, *context, "FetchBundle", [&] {
+    const std::string bytes = coordinator_.bundle(request->sha256());
+    *response->mutable_bundle() = wire::bundle_to_proto(wire::parse_canonical(bytes));
+    response->set_sha256(request->sha256());
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status WorkerServiceImpl::UploadResult(grpc::ServerContext* context,
+                                             const v1::UploadResultRequest* request,
+                                             v1::UploadResultResponse* response) {
+  return guarded(auth_, *context, "UploadResult", [&] {
+    if (request->job_id() == 0 || request->job_id() > uint64_t(INT64_MAX)) {
+      throw FarmError(ErrorCode::invalid_argument, "job id must be >= 1");
+    }
+    UnitResult result;
+    result.worker_id = worker_id_of(request->worker_id());
+    result.lease_id = request->lease_id();
+    result.job_id = int64_t(request->job_id());
+    result.tile = request->tile();
+    result.batch = request->batch();
+    result.encoded = request->accumulation();
+    result.isa = request->isa();
+    const AcceptOutcome outcome = coordinator_.upload(result);
+    response->set_accepted(outcome.accepted);
+    response->set_reason(outcome.reason);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status WorkerServiceImpl::ReleaseUnit(grpc::ServerContext* context,
+                                            const v1::ReleaseUnitRequest* request,
+                                            v1::ReleaseUnitResponse* response) {
+  return guarded(auth_, *context, "ReleaseUnit", [&] {
+    const ReleaseReason reason = request->reason() == v1::ReleaseUnitRequest::REASON_FAILED
+                                     ? ReleaseReason::failed
+                                     : ReleaseReason::shutdown;
+    const ReleaseOutcome outcome = coordinator_.release(
+        worker_id_of(request->worker_id()), request->lease_id(), reason, request->message());
+    response->set_released(outcome.released);
+    return grpc::Status::OK;
+  });
+}
+
+}  // namespace tessera::server

@@ -1,0 +1,89 @@
+// A farm on loopback for end-to-end tests: tessera-server on a free port (it binds port 0 and
+// writes the port it got to a file), tessera-worker processes, the tessera CLI, and gRPC stubs
+// for calls the CLI does not make (simulated workers, raw bundles). Everything lives in a
+// temporary folder, kept when the test fails (for its logs) and removed otherwise.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "image/image_output.h"
+#include "process.h"
+#include "tessera/v1/job_service.grpc.pb.h"
+#include "tessera/v1/worker_service.grpc.pb.h"
+
+namespace tessera::e2e {
+
+/// Generous bound on any wait: the tests poll state, they never time the farm.
+inline constexpr std::chrono::seconds kPatience{600};
+/// Deadline of each gRPC call a test makes.
+inline constexpr std::chrono::seconds kCallTimeout{60};
+
+class FarmCluster {
+ public:
+  explicit FarmCluster(const std::string& name);
+  ~FarmCluster();
+
+  /// Starts tessera-server with a fresh port (or the previous one after a kill) and waits
+  /// until it listens. `extra` adds flags (--lease-seconds, --token).
+  void start_server(const std::vector<std::string>& extra = {});
+  /// SIGKILL, then wait for the process to be gone.
+  void kill_server();
+  /// Starts tessera-worker --server ... with its own log; returns its index.
+  size_t start_worker(const std::vector<std::string>& extra = {});
+  Process& worker(size_t index) { return *workers_.at(index); }
+
+  /// Runs the tessera CLI against this server.
+  CommandResult cli(const std::vector<std::string>& args, const std::vector<std::string>& env = {});
+  /// Runs `tessera-worker render` (the local renderer).
+  CommandResult local_render(const std::vector<std::string>& args);
+
+  std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
+  const std::filesystem::path& dir() const { return dir_; }
+  std::filesystem::path db_path() const { return dir_ / "farm.db"; }
+
+  v1::JobService::Stub& jobs() { return *jobs_; }
+  v1::WorkerService::Stub& workers_api() { return *workers_api_; }
+  /// A context with kCallTimeout and, when given, the bearer token.
+  static std::unique_ptr<grpc::ClientContext> context(const std::string& token = "");
+
+  v1::JobInfo job(uint64_t id);
+  /// Polls the job until `done(info)` (or kPatience passes: test failure). Returns the last info.
+  v1::JobInfo wait_job(uint64_t id, const std::function<bool(const v1::JobInfo&)>& done,
+                       const std::string& what);
+  v1::JobInfo wait_final(uint64_t id);
+
+  /// Submits with the CLI (--json) and returns the job id.
+  uint64_t submit(const std::vector<std::string>& args);
+
+  /// Appends every process log to the test's output (called on failure).
+  void dump_logs() const;
+
+ private:
+  void connect();
+
+  std::filesystem::path dir_;
+  std::string token_;
+  int port_ = 0;
+  int server_starts_ = 0;
+  int commands_ = 0;
+  std::vector<std::string> server_extra_;
+  std::unique_ptr<Process> server_;
+  std::vector<std::unique_ptr<Process>> workers_;
+  std::unique_ptr<v1::JobService::Stub> jobs_;
+  std::unique_ptr<v1::WorkerService::Stub> workers_api_;
+};
+
+/// The source tree (scenes/, tests/).
+std::filesystem::path source_dir();
+
+/// Pixels of two images equal bit for bit (sizes too). On a difference, says where.
+::testing::AssertionResult same_pixels(const std::filesystem::path& a, const std::filesystem::path& b);
+
+}  // namespace tessera::e2e

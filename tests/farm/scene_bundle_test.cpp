@@ -1,0 +1,94 @@
+// Scene bundles: validation of paths, the canonical serialization and its hash.
+#include "wire/scene_bundle.h"
+
+#include <gtest/gtest.h>
+
+#include "wire/sha256.h"
+
+namespace tessera::wire {
+namespace {
+
+v1::SceneBundle make(const std::string& scene_file,
+                     const std::vector<std::pair<std::string, std::string>>& files) {
+  v1::SceneBundle b;
+  b.set_scene_file(scene_file);
+  for (const auto& [path, data] : files) {
+    auto* f = b.add_files();
+    f->set_path(path);
+    f->set_data(data);
+  }
+  return b;
+}
+
+std::string error_of(const v1::SceneBundle& b) {
+  try {
+    bundle_from_proto(b);
+  } catch (const BundleError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Sha256, KnownVectors) {
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_TRUE(is_sha256_hex(sha256_hex("x")));
+  EXPECT_FALSE(is_sha256_hex("ABC"));
+  EXPECT_FALSE(is_sha256_hex(std::string(64, 'g')));
+}
+
+TEST(SceneBundle, HashIgnoresFileOrder) {
+  const auto a = bundle_from_proto(make("s.json", {{"s.json", "{}"}, {"m/a.ply", "ply"}}));
+  const auto b = bundle_from_proto(make("s.json", {{"m/a.ply", "ply"}, {"s.json", "{}"}}));
+  EXPECT_EQ(bundle_sha256(a), bundle_sha256(b));
+  EXPECT_EQ(canonical_bytes(a), canonical_bytes(b));
+}
+
+TEST(SceneBundle, HashChangesWithAnyByte) {
+  const auto a = bundle_from_proto(make("s.json", {{"s.json", "{}"}, {"a.ply", "ply"}}));
+  const auto b = bundle_from_proto(make("s.json", {{"s.json", "{}"}, {"a.ply", "plz"}}));
+  const auto c = bundle_from_proto(make("s.json", {{"s.json", "{}"}, {"b.ply", "ply"}}));
+  // Length prefixes keep (path, data) boundaries apart: "a" + "b.ply" != "ab" + ".ply".
+  const auto d = bundle_from_proto(make("s.json", {{"s.json", "{}a.ply"}, {"a.ply", ""}}));
+  EXPECT_NE(bundle_sha256(a), bundle_sha256(b));
+  EXPECT_NE(bundle_sha256(a), bundle_sha256(c));
+  EXPECT_NE(bundle_sha256(a), bundle_sha256(d));
+}
+
+TEST(SceneBundle, CanonicalBytesRoundTrip) {
+  const auto a = bundle_from_proto(
+      make("scenes/s.json", {{"scenes/s.json", "{}"}, {"scenes/m/x.obj", std::string("\0\1", 2)}}));
+  EXPECT_EQ(parse_canonical(canonical_bytes(a)), a);
+  const std::string bytes = canonical_bytes(a);
+  EXPECT_THROW(parse_canonical(bytes.substr(0, bytes.size() - 1)), BundleError);
+  EXPECT_THROW(parse_canonical(bytes + "x"), BundleError);
+  EXPECT_THROW(parse_canonical("not a bundle"), BundleError);
+}
+
+TEST(SceneBundle, RefusesBadPaths) {
+  EXPECT_NE(error_of(make("s.json", {{"s.json", ""}, {"/etc/passwd", ""}})), "");
+  EXPECT_NE(error_of(make("s.json", {{"s.json", ""}, {"../up.ply", ""}})), "");
+  EXPECT_NE(error_of(make("s.json", {{"s.json", ""}, {"a/../../b", ""}})), "");
+  EXPECT_NE(error_of(make("s.json", {{"s.json", ""}, {"a//b", ""}})), "");
+  EXPECT_NE(error_of(make("s.json", {{"s.json", ""}, {"", ""}})), "");
+  EXPECT_NE(error_of(make("", {{"s.json", ""}})), "");
+  EXPECT_NE(error_of(make("/s.json", {{"s.json", ""}})), "");
+}
+
+TEST(SceneBundle, RefusesDuplicatesAndAMissingSceneFile) {
+  const std::string dup = error_of(make("s.json", {{"s.json", "1"}, {"s.json", "2"}}));
+  EXPECT_NE(dup.find("duplicate"), std::string::npos) << dup;
+  const std::string missing = error_of(make("s.json", {{"other.json", "{}"}}));
+  EXPECT_NE(missing.find("s.json"), std::string::npos) << missing;
+}
+
+TEST(SceneBundle, ReaderResolvesRelativeToTheSceneFolder) {
+  const auto b = bundle_from_proto(
+      make("scenes/s.json", {{"scenes/s.json", "{}"}, {"scenes/meshes/a.ply", "A"}}));
+  const FileReader read = bundle_reader(b);
+  EXPECT_EQ(read("meshes/a.ply"), "A");
+  EXPECT_THROW(read("meshes/b.ply"), std::exception);
+}
+
+}  // namespace
+}  // namespace tessera::wire

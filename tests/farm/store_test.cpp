@@ -1,0 +1,248 @@
+// The SQLite layer and the job store, on :memory: (and a temporary file where WAL or locking is
+// the point).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <unistd.h>
+
+#include "farm_error.h"
+#include "store/migrations.h"
+#include "store/sqlite.h"
+#include "store_fixture.h"
+
+namespace tessera::server {
+namespace {
+
+using testing::StoreFixture;
+
+std::filesystem::path temp_db(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("tessera-store-test-" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::filesystem::remove(path);
+  return path;
+}
+
+TEST(Sqlite, MigrationsRunOnceAndAreRecorded) {
+  Database db(":memory:");
+  EXPECT_EQ(schema_version(db), 0);
+  const int version = migrate(db, 1000);
+  EXPECT_EQ(version, int(schema_migrations().size()));
+  EXPECT_EQ(migrate(db, 2000), version);  // nothing left to apply
+  auto q = db.prepare("SELECT COUNT(*), MIN(applied_unix_ms) FROM schema_migrations");
+  ASSERT_TRUE(q->step());
+  EXPECT_EQ(q->int64(0), int64_t(schema_migrations().size()));
+  EXPECT_EQ(q->int64(1), 1000);
+}
+
+TEST(Sqlite, MigrationsAreNumberedWithoutGaps) {
+  int expected = 1;
+  for (const Migration& m : schema_migrations()) EXPECT_EQ(m.version, expected++) << m.name;
+}
+
+TEST(Sqlite, RefusesADatabaseFromANewerVersion) {
+  Database db(":memory:");
+  migrate(db, 0);
+  db.exec("INSERT INTO schema_migrations VALUES (999, 'from the future', 0)");
+  EXPECT_THROW(migrate(db, 0), std::runtime_error);
+}
+
+TEST(Sqlite, FileDatabaseIsWalWithForeignKeys) {
+  const auto path = temp_db("wal.db");
+  Database db(path.string());
+  {
+    auto q = db.prepare("PRAGMA journal_mode");
+    ASSERT_TRUE(q->step());
+    EXPECT_EQ(q->text(0), "wal");
+  }
+  auto q = db.prepare("PRAGMA foreign_keys");
+  ASSERT_TRUE(q->step());
+  EXPECT_EQ(q->int64(0), 1);
+}
+
+TEST(Sqlite, ErrorsCarryResultCodes) {
+  Database db(":memory:");
+  migrate(db, 0);
+  // A unit of a job that does not exist: the foreign key refuses it.
+  try {
+    db.prepare("INSERT INTO units (job_id, tile, batch, state) VALUES (42, 0, 0, 'queued')")->run();
+    FAIL() << "foreign key not enforced";
+  } catch (const SqliteError& e) {
+    EXPECT_EQ(e.code(), SQLITE_CONSTRAINT_FOREIGNKEY);
+    EXPECT_EQ(e.primary_code(), SQLITE_CONSTRAINT);
+  }
+  try {
+    db.exec("SELEKT 1");
+    FAIL() << "syntax error not reported";
+  } catch (const SqliteError& e) {
+    EXPECT_EQ(e.primary_code(), SQLITE_ERROR);
+  }
+}
+
+TEST(Sqlite, LeaseIdIsSetExactlyWhenLeased) {
+  StoreFixture f;
+  const int64_t job = f.make_job(8, 8, 8, 1, 1);
+  EXPECT_THROW(f.db.prepare("UPDATE units SET state = 'leased' WHERE job_id = ?")->bind(1, job).run(),
+               SqliteError);
+  EXPECT_THROW(f.db.prepare("UPDATE units SET lease_id = 'x' WHERE job_id = ?")->bind(1, job).run(),
+               SqliteError);
+}
+
+TEST(Sqlite, TransactionRollsBackUnlessCommitted) {
+  Database db(":memory:");
+  db.exec("CREATE TABLE t (v INTEGER)");
+  {
+    Transaction tx(db);
+    db.prepare("INSERT INTO t VALUES (1)")->run();
+  }
+  {
+    Transaction tx(db);
+    db.prepare("INSERT INTO t VALUES (2)")->run();
+    tx.commit();
+  }
+  auto q = db.prepare("SELECT COUNT(*), SUM(v) FROM t");
+  ASSERT_TRUE(q->step());
+  EXPECT_EQ(q->int64(0), 1);
+  EXPECT_EQ(q->int64(1), 2);
+}
+
+TEST(Sqlite, BlobsRoundTripBytesExactly) {
+  Database db(":memory:");
+  db.exec("CREATE TABLE b (data BLOB)");
+  const std::string bytes("\0\1\2\xff zero\0end", 12);
+  db.prepare("INSERT INTO b VALUES (?)")->bind_blob(1, bytes).run();
+  db.prepare("INSERT INTO b VALUES (?)")->bind_blob(1, "").run();
+  auto q = db.prepare("SELECT data, data IS NULL FROM b ORDER BY rowid");
+  ASSERT_TRUE(q->step());
+  EXPECT_EQ(q->blob(0), bytes);
+  ASSERT_TRUE(q->step());
+  EXPECT_EQ(q->blob(0), "");
+  EXPECT_EQ(q->int64(1), 0);  // an empty blob, not NULL
+}
+
+TEST(Sqlite, SecondWriterGetsBusyAfterItsTimeout) {
+  const auto path = temp_db("busy.db");
+  Database first(path.string());
+  first.exec("CREATE TABLE t (v INTEGER)");
+  Database second(path.string(), /*busy_timeout_ms=*/50);
+  Transaction holding(first);
+  try {
+    Transaction blocked(second);
+    FAIL() << "BEGIN IMMEDIATE did not wait for the writer";
+  } catch (const SqliteError& e) {
+    EXPECT_EQ(e.primary_code(), SQLITE_BUSY);
+  }
+}
+
+TEST(JobStore, CreatesTilesAndUnitsOfThePlan) {
+  StoreFixture f;
+  // 100x50 in 32-pixel tiles: 4 x 2 tiles; 10 spp in batches of 4: 3 batches (4, 4, 2).
+  const int64_t id = f.make_job(100, 50, 32, 10, 4, /*priority=*/7);
+  const std::optional<JobRecord> job = f.jobs.get(id);
+  ASSERT_TRUE(job);
+  EXPECT_EQ(job->state, JobState::queued);
+  EXPECT_EQ(job->priority, 7);
+  EXPECT_EQ(job->tile_count, 8u);
+  EXPECT_EQ(job->batch_count, 3u);
+  EXPECT_EQ(job->units_total, 24u);
+  EXPECT_EQ(job->options.width, 100);
+  EXPECT_EQ(job->options.batch_spp, 4u);
+  EXPECT_EQ(job->spp_merged, 0u);
+  EXPECT_EQ(job->progress(), 0.0);
+  const std::vector<TileRecord> tiles = f.jobs.tiles(id);
+  ASSERT_EQ(tiles.size(), 8u);
+  EXPECT_EQ(tiles[3].rect, (TileRect{96, 0, 100, 32}));
+  EXPECT_EQ(tiles[7].rect, (TileRect{96, 32, 100, 50}));
+  auto q = f.db.prepare("SELECT COUNT(*) FROM units WHERE job_id = ? AND state = 'queued'");
+  q->bind(1, id);
+  ASSERT_TRUE(q->step());
+  EXPECT_EQ(q->int64(0), 24);
+}
+
+TEST(JobStore, StoresEachBundleOnce) {
+  StoreFixture f;
+  NewJob job;
+  job.bundle_sha256 = std::string(64, 'b');
+  job.scene_file = "s.json";
+  job.bundle_bytes = "bytes";
+  job.options.width = job.options.height = job.options.tile_size = 4;
+  job.options.spp = job.options.batch_spp = 1;
+  f.jobs.create(job, 0);
+  f.jobs.create(job, 1);
+  auto q = f.db.prepare("SELECT COUNT(*) FROM bundles");
+  ASSERT_TRUE(q->step());
+  EXPECT_EQ(q->int64(0), 1);
+  EXPECT_EQ(f.jobs.bundle_bytes(job.bundle_sha256), "bytes");
+  EXPECT_EQ(f.jobs.bundle_bytes(std::string(64, 'c')), std::nullopt);
+}
+
+TEST(JobStore, RefusesJobsWithTooManyUnits) {
+  StoreFixture f;
+  try {
+    f.make_job(32768, 32768, 1, 1, 1);
+    FAIL() << "a job of 2^30 units was accepted";
+  } catch (const FarmError& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
+    EXPECT_NE(std::string(e.what()).find("--tile or --batch"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(f.jobs.list(10).empty());
+}
+
+TEST(JobStore, ListsNewestFirst) {
+  StoreFixture f;
+  const int64_t a = f.make_job(8, 8, 8, 1, 1);
+  const int64_t b = f.make_job(8, 8, 8, 1, 1);
+  const std::vector<JobRecord> jobs = f.jobs.list(10);
+  ASSERT_EQ(jobs.size(), 2u);
+  EXPECT_EQ(jobs[0].id, b);
+  EXPECT_EQ(jobs[1].id, a);
+  EXPECT_EQ(f.jobs.list(1).size(), 1u);
+}
+
+TEST(JobStore, CancelRevokesUnitsAndIsFinal) {
+  StoreFixture f;
+  const int64_t job = f.make_job(16, 16, 8, 4, 2);
+  const int64_t worker = f.make_worker();
+  const std::optional<Lease> lease = f.scheduler.lease_next(worker);
+  ASSERT_TRUE(lease);
+  EXPECT_EQ(f.jobs.cancel(job, f.clock.now_unix_ms()), CancelOutcome::cancelled);
+  EXPECT_EQ(f.jobs.get(job)->state, JobState::cancelled);
+  EXPECT_EQ(f.jobs.get(job)->counters.units_leased, 0u);
+  EXPECT_EQ(f.jobs.cancel(job, 0), CancelOutcome::already_final);
+  EXPECT_EQ(f.jobs.cancel(job + 100, 0), CancelOutcome::not_found);
+  // The revoked lease cannot be extended, and no unit of the job is handed out any more.
+  EXPECT_EQ(f.leases.heartbeat(worker, lease->lease_id), std::nullopt);
+  EXPECT_EQ(f.scheduler.lease_next(worker), std::nullopt);
+  EXPECT_EQ(f.jobs.unfinished(), std::vector<int64_t>{});
+}
+
+TEST(JobStore, FailedJobRecordsTheReason) {
+  StoreFixture f;
+  const int64_t job = f.make_job(8, 8, 8, 1, 1);
+  EXPECT_TRUE(f.jobs.fail(job, "disk full", 5));
+  EXPECT_EQ(f.jobs.get(job)->state, JobState::failed);
+  EXPECT_EQ(f.jobs.get(job)->error, "disk full");
+  EXPECT_FALSE(f.jobs.fail(job, "again", 6));
+  EXPECT_EQ(f.jobs.get(job)->error, "disk full");
+}
+
+TEST(WorkerRegistry, RegistersTouchesAndShowsTheLeasedUnit) {
+  StoreFixture f;
+  const int64_t a = f.make_worker("a");
+  const int64_t b = f.make_worker("b");
+  EXPECT_NE(a, b);
+  f.clock.advance(500);
+  EXPECT_TRUE(f.workers.touch(a, f.clock.now_unix_ms()));
+  EXPECT_FALSE(f.workers.touch(b + 10, f.clock.now_unix_ms()));
+  const int64_t job = f.make_job(8, 8, 8, 1, 1);
+  ASSERT_TRUE(f.scheduler.lease_next(a));
+  const std::vector<WorkerRecord> all = f.workers.list();
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all[0].id, a);  // most recently seen first
+  EXPECT_EQ(all[0].job_id, job);
+  EXPECT_EQ(all[1].job_id, std::nullopt);
+}
+
+}  // namespace
+}  // namespace tessera::server

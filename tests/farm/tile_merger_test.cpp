@@ -1,0 +1,254 @@
+// Accepting results: the compare-and-set on the lease id, and the in-order merge per tile.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <unistd.h>
+
+#include "accum/accumulation_codec.h"
+#include "farm_error.h"
+#include "store_fixture.h"
+
+namespace tessera::server {
+namespace {
+
+using testing::StoreFixture;
+
+/// Leases (tile, batch) for `worker` (which must hold no lease): helpers lease the units that
+/// the scheduler orders before it, the worker takes it, then the helpers hand theirs back.
+Lease lease_unit(StoreFixture& f, int64_t worker, uint32_t tile, uint32_t batch) {
+  std::vector<Lease> blockers;
+  for (;;) {
+    const std::optional<Lease> l = f.scheduler.lease_next(f.make_worker("helper"));
+    if (!l) {
+      ADD_FAILURE() << "unit tile " << tile << " batch " << batch << " is not queued";
+      return {};
+    }
+    if (l->tile == tile && l->batch == batch) {
+      f.leases.release(l->worker_id, l->lease_id, ReleaseReason::shutdown, "");
+      break;
+    }
+    blockers.push_back(*l);
+  }
+  const Lease got = *f.scheduler.lease_next(worker);
+  EXPECT_EQ(got.tile, tile);
+  EXPECT_EQ(got.batch, batch);
+  for (const Lease& b : blockers) {
+    f.leases.release(b.worker_id, b.lease_id, ReleaseReason::shutdown, "");
+  }
+  return got;
+}
+
+UnitResult result_for(const Lease& lease, const Accumulation& acc) {
+  UnitResult r;
+  r.worker_id = lease.worker_id;
+  r.lease_id = lease.lease_id;
+  r.job_id = lease.job_id;
+  r.tile = lease.tile;
+  r.batch = lease.batch;
+  r.encoded = encode_accumulation(acc);
+  r.isa = "avx2";
+  return r;
+}
+
+Accumulation tile_sum(StoreFixture& f, int64_t job, uint32_t tile) {
+  const std::vector<TileRecord> tiles = f.jobs.tiles(job);
+  return decode_accumulation(tiles.at(tile).accumulation);
+}
+
+constexpr TileRect kTile{0, 0, 4, 4};
+
+TEST(TileMerger, ResultsArriving201MergeAs012) {
+  StoreFixture f;
+  const int64_t job = f.make_job(4, 4, 4, 3, 1);  // one tile, 3 batches of 1 spp
+  const int64_t w = f.make_worker();
+  std::vector<Accumulation> batch;
+  for (uint32_t b = 0; b < 3; ++b) batch.push_back(StoreFixture::synthetic(kTile, b, 1));
+
+  const Lease l2 = lease_unit(f, w, 0, 2);
+  AcceptOutcome o = f.merger.accept(result_for(l2, batch[2]), batch[2]);
+  EXPECT_TRUE(o.accepted);
+  EXPECT_EQ(o.merged, 0u);  // waits for 0 and 1
+  EXPECT_EQ(f.jobs.tiles(job)[0].next_batch, 0u);
+  EXPECT_EQ(f.jobs.get(job)->counters.units_done, 1u);
+  EXPECT_EQ(f.jobs.get(job)->counters.results_merged, 0u);
+
+  const Lease l0 = lease_unit(f, w, 0, 0);
+  o = f.merger.accept(result_for(l0, batch[0]), batch[0]);
+  EXPECT_EQ(o.merged, 1u);  // 0 only: 1 is missing
+  EXPECT_EQ(f.jobs.tiles(job)[0].next_batch, 1u);
+  EXPECT_EQ(f.jobs.get(job)->spp_merged, 1u);
+
+  const Lease l1 = lease_unit(f, w, 0, 1);
+  o = f.merger.accept(result_for(l1, batch[1]), batch[1]);
+  EXPECT_EQ(o.merged, 2u);  // 1, then the waiting 2
+  EXPECT_TRUE(o.job_complete);
+
+  // Exactly zeros + 0 + 1 + 2, as `tessera-worker render` sums them.
+  Accumulation expected(kTile);
+  for (const Accumulation& a : batch) expected.merge(a);
+  EXPECT_EQ(tile_sum(f, job, 0), expected);
+  // And the order matters for these values: 2, 0, 1 would give other bits.
+  Accumulation arrival_order(kTile);
+  for (int b : {2, 0, 1}) arrival_order.merge(batch[size_t(b)]);
+  EXPECT_NE(arrival_order.rgb, expected.rgb);
+
+  const JobRecord done = *f.jobs.get(job);
+  EXPECT_EQ(done.counters.results_merged, 3u);
+  EXPECT_EQ(done.counters.units_done, 3u);
+  EXPECT_EQ(done.spp_merged, 3u);
+  EXPECT_EQ(done.progress(), 1.0);
+  EXPECT_EQ(done.counters.samples_merged, 16u * 3u);
+  EXPECT_EQ(done.isas, std::vector<std::string>{"avx2"});
+  auto q = f.db.prepare("SELECT COUNT(*) FROM pending_results");
+  ASSERT_TRUE(q->step());
+  EXPECT_EQ(q->int64(0), 0);
+}
+
+TEST(TileMerger, StaleLeaseResultIsDroppedAndCounted) {
+  StoreFixture f;
+  const int64_t job = f.make_job(4, 4, 4, 1, 1);
+  const int64_t slow = f.make_worker("slow"), fast = f.make_worker("fast");
+  const Lease stale = *f.scheduler.lease_next(slow);
+  f.clock.advance(StoreFixture::kLeaseMs + 1);
+  ASSERT_EQ(f.leases.expire_due(), 1);
+  const Lease current = *f.scheduler.lease_next(fast);
+  ASSERT_EQ(current.unit_id, stale.unit_id);
+
+  const Accumulation acc = StoreFixture::synthetic(kTile, 0, 1);
+  const AcceptOutcome late = f.merger.accept(result_for(stale, acc), acc);
+  EXPECT_FALSE(late.accepted);
+  EXPECT_NE(late.reason.find("not the current lease"), std::string::npos);
+  EXPECT_EQ(f.jobs.get(job)->counters.results_dropped, 1u);
+  EXPECT_EQ(f.jobs.get(job)->counters.units_done, 0u);
+  EXPECT_EQ(f.jobs.tiles(job)[0].next_batch, 0u);
+
+  EXPECT_TRUE(f.merger.accept(result_for(current, acc), acc).accepted);
+  // A duplicate delivery of the accepted result is dropped too.
+  EXPECT_FALSE(f.merger.accept(result_for(current, acc), acc).accepted);
+  const JobRecord j = *f.jobs.get(job);
+  EXPECT_EQ(j.counters.results_dropped, 2u);
+  EXPECT_EQ(j.counters.units_done, 1u);
+  EXPECT_EQ(j.counters.results_merged, 1u);
+  EXPECT_EQ(tile_sum(f, job, 0).count[0], 1u);  // merged once
+}
+
+TEST(TileMerger, AnotherWorkersLeaseIdIsNotEnough) {
+  StoreFixture f;
+  f.make_job(4, 4, 4, 1, 1);
+  const int64_t owner = f.make_worker("owner"), thief = f.make_worker("thief");
+  Lease lease = *f.scheduler.lease_next(owner);
+  const Accumulation acc = StoreFixture::synthetic(kTile, 0, 1);
+  lease.worker_id = thief;
+  EXPECT_FALSE(f.merger.accept(result_for(lease, acc), acc).accepted);
+  EXPECT_TRUE(f.leases.heartbeat(owner, lease.lease_id));
+}
+
+TEST(TileMerger, ResultsOfACancelledJobAreDropped) {
+  StoreFixture f;
+  const int64_t job = f.make_job(4, 4, 4, 1, 1);
+  const Lease lease = *f.scheduler.lease_next(f.make_worker());
+  f.jobs.cancel(job, 0);
+  const Accumulation acc = StoreFixture::synthetic(kTile, 0, 1);
+  EXPECT_FALSE(f.merger.accept(result_for(lease, acc), acc).accepted);
+  EXPECT_EQ(f.jobs.get(job)->counters.results_dropped, 1u);
+  EXPECT_EQ(f.jobs.get(job)->state, JobState::cancelled);
+}
+
+TEST(TileMerger, RefusesAResultThatDoesNotFitTheUnit) {
+  StoreFixture f;
+  const int64_t job = f.make_job(8, 4, 4, 2, 2);
+  const Lease lease = *f.scheduler.lease_next(f.make_worker());
+  ASSERT_EQ(lease.tile, 0u);
+  const Accumulation wrong_tile = StoreFixture::synthetic({4, 0, 8, 4}, 0, 2);
+  try {
+    f.merger.accept(result_for(lease, wrong_tile), wrong_tile);
+    FAIL() << "a result for another tile was accepted";
+  } catch (const FarmError& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
+  }
+  const Accumulation too_many = StoreFixture::synthetic(kTile, 0, 3);  // the batch has 2 spp
+  EXPECT_THROW(f.merger.accept(result_for(lease, too_many), too_many), FarmError);
+  // Nothing changed: the lease is still current and a good result is accepted.
+  EXPECT_EQ(f.jobs.get(job)->counters.units_done, 0u);
+  EXPECT_EQ(f.jobs.get(job)->counters.results_dropped, 0u);
+  const Accumulation good = StoreFixture::synthetic(kTile, 0, 2);
+  EXPECT_TRUE(f.merger.accept(result_for(lease, good), good).accepted);
+}
+
+TEST(TileMerger, UnknownUnitIsNotFound) {
+  StoreFixture f;
+  f.make_job(4, 4, 4, 1, 1);
+  Lease lease = *f.scheduler.lease_next(f.make_worker());
+  lease.batch = 7;
+  const Accumulation acc = StoreFixture::synthetic(kTile, 0, 1);
+  try {
+    f.merger.accept(result_for(lease, acc), acc);
+    FAIL();
+  } catch (const FarmError& e) {
+    EXPECT_EQ(e.code(), ErrorCode::not_found);
+  }
+}
+
+TEST(TileMerger, PendingResultsSurviveARestart) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("tessera-merge-test-" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "restart.db").string();
+  std::filesystem::remove(path);
+  std::vector<Accumulation> batch;
+  for (uint32_t b = 0; b < 3; ++b) batch.push_back(StoreFixture::synthetic(kTile, b, 1));
+  int64_t job = 0;
+  {
+    testing::FakeClock clock;
+    Database db(path);
+    migrate(db, clock.now_unix_ms());
+    JobStore jobs(db);
+    WorkerRegistry workers(db);
+    LeaseTable leases(db, jobs, clock, 1000);
+    Scheduler scheduler(db, leases, clock);
+    TileMerger merger(db, clock);
+    NewJob nj;
+    nj.bundle_sha256 = std::string(64, 'e');
+    nj.scene_file = "s.json";
+    nj.bundle_bytes = "b";
+    nj.options.width = nj.options.height = nj.options.tile_size = 4;
+    nj.options.spp = 3;
+    nj.options.batch_spp = 1;
+    job = jobs.create(nj, 0);
+    std::vector<Lease> held;
+    for (int i = 0; i < 3; ++i) {
+      held.push_back(*scheduler.lease_next(workers.register_worker({"w", 1, "", ""}, 0)));
+    }
+    // Batch 2 arrives first and waits; then the "server" dies with 0 and 1 still leased.
+    ASSERT_EQ(held[2].batch, 2u);
+    UnitResult r = result_for(held[2], batch[2]);
+    ASSERT_TRUE(merger.accept(r, batch[2]).accepted);
+  }
+  {
+    testing::FakeClock clock;
+    Database db(path);
+    migrate(db, clock.now_unix_ms());
+    JobStore jobs(db);
+    WorkerRegistry workers(db);
+    LeaseTable leases(db, jobs, clock, 1000);
+    Scheduler scheduler(db, leases, clock);
+    TileMerger merger(db, clock);
+    EXPECT_EQ(leases.revoke_all(), 2);  // what the server does at start
+    const int64_t w = workers.register_worker({"after", 1, "", ""}, 0);
+    for (uint32_t b : {0u, 1u}) {
+      const Lease l = *scheduler.lease_next(w);
+      ASSERT_EQ(l.batch, b);
+      ASSERT_TRUE(merger.accept(result_for(l, batch[b]), batch[b]).accepted);
+    }
+    const JobRecord done = *jobs.get(job);
+    EXPECT_EQ(done.counters.results_merged, 3u);
+    EXPECT_EQ(done.counters.units_done, 3u);
+    Accumulation expected(kTile);
+    for (const Accumulation& a : batch) expected.merge(a);
+    EXPECT_EQ(decode_accumulation(jobs.tiles(job)[0].accumulation), expected);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace tessera::server
