@@ -28,20 +28,26 @@ cleanup() {
 }
 trap cleanup EXIT
 
-free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'; }
-GRPC="127.0.0.1:$(free_port)"
-HTTP="127.0.0.1:$(free_port)"
-"$BIN/tessera-server" --grpc "$GRPC" --http "$HTTP" --db "$RUN_DIR/tessera.db" \
-  --output-dir "$RUN_DIR/outputs" >"$RUN_DIR/server.log" 2>&1 &
+# The server picks a free port and writes it to a file once it listens.
+"$BIN/tessera-server" --grpc 127.0.0.1:0 --http 127.0.0.1:0 --db "$RUN_DIR/tessera.db" \
+  --output-dir "$RUN_DIR/outputs" --port-file "$RUN_DIR/port" >"$RUN_DIR/server.log" 2>&1 &
 pids+=($!)
+for _ in $(seq 300); do
+  [ -s "$RUN_DIR/port" ] && break
+  kill -0 "${pids[0]}" 2>/dev/null || { cat "$RUN_DIR/server.log"; exit 1; }
+  sleep 0.1
+done
+[ -s "$RUN_DIR/port" ] || { echo "demo: the server did not start"; cat "$RUN_DIR/server.log"; exit 1; }
+GRPC="127.0.0.1:$(cat "$RUN_DIR/port")"
 for i in 1 2; do
   "$BIN/tessera-worker" --server "$GRPC" --threads 1 --cache "$RUN_DIR/cache$i" --name "demo-$i" \
     >"$RUN_DIR/worker$i.log" 2>&1 &
   pids+=($!)
 done
 echo "demo: server on $GRPC, two workers; submitting scenes/cornell.json at $SPP spp"
-"$BIN/tessera" --server "$GRPC" submit scenes/cornell.json --spp "$SPP" --wait -o out/cornell.exr
+"$BIN/tessera" --server "$GRPC" submit scenes/cornell.json --spp "$SPP" -o out/cornell.exr
 "$BIN/tessera" --server "$GRPC" list
-JOB="$("$BIN/tessera" --server "$GRPC" list --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["jobs"][0]["id"])')"
+"$BIN/tessera" --server "$GRPC" workers
+JOB="$("$BIN/tessera" --server "$GRPC" list --json | python3 -c 'import json,sys; d=json.load(sys.stdin); print((d["jobs"] if isinstance(d, dict) else d)[0]["id"])')"
 "$BIN/tessera" --server "$GRPC" get "$JOB" -o out/cornell.png
 echo "demo: wrote out/cornell.exr and out/cornell.png (merged by the farm)"
