@@ -1,8 +1,9 @@
 #!/bin/sh
 # Runs the peer measurements of bench/README.md in one go and logs them with the machine's load.
 # Usage: sh bench/run_peers.sh [LOGFILE]   (from the repository root; default out/peers.log)
-# With WAIT_QUIET=1 it first waits (up to 30 min) for the 1-minute load average to fall below 0.5:
-# other work on a 2-core machine distorts every timing.
+# With WAIT_QUIET=1 it first waits (up to 30 min) for the 1-minute load average to fall below 0.5,
+# and gives up (exit 2, nothing measured) if it does not: other work on a 2-core machine distorts
+# every timing.
 set -eu
 LOG=${1:-out/peers.log}
 PY=.venv-bench/bin/python
@@ -12,6 +13,10 @@ if [ "${WAIT_QUIET:-0}" = 1 ]; then
   while [ "$(cut -d' ' -f1 /proc/loadavg | awk '{print ($1 < 0.5)}')" != 1 ] && [ $i -lt 180 ]; do
     sleep 10; i=$((i + 1))
   done
+  if [ "$(cut -d' ' -f1 /proc/loadavg | awk '{print ($1 < 0.5)}')" != 1 ]; then
+    echo "machine not quiet after 30 min (load $(cat /proc/loadavg)); nothing measured" >&2
+    exit 2
+  fi
 fi
 {
   echo "== $(date -u '+%Y-%m-%d %H:%M:%S UTC'), $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2)"
