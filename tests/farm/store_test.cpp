@@ -15,14 +15,24 @@ namespace {
 
 using testing::StoreFixture;
 
-std::filesystem::path temp_db(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("tessera-store-test-" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / name;
-  std::filesystem::remove(path);
-  return path;
-}
+/// A temporary folder for database files, removed with its contents when the test ends.
+class TempFolder {
+ public:
+  TempFolder()
+      : path_(std::filesystem::temp_directory_path() /
+              ("tessera-store-test-" + std::to_string(getpid()))) {
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TempFolder() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  std::filesystem::path file(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 TEST(Sqlite, MigrationsRunOnceAndAreRecorded) {
   Database db(":memory:");
@@ -49,8 +59,8 @@ TEST(Sqlite, RefusesADatabaseFromANewerVersion) {
 }
 
 TEST(Sqlite, FileDatabaseIsWalWithForeignKeys) {
-  const auto path = temp_db("wal.db");
-  Database db(path.string());
+  const TempFolder folder;
+  Database db(folder.file("wal.db").string());
   {
     auto q = db.prepare("PRAGMA journal_mode");
     ASSERT_TRUE(q->step());
@@ -122,10 +132,11 @@ TEST(Sqlite, BlobsRoundTripBytesExactly) {
 }
 
 TEST(Sqlite, SecondWriterGetsBusyAfterItsTimeout) {
-  const auto path = temp_db("busy.db");
-  Database first(path.string());
+  const TempFolder folder;
+  const std::string path = folder.file("busy.db").string();
+  Database first(path);
   first.exec("CREATE TABLE t (v INTEGER)");
-  Database second(path.string(), /*busy_timeout_ms=*/50);
+  Database second(path, /*busy_timeout_ms=*/50);
   Transaction holding(first);
   try {
     Transaction blocked(second);
