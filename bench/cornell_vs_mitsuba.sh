@@ -13,21 +13,25 @@ mkdir -p out
 echo "== $(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores,$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2)"
 echo "load before: $(cat /proc/loadavg)"
 times=()
+render_times=()
 tessera_runs() {
   for r in $(seq "$RUNS"); do
     start=$(date +%s.%N)
-    build/bin/tessera-worker render scenes/cornell.json --spp "$SPP" --max-depth 8 --threads 2 \
-      --seed "$r" -q -o out/tessera_cbox.exr 2>/dev/null
+    line=$(build/bin/tessera-worker render scenes/cornell.json --spp "$SPP" --max-depth 8 --threads 2 \
+      --seed "$r" -q -o out/tessera_cbox.exr 2>&1 | grep '^rendered')
     end=$(date +%s.%N)
     times+=("$(echo "$end - $start" | bc)")
+    # "rendered WxH, N spp in T s: ..." — BVH build and rendering, as Mitsuba's time is render only
+    render_times+=("$(sed -E 's/.* spp in ([0-9.]+) s:.*/\1/' <<<"$line")")
   done
 }
+median() { printf '%s\n' "$@" | sort -n | awk '{a[NR]=$1} END {print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 tessera_runs
 $PY bench/mitsuba_cbox.py --spp 256 --max-depth 8 --threads 2 --runs "$RUNS" --ref "$REF" -o out/mitsuba_cbox.exr
 tessera_runs
 echo "load after: $(cat /proc/loadavg)"
-median=$(printf '%s\n' "${times[@]}" | sort -n | awk '{a[NR]=$1} END {print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}')
-echo "tessera ${SPP} spp wall times (s): ${times[*]}"
-echo "tessera ${SPP} spp median: ${median} s (process wall time: start-up, BVH build and EXR write included)"
+echo "tessera ${SPP} spp process wall times (s): ${times[*]}"
+echo "tessera ${SPP} spp render times (s): ${render_times[*]}"
+echo "tessera ${SPP} spp median: render $(median "${render_times[@]}") s; process $(median "${times[@]}") s (start-up, BVH build and EXR write included)"
 echo "tessera ${SPP} spp image vs reference:"
 $PY bench/compare_exr.py out/tessera_cbox.exr "$REF"

@@ -8,6 +8,7 @@
 #include "accum/film.h"
 #include "image_compare.h"
 #include "local_render.h"
+#include "render/test_scenes.h"
 #include "scene/scene_loader.h"
 
 namespace tessera {
@@ -60,17 +61,8 @@ INSTANTIATE_TEST_SUITE_P(Depths, CornellReference,
                                                            : "depth" + std::to_string(info.param.max_depth);
                          });
 
-/// Scales every length of a scene by k.
 Scene scaled(Scene s, double k) {
-  s.camera.position *= k;
-  s.camera.look_at *= k;
-  s.camera.focus_distance *= k;
-  s.camera.aperture_radius *= k;
-  for (Shape& sh : s.shapes) {
-    for (glm::dvec3& p : sh.positions) p *= k;
-    sh.center *= k;
-    sh.radius *= k;
-  }
+  test::scale_scene(s, k);
   return s;
 }
 
