@@ -7,7 +7,7 @@ PACKAGES=(
   libembree-dev libopenimageio-dev openimageio-tools libglm-dev libtbb-dev
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libsqlite3-dev libssl-dev libcpp-httplib-dev nlohmann-json3-dev libcli11-dev
-  libtinyobjloader-dev libzstd-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libtinyobjloader-dev libzstd-dev libgtest-dev libgmock-dev libbenchmark-dev libpugixml-dev
   python3
 )
 

@@ -1,8 +1,10 @@
-// tessera-worker: the farm's worker (`--server HOST:PORT`) and the local renderer (`render`).
+// tessera-worker: the farm's worker (`--server HOST:PORT`), the local renderer (`render`) and the
+// scene converter (`convert`).
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -10,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
+#include <unistd.h>
 
 #include "accum/film.h"
 #include "image/image_output.h"
@@ -17,6 +20,7 @@
 #include "progress_bar.h"
 #include "scene/scene_error.h"
 #include "scene/scene_loader.h"
+#include "scene/scene_writer.h"
 #ifdef TESSERA_HAVE_FARM
 #include "farm/farm_worker.h"
 #endif
@@ -101,6 +105,53 @@ int run_render(const RenderArgs& args) {
   return 0;
 }
 
+struct ConvertArgs {
+  std::string scene;
+  std::string output;
+};
+
+/// Writes `text` to `path` through a temporary file in the same folder, so that a reader never
+/// sees half a file.
+void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
+  std::filesystem::path temporary = path;
+  temporary += ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out.write(text.data(), std::streamsize(text.size()));
+    out.close();
+    if (!out) {
+      std::error_code ignored;
+      std::filesystem::remove(temporary, ignored);
+      throw std::runtime_error(path.string() + ": cannot be written");
+    }
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    throw std::runtime_error(path.string() + ": cannot be written");
+  }
+}
+
+/// `tessera-worker convert IN -o OUT.json`: any scene Tessera reads (a Mitsuba .xml scene, or
+/// native JSON) as native JSON that reads back to the same Scene (scene_writer.h).
+int run_convert(const ConvertArgs& args) {
+  if (lower_extension(args.output) != ".json") {
+    throw std::invalid_argument("-o " + args.output + ": the output must end in .json");
+  }
+  const tessera::Scene scene = tessera::load_scene_file(args.scene);
+  const std::string source = std::filesystem::path(args.scene).filename().string();
+  write_file_atomically(
+      args.output, tessera::write_scene_json(
+                       scene, "Converted by tessera-worker " TESSERA_VERSION " from " + source));
+  size_t triangles = 0;
+  for (const tessera::Shape& shape : scene.shapes) triangles += shape.indices.size();
+  std::fprintf(stderr, "converted %s: %zu shapes (%zu triangles), %zu materials -> %s\n",
+               source.c_str(), scene.shapes.size(), triangles, scene.materials.size(),
+               args.output.c_str());
+  return 0;
+}
+
 template <typename T>
 void optional_option(CLI::App* app, const std::string& name, std::optional<T>& target,
                      const std::string& help) {
@@ -116,7 +167,7 @@ int main(int argc, char** argv) {
   RenderArgs render;
   CLI::App* render_cmd = app.add_subcommand(
       "render", "Render a scene locally through the farm's tile/batch/merge path");
-  render_cmd->add_option("scene", render.scene, "Scene file (.json)")->required();
+  render_cmd->add_option("scene", render.scene, "Scene file: Tessera JSON (.json) or Mitsuba 3 XML (.xml)")->required();
   render_cmd->add_option("-o,--output", render.outputs, "Output image(s): .exr (linear float) or .png (sRGB)")
       ->required();
   optional_option(render_cmd, "--spp", render.overrides.spp, "Samples per pixel (default: the scene's)");
@@ -131,6 +182,12 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--threads", render.threads, "Threads (default: all cores)")->check(CLI::NonNegativeNumber);
   render_cmd->add_flag("--half", render.half, "Write EXR as half floats (clamped to half's range)");
   render_cmd->add_flag("-q,--quiet", render.quiet, "No progress bar");
+
+  ConvertArgs convert;
+  CLI::App* convert_cmd = app.add_subcommand(
+      "convert", "Convert a scene (Mitsuba 3 .xml, or .json) to Tessera's native JSON");
+  convert_cmd->add_option("scene", convert.scene, "Scene file (.xml or .json)")->required();
+  convert_cmd->add_option("-o,--output", convert.output, "Output scene (.json)")->required();
 
 #ifdef TESSERA_HAVE_FARM
   tessera::FarmWorkerConfig farm;
@@ -149,6 +206,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (render_cmd->parsed()) return run_render(render);
+    if (convert_cmd->parsed()) return run_convert(convert);
 #ifdef TESSERA_HAVE_FARM
     return tessera::run_farm_worker(farm);
 #else

@@ -1,6 +1,8 @@
-// parse_scene and load_scene_file (scene_loader.h): the top level of scene format v1.
+// parse_scene, load_scene_file and parse_scene_any (scene_loader.h): the top level of scene format
+// v1, and the choice between it and Mitsuba XML by file name.
 #include "scene/scene_loader.h"
 
+#include <cctype>
 #include <cstdint>
 #include <fstream>
 #include <iterator>
@@ -8,6 +10,7 @@
 #include "scene/json_document.h"
 #include "scene/json_value.h"
 #include "scene/material_parser.h"
+#include "scene/mitsuba_xml_loader.h"
 #include "scene/scene_error.h"
 #include "scene/settings_parser.h"
 #include "scene/shape_parser.h"
@@ -52,6 +55,13 @@ Scene parse_scene_text(std::string_view json_text, const std::string& source_nam
   return scene;
 }
 
+bool is_mitsuba_xml(const std::string& file_name) {
+  if (file_name.size() < 4) return false;
+  std::string extension = file_name.substr(file_name.size() - 4);
+  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".xml";
+}
+
 std::string read_scene_file(const std::filesystem::path& scene_file) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(scene_file, error)) {
@@ -73,7 +83,13 @@ Scene load_scene_file(const std::filesystem::path& scene_file) {
   std::string text = read_scene_file(scene_file);
   std::filesystem::path folder = scene_file.parent_path();
   if (folder.empty()) folder = ".";
-  return parse_scene_text(text, scene_file.filename().string(), folder_reader(folder));
+  return parse_scene_any(scene_file.filename().string(), text, folder_reader(folder));
+}
+
+Scene parse_scene_any(const std::string& file_name, std::string_view text,
+                      const FileReader& reader) {
+  if (is_mitsuba_xml(file_name)) return parse_mitsuba_scene(text, file_name, reader);
+  return parse_scene_text(text, file_name, reader);
 }
 
 }  // namespace tessera

@@ -20,8 +20,16 @@ using FileReader = std::function<std::string(const std::string& relative_path)>;
 Scene parse_scene(std::string_view json_text, const FileReader& reader);
 
 /// Loads a scene file from disk; referenced files are read relative to its folder and must stay
-/// inside it (symlinks that leave the folder are refused).
+/// inside it (symlinks that leave the folder are refused). A file whose name ends in ".xml" (any
+/// case) is read as a Mitsuba 3 scene (docs/mitsuba.md), any other as scene format v1.
 Scene load_scene_file(const std::filesystem::path& scene_file);
+
+/// Parses the text of a scene file named `file_name` (its name at the root of its bundle): a
+/// Mitsuba 3 XML scene when the name ends in ".xml" (any case), scene format v1 otherwise.
+/// `reader` supplies the files it references. For callers that hold a bundle's bytes rather
+/// than files on disk, such as the farm.
+Scene parse_scene_any(const std::string& file_name, std::string_view text,
+                      const FileReader& reader);
 
 /// A FileReader over a folder on disk, refusing anything that resolves outside it.
 FileReader folder_reader(const std::filesystem::path& folder);

@@ -157,7 +157,7 @@ FileReader bundle_reader(const BundleContents& bundle) {
 }
 
 Scene parse_bundle_scene(const BundleContents& bundle) {
-  return parse_scene(bundle.files.at(bundle.scene_file), bundle_reader(bundle));
+  return parse_scene_any(bundle.scene_file, bundle.files.at(bundle.scene_file), bundle_reader(bundle));
 }
 
 BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene_out) {
