@@ -27,7 +27,7 @@ constexpr float gamma_bound(int n) {
 /// reported to hit it again at an error as large as a few ulps of the largest coordinate
 /// involved, along any axis (an axis-aligned floor at y = 0 has no error in y by pbrt's bound
 /// yet is hit again). The bound is therefore that ulp-scaled magnitude on every axis.
-inline glm::vec3 triangle_point_error(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p);
+inline float triangle_point_error(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2);
 
 /// The next float above v (pbrt-v4's NextFloatUp), without libm's errno handling.
 inline float next_float_up(float v) {
@@ -76,9 +76,9 @@ inline float max_abs_coordinate(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2) {
   return std::max(m.x, std::max(m.y, m.z));
 }
 
-inline glm::vec3 triangle_point_error(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 /*p*/) {
-  // p is a convex combination of the vertices, so it is no larger than they are.
-  return glm::vec3(gamma_bound(7) * max_abs_coordinate(p0, p1, p2));
+inline float triangle_point_error(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2) {
+  // A point on the triangle is a convex combination of the vertices, so no larger than they are.
+  return gamma_bound(7) * max_abs_coordinate(p0, p1, p2);
 }
 
 }  // namespace tessera

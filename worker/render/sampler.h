@@ -165,9 +165,6 @@ class PixelSampler {
     return {to_unit_float(uint32_t(r)), to_unit_float(uint32_t(r >> 32))};
   }
 
-  /// The next dimension alone (the first of a fresh pair).
-  float get1d() { return get2d().x; }
-
   /// Skips to a fixed pair index, so that each path vertex starts at a known dimension.
   void set_pair(uint32_t pair) { pair_ = pair; }
 

@@ -83,7 +83,7 @@ void TraceableScene::add_triangles(const Shape& shape) {
     const glm::vec3 p0 = g->positions[tri.x], p1 = g->positions[tri.y], p2 = g->positions[tri.z];
     const glm::dvec3 n = glm::cross(glm::dvec3(p1) - glm::dvec3(p0), glm::dvec3(p2) - glm::dvec3(p0));
     g->face_normals.emplace_back(glm::normalize(n));
-    g->point_errors.push_back(gamma_bound(7) * max_abs_coordinate(p0, p1, p2));
+    g->point_errors.push_back(triangle_point_error(p0, p1, p2));
   }
   g->material = shape.material;
   g->emission = glm::vec3(shape.emission);
