@@ -19,7 +19,7 @@ namespace tessera::client {
 namespace {
 
 JobClient connect(const GlobalOptions& g) {
-  return JobClient(g.server, g.token, std::chrono::milliseconds(int64_t(g.timeout_s * 1000)));
+  return JobClient(g.server, g.token, g.tls, std::chrono::milliseconds(int64_t(g.timeout_s * 1000)));
 }
 
 int fail(const std::string& line) {
@@ -271,6 +271,9 @@ int workers(const GlobalOptions& g) {
                   w.isa().empty() ? "-" : w.isa().c_str(), unit.c_str(),
                   static_cast<unsigned long long>(w.units_done()),
                   static_cast<unsigned long long>(w.units_lost()));
+      if (!w.health_warning().empty()) {
+        std::printf("      warning: %s\n", w.health_warning().c_str());
+      }
     }
     return 0;
   });

@@ -7,12 +7,15 @@
 #include <string>
 
 #include "job/job_options.h"
+#include "wire/transport_security.h"
 
 namespace tessera::client {
 
 struct GlobalOptions {
   std::string server = "127.0.0.1:50051";
   std::string token;
+  std::string token_file;
+  wire::ClientTls tls;
   double timeout_s = 30;  ///< deadline of each short call
   bool json = false;      ///< machine-readable output on stdout
 };

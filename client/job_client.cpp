@@ -42,12 +42,12 @@ bool is_final(v1::JobState state) {
          state == v1::JOB_STATE_CANCELLED;
 }
 
-JobClient::JobClient(const std::string& server, std::string token,
+JobClient::JobClient(const std::string& server, std::string token, const wire::ClientTls& tls,
                      std::chrono::milliseconds timeout)
     : server_(server),
       token_(std::move(token)),
       timeout_(timeout),
-      stub_(v1::JobService::NewStub(wire::make_channel(server))) {}
+      stub_(v1::JobService::NewStub(wire::make_channel(server, tls))) {}
 
 void JobClient::prepare(grpc::ClientContext& context, std::chrono::milliseconds timeout) const {
   wire::prepare_context(context, token_, timeout);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tessera/v1/job_service.grpc.pb.h"
+#include "wire/transport_security.h"
 
 namespace tessera::client {
 
@@ -21,7 +22,7 @@ class JobClient {
  public:
   /// `timeout` is the deadline of each short call; submit and image downloads get at least
   /// kTransferTimeout (they move whole scene bundles and images).
-  JobClient(const std::string& server, std::string token, std::chrono::milliseconds timeout);
+  JobClient(const std::string& server, std::string token, const wire::ClientTls& tls, std::chrono::milliseconds timeout);
 
   static constexpr std::chrono::milliseconds kTransferTimeout{300'000};
 

@@ -59,6 +59,10 @@ nlohmann::json to_json(const v1::WorkerInfo& w) {
       {"batch", w.batch()},
       {"units_done", w.units_done()},
       {"units_lost", w.units_lost()},
+      {"samples_returned", w.samples_returned()},
+      {"nan_dropped", w.nan_dropped()},
+      {"inf_dropped", w.inf_dropped()},
+      {"health_warning", w.health_warning()},
   };
 }
 

@@ -1,6 +1,7 @@
 // tessera: the render farm's command-line client (docs/farm.md).
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <iostream>
 #include <optional>
 
 #include "commands.h"
@@ -31,6 +32,14 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--token", g.token, "Access token (sent as 'authorization: Bearer TOKEN')")
       ->envname("TESSERA_TOKEN");
+  app.add_option("--token-file", g.token_file, "Read the access token from this file (first line)")
+      ->envname("TESSERA_TOKEN_FILE");
+  app.add_option("--tls-ca", g.tls.ca_file, "Use TLS; trust server certificates signed by this CA (PEM)")
+      ->envname("TESSERA_TLS_CA");
+  app.add_flag("--tls", g.tls.enabled, "Use TLS with the system's trusted CAs")->envname("TESSERA_TLS");
+  app.add_option("--tls-cert", g.tls.cert_file, "Client certificate (PEM) for a server that requires mutual TLS")
+      ->envname("TESSERA_TLS_CERT");
+  app.add_option("--tls-key", g.tls.key_file, "Private key (PEM) of --tls-cert")->envname("TESSERA_TLS_KEY");
   app.add_option("--timeout", g.timeout_s, "Deadline of each call in seconds")
       ->envname("TESSERA_TIMEOUT")
       ->check(CLI::Range(0.1, 86400.0))
@@ -77,6 +86,12 @@ int main(int argc, char** argv) {
   json_flag(workers_cmd, g.json);
 
   CLI11_PARSE(app, argc, argv);
+  try {
+    g.token = tessera::wire::resolve_token(g.token, g.token_file, "--token");
+  } catch (const std::exception& e) {
+    std::cerr << "tessera: " << e.what() << "\n";
+    return 1;
+  }
 
   if (submit_cmd->parsed()) return tc::submit(g, submit);
   if (status_cmd->parsed()) return tc::status(g, job_id);

@@ -1,12 +1,14 @@
 #include "coordinator.h"
 
 #include <fstream>
+#include <iostream>
 #include <sstream>
 
 #include "accum/accumulation_codec.h"
 #include "farm_error.h"
 #include "job/job_options.h"
 #include "scene/scene_error.h"
+#include "store/integrity.h"
 #include "store/migrations.h"
 #include "wire/job_options_wire.h"
 #include "wire/scene_bundle.h"
@@ -41,8 +43,17 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       leases_(db_, jobs_, clock_, config.lease_ms),
       scheduler_(db_, leases_, clock_),
       merger_(db_, clock_),
-      output_(config.output_dir) {
+      output_(config.output_dir),
+      limits_(config.limits),
+      nan_report_fraction_(config.nan_report_fraction) {
+  check_integrity(db_, config.db_path);
   migrate(db_, clock_.now_unix_ms());
+  leases_.set_health_policy(config.health);
+}
+
+bool Coordinator::checkpoint() {
+  std::lock_guard lock(mu_);
+  return checkpoint_wal(db_);
 }
 
 int Coordinator::resume() {
@@ -67,13 +78,15 @@ int Coordinator::resume() {
 }
 
 JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobRequestOptions& options,
-                              int priority) {
+                              int priority, const std::string& client) {
+  check_bundle_limits(bundle, limits_);
   wire::BundleContents contents;
   try {
     contents = wire::bundle_from_proto(bundle);
   } catch (const wire::BundleError& e) {
     throw invalid(e.what());
   }
+  check_declared_triangles(contents, limits_);
   Scene scene;
   try {
     scene = wire::parse_bundle_scene(contents);
@@ -82,9 +95,10 @@ JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobReques
   } catch (const std::exception& e) {
     throw invalid(contents.scene_file + ": " + e.what());
   }
+  check_scene_triangles(scene, limits_);
   JobOptions resolved;
   try {
-    resolved = resolve_job_options(scene, wire::overrides_from_proto(options));
+    resolved = resolve_job_options(scene, wire::overrides_from_proto(options), limits_.job);
   } catch (const std::invalid_argument& e) {
     throw invalid(e.what());
   }
@@ -97,7 +111,28 @@ JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobReques
   JobRecord record;
   {
     std::lock_guard lock(mu_);
+    const uint64_t quota = limits_.max_queued_jobs_per_client;
+    if (quota > 0) {
+      auto q = db_.prepare(
+          "SELECT COUNT(*) FROM job_clients c JOIN jobs j ON j.id = c.job_id"
+          " WHERE c.client = ? AND j.state IN (?, ?)");
+      q->bind(1, client)
+          .bind(2, std::string(to_string(JobState::queued)))
+          .bind(3, std::string(to_string(JobState::running)));
+      q->step();
+      const uint64_t active = uint64_t(q->int64(0));
+      if (active >= quota) {
+        throw FarmError(ErrorCode::resource_exhausted,
+                        "client " + client + " already has " + std::to_string(active) +
+                            " unfinished job(s), the farm's limit (server flag --max-queued-jobs);"
+                            " wait for one to finish or cancel one");
+      }
+    }
     const int64_t id = jobs_.create(job, clock_.now_unix_ms());
+    db_.prepare("INSERT INTO job_clients (job_id, client) VALUES (?, ?)")
+        ->bind(1, id)
+        .bind(2, client)
+        .run();
     record = *jobs_.get(id);
   }
   changes_.notify();
@@ -171,7 +206,20 @@ JobImage Coordinator::image(int64_t job_id, const std::string& format) {
 
 std::vector<WorkerRecord> Coordinator::workers() {
   std::lock_guard lock(mu_);
-  return workers_.list();
+  std::vector<WorkerRecord> list = workers_.list();
+  for (WorkerRecord& w : list) w.health_warning = health_warning(w, nan_report_fraction_);
+  return list;
+}
+
+void Coordinator::report_health(int64_t worker_id) {
+  if (reported_workers_.contains(worker_id)) return;
+  const std::optional<WorkerRecord> w = workers_.get(worker_id);
+  if (!w) return;
+  const std::string warning = health_warning(*w, nan_report_fraction_);
+  if (warning.empty()) return;
+  reported_workers_.insert(worker_id);
+  std::cerr << "tessera-server: warning: worker " << worker_id << " (" << w->info.name
+            << "): " << warning << std::endl;
 }
 
 bool Coordinator::online(const WorkerRecord& worker) const {
@@ -200,6 +248,7 @@ std::optional<LeasedUnit> Coordinator::lease(int64_t worker_id, std::chrono::mil
                                              const std::function<bool()>& cancelled) {
   const auto deadline = std::chrono::steady_clock::now() + wait;
   for (;;) {
+    if (changes_.stopped()) return std::nullopt;  // shutting down: no new leases
     // Read the version before looking, so a change made while we look wakes the wait below.
     const uint64_t seen = changes_.version();
     std::optional<LeasedUnit> unit;
@@ -253,6 +302,7 @@ AcceptOutcome Coordinator::upload(const UnitResult& result) {
     std::lock_guard lock(mu_);
     touch_or_throw(result.worker_id);
     outcome = merger_.accept(result, decoded);
+    if (outcome.accepted) report_health(result.worker_id);
   }
   changes_.notify();
   if (outcome.job_complete) finish_job(result.job_id);

@@ -15,6 +15,7 @@
 
 #include "change_notifier.h"
 #include "clock.h"
+#include "farm_limits.h"
 #include "job_output.h"
 #include "job_store.h"
 #include "lease_table.h"
@@ -30,6 +31,10 @@ struct CoordinatorConfig {
   std::string db_path = "var/tessera.db";        ///< ":memory:" in tests
   std::filesystem::path output_dir = "var/outputs";
   int64_t lease_ms = 30'000;                     ///< lease length; heartbeats extend it
+  FarmLimits limits;                             ///< what a job may ask (docs/security.md)
+  WorkerHealthPolicy health;                     ///< blocking and failing (docs/reliability.md)
+  /// A worker whose NaN/Inf samples exceed this fraction of its samples is reported.
+  double nan_report_fraction = 1e-3;
 };
 
 /// A unit leased to a worker, with what it needs to render it.
@@ -50,7 +55,8 @@ struct JobImage {
 
 class Coordinator {
  public:
-  /// Opens (creating) the database and applies migrations. Throws SqliteError.
+  /// Opens (creating) the database, checks it (PRAGMA integrity_check) and applies migrations.
+  /// Throws StoreCorrupt for a damaged database, SqliteError for other store errors.
   Coordinator(const CoordinatorConfig& config, const Clock& clock);
 
   /// At server start: leases granted before are revoked (units back in the queue, counted as
@@ -61,8 +67,11 @@ class Coordinator {
   /// Validates the bundle (paths, parse_scene) and the options (resolve_job_options), then
   /// queues the job. Throws FarmError(invalid_argument) with the one-line reason; nothing is
   /// stored then.
+  /// `client` identifies the submitter for the --max-queued-jobs quota (FarmError
+  /// resource_exhausted when it has that many unfinished jobs); every other limit of
+  /// config.limits is FarmError(invalid_argument).
   JobRecord submit(const v1::SceneBundle& bundle, const v1::JobRequestOptions& options,
-                   int priority);
+                   int priority, const std::string& client = "");
   /// Throws FarmError(not_found).
   JobRecord job(int64_t job_id);
   std::vector<JobRecord> jobs(uint32_t limit);
@@ -93,6 +102,13 @@ class Coordinator {
   /// Returns expired leases' units to the queue; called by the LeaseReaper.
   int expire_leases();
 
+  /// Graceful shutdown, first step: no more leases (LeaseUnit answers "no work"), long polls
+  /// and watches end. Uploads, heartbeats and releases still work, so results in flight commit.
+  void stop_leasing() { changes_.stop(); }
+  /// Last step: checkpoints the WAL into the database file (PRAGMA wal_checkpoint(TRUNCATE)).
+  /// Returns false when the checkpoint could not complete.
+  bool checkpoint();
+
   ChangeNotifier& changes() { return changes_; }
   int64_t lease_ms() const { return leases_.lease_ms(); }
   const Clock& clock() const { return clock_; }
@@ -101,6 +117,8 @@ class Coordinator {
   /// Writes the output of a fully merged job and marks it done (or failed with the reason).
   void finish_job(int64_t job_id);
   void touch_or_throw(int64_t worker_id);
+  /// Logs, once per server run, a worker whose NaN/Inf share crossed the report threshold.
+  void report_health(int64_t worker_id);
 
   const Clock& clock_;
   std::mutex mu_;  ///< guards db_ and every component below
@@ -112,6 +130,9 @@ class Coordinator {
   TileMerger merger_;
   JobOutput output_;
   std::set<int64_t> finishing_;  ///< jobs whose output is being written (guarded by mu_)
+  FarmLimits limits_;
+  double nan_report_fraction_;
+  std::set<int64_t> reported_workers_;  ///< NaN/Inf warning logged (guarded by mu_)
   ChangeNotifier changes_;
 };
 

@@ -7,7 +7,8 @@
 
 namespace tessera::server {
 
-enum class ErrorCode { invalid_argument, not_found, failed_precondition, internal };
+/// resource_exhausted: a quota (jobs queued per client) is used up; retry when jobs finish.
+enum class ErrorCode { invalid_argument, not_found, failed_precondition, resource_exhausted, internal };
 
 class FarmError : public std::runtime_error {
  public:

@@ -20,6 +20,16 @@ bool is_final_proto(v1::JobState state) {
          state == v1::JOB_STATE_CANCELLED;
 }
 
+/// The submitter, for the per-client quota: the peer's address without its port
+/// ("ipv4:10.0.0.7"), so every connection from one host counts together.
+std::string client_of(const grpc::ServerContext& context) {
+  std::string peer = context.peer();
+  const size_t colon = peer.rfind(':');
+  const size_t first = peer.find(':');
+  if (colon != std::string::npos && colon != first) peer.resize(colon);
+  return peer;
+}
+
 }  // namespace
 
 grpc::Status JobServiceImpl::SubmitJob(grpc::ServerContext* context,
@@ -27,7 +37,8 @@ grpc::Status JobServiceImpl::SubmitJob(grpc::ServerContext* context,
                                        v1::SubmitJobResponse* response) {
   return guarded(auth_, *context, "SubmitJob", [&] {
     *response->mutable_job() =
-        to_proto(coordinator_.submit(request->bundle(), request->options(), request->priority()));
+        to_proto(coordinator_.submit(request->bundle(), request->options(), request->priority(),
+                                      client_of(*context)));
     return grpc::Status::OK;
   });
 }

@@ -110,30 +110,66 @@ ReleaseOutcome LeaseTable::release(int64_t worker_id, const std::string& lease_i
   db_.prepare("UPDATE jobs SET units_released = units_released + 1 WHERE id = ?")
       ->bind(1, job_id)
       .run();
-  if (failed) {
-    db_.prepare(
-           "INSERT INTO job_worker_failures (job_id, worker_id, failures, last_error)"
-           " VALUES (?1, ?2, 1, ?3) ON CONFLICT (job_id, worker_id)"
-           " DO UPDATE SET failures = failures + 1, last_error = ?3")
-        ->bind(1, job_id)
-        .bind(2, worker_id)
-        .bind(3, message)
-        .run();
-    int64_t failures = 0;
-    {
-      auto q = db_.prepare("SELECT failures FROM units WHERE id = ?");
-      q->bind(1, unit_id);
-      if (q->step()) failures = q->int64(0);
-    }
-    if (failures >= kUnitFailuresToFailJob) {
-      outcome.job_failed = jobs_.fail_in_transaction(
-          job_id,
-          "unit failed on " + std::to_string(failures) + " attempts; last: " + message,
-          clock_.now_unix_ms());
-    }
-  }
+  if (failed) outcome.job_failed = record_failure(unit_id, job_id, worker_id, message);
   tx.commit();
   return outcome;
+}
+
+bool LeaseTable::record_failure(int64_t unit_id, int64_t job_id, int64_t worker_id,
+                                const std::string& message) {
+  const int64_t now = clock_.now_unix_ms();
+  // A failure after the forgiveness window starts the worker's count on this job again.
+  db_.prepare(
+         "INSERT INTO job_worker_failures (job_id, worker_id, failures, last_error,"
+         " last_failure_unix_ms) VALUES (?1, ?2, 1, ?3, ?4) ON CONFLICT (job_id, worker_id)"
+         " DO UPDATE SET failures = CASE WHEN last_failure_unix_ms <= ?5 THEN 1"
+         " ELSE failures + 1 END, last_error = ?3, last_failure_unix_ms = ?4")
+      ->bind(1, job_id)
+      .bind(2, worker_id)
+      .bind(3, message)
+      .bind(4, now)
+      .bind(5, forgiven_before_unix_ms())
+      .run();
+  db_.prepare(
+         "INSERT INTO unit_failures (unit_id, worker_id, failures, last_error,"
+         " last_failure_unix_ms) VALUES (?1, ?2, 1, ?3, ?4) ON CONFLICT (unit_id, worker_id)"
+         " DO UPDATE SET failures = failures + 1, last_error = ?3, last_failure_unix_ms = ?4")
+      ->bind(1, unit_id)
+      .bind(2, worker_id)
+      .bind(3, message)
+      .bind(4, now)
+      .run();
+  int64_t workers = 0, attempts = 0;
+  std::string reasons;
+  {
+    auto q = db_.prepare(
+        "SELECT f.worker_id, w.name, f.failures, f.last_error FROM unit_failures f"
+        " JOIN workers w ON w.id = f.worker_id WHERE f.unit_id = ? ORDER BY f.worker_id");
+    q->bind(1, unit_id);
+    while (q->step()) {
+      ++workers;
+      attempts += q->int64(2);
+      reasons += std::string(reasons.empty() ? "" : "; ") + "worker " +
+                 std::to_string(q->int64(0)) + " (" + q->text(1) + "): " + q->text(3);
+    }
+  }
+  const int64_t max_attempts = int64_t(policy_.workers_to_fail_unit) * policy_.failures_to_block;
+  if (workers < policy_.workers_to_fail_unit && attempts < max_attempts) return false;
+  uint32_t tile = 0, batch = 0;
+  {
+    auto q = db_.prepare("SELECT tile, batch FROM units WHERE id = ?");
+    q->bind(1, unit_id);
+    if (q->step()) {
+      tile = uint32_t(q->int64(0));
+      batch = uint32_t(q->int64(1));
+    }
+  }
+  return jobs_.fail_in_transaction(
+      job_id,
+      "unit (tile " + std::to_string(tile) + ", batch " + std::to_string(batch) + ") failed " +
+          std::to_string(attempts) + " time(s) on " + std::to_string(workers) +
+          " worker(s): " + reasons,
+      now);
 }
 
 int LeaseTable::requeue_where(const std::string& condition, int64_t bound) {

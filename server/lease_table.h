@@ -29,7 +29,22 @@ enum class ReleaseReason { shutdown, failed };
 
 struct ReleaseOutcome {
   bool released = false;   ///< false: the lease was not current, nothing changed
-  bool job_failed = false; ///< the unit failed kUnitFailuresToFailJob times: its job failed
+  bool job_failed = false; ///< the unit failed on enough workers (WorkerHealthPolicy): its job failed
+};
+
+/// When failures block a worker from a job, and when they fail the job (docs/reliability.md,
+/// "Worker health and shutdown"). Server flags set each.
+struct WorkerHealthPolicy {
+  /// A worker that fails this many units of one job (ReleaseUnit REASON_FAILED) gets no more of
+  /// its units (--block-after-failures)...
+  int failures_to_block = 2;
+  /// ...until this long after its last failure there (--block-forgive-seconds); a failure after
+  /// that starts its count again.
+  int64_t forgive_ms = 600'000;
+  /// A unit that failed on this many different workers fails its job, with every worker's
+  /// reason (--unit-fail-workers). So that a farm with fewer workers still ends, a unit that
+  /// failed workers_to_fail_unit * failures_to_block times in all fails its job too.
+  int workers_to_fail_unit = 3;
 };
 
 /// 128 random bits as 32 lowercase hex characters (std::random_device: the CPU's or the
@@ -38,17 +53,16 @@ std::string random_lease_id();
 
 class LeaseTable {
  public:
-  /// A worker reporting this many failures on one job gets no more of its units.
-  static constexpr int kWorkerFailuresToBlock = 2;
-  /// A unit failing this many times (on any workers) fails its job.
-  static constexpr int kUnitFailuresToFailJob = 3;
-
   using IdSource = std::function<std::string()>;
 
   LeaseTable(Database& db, JobStore& jobs, const Clock& clock, int64_t lease_ms,
              IdSource new_id = random_lease_id);
 
   int64_t lease_ms() const { return lease_ms_; }
+  const WorkerHealthPolicy& health_policy() const { return policy_; }
+  void set_health_policy(const WorkerHealthPolicy& policy) { policy_ = policy; }
+  /// Failures before this time no longer block a worker (now - forgive_ms).
+  int64_t forgiven_before_unix_ms() const { return clock_.now_unix_ms() - policy_.forgive_ms; }
 
   /// The lease `worker_id` holds, if any (a worker holds at most one).
   std::optional<Lease> held_by(int64_t worker_id);
@@ -64,8 +78,9 @@ class LeaseTable {
   /// extend_in_transaction in its own transaction.
   std::optional<int64_t> heartbeat(int64_t worker_id, const std::string& lease_id);
 
-  /// leased -> queued. With ReleaseReason::failed the failure counts against the unit (its job
-  /// fails with `message` at kUnitFailuresToFailJob) and against the worker on that job.
+  /// leased -> queued. With ReleaseReason::failed the failure counts against the worker on that
+  /// job (blocking it at policy.failures_to_block) and against the unit (failing the job, with
+  /// every worker's reason, once policy.workers_to_fail_unit different workers failed it).
   ReleaseOutcome release(int64_t worker_id, const std::string& lease_id, ReleaseReason reason,
                          const std::string& message);
 
@@ -79,12 +94,15 @@ class LeaseTable {
 
  private:
   int requeue_where(const std::string& condition, int64_t bound);
+  /// Records a failure of `unit_id` by `worker_id`; true when it failed the job.
+  bool record_failure(int64_t unit_id, int64_t job_id, int64_t worker_id, const std::string& message);
 
   Database& db_;
   JobStore& jobs_;
   const Clock& clock_;
   int64_t lease_ms_;
   IdSource new_id_;
+  WorkerHealthPolicy policy_;
 };
 
 }  // namespace tessera::server

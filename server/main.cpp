@@ -1,5 +1,6 @@
 // tessera-server: the farm's coordinator (docs/farm.md). gRPC for clients and workers, SQLite
-// store, scheduler, leases, in-order merge, image output.
+// store, scheduler, leases, in-order merge, image output. Security (tokens, TLS, limits) is
+// described in docs/security.md; shutdown and worker health in docs/reliability.md.
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
@@ -14,8 +15,10 @@
 #include "coordinator.h"
 #include "job_service.h"
 #include "lease_reaper.h"
+#include "store/integrity.h"
 #include "wire/bearer_token.h"
 #include "wire/rpc_channel.h"
+#include "wire/transport_security.h"
 #include "worker_service.h"
 
 namespace {
@@ -24,11 +27,66 @@ struct Flags {
   std::string grpc_address = "127.0.0.1:50051";
   std::string http_address = "127.0.0.1:8080";
   std::string db = "var/tessera.db";
-  std::string token;
+  std::string token, token_file;                // both services
+  std::string worker_token, worker_token_file;  // WorkerService only (overrides --token there)
+  std::string client_token, client_token_file;  // JobService only (overrides --token there)
+  tessera::wire::ServerTls tls;
+  bool insecure = false;
   std::string output_dir = "var/outputs";
   double lease_seconds = 30;
+  double shutdown_seconds = 30;
   std::string port_file;
+  tessera::server::FarmLimits limits;
+  double max_bundle_mb = 512;
+  tessera::server::WorkerHealthPolicy health;
+  double forgive_seconds = 600;
+  double nan_report_fraction = 1e-3;
 };
+
+/// The tokens each service requires, after --token, the role tokens and their files.
+struct Tokens {
+  std::string worker, client;
+};
+
+Tokens resolve_tokens(const Flags& flags) {
+  namespace tw = tessera::wire;
+  const std::string shared = tw::resolve_token(flags.token, flags.token_file, "--token");
+  Tokens tokens;
+  tokens.worker = tw::resolve_token(flags.worker_token, flags.worker_token_file, "--worker-token");
+  tokens.client = tw::resolve_token(flags.client_token, flags.client_token_file, "--client-token");
+  if (tokens.worker.empty()) tokens.worker = shared;
+  if (tokens.client.empty()) tokens.client = shared;
+  if (!tokens.worker.empty() && tokens.worker == tokens.client &&
+      (!flags.worker_token.empty() || !flags.worker_token_file.empty()) &&
+      (!flags.client_token.empty() || !flags.client_token_file.empty())) {
+    throw std::runtime_error("--worker-token and --client-token are the same: use --token for one shared token");
+  }
+  return tokens;
+}
+
+/// Refuses to expose an unauthenticated service beyond this machine (docs/security.md).
+void check_listen_policy(const Flags& flags, const Tokens& tokens) {
+  if (tessera::wire::is_loopback_address(flags.grpc_address)) return;
+  std::string missing;
+  if (tokens.client.empty()) missing = "clients (JobService)";
+  if (tokens.worker.empty()) missing += std::string(missing.empty() ? "" : " and ") + "workers (WorkerService)";
+  if (missing.empty()) {
+    if (!flags.tls.active()) {
+      std::cerr << "tessera-server: warning: listening on " << flags.grpc_address
+                << " without TLS: tokens and scenes cross the network in clear (see --tls-cert)"
+                << std::endl;
+    }
+    return;
+  }
+  if (!flags.insecure) {
+    throw std::runtime_error("refusing to listen on non-loopback address " + flags.grpc_address +
+                             " with no token for " + missing +
+                             ": set --token (or --token-file, TESSERA_TOKEN), or pass --insecure"
+                             " to serve anyone who can reach it");
+  }
+  std::cerr << "tessera-server: warning: --insecure: serving " << missing << " on "
+            << flags.grpc_address << " WITHOUT authentication" << std::endl;
+}
 
 void write_port_file(const std::string& path, int port) {
   const std::string temp = path + ".partial";
@@ -42,6 +100,10 @@ void write_port_file(const std::string& path, int port) {
 
 int serve(const Flags& flags, const sigset_t& stop_signals) {
   namespace ts = tessera::server;
+  const Tokens tokens = resolve_tokens(flags);
+  check_listen_policy(flags, tokens);
+  const std::shared_ptr<grpc::ServerCredentials> credentials =
+      tessera::wire::server_credentials(flags.tls);
   if (flags.db != ":memory:") {
     const auto parent = std::filesystem::path(flags.db).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
@@ -51,18 +113,28 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   config.db_path = flags.db;
   config.output_dir = flags.output_dir;
   config.lease_ms = int64_t(flags.lease_seconds * 1000.0);
+  config.limits = flags.limits;
+  config.limits.max_bundle_bytes = uint64_t(flags.max_bundle_mb * 1024.0 * 1024.0);
+  config.health = flags.health;
+  config.health.forgive_ms = int64_t(flags.forgive_seconds * 1000.0);
+  config.nan_report_fraction = flags.nan_report_fraction;
   ts::Coordinator coordinator(config, clock);
   const int resumed = coordinator.resume();
 
-  tessera::wire::BearerTokenCheck auth(flags.token);
-  ts::JobServiceImpl job_service(coordinator, auth);
-  ts::WorkerServiceImpl worker_service(coordinator, auth);
+  tessera::wire::BearerTokenCheck client_auth(tokens.client);
+  tessera::wire::BearerTokenCheck worker_auth(tokens.worker);
+  ts::JobServiceImpl job_service(coordinator, client_auth);
+  ts::WorkerServiceImpl worker_service(coordinator, worker_auth);
 
+  // The standard health service answers without a token (orchestrators probe it; it says only
+  // SERVING). Reflection describes the API to anyone who asks, so it is offered only when no
+  // token is required.
   grpc::EnableDefaultHealthCheckService(true);
-  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  const bool open = !client_auth.enabled() && !worker_auth.enabled();
+  if (open) grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(flags.grpc_address, grpc::InsecureServerCredentials(), &port);
+  builder.AddListeningPort(flags.grpc_address, credentials, &port);
   builder.SetMaxReceiveMessageSize(tessera::wire::kMaxMessageBytes);
   builder.SetMaxSendMessageSize(tessera::wire::kMaxMessageBytes);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, tessera::wire::kKeepaliveTimeMs);
@@ -79,26 +151,48 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
     return 1;
   }
   const std::string host = flags.grpc_address.substr(0, flags.grpc_address.rfind(':'));
+  std::string security = flags.tls.active()
+                             ? (flags.tls.client_ca_file.empty() ? ", TLS" : ", mutual TLS")
+                             : "";
+  if (client_auth.enabled() || worker_auth.enabled()) {
+    security += tokens.client == tokens.worker ? ", token required"
+                : !client_auth.enabled()       ? ", worker token required"
+                : !worker_auth.enabled()       ? ", client token required"
+                                               : ", client and worker tokens required";
+  }
   std::cout << "tessera-server: listening on " << host << ":" << port << " (db " << flags.db
-            << ", " << resumed << " unfinished job(s) resumed"
-            << (auth.enabled() ? ", token required" : "") << ")" << std::endl;
+            << ", " << resumed << " unfinished job(s) resumed" << security << ")" << std::endl;
   if (!flags.port_file.empty()) write_port_file(flags.port_file, port);
 
   const auto reap_period = std::chrono::milliseconds(
       std::clamp<int64_t>(coordinator.lease_ms() / 4, 50, 1000));
-  ts::LeaseReaper reaper(coordinator, reap_period);
+  auto reaper = std::make_unique<ts::LeaseReaper>(coordinator, reap_period);
 
   // Signals were blocked in every thread; this one takes SIGINT/SIGTERM synchronously.
   std::thread signal_thread([&] {
     int signal_number = 0;
     sigwait(&stop_signals, &signal_number);
-    std::cout << "tessera-server: signal " << signal_number << ", shutting down" << std::endl;
-    coordinator.changes().stop();  // ends long polls and watches at once
-    server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
+    std::cout << "tessera-server: signal " << signal_number
+              << ", shutting down: no new leases; waiting up to " << flags.shutdown_seconds
+              << " s for calls in flight (uploads commit)" << std::endl;
+    coordinator.stop_leasing();  // ends long polls and watches at once
+    server->Shutdown(std::chrono::system_clock::now() +
+                     std::chrono::milliseconds(int64_t(flags.shutdown_seconds * 1000.0)));
   });
   server->Wait();
   signal_thread.join();
+  reaper.reset();
+  const bool clean = coordinator.checkpoint();
+  std::cout << "tessera-server: stopped"
+            << (clean ? " (WAL checkpointed)" : " (WAL checkpoint incomplete: replayed at next start)")
+            << std::endl;
   return 0;
+}
+
+template <typename T>
+CLI::Option* limit_option(CLI::App& app, const std::string& name, T& target, const std::string& env,
+                          const std::string& help) {
+  return app.add_option(name, target, help)->envname(env)->capture_default_str();
 }
 
 }  // namespace
@@ -116,9 +210,34 @@ int main(int argc, char** argv) {
   app.add_option("--db", flags.db, "SQLite database file (created if missing)")
       ->envname("TESSERA_DB")
       ->capture_default_str();
+
+  // Authentication and transport (docs/security.md).
   app.add_option("--token", flags.token,
-                 "shared secret: every call must carry 'authorization: Bearer TOKEN'")
+                 "shared secret: every call of both services must carry 'authorization: Bearer TOKEN'")
       ->envname("TESSERA_TOKEN");
+  app.add_option("--token-file", flags.token_file, "read --token from this file (first line)")
+      ->envname("TESSERA_TOKEN_FILE");
+  app.add_option("--worker-token", flags.worker_token,
+                 "token of the worker service only (replaces --token there)")
+      ->envname("TESSERA_WORKER_TOKEN");
+  app.add_option("--worker-token-file", flags.worker_token_file, "read --worker-token from this file")
+      ->envname("TESSERA_WORKER_TOKEN_FILE");
+  app.add_option("--client-token", flags.client_token,
+                 "token of the job service (CLI, dashboard) only (replaces --token there)")
+      ->envname("TESSERA_CLIENT_TOKEN");
+  app.add_option("--client-token-file", flags.client_token_file, "read --client-token from this file")
+      ->envname("TESSERA_CLIENT_TOKEN_FILE");
+  app.add_option("--tls-cert", flags.tls.cert_file, "serve TLS with this PEM certificate chain")
+      ->envname("TESSERA_TLS_CERT");
+  app.add_option("--tls-key", flags.tls.key_file, "PEM private key of --tls-cert")
+      ->envname("TESSERA_TLS_KEY");
+  app.add_option("--tls-client-ca", flags.tls.client_ca_file,
+                 "mutual TLS: require every peer to present a certificate signed by this PEM CA")
+      ->envname("TESSERA_TLS_CLIENT_CA");
+  app.add_flag("--insecure", flags.insecure,
+               "allow a non-loopback --grpc address without tokens (logged as a warning)")
+      ->envname("TESSERA_INSECURE");
+
   app.add_option("--output-dir", flags.output_dir, "where finished jobs' EXR and PNG are written")
       ->envname("TESSERA_OUTPUT_DIR")
       ->capture_default_str();
@@ -127,9 +246,49 @@ int main(int argc, char** argv) {
       ->envname("TESSERA_LEASE_SECONDS")
       ->check(CLI::Range(0.1, 86400.0))
       ->capture_default_str();
+  app.add_option("--shutdown-seconds", flags.shutdown_seconds,
+                 "on SIGTERM, how long calls in flight (uploads) may take to finish")
+      ->envname("TESSERA_SHUTDOWN_SECONDS")
+      ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
   app.add_option("--port-file", flags.port_file,
                  "write the gRPC port chosen to this file once listening (for --grpc HOST:0)")
       ->envname("TESSERA_PORT_FILE");
+
+  // Limits (docs/security.md, "Limits").
+  auto& limits = flags.limits;
+  limit_option(app, "--max-bundle-mb", flags.max_bundle_mb, "TESSERA_MAX_BUNDLE_MB",
+               "largest scene bundle (sum of its files), MiB")
+      ->check(CLI::Range(0.001, 1000.0));
+  limit_option(app, "--max-bundle-files", limits.max_bundle_files, "TESSERA_MAX_BUNDLE_FILES",
+               "most files in a scene bundle")
+      ->check(CLI::PositiveNumber);
+  limit_option(app, "--max-triangles", limits.max_triangles, "TESSERA_MAX_TRIANGLES",
+               "most triangles in a scene (mesh headers checked before they are read)")
+      ->check(CLI::PositiveNumber);
+  limit_option(app, "--max-image-size", limits.job.max_dimension, "TESSERA_MAX_IMAGE_SIZE",
+               "largest image width and height, pixels")
+      ->check(CLI::Range(1, 32768));
+  limit_option(app, "--max-spp", limits.job.max_spp, "TESSERA_MAX_SPP", "most samples per pixel")
+      ->check(CLI::Range(int64_t(1), int64_t(1) << 31));
+  limit_option(app, "--max-tile", limits.job.max_tile, "TESSERA_MAX_TILE", "largest tile size, pixels")
+      ->check(CLI::Range(1, 4096));
+  limit_option(app, "--max-queued-jobs", limits.max_queued_jobs_per_client,
+               "TESSERA_MAX_QUEUED_JOBS", "most unfinished jobs per client host (0: no limit)");
+
+  // Worker health (docs/reliability.md).
+  limit_option(app, "--block-after-failures", flags.health.failures_to_block,
+               "TESSERA_BLOCK_AFTER_FAILURES", "failed units of one job that block a worker from it")
+      ->check(CLI::Range(1, 1000));
+  limit_option(app, "--block-forgive-seconds", flags.forgive_seconds, "TESSERA_BLOCK_FORGIVE_SECONDS",
+               "a block lapses this long after the worker's last failure on the job")
+      ->check(CLI::Range(0.0, 30.0 * 86400.0));
+  limit_option(app, "--unit-fail-workers", flags.health.workers_to_fail_unit,
+               "TESSERA_UNIT_FAIL_WORKERS", "different workers failing one unit that fail its job")
+      ->check(CLI::Range(1, 1000));
+  limit_option(app, "--nan-report-fraction", flags.nan_report_fraction, "TESSERA_NAN_REPORT_FRACTION",
+               "report a worker whose NaN/Inf samples exceed this fraction of its samples")
+      ->check(CLI::Range(0.0, 1.0));
   CLI11_PARSE(app, argc, argv);
 
   // Block the stop signals before any thread starts, so only sigwait sees them.
@@ -140,6 +299,13 @@ int main(int argc, char** argv) {
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
   try {
     return serve(flags, stop_signals);
+  } catch (const tessera::server::SqliteError& e) {
+    if (tessera::server::is_corruption(e)) {
+      std::cerr << "tessera-server: " << tessera::server::corrupt_store_message(flags.db, e.what()) << "\n";
+    } else {
+      std::cerr << "tessera-server: " << flags.db << ": " << e.what() << "\n";
+    }
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "tessera-server: " << e.what() << "\n";
     return 1;

@@ -60,6 +60,10 @@ v1::WorkerInfo to_proto(const WorkerRecord& w, bool online) {
   }
   out.set_units_done(w.units_done);
   out.set_units_lost(w.units_lost);
+  out.set_samples_returned(w.samples_returned);
+  out.set_nan_dropped(w.nan_dropped);
+  out.set_inf_dropped(w.inf_dropped);
+  out.set_health_warning(w.health_warning);
   return out;
 }
 

@@ -18,6 +18,7 @@ inline grpc::StatusCode to_grpc(ErrorCode code) {
     case ErrorCode::invalid_argument: return grpc::StatusCode::INVALID_ARGUMENT;
     case ErrorCode::not_found: return grpc::StatusCode::NOT_FOUND;
     case ErrorCode::failed_precondition: return grpc::StatusCode::FAILED_PRECONDITION;
+    case ErrorCode::resource_exhausted: return grpc::StatusCode::RESOURCE_EXHAUSTED;
     case ErrorCode::internal: return grpc::StatusCode::INTERNAL;
   }
   return grpc::StatusCode::INTERNAL;

@@ -22,14 +22,16 @@ std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
         FROM jobs j JOIN units u ON u.job_id = j.id AND u.state = ?1
         WHERE j.state IN (?2, ?3)
           AND NOT EXISTS (SELECT 1 FROM job_worker_failures f
-                          WHERE f.job_id = j.id AND f.worker_id = ?4 AND f.failures >= ?5)
+                          WHERE f.job_id = j.id AND f.worker_id = ?4 AND f.failures >= ?5
+                            AND f.last_failure_unix_ms > ?6)
         ORDER BY j.priority DESC, j.submitted_unix_ms ASC, j.id ASC, u.batch ASC, u.tile ASC
         LIMIT 1)sql");
     q->bind(1, std::string(to_string(UnitState::queued)))
         .bind(2, std::string(to_string(JobState::queued)))
         .bind(3, std::string(to_string(JobState::running)))
         .bind(4, worker_id)
-        .bind(5, LeaseTable::kWorkerFailuresToBlock);
+        .bind(5, leases_.health_policy().failures_to_block)
+        .bind(6, leases_.forgiven_before_unix_ms());
     if (q->step()) unit_id = q->int64(0);
   }
   if (!unit_id) return std::nullopt;  // rolls back: nothing written

@@ -115,9 +115,18 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
   }
   outcome.accepted = true;
   db_.prepare("UPDATE jobs SET units_done = units_done + 1 WHERE id = ?")->bind(1, r.job_id).run();
-  db_.prepare("UPDATE workers SET units_done = units_done + 1 WHERE id = ?")
-      ->bind(1, r.worker_id)
-      .run();
+  {
+    uint64_t samples = decoded.nan_dropped + decoded.inf_dropped;
+    for (uint32_t n : decoded.count) samples += n;
+    db_.prepare(
+           "UPDATE workers SET units_done = units_done + 1, samples_returned = samples_returned + ?,"
+           " nan_dropped = nan_dropped + ?, inf_dropped = inf_dropped + ? WHERE id = ?")
+        ->bind(1, int64_t(samples))
+        .bind(2, int64_t(decoded.nan_dropped))
+        .bind(3, int64_t(decoded.inf_dropped))
+        .bind(4, r.worker_id)
+        .run();
+  }
   db_.prepare(
          "INSERT OR IGNORE INTO job_contributors (job_id, isa, version)"
          " SELECT ?, ?, version FROM workers WHERE id = ?")

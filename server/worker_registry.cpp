@@ -1,5 +1,7 @@
 #include "worker_registry.h"
 
+#include <cstdio>
+
 #include "job_state.h"
 
 namespace tessera::server {
@@ -7,7 +9,8 @@ namespace {
 
 constexpr const char* kSelect = R"sql(
   SELECT w.id, w.name, w.threads, w.isa, w.version, w.registered_unix_ms, w.last_seen_unix_ms,
-         w.units_done, w.units_lost, u.job_id, u.tile, u.batch
+         w.units_done, w.units_lost, u.job_id, u.tile, u.batch, w.samples_returned,
+         w.nan_dropped, w.inf_dropped
   FROM workers w LEFT JOIN units u ON u.worker_id = w.id AND u.state = ?1
 )sql";
 
@@ -22,6 +25,9 @@ WorkerRecord read_worker(const Statement& q) {
   w.last_seen_unix_ms = q.int64(6);
   w.units_done = uint64_t(q.int64(7));
   w.units_lost = uint64_t(q.int64(8));
+  w.samples_returned = uint64_t(q.int64(12));
+  w.nan_dropped = uint64_t(q.int64(13));
+  w.inf_dropped = uint64_t(q.int64(14));
   if (!q.is_null(9)) {
     w.job_id = q.int64(9);
     w.tile = uint32_t(q.int64(10));
@@ -30,7 +36,23 @@ WorkerRecord read_worker(const Statement& q) {
   return w;
 }
 
+std::string percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g%%", 100.0 * fraction);
+  return text;
+}
+
 }  // namespace
+
+std::string health_warning(const WorkerRecord& worker, double report_fraction) {
+  if (worker.samples_returned < kMinSamplesToJudge || worker.samples_returned == 0) return {};
+  const uint64_t bad = worker.nan_dropped + worker.inf_dropped;
+  const double fraction = double(bad) / double(worker.samples_returned);
+  if (fraction <= report_fraction) return {};
+  return percent(fraction) + " of its samples were NaN/Inf (" + std::to_string(worker.nan_dropped) +
+         " NaN, " + std::to_string(worker.inf_dropped) + " Inf; report threshold " +
+         percent(report_fraction) + ")";
+}
 
 int64_t WorkerRegistry::register_worker(const WorkerRegistration& info, int64_t now) {
   Transaction tx(db_);

@@ -24,10 +24,19 @@ struct WorkerRecord {
   int64_t last_seen_unix_ms = 0;
   uint64_t units_done = 0;
   uint64_t units_lost = 0;
+  uint64_t samples_returned = 0;  ///< pixel samples in its accepted results, dropped ones included
+  uint64_t nan_dropped = 0, inf_dropped = 0;
+  /// Filled by the coordinator from its policy: empty when healthy (see health_warning()).
+  std::string health_warning;
   /// The unit it holds a lease on, if any.
   std::optional<int64_t> job_id;
   uint32_t tile = 0, batch = 0;
 };
+
+/// Empty when the worker's NaN/Inf samples are at most `report_fraction` of the samples it
+/// returned (or when it returned fewer than kMinSamplesToJudge); otherwise one line for people.
+std::string health_warning(const WorkerRecord& worker, double report_fraction);
+inline constexpr uint64_t kMinSamplesToJudge = 10'000;
 
 class WorkerRegistry {
  public:

@@ -3,6 +3,10 @@
 namespace tessera::wire {
 
 std::shared_ptr<grpc::Channel> make_channel(const std::string& address) {
+  return make_channel(address, ClientTls{});
+}
+
+std::shared_ptr<grpc::Channel> make_channel(const std::string& address, const ClientTls& tls) {
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(kMaxMessageBytes);
   args.SetMaxSendMessageSize(kMaxMessageBytes);
@@ -13,7 +17,7 @@ std::shared_ptr<grpc::Channel> make_channel(const std::string& address) {
   args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 100);
   args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
   args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 100);
-  return grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), args);
+  return grpc::CreateCustomChannel(address, channel_credentials(tls), args);
 }
 
 void prepare_context(grpc::ClientContext& context, const std::string& token,

@@ -8,6 +8,8 @@
 #include <memory>
 #include <string>
 
+#include "wire/transport_security.h"
+
 namespace tessera::wire {
 
 /// Largest message either side accepts, bytes: a scene bundle with big meshes, an EXR image, or
@@ -19,9 +21,13 @@ inline constexpr int kMaxMessageBytes = 1 << 30;
 inline constexpr int kKeepaliveTimeMs = 30'000;
 inline constexpr int kKeepaliveTimeoutMs = 10'000;
 
-/// An insecure channel to `address` ("host:port") with keepalive and the message size limits.
+/// A plain-TCP channel to `address` ("host:port") with keepalive and the message size limits.
 /// The bearer token is per call (prepare_context), so the channel itself carries no secret.
 std::shared_ptr<grpc::Channel> make_channel(const std::string& address);
+
+/// As above over TLS when `tls.active()` (docs/security.md). Throws std::runtime_error when a
+/// certificate, key or CA file cannot be read.
+std::shared_ptr<grpc::Channel> make_channel(const std::string& address, const ClientTls& tls);
 
 /// Sets the call's deadline (now + timeout) and, when `token` is not empty, the metadata
 /// `authorization: Bearer <token>`. Every client call goes through this: no call without a

@@ -150,7 +150,9 @@ FileReader bundle_reader(const BundleContents& bundle) {
   auto files = std::make_shared<const std::map<std::string, std::string>>(bundle.files);
   const std::string folder = scene_folder(bundle.scene_file);
   return [files, folder](const std::string& relative_path) -> std::string {
-    const auto it = files->find(folder + relative_path);
+    // The parser checks paths before it asks; checking again keeps this reader safe on its own.
+    const std::string path = check_bundle_path(relative_path, relative_path);
+    const auto it = files->find(folder + path);
     if (it == files->end()) throw SceneError(relative_path + ": not in the scene bundle");
     return it->second;
   };
@@ -161,6 +163,13 @@ Scene parse_bundle_scene(const BundleContents& bundle) {
 }
 
 BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene_out) {
+  // A bundle holds files, never links: a linked scene file could pull in anything readable.
+  std::error_code error;
+  if (std::filesystem::is_symlink(std::filesystem::symlink_status(scene_file, error))) {
+    throw SceneError(scene_file.string() +
+                     ": is a symbolic link; bundles take regular files only (submit the file it"
+                     " points to)");
+  }
   Scene scene = load_scene_file(scene_file);
   BundleContents out;
   out.scene_file = scene_file.filename().string();

@@ -1,5 +1,6 @@
 #include "store/migrations.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace tessera::server {
@@ -127,6 +128,35 @@ CREATE TABLE job_contributors (
   PRIMARY KEY (job_id, isa, version)
 ) WITHOUT ROWID;
 )sql"},
+      // Version 2 is the stopping rules' (time/noise). Numbers are fixed once released: a
+      // database records which it has, and migrate() applies the missing ones in order.
+      {3, "worker health (failures per unit and worker, forgiveness, NaN/Inf per worker), jobs per client", R"sql(
+-- When the worker last failed the job: a block lapses --block-forgive-seconds after it.
+ALTER TABLE job_worker_failures ADD COLUMN last_failure_unix_ms INTEGER NOT NULL DEFAULT 0;
+
+-- Failures of one unit, per worker: K different workers failing a unit fail its job, with
+-- every worker's reason.
+CREATE TABLE unit_failures (
+  unit_id              INTEGER NOT NULL REFERENCES units (id) ON DELETE CASCADE,
+  worker_id            INTEGER NOT NULL REFERENCES workers (id),
+  failures             INTEGER NOT NULL,
+  last_error           TEXT NOT NULL,
+  last_failure_unix_ms INTEGER NOT NULL,
+  PRIMARY KEY (unit_id, worker_id)
+) WITHOUT ROWID;
+
+-- What each worker's accepted results held: pixel samples, and NaN/Inf samples it dropped.
+ALTER TABLE workers ADD COLUMN samples_returned INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE workers ADD COLUMN nan_dropped INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE workers ADD COLUMN inf_dropped INTEGER NOT NULL DEFAULT 0;
+
+-- Who submitted each job (the peer's address), for --max-queued-jobs.
+CREATE TABLE job_clients (
+  job_id INTEGER PRIMARY KEY REFERENCES jobs (id) ON DELETE CASCADE,
+  client TEXT NOT NULL
+);
+CREATE INDEX job_clients_client ON job_clients (client);
+)sql"},
   };
   return kMigrations;
 }
@@ -143,13 +173,21 @@ int schema_version(Database& db) {
 int migrate(Database& db, int64_t now_unix_ms) {
   int version = schema_version(db);
   const auto& all = schema_migrations();
-  if (version > int(all.size())) {
+  const int newest = all.empty() ? 0 : all.back().version;
+  if (version > newest) {
     throw std::runtime_error("database schema version " + std::to_string(version) +
                              " is newer than this tessera-server knows (" +
-                             std::to_string(all.size()) + ")");
+                             std::to_string(newest) + ")");
   }
   for (const Migration& m : all) {
-    if (m.version <= version) continue;
+    // Each migration applied once, by number (a gap in the numbers is allowed).
+    bool applied = false;
+    {
+      auto q = db.prepare("SELECT 1 FROM schema_migrations WHERE version = ?");
+      q->bind(1, m.version);
+      applied = q->step();
+    }
+    if (applied) continue;
     Transaction tx(db);
     db.exec(m.sql);
     db.prepare("INSERT INTO schema_migrations (version, name, applied_unix_ms) VALUES (?, ?, ?)")
@@ -158,7 +196,7 @@ int migrate(Database& db, int64_t now_unix_ms) {
         .bind(3, now_unix_ms)
         .run();
     tx.commit();
-    version = m.version;
+    version = std::max(version, m.version);
   }
   return version;
 }

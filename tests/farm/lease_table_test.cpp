@@ -78,23 +78,95 @@ TEST(LeaseTable, ReleaseReturnsTheUnitOnce) {
   EXPECT_EQ(f.scheduler.lease_next(w)->unit_id, lease.unit_id);
 }
 
-TEST(LeaseTable, RepeatedFailuresBlockTheWorkerThenFailTheJob) {
+/// Leases the next unit for `worker` and hands it back as failed with `why`.
+ReleaseOutcome fail_next(testing::StoreFixture& f, int64_t worker, const std::string& why) {
+  const std::optional<Lease> lease = f.scheduler.lease_next(worker);
+  EXPECT_TRUE(lease) << "worker " << worker << " got no unit";
+  if (!lease) return {};
+  return f.leases.release(worker, lease->lease_id, ReleaseReason::failed, why);
+}
+
+TEST(WorkerHealth, FailuresBlockAWorkerFromTheJobUntilForgiven) {
   StoreFixture f;
-  const int64_t job = f.make_job(8, 8, 8, 1, 1);  // a single unit
-  const int64_t a = f.make_worker("a"), b = f.make_worker("b");
-  for (int i = 0; i < LeaseTable::kWorkerFailuresToBlock; ++i) {
-    const Lease lease = *f.scheduler.lease_next(a);
-    EXPECT_FALSE(f.leases.release(a, lease.lease_id, ReleaseReason::failed, "no memory").job_failed);
-  }
-  // a is blocked from the job; b still gets its unit.
+  WorkerHealthPolicy policy;
+  policy.failures_to_block = 2;
+  policy.forgive_ms = 60'000;
+  policy.workers_to_fail_unit = 3;
+  f.leases.set_health_policy(policy);
+  const int64_t job = f.make_job(16, 8, 8, 1, 1);  // two units
+  const int64_t other_job = f.make_job(8, 8, 8, 1, 1);
+  const int64_t a = f.make_worker("a");
+  EXPECT_FALSE(fail_next(f, a, "out of memory").job_failed);
+  EXPECT_FALSE(fail_next(f, a, "out of memory").job_failed);
+  // Blocked from `job` (both its units are queued again), not from other jobs.
+  const Lease elsewhere = *f.scheduler.lease_next(a);
+  EXPECT_EQ(elsewhere.job_id, other_job);
+  f.leases.release(a, elsewhere.lease_id, ReleaseReason::shutdown, "");
+  f.jobs.cancel(other_job, f.clock.now_unix_ms());
   EXPECT_EQ(f.scheduler.lease_next(a), std::nullopt);
-  const Lease lease = *f.scheduler.lease_next(b);
-  const ReleaseOutcome third = f.leases.release(b, lease.lease_id, ReleaseReason::failed, "bad mesh");
-  EXPECT_TRUE(third.job_failed);
+  f.clock.advance(policy.forgive_ms - 1);
+  EXPECT_EQ(f.scheduler.lease_next(a), std::nullopt);  // still inside the window
+  f.clock.advance(1);
+  // Forgiven: it gets the job's units again, and its count starts over (one failure does not
+  // block it again at once).
+  EXPECT_FALSE(fail_next(f, a, "out of memory").job_failed);
+  const std::optional<Lease> again = f.scheduler.lease_next(a);
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->job_id, job);
+  EXPECT_EQ(f.jobs.get(job)->state, JobState::running);
+}
+
+TEST(WorkerHealth, AUnitFailingOnKWorkersFailsTheJobWithEveryReason) {
+  StoreFixture f;
+  WorkerHealthPolicy policy;
+  policy.failures_to_block = 2;
+  policy.workers_to_fail_unit = 3;
+  f.leases.set_health_policy(policy);
+  const int64_t job = f.make_job(8, 8, 8, 1, 1);  // a single unit
+  const int64_t a = f.make_worker("alpha"), b = f.make_worker("beta"), c = f.make_worker("gamma");
+  EXPECT_FALSE(fail_next(f, a, "bad mesh on alpha").job_failed);
+  EXPECT_FALSE(fail_next(f, a, "bad mesh on alpha").job_failed);  // alpha is now blocked
+  EXPECT_EQ(f.scheduler.lease_next(a), std::nullopt);
+  EXPECT_FALSE(fail_next(f, b, "segfault on beta").job_failed);  // 2 workers: not yet
+  EXPECT_EQ(f.jobs.get(job)->state, JobState::running);
+  EXPECT_TRUE(fail_next(f, c, "NaN flood on gamma").job_failed);  // the third worker
   const JobRecord failed = *f.jobs.get(job);
   EXPECT_EQ(failed.state, JobState::failed);
-  EXPECT_NE(failed.error.find("bad mesh"), std::string::npos) << failed.error;
+  for (const char* part : {"tile 0, batch 0", "on 3 worker(s)", "alpha): bad mesh on alpha",
+                           "beta): segfault on beta", "gamma): NaN flood on gamma"}) {
+    EXPECT_NE(failed.error.find(part), std::string::npos) << part << " in: " << failed.error;
+  }
   EXPECT_EQ(f.scheduler.lease_next(b), std::nullopt);
+}
+
+TEST(WorkerHealth, AFarmWithFewerWorkersStillEndsAJobThatAlwaysFails) {
+  StoreFixture f;
+  WorkerHealthPolicy policy;
+  policy.failures_to_block = 2;
+  policy.forgive_ms = 1000;
+  policy.workers_to_fail_unit = 3;
+  f.leases.set_health_policy(policy);
+  const int64_t job = f.make_job(8, 8, 8, 1, 1);
+  const int64_t only = f.make_worker("only");
+  // 3 workers x 2 failures = 6 attempts in all fail the job, even on one worker.
+  for (int attempt = 1; attempt <= 6; ++attempt) {
+    const ReleaseOutcome outcome = fail_next(f, only, "renderer error");
+    EXPECT_EQ(outcome.job_failed, attempt == 6) << attempt;
+    if (attempt % 2 == 0) f.clock.advance(policy.forgive_ms + 1);  // wait out the block
+  }
+  EXPECT_EQ(f.jobs.get(job)->state, JobState::failed);
+}
+
+TEST(WorkerHealth, ShutdownReleasesCountNothing) {
+  StoreFixture f;
+  const int64_t job = f.make_job(8, 8, 8, 1, 1);
+  const int64_t a = f.make_worker("a");
+  for (int i = 0; i < 10; ++i) {
+    const Lease lease = *f.scheduler.lease_next(a);
+    EXPECT_FALSE(f.leases.release(a, lease.lease_id, ReleaseReason::shutdown, "").job_failed);
+  }
+  EXPECT_EQ(f.jobs.get(job)->state, JobState::running);
+  EXPECT_TRUE(f.scheduler.lease_next(a));
 }
 
 TEST(LeaseTable, RevokeAllRequeuesEveryLease) {

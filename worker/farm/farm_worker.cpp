@@ -121,7 +121,7 @@ class FarmWorker {
   FarmWorker(const FarmWorkerConfig& config, StopSignal& stop)
       : config_(config),
         stop_(stop),
-        client_(config.server, config.token),
+        client_(config.server, config.token, config.tls),
         bundles_(config.cache_dir.empty() ? BundleCache::default_dir() : config.cache_dir),
         arena_(config.threads > 0 ? config.threads : tbb::task_arena::automatic) {}
 

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <string>
 
+#include "wire/transport_security.h"
+
 namespace tessera {
 
 struct FarmWorkerConfig {
@@ -17,6 +19,7 @@ struct FarmWorkerConfig {
   /// ~/.cache/tessera, or the system temp folder).
   std::filesystem::path cache_dir;
   std::string token;   ///< sent as `authorization: Bearer <token>` when not empty
+  wire::ClientTls tls;  ///< TLS to the server; client cert/key for mutual TLS
   std::string name;    ///< shown by `tessera workers`; empty = "<host name>:<pid>"
 };
 

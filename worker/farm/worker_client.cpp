@@ -16,9 +16,10 @@ constexpr milliseconds kReleaseTimeout{10'000};
 
 }  // namespace
 
-WorkerClient::WorkerClient(const std::string& server, std::string token)
+WorkerClient::WorkerClient(const std::string& server, std::string token,
+                           const wire::ClientTls& tls)
     : token_(std::move(token)),
-      stub_(v1::WorkerService::NewStub(wire::make_channel(server))) {}
+      stub_(v1::WorkerService::NewStub(wire::make_channel(server, tls))) {}
 
 void WorkerClient::prepare(grpc::ClientContext& context, milliseconds timeout) const {
   wire::prepare_context(context, token_, timeout);

@@ -10,12 +10,13 @@
 
 #include "stop_signal.h"
 #include "tessera/v1/worker_service.grpc.pb.h"
+#include "wire/transport_security.h"
 
 namespace tessera::farm {
 
 class WorkerClient {
  public:
-  WorkerClient(const std::string& server, std::string token);
+  WorkerClient(const std::string& server, std::string token, const wire::ClientTls& tls = {});
 
   grpc::Status register_worker(const v1::RegisterRequest& request, v1::RegisterResponse* response);
   /// Long poll: the deadline covers the server's wait (request.wait_ms) plus a margin. The call

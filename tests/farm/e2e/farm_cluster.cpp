@@ -41,7 +41,9 @@ FarmCluster::~FarmCluster() {
 void FarmCluster::start_server(const std::vector<std::string>& extra) {
   if (!extra.empty() || server_starts_ == 0) server_extra_ = extra;
   for (size_t i = 0; i + 1 < server_extra_.size(); ++i) {
-    if (server_extra_[i] == "--token") token_ = server_extra_[i + 1];
+    if (server_extra_[i] == "--token" || server_extra_[i] == "--client-token") {
+      token_ = server_extra_[i + 1];
+    }
   }
   const auto port_file = dir_ / "port";
   std::filesystem::remove(port_file);
@@ -68,9 +70,14 @@ void FarmCluster::start_server(const std::vector<std::string>& extra) {
 }
 
 void FarmCluster::connect() {
-  auto channel = wire::make_channel(address());
+  auto channel = wire::make_channel(address(), tls_);
   jobs_ = v1::JobService::NewStub(channel);
   workers_api_ = v1::WorkerService::NewStub(channel);
+}
+
+std::optional<int> FarmCluster::stop_server(int signal_number) {
+  server_->signal(signal_number);
+  return server_->wait_for(kPatience);
 }
 
 void FarmCluster::kill_server() {
@@ -92,6 +99,7 @@ size_t FarmCluster::start_worker(const std::vector<std::string>& extra) {
 CommandResult FarmCluster::cli(const std::vector<std::string>& args,
                                const std::vector<std::string>& env) {
   std::vector<std::string> argv = {TESSERA_CLI_BIN, "--server", address()};
+  argv.insert(argv.end(), cli_tls_flags_.begin(), cli_tls_flags_.end());
   argv.insert(argv.end(), args.begin(), args.end());
   std::vector<std::string> child_env = env;
   bool has_token = false;

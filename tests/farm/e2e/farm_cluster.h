@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "process.h"
 #include "tessera/v1/job_service.grpc.pb.h"
 #include "tessera/v1/worker_service.grpc.pb.h"
+#include "wire/transport_security.h"
 
 namespace tessera::e2e {
 
@@ -38,6 +40,15 @@ class FarmCluster {
   /// Starts tessera-worker --server ... with its own log; returns its index.
   size_t start_worker(const std::vector<std::string>& extra = {});
   Process& worker(size_t index) { return *workers_.at(index); }
+
+  /// From now on the test's stubs connect with `tls`, and every CLI run gets `cli_flags`
+  /// (--tls-ca ..., --tls-cert ...). Call before start_server.
+  void use_tls(const wire::ClientTls& tls, const std::vector<std::string>& cli_flags) {
+    tls_ = tls;
+    cli_tls_flags_ = cli_flags;
+  }
+  /// Stops the server with `signal_number` and returns its exit code.
+  std::optional<int> stop_server(int signal_number);
 
   /// Runs the tessera CLI against this server.
   CommandResult cli(const std::vector<std::string>& args, const std::vector<std::string>& env = {});
@@ -78,6 +89,8 @@ class FarmCluster {
   std::vector<std::unique_ptr<Process>> workers_;
   std::unique_ptr<v1::JobService::Stub> jobs_;
   std::unique_ptr<v1::WorkerService::Stub> workers_api_;
+  wire::ClientTls tls_;
+  std::vector<std::string> cli_tls_flags_;
 };
 
 /// The source tree (scenes/, tests/).

@@ -1,0 +1,92 @@
+#include "farm_limits.h"
+
+#include <algorithm>
+#include <cctype>
+#include <string>
+
+#include "farm_error.h"
+#include "scene/ply_header.h"
+#include "scene/scene_error.h"
+
+namespace tessera::server {
+namespace {
+
+[[noreturn]] void over(const std::string& what, uint64_t got, uint64_t limit, const char* flag) {
+  throw FarmError(ErrorCode::invalid_argument,
+                  what + " " + std::to_string(got) + " is over the farm's limit of " +
+                      std::to_string(limit) + " (server flag " + flag + ")");
+}
+
+std::string lower_extension(const std::string& path) {
+  const size_t dot = path.rfind('.');
+  if (dot == std::string::npos || path.find('/', dot) != std::string::npos) return {};
+  std::string ext = path.substr(dot);
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+/// OBJ face lines ("f ..."), counted without allocating: at least one triangle each.
+uint64_t obj_faces(const std::string& bytes) {
+  uint64_t faces = 0;
+  size_t pos = 0;
+  while (pos < bytes.size()) {
+    size_t start = bytes.find_first_not_of(" \t", pos);
+    if (start != std::string::npos && start + 1 < bytes.size() && bytes[start] == 'f' &&
+        (bytes[start + 1] == ' ' || bytes[start + 1] == '\t')) {
+      ++faces;
+    }
+    const size_t end = bytes.find('\n', pos);
+    if (end == std::string::npos) break;
+    pos = end + 1;
+  }
+  return faces;
+}
+
+}  // namespace
+
+void check_bundle_limits(const v1::SceneBundle& bundle, const FarmLimits& limits) {
+  const uint64_t files = uint64_t(bundle.files_size());
+  if (files > limits.max_bundle_files) {
+    over("bundle: file count", files, limits.max_bundle_files, "--max-bundle-files");
+  }
+  uint64_t bytes = 0;
+  for (const auto& f : bundle.files()) bytes += f.data().size();
+  if (bytes > limits.max_bundle_bytes) {
+    over("bundle: size in bytes", bytes, limits.max_bundle_bytes, "--max-bundle-mb");
+  }
+}
+
+void check_declared_triangles(const wire::BundleContents& bundle, const FarmLimits& limits) {
+  uint64_t total = 0;
+  for (const auto& [path, bytes] : bundle.files) {
+    const std::string ext = lower_extension(path);
+    uint64_t declared = 0;
+    if (ext == ".ply") {
+      try {
+        const PlyHeader header = parse_ply_header(bytes, path);
+        if (const PlyElement* face = header.find("face")) declared = face->count;
+      } catch (const SceneError&) {
+        continue;  // not a mesh we would read; the parser reports it if the scene uses it
+      }
+    } else if (ext == ".obj") {
+      declared = obj_faces(bytes);
+    }
+    if (declared > limits.max_triangles) {
+      over(path + ": declared faces", declared, limits.max_triangles, "--max-triangles");
+    }
+    total += declared;
+  }
+  if (total > limits.max_triangles) {
+    over("bundle: mesh faces declared", total, limits.max_triangles, "--max-triangles");
+  }
+}
+
+void check_scene_triangles(const Scene& scene, const FarmLimits& limits) {
+  uint64_t total = 0;
+  for (const Shape& shape : scene.shapes) total += shape.indices.size();
+  if (total > limits.max_triangles) {
+    over("scene: triangle count", total, limits.max_triangles, "--max-triangles");
+  }
+}
+
+}  // namespace tessera::server

@@ -1,0 +1,39 @@
+// What one job may ask of the farm (docs/security.md, "Limits"). Every limit is a server flag
+// with an environment variable; a job over one is refused at submit with INVALID_ARGUMENT (or
+// RESOURCE_EXHAUSTED for the queue) and a one-line reason naming the limit and its flag.
+#pragma once
+
+#include <cstdint>
+
+#include "job/job_options.h"
+#include "scene/scene.h"
+#include "tessera/v1/job.pb.h"
+#include "wire/scene_bundle.h"
+
+namespace tessera::server {
+
+struct FarmLimits {
+  /// Samples per pixel (--max-spp), image width and height (--max-image-size), tile size
+  /// (--max-tile): checked by resolve_job_options.
+  JobLimits job;
+  uint64_t max_bundle_bytes = uint64_t(512) << 20;  ///< sum of the bundle's file sizes (--max-bundle-mb)
+  uint64_t max_bundle_files = 10'000;               ///< files in a bundle (--max-bundle-files)
+  uint64_t max_triangles = 50'000'000;              ///< triangles in a scene (--max-triangles)
+  /// Unfinished (queued or running) jobs one client may have (--max-queued-jobs); 0 = no limit.
+  uint64_t max_queued_jobs_per_client = 100;
+};
+
+/// Bundle size and file count, on the request as received (before anything is copied).
+/// Throws FarmError(invalid_argument).
+void check_bundle_limits(const v1::SceneBundle& bundle, const FarmLimits& limits);
+
+/// The triangles the bundle's mesh files declare, counted before they are parsed (so a PLY
+/// header declaring 10^8 faces is refused without reading or allocating them): a PLY file counts
+/// its header's face count, an OBJ file its "f" lines. Throws FarmError(invalid_argument).
+void check_declared_triangles(const wire::BundleContents& bundle, const FarmLimits& limits);
+
+/// The parsed scene's triangles (meshes after triangulation, inline triangles, boxes, quads).
+/// Throws FarmError(invalid_argument).
+void check_scene_triangles(const Scene& scene, const FarmLimits& limits);
+
+}  // namespace tessera::server

@@ -1,0 +1,182 @@
+// Each limit of docs/security.md refused at submit with its reason and flag, before anything is
+// stored; and the triangle limit checked before a mesh is read.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "coordinator.h"
+#include "fake_clock.h"
+#include "farm_error.h"
+
+namespace tessera::server {
+namespace {
+
+std::string tiny_scene() {
+  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/tiny.json");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// A scene whose only shape is `mesh` (a file in the bundle), plus the tiny scene's light.
+std::string mesh_scene(const std::string& mesh) {
+  return R"({"tessera": 1, "camera": {"position": [0,0,3], "look_at": [0,0,0], "fov": 40},
+    "film": {"width": 16, "height": 16}, "render": {"spp": 8},
+    "materials": {"white": {"type": "diffuse", "reflectance": [0.5,0.5,0.5]}},
+    "shapes": [{"type": "mesh", "file": ")" + mesh + R"(", "material": "white"},
+               {"type": "quad", "vertices": [[-1,2,-1],[1,2,-1],[1,2,1],[-1,2,1]], "emission": [5,5,5]}]})";
+}
+
+/// An ASCII PLY strip of `faces` triangles over faces + 2 vertices.
+std::string ply_strip(int faces) {
+  std::ostringstream out;
+  out << "ply\nformat ascii 1.0\nelement vertex " << faces + 2
+      << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << faces
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (int i = 0; i < faces + 2; ++i) out << 0.1 * i << " " << (i % 2) << " 0\n";
+  for (int i = 0; i < faces; ++i) {
+    if (i % 2 == 0) out << "3 " << i << " " << i + 1 << " " << i + 2 << "\n";
+    else out << "3 " << i + 1 << " " << i << " " << i + 2 << "\n";
+  }
+  return out.str();
+}
+
+v1::SceneBundle bundle(const std::string& scene,
+                       const std::vector<std::pair<std::string, std::string>>& extra = {}) {
+  v1::SceneBundle b;
+  b.set_scene_file("scene.json");
+  auto* f = b.add_files();
+  f->set_path("scene.json");
+  f->set_data(scene);
+  for (const auto& [path, data] : extra) {
+    auto* e = b.add_files();
+    e->set_path(path);
+    e->set_data(data);
+  }
+  return b;
+}
+
+struct Farm {
+  testing::FakeClock clock;
+  std::unique_ptr<Coordinator> coordinator;
+
+  explicit Farm(const FarmLimits& limits) {
+    CoordinatorConfig config;
+    config.db_path = ":memory:";
+    config.limits = limits;
+    coordinator = std::make_unique<Coordinator>(config, clock);
+  }
+
+  /// The refusal's message ("" when accepted); `code` gets its code.
+  std::string refusal(const v1::SceneBundle& b, const v1::JobRequestOptions& options = {},
+                      const std::string& client = "ipv4:127.0.0.1",
+                      ErrorCode* code = nullptr) {
+    try {
+      coordinator->submit(b, options, 0, client);
+    } catch (const FarmError& e) {
+      if (code) *code = e.code();
+      return e.what();
+    }
+    return "";
+  }
+};
+
+void expect_refused(const std::string& message, const std::string& flag) {
+  EXPECT_NE(message.find(flag), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+TEST(Limits, BundleSizeAndFileCount) {
+  FarmLimits limits;
+  limits.max_bundle_bytes = 4096;
+  limits.max_bundle_files = 3;
+  Farm farm(limits);
+  EXPECT_EQ(farm.refusal(bundle(tiny_scene())), "");
+  ErrorCode code{};
+  const std::string big =
+      farm.refusal(bundle(tiny_scene(), {{"padding.bin", std::string(5000, 'x')}}), {}, "c", &code);
+  expect_refused(big, "--max-bundle-mb");
+  EXPECT_EQ(code, ErrorCode::invalid_argument);
+  expect_refused(farm.refusal(bundle(tiny_scene(), {{"a", "1"}, {"b", "2"}, {"c", "3"}})),
+                 "--max-bundle-files");
+  EXPECT_EQ(farm.coordinator->jobs(100).size(), 1u);  // the refused ones stored nothing
+}
+
+TEST(Limits, TrianglesCountedFromHeadersBeforeParsing) {
+  FarmLimits limits;
+  limits.max_triangles = 12;
+  Farm farm(limits);
+  // 8 mesh triangles + the light quad's 2.
+  EXPECT_EQ(farm.refusal(bundle(mesh_scene("strip.ply"), {{"strip.ply", ply_strip(8)}})), "");
+  const std::string over = farm.refusal(bundle(mesh_scene("strip.ply"), {{"strip.ply", ply_strip(13)}}));
+  expect_refused(over, "--max-triangles");
+  EXPECT_NE(over.find("strip.ply: declared faces 13"), std::string::npos) << over;
+  // Within the limit in the file, over it with the rest of the scene: the parsed scene's count.
+  const std::string scene = farm.refusal(bundle(mesh_scene("strip.ply"), {{"strip.ply", ply_strip(11)}}));
+  expect_refused(scene, "--max-triangles");
+  EXPECT_NE(scene.find("scene: triangle count 13"), std::string::npos) << scene;
+  // An OBJ file's face lines count the same way.
+  std::string obj;
+  for (int i = 0; i < 15; ++i) obj += "v " + std::to_string(i) + " " + std::to_string(i % 2) + " 0\n";
+  for (int i = 1; i <= 13; ++i) obj += "f " + std::to_string(i) + " " + std::to_string(i + 1) + " " + std::to_string(i + 2) + "\n";
+  expect_refused(farm.refusal(bundle(mesh_scene("m.obj"), {{"m.obj", obj}})), "--max-triangles");
+}
+
+TEST(Limits, AHeaderDeclaringAHundredMillionFacesIsRefusedWithoutAllocating) {
+  Farm farm(FarmLimits{});  // default limits (50 M triangles)
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 100000000\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  const std::string message =
+      farm.refusal(bundle(mesh_scene("huge.ply"), {{"huge.ply", header + std::string(36, '\0')}}));
+  EXPECT_NE(message.find("huge.ply"), std::string::npos) << message;
+  // Even with the data there, a declared count over the limit is refused from the header alone:
+  // 100 M faces of 13 bytes would be 1.3 GB; a small limit shows the same rule on a small file.
+  FarmLimits small;
+  small.max_triangles = 1000;
+  Farm strict(small);
+  expect_refused(strict.refusal(bundle(mesh_scene("s.ply"), {{"s.ply", ply_strip(1001)}})),
+                 "--max-triangles");
+}
+
+TEST(Limits, ImageSizeSppAndTile) {
+  FarmLimits limits;
+  limits.job.max_dimension = 64;
+  limits.job.max_spp = 100;
+  limits.job.max_tile = 32;
+  Farm farm(limits);
+  v1::JobRequestOptions wide;
+  wide.set_width(65);
+  expect_refused(farm.refusal(bundle(tiny_scene()), wide), "--width: must be in [1, 64]");
+  v1::JobRequestOptions tall;
+  tall.set_height(1000);
+  expect_refused(farm.refusal(bundle(tiny_scene()), tall), "--height: must be in [1, 64]");
+  v1::JobRequestOptions spp;
+  spp.set_spp(101);
+  expect_refused(farm.refusal(bundle(tiny_scene()), spp), "--spp: must be in [1, 100]");
+  v1::JobRequestOptions tile;
+  tile.set_tile_size(33);
+  expect_refused(farm.refusal(bundle(tiny_scene()), tile), "--tile: must be in [1, 32]");
+  EXPECT_TRUE(farm.coordinator->jobs(100).empty());
+}
+
+TEST(Limits, UnfinishedJobsPerClient) {
+  FarmLimits limits;
+  limits.max_queued_jobs_per_client = 2;
+  Farm farm(limits);
+  EXPECT_EQ(farm.refusal(bundle(tiny_scene()), {}, "ipv4:10.0.0.1"), "");
+  EXPECT_EQ(farm.refusal(bundle(tiny_scene()), {}, "ipv4:10.0.0.1"), "");
+  ErrorCode code{};
+  const std::string third = farm.refusal(bundle(tiny_scene()), {}, "ipv4:10.0.0.1", &code);
+  expect_refused(third, "--max-queued-jobs");
+  EXPECT_EQ(code, ErrorCode::resource_exhausted);
+  // Another client is not affected; a finished (cancelled) job frees a place.
+  EXPECT_EQ(farm.refusal(bundle(tiny_scene()), {}, "ipv4:10.0.0.2"), "");
+  farm.coordinator->cancel(farm.coordinator->jobs(100).back().id);
+  EXPECT_EQ(farm.refusal(bundle(tiny_scene()), {}, "ipv4:10.0.0.1"), "");
+}
+
+}  // namespace
+}  // namespace tessera::server

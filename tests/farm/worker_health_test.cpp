@@ -1,0 +1,125 @@
+// Worker health beyond failures: NaN/Inf samples counted per worker and reported past a
+// threshold; and the store's start-up integrity check.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "accum/accumulation_codec.h"
+#include "store/integrity.h"
+#include "store_fixture.h"
+
+namespace tessera::server {
+namespace {
+
+using testing::StoreFixture;
+
+/// Leases the worker's next unit and delivers a result of `spp` samples per pixel of which
+/// `nan` and `inf` were dropped in all.
+void deliver(StoreFixture& f, int64_t worker, uint32_t spp, uint64_t nan, uint64_t inf) {
+  const Lease lease = *f.scheduler.lease_next(worker);
+  const TileRect rect = *f.jobs.tile_rect(lease.job_id, lease.tile);
+  Accumulation acc = StoreFixture::synthetic(rect, lease.batch, spp);
+  acc.nan_dropped = nan;
+  acc.inf_dropped = inf;
+  UnitResult r;
+  r.worker_id = worker;
+  r.lease_id = lease.lease_id;
+  r.job_id = lease.job_id;
+  r.tile = lease.tile;
+  r.batch = lease.batch;
+  r.encoded = encode_accumulation(acc);
+  r.isa = "avx2";
+  ASSERT_TRUE(f.merger.accept(r, acc).accepted);
+}
+
+TEST(WorkerHealth, NanAndInfSamplesAreCountedPerWorkerAndReportedPastTheThreshold) {
+  StoreFixture f;
+  f.make_job(64, 64, 64, 16, 4);  // one 64x64 tile, 4 batches of 4 spp: 16384 samples per unit
+  const int64_t good = f.make_worker("good"), bad = f.make_worker("bad");
+  deliver(f, good, 4, 1, 0);      // 1 of 16385: 0.006 %
+  deliver(f, bad, 4, 300, 200);   // 500 of 16884: 3 %
+  const WorkerRecord g = *f.workers.get(good), b = *f.workers.get(bad);
+  EXPECT_EQ(g.samples_returned, 64u * 64u * 4u + 1u);
+  EXPECT_EQ(g.nan_dropped, 1u);
+  EXPECT_EQ(b.nan_dropped, 300u);
+  EXPECT_EQ(b.inf_dropped, 200u);
+  EXPECT_EQ(health_warning(g, 1e-3), "");
+  const std::string warning = health_warning(b, 1e-3);
+  EXPECT_NE(warning.find("NaN/Inf"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("300 NaN, 200 Inf"), std::string::npos) << warning;
+  EXPECT_EQ(health_warning(b, 0.05), "");  // a looser threshold does not report it
+  // Too few samples to judge: nothing reported yet.
+  WorkerRecord fresh = b;
+  fresh.samples_returned = kMinSamplesToJudge - 1;
+  EXPECT_EQ(health_warning(fresh, 1e-3), "");
+}
+
+std::filesystem::path temp_db(const std::string& name) {
+  return std::filesystem::temp_directory_path() /
+         ("tessera-" + name + "-" + std::to_string(::getpid()) + ".db");
+}
+
+void remove_db(const std::filesystem::path& path) {
+  for (const char* suffix : {"", "-wal", "-shm"}) {
+    std::error_code ec;
+    std::filesystem::remove(path.string() + suffix, ec);
+  }
+}
+
+TEST(StoreIntegrity, AHealthyStorePassesAndCheckpointEmptiesTheWal) {
+  const auto path = temp_db("healthy");
+  remove_db(path);
+  {
+    Database db(path.string());
+    migrate(db, 0);
+    EXPECT_NO_THROW(check_integrity(db, path.string()));
+    db.exec("INSERT INTO workers (name, threads, isa, version, registered_unix_ms, last_seen_unix_ms)"
+            " VALUES ('w', 1, 'avx2', '0', 0, 0)");
+    EXPECT_TRUE(checkpoint_wal(db));
+    EXPECT_EQ(std::filesystem::file_size(path.string() + "-wal"), 0u);
+  }
+  remove_db(path);
+}
+
+TEST(StoreIntegrity, ADamagedStoreIsRefusedWithAClearMessage) {
+  const auto path = temp_db("damaged");
+  remove_db(path);
+  {
+    Database db(path.string());
+    migrate(db, 0);
+    for (int i = 0; i < 200; ++i) {
+      db.exec("INSERT INTO workers (name, threads, isa, version, registered_unix_ms,"
+              " last_seen_unix_ms) VALUES ('worker with a long name to fill pages', 1, 'avx2',"
+              " '0', 0, 0)");
+    }
+    checkpoint_wal(db);
+  }
+  // Overwrite the middle of the file (b-tree pages) with garbage, as a torn disk would.
+  const auto size = std::filesystem::file_size(path);
+  ASSERT_GT(size, 3u * 4096u);
+  {
+    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(std::streamoff(4096 + 100));
+    const std::string garbage(size - 4096 - 200, '\x5a');
+    file.write(garbage.data(), std::streamsize(garbage.size()));
+  }
+  std::string message;
+  try {
+    Database db(path.string());
+    check_integrity(db, path.string());
+  } catch (const StoreCorrupt& e) {
+    message = e.what();
+  } catch (const SqliteError& e) {
+    ASSERT_TRUE(is_corruption(e)) << e.what();
+    message = corrupt_store_message(path.string(), e.what());
+  }
+  EXPECT_NE(message.find("is damaged"), std::string::npos) << message;
+  EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+  EXPECT_NE(message.find("restore a backup"), std::string::npos) << message;
+  remove_db(path);
+}
+
+}  // namespace
+}  // namespace tessera::server
