@@ -86,6 +86,11 @@ grpc::Status call(grpc::GenericStub& stub, const std::string& method, const std:
     if (next()) {
       rpc->WritesDone(reinterpret_cast<void*>(3));
       next();
+      // Drain the responses (Finish waits for them to be read).
+      grpc::ByteBuffer response;
+      do {
+        rpc->Read(&response, reinterpret_cast<void*>(5));
+      } while (next());
     }
   }
   rpc->Finish(&status, reinterpret_cast<void*>(4));
