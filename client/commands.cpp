@@ -19,7 +19,8 @@ namespace tessera::client {
 namespace {
 
 JobClient connect(const GlobalOptions& g) {
-  return JobClient(g.server, g.token, g.tls, std::chrono::milliseconds(int64_t(g.timeout_s * 1000)));
+  return JobClient(g.server, g.token, g.tls,
+                   std::chrono::milliseconds(int64_t(g.timeout_s * 1000)));
 }
 
 int fail(const std::string& line) {

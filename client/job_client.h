@@ -22,7 +22,8 @@ class JobClient {
  public:
   /// `timeout` is the deadline of each short call; submit and image downloads get at least
   /// kTransferTimeout (they move whole scene bundles and images).
-  JobClient(const std::string& server, std::string token, const wire::ClientTls& tls, std::chrono::milliseconds timeout);
+  JobClient(const std::string& server, std::string token, const wire::ClientTls& tls,
+            std::chrono::milliseconds timeout);
 
   static constexpr std::chrono::milliseconds kTransferTimeout{300'000};
 

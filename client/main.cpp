@@ -34,12 +34,16 @@ int main(int argc, char** argv) {
       ->envname("TESSERA_TOKEN");
   app.add_option("--token-file", g.token_file, "Read the access token from this file (first line)")
       ->envname("TESSERA_TOKEN_FILE");
-  app.add_option("--tls-ca", g.tls.ca_file, "Use TLS; trust server certificates signed by this CA (PEM)")
+  app.add_option("--tls-ca", g.tls.ca_file,
+                 "Use TLS; trust server certificates signed by this CA (PEM)")
       ->envname("TESSERA_TLS_CA");
-  app.add_flag("--tls", g.tls.enabled, "Use TLS with the system's trusted CAs")->envname("TESSERA_TLS");
-  app.add_option("--tls-cert", g.tls.cert_file, "Client certificate (PEM) for a server that requires mutual TLS")
+  app.add_flag("--tls", g.tls.enabled, "Use TLS with the system's trusted CAs")
+      ->envname("TESSERA_TLS");
+  app.add_option("--tls-cert", g.tls.cert_file,
+                 "Client certificate (PEM) for a server that requires mutual TLS")
       ->envname("TESSERA_TLS_CERT");
-  app.add_option("--tls-key", g.tls.key_file, "Private key (PEM) of --tls-cert")->envname("TESSERA_TLS_KEY");
+  app.add_option("--tls-key", g.tls.key_file, "Private key (PEM) of --tls-cert")
+      ->envname("TESSERA_TLS_KEY");
   app.add_option("--timeout", g.timeout_s, "Deadline of each call in seconds")
       ->envname("TESSERA_TIMEOUT")
       ->check(CLI::Range(0.1, 86400.0))

@@ -8,7 +8,13 @@
 namespace tessera::server {
 
 /// resource_exhausted: a quota (jobs queued per client) is used up; retry when jobs finish.
-enum class ErrorCode { invalid_argument, not_found, failed_precondition, resource_exhausted, internal };
+enum class ErrorCode {
+  invalid_argument,
+  not_found,
+  failed_precondition,
+  resource_exhausted,
+  internal
+};
 
 class FarmError : public std::runtime_error {
  public:

@@ -16,9 +16,10 @@ struct FarmLimits {
   /// Samples per pixel (--max-spp), image width and height (--max-image-size), tile size
   /// (--max-tile): checked by resolve_job_options.
   JobLimits job;
-  uint64_t max_bundle_bytes = uint64_t(512) << 20;  ///< sum of the bundle's file sizes (--max-bundle-mb)
-  uint64_t max_bundle_files = 10'000;               ///< files in a bundle (--max-bundle-files)
-  uint64_t max_triangles = 50'000'000;              ///< triangles in a scene (--max-triangles)
+  uint64_t max_bundle_bytes = uint64_t(512)
+                              << 20;    ///< sum of the bundle's file sizes (--max-bundle-mb)
+  uint64_t max_bundle_files = 10'000;   ///< files in a bundle (--max-bundle-files)
+  uint64_t max_triangles = 50'000'000;  ///< triangles in a scene (--max-triangles)
   /// Unfinished (queued or running) jobs one client may have (--max-queued-jobs); 0 = no limit.
   uint64_t max_queued_jobs_per_client = 100;
 };

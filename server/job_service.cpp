@@ -36,9 +36,8 @@ grpc::Status JobServiceImpl::SubmitJob(grpc::ServerContext* context,
                                        const v1::SubmitJobRequest* request,
                                        v1::SubmitJobResponse* response) {
   return guarded(auth_, *context, "SubmitJob", [&] {
-    *response->mutable_job() =
-        to_proto(coordinator_.submit(request->bundle(), request->options(), request->priority(),
-                                      client_of(*context)));
+    *response->mutable_job() = to_proto(coordinator_.submit(
+        request->bundle(), request->options(), request->priority(), client_of(*context)));
     return grpc::Status::OK;
   });
 }

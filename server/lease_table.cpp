@@ -164,12 +164,12 @@ bool LeaseTable::record_failure(int64_t unit_id, int64_t job_id, int64_t worker_
       batch = uint32_t(q->int64(1));
     }
   }
-  return jobs_.fail_in_transaction(
-      job_id,
-      "unit (tile " + std::to_string(tile) + ", batch " + std::to_string(batch) + ") failed " +
-          std::to_string(attempts) + " time(s) on " + std::to_string(workers) +
-          " worker(s): " + reasons,
-      now);
+  return jobs_.fail_in_transaction(job_id,
+                                   "unit (tile " + std::to_string(tile) + ", batch " +
+                                       std::to_string(batch) + ") failed " +
+                                       std::to_string(attempts) + " time(s) on " +
+                                       std::to_string(workers) + " worker(s): " + reasons,
+                                   now);
 }
 
 int LeaseTable::requeue_where(const std::string& condition, int64_t bound) {

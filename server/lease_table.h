@@ -29,7 +29,8 @@ enum class ReleaseReason { shutdown, failed };
 
 struct ReleaseOutcome {
   bool released = false;   ///< false: the lease was not current, nothing changed
-  bool job_failed = false; ///< the unit failed on enough workers (WorkerHealthPolicy): its job failed
+  bool job_failed =
+      false;  ///< the unit failed on enough workers (WorkerHealthPolicy): its job failed
 };
 
 /// When failures block a worker from a job, and when they fail the job (docs/reliability.md,
@@ -95,7 +96,8 @@ class LeaseTable {
  private:
   int requeue_where(const std::string& condition, int64_t bound);
   /// Records a failure of `unit_id` by `worker_id`; true when it failed the job.
-  bool record_failure(int64_t unit_id, int64_t job_id, int64_t worker_id, const std::string& message);
+  bool record_failure(int64_t unit_id, int64_t job_id, int64_t worker_id,
+                      const std::string& message);
 
   Database& db_;
   JobStore& jobs_;

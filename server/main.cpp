@@ -59,7 +59,8 @@ Tokens resolve_tokens(const Flags& flags) {
   if (!tokens.worker.empty() && tokens.worker == tokens.client &&
       (!flags.worker_token.empty() || !flags.worker_token_file.empty()) &&
       (!flags.client_token.empty() || !flags.client_token_file.empty())) {
-    throw std::runtime_error("--worker-token and --client-token are the same: use --token for one shared token");
+    throw std::runtime_error(
+        "--worker-token and --client-token are the same: use --token for one shared token");
   }
   return tokens;
 }
@@ -69,7 +70,8 @@ void check_listen_policy(const Flags& flags, const Tokens& tokens) {
   if (tessera::wire::is_loopback_address(flags.grpc_address)) return;
   std::string missing;
   if (tokens.client.empty()) missing = "clients (JobService)";
-  if (tokens.worker.empty()) missing += std::string(missing.empty() ? "" : " and ") + "workers (WorkerService)";
+  if (tokens.worker.empty())
+    missing += std::string(missing.empty() ? "" : " and ") + "workers (WorkerService)";
   if (missing.empty()) {
     if (!flags.tls.active()) {
       std::cerr << "tessera-server: warning: listening on " << flags.grpc_address
@@ -151,17 +153,16 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
     return 1;
   }
   const std::string host = flags.grpc_address.substr(0, flags.grpc_address.rfind(':'));
-  std::string security = flags.tls.active()
-                             ? (flags.tls.client_ca_file.empty() ? ", TLS" : ", mutual TLS")
-                             : "";
+  std::string security =
+      flags.tls.active() ? (flags.tls.client_ca_file.empty() ? ", TLS" : ", mutual TLS") : "";
   if (client_auth.enabled() || worker_auth.enabled()) {
     security += tokens.client == tokens.worker ? ", token required"
                 : !client_auth.enabled()       ? ", worker token required"
                 : !worker_auth.enabled()       ? ", client token required"
                                                : ", client and worker tokens required";
   }
-  std::cout << "tessera-server: listening on " << host << ":" << port << " (db " << flags.db
-            << ", " << resumed << " unfinished job(s) resumed" << security << ")" << std::endl;
+  std::cout << "tessera-server: listening on " << host << ":" << port << " (db " << flags.db << ", "
+            << resumed << " unfinished job(s) resumed" << security << ")" << std::endl;
   if (!flags.port_file.empty()) write_port_file(flags.port_file, port);
 
   const auto reap_period = std::chrono::milliseconds(
@@ -184,7 +185,8 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   reaper.reset();
   const bool clean = coordinator.checkpoint();
   std::cout << "tessera-server: stopped"
-            << (clean ? " (WAL checkpointed)" : " (WAL checkpoint incomplete: replayed at next start)")
+            << (clean ? " (WAL checkpointed)"
+                      : " (WAL checkpoint incomplete: replayed at next start)")
             << std::endl;
   return 0;
 }
@@ -212,20 +214,23 @@ int main(int argc, char** argv) {
       ->capture_default_str();
 
   // Authentication and transport (docs/security.md).
-  app.add_option("--token", flags.token,
-                 "shared secret: every call of both services must carry 'authorization: Bearer TOKEN'")
+  app.add_option(
+         "--token", flags.token,
+         "shared secret: every call of both services must carry 'authorization: Bearer TOKEN'")
       ->envname("TESSERA_TOKEN");
   app.add_option("--token-file", flags.token_file, "read --token from this file (first line)")
       ->envname("TESSERA_TOKEN_FILE");
   app.add_option("--worker-token", flags.worker_token,
                  "token of the worker service only (replaces --token there)")
       ->envname("TESSERA_WORKER_TOKEN");
-  app.add_option("--worker-token-file", flags.worker_token_file, "read --worker-token from this file")
+  app.add_option("--worker-token-file", flags.worker_token_file,
+                 "read --worker-token from this file")
       ->envname("TESSERA_WORKER_TOKEN_FILE");
   app.add_option("--client-token", flags.client_token,
                  "token of the job service (CLI, dashboard) only (replaces --token there)")
       ->envname("TESSERA_CLIENT_TOKEN");
-  app.add_option("--client-token-file", flags.client_token_file, "read --client-token from this file")
+  app.add_option("--client-token-file", flags.client_token_file,
+                 "read --client-token from this file")
       ->envname("TESSERA_CLIENT_TOKEN_FILE");
   app.add_option("--tls-cert", flags.tls.cert_file, "serve TLS with this PEM certificate chain")
       ->envname("TESSERA_TLS_CERT");
@@ -271,22 +276,26 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 32768));
   limit_option(app, "--max-spp", limits.job.max_spp, "TESSERA_MAX_SPP", "most samples per pixel")
       ->check(CLI::Range(int64_t(1), int64_t(1) << 31));
-  limit_option(app, "--max-tile", limits.job.max_tile, "TESSERA_MAX_TILE", "largest tile size, pixels")
+  limit_option(app, "--max-tile", limits.job.max_tile, "TESSERA_MAX_TILE",
+               "largest tile size, pixels")
       ->check(CLI::Range(1, 4096));
   limit_option(app, "--max-queued-jobs", limits.max_queued_jobs_per_client,
                "TESSERA_MAX_QUEUED_JOBS", "most unfinished jobs per client host (0: no limit)");
 
   // Worker health (docs/reliability.md).
   limit_option(app, "--block-after-failures", flags.health.failures_to_block,
-               "TESSERA_BLOCK_AFTER_FAILURES", "failed units of one job that block a worker from it")
+               "TESSERA_BLOCK_AFTER_FAILURES",
+               "failed units of one job that block a worker from it")
       ->check(CLI::Range(1, 1000));
-  limit_option(app, "--block-forgive-seconds", flags.forgive_seconds, "TESSERA_BLOCK_FORGIVE_SECONDS",
+  limit_option(app, "--block-forgive-seconds", flags.forgive_seconds,
+               "TESSERA_BLOCK_FORGIVE_SECONDS",
                "a block lapses this long after the worker's last failure on the job")
       ->check(CLI::Range(0.0, 30.0 * 86400.0));
   limit_option(app, "--unit-fail-workers", flags.health.workers_to_fail_unit,
                "TESSERA_UNIT_FAIL_WORKERS", "different workers failing one unit that fail its job")
       ->check(CLI::Range(1, 1000));
-  limit_option(app, "--nan-report-fraction", flags.nan_report_fraction, "TESSERA_NAN_REPORT_FRACTION",
+  limit_option(app, "--nan-report-fraction", flags.nan_report_fraction,
+               "TESSERA_NAN_REPORT_FRACTION",
                "report a worker whose NaN/Inf samples exceed this fraction of its samples")
       ->check(CLI::Range(0.0, 1.0));
   CLI11_PARSE(app, argc, argv);
@@ -301,7 +310,8 @@ int main(int argc, char** argv) {
     return serve(flags, stop_signals);
   } catch (const tessera::server::SqliteError& e) {
     if (tessera::server::is_corruption(e)) {
-      std::cerr << "tessera-server: " << tessera::server::corrupt_store_message(flags.db, e.what()) << "\n";
+      std::cerr << "tessera-server: " << tessera::server::corrupt_store_message(flags.db, e.what())
+                << "\n";
     } else {
       std::cerr << "tessera-server: " << flags.db << ": " << e.what() << "\n";
     }

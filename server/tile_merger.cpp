@@ -119,7 +119,8 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
     uint64_t samples = decoded.nan_dropped + decoded.inf_dropped;
     for (uint32_t n : decoded.count) samples += n;
     db_.prepare(
-           "UPDATE workers SET units_done = units_done + 1, samples_returned = samples_returned + ?,"
+           "UPDATE workers SET units_done = units_done + 1, samples_returned = samples_returned + "
+           "?,"
            " nan_dropped = nan_dropped + ?, inf_dropped = inf_dropped + ? WHERE id = ?")
         ->bind(1, int64_t(samples))
         .bind(2, int64_t(decoded.nan_dropped))

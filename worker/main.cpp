@@ -195,16 +195,20 @@ int main(int argc, char** argv) {
   app.add_option("--server", farm.server, "Server address HOST:PORT")->envname("TESSERA_SERVER");
   app.add_option("--threads", farm.threads, "Render threads (default: all cores)")->check(CLI::NonNegativeNumber);
   app.add_option("--cache", farm.cache_dir, "Folder caching scene bundles")->envname("TESSERA_CACHE");
-  app.add_option("--token", farm.token, "Access token (the server's worker token)")->envname("TESSERA_TOKEN");
+  app.add_option("--token", farm.token, "Access token (the server's worker token)")
+      ->envname("TESSERA_TOKEN");
   std::string token_file;
   app.add_option("--token-file", token_file, "Read the access token from this file (first line)")
       ->envname("TESSERA_TOKEN_FILE");
-  app.add_option("--tls-ca", farm.tls.ca_file, "Use TLS; trust server certificates signed by this CA (PEM)")
+  app.add_option("--tls-ca", farm.tls.ca_file,
+                 "Use TLS; trust server certificates signed by this CA (PEM)")
       ->envname("TESSERA_TLS_CA");
-  app.add_flag("--tls", farm.tls.enabled, "Use TLS with the system's trusted CAs")->envname("TESSERA_TLS");
+  app.add_flag("--tls", farm.tls.enabled, "Use TLS with the system's trusted CAs")
+      ->envname("TESSERA_TLS");
   app.add_option("--tls-cert", farm.tls.cert_file, "Worker certificate (PEM) for mutual TLS")
       ->envname("TESSERA_TLS_CERT");
-  app.add_option("--tls-key", farm.tls.key_file, "Private key (PEM) of --tls-cert")->envname("TESSERA_TLS_KEY");
+  app.add_option("--tls-key", farm.tls.key_file, "Private key (PEM) of --tls-cert")
+      ->envname("TESSERA_TLS_KEY");
   app.add_option("--name", farm.name, "Worker name shown by the server (default: host name and pid)");
 #endif
 

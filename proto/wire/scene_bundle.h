@@ -61,8 +61,8 @@ Scene parse_bundle_scene(const BundleContents& bundle);
 /// Builds the bundle of a scene file on disk: the scene file (at the bundle's root) and every
 /// file in Scene::referenced_files, read through folder_reader (which refuses files outside the
 /// scene's folder, and symbolic links anywhere below it); the scene file itself must not be a
-/// symbolic link either. Validates with load_scene_file first (the parsed scene goes to `scene` when
-/// not null); throws SceneError on a bad scene.
+/// symbolic link either. Validates with load_scene_file first (the parsed scene goes to `scene`
+/// when not null); throws SceneError on a bad scene.
 BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene = nullptr);
 
 }  // namespace tessera::wire

@@ -49,7 +49,8 @@ std::shared_ptr<grpc::ServerCredentials> server_credentials(const ServerTls& tls
   check_pair(tls.cert_file, tls.key_file, "--tls-cert", "--tls-key");
   if (!tls.active()) {
     if (!tls.client_ca_file.empty()) {
-      throw std::runtime_error("--tls-client-ca needs --tls-cert and --tls-key (mutual TLS is TLS)");
+      throw std::runtime_error(
+          "--tls-client-ca needs --tls-cert and --tls-key (mutual TLS is TLS)");
     }
     return grpc::InsecureServerCredentials();
   }
@@ -62,7 +63,8 @@ std::shared_ptr<grpc::ServerCredentials> server_credentials(const ServerTls& tls
   return grpc::SslServerCredentials(options);
 }
 
-std::string resolve_token(const std::string& token, const std::string& file, const std::string& what) {
+std::string resolve_token(const std::string& token, const std::string& file,
+                          const std::string& what) {
   if (file.empty()) return token;
   if (!token.empty()) {
     throw std::runtime_error(what + " and " + what + "-file both given: use one");

@@ -12,7 +12,8 @@ namespace tessera::wire {
 
 /// A client's side of TLS. Every path empty: plain TCP (insecure channel).
 struct ClientTls {
-  std::string ca_file;    ///< PEM CA bundle that signed the server's certificate; empty = system roots
+  std::string
+      ca_file;  ///< PEM CA bundle that signed the server's certificate; empty = system roots
   std::string cert_file;  ///< PEM client certificate (mutual TLS); needs key_file
   std::string key_file;   ///< PEM private key of cert_file
   /// Use TLS even with no file given (system roots). Set by any of the files above too.
@@ -44,7 +45,8 @@ std::string read_text_file(const std::string& path);
 /// file's first line with surrounding whitespace removed. Throws std::runtime_error when both
 /// are given, or when the file cannot be read or holds an empty token. `what` names the flag in
 /// messages ("--token").
-std::string resolve_token(const std::string& token, const std::string& file, const std::string& what);
+std::string resolve_token(const std::string& token, const std::string& file,
+                          const std::string& what);
 
 /// True when HOST:PORT's host is a loopback address: "127.x.y.z", "localhost", "::1" (also in
 /// brackets). "0.0.0.0", "[::]", host names and other addresses are not.

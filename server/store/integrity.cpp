@@ -35,7 +35,8 @@ void check_integrity(Database& db, const std::string& path) {
 bool checkpoint_wal(Database& db) {
   auto q = db.prepare("PRAGMA wal_checkpoint(TRUNCATE)");
   if (!q->step()) return false;
-  return q->int64(0) == 0;  // column 0: 1 when a reader or writer kept the checkpoint from completing
+  return q->int64(0) ==
+         0;  // column 0: 1 when a reader or writer kept the checkpoint from completing
 }
 
 }  // namespace tessera::server

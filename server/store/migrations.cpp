@@ -130,7 +130,7 @@ CREATE TABLE job_contributors (
 )sql"},
       // Version 2 is the stopping rules' (time/noise). Numbers are fixed once released: a
       // database records which it has, and migrate() applies the missing ones in order.
-      {3, "worker health (failures per unit and worker, forgiveness, NaN/Inf per worker), jobs per client", R"sql(
+      {3, "worker health (unit failures per worker, forgiveness, NaN/Inf), jobs per client", R"sql(
 -- When the worker last failed the job: a block lapses --block-forgive-seconds after it.
 ALTER TABLE job_worker_failures ADD COLUMN last_failure_unix_ms INTEGER NOT NULL DEFAULT 0;
 
@@ -176,8 +176,8 @@ int migrate(Database& db, int64_t now_unix_ms) {
   const int newest = all.empty() ? 0 : all.back().version;
   if (version > newest) {
     throw std::runtime_error("database schema version " + std::to_string(version) +
-                             " is newer than this tessera-server knows (" +
-                             std::to_string(newest) + ")");
+                             " is newer than this tessera-server knows (" + std::to_string(newest) +
+                             ")");
   }
   for (const Migration& m : all) {
     // Each migration applied once, by number (a gap in the numbers is allowed).

@@ -75,7 +75,8 @@ grpc::Status call(grpc::GenericStub& stub, const std::string& method, const std:
     EXPECT_TRUE(cq.Next(&tag, &ok));
     return ok;
   };
-  std::unique_ptr<grpc::GenericClientAsyncReaderWriter> rpc = stub.PrepareCall(&context, method, &cq);
+  std::unique_ptr<grpc::GenericClientAsyncReaderWriter> rpc =
+      stub.PrepareCall(&context, method, &cq);
   rpc->StartCall(reinterpret_cast<void*>(1));
   grpc::Status status;
   if (next()) {
@@ -167,18 +168,15 @@ TEST(TransportSecurity, LoopbackAddresses) {
 }
 
 TEST(TransportSecurity, TokensFromFiles) {
-  const auto path = std::filesystem::temp_directory_path() /
-                    ("tessera-token-" + std::to_string(::getpid()));
-  {
-    std::ofstream(path) << "  s3cret \nsecond line ignored\n";
-  }
+  const auto path =
+      std::filesystem::temp_directory_path() / ("tessera-token-" + std::to_string(::getpid()));
+  { std::ofstream(path) << "  s3cret \nsecond line ignored\n"; }
   EXPECT_EQ(wire::resolve_token("", path.string(), "--token"), "s3cret");
   EXPECT_EQ(wire::resolve_token("direct", "", "--token"), "direct");
   EXPECT_THROW(wire::resolve_token("direct", path.string(), "--token"), std::runtime_error);
-  EXPECT_THROW(wire::resolve_token("", (path.string() + ".missing"), "--token"), std::runtime_error);
-  {
-    std::ofstream(path) << "\n";
-  }
+  EXPECT_THROW(wire::resolve_token("", (path.string() + ".missing"), "--token"),
+               std::runtime_error);
+  { std::ofstream(path) << "\n"; }
   EXPECT_THROW(wire::resolve_token("", path.string(), "--token"), std::runtime_error);
   std::filesystem::remove(path);
 }

@@ -24,7 +24,8 @@ std::string mesh_scene(const std::string& mesh) {
   return R"({"tessera": 1, "camera": {"position": [0,0,3], "look_at": [0,0,0], "fov": 40},
     "film": {"width": 16, "height": 16}, "render": {"spp": 8},
     "materials": {"white": {"type": "diffuse", "reflectance": [0.5,0.5,0.5]}},
-    "shapes": [{"type": "mesh", "file": ")" + mesh + R"(", "material": "white"},
+    "shapes": [{"type": "mesh", "file": ")" +
+         mesh + R"(", "material": "white"},
                {"type": "quad", "vertices": [[-1,2,-1],[1,2,-1],[1,2,1],[-1,2,1]], "emission": [5,5,5]}]})";
 }
 
@@ -36,8 +37,10 @@ std::string ply_strip(int faces) {
       << "\nproperty list uchar int vertex_indices\nend_header\n";
   for (int i = 0; i < faces + 2; ++i) out << 0.1 * i << " " << (i % 2) << " 0\n";
   for (int i = 0; i < faces; ++i) {
-    if (i % 2 == 0) out << "3 " << i << " " << i + 1 << " " << i + 2 << "\n";
-    else out << "3 " << i + 1 << " " << i << " " << i + 2 << "\n";
+    if (i % 2 == 0)
+      out << "3 " << i << " " << i + 1 << " " << i + 2 << "\n";
+    else
+      out << "3 " << i + 1 << " " << i << " " << i + 2 << "\n";
   }
   return out.str();
 }
@@ -70,8 +73,7 @@ struct Farm {
 
   /// The refusal's message ("" when accepted); `code` gets its code.
   std::string refusal(const v1::SceneBundle& b, const v1::JobRequestOptions& options = {},
-                      const std::string& client = "ipv4:127.0.0.1",
-                      ErrorCode* code = nullptr) {
+                      const std::string& client = "ipv4:127.0.0.1", ErrorCode* code = nullptr) {
     try {
       coordinator->submit(b, options, 0, client);
     } catch (const FarmError& e) {
@@ -109,17 +111,22 @@ TEST(Limits, TrianglesCountedFromHeadersBeforeParsing) {
   Farm farm(limits);
   // 8 mesh triangles + the light quad's 2.
   EXPECT_EQ(farm.refusal(bundle(mesh_scene("strip.ply"), {{"strip.ply", ply_strip(8)}})), "");
-  const std::string over = farm.refusal(bundle(mesh_scene("strip.ply"), {{"strip.ply", ply_strip(13)}}));
+  const std::string over =
+      farm.refusal(bundle(mesh_scene("strip.ply"), {{"strip.ply", ply_strip(13)}}));
   expect_refused(over, "--max-triangles");
   EXPECT_NE(over.find("strip.ply: declared faces 13"), std::string::npos) << over;
   // Within the limit in the file, over it with the rest of the scene: the parsed scene's count.
-  const std::string scene = farm.refusal(bundle(mesh_scene("strip.ply"), {{"strip.ply", ply_strip(11)}}));
+  const std::string scene =
+      farm.refusal(bundle(mesh_scene("strip.ply"), {{"strip.ply", ply_strip(11)}}));
   expect_refused(scene, "--max-triangles");
   EXPECT_NE(scene.find("scene: triangle count 13"), std::string::npos) << scene;
   // An OBJ file's face lines count the same way.
   std::string obj;
-  for (int i = 0; i < 15; ++i) obj += "v " + std::to_string(i) + " " + std::to_string(i % 2) + " 0\n";
-  for (int i = 1; i <= 13; ++i) obj += "f " + std::to_string(i) + " " + std::to_string(i + 1) + " " + std::to_string(i + 2) + "\n";
+  for (int i = 0; i < 15; ++i)
+    obj += "v " + std::to_string(i) + " " + std::to_string(i % 2) + " 0\n";
+  for (int i = 1; i <= 13; ++i)
+    obj +=
+        "f " + std::to_string(i) + " " + std::to_string(i + 1) + " " + std::to_string(i + 2) + "\n";
   expect_refused(farm.refusal(bundle(mesh_scene("m.obj"), {{"m.obj", obj}})), "--max-triangles");
 }
 

@@ -38,8 +38,8 @@ TEST(WorkerHealth, NanAndInfSamplesAreCountedPerWorkerAndReportedPastTheThreshol
   StoreFixture f;
   f.make_job(64, 64, 64, 16, 4);  // one 64x64 tile, 4 batches of 4 spp: 16384 samples per unit
   const int64_t good = f.make_worker("good"), bad = f.make_worker("bad");
-  deliver(f, good, 4, 1, 0);      // 1 of 16385: 0.006 %
-  deliver(f, bad, 4, 300, 200);   // 500 of 16884: 3 %
+  deliver(f, good, 4, 1, 0);     // 1 of 16385: 0.006 %
+  deliver(f, bad, 4, 300, 200);  // 500 of 16884: 3 %
   const WorkerRecord g = *f.workers.get(good), b = *f.workers.get(bad);
   EXPECT_EQ(g.samples_returned, 64u * 64u * 4u + 1u);
   EXPECT_EQ(g.nan_dropped, 1u);
@@ -75,8 +75,9 @@ TEST(StoreIntegrity, AHealthyStorePassesAndCheckpointEmptiesTheWal) {
     Database db(path.string());
     migrate(db, 0);
     EXPECT_NO_THROW(check_integrity(db, path.string()));
-    db.exec("INSERT INTO workers (name, threads, isa, version, registered_unix_ms, last_seen_unix_ms)"
-            " VALUES ('w', 1, 'avx2', '0', 0, 0)");
+    db.exec(
+        "INSERT INTO workers (name, threads, isa, version, registered_unix_ms, last_seen_unix_ms)"
+        " VALUES ('w', 1, 'avx2', '0', 0, 0)");
     EXPECT_TRUE(checkpoint_wal(db));
     EXPECT_EQ(std::filesystem::file_size(path.string() + "-wal"), 0u);
   }
@@ -90,9 +91,10 @@ TEST(StoreIntegrity, ADamagedStoreIsRefusedWithAClearMessage) {
     Database db(path.string());
     migrate(db, 0);
     for (int i = 0; i < 200; ++i) {
-      db.exec("INSERT INTO workers (name, threads, isa, version, registered_unix_ms,"
-              " last_seen_unix_ms) VALUES ('worker with a long name to fill pages', 1, 'avx2',"
-              " '0', 0, 0)");
+      db.exec(
+          "INSERT INTO workers (name, threads, isa, version, registered_unix_ms,"
+          " last_seen_unix_ms) VALUES ('worker with a long name to fill pages', 1, 'avx2',"
+          " '0', 0, 0)");
     }
     checkpoint_wal(db);
   }

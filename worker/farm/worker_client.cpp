@@ -16,8 +16,7 @@ constexpr milliseconds kReleaseTimeout{10'000};
 
 }  // namespace
 
-WorkerClient::WorkerClient(const std::string& server, std::string token,
-                           const wire::ClientTls& tls)
+WorkerClient::WorkerClient(const std::string& server, std::string token, const wire::ClientTls& tls)
     : token_(std::move(token)),
       stub_(v1::WorkerService::NewStub(wire::make_channel(server, tls))) {}
 

@@ -23,11 +23,12 @@ struct Certificates {
   std::filesystem::path ca, server_cert, server_key, client_cert, client_key, rogue_cert, rogue_key;
 };
 
-void run_openssl(const std::filesystem::path& dir, const std::vector<std::string>& args, int& step) {
+void run_openssl(const std::filesystem::path& dir, const std::vector<std::string>& args,
+                 int& step) {
   std::vector<std::string> argv = {"/usr/bin/openssl"};
   argv.insert(argv.end(), args.begin(), args.end());
-  const CommandResult r = run_command(argv, dir / ("openssl-" + std::to_string(step++)), {},
-                                      std::chrono::minutes(2));
+  const CommandResult r =
+      run_command(argv, dir / ("openssl-" + std::to_string(step++)), {}, std::chrono::minutes(2));
   ASSERT_EQ(r.exit_code, 0) << "openssl " << args.front() << ": " << r.err;
 }
 
@@ -49,13 +50,31 @@ Certificates make_certificates(const std::filesystem::path& dir) {
     head.insert(head.end(), tail.begin(), tail.end());
     return head;
   };
-  run_openssl(dir, with(with({"req", "-x509"}, ec), {"-keyout", p("ca.key"), "-out", c.ca, "-days", "1", "-subj", "/CN=tessera-test-ca"}), step);
-  run_openssl(dir, with(with({"req"}, ec), {"-keyout", c.server_key, "-out", p("server.csr"), "-subj", "/CN=127.0.0.1"}), step);
-  run_openssl(dir, {"x509", "-req", "-in", p("server.csr"), "-CA", c.ca, "-CAkey", p("ca.key"), "-CAcreateserial", "-out", c.server_cert, "-days", "1", "-extfile", p("server.ext")}, step);
-  run_openssl(dir, with(with({"req"}, ec), {"-keyout", c.client_key, "-out", p("client.csr"), "-subj", "/CN=tessera-worker"}), step);
-  run_openssl(dir, {"x509", "-req", "-in", p("client.csr"), "-CA", c.ca, "-CAkey", p("ca.key"), "-CAcreateserial", "-out", c.client_cert, "-days", "1"}, step);
+  run_openssl(dir,
+              with(with({"req", "-x509"}, ec), {"-keyout", p("ca.key"), "-out", c.ca, "-days", "1",
+                                                "-subj", "/CN=tessera-test-ca"}),
+              step);
+  run_openssl(dir,
+              with(with({"req"}, ec),
+                   {"-keyout", c.server_key, "-out", p("server.csr"), "-subj", "/CN=127.0.0.1"}),
+              step);
+  run_openssl(dir,
+              {"x509", "-req", "-in", p("server.csr"), "-CA", c.ca, "-CAkey", p("ca.key"),
+               "-CAcreateserial", "-out", c.server_cert, "-days", "1", "-extfile", p("server.ext")},
+              step);
+  run_openssl(dir,
+              with(with({"req"}, ec), {"-keyout", c.client_key, "-out", p("client.csr"), "-subj",
+                                       "/CN=tessera-worker"}),
+              step);
+  run_openssl(dir,
+              {"x509", "-req", "-in", p("client.csr"), "-CA", c.ca, "-CAkey", p("ca.key"),
+               "-CAcreateserial", "-out", c.client_cert, "-days", "1"},
+              step);
   // A self-signed certificate the server's CA never signed.
-  run_openssl(dir, with(with({"req", "-x509"}, ec), {"-keyout", c.rogue_key, "-out", c.rogue_cert, "-days", "1", "-subj", "/CN=rogue"}), step);
+  run_openssl(dir,
+              with(with({"req", "-x509"}, ec), {"-keyout", c.rogue_key, "-out", c.rogue_cert,
+                                                "-days", "1", "-subj", "/CN=rogue"}),
+              step);
   return c;
 }
 
@@ -66,8 +85,8 @@ std::vector<std::string> strings(std::initializer_list<std::filesystem::path> pa
 }
 
 void expect_tiny_job_renders(FarmCluster& farm, const std::vector<std::string>& extra = {}) {
-  std::vector<std::string> args = {"submit", kTiny, "--spp", "4", "--json", "-o",
-                                   (farm.dir() / "tiny.png").string()};
+  std::vector<std::string> args = {
+      "submit", kTiny, "--spp", "4", "--json", "-o", (farm.dir() / "tiny.png").string()};
   const CommandResult r = farm.cli(args, extra);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json job = nlohmann::json::parse(r.out);
@@ -90,10 +109,10 @@ TEST(SecurityE2E, TlsServerWorkerAndCliRenderAJob) {
                                            "tls-token", "--timeout", "10", "list"},
                                           farm.dir() / "plain");
   EXPECT_EQ(plain.exit_code, 1);
-  const CommandResult untrusted = run_command(
-      {TESSERA_CLI_BIN, "--server", farm.address(), "--tls-ca", c.rogue_cert.string(), "--token",
-       "tls-token", "--timeout", "10", "list"},
-      farm.dir() / "untrusted");
+  const CommandResult untrusted =
+      run_command({TESSERA_CLI_BIN, "--server", farm.address(), "--tls-ca", c.rogue_cert.string(),
+                   "--token", "tls-token", "--timeout", "10", "list"},
+                  farm.dir() / "untrusted");
   EXPECT_EQ(untrusted.exit_code, 1);
 }
 
@@ -108,16 +127,18 @@ TEST(SecurityE2E, MutualTlsAdmitsOnlyPeersWithACertificateFromTheCa) {
                      c.client_key.string()});
   farm.start_server({"--tls-cert", c.server_cert.string(), "--tls-key", c.server_key.string(),
                      "--tls-client-ca", c.ca.string()});
-  farm.start_worker(strings({"--tls-ca", c.ca, "--tls-cert", c.client_cert, "--tls-key", c.client_key}));
+  farm.start_worker(
+      strings({"--tls-ca", c.ca, "--tls-cert", c.client_cert, "--tls-key", c.client_key}));
   expect_tiny_job_renders(farm);
   // Without a client certificate, or with one the CA did not sign: refused.
   for (const auto& extra : {std::vector<std::string>{},
                             strings({"--tls-cert", c.rogue_cert, "--tls-key", c.rogue_key})}) {
-    std::vector<std::string> argv = {TESSERA_CLI_BIN, "--server", farm.address(), "--tls-ca",
-                                     c.ca.string(), "--timeout", "10"};
+    std::vector<std::string> argv = {
+        TESSERA_CLI_BIN, "--server", farm.address(), "--tls-ca", c.ca.string(), "--timeout", "10"};
     argv.insert(argv.end(), extra.begin(), extra.end());
     argv.push_back("list");
-    const CommandResult r = run_command(argv, farm.dir() / ("no-cert-" + std::to_string(extra.size())));
+    const CommandResult r =
+        run_command(argv, farm.dir() / ("no-cert-" + std::to_string(extra.size())));
     EXPECT_EQ(r.exit_code, 1) << r.out;
   }
 }
@@ -149,9 +170,10 @@ TEST(SecurityE2E, NonLoopbackWithoutATokenIsRefusedAtStartUp) {
   EXPECT_NE(r.err.find("--insecure"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   // A role without its token is refused the same way.
-  const CommandResult half = run_command({TESSERA_SERVER_BIN, "--grpc", "[::]:0", "--client-token",
-                                          "only-clients", "--db", (farm.dir() / "farm.db").string()},
-                                         farm.dir() / "server-half");
+  const CommandResult half =
+      run_command({TESSERA_SERVER_BIN, "--grpc", "[::]:0", "--client-token", "only-clients", "--db",
+                   (farm.dir() / "farm.db").string()},
+                  farm.dir() / "server-half");
   EXPECT_EQ(half.exit_code, 1);
   EXPECT_NE(half.err.find("workers (WorkerService)"), std::string::npos) << half.err;
 }
@@ -202,9 +224,8 @@ TEST(SecurityE2E, ADamagedDatabaseIsRefusedAtStartUp) {
   FarmCluster farm("damaged");
   const auto db = farm.dir() / "farm.db";
   std::ofstream(db, std::ios::binary) << std::string(8192, '\x42');  // not a database at all
-  const CommandResult r = run_command({TESSERA_SERVER_BIN, "--grpc", "127.0.0.1:0", "--db",
-                                       db.string()},
-                                      farm.dir() / "server");
+  const CommandResult r = run_command(
+      {TESSERA_SERVER_BIN, "--grpc", "127.0.0.1:0", "--db", db.string()}, farm.dir() / "server");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("is damaged"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("refusing to serve it"), std::string::npos) << r.err;
