@@ -5,8 +5,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "accum/accumulation_codec.h"
+#include "coordinator.h"
 #include "store/integrity.h"
 #include "store_fixture.h"
 
@@ -121,6 +123,55 @@ TEST(StoreIntegrity, ADamagedStoreIsRefusedWithAClearMessage) {
   EXPECT_NE(message.find(path.string()), std::string::npos) << message;
   EXPECT_NE(message.find("restore a backup"), std::string::npos) << message;
   remove_db(path);
+}
+
+}  // namespace
+}  // namespace tessera::server
+
+namespace tessera::server {
+namespace {
+
+TEST(GracefulShutdown, StopLeasingRefusesNewLeasesButCommitsResultsInFlight) {
+  testing::FakeClock clock;
+  CoordinatorConfig config;
+  config.db_path = ":memory:";
+  config.output_dir = std::filesystem::temp_directory_path() /
+                      ("tessera-shutdown-test-" + std::to_string(::getpid()));
+  Coordinator coordinator(config, clock);
+  v1::SceneBundle bundle;
+  bundle.set_scene_file("scene.json");
+  auto* file = bundle.add_files();
+  file->set_path("scene.json");
+  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/tiny.json");
+  file->set_data(std::string(std::istreambuf_iterator<char>(in), {}));
+  v1::JobRequestOptions options;
+  options.set_spp(2);
+  options.set_batch_spp(1);  // one 16x16 tile, 2 batches
+  const JobRecord job = coordinator.submit(bundle, options, 0, "test");
+  const int64_t worker = coordinator.register_worker({"w", 1, "avx2", "0"});
+  const std::optional<LeasedUnit> unit = coordinator.lease(worker, std::chrono::milliseconds(0), {});
+  ASSERT_TRUE(unit);
+
+  coordinator.stop_leasing();
+  // A long poll returns at once with no work, and nothing new is leased.
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(coordinator.lease(worker, std::chrono::milliseconds(60'000), {}), std::nullopt);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(30));
+  const int64_t other = coordinator.register_worker({"other", 1, "avx2", "0"});
+  EXPECT_EQ(coordinator.lease(other, std::chrono::milliseconds(0), {}), std::nullopt);
+  // The unit in flight still delivers, and its result is committed.
+  UnitResult r;
+  r.worker_id = worker;
+  r.lease_id = unit->lease.lease_id;
+  r.job_id = unit->lease.job_id;
+  r.tile = unit->lease.tile;
+  r.batch = unit->lease.batch;
+  r.encoded = encode_accumulation(StoreFixture::synthetic(unit->rect, unit->lease.batch, 1));
+  r.isa = "avx2";
+  EXPECT_TRUE(coordinator.upload(r).accepted);
+  EXPECT_EQ(coordinator.job(job.id).counters.results_merged, 1u);
+  EXPECT_TRUE(coordinator.checkpoint());
+  std::filesystem::remove_all(config.output_dir);
 }
 
 }  // namespace
