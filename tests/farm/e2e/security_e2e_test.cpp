@@ -178,6 +178,20 @@ TEST(SecurityE2E, NonLoopbackWithoutATokenIsRefusedAtStartUp) {
   EXPECT_NE(half.err.find("workers (WorkerService)"), std::string::npos) << half.err;
 }
 
+TEST(SecurityE2E, ServerLimitFlagsRefuseJobsWithTheirReason) {
+  FarmCluster farm("limits");
+  farm.start_server({"--max-spp", "16", "--max-queued-jobs", "1"});
+  const CommandResult spp = farm.cli({"submit", kTiny, "--spp", "17"});
+  EXPECT_EQ(spp.exit_code, 1);
+  EXPECT_NE(spp.err.find("--spp: must be in [1, 16] (got 17)"), std::string::npos) << spp.err;
+  EXPECT_EQ(std::count(spp.err.begin(), spp.err.end(), '\n'), 1) << spp.err;
+  ASSERT_NE(farm.submit({kTiny, "--spp", "16"}), 0u);  // no worker: it stays queued
+  const CommandResult quota = farm.cli({"submit", kTiny, "--spp", "4"});
+  EXPECT_EQ(quota.exit_code, 1);
+  EXPECT_NE(quota.err.find("RESOURCE_EXHAUSTED"), std::string::npos) << quota.err;
+  EXPECT_NE(quota.err.find("--max-queued-jobs"), std::string::npos) << quota.err;
+}
+
 TEST(SecurityE2E, ClientRefusesToBundleSymbolicLinks) {
   FarmCluster farm("symlinks");
   farm.start_server();
