@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "scene/scene_error.h"
 #include "wire/sha256.h"
 
 namespace tessera::wire {
@@ -88,6 +89,26 @@ TEST(SceneBundle, ReaderResolvesRelativeToTheSceneFolder) {
   const FileReader read = bundle_reader(b);
   EXPECT_EQ(read("meshes/a.ply"), "A");
   EXPECT_THROW(read("meshes/b.ply"), std::exception);
+}
+
+}  // namespace
+}  // namespace tessera::wire
+
+namespace tessera::wire {
+namespace {
+
+TEST(SceneBundle, ReaderServesOnlyTheBundlesOwnFiles) {
+  BundleContents b;
+  b.scene_file = "scenes/scene.json";
+  b.files = {{"scenes/scene.json", "{}"}, {"scenes/meshes/m.ply", "mesh"}, {"top.txt", "top"}};
+  const FileReader reader = bundle_reader(b);
+  EXPECT_EQ(reader("meshes/m.ply"), "mesh");
+  EXPECT_EQ(reader("./meshes/m.ply"), "mesh");  // "." components are dropped
+  // Nothing outside the scene's folder, even inside the bundle; nothing absolute; never disk.
+  for (const char* path : {"../top.txt", "/etc/passwd", "meshes/../../top.txt", "C:\\x", "",
+                           "meshes//m.ply"}) {
+    EXPECT_THROW(reader(path), SceneError) << path;
+  }
 }
 
 }  // namespace
