@@ -15,6 +15,7 @@
 #include "coordinator.h"
 #include "job_service.h"
 #include "lease_reaper.h"
+#include "listen_policy.h"
 #include "store/integrity.h"
 #include "wire/bearer_token.h"
 #include "wire/rpc_channel.h"
@@ -66,28 +67,15 @@ Tokens resolve_tokens(const Flags& flags) {
 }
 
 /// Refuses to expose an unauthenticated service beyond this machine (docs/security.md).
-void check_listen_policy(const Flags& flags, const Tokens& tokens) {
-  if (tessera::wire::is_loopback_address(flags.grpc_address)) return;
+void check_grpc_listen_policy(const Flags& flags, const Tokens& tokens) {
   std::string missing;
   if (tokens.client.empty()) missing = "clients (JobService)";
-  if (tokens.worker.empty())
+  if (tokens.worker.empty()) {
     missing += std::string(missing.empty() ? "" : " and ") + "workers (WorkerService)";
-  if (missing.empty()) {
-    if (!flags.tls.active()) {
-      std::cerr << "tessera-server: warning: listening on " << flags.grpc_address
-                << " without TLS: tokens and scenes cross the network in clear (see --tls-cert)"
-                << std::endl;
-    }
-    return;
   }
-  if (!flags.insecure) {
-    throw std::runtime_error("refusing to listen on non-loopback address " + flags.grpc_address +
-                             " with no token for " + missing +
-                             ": set --token (or --token-file, TESSERA_TOKEN), or pass --insecure"
-                             " to serve anyone who can reach it");
-  }
-  std::cerr << "tessera-server: warning: --insecure: serving " << missing << " on "
-            << flags.grpc_address << " WITHOUT authentication" << std::endl;
+  const std::string warning = tessera::server::check_listen_policy(
+      flags.grpc_address, missing, flags.tls.active(), flags.insecure);
+  if (!warning.empty()) std::cerr << "tessera-server: warning: " << warning << std::endl;
 }
 
 void write_port_file(const std::string& path, int port) {
@@ -103,7 +91,7 @@ void write_port_file(const std::string& path, int port) {
 int serve(const Flags& flags, const sigset_t& stop_signals) {
   namespace ts = tessera::server;
   const Tokens tokens = resolve_tokens(flags);
-  check_listen_policy(flags, tokens);
+  check_grpc_listen_policy(flags, tokens);
   const std::shared_ptr<grpc::ServerCredentials> credentials =
       tessera::wire::server_credentials(flags.tls);
   if (flags.db != ":memory:") {

@@ -15,6 +15,7 @@
 #include "fake_clock.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "job_service.h"
+#include "listen_policy.h"
 #include "wire/rpc_channel.h"
 #include "wire/transport_security.h"
 #include "worker_service.h"
@@ -165,6 +166,27 @@ TEST(TransportSecurity, LoopbackAddresses) {
                         "127.0.0.1.example.com:1", "128.0.0.1:1", ":50051"}) {
     EXPECT_FALSE(wire::is_loopback_address(a)) << a;
   }
+}
+
+TEST(TransportSecurity, ListenPolicy) {
+  // Loopback: anything goes, silently.
+  EXPECT_EQ(check_listen_policy("127.0.0.1:50051", "clients (JobService)", false, false), "");
+  // Beyond loopback: refused while something is unauthenticated...
+  try {
+    check_listen_policy("0.0.0.0:8080", "the dashboard", false, false);
+    ADD_FAILURE() << "not refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("refusing to listen on non-loopback address 0.0.0.0:8080"
+                                         " with no token for the dashboard"),
+              std::string::npos)
+        << e.what();
+  }
+  // ...unless --insecure (a warning), and warned about plain TCP when tokens are set.
+  EXPECT_NE(check_listen_policy("0.0.0.0:1", "x", false, true).find("WITHOUT authentication"),
+            std::string::npos);
+  EXPECT_NE(check_listen_policy("10.0.0.7:1", "", false, false).find("without TLS"),
+            std::string::npos);
+  EXPECT_EQ(check_listen_policy("10.0.0.7:1", "", true, false), "");
 }
 
 TEST(TransportSecurity, TokensFromFiles) {
