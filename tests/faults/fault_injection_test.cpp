@@ -380,7 +380,7 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
   };
 
   int cuts = 0;
-  for (int round = 0; round < rounds && !HasFailure(); ++round) {
+  for (int round = 0; round < rounds && !::testing::Test::HasFailure(); ++round) {
     const auto options = tiny_job(rng() % 1000, 512, 4);
     std::vector<std::string> submit = {"submit", cornell_scene().string(), "--json"};
     submit.insert(submit.end(), options.begin(), options.end());
@@ -413,7 +413,7 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
               << std::endl;
   }
   // After the cuts the worker across the link must work again: a last job with it alone.
-  if (!HasFailure()) {
+  if (!::testing::Test::HasFailure()) {
     near_worker.signal(SIGKILL);
     near_worker.wait_for(kPatience);
     const auto options = tiny_job(7, 64, 16);
@@ -425,7 +425,7 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
     ASSERT_TRUE(poll_until(
         [&] {
           const nlohmann::json s = cli_status(cli, id);
-          return s.is_null() || s.at("state") != "queued" && s.at("state") != "running";
+          return s.is_null() || (s.at("state") != "queued" && s.at("state") != "running");
         },
         kPatience));
     verify_job(cli_status(cli, id), db, options, dir, "after the cuts, the cut worker alone");

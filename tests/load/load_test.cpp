@@ -230,7 +230,7 @@ TEST(Load, SixtyFourWorkersTwentyJobsNothingLostNoDeadlock) {
   }
 
   // Every job must end within the bound.
-  std::vector<v1::JobInfo> infos(size_t(jobs));
+  std::vector<v1::JobInfo> infos(static_cast<size_t>(jobs));
   bool all_done = false;
   const auto deadline = t_submit + bound;
   while (!all_done && Clock::now() < deadline && !shared.stop) {
