@@ -379,25 +379,61 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
     return s.is_null() ? uint64_t(0) : s.at("counters").at("results_merged").get<uint64_t>();
   };
 
-  int cuts = 0;
+  auto across_holds_lease = [&] {
+    const CommandResult w = cli({"workers", "--json"});
+    if (w.exit_code != 0) return false;
+    for (const auto& worker : nlohmann::json::parse(w.out)) {
+      if (worker.at("name") == "across-the-link" && !worker.at("job_id").is_null()) return true;
+    }
+    return false;
+  };
+  int cuts = 0, cuts_with_expiry = 0;
   for (int round = 0; round < rounds && !::testing::Test::HasFailure(); ++round) {
-    const auto options = tiny_job(rng() % 1000, 512, 4);
+    // 2,048 units: the job outlasts the cut even with the worker beside the server alone.
+    const auto options = tiny_job(rng() % 1000, 1024, 2);
     std::vector<std::string> submit = {"submit", cornell_scene().string(), "--json"};
     submit.insert(submit.end(), options.begin(), options.end());
     const CommandResult r = cli(submit);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const uint64_t id = nlohmann::json::parse(r.out).at("id").get<uint64_t>();
     const uint64_t total = cli_status(cli, id).at("counters").at("units_total").get<uint64_t>();
-    const uint64_t point = fault_points(rng, uint32_t(total / 3), 1).front();
+    const uint64_t point = fault_points(rng, uint32_t(total / 4), 1).front();
     ASSERT_TRUE(poll_until([&] { return merged(id) >= point; }, kPatience));
-    // Down for longer than the lease (1 s), so the server takes the unit back; then up again.
-    ASSERT_TRUE(net.set_worker_link(false));
-    const uint64_t at_cut = merged(id);
-    const int down_ms = 3000 + std::uniform_int_distribution<int>(0, 2000)(rng);
-    std::this_thread::sleep_for(std::chrono::milliseconds(down_ms));
-    const uint64_t during = merged(id);
-    ASSERT_TRUE(net.set_worker_link(true));
-    ++cuts;
+    // Cut while the worker across the link holds a lease. Cut first, then ask the server:
+    // with the link down the worker can no longer deliver, so what the server says holds. If it
+    // holds nothing, restore the link and try again a little later.
+    nlohmann::json at_cut, during;
+    uint64_t expired = 0;
+    int down_ms = 0, attempts = 0;
+    bool caught = false;
+    while (!caught && attempts < 100 && merged(id) < total) {
+      ++attempts;
+      ASSERT_TRUE(net.set_worker_link(false));
+      caught = across_holds_lease();
+      if (!caught) {
+        ASSERT_TRUE(net.set_worker_link(true));
+        jitter(rng, 100);
+      }
+    }
+    const auto cut_at = std::chrono::steady_clock::now();
+    if (caught) {
+      at_cut = cli_status(cli, id);
+      const uint64_t expired_before = at_cut.at("counters").at("leases_expired").get<uint64_t>();
+      // Down for 3 to 5 s (longer than the 1 s lease), then up again.
+      const int planned_ms = 3000 + std::uniform_int_distribution<int>(0, 2000)(rng);
+      std::this_thread::sleep_until(cut_at + std::chrono::milliseconds(planned_ms));
+      during = cli_status(cli, id);
+      expired = during.at("counters").at("leases_expired").get<uint64_t>() - expired_before;
+      down_ms = int(std::chrono::duration_cast<std::chrono::milliseconds>(
+                        std::chrono::steady_clock::now() - cut_at)
+                        .count());
+      ASSERT_TRUE(net.set_worker_link(true));
+      EXPECT_GT(expired, 0u) << "the worker held a lease when cut, yet no lease expired";
+    } else {
+      at_cut = during = cli_status(cli, id);
+    }
+    cuts += caught;
+    cuts_with_expiry += expired > 0;
     ASSERT_TRUE(poll_until(
         [&] {
           const nlohmann::json s = cli_status(cli, id);
@@ -407,11 +443,14 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
     const JobOutcome o = verify_job(cli_status(cli, id), db, options, dir,
                                     "round " + std::to_string(round));
     std::cout << "[faults] netns round " << round << ": link down " << down_ms << " ms at "
-              << at_cut << "/" << total << " merged (" << during
-              << " when it came back up); leases_expired " << o.leases_expired
+              << at_cut.at("counters").at("results_merged") << "/" << total << " merged ("
+              << during.at("counters").at("results_merged") << " when it came back up, "
+              << during.at("state") << "; cut " << attempts << " time(s) to catch a lease" << (caught ? "" : ", never caught") << "); "
+              << expired << " lease(s) expired during the cut; job totals: leases_expired " << o.leases_expired
               << ", results_dropped " << o.results_dropped << (o.ok ? ": OK" : ": FAILED")
               << std::endl;
   }
+  EXPECT_EQ(cuts, rounds) << "a round never caught the worker holding a lease";
   // After the cuts the worker across the link must work again: a last job with it alone.
   if (!::testing::Test::HasFailure()) {
     near_worker.signal(SIGKILL);
@@ -430,8 +469,9 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
         kPatience));
     verify_job(cli_status(cli, id), db, options, dir, "after the cuts, the cut worker alone");
   }
-  std::cout << "[faults] netns: " << rounds << " rounds, " << cuts
-            << " link cuts restored; the cut worker rendered a job alone afterwards" << std::endl;
+  std::cout << "[faults] netns: " << rounds << " rounds, " << cuts << " link cuts restored ("
+            << cuts_with_expiry << " caught a lease, which expired); the cut worker rendered a "
+            << "job alone afterwards" << std::endl;
 }
 
 TEST(Faults, WorkerNetworkCutInANamespaceAndRestored) {
