@@ -7,7 +7,8 @@
 // unfinished), with every unit accepted exactly once (the client's tally), results_merged ==
 // units_done == units_total, no result dropped, and every pixel of every tile holding exactly the
 // job's spp in the store. The test prints the lease latencies (p50, p99, max) and the rate.
-// TESSERA_LOAD_WORKERS, TESSERA_LOAD_JOBS and TESSERA_LOAD_BOUND_S change the sizes.
+// TESSERA_LOAD_WORKERS, TESSERA_LOAD_JOBS, TESSERA_LOAD_SPP (units per job = 16 x spp) and
+// TESSERA_LOAD_BOUND_S change the sizes.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -41,9 +42,10 @@ int env_int(const char* name, int fallback) {
   return v && *v ? std::max(1, std::atoi(v)) : fallback;
 }
 
-/// The jobs: 64x64 Cornell boxes in 16 tiles of 16x16, 8 spp in batches of 1 (128 units each).
+/// The jobs: 64x64 Cornell boxes in 16 tiles of 16x16, 8 spp (TESSERA_LOAD_SPP) in batches of
+/// 1: 128 units each.
 constexpr int kSize = 64, kTile = 16;
-constexpr uint32_t kSpp = 8, kBatch = 1;
+constexpr uint32_t kBatch = 1;
 
 /// Each simulated worker has its own TCP connection, as separate processes would (gRPC would
 /// otherwise share one between channels with equal arguments).
@@ -169,6 +171,7 @@ double percentile(std::vector<double> v, double p) {
 TEST(Load, SixtyFourWorkersTwentyJobsNothingLostNoDeadlock) {
   const int workers = env_int("TESSERA_LOAD_WORKERS", 64);
   const int jobs = env_int("TESSERA_LOAD_JOBS", 20);
+  const uint32_t kSpp = uint32_t(env_int("TESSERA_LOAD_SPP", 8));
   const auto bound = std::chrono::seconds(env_int("TESSERA_LOAD_BOUND_S", 600));
   const fs::path dir = fs::temp_directory_path() / ("tessera-load-" + std::to_string(getpid()));
   fs::remove_all(dir);
