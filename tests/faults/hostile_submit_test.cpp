@@ -84,3 +84,43 @@ TEST(HostileInput, ServerRefusesEveryHostileBundleWithItsReasonAndKeepsServing) 
 
 }  // namespace
 }  // namespace tessera::e2e
+
+namespace tessera::e2e {
+namespace {
+
+// A result is hostile input too: huge_result.acc is 19,029 bytes whose header declares a
+// 4096x4096 rectangle and whose zstd frame of zeros really holds the 604 MB that needs. Decoded
+// on trust it took the server to 1.7 GB of RSS; the server must refuse it from the header,
+// because the unit's tile is 8x8 (docs/reliability.md, "Known problems").
+TEST(HostileInput, ResultDeclaringAHugeRectangleIsRefusedBeforeDecoding) {
+  FarmCluster farm("hostile-result");
+  farm.start_server();
+  const auto good = source_dir() / "tests" / "render" / "bad" / "good.json";
+  const uint64_t id = farm.submit({good.string(), "--tile", "16"});
+  ASSERT_NE(id, 0u);
+  v1::RegisterRequest reg;
+  reg.set_name("hostile");
+  reg.set_threads(1);
+  v1::RegisterResponse me;
+  ASSERT_TRUE(farm.workers_api().Register(FarmCluster::context().get(), reg, &me).ok());
+  v1::UploadResultRequest up;
+  up.set_worker_id(me.worker_id());
+  up.set_lease_id(std::string(32, 'a'));
+  up.set_job_id(id);
+  up.set_tile(0);
+  up.set_batch(0);
+  up.set_accumulation(read_text(source_dir() / "tests" / "render" / "bad" / "hostile" / "huge_result.acc"));
+  v1::UploadResultResponse response;
+  const grpc::Status status = farm.workers_api().UploadResult(FarmCluster::context().get(), up, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
+  EXPECT_NE(status.error_message().find("4096x4096 has more pixels than the limit of 64"),
+            std::string::npos)
+      << status.error_message();
+  // The job is untouched: nothing accepted, nothing dropped.
+  const v1::JobInfo job = farm.job(id);
+  EXPECT_EQ(job.counters().units_done(), 0u);
+  EXPECT_EQ(job.counters().results_dropped(), 0u);
+}
+
+}  // namespace
+}  // namespace tessera::e2e
