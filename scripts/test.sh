@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh Debian 12 machine: installs what is needed, builds a
 # release build and runs every test, then builds with AddressSanitizer + UndefinedBehaviorSanitizer
-# and runs every test but the long statistical ones (label "slow") under them.
+# and runs every test but the long statistical ones (label "slow") and the fault-injection and
+# load tests (labels "faults", "load": minutes on 2 cores even in release) under them; then
+# runs the fuzz targets for a bounded time (fuzz/run.sh).
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 "$ROOT/scripts/install-deps.sh"
@@ -19,6 +21,11 @@ if [ "${TESSERA_SKIP_SANITIZERS:-0}" != "1" ]; then
   echo "== sanitizer tests"
   (cd "$ROOT/build-asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
      UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-     ctest --output-on-failure -j "$JOBS" --timeout 1200 -LE slow)
+     ctest --output-on-failure -j "$JOBS" --timeout 1200 -LE 'slow|faults|load')
+fi
+# Fuzzing (docs/reliability.md): every libFuzzer target for FUZZ_SECONDS (default 60) each.
+if [ "${TESSERA_SKIP_FUZZ:-0}" != "1" ] && [ -x "$ROOT/fuzz/run.sh" ]; then
+  echo "== fuzzing"
+  "$ROOT/fuzz/run.sh" "${FUZZ_SECONDS:-60}"
 fi
 echo "== all tests passed"

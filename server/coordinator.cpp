@@ -291,9 +291,25 @@ std::string Coordinator::bundle(const std::string& sha256) {
 }
 
 AcceptOutcome Coordinator::upload(const UnitResult& result) {
+  // The unit's tile bounds what decoding may allocate: the codec sizes its buffers from the
+  // result's header, and a few kilobytes of zstd can declare gigabytes (docs/reliability.md,
+  // "Known problems"). So the worker and the tile are looked up first, and a header declaring
+  // more pixels than the tile is refused before anything is decompressed.
+  int64_t tile_pixels = 0;
+  {
+    std::lock_guard lock(mu_);
+    touch_or_throw(result.worker_id);
+    const std::optional<TileRect> rect = jobs_.tile_rect(result.job_id, result.tile);
+    if (!rect) {
+      throw FarmError(ErrorCode::not_found, "no unit job " + std::to_string(result.job_id) +
+                                                " tile " + std::to_string(result.tile) +
+                                                " batch " + std::to_string(result.batch));
+    }
+    tile_pixels = rect->pixel_count();
+  }
   Accumulation decoded;
   try {
-    decoded = decode_accumulation(result.encoded);
+    decoded = decode_accumulation(result.encoded, tile_pixels);
   } catch (const CodecError& e) {
     throw invalid(std::string("result does not decode: ") + e.what());
   }

@@ -16,7 +16,12 @@ std::shared_ptr<grpc::Channel> make_channel(const std::string& address, const Cl
   // Reconnect quickly after a server restart: the worker has its own backoff on top.
   args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 100);
   args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
-  args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 100);
+  // Not a backoff despite its name: gRPC core uses GRPC_ARG_MIN_RECONNECT_BACKOFF_MS as the
+  // minimum *connect timeout* (subchannel.cc, ParseArgsForBackoffValues). At 100 ms a TCP +
+  // HTTP/2 handshake that takes longer (a loaded machine, a link with 50 ms of latency, TLS)
+  // always failed with "connection attempt timed out before receiving SETTINGS frame" (seen by
+  // tests/faults). gRPC's default, 20 s, is what a connection attempt deserves.
+  args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 20000);
   return grpc::CreateCustomChannel(address, channel_credentials(tls), args);
 }
 
