@@ -107,7 +107,14 @@ void read_contributors(Database& db, JobRecord& r) {
 double JobRecord::progress() const {
   if (options.rule != StopRule::spp) {
     if (state == JobState::done || units_total == 0) return state == JobState::done ? 1.0 : 0.0;
-    return std::min(1.0, double(counters.units_done + counters.units_skipped) / units_total);
+    double settled = double(counters.units_done + counters.units_skipped) / units_total;
+    if (options.rule == StopRule::time && options.time_budget_s > 0 && started_unix_ms > 0 &&
+        read_unix_ms > started_unix_ms) {
+      // A time job is mostly its budget: report the share of it used (it ends soon after).
+      settled = std::max(settled, 0.99 * double(read_unix_ms - started_unix_ms) /
+                                      (1000.0 * options.time_budget_s));
+    }
+    return std::min(settled, state == JobState::done ? 1.0 : 0.99);
   }
   const double asked = double(options.width) * double(options.height) * double(options.spp);
   if (asked <= 0) return 0;

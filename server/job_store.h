@@ -56,7 +56,8 @@ struct JobRecord {
   std::vector<std::string> versions; ///< distinct renderer versions of accepted results, sorted
 
   /// Samples merged over samples asked, in [0, 1]; exactly 1 when every unit is merged. For
-  /// `noise` and `time` jobs, units settled (done or skipped) over units; 1 once done.
+  /// `noise` and `time` jobs, units settled (done or skipped) over units (a time job: at least
+  /// the share of its budget used by read_unix_ms), below 1 until done.
   double progress() const;
   /// Seconds from the first lease to the end, or to read_unix_ms while running; 0 before.
   double wall_time_s() const;
