@@ -292,7 +292,7 @@ CancelOutcome JobStore::cancel(int64_t job_id, int64_t now) {
 
 bool JobStore::fail_in_transaction(int64_t job_id, const std::string& message, int64_t now) {
   if (!apply_job_event(db_, job_id, JobEvent::fail, nullptr)) return false;
-  db_.prepare("UPDATE jobs SET finished_unix_ms = ?, error = ? WHERE id = ?")
+  db_.prepare("UPDATE jobs SET finished_unix_ms = ?, error = ?, stop_reason = '' WHERE id = ?")
       ->bind(1, now)
       .bind(2, message)
       .bind(3, job_id)
