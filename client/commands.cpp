@@ -99,7 +99,7 @@ std::string finished_line(const v1::JobInfo& job) {
   const auto& r = job.reached();
   char buf[320];
   std::snprintf(buf, sizeof buf,
-                "job %llu %s (%s) in %.1f s: spp min %u / mean %.1f / max %u, estimated error "
+                "job %llu %s, rule %s, in %.1f s: spp min %u / mean %.1f / max %u, estimated error "
                 "max %.4f / mean %.4f, NaN/Inf dropped %llu",
                 static_cast<unsigned long long>(job.id()),
                 reason_name(job.stop_reason()).empty() ? "ended"
