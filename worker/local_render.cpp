@@ -1,9 +1,9 @@
 #include "local_render.h"
 
+#include <tbb/parallel_for.h>
+
 #include <chrono>
 #include <mutex>
-
-#include <tbb/parallel_for.h>
 
 namespace tessera {
 

@@ -17,9 +17,9 @@ namespace tessera {
 
 struct LocalRenderResult {
   JobOptions options;
-  std::vector<Accumulation> tiles;    ///< merged, in JobPlan::tiles() order
-  std::vector<uint32_t> tile_spp;     ///< samples per pixel merged into each tile
-  std::vector<double> tile_error;     ///< each tile's estimated relative error (judge_tile)
+  std::vector<Accumulation> tiles;       ///< merged, in JobPlan::tiles() order
+  std::vector<uint32_t> tile_spp;        ///< samples per pixel merged into each tile
+  std::vector<double> tile_error;        ///< each tile's estimated relative error (judge_tile)
   StopReason reason = StopReason::none;  ///< why the job stopped (max over tiles' reasons)
   RenderStats stats;
   double seconds = 0;

@@ -6,21 +6,30 @@ namespace tessera {
 
 std::string_view to_string(StopRule rule) {
   switch (rule) {
-    case StopRule::spp: return "spp";
-    case StopRule::time: return "time";
-    case StopRule::noise: return "noise";
+    case StopRule::spp:
+      return "spp";
+    case StopRule::time:
+      return "time";
+    case StopRule::noise:
+      return "noise";
   }
   return "unknown";
 }
 
 std::string_view to_string(StopReason reason) {
   switch (reason) {
-    case StopReason::none: return "";
-    case StopReason::spp_reached: return "spp_reached";
-    case StopReason::noise_target: return "noise_target";
-    case StopReason::max_spp: return "max_spp";
-    case StopReason::time_budget: return "time_budget";
-    case StopReason::cancelled: return "cancelled";
+    case StopReason::none:
+      return "";
+    case StopReason::spp_reached:
+      return "spp_reached";
+    case StopReason::noise_target:
+      return "noise_target";
+    case StopReason::max_spp:
+      return "max_spp";
+    case StopReason::time_budget:
+      return "time_budget";
+    case StopReason::cancelled:
+      return "cancelled";
   }
   return "unknown";
 }

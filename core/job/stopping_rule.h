@@ -36,10 +36,10 @@ inline constexpr uint32_t kNoiseBatchSpp = 16;
 struct QualityPreset {
   std::string_view name;
   StopRule rule;
-  uint32_t spp;         ///< spp rule: samples per pixel; others: 0
-  double noise;         ///< noise rule: the target; others: 0
-  uint32_t max_spp;     ///< noise rule: the cap; others: 0
-  std::string_view use; ///< one line for the help text
+  uint32_t spp;          ///< spp rule: samples per pixel; others: 0
+  double noise;          ///< noise rule: the target; others: 0
+  uint32_t max_spp;      ///< noise rule: the cap; others: 0
+  std::string_view use;  ///< one line for the help text
 };
 
 /// Every preset, in the order the help lists them.
@@ -49,9 +49,9 @@ std::optional<QualityPreset> find_preset(std::string_view name);
 
 /// What the rule decided for a tile after a merge.
 struct TileVerdict {
-  bool finished = false;                    ///< no more batches for this tile
-  StopReason reason = StopReason::none;     ///< why, when finished
-  double relative_error = 0;                ///< estimate_relative_error of the merged tile
+  bool finished = false;                 ///< no more batches for this tile
+  StopReason reason = StopReason::none;  ///< why, when finished
+  double relative_error = 0;             ///< estimate_relative_error of the merged tile
 };
 
 /// The rule's decision for one tile whose merged accumulation `merged` holds batches

@@ -1,12 +1,13 @@
 // Stopping rules: the per-tile error estimate, the rule's verdicts, and how options resolve
 // (presets, exclusivity, the one-line errors naming the flag).
+#include "job/stopping_rule.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "accum/film.h"
 #include "job/job_options.h"
-#include "job/stopping_rule.h"
 #include "job/tile_summary.h"
 
 namespace tessera {
@@ -34,7 +35,8 @@ TEST(RelativeError, MatchesTheFormulaOnOneTile) {
     const Accumulation acc = two_valued(n, 1.0, 3.0);
     EXPECT_NEAR(estimate_relative_error(acc), std::sqrt(1.0 / (n - 1)) / 2.0, 1e-12) << n;
     // The one-tile form is the many-tile form over one tile.
-    EXPECT_EQ(estimate_relative_error(acc), estimate_relative_error(std::vector<Accumulation>{acc}));
+    EXPECT_EQ(estimate_relative_error(acc),
+              estimate_relative_error(std::vector<Accumulation>{acc}));
   }
 }
 
@@ -161,7 +163,8 @@ TEST(ResolveStoppingRule, BadValuesAndClashesNameTheFlag) {
             "--preset: unknown preset \"best\" (use draft, preview, final, reference)");
   o.preset = "draft";
   o.max_spp = 64;
-  EXPECT_EQ(error_of(o), "--max-spp: only with --noise, --time or a noise preset (draft is 16 spp)");
+  EXPECT_EQ(error_of(o),
+            "--max-spp: only with --noise, --time or a noise preset (draft is 16 spp)");
 }
 
 TEST(TileSummary, SummarisesAndSpreadsPerTileSpp) {
@@ -171,8 +174,7 @@ TEST(TileSummary, SummarisesAndSpreadsPerTileSpp) {
   EXPECT_EQ(s.spp_mean, 32.0);
   EXPECT_EQ(s.error_max, 0.03);
   EXPECT_NEAR(s.error_mean, 0.02, 1e-15);
-  const std::vector<float> channel =
-      spp_channel(3, 2, {{0, 0, 2, 2}, {2, 0, 3, 2}}, {16, 48});
+  const std::vector<float> channel = spp_channel(3, 2, {{0, 0, 2, 2}, {2, 0, 3, 2}}, {16, 48});
   EXPECT_EQ(channel, (std::vector<float>{16, 16, 48, 16, 16, 48}));
 }
 

@@ -12,7 +12,7 @@ namespace tessera {
 
 struct TileSummary {
   uint32_t spp_min = 0, spp_max = 0;
-  double spp_mean = 0;     ///< mean over tiles (each tile counts once, whatever its size)
+  double spp_mean = 0;  ///< mean over tiles (each tile counts once, whatever its size)
   double error_max = 0, error_mean = 0;  ///< estimated relative error over tiles
 };
 

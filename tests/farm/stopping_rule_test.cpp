@@ -90,9 +90,11 @@ TEST(TimeRule, NoLeaseAfterTheBudgetInFlightUnitsAreAwaited) {
   EXPECT_EQ(r.budget_reached_unix_ms, f.clock.now_unix_ms());
   EXPECT_FALSE(r.complete);
   // They come back after the budget and still merge.
-  EXPECT_TRUE(f.merger.accept(result_for(first, smooth(rect_of(first.tile))), smooth(rect_of(first.tile))).accepted);
-  const AcceptOutcome last =
-      f.merger.accept(result_for(second, smooth(rect_of(second.tile))), smooth(rect_of(second.tile)));
+  EXPECT_TRUE(
+      f.merger.accept(result_for(first, smooth(rect_of(first.tile))), smooth(rect_of(first.tile)))
+          .accepted);
+  const AcceptOutcome last = f.merger.accept(result_for(second, smooth(rect_of(second.tile))),
+                                             smooth(rect_of(second.tile)));
   EXPECT_TRUE(last.accepted);
   EXPECT_TRUE(last.job_complete);
   EXPECT_EQ(f.jobs.settle(job), StopReason::time_budget);
@@ -120,7 +122,7 @@ TEST(TimeRule, AnExpiredLeaseAfterTheBudgetIsSkippedAndTheJobFinishes) {
   f.clock.advance(1'000);
   EXPECT_TRUE(f.scheduler.enforce_time_budgets().empty());  // batch 1 skipped, batch 0 in flight
   f.clock.advance(StoreFixture::kLeaseMs + 1);
-  EXPECT_EQ(f.leases.expire_due(), 1);  // back to queued ...
+  EXPECT_EQ(f.leases.expire_due(), 1);                                       // back to queued ...
   EXPECT_EQ(f.scheduler.enforce_time_budgets(), std::vector<int64_t>{job});  // ... and skipped
   EXPECT_EQ(f.jobs.settle(job), StopReason::time_budget);
   EXPECT_EQ(f.jobs.get(job)->reached.spp_max, 0u);
@@ -237,10 +239,12 @@ TEST(Migration2, UpgradesAVersion1StoreKeepingItsJobs) {
   db.exec(v1.sql);
   db.exec("INSERT INTO schema_migrations VALUES (1, 'v1', 0)");
   db.exec(
-      "INSERT INTO bundles VALUES ('" + std::string(64, 'c') + "', 's.json', x'00', 1, 0);"
+      "INSERT INTO bundles VALUES ('" + std::string(64, 'c') +
+      "', 's.json', x'00', 1, 0);"
       "INSERT INTO jobs (state, priority, bundle_sha256, scene_file, width, height, spp,"
       " max_depth, seed, tile_size, batch_spp, isa, tile_count, batch_count, units_total,"
-      " submitted_unix_ms) VALUES ('done', 0, '" + std::string(64, 'c') +
+      " submitted_unix_ms) VALUES ('done', 0, '" +
+      std::string(64, 'c') +
       "', 's.json', 8, 8, 4, -1, 0, 8, 4, '', 1, 1, 1, 0);"
       "INSERT INTO tiles (job_id, tile, x0, y0, x1, y1, next_batch) VALUES (1, 0, 0, 0, 8, 8, 1);");
   EXPECT_EQ(migrate(db, 5), 2);

@@ -7,11 +7,10 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 
 #include "accum/accumulation_codec.h"
 #include "accum/film.h"
@@ -32,14 +31,14 @@ std::vector<std::string> concat(std::vector<std::string> a, const std::vector<st
 /// The noise job of the issue: target 0.02 on the Cornell box, small enough for CI.
 constexpr uint32_t kMaxSpp = 2048;
 /// 32x32 pixels in 16 tiles of 8x8: a few million samples per run.
-const std::vector<std::string> kNoiseJob = {"--width", "32",      "--height",  "32",
-                                            "--tile",  "8",       "--noise",   "0.02",
-                                            "--max-spp", std::to_string(kMaxSpp)};
+const std::vector<std::string> kNoiseJob = {
+    "--width", "32",      "--height", "32",        "--tile",
+    "8",       "--noise", "0.02",     "--max-spp", std::to_string(kMaxSpp)};
 
 struct StoredTile {
   uint32_t spp = 0;
-  double error = 0;            ///< as stored by the server
-  double recomputed = 0;       ///< estimate_relative_error of the stored accumulation
+  double error = 0;       ///< as stored by the server
+  double recomputed = 0;  ///< estimate_relative_error of the stored accumulation
   std::string finished;
 };
 
@@ -125,9 +124,8 @@ TEST(StoppingRuleE2E, TimeJobReturnsAfterItsBudgetAndSaysWhatItReached) {
   // A cap no machine reaches in 10 s (16 tiles x 2^20 spp of 16x16 pixels = 4.4e9 samples),
   // in small units, so the budget, not the cap, ends the job whatever the speed.
   const auto started = std::chrono::steady_clock::now();
-  const uint64_t id =
-      farm.submit({kCornell, "--width", "64", "--height", "64", "--tile", "16", "--batch", "64",
-                   "--time", "10", "--max-spp", "1048576"});
+  const uint64_t id = farm.submit({kCornell, "--width", "64", "--height", "64", "--tile", "16",
+                                   "--batch", "64", "--time", "10", "--max-spp", "1048576"});
   ASSERT_NE(id, 0u);
   const v1::JobInfo job = farm.wait_final(id);
   const double waited_s =
@@ -184,7 +182,8 @@ TEST(StoppingRuleE2E, BadRulesAreRefusedNamingTheFlag) {
       {{"--time", "0"}, "--time: must be > 0 (got 0)"},
       {{"--spp", "16", "--noise", "0.1"},
        "--spp and --noise are mutually exclusive: give one stopping rule"},
-      {{"--spp", "16", "--max-spp", "64"}, "--max-spp: only with --noise, --time or a noise preset"},
+      {{"--spp", "16", "--max-spp", "64"},
+       "--max-spp: only with --noise, --time or a noise preset"},
       {{"--preset", "nice"}, "--preset: unknown preset \"nice\""},
   };
   for (const Case& c : cases) {
