@@ -95,6 +95,23 @@ std::string when(int64_t unix_ms) {
   return buf;
 }
 
+/// One line on what a finished job reached: the answer to "what did my stopping rule give me".
+std::string finished_line(const v1::JobInfo& job) {
+  const auto& r = job.reached();
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "job %llu %s, rule %s, in %.1f s: spp min %u / mean %.1f / max %u, estimated error "
+                "max %.4f / mean %.4f, NaN/Inf dropped %llu",
+                static_cast<unsigned long long>(job.id()),
+                reason_name(job.stop_reason()).empty() ? "ended"
+                                                       : ("stopped by " + reason_name(job.stop_reason())).c_str(),
+                rule_text(job.options()).c_str(), job.wall_time_s(), r.spp_min(), r.spp_mean(),
+                r.spp_max(), r.error_max(), r.error_mean(),
+                static_cast<unsigned long long>(job.counters().nan_dropped() +
+                                                job.counters().inf_dropped()));
+  return buf;
+}
+
 template <typename F>
 int guarded(F&& body) {
   try {
@@ -133,7 +150,7 @@ int submit(const GlobalOptions& g, const SubmitOptions& s) {
         std::cout << to_json(job).dump() << std::endl;
       } else {
         std::cout << "job " << job.id() << " queued: " << job.options().width() << "x"
-                  << job.options().height() << ", " << job.options().spp() << " spp, "
+                  << job.options().height() << ", " << rule_text(job.options()) << ", "
                   << job.counters().units_total() << " units\n";
       }
       return 0;
@@ -141,6 +158,7 @@ int submit(const GlobalOptions& g, const SubmitOptions& s) {
     if (!g.json) std::cerr << "job " << job.id() << " submitted\n";
     job = follow(client, job.id(), false);
     if (const int rc = final_status(job); rc != 0) return rc;
+    if (!g.json) std::cerr << finished_line(job) << "\n";
     if (!s.output.empty()) {
       download(client, job.id(), s.output);
       if (!g.json) std::cerr << "wrote " << s.output << "\n";
@@ -176,6 +194,21 @@ int status(const GlobalOptions& g, uint64_t job_id) {
     std::printf("  times     submitted %s, started %s, finished %s\n",
                 when(job.submitted_unix_ms()).c_str(), when(job.started_unix_ms()).c_str(),
                 when(job.finished_unix_ms()).c_str());
+    std::printf("  rule      %s\n", rule_text(o).c_str());
+    const auto& r = job.reached();
+    std::printf("  reached   %s%sspp min %u / mean %.1f / max %u, estimated error max %.4f / mean "
+                "%.4f, %u tiles finished, wall time %.1f s, NaN/Inf dropped %llu\n",
+                reason_name(job.stop_reason()).empty() ? "" : "stopped by ",
+                reason_name(job.stop_reason()).empty()
+                    ? ""
+                    : (reason_name(job.stop_reason()) + ": ").c_str(),
+                r.spp_min(), r.spp_mean(), r.spp_max(), r.error_max(), r.error_mean(),
+                r.tiles_finished(), job.wall_time_s(),
+                static_cast<unsigned long long>(c.nan_dropped() + c.inf_dropped()));
+    if (c.units_skipped() + c.results_wasted() > 0) {
+      std::printf("  skipped   %u units not needed by the rule, %u results wasted\n",
+                  c.units_skipped(), c.results_wasted());
+    }
     if (!job.error().empty()) std::printf("  error     %s\n", job.error().c_str());
     if (!job.output_exr().empty()) {
       std::printf("  output    %s\n            %s\n", job.output_exr().c_str(),
@@ -188,7 +221,9 @@ int status(const GlobalOptions& g, uint64_t job_id) {
 int watch(const GlobalOptions& g, uint64_t job_id) {
   return guarded([&] {
     JobClient client = connect(g);
-    return final_status(follow(client, job_id, g.json));
+    const v1::JobInfo last = follow(client, job_id, g.json);
+    if (!g.json && last.state() == v1::JOB_STATE_DONE) std::cerr << finished_line(last) << "\n";
+    return final_status(last);
   });
 }
 
@@ -235,15 +270,15 @@ int list(const GlobalOptions& g) {
       std::cout << out.dump() << std::endl;
       return 0;
     }
-    std::printf("%6s  %-9s  %7s  %8s  %-11s  %6s  %s\n", "ID", "STATE", "DONE", "PRIORITY",
-                "SIZE", "SPP", "SCENE");
+    std::printf("%6s  %-9s  %7s  %8s  %-11s  %-24s  %s\n", "ID", "STATE", "DONE", "PRIORITY",
+                "SIZE", "RULE", "SCENE");
     for (const auto& job : jobs.jobs()) {
       const std::string size =
           std::to_string(job.options().width()) + "x" + std::to_string(job.options().height());
-      std::printf("%6llu  %-9s  %6.1f%%  %8d  %-11s  %6u  %s\n",
+      std::printf("%6llu  %-9s  %6.1f%%  %8d  %-11s  %-24s  %s\n",
                   static_cast<unsigned long long>(job.id()), state_name(job.state()).c_str(),
-                  100.0 * job.progress(), job.priority(), size.c_str(), job.options().spp(),
-                  job.scene_file().c_str());
+                  100.0 * job.progress(), job.priority(), size.c_str(),
+                  rule_text(job.options()).c_str(), job.scene_file().c_str());
     }
     return 0;
   });

@@ -52,7 +52,16 @@ int main(int argc, char** argv) {
   tc::SubmitOptions submit;
   CLI::App* submit_cmd = app.add_subcommand("submit", "Submit a scene as a job");
   submit_cmd->add_option("scene", submit.scene, "Scene file (.json)")->required();
-  optional_option(submit_cmd, "--spp", submit.overrides.spp, "Samples per pixel (default: the scene's)");
+  optional_option(submit_cmd, "--spp", submit.overrides.spp,
+                  "Stopping rule: exactly N samples per pixel (default: the scene's)");
+  optional_option(submit_cmd, "--time", submit.overrides.time_s,
+                  "Stopping rule: lease no batch after this many seconds; return what is merged");
+  optional_option(submit_cmd, "--noise", submit.overrides.noise,
+                  "Stopping rule: sample each tile until its estimated relative error is at most E");
+  optional_option(submit_cmd, "--max-spp", submit.overrides.max_spp,
+                  "Cap of a --noise or --time job in samples per pixel (default 4096)");
+  optional_option(submit_cmd, "--preset", submit.overrides.preset,
+                  "Quality preset: draft, preview, final, reference (docs/accuracy.md)");
   optional_option(submit_cmd, "--max-depth", submit.overrides.max_depth,
                   "Path segments including the camera ray, -1 = unbounded");
   optional_option(submit_cmd, "--width", submit.overrides.width, "Image width in pixels");

@@ -1,5 +1,6 @@
 #include "progress_view.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -37,8 +38,8 @@ std::string duration(double seconds) {
 void ProgressView::update(const v1::JobInfo& job) {
   if (!out_) return;
   const auto& o = job.options();
-  const double total = double(o.width()) * double(o.height()) * double(o.spp());
-  const double done = job.progress() * total;
+  // Samples merged, as the server counts them: exact for every stopping rule.
+  const double done = double(job.counters().samples_merged());
   const auto now = clock::now();
   history_.emplace_back(now, done);
   while (history_.size() > 2 && now - history_.front().first > std::chrono::seconds(10)) {
@@ -54,10 +55,25 @@ void ProgressView::update(const v1::JobInfo& job) {
   const int filled = int(job.progress() * kWidth);
   std::string bar(size_t(filled), '#');
   bar.resize(kWidth, '.');
-  const double eta = rate > 0 ? (total - done) / rate : NAN;
-  std::fprintf(out_, "\rjob %llu %-9s [%s] %5.1f%%  %s samples/s  ETA %s  ",
+  // ETA: the remaining samples of an spp job, the rest of a time job's budget; a noise job's end
+  // is not known in advance (its bar counts units settled, an upper bound of the work left).
+  double eta = NAN;
+  std::string extra;
+  if (o.stop_rule() == v1::STOP_RULE_TIME) {
+    eta = std::max(0.0, o.time_budget_s() - job.wall_time_s());
+  } else if (o.stop_rule() == v1::STOP_RULE_NOISE) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "tiles %u/%u  ", job.reached().tiles_finished(),
+                  (o.width() + o.tile_size() - 1) / o.tile_size() *
+                      ((o.height() + o.tile_size() - 1) / o.tile_size()));
+    extra = buf;
+  } else {
+    const double total = double(o.width()) * double(o.height()) * double(o.spp());
+    if (rate > 0) eta = (total - done) / rate;
+  }
+  std::fprintf(out_, "\rjob %llu %-9s [%s] %5.1f%%  %s%s samples/s  ETA %s  ",
                static_cast<unsigned long long>(job.id()), state_name(job.state()).c_str(),
-               bar.c_str(), 100.0 * job.progress(), si(rate).c_str(),
+               bar.c_str(), 100.0 * job.progress(), extra.c_str(), si(rate).c_str(),
                is_final(job.state()) ? "00:00" : duration(eta).c_str());
   std::fflush(out_);
   drawn_ = true;

@@ -69,9 +69,7 @@ int Coordinator::resume() {
       std::lock_guard lock(mu_);
       job = jobs_.get(id);
     }
-    if (job && job->units_total > 0 && job->counters.results_merged == job->units_total) {
-      finish_job(id);
-    }
+    if (job && job->state == JobState::running && job->complete) finish_job(id);
   }
   changes_.notify();
   return int(unfinished.size());
@@ -143,12 +141,15 @@ JobRecord Coordinator::job(int64_t job_id) {
   std::lock_guard lock(mu_);
   std::optional<JobRecord> record = jobs_.get(job_id);
   if (!record) throw job_not_found(job_id);
+  record->read_unix_ms = clock_.now_unix_ms();
   return *record;
 }
 
 std::vector<JobRecord> Coordinator::jobs(uint32_t limit) {
   std::lock_guard lock(mu_);
-  return jobs_.list(limit);
+  std::vector<JobRecord> out = jobs_.list(limit);
+  for (JobRecord& r : out) r.read_unix_ms = clock_.now_unix_ms();
+  return out;
 }
 
 JobRecord Coordinator::cancel(int64_t job_id) {
@@ -200,6 +201,7 @@ JobImage Coordinator::image(int64_t job_id, const std::string& format) {
   }
   ImageWriteOptions options;
   options.metadata = JobOutput::provenance(record);
+  if (format == "exr") options.extra_channels = JobOutput::extra_channels(record, tiles);
   out.bytes = encode_image(JobOutput::resolve(record, tiles), format, options);
   return out;
 }
@@ -256,7 +258,8 @@ std::optional<LeasedUnit> Coordinator::lease(int64_t worker_id, std::chrono::mil
       std::lock_guard lock(mu_);
       touch_or_throw(worker_id);
       if (std::optional<Lease> lease = scheduler_.lease_next(worker_id)) {
-        const JobRecord job = *jobs_.get(lease->job_id);
+        // The spec, not the whole record: no aggregate over the job's tiles per lease.
+        const JobSpec job = *jobs_.spec(lease->job_id);
         const JobPlan plan = job.options.plan();
         unit = LeasedUnit{*lease, *jobs_.tile_rect(lease->job_id, lease->tile),
                           plan.batch_begin(lease->batch), plan.batch_end(lease->batch),
@@ -339,11 +342,14 @@ ReleaseOutcome Coordinator::release(int64_t worker_id, const std::string& lease_
 
 int Coordinator::expire_leases() {
   int expired = 0;
+  std::vector<int64_t> out_of_time;
   {
     std::lock_guard lock(mu_);
     expired = leases_.expire_due();
+    out_of_time = scheduler_.enforce_time_budgets();
   }
   if (expired > 0) changes_.notify();
+  for (int64_t id : out_of_time) finish_job(id);
   return expired;
 }
 
@@ -354,8 +360,10 @@ void Coordinator::finish_job(int64_t job_id) {
     std::lock_guard lock(mu_);
     std::optional<JobRecord> found = jobs_.get(job_id);
     if (!found || found->state != JobState::running || finishing_.contains(job_id)) return;
+    // Why it stopped goes into the output's provenance: settle before reading the record.
+    if (jobs_.settle(job_id) == StopReason::none) return;
     finishing_.insert(job_id);
-    record = std::move(*found);
+    record = std::move(*jobs_.get(job_id));
     tiles = jobs_.tiles(job_id);
   }
   const int64_t now = clock_.now_unix_ms();

@@ -99,7 +99,8 @@ class Coordinator {
   AcceptOutcome upload(const UnitResult& result);
   ReleaseOutcome release(int64_t worker_id, const std::string& lease_id, ReleaseReason reason,
                          const std::string& message);
-  /// Returns expired leases' units to the queue; called by the LeaseReaper.
+  /// Returns expired leases' units to the queue and applies the time rule (jobs past their
+  /// budget stop leasing; those with nothing in flight finish); called by the LeaseReaper.
   int expire_leases();
 
   /// Graceful shutdown, first step: no more leases (LeaseUnit answers "no work"), long polls

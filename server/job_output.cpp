@@ -5,6 +5,7 @@
 
 #include "accum/accumulation_codec.h"
 #include "accum/film.h"
+#include "job/tile_summary.h"
 #include "wire/job_options_wire.h"
 
 namespace tessera::server {
@@ -45,6 +46,21 @@ std::map<std::string, std::string> JobOutput::provenance(const JobRecord& job) {
   m["tessera:scene_sha256"] = job.bundle_sha256;
   m["tessera:job_options"] = wire::options_to_json(job.options);
   m["tessera:spp"] = std::to_string(job.spp_merged);
+  m["tessera:spp_min"] = std::to_string(job.reached.spp_min);
+  m["tessera:spp_mean"] = std::to_string(job.reached.spp_mean);
+  m["tessera:spp_max"] = std::to_string(job.reached.spp_max);
+  m["tessera:stop_rule"] = std::string(to_string(job.options.rule));
+  m["tessera:stop_reason"] = std::string(to_string(job.stop_reason));
+  m["tessera:tile_error_max"] = std::to_string(job.reached.error_max);
+  m["tessera:tile_error_mean"] = std::to_string(job.reached.error_mean);
+  m["tessera:samples_merged"] = std::to_string(job.counters.samples_merged);
+  if (job.options.rule == StopRule::noise) {
+    m["tessera:noise_target"] = std::to_string(job.options.noise_target);
+    m["tessera:max_spp"] = std::to_string(job.options.spp);
+  } else if (job.options.rule == StopRule::time) {
+    m["tessera:time_budget_s"] = std::to_string(job.options.time_budget_s);
+    m["tessera:max_spp"] = std::to_string(job.options.spp);
+  }
   m["tessera:renderer_version"] = joined(job.versions);
   m["tessera:isa"] = joined(job.isas);
   m["tessera:nan_dropped"] = std::to_string(job.counters.nan_dropped);
@@ -55,6 +71,19 @@ std::map<std::string, std::string> JobOutput::provenance(const JobRecord& job) {
   return m;
 }
 
+std::vector<ExtraChannel> JobOutput::extra_channels(const JobRecord& job,
+                                                    const std::vector<TileRecord>& tiles) {
+  if (job.options.rule == StopRule::spp) return {};
+  std::vector<TileRect> rects;
+  std::vector<uint32_t> spp;
+  const JobPlan plan = job.options.plan();
+  for (const TileRecord& t : tiles) {
+    rects.push_back(t.rect);
+    spp.push_back(t.next_batch == 0 ? 0 : plan.batch_end(t.next_batch - 1));
+  }
+  return {{"spp", spp_channel(job.options.width, job.options.height, rects, spp)}};
+}
+
 OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TileRecord>& tiles) const {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
@@ -62,6 +91,7 @@ OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TileRecord>
   const RgbImage image = resolve(job, tiles);
   ImageWriteOptions options;
   options.metadata = provenance(job);
+  options.extra_channels = extra_channels(job, tiles);
   const std::string stem = "job-" + std::to_string(job.id);
   OutputFiles files{std::filesystem::absolute(dir_ / (stem + ".exr")),
                     std::filesystem::absolute(dir_ / (stem + ".png"))};

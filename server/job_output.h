@@ -26,8 +26,14 @@ class JobOutput {
 
   /// The provenance written in EXR headers and PNG text chunks (all keys "tessera:..."): job id,
   /// scene file, scene bundle SHA-256, resolved options (JSON), spp reached, renderer versions,
-  /// worker ISAs, NaN/Inf samples dropped, wall time.
+  /// worker ISAs, NaN/Inf samples dropped, wall time, stopping rule and reason, spp and
+  /// estimated error over tiles.
   static std::map<std::string, std::string> provenance(const JobRecord& job);
+
+  /// The EXR channels after R, G, B: for `noise` and `time` jobs, "spp" (each pixel's merged
+  /// samples per pixel: its tile's); none for `spp` jobs.
+  static std::vector<ExtraChannel> extra_channels(const JobRecord& job,
+                                                  const std::vector<TileRecord>& tiles);
 
   /// Writes <output_dir>/job-<id>.exr and .png (each written to a temporary name, then renamed,
   /// so a reader never sees half a file). Throws std::runtime_error naming the file.

@@ -33,7 +33,8 @@ std::optional<UnitState> next_state(UnitState from, UnitEvent event) {
     case UnitState::queued:
       switch (event) {
         case UnitEvent::lease: return UnitState::leased;
-        case UnitEvent::cancel: return UnitState::cancelled;
+        case UnitEvent::cancel:
+        case UnitEvent::skip: return UnitState::cancelled;
         case UnitEvent::accept:
         case UnitEvent::expire:
         case UnitEvent::release: return std::nullopt;
@@ -44,7 +45,8 @@ std::optional<UnitState> next_state(UnitState from, UnitEvent event) {
         case UnitEvent::accept: return UnitState::done;
         case UnitEvent::expire:
         case UnitEvent::release: return UnitState::queued;
-        case UnitEvent::cancel: return UnitState::cancelled;
+        case UnitEvent::cancel:
+        case UnitEvent::skip: return UnitState::cancelled;
         case UnitEvent::lease: return std::nullopt;  // the scheduler hands back the same lease
       }
       break;
@@ -97,6 +99,7 @@ std::string_view to_string(UnitEvent event) {
     case UnitEvent::expire: return "expire";
     case UnitEvent::release: return "release";
     case UnitEvent::cancel: return "cancel";
+    case UnitEvent::skip: return "skip";
   }
   return "unknown";
 }

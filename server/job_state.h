@@ -9,6 +9,9 @@
 //   unit:  queued --lease--> leased --accept--> done
 //          leased --expire | release--> queued
 //          queued | leased --cancel--> cancelled      (its job was cancelled or failed)
+//          queued | leased --skip--> cancelled        (its job's stopping rule needs it no more:
+//                                                      its tile met the noise target, or the
+//                                                      time budget ran out while it was queued)
 #pragma once
 
 #include <optional>
@@ -20,7 +23,7 @@ enum class JobState { queued, running, done, failed, cancelled };
 enum class JobEvent { start, finish, fail, cancel };
 
 enum class UnitState { queued, leased, done, cancelled };
-enum class UnitEvent { lease, accept, expire, release, cancel };
+enum class UnitEvent { lease, accept, expire, release, cancel, skip };
 
 /// The state after `event`, or nullopt when the event is not allowed in `from` (the caller
 /// answers FAILED_PRECONDITION or drops the request).

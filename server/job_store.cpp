@@ -1,6 +1,7 @@
 #include "job_store.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "farm_error.h"
@@ -20,8 +21,21 @@ constexpr const char* kJobColumns = R"sql(
   j.samples_merged, j.nan_dropped, j.inf_dropped,
   j.submitted_unix_ms, j.started_unix_ms, j.finished_unix_ms, j.error, j.output_exr, j.output_png,
   (SELECT COUNT(*) FROM units u WHERE u.job_id = j.id AND u.state = ?1),
-  (SELECT MIN(t.next_batch) FROM tiles t WHERE t.job_id = j.id)
+  (SELECT MIN(t.next_batch) FROM tiles t WHERE t.job_id = j.id),
+  j.stop_rule, j.time_budget_ms, j.noise_target, j.budget_reached_unix_ms, j.stop_reason,
+  j.units_skipped, j.results_wasted,
+  (SELECT MAX(t.next_batch) FROM tiles t WHERE t.job_id = j.id),
+  (SELECT AVG(MIN(t.next_batch * j.batch_spp, j.spp)) FROM tiles t WHERE t.job_id = j.id),
+  (SELECT MAX(t.error) FROM tiles t WHERE t.job_id = j.id),
+  (SELECT AVG(t.error) FROM tiles t WHERE t.job_id = j.id),
+  (SELECT COUNT(*) FROM tiles t WHERE t.job_id = j.id AND t.finished != ''),
+  NOT EXISTS (SELECT 1 FROM units u WHERE u.job_id = j.id AND u.state IN ('queued', 'leased'))
 )sql";
+
+/// The stored spp of a tile with batches [0, next_batch) merged.
+uint32_t spp_of(const JobOptions& o, uint32_t next_batch) {
+  return next_batch == 0 ? 0 : o.plan().batch_end(next_batch - 1);
+}
 
 JobRecord read_job(const Statement& q) {
   JobRecord r;
@@ -58,7 +72,21 @@ JobRecord read_job(const Statement& q) {
   r.output_png = q.text(c++);
   r.counters.units_leased = uint32_t(q.int64(c++));
   const uint32_t min_next_batch = uint32_t(q.int64(c++));
-  r.spp_merged = min_next_batch == 0 ? 0 : r.options.plan().batch_end(min_next_batch - 1);
+  r.spp_merged = spp_of(r.options, min_next_batch);
+  r.options.rule = stop_rule_from_string(q.text(c++)).value_or(StopRule::spp);
+  r.options.time_budget_s = double(q.int64(c++)) / 1000.0;
+  r.options.noise_target = q.real(c++);
+  r.budget_reached_unix_ms = q.int64(c++);
+  r.stop_reason = stop_reason_from_string(q.text(c++)).value_or(StopReason::none);
+  r.counters.units_skipped = uint32_t(q.int64(c++));
+  r.counters.results_wasted = uint32_t(q.int64(c++));
+  r.reached.spp_min = r.spp_merged;
+  r.reached.spp_max = spp_of(r.options, uint32_t(q.int64(c++)));
+  r.reached.spp_mean = q.real(c++);
+  r.reached.error_max = q.real(c++);
+  r.reached.error_mean = q.real(c++);
+  r.tiles_finished = uint32_t(q.int64(c++));
+  r.complete = q.int64(c++) != 0;
   return r;
 }
 
@@ -77,10 +105,27 @@ void read_contributors(Database& db, JobRecord& r) {
 }  // namespace
 
 double JobRecord::progress() const {
+  if (options.rule != StopRule::spp) {
+    if (state == JobState::done || units_total == 0) return state == JobState::done ? 1.0 : 0.0;
+    double settled = double(counters.units_done + counters.units_skipped) / units_total;
+    if (options.rule == StopRule::time && options.time_budget_s > 0 && started_unix_ms > 0 &&
+        read_unix_ms > started_unix_ms) {
+      // A time job is mostly its budget: report the share of it used (it ends soon after).
+      settled = std::max(settled, 0.99 * double(read_unix_ms - started_unix_ms) /
+                                      (1000.0 * options.time_budget_s));
+    }
+    return std::min(settled, state == JobState::done ? 1.0 : 0.99);
+  }
   const double asked = double(options.width) * double(options.height) * double(options.spp);
   if (asked <= 0) return 0;
   if (units_total > 0 && counters.results_merged == units_total) return 1.0;
   return std::min(1.0, double(counters.samples_merged) / asked);
+}
+
+double JobRecord::wall_time_s() const {
+  if (started_unix_ms <= 0) return 0;
+  const int64_t end = finished_unix_ms > 0 ? finished_unix_ms : read_unix_ms;
+  return end > started_unix_ms ? double(end - started_unix_ms) / 1000.0 : 0.0;
 }
 
 int64_t JobStore::create(const NewJob& job, int64_t now) {
@@ -111,8 +156,8 @@ int64_t JobStore::create(const NewJob& job, int64_t now) {
   db_.prepare(R"sql(
       INSERT INTO jobs (state, priority, bundle_sha256, scene_file, width, height, spp, max_depth,
                         seed, tile_size, batch_spp, isa, tile_count, batch_count, units_total,
-                        submitted_unix_ms)
-      VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?))sql")
+                        submitted_unix_ms, stop_rule, time_budget_ms, noise_target)
+      VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?))sql")
       ->bind(1, s(JobState::queued))
       .bind(2, job.priority)
       .bind(3, job.bundle_sha256)
@@ -129,6 +174,9 @@ int64_t JobStore::create(const NewJob& job, int64_t now) {
       .bind(14, plan.batch_count())
       .bind(15, int64_t(units))
       .bind(16, now)
+      .bind(17, std::string(to_string(o.rule)))
+      .bind(18, int64_t(std::llround(o.time_budget_s * 1000.0)))
+      .bind(19, o.noise_target)
       .run();
   const int64_t job_id = db_.last_insert_rowid();
   for (size_t t = 0; t < tiles.size(); ++t) {
@@ -232,7 +280,11 @@ CancelOutcome JobStore::cancel(int64_t job_id, int64_t now) {
   if (!apply_job_event(db_, job_id, JobEvent::cancel, &found)) {
     return found ? CancelOutcome::already_final : CancelOutcome::not_found;
   }
-  db_.prepare("UPDATE jobs SET finished_unix_ms = ? WHERE id = ?")->bind(1, now).bind(2, job_id).run();
+  db_.prepare("UPDATE jobs SET finished_unix_ms = ?, stop_reason = ? WHERE id = ?")
+      ->bind(1, now)
+      .bind(2, std::string(to_string(StopReason::cancelled)))
+      .bind(3, job_id)
+      .run();
   cancel_units(db_, job_id);
   tx.commit();
   return CancelOutcome::cancelled;
@@ -240,7 +292,7 @@ CancelOutcome JobStore::cancel(int64_t job_id, int64_t now) {
 
 bool JobStore::fail_in_transaction(int64_t job_id, const std::string& message, int64_t now) {
   if (!apply_job_event(db_, job_id, JobEvent::fail, nullptr)) return false;
-  db_.prepare("UPDATE jobs SET finished_unix_ms = ?, error = ? WHERE id = ?")
+  db_.prepare("UPDATE jobs SET finished_unix_ms = ?, error = ?, stop_reason = '' WHERE id = ?")
       ->bind(1, now)
       .bind(2, message)
       .bind(3, job_id)
@@ -256,19 +308,53 @@ bool JobStore::fail(int64_t job_id, const std::string& message, int64_t now) {
   return failed;
 }
 
+StopReason JobStore::settle(int64_t job_id) {
+  Transaction tx(db_);
+  std::optional<JobRecord> job;
+  {
+    auto q = db_.prepare(std::string("SELECT ") + kJobColumns + " FROM jobs j WHERE j.id = ?2");
+    q->bind(1, s(UnitState::leased)).bind(2, job_id);
+    if (q->step()) job = read_job(*q);
+  }
+  if (!job || job->state != JobState::running || !job->complete) return StopReason::none;
+  // Results whose predecessor was skipped can never merge (only batch prefixes do).
+  db_.prepare("DELETE FROM pending_results WHERE job_id = ?")->bind(1, job_id).run();
+  const int64_t wasted = db_.changes();
+  // A tile is closed by its verdict (noise target, cap, spp); a time job may leave tiles open.
+  StopReason reason = StopReason::spp_reached;
+  if (job->options.rule == StopRule::time) {
+    reason = job->tiles_finished < job->tile_count ? StopReason::time_budget : StopReason::max_spp;
+  } else if (job->options.rule == StopRule::noise) {
+    auto q = db_.prepare("SELECT COUNT(*) FROM tiles WHERE job_id = ? AND finished = ?");
+    q->bind(1, job_id).bind(2, std::string(to_string(StopReason::max_spp)));
+    q->step();
+    reason = q->int64(0) > 0 ? StopReason::max_spp : StopReason::noise_target;
+  }
+  db_.prepare("UPDATE jobs SET stop_reason = ?, results_wasted = results_wasted + ? WHERE id = ?")
+      ->bind(1, std::string(to_string(reason)))
+      .bind(2, wasted)
+      .bind(3, job_id)
+      .run();
+  tx.commit();
+  return reason;
+}
+
 bool JobStore::finish(int64_t job_id, const std::string& output_exr, const std::string& output_png,
                       int64_t now) {
   Transaction tx(db_);
   const JobState to = *next_state(JobState::running, JobEvent::finish);
   db_.prepare(
          "UPDATE jobs SET state = ?, finished_unix_ms = ?, output_exr = ?, output_png = ?"
-         " WHERE id = ? AND state = ? AND results_merged = units_total")
+         " WHERE id = ? AND state = ? AND NOT EXISTS (SELECT 1 FROM units u WHERE"
+         " u.job_id = jobs.id AND u.state IN (?, ?))")
       ->bind(1, s(to))
       .bind(2, now)
       .bind(3, output_exr)
       .bind(4, output_png)
       .bind(5, job_id)
       .bind(6, s(JobState::running))
+      .bind(7, s(UnitState::queued))
+      .bind(8, s(UnitState::leased))
       .run();
   const bool finished = db_.changes() == 1;
   tx.commit();
@@ -278,8 +364,8 @@ bool JobStore::finish(int64_t job_id, const std::string& output_exr, const std::
 std::vector<TileRecord> JobStore::tiles(int64_t job_id) {
   std::vector<TileRecord> out;
   auto q = db_.prepare(
-      "SELECT tile, x0, y0, x1, y1, next_batch, accumulation FROM tiles WHERE job_id = ?"
-      " ORDER BY tile");
+      "SELECT tile, x0, y0, x1, y1, next_batch, accumulation, error, finished FROM tiles"
+      " WHERE job_id = ? ORDER BY tile");
   q->bind(1, job_id);
   while (q->step()) {
     TileRecord t;
@@ -287,9 +373,34 @@ std::vector<TileRecord> JobStore::tiles(int64_t job_id) {
     t.rect = {int(q->int64(1)), int(q->int64(2)), int(q->int64(3)), int(q->int64(4))};
     t.next_batch = uint32_t(q->int64(5));
     if (!q->is_null(6)) t.accumulation = q->blob(6);
+    t.error = q->real(7);
+    t.finished = stop_reason_from_string(q->text(8)).value_or(StopReason::none);
     out.push_back(std::move(t));
   }
   return out;
+}
+
+std::optional<JobSpec> JobStore::spec(int64_t job_id) {
+  auto q = db_.prepare(
+      "SELECT width, height, spp, max_depth, seed, tile_size, batch_spp, isa, stop_rule,"
+      " time_budget_ms, noise_target, bundle_sha256 FROM jobs WHERE id = ?");
+  q->bind(1, job_id);
+  if (!q->step()) return std::nullopt;
+  JobSpec spec;
+  JobOptions& o = spec.options;
+  o.width = int(q->int64(0));
+  o.height = int(q->int64(1));
+  o.spp = uint32_t(q->int64(2));
+  o.max_depth = int(q->int64(3));
+  o.seed = uint64_t(q->int64(4));
+  o.tile_size = int(q->int64(5));
+  o.batch_spp = uint32_t(q->int64(6));
+  o.isa = q->text(7);
+  o.rule = stop_rule_from_string(q->text(8)).value_or(StopRule::spp);
+  o.time_budget_s = double(q->int64(9)) / 1000.0;
+  o.noise_target = q->real(10);
+  spec.bundle_sha256 = q->text(11);
+  return spec;
 }
 
 std::optional<TileRect> JobStore::tile_rect(int64_t job_id, uint32_t tile) {

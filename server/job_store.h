@@ -9,6 +9,8 @@
 
 #include "accum/tile_rect.h"
 #include "job/job_options.h"
+#include "job/stopping_rule.h"
+#include "job/tile_summary.h"
 #include "job_state.h"
 #include "store/sqlite.h"
 
@@ -25,6 +27,8 @@ struct JobCounters {
   uint64_t samples_merged = 0;  ///< pixel samples merged: sum over merged units of pixels * spp
   uint64_t nan_dropped = 0;
   uint64_t inf_dropped = 0;
+  uint32_t units_skipped = 0;   ///< units the stopping rule made unneeded (UnitEvent::skip)
+  uint32_t results_wasted = 0;  ///< accepted results never merged (their tile had finished)
 };
 
 struct JobRecord {
@@ -42,11 +46,21 @@ struct JobRecord {
   std::string error;
   std::string output_exr, output_png;
   uint32_t spp_merged = 0;           ///< minimum over tiles of samples per pixel merged
+  TileSummary reached;               ///< spp and estimated error over tiles
+  uint32_t tiles_finished = 0;       ///< tiles the stopping rule gives no more batches
+  StopReason stop_reason = StopReason::none;  ///< set when the job ends (cancelled or done)
+  int64_t budget_reached_unix_ms = 0;  ///< time rule: when leasing stopped (0 = not yet)
+  bool complete = false;             ///< no unit queued or leased: ready to finish
+  int64_t read_unix_ms = 0;          ///< when the record was read (for a running job's wall time)
   std::vector<std::string> isas;     ///< distinct ISAs of accepted results, sorted
   std::vector<std::string> versions; ///< distinct renderer versions of accepted results, sorted
 
-  /// Samples merged over samples asked, in [0, 1]; exactly 1 when every unit is merged.
+  /// Samples merged over samples asked, in [0, 1]; exactly 1 when every unit is merged. For
+  /// `noise` and `time` jobs, units settled (done or skipped) over units (a time job: at least
+  /// the share of its budget used by read_unix_ms), below 1 until done.
   double progress() const;
+  /// Seconds from the first lease to the end, or to read_unix_ms while running; 0 before.
+  double wall_time_s() const;
 };
 
 /// A tile's merged state as stored.
@@ -55,6 +69,14 @@ struct TileRecord {
   TileRect rect;
   uint32_t next_batch = 0;    ///< batches [0, next_batch) are merged
   std::string accumulation;   ///< encode_accumulation bytes; empty = nothing merged yet
+  double error = 0;           ///< estimated relative error after the last merge
+  StopReason finished = StopReason::none;  ///< the verdict that closed the tile; none = open
+};
+
+/// What a lease needs of its job: the resolved options and the bundle.
+struct JobSpec {
+  JobOptions options;
+  std::string bundle_sha256;
 };
 
 struct NewJob {
@@ -93,12 +115,21 @@ class JobStore {
   bool fail_in_transaction(int64_t job_id, const std::string& message, int64_t now_unix_ms);
   /// fail_in_transaction in its own transaction.
   bool fail(int64_t job_id, const std::string& message, int64_t now_unix_ms);
-  /// running -> done with the output files, only when every unit is merged. Returns false when
-  /// the job was not running (cancelled meanwhile) or not fully merged.
+  /// For a running job with no unit queued or leased: drops the results still waiting for a
+  /// skipped predecessor (counted as wasted) and records why the job stopped (its rule, its
+  /// tiles' verdicts, its budget). Returns the reason; StopReason::none when the job is not
+  /// running or not complete.
+  StopReason settle(int64_t job_id);
+  /// running -> done with the output files, only when no unit is queued or leased (every one
+  /// merged, or skipped by the stopping rule). Returns false when the job was not running
+  /// (cancelled meanwhile) or not complete.
   bool finish(int64_t job_id, const std::string& output_exr, const std::string& output_png,
               int64_t now_unix_ms);
 
   std::vector<TileRecord> tiles(int64_t job_id);
+  /// The options and bundle of a job, without the counters (cheap: the lease path). nullopt
+  /// when unknown.
+  std::optional<JobSpec> spec(int64_t job_id);
   std::optional<TileRect> tile_rect(int64_t job_id, uint32_t tile);
   /// The canonical bundle bytes by hash; nullopt when unknown.
   std::optional<std::string> bundle_bytes(const std::string& sha256);

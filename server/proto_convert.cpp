@@ -33,6 +33,9 @@ v1::JobInfo to_proto(const JobRecord& job) {
   c->set_units_released(job.counters.units_released);
   c->set_nan_dropped(job.counters.nan_dropped);
   c->set_inf_dropped(job.counters.inf_dropped);
+  c->set_units_skipped(job.counters.units_skipped);
+  c->set_results_wasted(job.counters.results_wasted);
+  c->set_samples_merged(job.counters.samples_merged);
   out.set_progress(job.progress());
   out.set_spp_merged(job.spp_merged);
   out.set_submitted_unix_ms(job.submitted_unix_ms);
@@ -42,6 +45,15 @@ v1::JobInfo to_proto(const JobRecord& job) {
   out.set_output_exr(job.output_exr);
   out.set_output_png(job.output_png);
   for (const std::string& isa : job.isas) out.add_worker_isas(isa);
+  out.set_stop_reason(wire::stop_reason_to_proto(job.stop_reason));
+  out.set_wall_time_s(job.wall_time_s());
+  auto* reached = out.mutable_reached();
+  reached->set_spp_min(job.reached.spp_min);
+  reached->set_spp_mean(job.reached.spp_mean);
+  reached->set_spp_max(job.reached.spp_max);
+  reached->set_error_max(job.reached.error_max);
+  reached->set_error_mean(job.reached.error_mean);
+  reached->set_tiles_finished(job.tiles_finished);
   return out;
 }
 

@@ -3,6 +3,35 @@
 #include <string>
 
 namespace tessera::server {
+namespace {
+
+std::string s(UnitState state) { return std::string(to_string(state)); }
+std::string s(JobState state) { return std::string(to_string(state)); }
+
+}  // namespace
+
+const char* Scheduler::first_unit_sql(bool noise) {
+  // Both walk the units_queue index (job_id, state, batch, tile) in order and stop at the first
+  // row that qualifies: no sort, no scan of the job's other queued units (EXPLAIN QUERY PLAN is
+  // checked in tests/farm/scheduler_test.cpp). The noise form looks up each candidate's tile by
+  // its primary key; CROSS JOIN keeps units as the outer loop.
+  static constexpr const char* kUniform = R"sql(
+      SELECT u.id FROM units u WHERE u.job_id = ?1 AND u.state = ?2
+      ORDER BY u.batch, u.tile LIMIT 1)sql";
+  static constexpr const char* kNoise = R"sql(
+      SELECT u.id FROM units u CROSS JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile
+      WHERE u.job_id = ?1 AND u.state = ?2 AND u.batch < t.next_batch + ?3
+      ORDER BY u.batch, u.tile LIMIT 1)sql";
+  return noise ? kNoise : kUniform;
+}
+
+std::optional<int64_t> Scheduler::first_unit(int64_t job_id, bool noise) {
+  auto q = db_.prepare(first_unit_sql(noise));
+  q->bind(1, job_id).bind(2, s(UnitState::queued));
+  if (noise) q->bind(3, kNoiseLookahead);
+  if (q->step()) return q->int64(0);
+  return std::nullopt;
+}
 
 std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
   Transaction tx(db_);
@@ -13,26 +42,31 @@ std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
     tx.commit();
     return held;
   }
-  // The scheduling query: the jobs_schedule index walks active jobs by (priority, age); for each
-  // the units_queue index yields its first queued unit by (batch, tile).
-  std::optional<int64_t> unit_id;
+  // The jobs that may lease, in scheduling order (the jobs_schedule index); few at a time.
+  std::vector<std::pair<int64_t, bool>> candidates;  // (job id, noise rule)
   {
     auto q = db_.prepare(R"sql(
-        SELECT u.id
-        FROM jobs j JOIN units u ON u.job_id = j.id AND u.state = ?1
-        WHERE j.state IN (?2, ?3)
+        SELECT j.id, j.stop_rule = 'noise'
+        FROM jobs j
+        WHERE j.state IN (?1, ?2)
+          AND NOT (j.stop_rule = 'time' AND j.started_unix_ms > 0
+                   AND j.started_unix_ms + j.time_budget_ms <= ?3)
           AND NOT EXISTS (SELECT 1 FROM job_worker_failures f
                           WHERE f.job_id = j.id AND f.worker_id = ?4 AND f.failures >= ?5
                             AND f.last_failure_unix_ms > ?6)
-        ORDER BY j.priority DESC, j.submitted_unix_ms ASC, j.id ASC, u.batch ASC, u.tile ASC
-        LIMIT 1)sql");
-    q->bind(1, std::string(to_string(UnitState::queued)))
-        .bind(2, std::string(to_string(JobState::queued)))
-        .bind(3, std::string(to_string(JobState::running)))
+        ORDER BY j.priority DESC, j.submitted_unix_ms ASC, j.id ASC)sql");
+    q->bind(1, s(JobState::queued))
+        .bind(2, s(JobState::running))
+        .bind(3, clock_.now_unix_ms())
         .bind(4, worker_id)
         .bind(5, leases_.health_policy().failures_to_block)
         .bind(6, leases_.forgiven_before_unix_ms());
-    if (q->step()) unit_id = q->int64(0);
+    while (q->step()) candidates.emplace_back(q->int64(0), q->int64(1) != 0);
+  }
+  std::optional<int64_t> unit_id;
+  for (const auto& [job_id, noise] : candidates) {
+    unit_id = first_unit(job_id, noise);
+    if (unit_id) break;
   }
   if (!unit_id) return std::nullopt;  // rolls back: nothing written
   std::optional<Lease> lease = leases_.grant_in_transaction(*unit_id, worker_id);
@@ -40,14 +74,51 @@ std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
     // queued -> running on the first lease; a running job stays running (JobEvent::start).
     const JobState to = *next_state(JobState::queued, JobEvent::start);
     db_.prepare("UPDATE jobs SET state = ?, started_unix_ms = ? WHERE id = ? AND state = ?")
-        ->bind(1, std::string(to_string(to)))
+        ->bind(1, s(to))
         .bind(2, clock_.now_unix_ms())
         .bind(3, lease->job_id)
-        .bind(4, std::string(to_string(JobState::queued)))
+        .bind(4, s(JobState::queued))
         .run();
   }
   tx.commit();
   return lease;
+}
+
+std::vector<int64_t> Scheduler::enforce_time_budgets() {
+  const int64_t now = clock_.now_unix_ms();
+  Transaction tx(db_);
+  std::vector<int64_t> over;
+  {
+    auto q = db_.prepare(R"sql(
+        SELECT id FROM jobs
+        WHERE state = ?1 AND stop_rule = 'time' AND started_unix_ms > 0
+          AND started_unix_ms + time_budget_ms <= ?2)sql");
+    q->bind(1, s(JobState::running)).bind(2, now);
+    while (q->step()) over.push_back(q->int64(0));
+  }
+  std::vector<int64_t> complete;
+  const UnitState skipped = *next_state(UnitState::queued, UnitEvent::skip);
+  for (int64_t job_id : over) {
+    db_.prepare("UPDATE units SET state = ? WHERE job_id = ? AND state = ?")
+        ->bind(1, s(skipped))
+        .bind(2, job_id)
+        .bind(3, s(UnitState::queued))
+        .run();
+    const int64_t n = db_.changes();
+    db_.prepare(
+           "UPDATE jobs SET units_skipped = units_skipped + ?, budget_reached_unix_ms ="
+           " CASE WHEN budget_reached_unix_ms = 0 THEN ? ELSE budget_reached_unix_ms END"
+           " WHERE id = ?")
+        ->bind(1, n)
+        .bind(2, now)
+        .bind(3, job_id)
+        .run();
+    auto q = db_.prepare("SELECT 1 FROM units WHERE job_id = ? AND state IN (?, ?) LIMIT 1");
+    q->bind(1, job_id).bind(2, s(UnitState::queued)).bind(3, s(UnitState::leased));
+    if (!q->step()) complete.push_back(job_id);
+  }
+  tx.commit();
+  return complete;
 }
 
 }  // namespace tessera::server

@@ -6,6 +6,7 @@
 #include "accum/accumulation_codec.h"
 #include "farm_error.h"
 #include "job/job_plan.h"
+#include "job/stopping_rule.h"
 #include "job_state.h"
 
 namespace tessera::server {
@@ -19,12 +20,14 @@ struct UnitContext {
   JobPlan plan;
   uint32_t next_batch = 0;
   std::optional<std::string> tile_accumulation;  ///< nullopt: nothing merged yet
+  StopRule rule = StopRule::spp;
+  double noise_target = 0;
 };
 
 std::optional<UnitContext> load_unit(Database& db, const UnitResult& r) {
   auto q = db.prepare(R"sql(
       SELECT u.id, t.x0, t.y0, t.x1, t.y1, t.next_batch, t.accumulation,
-             j.width, j.height, j.tile_size, j.spp, j.batch_spp
+             j.width, j.height, j.tile_size, j.spp, j.batch_spp, j.stop_rule, j.noise_target
       FROM units u
       JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile
       JOIN jobs j ON j.id = u.job_id
@@ -41,6 +44,8 @@ std::optional<UnitContext> load_unit(Database& db, const UnitResult& r) {
   c.plan.tile_size = int(q->int64(9));
   c.plan.spp = uint32_t(q->int64(10));
   c.plan.batch_spp = uint32_t(q->int64(11));
+  c.rule = stop_rule_from_string(q->text(12)).value_or(StopRule::spp);
+  c.noise_target = q->real(13);
   return c;
 }
 
@@ -77,6 +82,35 @@ struct MergeTally {
 };
 
 }  // namespace
+
+void TileMerger::close_tile(int64_t job_id, uint32_t tile) {
+  // The tile's later units are not needed: queued or leased, they are skipped (a leased one's
+  // result will be stale and dropped); results already accepted for later batches are wasted.
+  int64_t skipped = 0;
+  for (UnitState from : {UnitState::queued, UnitState::leased}) {
+    db_.prepare(
+           "UPDATE units SET state = ?, lease_id = NULL, lease_expires_unix_ms = NULL"
+           " WHERE job_id = ? AND tile = ? AND state = ?")
+        ->bind(1, s(*next_state(from, UnitEvent::skip)))
+        .bind(2, job_id)
+        .bind(3, tile)
+        .bind(4, s(from))
+        .run();
+    skipped += db_.changes();
+  }
+  db_.prepare("DELETE FROM pending_results WHERE job_id = ? AND tile = ?")
+      ->bind(1, job_id)
+      .bind(2, tile)
+      .run();
+  const int64_t wasted = db_.changes();
+  db_.prepare(
+         "UPDATE jobs SET units_skipped = units_skipped + ?, results_wasted = results_wasted + ?"
+         " WHERE id = ?")
+      ->bind(1, skipped)
+      .bind(2, wasted)
+      .bind(3, job_id)
+      .run();
+}
 
 AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decoded) {
   AcceptOutcome outcome;
@@ -148,15 +182,23 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
         .bind(5, clock_.now_unix_ms())
         .run();
   } else {
-    // Merge this batch, then every waiting successor, strictly in batch order.
+    // Merge this batch, then every waiting successor, strictly in batch order, judging the
+    // tile by the job's stopping rule after each (determinism contract rule 4): once it is
+    // finished nothing more merges into it, whatever else has arrived.
     Accumulation tile = c->tile_accumulation ? decode_accumulation(*c->tile_accumulation)
                                              : Accumulation(c->rect);
     MergeTally tally;
     uint32_t next = c->next_batch;
-    tile.merge(decoded);
-    tally.add(decoded, c->plan.batch_end(next) - c->plan.batch_begin(next));
-    ++next;
+    const Accumulation* batch = &decoded;
+    Accumulation successor;
+    TileVerdict verdict;
     for (;;) {
+      tile.merge(*batch);
+      tally.add(*batch, c->plan.batch_end(next) - c->plan.batch_begin(next));
+      ++next;
+      verdict = judge_tile(c->rule, c->noise_target, tile, next, c->plan.batch_count(),
+                           c->plan.batch_end(next - 1));
+      if (verdict.finished) break;
       std::optional<std::string> waiting;
       {
         auto q = db_.prepare(
@@ -165,24 +207,25 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
         if (q->step()) waiting = q->blob(0);
       }
       if (!waiting) break;
-      const Accumulation successor = decode_accumulation(*waiting);
-      tile.merge(successor);
-      tally.add(successor, c->plan.batch_end(next) - c->plan.batch_begin(next));
+      successor = decode_accumulation(*waiting);
+      batch = &successor;
       db_.prepare("DELETE FROM pending_results WHERE job_id = ? AND tile = ? AND batch = ?")
           ->bind(1, r.job_id)
           .bind(2, r.tile)
           .bind(3, next)
           .run();
-      ++next;
     }
+    if (verdict.finished) close_tile(r.job_id, r.tile);
     db_.prepare(
-           "UPDATE tiles SET next_batch = ?, accumulation = ? WHERE job_id = ? AND tile = ?"
-           " AND next_batch = ?")
+           "UPDATE tiles SET next_batch = ?, accumulation = ?, error = ?, finished = ?"
+           " WHERE job_id = ? AND tile = ? AND next_batch = ?")
         ->bind(1, next)
         .bind_blob(2, encode_accumulation(tile))
-        .bind(3, r.job_id)
-        .bind(4, r.tile)
-        .bind(5, c->next_batch)
+        .bind(3, verdict.relative_error)
+        .bind(4, std::string(to_string(verdict.reason)))
+        .bind(5, r.job_id)
+        .bind(6, r.tile)
+        .bind(7, c->next_batch)
         .run();
     if (db_.changes() != 1) {
       throw FarmError(ErrorCode::internal, "tile " + std::to_string(r.tile) + " of job " +
@@ -201,9 +244,9 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
     outcome.merged = tally.results;
   }
   {
-    auto q = db_.prepare("SELECT results_merged = units_total FROM jobs WHERE id = ?");
-    q->bind(1, r.job_id);
-    outcome.job_complete = q->step() && q->int64(0) != 0;
+    auto q = db_.prepare("SELECT 1 FROM units WHERE job_id = ? AND state IN (?, ?) LIMIT 1");
+    q->bind(1, r.job_id).bind(2, s(UnitState::queued)).bind(3, s(UnitState::leased));
+    outcome.job_complete = !q->step();
   }
   tx.commit();
   return outcome;

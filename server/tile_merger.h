@@ -4,6 +4,10 @@
 // tile's accumulation, or, when earlier batches of the tile are still missing, store it in
 // pending_results until they arrive. A tile's accumulation starts at zeros and adds batches
 // 0, 1, 2, ... exactly as `tessera-worker render` does, so the pixels are bit-identical.
+// After each merged batch the job's stopping rule judges the tile (judge_tile, shared with the
+// local renderer); a finished tile merges nothing more: its later units are skipped and results
+// that arrived for them (speculative leases, kNoiseLookahead) are counted as wasted. Which
+// batches a tile merges is thus a function of the job alone, whatever arrives when.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +15,7 @@
 
 #include "accum/accumulation.h"
 #include "clock.h"
+#include "job/stopping_rule.h"
 #include "store/sqlite.h"
 
 namespace tessera::server {
@@ -29,7 +34,7 @@ struct AcceptOutcome {
   bool accepted = false;      ///< false: dropped (stale or duplicate lease), counted on the job
   std::string reason;         ///< why it was dropped
   uint32_t merged = 0;        ///< results merged by this call (this one and waiting successors)
-  bool job_complete = false;  ///< every unit of the job is now merged
+  bool job_complete = false;  ///< no unit of the job is queued or leased: ready to finish
 };
 
 class TileMerger {
@@ -43,6 +48,9 @@ class TileMerger {
   AcceptOutcome accept(const UnitResult& result, const Accumulation& decoded);
 
  private:
+  /// The tile met its stopping rule: skip its remaining units, drop its waiting results.
+  void close_tile(int64_t job_id, uint32_t tile);
+
   Database& db_;
   const Clock& clock_;
 };

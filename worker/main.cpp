@@ -16,6 +16,7 @@
 
 #include "accum/film.h"
 #include "image/image_output.h"
+#include "job/tile_summary.h"
 #include "local_render.h"
 #include "progress_bar.h"
 #include "scene/scene_error.h"
@@ -69,21 +70,42 @@ int run_render(const RenderArgs& args) {
     inf += t.inf_dropped;
   }
   const double rel_error = tessera::estimate_relative_error(result.tiles);
+  const tessera::TileSummary summary = tessera::summarize_tiles(result.tile_spp, result.tile_error);
 
   tessera::ImageWriteOptions write;
   write.half = args.half;
   write.metadata = {
       {"tessera:renderer", "tessera-worker " TESSERA_VERSION},
       {"tessera:scene_file", std::filesystem::path(args.scene).filename().string()},
-      {"tessera:spp", std::to_string(options.spp)},
+      {"tessera:spp", std::to_string(summary.spp_min)},
+      {"tessera:spp_min", std::to_string(summary.spp_min)},
+      {"tessera:spp_mean", std::to_string(summary.spp_mean)},
+      {"tessera:spp_max", std::to_string(summary.spp_max)},
+      {"tessera:stop_rule", std::string(tessera::to_string(options.rule))},
+      {"tessera:stop_reason", std::string(tessera::to_string(result.reason))},
       {"tessera:max_depth", std::to_string(options.max_depth)},
       {"tessera:seed", std::to_string(options.seed)},
       {"tessera:tile", std::to_string(options.tile_size)},
       {"tessera:batch", std::to_string(options.batch_spp)},
       {"tessera:isa", result.isa},
       {"tessera:estimated_relative_error", std::to_string(rel_error)},
+      {"tessera:tile_error_max", std::to_string(summary.error_max)},
+      {"tessera:tile_error_mean", std::to_string(summary.error_mean)},
       {"tessera:nan_inf_dropped", std::to_string(nan + inf)},
+      {"tessera:wall_time_s", std::to_string(result.seconds)},
   };
+  if (options.rule == tessera::StopRule::noise) {
+    write.metadata["tessera:noise_target"] = std::to_string(options.noise_target);
+    write.metadata["tessera:max_spp"] = std::to_string(options.spp);
+  } else if (options.rule == tessera::StopRule::time) {
+    write.metadata["tessera:time_budget_s"] = std::to_string(options.time_budget_s);
+    write.metadata["tessera:max_spp"] = std::to_string(options.spp);
+  }
+  if (options.rule != tessera::StopRule::spp) {
+    write.extra_channels.push_back({"spp", tessera::spp_channel(options.width, options.height,
+                                                               options.plan().tiles(),
+                                                               result.tile_spp)});
+  }
   for (const std::string& out : args.outputs) tessera::write_image(image, out, write);
 
   for (const tessera::Accumulation& t : result.tiles) {
@@ -93,15 +115,25 @@ int run_render(const RenderArgs& args) {
     }
   }
   const double seconds = result.seconds;
+  uint64_t samples_taken = 0;
+  const std::vector<tessera::TileRect> rects = options.plan().tiles();
+  for (size_t t = 0; t < rects.size(); ++t) {
+    samples_taken += uint64_t(rects[t].pixel_count()) * result.tile_spp[t];
+  }
   std::fprintf(stderr,
-               "rendered %dx%d, %u spp in %.2f s: %s samples/s, %s rays/s (%llu rays, %llu shadow "
-               "rays), estimated relative error %.4f, NaN/Inf dropped %llu, isa %s\n",
-               options.width, options.height, options.spp, seconds,
+               "rendered %dx%d in %.2f s (%s rule, stopped: %s): spp min %u mean %.1f max %u, "
+               "%llu samples, %s samples/s, %s rays/s (%llu rays, %llu shadow rays), estimated "
+               "relative error %.4f (tiles: max %.4f, mean %.4f), NaN/Inf dropped %llu, isa %s\n",
+               options.width, options.height, seconds,
+               std::string(tessera::to_string(options.rule)).c_str(),
+               std::string(tessera::to_string(result.reason)).c_str(), summary.spp_min,
+               summary.spp_mean, summary.spp_max, static_cast<unsigned long long>(samples_taken),
                tessera::si_count(double(result.stats.samples) / seconds).c_str(),
                tessera::si_count(double(result.stats.rays + result.stats.shadow_rays) / seconds).c_str(),
                static_cast<unsigned long long>(result.stats.rays),
                static_cast<unsigned long long>(result.stats.shadow_rays), rel_error,
-               static_cast<unsigned long long>(nan + inf), result.isa.c_str());
+               summary.error_max, summary.error_mean, static_cast<unsigned long long>(nan + inf),
+               result.isa.c_str());
   return 0;
 }
 
@@ -170,7 +202,15 @@ int main(int argc, char** argv) {
   render_cmd->add_option("scene", render.scene, "Scene file: Tessera JSON (.json) or Mitsuba 3 XML (.xml)")->required();
   render_cmd->add_option("-o,--output", render.outputs, "Output image(s): .exr (linear float) or .png (sRGB)")
       ->required();
-  optional_option(render_cmd, "--spp", render.overrides.spp, "Samples per pixel (default: the scene's)");
+  optional_option(render_cmd, "--spp", render.overrides.spp, "Stopping rule: exactly N samples per pixel (default: the scene's)");
+  optional_option(render_cmd, "--time", render.overrides.time_s,
+                  "Stopping rule: start no batch after this many seconds; keep what is merged");
+  optional_option(render_cmd, "--noise", render.overrides.noise,
+                  "Stopping rule: sample each tile until its estimated relative error is at most E");
+  optional_option(render_cmd, "--max-spp", render.overrides.max_spp,
+                  "Cap of a --noise or --time job in samples per pixel (default 4096)");
+  optional_option(render_cmd, "--preset", render.overrides.preset,
+                  "Quality preset: draft, preview, final, reference (docs/accuracy.md)");
   optional_option(render_cmd, "--width", render.overrides.width, "Image width in pixels");
   optional_option(render_cmd, "--height", render.overrides.height, "Image height in pixels");
   optional_option(render_cmd, "--tile", render.overrides.tile_size, "Tile size in pixels (default 64)");

@@ -29,10 +29,15 @@ RgbImage resolve_image(int width, int height, const std::vector<Accumulation>& t
 
 namespace tessera {
 
-double estimate_relative_error(const std::vector<Accumulation>& tiles) {
+namespace {
+
+/// Sums over the pixels with at least 2 samples, in pixel order (the order is fixed: the
+/// estimate decides which batches a noise tile gets, so it must be bit-reproducible).
+struct ErrorSums {
   double variance_sum = 0, mean_sum = 0;
   uint64_t pixels = 0;
-  for (const Accumulation& acc : tiles) {
+
+  void add(const Accumulation& acc) {
     for (size_t i = 0; i < acc.count.size(); ++i) {
       const double n = acc.count[i];
       if (n < 2) continue;
@@ -45,9 +50,26 @@ double estimate_relative_error(const std::vector<Accumulation>& tiles) {
       ++pixels;
     }
   }
-  if (pixels == 0) return 0;
-  const double mean_lum = mean_sum / double(pixels);
-  return std::sqrt(variance_sum / double(pixels)) / std::max(mean_lum, 1e-4);
+
+  double relative_error() const {
+    if (pixels == 0) return 0;
+    const double mean_lum = mean_sum / double(pixels);
+    return std::sqrt(variance_sum / double(pixels)) / std::max(mean_lum, 1e-4);
+  }
+};
+
+}  // namespace
+
+double estimate_relative_error(const std::vector<Accumulation>& tiles) {
+  ErrorSums sums;
+  for (const Accumulation& acc : tiles) sums.add(acc);
+  return sums.relative_error();
+}
+
+double estimate_relative_error(const Accumulation& tile) {
+  ErrorSums sums;
+  sums.add(tile);
+  return sums.relative_error();
 }
 
 }  // namespace tessera

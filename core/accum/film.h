@@ -22,4 +22,7 @@ namespace tessera {
 /// Pixels with fewer than 2 samples are left out; returns 0 when no pixel has 2.
 double estimate_relative_error(const std::vector<Accumulation>& tiles);
 
+/// The same estimate over one tile's pixels: the noise rule's per-tile error (stopping_rule.h).
+double estimate_relative_error(const Accumulation& tile);
+
 }  // namespace tessera

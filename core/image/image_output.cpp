@@ -83,14 +83,28 @@ PreparedImage prepare(const RgbImage& image, FileFormat format, const ImageWrite
   PreparedImage prepared;
   if (format == FileFormat::kExr) {
     const OIIO::TypeDesc file_type = options.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
-    prepared.spec = OIIO::ImageSpec(image.width, image.height, 3, file_type);
+    const size_t pixels = size_t(image.width) * size_t(image.height);
+    const int channels = 3 + int(options.extra_channels.size());
+    prepared.spec = OIIO::ImageSpec(image.width, image.height, channels, file_type);
     prepared.spec.attribute("oiio:ColorSpace", "Linear");
-    prepared.f32.resize(image.rgb.size());
-    for (size_t i = 0; i < image.rgb.size(); ++i) {
-      float v = finite_or_zero(image.rgb[i]);
-      // Half's conversion turns anything above 65519.99 into Inf: clamp first.
-      if (options.half) v = std::clamp(v, -kHalfMax, kHalfMax);
-      prepared.f32[i] = v;
+    prepared.spec.channelnames = {"R", "G", "B"};
+    for (const ExtraChannel& extra : options.extra_channels) {
+      if (extra.values.size() != pixels) {
+        throw std::runtime_error("extra channel " + extra.name + " holds " +
+                                 std::to_string(extra.values.size()) + " values for " +
+                                 std::to_string(pixels) + " pixels");
+      }
+      prepared.spec.channelnames.push_back(extra.name);
+    }
+    prepared.f32.resize(pixels * size_t(channels));
+    for (size_t p = 0; p < pixels; ++p) {
+      for (int c = 0; c < channels; ++c) {
+        float v = finite_or_zero(c < 3 ? image.rgb[p * 3 + size_t(c)]
+                                       : options.extra_channels[size_t(c - 3)].values[p]);
+        // Half's conversion turns anything above 65519.99 into Inf: clamp first.
+        if (options.half) v = std::clamp(v, -kHalfMax, kHalfMax);
+        prepared.f32[p * size_t(channels) + size_t(c)] = v;
+      }
     }
   } else {
     prepared.spec = OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);

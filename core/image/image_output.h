@@ -15,8 +15,17 @@ struct RgbImage {
   std::vector<float> rgb;  ///< 3 floats per pixel
 };
 
+/// A channel written after R, G, B in EXR files (PNG has no room for it and leaves it out).
+struct ExtraChannel {
+  std::string name;           ///< e.g. "spp"
+  std::vector<float> values;  ///< one per pixel, row-major like RgbImage
+};
+
 struct ImageWriteOptions {
   bool half = false;  ///< EXR only: half floats, values clamped to half's finite range
+  /// EXR only: more channels (e.g. each pixel's samples for adaptive jobs). With `half` they
+  /// are clamped like colours.
+  std::vector<ExtraChannel> extra_channels;
   /// Provenance written as EXR header string attributes ("tessera:scene_sha256" ...) and as
   /// PNG text chunks.
   std::map<std::string, std::string> metadata;

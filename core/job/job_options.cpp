@@ -1,8 +1,12 @@
 #include "job/job_options.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace tessera {
 namespace {
@@ -18,6 +22,81 @@ int64_t in_range(const char* option, int64_t value, int64_t lo, int64_t hi) {
   return value;
 }
 
+std::string number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+double positive(const char* option, double value, double hi) {
+  if (!std::isfinite(value) || value <= 0) {
+    throw std::invalid_argument(std::string(option) + ": must be > 0 (got " + number(value) + ")");
+  }
+  if (value > hi) {
+    throw std::invalid_argument(std::string(option) + ": must be at most " + number(hi) +
+                                " (got " + number(value) + ")");
+  }
+  return value;
+}
+
+/// The rule the overrides (or the scene's render.spp) ask for, with its values, before the plan.
+struct ResolvedRule {
+  StopRule rule = StopRule::spp;
+  int64_t spp = 0;  ///< spp rule: N; others: the cap
+  double time_s = 0, noise = 0;
+};
+
+ResolvedRule resolve_rule(const Scene& scene, const JobOverrides& o, const JobLimits& limits) {
+  std::vector<std::string> given;
+  if (o.spp) given.push_back("--spp");
+  if (o.time_s) given.push_back("--time");
+  if (o.noise) given.push_back("--noise");
+  if (o.preset) given.push_back("--preset");
+  if (given.size() > 1) {
+    throw std::invalid_argument(given[0] + " and " + given[1] +
+                                " are mutually exclusive: give one stopping rule");
+  }
+  ResolvedRule r;
+  std::optional<double> noise = o.noise;
+  std::optional<int64_t> cap = o.max_spp;
+  if (o.preset) {
+    const std::optional<QualityPreset> p = find_preset(*o.preset);
+    if (!p) {
+      std::string names;
+      for (const QualityPreset& q : quality_presets()) {
+        names += (names.empty() ? "" : ", ") + std::string(q.name);
+      }
+      throw std::invalid_argument("--preset: unknown preset \"" + *o.preset + "\" (use " + names +
+                                  ")");
+    }
+    if (p->rule == StopRule::spp) {
+      if (o.max_spp) {
+        throw std::invalid_argument("--max-spp: only with --noise, --time or a noise preset (" +
+                                    std::string(p->name) + " is " + std::to_string(p->spp) +
+                                    " spp)");
+      }
+      r.spp = p->spp;
+      return r;
+    }
+    noise = p->noise;
+    if (!cap) cap = p->max_spp;
+  }
+  if (!noise && !o.time_s) {
+    if (o.max_spp) throw std::invalid_argument("--max-spp: only with --noise, --time or a noise preset");
+    r.spp = in_range("--spp", o.spp.value_or(scene.render.spp), 1, limits.max_spp);
+    return r;
+  }
+  r.spp = in_range("--max-spp", cap.value_or(kDefaultMaxSpp), 1, limits.max_spp);
+  if (noise) {
+    r.rule = StopRule::noise;
+    r.noise = positive("--noise", *noise, 1e6);
+  } else {
+    r.rule = StopRule::time;
+    r.time_s = positive("--time", *o.time_s, 30.0 * 86400.0);
+  }
+  return r;
+}
+
 }  // namespace
 
 JobPlan JobOptions::plan() const {
@@ -29,7 +108,11 @@ JobOptions resolve_job_options(const Scene& scene, const JobOverrides& o, const 
   job.width = int(in_range("--width", o.width.value_or(scene.film.width), 1, limits.max_dimension));
   job.height =
       int(in_range("--height", o.height.value_or(scene.film.height), 1, limits.max_dimension));
-  job.spp = uint32_t(in_range("--spp", o.spp.value_or(scene.render.spp), 1, limits.max_spp));
+  const ResolvedRule rule = resolve_rule(scene, o, limits);
+  job.spp = uint32_t(rule.spp);
+  job.rule = rule.rule;
+  job.time_budget_s = rule.time_s;
+  job.noise_target = rule.noise;
   const int depth = o.max_depth.value_or(scene.render.max_depth);
   if (depth != -1 && depth < 1) bad("--max-depth", "must be -1 (unbounded) or >= 1", depth);
   job.max_depth = depth;
@@ -37,7 +120,8 @@ JobOptions resolve_job_options(const Scene& scene, const JobOverrides& o, const 
   if (seed < 0) bad("--seed", "must be >= 0", seed);
   job.seed = uint64_t(seed);
   job.tile_size = int(in_range("--tile", o.tile_size.value_or(64), 1, limits.max_tile));
-  const int64_t batch = o.batch_spp.value_or(0);
+  const int64_t batch =
+      o.batch_spp.value_or(job.rule == StopRule::noise ? std::min(kNoiseBatchSpp, job.spp) : 0);
   if (o.batch_spp.has_value()) in_range("--batch", batch, 1, limits.max_spp);
   job.batch_spp = make_job_plan(job.width, job.height, job.tile_size, job.spp, uint32_t(batch))
                       .batch_spp;

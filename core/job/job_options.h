@@ -8,6 +8,7 @@
 #include <string>
 
 #include "job/job_plan.h"
+#include "job/stopping_rule.h"
 #include "scene/scene.h"
 
 namespace tessera {
@@ -21,11 +22,21 @@ struct JobOverrides {
   std::optional<int64_t> seed;
   std::optional<int> max_depth;
   std::optional<std::string> isa;  ///< Embree ISA to pin ("sse2", "sse4.2", "avx", "avx2", "avx512")
+  // Stopping rule: at most one of spp, time_s, noise and preset (docs/accuracy.md).
+  std::optional<double> time_s;    ///< `time` rule: wall-time budget in seconds
+  std::optional<double> noise;     ///< `noise` rule: target relative error per tile
+  std::optional<int64_t> max_spp;  ///< cap of a `noise` or `time` job (default 4096)
+  std::optional<std::string> preset;  ///< a named quality preset (stopping_rule.h)
 };
 
 struct JobOptions {
   int width = 0, height = 0;
+  /// Samples per pixel of the plan: the `spp` rule's N, the cap (max_spp) of `noise` and `time`
+  /// jobs. Batches cover [0, spp); a `noise` or `time` job may stop before.
   uint32_t spp = 0;
+  StopRule rule = StopRule::spp;
+  double time_budget_s = 0;  ///< `time` rule only, > 0
+  double noise_target = 0;   ///< `noise` rule only, > 0
   int max_depth = -1;  ///< Mitsuba convention; -1 unbounded
   uint64_t seed = 0;
   int tile_size = 64;
@@ -43,7 +54,10 @@ struct JobLimits {
 };
 
 /// Resolves and validates. Throws std::invalid_argument with a message naming the option, e.g.
-/// "--spp: must be >= 1 (got -3)".
+/// "--spp: must be >= 1 (got -3)", or the clashing rules ("--spp and --noise are mutually
+/// exclusive: give one stopping rule"). A preset is replaced by its rule's values; a `noise`
+/// job's default batch is kNoiseBatchSpp (its first check lands at kNoiseMinSpp), a `time` job's
+/// is derived from its cap like an `spp` job's.
 JobOptions resolve_job_options(const Scene& scene, const JobOverrides& overrides,
                                const JobLimits& limits = {});
 

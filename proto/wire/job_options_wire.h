@@ -8,6 +8,11 @@
 
 namespace tessera::wire {
 
+v1::StopRule stop_rule_to_proto(StopRule rule);
+StopRule stop_rule_from_proto(v1::StopRule rule);
+v1::StopReason stop_reason_to_proto(StopReason reason);
+StopReason stop_reason_from_proto(v1::StopReason reason);
+
 JobOverrides overrides_from_proto(const v1::JobRequestOptions& options);
 v1::JobRequestOptions overrides_to_proto(const JobOverrides& overrides);
 

@@ -128,8 +128,25 @@ CREATE TABLE job_contributors (
   PRIMARY KEY (job_id, isa, version)
 ) WITHOUT ROWID;
 )sql"},
-      // Version 2 is the stopping rules' (time/noise). Numbers are fixed once released: a
-      // database records which it has, and migrate() applies the missing ones in order.
+      {2, "stopping rules: job rule and outcome, per-tile error and verdict", R"sql(
+-- The job's stopping rule (core/job/stopping_rule.h). jobs.spp is the plan's samples per pixel:
+-- the spp rule's N, or the cap (max spp) of a time or noise job.
+ALTER TABLE jobs ADD COLUMN stop_rule TEXT NOT NULL DEFAULT 'spp'
+  CHECK (stop_rule IN ('spp', 'time', 'noise'));
+ALTER TABLE jobs ADD COLUMN time_budget_ms INTEGER NOT NULL DEFAULT 0;  -- time rule
+ALTER TABLE jobs ADD COLUMN noise_target REAL NOT NULL DEFAULT 0;       -- noise rule
+-- When the scheduler found a time job over its budget (0 = not yet): no unit is leased after.
+ALTER TABLE jobs ADD COLUMN budget_reached_unix_ms INTEGER NOT NULL DEFAULT 0;
+-- Why the job stopped: '' while running (and for failed jobs), else a StopReason name.
+ALTER TABLE jobs ADD COLUMN stop_reason TEXT NOT NULL DEFAULT '';
+ALTER TABLE jobs ADD COLUMN units_skipped INTEGER NOT NULL DEFAULT 0;   -- cancelled by the rule
+ALTER TABLE jobs ADD COLUMN results_wasted INTEGER NOT NULL DEFAULT 0;  -- accepted, never merged
+
+-- Each tile's estimated relative error after its last merge, and the rule's verdict:
+-- '' open, else the StopReason that finished it (no batch is leased or merged after).
+ALTER TABLE tiles ADD COLUMN error REAL NOT NULL DEFAULT 0;
+ALTER TABLE tiles ADD COLUMN finished TEXT NOT NULL DEFAULT '';
+)sql"},
       {3, "worker health (unit failures per worker, forgiveness, NaN/Inf), jobs per client", R"sql(
 -- When the worker last failed the job: a block lapses --block-forgive-seconds after it.
 ALTER TABLE job_worker_failures ADD COLUMN last_failure_unix_ms INTEGER NOT NULL DEFAULT 0;

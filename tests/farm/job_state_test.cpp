@@ -12,7 +12,8 @@ constexpr JobEvent kJobEvents[] = {JobEvent::start, JobEvent::finish, JobEvent::
 constexpr UnitState kUnitStates[] = {UnitState::queued, UnitState::leased, UnitState::done,
                                      UnitState::cancelled};
 constexpr UnitEvent kUnitEvents[] = {UnitEvent::lease, UnitEvent::accept, UnitEvent::expire,
-                                     UnitEvent::release, UnitEvent::cancel};
+                                     UnitEvent::release, UnitEvent::cancel,
+                                     UnitEvent::skip};
 
 TEST(JobStateMachine, LifecycleOfAJob) {
   EXPECT_EQ(next_state(JobState::queued, JobEvent::start), JobState::running);
@@ -48,6 +49,10 @@ TEST(UnitStateMachine, EveryTransition) {
         expected = UnitState::queued;
       }
       if (s == UnitState::leased && e == UnitEvent::cancel) expected = UnitState::cancelled;
+      // The stopping rule's skip: a unit no longer needed, whether queued or leased.
+      if ((s == UnitState::queued || s == UnitState::leased) && e == UnitEvent::skip) {
+        expected = UnitState::cancelled;
+      }
       EXPECT_EQ(next_state(s, e), expected) << to_string(s) << " + " << to_string(e);
     }
   }
