@@ -31,6 +31,12 @@ std::optional<std::string> read_file(const std::filesystem::path& path) {
   return std::move(ss).str();
 }
 
+uint64_t sample_count(const Accumulation& a) {
+  uint64_t samples = 0;
+  for (uint32_t n : a.count) samples += n;
+  return samples;
+}
+
 }  // namespace
 
 Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
@@ -242,6 +248,7 @@ std::string Coordinator::bundle(const std::string& sha256) {
 }
 
 AcceptOutcome Coordinator::upload(const UnitResult& result) {
+  const auto received = std::chrono::steady_clock::now();
   Accumulation decoded;
   try {
     decoded = decode_accumulation(result.encoded);
@@ -254,6 +261,8 @@ AcceptOutcome Coordinator::upload(const UnitResult& result) {
     touch_or_throw(result.worker_id);
     outcome = merger_.accept(result, decoded);
   }
+  metrics_.record_result(result.worker_id, result.job_id, outcome.accepted, sample_count(decoded),
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - received).count());
   changes_.notify();
   if (outcome.job_complete) finish_job(result.job_id);
   return outcome;

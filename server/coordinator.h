@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -15,6 +16,8 @@
 
 #include "change_notifier.h"
 #include "clock.h"
+#include "dashboard/error_estimate.h"
+#include "dashboard/farm_metrics.h"
 #include "job_output.h"
 #include "job_store.h"
 #include "lease_table.h"
@@ -39,6 +42,26 @@ struct LeasedUnit {
   uint32_t sample_begin = 0, sample_end = 0;
   JobOptions options;
   std::string bundle_sha256;
+};
+
+/// A tile of a job as the dashboard shows it (Coordinator::tile_views).
+struct TileView {
+  uint32_t tile = 0;
+  TileRect rect;
+  uint32_t batches_merged = 0;  ///< batches [0, batches_merged) are merged
+  uint32_t spp_merged = 0;      ///< samples per pixel those batches cover
+  ErrorEstimate error;          ///< from the merged sums; empty before two samples per pixel
+};
+
+/// Farm-wide totals from the store (Coordinator::totals), for /metrics.
+struct FarmTotals {
+  std::map<std::string, uint64_t> jobs_by_state;  ///< every state name, 0 when none
+  uint64_t units_leased_now = 0;
+  uint64_t units_done = 0;        ///< over all jobs, as stored
+  uint64_t leases_expired = 0;
+  uint64_t results_dropped = 0;
+  uint64_t samples_merged = 0;
+  uint64_t workers = 0;
 };
 
 struct JobImage {
@@ -93,6 +116,21 @@ class Coordinator {
   /// Returns expired leases' units to the queue; called by the LeaseReaper.
   int expire_leases();
 
+  // ---- Dashboard views (defined in server/coordinator_views.cpp, used by server/dashboard/) --
+  /// Every tile of the job with what is merged and its error estimate (tiles are decoded
+  /// outside the lock). Throws FarmError(not_found).
+  std::vector<TileView> tile_views(int64_t job_id);
+  /// Farm-wide totals in one read of the store.
+  FarmTotals totals();
+  /// Changes the priority of a queued or running job (the scheduler reads it at the next
+  /// lease). Throws FarmError: not_found, failed_precondition when the job is already final.
+  JobRecord set_priority(int64_t job_id, int priority);
+  /// True when the store answers a query (for /readyz).
+  bool store_ready();
+  /// Results, rates and merge latency recorded by upload().
+  const FarmMetrics& metrics() const { return metrics_; }
+  // ---- end of dashboard views ---------------------------------------------------------------
+
   ChangeNotifier& changes() { return changes_; }
   int64_t lease_ms() const { return leases_.lease_ms(); }
   const Clock& clock() const { return clock_; }
@@ -113,6 +151,7 @@ class Coordinator {
   JobOutput output_;
   std::set<int64_t> finishing_;  ///< jobs whose output is being written (guarded by mu_)
   ChangeNotifier changes_;
+  FarmMetrics metrics_{clock_};  ///< dashboard counters (thread-safe on its own)
 };
 
 }  // namespace tessera::server

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "coordinator.h"
+#include "dashboard/http_server.h"
 #include "job_service.h"
 #include "lease_reaper.h"
 #include "wire/bearer_token.h"
@@ -28,6 +29,7 @@ struct Flags {
   std::string output_dir = "var/outputs";
   double lease_seconds = 30;
   std::string port_file;
+  std::string http_port_file;
 };
 
 void write_port_file(const std::string& path, int port) {
@@ -82,6 +84,22 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   std::cout << "tessera-server: listening on " << host << ":" << port << " (db " << flags.db
             << ", " << resumed << " unfinished job(s) resumed"
             << (auth.enabled() ? ", token required" : "") << ")" << std::endl;
+
+  // The dashboard (server/dashboard/): page, JSON API, /metrics, probes.
+  ts::DashboardServer dashboard(coordinator, ts::DashboardConfig{flags.token});
+  int http_port = 0;
+  try {
+    http_port = dashboard.start(flags.http_address);
+  } catch (const std::exception& e) {
+    std::cerr << "tessera-server: " << e.what() << "\n";
+    server->Shutdown();
+    return 1;
+  }
+  const std::string http_host = flags.http_address.substr(0, flags.http_address.rfind(':'));
+  std::cout << "tessera-server: dashboard on http://" << http_host << ":" << http_port << "/"
+            << std::endl;
+  if (!flags.http_port_file.empty()) write_port_file(flags.http_port_file, http_port);
+  // Last: the gRPC port file tells scripts that both listeners are up.
   if (!flags.port_file.empty()) write_port_file(flags.port_file, port);
 
   const auto reap_period = std::chrono::milliseconds(
@@ -94,6 +112,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
     sigwait(&stop_signals, &signal_number);
     std::cout << "tessera-server: signal " << signal_number << ", shutting down" << std::endl;
     coordinator.changes().stop();  // ends long polls and watches at once
+    dashboard.stop();
     server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
   });
   server->Wait();
@@ -110,7 +129,7 @@ int main(int argc, char** argv) {
       ->envname("TESSERA_GRPC")
       ->capture_default_str();
   app.add_option("--http", flags.http_address,
-                 "HTTP dashboard address (reserved: the dashboard is not served yet)")
+                 "HTTP dashboard, JSON API and /metrics address HOST:PORT (port 0: any free)")
       ->envname("TESSERA_HTTP")
       ->capture_default_str();
   app.add_option("--db", flags.db, "SQLite database file (created if missing)")
@@ -130,6 +149,9 @@ int main(int argc, char** argv) {
   app.add_option("--port-file", flags.port_file,
                  "write the gRPC port chosen to this file once listening (for --grpc HOST:0)")
       ->envname("TESSERA_PORT_FILE");
+  app.add_option("--http-port-file", flags.http_port_file,
+                 "write the HTTP port chosen to this file once listening (for --http HOST:0)")
+      ->envname("TESSERA_HTTP_PORT_FILE");
   CLI11_PARSE(app, argc, argv);
 
   // Block the stop signals before any thread starts, so only sigwait sees them.

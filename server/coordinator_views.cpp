@@ -1,0 +1,101 @@
+// The Coordinator's views for the dashboard (server/dashboard/): tile maps with error estimates,
+// farm-wide totals, readiness, and the one dashboard action the gRPC API lacks (re-prioritise).
+// Declared in the "Dashboard views" block of coordinator.h.
+#include <array>
+
+#include "accum/accumulation_codec.h"
+#include "coordinator.h"
+#include "farm_error.h"
+
+namespace tessera::server {
+
+std::vector<TileView> Coordinator::tile_views(int64_t job_id) {
+  JobRecord job;
+  std::vector<TileRecord> tiles;
+  {
+    std::lock_guard lock(mu_);
+    std::optional<JobRecord> found = jobs_.get(job_id);
+    if (!found) throw FarmError(ErrorCode::not_found, "no job " + std::to_string(job_id));
+    job = std::move(*found);
+    tiles = jobs_.tiles(job_id);
+  }
+  const JobPlan plan = job.options.plan();
+  std::vector<TileView> views;
+  views.reserve(tiles.size());
+  for (const TileRecord& t : tiles) {
+    TileView v;
+    v.tile = t.tile;
+    v.rect = t.rect;
+    v.batches_merged = t.next_batch;
+    v.spp_merged = t.next_batch == 0 ? 0 : plan.batch_end(t.next_batch - 1);
+    if (!t.accumulation.empty()) v.error = ErrorEstimate::of(decode_accumulation(t.accumulation));
+    views.push_back(v);
+  }
+  return views;
+}
+
+FarmTotals Coordinator::totals() {
+  FarmTotals totals;
+  for (JobState s : {JobState::queued, JobState::running, JobState::done, JobState::failed,
+                     JobState::cancelled}) {
+    totals.jobs_by_state[std::string(to_string(s))] = 0;
+  }
+  std::lock_guard lock(mu_);
+  {
+    auto q = db_.prepare(
+        "SELECT state, COUNT(*), SUM(units_done), SUM(leases_expired), SUM(results_dropped), "
+        "SUM(samples_merged) FROM jobs GROUP BY state");
+    while (q->step()) {
+      totals.jobs_by_state[q->text(0)] = uint64_t(q->int64(1));
+      totals.units_done += uint64_t(q->int64(2));
+      totals.leases_expired += uint64_t(q->int64(3));
+      totals.results_dropped += uint64_t(q->int64(4));
+      totals.samples_merged += uint64_t(q->int64(5));
+    }
+  }
+  {
+    auto q = db_.prepare("SELECT COUNT(*) FROM units WHERE state = 'leased'");
+    if (q->step()) totals.units_leased_now = uint64_t(q->int64(0));
+  }
+  {
+    auto q = db_.prepare("SELECT COUNT(*) FROM workers");
+    if (q->step()) totals.workers = uint64_t(q->int64(0));
+  }
+  return totals;
+}
+
+JobRecord Coordinator::set_priority(int64_t job_id, int priority) {
+  JobRecord record;
+  {
+    std::lock_guard lock(mu_);
+    {
+      // Compare-and-set on the state: a job that ends meanwhile keeps its recorded priority.
+      auto q = db_.prepare(
+          "UPDATE jobs SET priority = ? WHERE id = ? AND state IN ('queued', 'running')");
+      q->bind(1, priority).bind(2, job_id).run();
+    }
+    const bool changed = db_.changes() > 0;
+    std::optional<JobRecord> found = jobs_.get(job_id);
+    if (!found) throw FarmError(ErrorCode::not_found, "no job " + std::to_string(job_id));
+    if (!changed) {
+      throw FarmError(ErrorCode::failed_precondition,
+                      "job " + std::to_string(job_id) + " is already " +
+                          std::string(to_string(found->state)));
+    }
+    record = std::move(*found);
+  }
+  changes_.notify();
+  return record;
+}
+
+bool Coordinator::store_ready() {
+  try {
+    std::lock_guard lock(mu_);
+    auto q = db_.prepare("SELECT COUNT(*) FROM schema_migrations");
+    return q->step();
+  } catch (const SqliteError&) {
+    return false;
+  }
+}
+
+}  // namespace tessera::server
