@@ -9,12 +9,17 @@ PACKAGES=(
   libsqlite3-dev libssl-dev libcpp-httplib-dev nlohmann-json3-dev libcli11-dev
   libtinyobjloader-dev libzstd-dev libgtest-dev libgmock-dev libbenchmark-dev libpugixml-dev
   python3
+  # The dashboard's tests: headless Chromium (driven by playwright-core from npm, which never
+  # downloads a browser), Node.js, and a venv for Prometheus' parser (tests/dashboard/browser/).
+  chromium nodejs python3-venv
 )
 
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# Debian packages npm apart from nodejs; other builds of nodejs bring their own npm.
+command -v npm >/dev/null || missing+=(npm)
 if [ ${#missing[@]} -eq 0 ]; then
   exit 0
 fi

@@ -16,7 +16,6 @@
 
 #include "change_notifier.h"
 #include "clock.h"
-#include "dashboard/error_estimate.h"
 #include "dashboard/farm_metrics.h"
 #include "job_output.h"
 #include "job_store.h"
@@ -44,13 +43,21 @@ struct LeasedUnit {
   std::string bundle_sha256;
 };
 
-/// A tile of a job as the dashboard shows it (Coordinator::tile_views).
+/// A tile of a job as the dashboard shows it (Coordinator::tile_map).
 struct TileView {
   uint32_t tile = 0;
   TileRect rect;
   uint32_t batches_merged = 0;  ///< batches [0, batches_merged) are merged
   uint32_t spp_merged = 0;      ///< samples per pixel those batches cover
-  ErrorEstimate error;          ///< from the merged sums; empty before two samples per pixel
+  /// estimate_relative_error (core/accum/film.h) of the merged sums; nullopt before 2 spp.
+  std::optional<double> relative_error;
+};
+
+/// Every tile of a job, and the job's estimated relative error over all its merged pixels (the
+/// figure `tessera-worker render` prints for the same sums; nullopt before 2 spp anywhere).
+struct TileMap {
+  std::vector<TileView> tiles;
+  std::optional<double> relative_error;
 };
 
 /// Farm-wide totals from the store (Coordinator::totals), for /metrics.
@@ -117,9 +124,9 @@ class Coordinator {
   int expire_leases();
 
   // ---- Dashboard views (defined in server/coordinator_views.cpp, used by server/dashboard/) --
-  /// Every tile of the job with what is merged and its error estimate (tiles are decoded
+  /// Every tile of the job with what is merged and the error estimates (tiles are decoded
   /// outside the lock). Throws FarmError(not_found).
-  std::vector<TileView> tile_views(int64_t job_id);
+  TileMap tile_map(int64_t job_id);
   /// Farm-wide totals in one read of the store.
   FarmTotals totals();
   /// Changes the priority of a queued or running job (the scheduler reads it at the next

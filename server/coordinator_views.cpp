@@ -4,12 +4,25 @@
 #include <array>
 
 #include "accum/accumulation_codec.h"
+#include "accum/film.h"
 #include "coordinator.h"
 #include "farm_error.h"
 
 namespace tessera::server {
+namespace {
 
-std::vector<TileView> Coordinator::tile_views(int64_t job_id) {
+/// estimate_relative_error leaves out pixels with fewer than 2 samples and answers 0 when none
+/// has them: the dashboard shows "no estimate yet" then, not a perfect 0.
+bool has_two_samples(const Accumulation& a) {
+  for (uint32_t n : a.count) {
+    if (n >= 2) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+TileMap Coordinator::tile_map(int64_t job_id) {
   JobRecord job;
   std::vector<TileRecord> tiles;
   {
@@ -20,18 +33,25 @@ std::vector<TileView> Coordinator::tile_views(int64_t job_id) {
     tiles = jobs_.tiles(job_id);
   }
   const JobPlan plan = job.options.plan();
-  std::vector<TileView> views;
-  views.reserve(tiles.size());
+  TileMap map;
+  map.tiles.reserve(tiles.size());
+  std::vector<Accumulation> merged;
   for (const TileRecord& t : tiles) {
     TileView v;
     v.tile = t.tile;
     v.rect = t.rect;
     v.batches_merged = t.next_batch;
     v.spp_merged = t.next_batch == 0 ? 0 : plan.batch_end(t.next_batch - 1);
-    if (!t.accumulation.empty()) v.error = ErrorEstimate::of(decode_accumulation(t.accumulation));
-    views.push_back(v);
+    if (!t.accumulation.empty()) {
+      merged.push_back(decode_accumulation(t.accumulation));
+      if (has_two_samples(merged.back())) v.relative_error = estimate_relative_error({merged.back()});
+    }
+    map.tiles.push_back(v);
   }
-  return views;
+  bool any = false;
+  for (const Accumulation& a : merged) any = any || has_two_samples(a);
+  if (any) map.relative_error = estimate_relative_error(merged);
+  return map;
 }
 
 FarmTotals Coordinator::totals() {

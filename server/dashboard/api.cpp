@@ -116,9 +116,10 @@ class Api {
 
   json job_detail(int64_t id) {
     const JobRecord job = coordinator_.job(id);
-    const std::vector<TileView> tiles = coordinator_.tile_views(id);
+    const TileMap map = coordinator_.tile_map(id);
     json j = job_summary(job, coordinator_.clock().now_unix_ms());
-    j["tiles"] = tiles_json(tiles);
+    j["relative_error"] = optional_number(map.relative_error);
+    j["tiles"] = tiles_json(map.tiles);
     j["provenance"] = JobOutput::provenance(job);
     j["token_required"] = !config_.token.empty();
     return j;
@@ -182,9 +183,7 @@ class Api {
         return it->second.second;
       }
     }
-    ErrorEstimate total;
-    for (const TileView& t : coordinator_.tile_views(job.id)) total.add(t.error);
-    const std::optional<double> error = total.relative_error();
+    const std::optional<double> error = coordinator_.tile_map(job.id).relative_error;
     std::lock_guard lock(mu_);
     error_cache_[job.id] = {job.counters.results_merged, error};
     return error;
@@ -277,7 +276,7 @@ json tiles_json(const std::vector<TileView>& tiles) {
                         {"y1", t.rect.y1},
                         {"batches_merged", t.batches_merged},
                         {"spp", t.spp_merged},
-                        {"relative_error", optional_number(t.error.relative_error())}});
+                        {"relative_error", optional_number(t.relative_error)}});
   }
   return list;
 }

@@ -1,51 +1,13 @@
-// Unit tests of the dashboard's pieces that need no server: the error estimate, the metrics
-// recorder on a fake clock, the Prometheus text.
+// Unit tests of the dashboard's pieces that need no server: the metrics recorder on a fake
+// clock and the Prometheus text.
 #include <gtest/gtest.h>
 
-#include <cmath>
-
-#include "dashboard/error_estimate.h"
 #include "dashboard/farm_metrics.h"
 #include "dashboard/prometheus_text.h"
 #include "fake_clock.h"
 
 namespace tessera::server {
 namespace {
-
-/// A 2-pixel tile whose pixels saw the luminance samples given (grey RGB, so luminance = value).
-Accumulation grey_samples(const std::vector<std::vector<double>>& per_pixel) {
-  Accumulation a(TileRect{0, 0, int(per_pixel.size()), 1});
-  for (size_t i = 0; i < per_pixel.size(); ++i) {
-    for (double v : per_pixel[i]) {
-      for (int c = 0; c < 3; ++c) a.rgb[3 * i + c] += v;
-      a.lum2[i] += v * v;
-      ++a.count[i];
-    }
-  }
-  return a;
-}
-
-TEST(ErrorEstimate, ConstantPixelsHaveNoError) {
-  const ErrorEstimate e = ErrorEstimate::of(grey_samples({{0.5, 0.5, 0.5}, {2, 2}}));
-  ASSERT_TRUE(e.relative_error().has_value());
-  EXPECT_NEAR(*e.relative_error(), 0.0, 1e-12);
-}
-
-TEST(ErrorEstimate, MatchesTheTextbookStandardError) {
-  // Pixel 0: samples 0 and 2 (mean 1, s² = 2, s²/n = 1); pixel 1: 1, 3 (mean 2, s²/n = 1).
-  const ErrorEstimate e = ErrorEstimate::of(grey_samples({{0, 2}, {1, 3}}));
-  ASSERT_TRUE(e.relative_error().has_value());
-  EXPECT_NEAR(*e.relative_error(), std::sqrt(1.0) / 1.5, 1e-12);
-  // Tiles add before dividing: the same two pixels split over two tiles give the same answer.
-  ErrorEstimate split = ErrorEstimate::of(grey_samples({{0, 2}}));
-  split.add(ErrorEstimate::of(grey_samples({{1, 3}})));
-  EXPECT_NEAR(*split.relative_error(), *e.relative_error(), 1e-12);
-}
-
-TEST(ErrorEstimate, UndefinedBeforeTwoSamplesOrOnBlack) {
-  EXPECT_FALSE(ErrorEstimate::of(grey_samples({{1}, {2}})).relative_error().has_value());
-  EXPECT_FALSE(ErrorEstimate::of(grey_samples({{0, 0}, {0, 0}})).relative_error().has_value());
-}
 
 TEST(FarmMetrics, RatesOverTheWindowPerWorkerAndJob) {
   testing::FakeClock clock;

@@ -134,7 +134,7 @@ try {
         seen.add(createHash('sha256').update(shot).digest('hex'));
         if (seen.size === 2 && !midShot) {
           midShot = true;
-          await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard-rendering.png') });
+          await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard-rendering.png'), fullPage: true });
         }
       }
       return (await rowState(page, id)) === 'done' && version?.endsWith(':done');
