@@ -41,6 +41,13 @@ HostPort parse_address(const std::string& address) {
 
 DashboardServer::DashboardServer(Coordinator& coordinator, DashboardConfig config)
     : http_(std::make_unique<httplib::Server>()) {
+  // httplib's default also sets SO_REUSEPORT, which lets the kernel hand the same port (even a
+  // "free" one for port 0) to another process's listener, gRPC's included: a client would then
+  // reach the wrong server. SO_REUSEADDR alone still allows a quick restart on the same port.
+  http_->set_socket_options([](socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   install_dashboard_routes(*http_, coordinator, std::move(config));
 }
 
