@@ -4,6 +4,7 @@
 #include <openssl/crypto.h>
 
 #include <algorithm>
+#include <chrono>
 #include <climits>
 #include <map>
 #include <memory>
@@ -116,10 +117,9 @@ class Api {
 
   json job_detail(int64_t id) {
     const JobRecord job = coordinator_.job(id);
-    const TileMap map = coordinator_.tile_map(id);
+    const std::shared_ptr<const TileMap> map = tile_map(job);
     json j = job_summary(job, coordinator_.clock().now_unix_ms());
-    j["relative_error"] = optional_number(map.relative_error);
-    j["tiles"] = tiles_json(map.tiles);
+    j["tiles"] = tiles_json(map->tiles);
     j["provenance"] = JobOutput::provenance(job);
     j["token_required"] = !config_.token.empty();
     return j;
@@ -172,27 +172,59 @@ class Api {
     return coordinator_.metrics().job_samples_per_s(job.id, job.started_unix_ms);
   }
 
-  /// The job's estimated relative error, recomputed only when more results were merged (the
-  /// list is polled every second; decoding every tile each time would be wasted work).
   std::optional<double> job_error(const JobRecord& job) {
     if (job.counters.results_merged == 0) return std::nullopt;
+    return tile_map(job)->relative_error;
+  }
+
+  /// The job's tile map, from a cache: recomputed when more results were merged, but while the
+  /// job runs at most once per max(1 s, 10 x the time the last computation took), so that pages
+  /// polling a huge job (every tile decoded each time) cost the server about a tenth of a core
+  /// at most.
+  std::shared_ptr<const TileMap> tile_map(const JobRecord& job) {
+    const int64_t now = coordinator_.clock().now_unix_ms();
     {
       std::lock_guard lock(mu_);
-      auto it = error_cache_.find(job.id);
-      if (it != error_cache_.end() && it->second.first == job.counters.results_merged) {
-        return it->second.second;
+      auto it = maps_.find(job.id);
+      if (it != maps_.end()) {
+        const CachedMap& c = it->second;
+        if (c.results_merged == job.counters.results_merged && c.state == job.state) return c.map;
+        // A final job changes no more: its last map is computed once, never served stale.
+        if (!is_final(job.state) &&
+            now - c.computed_unix_ms < std::max<int64_t>(1000, 10 * c.cost_ms)) {
+          return c.map;
+        }
       }
     }
-    const std::optional<double> error = coordinator_.tile_map(job.id).relative_error;
+    const auto t0 = std::chrono::steady_clock::now();
+    auto map = std::make_shared<const TileMap>(coordinator_.tile_map(job.id));
+    const int64_t cost_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                                std::chrono::steady_clock::now() - t0).count();
     std::lock_guard lock(mu_);
-    error_cache_[job.id] = {job.counters.results_merged, error};
-    return error;
+    if (maps_.size() >= kMaxCachedMaps && !maps_.contains(job.id)) {
+      // Forget the job computed longest ago.
+      auto oldest = std::min_element(maps_.begin(), maps_.end(), [](const auto& a, const auto& b) {
+        return a.second.computed_unix_ms < b.second.computed_unix_ms;
+      });
+      maps_.erase(oldest);
+    }
+    maps_[job.id] = CachedMap{job.counters.results_merged, job.state, now, cost_ms, map};
+    return map;
   }
+
+  struct CachedMap {
+    uint32_t results_merged = 0;
+    JobState state = JobState::queued;
+    int64_t computed_unix_ms = 0;
+    int64_t cost_ms = 0;
+    std::shared_ptr<const TileMap> map;
+  };
+  static constexpr size_t kMaxCachedMaps = 256;
 
   Coordinator& coordinator_;
   const DashboardConfig config_;
-  std::mutex mu_;  ///< guards error_cache_ (handlers run on a thread pool)
-  std::map<int64_t, std::pair<uint32_t, std::optional<double>>> error_cache_;
+  std::mutex mu_;  ///< guards maps_ (handlers run on a thread pool)
+  std::map<int64_t, CachedMap> maps_;
 };
 
 void send_image(Api& api, const httplib::Request& req, httplib::Response& res,

@@ -221,8 +221,8 @@ $('#cancel-job').addEventListener('click', async () => {
   refresh();
 });
 $('#set-priority').addEventListener('click', async () => {
-  const id = state.selected, p = Number($('#priority-input').value);
-  if (!Number.isInteger(p)) { message('priority must be an integer', false); return; }
+  const text = $('#priority-input').value.trim(), p = Number(text);
+  if (text === '' || !Number.isInteger(p)) { message('priority must be an integer', false); return; }
   if (id !== null && await change(`/api/jobs/${id}/priority`, { priority: p })) {
     message(`job ${id}: priority ${p}`, true);
   }

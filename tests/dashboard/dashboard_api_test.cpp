@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <httplib.h>
 
+#include <unistd.h>
+
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -226,6 +228,32 @@ TEST_F(DashboardApi, ChangesNeedTheTokenReadsDoNot) {
   expect_json_error(post(job_path + "/cancel", "{}", token), 409, "already cancelled");
   expect_json_error(post(job_path + "/priority", R"({"priority": 1})", token), 409,
                     "already cancelled");
+}
+
+TEST(DashboardListener, ABadOrBusyAddressStopsTheServerWithOneLine) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("tessera-dashboard-listen-" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  // Hold a port the way a second server would.
+  httplib::Server holder;
+  const int busy = holder.bind_to_any_port("127.0.0.1");
+  ASSERT_GT(busy, 0);
+  auto server = [&](const std::string& http, const std::string& stem) {
+    return run_command({TESSERA_SERVER_BIN, "--grpc", "127.0.0.1:0", "--http", http, "--db",
+                        (dir / (stem + ".db")).string()},
+                       dir / stem, {}, kPatience);
+  };
+  CommandResult r = server("127.0.0.1:" + std::to_string(busy), "busy");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("cannot listen on 127.0.0.1:" + std::to_string(busy) + " (HTTP)"),
+            std::string::npos) << r.err;
+  r = server("no-port-here", "bad");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--http: expected HOST:PORT"), std::string::npos) << r.err;
+  r = server("127.0.0.1:70000", "range");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--http: port must be 0..65535"), std::string::npos) << r.err;
+  std::filesystem::remove_all(dir);
 }
 
 TEST_F(DashboardApi, PriorityChangesWhatRunsNext) {
