@@ -70,6 +70,9 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, tessera::wire::kKeepaliveTimeMs);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, tessera::wire::kKeepaliveTimeoutMs);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  // gRPC sets SO_REUSEPORT by default: the kernel may then give port 0's "free" port to two
+  // processes at once (seen in tests beside other farms), and a client reaches the wrong one.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   // Accept the clients' keepalive pings (every kKeepaliveTimeMs) without calling them abusive.
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS,
                              tessera::wire::kKeepaliveTimeMs / 3);
