@@ -30,7 +30,8 @@ trap cleanup EXIT
 
 # The server picks a free port and writes it to a file once it listens.
 "$BIN/tessera-server" --grpc 127.0.0.1:0 --http 127.0.0.1:0 --db "$RUN_DIR/tessera.db" \
-  --output-dir "$RUN_DIR/outputs" --port-file "$RUN_DIR/port" >"$RUN_DIR/server.log" 2>&1 &
+  --output-dir "$RUN_DIR/outputs" --port-file "$RUN_DIR/port" --http-port-file "$RUN_DIR/http-port" \
+  >"$RUN_DIR/server.log" 2>&1 &
 pids+=($!)
 for _ in $(seq 300); do
   [ -s "$RUN_DIR/port" ] && break
@@ -44,7 +45,8 @@ for i in 1 2; do
     >"$RUN_DIR/worker$i.log" 2>&1 &
   pids+=($!)
 done
-echo "demo: server on $GRPC, two workers; submitting scenes/cornell.json at $SPP spp"
+echo "demo: server on $GRPC (dashboard: http://127.0.0.1:$(cat "$RUN_DIR/http-port")/), two workers;" \
+  "submitting scenes/cornell.json at $SPP spp"
 "$BIN/tessera" --server "$GRPC" submit scenes/cornell.json --spp "$SPP" -o out/cornell.exr
 "$BIN/tessera" --server "$GRPC" list
 "$BIN/tessera" --server "$GRPC" workers

@@ -10,12 +10,17 @@ PACKAGES=(
   libtinyobjloader-dev libzstd-dev libgtest-dev libgmock-dev libbenchmark-dev libpugixml-dev
   python3
   iproute2 clang-14 libclang-rt-14-dev   # tests/faults (ip netns); fuzz/run.sh (libFuzzer)
+  # The dashboard's tests: headless Chromium (driven by playwright-core from npm, which never
+  # downloads a browser), Node.js, and a venv for Prometheus' parser (tests/dashboard/browser/).
+  chromium nodejs python3-venv
 )
 
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# Debian packages npm apart from nodejs; other builds of nodejs bring their own npm.
+command -v npm >/dev/null || missing+=(npm)
 if [ ${#missing[@]} -eq 0 ]; then
   exit 0
 fi

@@ -33,6 +33,12 @@ std::optional<std::string> read_file(const std::filesystem::path& path) {
   return std::move(ss).str();
 }
 
+uint64_t sample_count(const Accumulation& a) {
+  uint64_t samples = 0;
+  for (uint32_t n : a.count) samples += n;
+  return samples;
+}
+
 }  // namespace
 
 Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
@@ -310,6 +316,7 @@ AcceptOutcome Coordinator::upload(const UnitResult& result) {
     }
     tile_pixels = rect->pixel_count();
   }
+  const auto received = std::chrono::steady_clock::now();
   Accumulation decoded;
   try {
     decoded = decode_accumulation(result.encoded, tile_pixels);
@@ -323,6 +330,8 @@ AcceptOutcome Coordinator::upload(const UnitResult& result) {
     outcome = merger_.accept(result, decoded);
     if (outcome.accepted) report_health(result.worker_id);
   }
+  metrics_.record_result(result.worker_id, result.job_id, outcome.accepted, sample_count(decoded),
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - received).count());
   changes_.notify();
   if (outcome.job_complete) finish_job(result.job_id);
   return outcome;

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -16,6 +17,7 @@
 #include "change_notifier.h"
 #include "clock.h"
 #include "farm_limits.h"
+#include "dashboard/farm_metrics.h"
 #include "job_output.h"
 #include "job_store.h"
 #include "lease_table.h"
@@ -44,6 +46,34 @@ struct LeasedUnit {
   uint32_t sample_begin = 0, sample_end = 0;
   JobOptions options;
   std::string bundle_sha256;
+};
+
+/// A tile of a job as the dashboard shows it (Coordinator::tile_map).
+struct TileView {
+  uint32_t tile = 0;
+  TileRect rect;
+  uint32_t batches_merged = 0;  ///< batches [0, batches_merged) are merged
+  uint32_t spp_merged = 0;      ///< samples per pixel those batches cover
+  /// estimate_relative_error (core/accum/film.h) of the merged sums; nullopt before 2 spp.
+  std::optional<double> relative_error;
+};
+
+/// Every tile of a job, and the job's estimated relative error over all its merged pixels (the
+/// figure `tessera-worker render` prints for the same sums; nullopt before 2 spp anywhere).
+struct TileMap {
+  std::vector<TileView> tiles;
+  std::optional<double> relative_error;
+};
+
+/// Farm-wide totals from the store (Coordinator::totals), for /metrics.
+struct FarmTotals {
+  std::map<std::string, uint64_t> jobs_by_state;  ///< every state name, 0 when none
+  uint64_t units_leased_now = 0;
+  uint64_t units_done = 0;        ///< over all jobs, as stored
+  uint64_t leases_expired = 0;
+  uint64_t results_dropped = 0;
+  uint64_t samples_merged = 0;
+  uint64_t workers = 0;
 };
 
 struct JobImage {
@@ -110,6 +140,21 @@ class Coordinator {
   /// Returns false when the checkpoint could not complete.
   bool checkpoint();
 
+  // ---- Dashboard views (defined in server/coordinator_views.cpp, used by server/dashboard/) --
+  /// Every tile of the job with what is merged and the error estimates (tiles are decoded
+  /// outside the lock). Throws FarmError(not_found).
+  TileMap tile_map(int64_t job_id);
+  /// Farm-wide totals in one read of the store.
+  FarmTotals totals();
+  /// Changes the priority of a queued or running job (the scheduler reads it at the next
+  /// lease). Throws FarmError: not_found, failed_precondition when the job is already final.
+  JobRecord set_priority(int64_t job_id, int priority);
+  /// True when the store answers a query (for /readyz).
+  bool store_ready();
+  /// Results, rates and merge latency recorded by upload().
+  const FarmMetrics& metrics() const { return metrics_; }
+  // ---- end of dashboard views ---------------------------------------------------------------
+
   ChangeNotifier& changes() { return changes_; }
   int64_t lease_ms() const { return leases_.lease_ms(); }
   const Clock& clock() const { return clock_; }
@@ -135,6 +180,7 @@ class Coordinator {
   double nan_report_fraction_;
   std::set<int64_t> reported_workers_;  ///< NaN/Inf warning logged (guarded by mu_)
   ChangeNotifier changes_;
+  FarmMetrics metrics_{clock_};  ///< dashboard counters (thread-safe on its own)
 };
 
 }  // namespace tessera::server

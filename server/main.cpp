@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "coordinator.h"
+#include "dashboard/http_server.h"
 #include "job_service.h"
 #include "lease_reaper.h"
 #include "listen_policy.h"
@@ -42,6 +43,7 @@ struct Flags {
   tessera::server::WorkerHealthPolicy health;
   double forgive_seconds = 600;
   double nan_report_fraction = 1e-3;
+  std::string http_port_file;
 };
 
 /// The tokens each service requires, after --token, the role tokens and their files.
@@ -92,6 +94,14 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   namespace ts = tessera::server;
   const Tokens tokens = resolve_tokens(flags);
   check_grpc_listen_policy(flags, tokens);
+  // The dashboard serves reads to anyone who reaches it; its state changes need the client
+  // token. Without one it may not listen beyond loopback either. It speaks plain HTTP.
+  {
+    const std::string warning = tessera::server::check_listen_policy(
+        flags.http_address, tokens.client.empty() ? "the dashboard (HTTP)" : "", false,
+        flags.insecure);
+    if (!warning.empty()) std::cerr << "tessera-server: warning: " << warning << std::endl;
+  }
   const std::shared_ptr<grpc::ServerCredentials> credentials =
       tessera::wire::server_credentials(flags.tls);
   if (flags.db != ":memory:") {
@@ -130,6 +140,9 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, tessera::wire::kKeepaliveTimeMs);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, tessera::wire::kKeepaliveTimeoutMs);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  // gRPC sets SO_REUSEPORT by default: the kernel may then give port 0's "free" port to two
+  // processes at once (seen in tests beside other farms), and a client reaches the wrong one.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   // Accept the clients' keepalive pings (every kKeepaliveTimeMs) without calling them abusive.
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS,
                              tessera::wire::kKeepaliveTimeMs / 3);
@@ -151,6 +164,22 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   }
   std::cout << "tessera-server: listening on " << host << ":" << port << " (db " << flags.db << ", "
             << resumed << " unfinished job(s) resumed" << security << ")" << std::endl;
+
+  // The dashboard (server/dashboard/): page, JSON API, /metrics, probes.
+  ts::DashboardServer dashboard(coordinator, ts::DashboardConfig{tokens.client});
+  int http_port = 0;
+  try {
+    http_port = dashboard.start(flags.http_address);
+  } catch (const std::exception& e) {
+    std::cerr << "tessera-server: " << e.what() << "\n";
+    server->Shutdown();
+    return 1;
+  }
+  const std::string http_host = flags.http_address.substr(0, flags.http_address.rfind(':'));
+  std::cout << "tessera-server: dashboard on http://" << http_host << ":" << http_port << "/"
+            << std::endl;
+  if (!flags.http_port_file.empty()) write_port_file(flags.http_port_file, http_port);
+  // Last: the gRPC port file tells scripts that both listeners are up.
   if (!flags.port_file.empty()) write_port_file(flags.port_file, port);
 
   const auto reap_period = std::chrono::milliseconds(
@@ -165,6 +194,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
               << ", shutting down: no new leases; waiting up to " << flags.shutdown_seconds
               << " s for calls in flight (uploads commit)" << std::endl;
     coordinator.stop_leasing();  // ends long polls and watches at once
+    dashboard.stop();
     server->Shutdown(std::chrono::system_clock::now() +
                      std::chrono::milliseconds(int64_t(flags.shutdown_seconds * 1000.0)));
   });
@@ -194,7 +224,7 @@ int main(int argc, char** argv) {
       ->envname("TESSERA_GRPC")
       ->capture_default_str();
   app.add_option("--http", flags.http_address,
-                 "HTTP dashboard address (reserved: the dashboard is not served yet)")
+                 "HTTP dashboard, JSON API and /metrics address HOST:PORT (port 0: any free)")
       ->envname("TESSERA_HTTP")
       ->capture_default_str();
   app.add_option("--db", flags.db, "SQLite database file (created if missing)")
@@ -286,6 +316,9 @@ int main(int argc, char** argv) {
                "TESSERA_NAN_REPORT_FRACTION",
                "report a worker whose NaN/Inf samples exceed this fraction of its samples")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--http-port-file", flags.http_port_file,
+                 "write the HTTP port chosen to this file once listening (for --http HOST:0)")
+      ->envname("TESSERA_HTTP_PORT_FILE");
   CLI11_PARSE(app, argc, argv);
 
   // Block the stop signals before any thread starts, so only sigwait sees them.

@@ -55,7 +55,11 @@ void FarmCluster::start_server(const std::vector<std::string>& extra) {
                                    "--output-dir",
                                    (dir_ / "outputs").string(),
                                    "--port-file",
-                                   port_file.string()};
+                                   port_file.string(),
+                                   "--http",
+                                   "127.0.0.1:0",
+                                   "--http-port-file",
+                                   (dir_ / "http-port").string()};
   argv.insert(argv.end(), server_extra_.begin(), server_extra_.end());
   server_ = std::make_unique<Process>(
       argv, dir_ / ("server-" + std::to_string(server_starts_++) + ".log"));
@@ -66,6 +70,7 @@ void FarmCluster::start_server(const std::vector<std::string>& extra) {
     poll_pause();
   }
   port_ = std::stoi(read_text(port_file));
+  http_port_ = std::stoi(read_text(dir_ / "http-port"));  // written before the gRPC one
   connect();
 }
 

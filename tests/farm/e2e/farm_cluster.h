@@ -56,6 +56,8 @@ class FarmCluster {
   CommandResult local_render(const std::vector<std::string>& args);
 
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
+  /// The dashboard's HTTP port (the server listens on 127.0.0.1:0 for it).
+  int http_port() const { return http_port_; }
   const std::filesystem::path& dir() const { return dir_; }
   std::filesystem::path db_path() const { return dir_ / "farm.db"; }
 
@@ -82,6 +84,7 @@ class FarmCluster {
   std::filesystem::path dir_;
   std::string token_;
   int port_ = 0;
+  int http_port_ = 0;
   int server_starts_ = 0;
   int commands_ = 0;
   std::vector<std::string> server_extra_;

@@ -1,0 +1,121 @@
+// The Coordinator's views for the dashboard (server/dashboard/): tile maps with error estimates,
+// farm-wide totals, readiness, and the one dashboard action the gRPC API lacks (re-prioritise).
+// Declared in the "Dashboard views" block of coordinator.h.
+#include <array>
+
+#include "accum/accumulation_codec.h"
+#include "accum/film.h"
+#include "coordinator.h"
+#include "farm_error.h"
+
+namespace tessera::server {
+namespace {
+
+/// estimate_relative_error leaves out pixels with fewer than 2 samples and answers 0 when none
+/// has them: the dashboard shows "no estimate yet" then, not a perfect 0.
+bool has_two_samples(const Accumulation& a) {
+  for (uint32_t n : a.count) {
+    if (n >= 2) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+TileMap Coordinator::tile_map(int64_t job_id) {
+  JobRecord job;
+  std::vector<TileRecord> tiles;
+  {
+    std::lock_guard lock(mu_);
+    std::optional<JobRecord> found = jobs_.get(job_id);
+    if (!found) throw FarmError(ErrorCode::not_found, "no job " + std::to_string(job_id));
+    job = std::move(*found);
+    tiles = jobs_.tiles(job_id);
+  }
+  const JobPlan plan = job.options.plan();
+  TileMap map;
+  map.tiles.reserve(tiles.size());
+  std::vector<Accumulation> merged;
+  for (const TileRecord& t : tiles) {
+    TileView v;
+    v.tile = t.tile;
+    v.rect = t.rect;
+    v.batches_merged = t.next_batch;
+    v.spp_merged = t.next_batch == 0 ? 0 : plan.batch_end(t.next_batch - 1);
+    if (!t.accumulation.empty()) {
+      merged.push_back(decode_accumulation(t.accumulation));
+      if (has_two_samples(merged.back())) v.relative_error = estimate_relative_error({merged.back()});
+    }
+    map.tiles.push_back(v);
+  }
+  bool any = false;
+  for (const Accumulation& a : merged) any = any || has_two_samples(a);
+  if (any) map.relative_error = estimate_relative_error(merged);
+  return map;
+}
+
+FarmTotals Coordinator::totals() {
+  FarmTotals totals;
+  for (JobState s : {JobState::queued, JobState::running, JobState::done, JobState::failed,
+                     JobState::cancelled}) {
+    totals.jobs_by_state[std::string(to_string(s))] = 0;
+  }
+  std::lock_guard lock(mu_);
+  {
+    auto q = db_.prepare(
+        "SELECT state, COUNT(*), SUM(units_done), SUM(leases_expired), SUM(results_dropped), "
+        "SUM(samples_merged) FROM jobs GROUP BY state");
+    while (q->step()) {
+      totals.jobs_by_state[q->text(0)] = uint64_t(q->int64(1));
+      totals.units_done += uint64_t(q->int64(2));
+      totals.leases_expired += uint64_t(q->int64(3));
+      totals.results_dropped += uint64_t(q->int64(4));
+      totals.samples_merged += uint64_t(q->int64(5));
+    }
+  }
+  {
+    auto q = db_.prepare("SELECT COUNT(*) FROM units WHERE state = 'leased'");
+    if (q->step()) totals.units_leased_now = uint64_t(q->int64(0));
+  }
+  {
+    auto q = db_.prepare("SELECT COUNT(*) FROM workers");
+    if (q->step()) totals.workers = uint64_t(q->int64(0));
+  }
+  return totals;
+}
+
+JobRecord Coordinator::set_priority(int64_t job_id, int priority) {
+  JobRecord record;
+  {
+    std::lock_guard lock(mu_);
+    {
+      // Compare-and-set on the state: a job that ends meanwhile keeps its recorded priority.
+      auto q = db_.prepare(
+          "UPDATE jobs SET priority = ? WHERE id = ? AND state IN ('queued', 'running')");
+      q->bind(1, priority).bind(2, job_id).run();
+    }
+    const bool changed = db_.changes() > 0;
+    std::optional<JobRecord> found = jobs_.get(job_id);
+    if (!found) throw FarmError(ErrorCode::not_found, "no job " + std::to_string(job_id));
+    if (!changed) {
+      throw FarmError(ErrorCode::failed_precondition,
+                      "job " + std::to_string(job_id) + " is already " +
+                          std::string(to_string(found->state)));
+    }
+    record = std::move(*found);
+  }
+  changes_.notify();
+  return record;
+}
+
+bool Coordinator::store_ready() {
+  try {
+    std::lock_guard lock(mu_);
+    auto q = db_.prepare("SELECT COUNT(*) FROM schema_migrations");
+    return q->step();
+  } catch (const SqliteError&) {
+    return false;
+  }
+}
+
+}  // namespace tessera::server

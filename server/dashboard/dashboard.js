@@ -1,0 +1,246 @@
+// Tessera dashboard: polls the JSON API (docs/dashboard.md) and redraws. No build step, no
+// dependencies. The token for state changes is kept in sessionStorage, never in the URL.
+'use strict';
+
+const params = new URLSearchParams(location.search);
+const POLL_MS = Math.max(100, Number(params.get('poll')) || 1000);
+const TOKEN_KEY = 'tessera-token';
+const $ = (sel) => document.querySelector(sel);
+
+const state = { jobs: [], workers: [], selected: null, detail: null, previewKey: '',
+                metric: 'spp', timer: null, busy: false };
+
+function esc(s) {
+  return String(s).replace(/[&<>"']/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;',
+                                                 '"': '&quot;', "'": '&#39;' }[c]));
+}
+function duration(s) {
+  if (s === null || s === undefined || !isFinite(s)) return '—';
+  s = Math.max(0, Math.round(s));
+  const h = Math.floor(s / 3600), m = Math.floor((s % 3600) / 60), sec = s % 60;
+  return h ? `${h}h ${m}m` : m ? `${m}m ${sec}s` : `${sec}s`;
+}
+function rate(v) {
+  if (!v) return '—';
+  const units = [[1e9, 'G'], [1e6, 'M'], [1e3, 'k']];
+  for (const [f, u] of units) if (v >= f) return (v / f).toFixed(1) + u;
+  return v.toFixed(0);
+}
+function percent(x) { return (100 * x).toFixed(x >= 1 ? 0 : 1) + ' %'; }
+function errorText(e) { return e === null || e === undefined ? '—' : (100 * e).toFixed(2) + ' %'; }
+
+async function api(path, options = {}) {
+  const res = await fetch(path, { cache: 'no-store', ...options });
+  const body = res.headers.get('Content-Type')?.startsWith('application/json') ? await res.json() : null;
+  if (!res.ok) throw Object.assign(new Error(body?.error || `HTTP ${res.status}`), { status: res.status });
+  return body;
+}
+
+function jobRow(j) {
+  const sel = j.id === state.selected ? ' class="selected"' : '';
+  return `<tr data-job-id="${j.id}" data-state="${esc(j.state)}"${sel}>
+    <td class="num">${j.id}</td><td>${esc(j.scene_file)}</td>
+    <td><span class="state state-${esc(j.state)}">${esc(j.state)}</span></td>
+    <td class="progress-col"><div class="bar" data-progress="${j.progress}"><span style="width:${(100 * j.progress).toFixed(2)}%"></span><b>${percent(j.progress)}</b></div></td>
+    <td class="num">${j.spp_merged}/${j.spp_target}</td><td class="num wide">${rate(j.samples_per_s)}</td>
+    <td class="num wide">${duration(j.elapsed_s)}</td><td class="num">${j.state === 'running' ? duration(j.eta_s) : '—'}</td>
+    <td class="num wide">${errorText(j.relative_error)}</td><td class="num wide">${j.priority}</td></tr>`;
+}
+
+function workerRow(w) {
+  const unit = w.unit ? `job ${w.unit.job_id} · tile ${w.unit.tile} · batch ${w.unit.batch}` : '—';
+  return `<tr data-worker-id="${w.id}" data-state="${esc(w.state)}">
+    <td>${esc(w.name)}</td><td class="num">${w.threads}</td>
+    <td><span class="state state-${esc(w.state)}">${esc(w.state)}</span></td><td>${unit}</td>
+    <td class="num">${rate(w.samples_per_s)}</td><td class="num wide">${duration(w.last_seen_s)} ago</td>
+    <td class="num wide">${w.units_done}</td><td class="num">${w.failures}</td></tr>`;
+}
+
+function renderLists() {
+  const t0 = performance.now();
+  $('#jobs tbody').innerHTML = state.jobs.map(jobRow).join('');
+  $('#job-count').textContent = `(${state.jobs.length})`;
+  $('#no-jobs').hidden = state.jobs.length > 0;
+  $('#workers tbody').innerHTML = state.workers.map(workerRow).join('');
+  const online = state.workers.filter((w) => w.online).length;
+  $('#worker-count').textContent = `(${online} online / ${state.workers.length})`;
+  $('#no-workers').hidden = state.workers.length > 0;
+  document.body.dataset.renderMs = (performance.now() - t0).toFixed(1);
+}
+
+function dl(el, pairs) {
+  el.innerHTML = pairs.map(([k, v]) => `<dt>${esc(k)}</dt><dd>${esc(v)}</dd>`).join('');
+}
+
+function renderDetail() {
+  const j = state.detail;
+  $('#job-detail').hidden = !j;
+  if (!j) return;
+  $('#detail-id').textContent = j.id;
+  const st = $('#detail-state');
+  st.textContent = j.state; st.className = `state state-${j.state}`;
+  $('#detail-scene').textContent = `${j.scene_file} · priority ${j.priority}`;
+  const final = ['done', 'failed', 'cancelled'].includes(j.state);
+  $('#cancel-job').disabled = final;
+  $('#set-priority').disabled = final;
+  if (document.activeElement !== $('#priority-input')) $('#priority-input').value = j.priority;
+  $('#download-exr').href = j.image_url;
+  // A new preview only when more results are merged; loaded off-screen, then swapped in.
+  const key = `${j.id}:${j.counters.results_merged}:${j.state}`;
+  if (key !== state.previewKey) {
+    state.previewKey = key;
+    const img = new Image();
+    img.onload = () => {
+      if (state.detail?.id !== j.id) return;
+      const p = $('#preview');
+      p.src = img.src;
+      p.dataset.version = key;
+      $('#preview-caption').textContent =
+        `${j.spp_merged} spp merged${j.state === 'done' ? ' (final)' : ''} · ${j.options.width}×${j.options.height}`;
+    };
+    img.src = `${j.preview_url}?v=${encodeURIComponent(key)}`;
+  }
+  drawTileMap(j);
+  const o = j.options;
+  dl($('#detail-options'), [['size', `${o.width}×${o.height}`], ['spp', o.spp],
+    ['max depth', o.max_depth], ['seed', o.seed], ['tile', o.tile_size], ['batch', `${o.batch_spp} spp`],
+    ['isa', o.isa || 'auto'], ['units', `${j.counters.units_total} (${j.tile_count} tiles × ${j.batch_count} batches)`]]);
+  const c = j.counters;
+  dl($('#detail-progress'), [['progress', percent(j.progress)], ['spp reached', `${j.spp_merged} / ${j.spp_target}`],
+    ['samples/s', rate(j.samples_per_s)], ['elapsed', duration(j.elapsed_s)],
+    ['ETA', j.state === 'running' ? duration(j.eta_s) : '—'], ['est. error', errorText(j.relative_error)],
+    ['units done', `${c.units_done} / ${c.units_total}`], ['leased now', c.units_leased],
+    ['leases expired', c.leases_expired], ['results dropped', c.results_dropped],
+    ['NaN / Inf dropped', `${c.nan_dropped} / ${c.inf_dropped}`], ...(j.error ? [['error', j.error]] : [])]);
+  dl($('#detail-provenance'), Object.entries(j.provenance)
+    .filter(([k]) => k !== 'tessera:job_options').map(([k, v]) => [k.replace('tessera:', ''), v]));
+}
+
+// Heat map: each tile coloured by its samples per pixel (of the target) or by its estimated
+// relative error (log scale between the smallest and largest over the tiles).
+function heat(t) {
+  t = Math.min(1, Math.max(0, t));
+  const stops = [[13, 8, 135], [126, 3, 168], [204, 71, 120], [248, 149, 64], [240, 249, 33]];
+  const x = t * (stops.length - 1), i = Math.min(stops.length - 2, Math.floor(x)), f = x - i;
+  const c = stops[i].map((v, k) => Math.round(v + f * (stops[i + 1][k] - v)));
+  return `rgb(${c[0]},${c[1]},${c[2]})`;
+}
+function drawTileMap(j) {
+  const canvas = $('#tile-map');
+  const w = j.options.width, h = j.options.height;
+  const scale = Math.max(1, Math.floor(512 / Math.max(w, h)));
+  if (canvas.width !== w * scale || canvas.height !== h * scale) {
+    canvas.width = w * scale; canvas.height = h * scale;
+  }
+  const ctx = canvas.getContext('2d');
+  ctx.fillStyle = '#000'; ctx.fillRect(0, 0, canvas.width, canvas.height);
+  const errors = j.tiles.map((t) => t.relative_error).filter((e) => e > 0);
+  const lo = Math.log(Math.min(...errors)), hi = Math.log(Math.max(...errors));
+  for (const t of j.tiles) {
+    let v = null, label = '';
+    if (state.metric === 'spp') { v = t.spp / j.spp_target; label = String(t.spp); }
+    else if (t.relative_error > 0) {
+      v = hi > lo ? (Math.log(t.relative_error) - lo) / (hi - lo) : 0.5;
+      label = (100 * t.relative_error).toFixed(1) + '%';
+    }
+    const x = t.x0 * scale, y = t.y0 * scale, tw = (t.x1 - t.x0) * scale, th = (t.y1 - t.y0) * scale;
+    ctx.fillStyle = v === null ? '#222' : heat(v);
+    ctx.fillRect(x, y, tw, th);
+    ctx.strokeStyle = '#000'; ctx.strokeRect(x + 0.5, y + 0.5, tw - 1, th - 1);
+    if (label && tw >= 36 && th >= 16) {
+      ctx.fillStyle = v !== null && v > 0.6 ? '#000' : '#fff';
+      ctx.font = `${Math.min(14, th / 3)}px system-ui`;
+      ctx.fillText(label, x + 4, y + Math.min(16, th / 2));
+    }
+  }
+  $('#tile-legend').textContent = state.metric === 'spp'
+    ? `dark: 0 spp · bright: ${j.spp_target} spp`
+    : errors.length ? `dark: ${(100 * Math.exp(lo)).toFixed(2)} % · bright: ${(100 * Math.exp(hi)).toFixed(2)} %`
+                    : 'no estimate yet (needs 2 spp)';
+}
+
+async function refresh() {
+  if (state.busy) return;  // a slow server never piles requests up
+  state.busy = true;
+  try {
+    const [jobs, workers] = await Promise.all([api('/api/jobs'), api('/api/workers')]);
+    state.jobs = jobs.jobs;
+    state.workers = workers.workers;
+    $('#farm-rate').textContent = `${rate(jobs.samples_per_s)} samples/s`;
+    if (state.selected === null && state.jobs.length) {
+      const running = state.jobs.find((j) => j.state === 'running');
+      state.selected = (running || state.jobs[0]).id;
+    }
+    renderLists();
+    if (state.selected !== null) {
+      try { state.detail = await api(`/api/jobs/${state.selected}`); }
+      catch (e) { if (e.status === 404) { state.selected = null; state.detail = null; } else throw e; }
+      renderDetail();
+    }
+    $('#conn').textContent = '';
+  } catch (e) {
+    $('#conn').textContent = `⚠ ${e.message}`;
+  } finally {
+    state.busy = false;
+  }
+}
+
+function message(text, ok) {
+  const m = $('#action-message');
+  m.textContent = text; m.className = ok ? 'ok' : 'error';
+}
+
+async function change(path, body) {
+  const token = sessionStorage.getItem(TOKEN_KEY) || '';
+  const headers = { 'Content-Type': 'application/json' };
+  if (token) headers.Authorization = `Bearer ${token}`;
+  try {
+    await api(path, { method: 'POST', headers, body: JSON.stringify(body) });
+    return true;
+  } catch (e) {
+    message(e.status === 401 ? `${e.message}: enter the server's token above` : e.message, false);
+    if (e.status === 401) $('#token-input').focus();
+    return false;
+  }
+}
+
+function select(id) {
+  state.selected = id; state.detail = null; state.previewKey = '';
+  $('#preview').removeAttribute('src'); delete $('#preview').dataset.version;
+  message('', true);
+  refresh();
+}
+
+$('#jobs tbody').addEventListener('click', (ev) => {
+  const row = ev.target.closest('tr[data-job-id]');
+  if (row) select(Number(row.dataset.jobId));
+});
+$('#cancel-job').addEventListener('click', async () => {
+  const id = state.selected;
+  if (id !== null && await change(`/api/jobs/${id}/cancel`, {})) message(`job ${id} cancelled`, true);
+  refresh();
+});
+$('#set-priority').addEventListener('click', async () => {
+  const text = $('#priority-input').value.trim(), p = Number(text);
+  if (text === '' || !Number.isInteger(p)) { message('priority must be an integer', false); return; }
+  if (id !== null && await change(`/api/jobs/${id}/priority`, { priority: p })) {
+    message(`job ${id}: priority ${p}`, true);
+  }
+  refresh();
+});
+$('#token-form').addEventListener('submit', (ev) => {
+  ev.preventDefault();
+  const v = $('#token-input').value.trim();
+  if (v) sessionStorage.setItem(TOKEN_KEY, v); else sessionStorage.removeItem(TOKEN_KEY);
+  $('#token-input').value = '';
+  $('#token-input').placeholder = v ? 'token saved for this tab' : 'needed to cancel or re-prioritise';
+  message(v ? 'token saved for this tab' : 'token cleared', true);
+});
+for (const r of document.querySelectorAll('input[name="tile-metric"]')) {
+  r.addEventListener('change', () => { state.metric = r.value; if (state.detail) drawTileMap(state.detail); });
+}
+if (sessionStorage.getItem(TOKEN_KEY)) $('#token-input').placeholder = 'token saved for this tab';
+const fromHash = /job=(\d+)/.exec(location.hash);
+if (fromHash) state.selected = Number(fromHash[1]);
+refresh();
+state.timer = setInterval(refresh, POLL_MS);

@@ -1,0 +1,75 @@
+#include "dashboard/http_server.h"
+
+#include <httplib.h>
+
+#include <stdexcept>
+
+#include "dashboard/api.h"
+
+namespace tessera::server {
+namespace {
+
+struct HostPort {
+  std::string host;
+  int port = 0;
+};
+
+HostPort parse_address(const std::string& address) {
+  const size_t colon = address.rfind(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == address.size()) {
+    throw std::runtime_error("--http: expected HOST:PORT (got \"" + address + "\")");
+  }
+  HostPort hp;
+  hp.host = address.substr(0, colon);
+  if (hp.host.size() >= 2 && hp.host.front() == '[' && hp.host.back() == ']') {
+    hp.host = hp.host.substr(1, hp.host.size() - 2);
+  }
+  const std::string port = address.substr(colon + 1);
+  size_t used = 0;
+  try {
+    hp.port = std::stoi(port, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != port.size() || hp.port < 0 || hp.port > 65535) {
+    throw std::runtime_error("--http: port must be 0..65535 (got \"" + port + "\")");
+  }
+  return hp;
+}
+
+}  // namespace
+
+DashboardServer::DashboardServer(Coordinator& coordinator, DashboardConfig config)
+    : http_(std::make_unique<httplib::Server>()) {
+  // httplib's default also sets SO_REUSEPORT, which lets the kernel hand the same port (even a
+  // "free" one for port 0) to another process's listener, gRPC's included: a client would then
+  // reach the wrong server. SO_REUSEADDR alone still allows a quick restart on the same port.
+  http_->set_socket_options([](socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
+  install_dashboard_routes(*http_, coordinator, std::move(config));
+}
+
+DashboardServer::~DashboardServer() { stop(); }
+
+int DashboardServer::start(const std::string& address) {
+  const HostPort hp = parse_address(address);
+  int port = hp.port;
+  if (port == 0) {
+    port = http_->bind_to_any_port(hp.host);
+    if (port < 0) port = 0;
+  } else if (!http_->bind_to_port(hp.host, port)) {
+    port = 0;
+  }
+  if (port <= 0) throw std::runtime_error("cannot listen on " + address + " (HTTP)");
+  thread_ = std::thread([this] { http_->listen_after_bind(); });
+  return port;
+}
+
+void DashboardServer::stop() {
+  if (http_) http_->stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+}  // namespace tessera::server

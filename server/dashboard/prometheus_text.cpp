@@ -1,0 +1,83 @@
+#include "dashboard/prometheus_text.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+namespace tessera::server {
+namespace {
+
+// The shortest of %.15g / %.17g that reads back as the same double (bucket labels stay "0.0025").
+std::string number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.15g", v);
+  if (std::strtod(buf, nullptr) != v) std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+class Writer {
+ public:
+  void family(const std::string& name, const std::string& type, const std::string& help) {
+    out_ << "# HELP " << name << ' ' << help << '\n' << "# TYPE " << name << ' ' << type << '\n';
+  }
+  void sample(const std::string& name, const std::string& labels, const std::string& value) {
+    out_ << name;
+    if (!labels.empty()) out_ << '{' << labels << '}';
+    out_ << ' ' << value << '\n';
+  }
+  void sample(const std::string& name, uint64_t value) { sample(name, "", std::to_string(value)); }
+  std::string str() const { return out_.str(); }
+
+ private:
+  std::ostringstream out_;
+};
+
+}  // namespace
+
+std::string prometheus_text(const FarmSnapshotForMetrics& s) {
+  Writer w;
+  w.family("tessera_jobs", "gauge", "Jobs in the store by state.");
+  for (const auto& [state, count] : s.totals.jobs_by_state) {
+    w.sample("tessera_jobs", "state=\"" + state + "\"", std::to_string(count));
+  }
+  w.family("tessera_units_leased", "gauge", "Work units leased to workers right now.");
+  w.sample("tessera_units_leased", s.totals.units_leased_now);
+  w.family("tessera_units_done_total", "counter",
+           "Work units whose result was accepted, over every job in the store.");
+  w.sample("tessera_units_done_total", s.totals.units_done);
+  w.family("tessera_units_expired_total", "counter",
+           "Leases that expired or were revoked at a restart (units rendered again), all jobs.");
+  w.sample("tessera_units_expired_total", s.totals.leases_expired);
+  w.family("tessera_results_dropped_total", "counter",
+           "Results dropped for a stale or duplicate lease, over every job in the store.");
+  w.sample("tessera_results_dropped_total", s.totals.results_dropped);
+  w.family("tessera_samples_merged_total", "counter",
+           "Pixel samples merged, over every job in the store.");
+  w.sample("tessera_samples_merged_total", s.totals.samples_merged);
+  w.family("tessera_results_received_total", "counter",
+           "Results answered by this server process, by outcome (accepted or dropped).");
+  w.sample("tessera_results_received_total", "outcome=\"accepted\"",
+           std::to_string(s.results_accepted));
+  w.sample("tessera_results_received_total", "outcome=\"dropped\"",
+           std::to_string(s.results_dropped_session));
+  w.family("tessera_samples_per_second", "gauge",
+           "Pixel samples accepted per second over the last 10 seconds.");
+  w.sample("tessera_samples_per_second", "", number(s.samples_per_s));
+  w.family("tessera_workers", "gauge", "Registered workers, online (seen within 3 leases) or not.");
+  w.sample("tessera_workers", "state=\"online\"", std::to_string(s.workers_online));
+  w.sample("tessera_workers", "state=\"offline\"",
+           std::to_string(s.totals.workers - s.workers_online));
+  w.family("tessera_merge_latency_seconds", "histogram",
+           "Time from receiving a result to its commit (decode, lock, compare-and-set, merge).");
+  for (size_t i = 0; i < FarmMetrics::kMergeBuckets.size(); ++i) {
+    w.sample("tessera_merge_latency_seconds_bucket",
+             "le=\"" + number(FarmMetrics::kMergeBuckets[i]) + "\"",
+             std::to_string(s.merge.cumulative[i]));
+  }
+  w.sample("tessera_merge_latency_seconds_bucket", "le=\"+Inf\"", std::to_string(s.merge.count));
+  w.sample("tessera_merge_latency_seconds_sum", "", number(s.merge.sum_s));
+  w.sample("tessera_merge_latency_seconds_count", s.merge.count);
+  return w.str();
+}
+
+}  // namespace tessera::server

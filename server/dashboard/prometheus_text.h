@@ -1,0 +1,22 @@
+// /metrics in the Prometheus text exposition format (version 0.0.4): store totals, worker
+// counts and the FarmMetrics recorder, every family with HELP and TYPE.
+#pragma once
+
+#include <string>
+
+#include "coordinator.h"
+
+namespace tessera::server {
+
+struct FarmSnapshotForMetrics {
+  FarmTotals totals;
+  uint64_t workers_online = 0;
+  double samples_per_s = 0;
+  uint64_t results_accepted = 0;          ///< since the server started
+  uint64_t results_dropped_session = 0;   ///< since the server started
+  FarmMetrics::MergeHistogram merge;
+};
+
+std::string prometheus_text(const FarmSnapshotForMetrics& s);
+
+}  // namespace tessera::server

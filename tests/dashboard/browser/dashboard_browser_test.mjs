@@ -1,0 +1,220 @@
+// The dashboard in a real browser (Debian's headless Chromium driven by playwright-core):
+//  1. a farm (server with a token + 2 workers), the Cornell box submitted with many small units:
+//     the job appears, its preview changes at least twice while it renders, it reaches 100 %;
+//     a second job is cancelled from the page (refused without the token, done with it);
+//  2. a farm with 50 jobs and 32 registered workers: every row listed, the page still quick;
+//  3. the same page at a phone's viewport: no sideways scrolling of the page.
+// Screenshots go to $ARTIFACTS. Waits are bounded by a generous patience, never timed.
+// Environment: TESSERA_BIN_DIR, TESSERA_SOURCE_DIR, TOOLS_DIR (setup.sh), ARTIFACTS,
+// REGISTER_WORKERS (the tessera_register_workers binary).
+import { spawn, execFile } from 'node:child_process';
+import { createHash } from 'node:crypto';
+import { createRequire } from 'node:module';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { promisify } from 'node:util';
+
+const env = (name) => {
+  const v = process.env[name];
+  if (!v) throw new Error(`${name} is not set`);
+  return v;
+};
+const BIN = env('TESSERA_BIN_DIR');
+const SRC = env('TESSERA_SOURCE_DIR');
+const ARTIFACTS = env('ARTIFACTS');
+const REGISTER = env('REGISTER_WORKERS');
+const require = createRequire(path.join(env('TOOLS_DIR'), 'package.json'));
+const { chromium } = require('playwright-core');
+const run = promisify(execFile);
+const PATIENCE_MS = 240_000;
+const TOKEN = 'browser-test-token';
+
+fs.mkdirSync(ARTIFACTS, { recursive: true });
+const work = fs.mkdtempSync(path.join(os.tmpdir(), 'tessera-dashboard-'));
+const children = [];
+let passed = 0, failed = 0;
+
+function check(cond, what) {
+  if (!cond) throw new Error(`check failed: ${what}`);
+}
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+async function until(what, probe, patience = PATIENCE_MS) {
+  const end = Date.now() + patience;
+  for (;;) {
+    const v = await probe();
+    if (v) return v;
+    if (Date.now() > end) throw new Error(`gave up waiting for ${what}`);
+    await sleep(100);
+  }
+}
+
+function start(name, argv) {
+  const log = fs.openSync(path.join(work, `${name}.log`), 'a');
+  const child = spawn(argv[0], argv.slice(1), { stdio: ['ignore', log, log] });
+  children.push(child);
+  return child;
+}
+
+async function startFarm(name, extra = []) {
+  const dir = path.join(work, name);
+  fs.mkdirSync(dir);
+  const server = start(`${name}-server`, [path.join(BIN, 'tessera-server'), '--grpc', '127.0.0.1:0',
+    '--port-file', path.join(dir, 'port'), '--http', '127.0.0.1:0', '--http-port-file',
+    path.join(dir, 'http-port'), '--db', path.join(dir, 'farm.db'), '--output-dir',
+    path.join(dir, 'outputs'), ...extra]);
+  await until(`${name} server`, () => {
+    if (server.exitCode !== null) throw new Error(`${name} server exited: see ${work}`);
+    return fs.existsSync(path.join(dir, 'port'));
+  });
+  const grpc = `127.0.0.1:${fs.readFileSync(path.join(dir, 'port'), 'utf8').trim()}`;
+  const http = `http://127.0.0.1:${fs.readFileSync(path.join(dir, 'http-port'), 'utf8').trim()}`;
+  return { dir, grpc, http };
+}
+
+async function submit(farm, args, token = '') {
+  const argv = ['--server', farm.grpc, ...(token ? ['--token', token] : []), 'submit', ...args, '--json'];
+  const { stdout } = await run(path.join(BIN, 'tessera'), argv);
+  return JSON.parse(stdout).id;
+}
+
+async function apiJob(farm, id) {
+  const res = await fetch(`${farm.http}/api/jobs/${id}`);
+  return res.json();
+}
+
+async function test(name, body) {
+  const t0 = Date.now();
+  try {
+    await body();
+    passed++;
+    console.log(`[ OK ] ${name} (${((Date.now() - t0) / 1000).toFixed(1)} s)`);
+  } catch (e) {
+    failed++;
+    console.log(`[FAIL] ${name}: ${e.stack || e}`);
+  }
+}
+
+const browser = await chromium.launch({
+  executablePath: '/usr/bin/chromium',
+  headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking',
+         '--disable-component-update', '--disable-sync', '--no-first-run'],
+});
+const rowState = (page, id) =>
+  page.locator(`#jobs tr[data-job-id="${id}"]`).getAttribute('data-state').catch(() => null);
+
+try {
+  await test('a job renders live, reaches 100 %, and a second job is cancelled from the page', async () => {
+    const farm = await startFarm('live', ['--token', TOKEN]);
+    for (let i = 0; i < 2; ++i) {
+      start(`live-worker-${i}`, [path.join(BIN, 'tessera-worker'), '--server', farm.grpc, '--token', TOKEN,
+        '--threads', '1', '--cache', path.join(farm.dir, 'cache'), '--name', `browser-worker-${i}`]);
+    }
+    const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const pageErrors = [];
+    page.on('pageerror', (e) => pageErrors.push(String(e)));
+    await page.goto(`${farm.http}/?poll=200`);
+    // 4 tiles x 128 batches of 2 spp: hundreds of small units, so the page sees many merges.
+    const cornell = path.join(SRC, 'scenes', 'cornell.json');
+    const id = await submit(farm, [cornell, '--width', '96', '--height', '96', '--tile', '48',
+      '--spp', '256', '--batch', '2'], TOKEN);
+    await page.locator(`#jobs tr[data-job-id="${id}"]`).waitFor({ timeout: PATIENCE_MS });
+    await page.locator(`#jobs tr[data-job-id="${id}"]`).click();
+    await page.locator('#detail-id', { hasText: String(id) }).waitFor({ timeout: PATIENCE_MS });
+
+    // Every new preview the page shows is hashed by its pixels as the browser paints them.
+    const seen = new Set();
+    let lastVersion = null, midShot = false;
+    await until('the job to reach done in the page', async () => {
+      const version = await page.locator('#preview').getAttribute('data-version');
+      if (version && version !== lastVersion) {
+        lastVersion = version;
+        const shot = await page.locator('#preview').screenshot();
+        seen.add(createHash('sha256').update(shot).digest('hex'));
+        if (seen.size === 2 && !midShot) {
+          midShot = true;
+          await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard-rendering.png'), fullPage: true });
+        }
+      }
+      return (await rowState(page, id)) === 'done' && version?.endsWith(':done');
+    });
+    // The final preview too (the loop may have ended on the state before its image arrived).
+    await until('the final preview', async () =>
+      (await page.locator('#preview').getAttribute('data-version'))?.endsWith(':done'));
+    seen.add(createHash('sha256').update(await page.locator('#preview').screenshot()).digest('hex'));
+    console.log(`  distinct previews seen while rendering: ${seen.size}`);
+    check(seen.size >= 3, `the preview changed at least twice (saw ${seen.size} distinct images)`);
+    const bar = page.locator(`#jobs tr[data-job-id="${id}"] .bar b`);
+    check((await bar.textContent()).trim() === '100 %', 'the progress bar reads 100 %');
+    check((await page.locator('#detail-progress').textContent()).includes('256 / 256'), 'spp 256 / 256');
+    const tiles = (await apiJob(farm, id)).tiles;
+    check(tiles.length === 4 && tiles.every((t) => t.spp === 256), 'every tile at 256 spp');
+    await page.locator('input[name="tile-metric"][value="error"]').check();
+    await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard-done.png') });
+    await page.locator('input[name="tile-metric"][value="spp"]').check();
+
+    // A second job, cancelled from the page: refused without the token, done with it.
+    const second = await submit(farm, [cornell, '--width', '96', '--height', '96', '--spp', '100000'], TOKEN);
+    await page.locator(`#jobs tr[data-job-id="${second}"]`).click();
+    await page.locator('#detail-id', { hasText: String(second) }).waitFor({ timeout: PATIENCE_MS });
+    await page.locator('#cancel-job').click();
+    await page.locator('#action-message', { hasText: 'token' }).waitFor({ timeout: PATIENCE_MS });
+    check(['queued', 'running'].includes((await apiJob(farm, second)).state), 'not cancelled without the token');
+    await page.locator('#token-input').fill(TOKEN);
+    await page.locator('#token-save').click();
+    await page.locator('#cancel-job').click();
+    await until('the second job to show cancelled', async () => (await rowState(page, second)) === 'cancelled');
+    check((await apiJob(farm, second)).state === 'cancelled', 'the server says cancelled');
+    await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard-cancelled.png') });
+    check(pageErrors.length === 0, `no script errors in the page (${pageErrors.join('; ')})`);
+    await page.close();
+  });
+
+  await test('50 jobs and 32 workers listed; a phone-sized screen', async () => {
+    const farm = await startFarm('busy');
+    await run(REGISTER, [farm.grpc, '32']);
+    const tiny = path.join(SRC, 'tests', 'farm', 'data', 'tiny.json');
+    for (let i = 0; i < 50; i += 5) {
+      await Promise.all([0, 1, 2, 3, 4].map((k) => submit(farm, [tiny, '--spp', String(8 + i + k)])));
+    }
+    const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+    await page.goto(`${farm.http}/`);
+    await until('50 job rows', async () => (await page.locator('#jobs tbody tr').count()) === 50);
+    await until('32 worker rows', async () => (await page.locator('#workers tbody tr').count()) === 32);
+    // Responsive: one redraw of both lists is quick, and a click shows the job's details at once.
+    const renderMs = Number(await page.evaluate(() => document.body.dataset.renderMs));
+    console.log(`  redraw of 50 jobs + 32 workers: ${renderMs} ms`);
+    check(renderMs < 250, `the lists redraw in under 250 ms (took ${renderMs} ms)`);
+    const t0 = Date.now();
+    await page.locator('#jobs tr[data-job-id="17"]').click();
+    await page.locator('#detail-id', { hasText: '17' }).waitFor({ timeout: PATIENCE_MS });
+    console.log(`  click to details: ${Date.now() - t0} ms`);
+    await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard-50-jobs.png'), fullPage: true });
+    await page.close();
+
+    const phone = await browser.newContext({ viewport: { width: 390, height: 844 },
+                                              deviceScaleFactor: 2, isMobile: true, hasTouch: true });
+    const small = await phone.newPage();
+    await small.goto(`${farm.http}/`);
+    await until('50 job rows on the phone', async () => (await small.locator('#jobs tbody tr').count()) === 50);
+    await small.locator('#jobs tr[data-job-id="3"]').tap();
+    await small.locator('#detail-id', { hasText: '3' }).waitFor({ timeout: PATIENCE_MS });
+    const overflow = await small.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+    check(overflow <= 0, `the page does not scroll sideways on a phone (${overflow} px too wide)`);
+    const cancelBox = await small.locator('#cancel-job').boundingBox();
+    check(cancelBox && cancelBox.x >= 0 && cancelBox.x + cancelBox.width <= 390, 'cancel button on screen');
+    await small.screenshot({ path: path.join(ARTIFACTS, 'dashboard-phone.png') });
+    await small.screenshot({ path: path.join(ARTIFACTS, 'dashboard-phone-full.png'), fullPage: true });
+    await phone.close();
+  });
+} finally {
+  await browser.close();
+  for (const c of children) if (c.exitCode === null) c.kill('SIGTERM');
+  await sleep(500);
+  for (const c of children) if (c.exitCode === null) c.kill('SIGKILL');
+  if (failed === 0) fs.rmSync(work, { recursive: true, force: true });
+  else console.log(`logs kept in ${work}`);
+  console.log(`${passed} passed, ${failed} failed`);
+  process.exitCode = failed === 0 ? 0 : 1;
+}

@@ -1,0 +1,277 @@
+// The dashboard's HTTP API against a real tessera-server on loopback (label e2e): every endpoint,
+// unknown ids, and the token on requests that change state. The server binds 127.0.0.1:0 for
+// HTTP and writes the port it got (FarmCluster reads it).
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <unistd.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "exr_header.h"
+#include "farm_cluster.h"
+#include "image/image_output.h"
+
+namespace tessera::e2e {
+namespace {
+
+using nlohmann::json;
+
+const std::string kTiny = (source_dir() / "tests" / "farm" / "data" / "tiny.json").string();
+
+class DashboardApi : public ::testing::Test {
+ protected:
+  httplib::Client client() {
+    httplib::Client c("127.0.0.1", farm_->http_port());
+    c.set_read_timeout(60, 0);
+    c.set_connection_timeout(10, 0);
+    return c;
+  }
+  /// GET that must succeed at the HTTP level; returns the response.
+  httplib::Result get(const std::string& path) {
+    httplib::Client c = client();
+    httplib::Result r = c.Get(path.c_str());
+    EXPECT_TRUE(r) << path << ": " << httplib::to_string(r.error());
+    return r;
+  }
+  json get_json(const std::string& path, int expected_status = 200) {
+    httplib::Result r = get(path);
+    if (!r) return {};
+    EXPECT_EQ(r->status, expected_status) << path << ": " << r->body;
+    EXPECT_EQ(r->get_header_value("Content-Type"), "application/json") << path;
+    return json::parse(r->body);
+  }
+  httplib::Result post(const std::string& path, const std::string& body,
+                       const std::string& token = "",
+                       const std::string& type = "application/json") {
+    httplib::Client c = client();
+    httplib::Headers headers;
+    if (!token.empty()) headers.emplace("Authorization", "Bearer " + token);
+    httplib::Result r = c.Post(path.c_str(), headers, body, type.c_str());
+    EXPECT_TRUE(r) << path;
+    return r;
+  }
+  void expect_json_error(const httplib::Result& r, int status, const std::string& needle) {
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, status) << r->body;
+    const json body = json::parse(r->body, nullptr, false);
+    ASSERT_TRUE(body.is_object() && body.contains("error")) << r->body;
+    EXPECT_NE(body["error"].get<std::string>().find(needle), std::string::npos) << r->body;
+  }
+
+  std::unique_ptr<FarmCluster> farm_;
+};
+
+TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
+  farm_ = std::make_unique<FarmCluster>("dashboard-api-read");
+  farm_->start_server();
+  farm_->start_worker({"--threads", "1"});
+  const std::vector<std::string> options = {"--spp", "8", "--batch", "2", "--tile", "8"};
+  std::vector<std::string> submit_args = {kTiny};
+  submit_args.insert(submit_args.end(), options.begin(), options.end());
+  const uint64_t id = farm_->submit(submit_args);
+  const v1::JobInfo done = farm_->wait_final(id);
+  ASSERT_EQ(done.state(), v1::JOB_STATE_DONE);
+  const std::string job_path = "/api/jobs/" + std::to_string(id);
+
+  EXPECT_EQ(get_json("/healthz")["status"], "ok");
+  EXPECT_EQ(get_json("/readyz")["status"], "ready");
+
+  const json list = get_json("/api/jobs");
+  ASSERT_EQ(list["jobs"].size(), 1u);
+  const json& summary = list["jobs"][0];
+  EXPECT_EQ(summary["id"], id);
+  EXPECT_EQ(summary["state"], "done");
+  EXPECT_EQ(summary["progress"], 1.0);
+  EXPECT_EQ(summary["spp_merged"], 8);
+  EXPECT_EQ(summary["samples_merged"], 16 * 16 * 8);
+  EXPECT_EQ(summary["samples_total"], 16 * 16 * 8);
+  EXPECT_EQ(summary["counters"]["units_done"], 4 * 4);
+  EXPECT_EQ(summary["options"]["batch_spp"], 2);
+  EXPECT_TRUE(summary["relative_error"].is_number());
+  EXPECT_GT(summary["relative_error"].get<double>(), 0.0);
+  EXPECT_FALSE(list["token_required"].get<bool>());
+
+  const json detail = get_json(job_path);
+  ASSERT_EQ(detail["tiles"].size(), 4u);  // 16x16 in 8x8 tiles
+  double largest_tile_error = 0;
+  for (const json& t : detail["tiles"]) {
+    EXPECT_EQ(t["spp"], 8);
+    EXPECT_EQ(t["batches_merged"], 4);
+    EXPECT_EQ(t["x1"].get<int>() - t["x0"].get<int>(), 8);
+    ASSERT_TRUE(t["relative_error"].is_number()) << t;
+    largest_tile_error = std::max(largest_tile_error, t["relative_error"].get<double>());
+  }
+  EXPECT_GT(largest_tile_error, 0.0);
+  // The job's error is the one `tessera-worker render` reports for the same (bit-identical) sums.
+  std::vector<std::string> render_args = {kTiny, "-q", "-o", (farm_->dir() / "local.exr").string()};
+  render_args.insert(render_args.end(), options.begin(), options.end());
+  const CommandResult local = farm_->local_render(render_args);
+  ASSERT_EQ(local.exit_code, 0) << local.err;
+  const std::string local_error =
+      image_attribute(farm_->dir() / "local.exr", "tessera:estimated_relative_error");
+  ASSERT_FALSE(local_error.empty());
+  EXPECT_NEAR(detail["relative_error"].get<double>(), std::stod(local_error), 1e-6);
+  EXPECT_EQ(detail["provenance"]["tessera:scene_sha256"], done.bundle_sha256());
+  EXPECT_EQ(detail["provenance"]["tessera:spp"], "8");
+
+  // The preview of a done job is its final PNG; the EXR is the file the server wrote.
+  httplib::Result png = get(job_path + "/preview.png");
+  ASSERT_TRUE(png);
+  EXPECT_EQ(png->status, 200);
+  EXPECT_EQ(png->get_header_value("Content-Type"), "image/png");
+  EXPECT_EQ(png->get_header_value("X-Tessera-Final"), "true");
+  EXPECT_EQ(png->body.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  const auto png_path = farm_->dir() / "preview.png";
+  std::ofstream(png_path, std::ios::binary) << png->body;
+  const RgbImage decoded = read_image(png_path);
+  EXPECT_EQ(decoded.width, 16);
+  EXPECT_EQ(decoded.height, 16);
+
+  httplib::Result exr = get(job_path + "/image.exr");
+  ASSERT_TRUE(exr);
+  EXPECT_EQ(exr->status, 200);
+  EXPECT_EQ(exr->get_header_value("Content-Type"), "image/x-exr");
+  std::ifstream written(done.output_exr(), std::ios::binary);
+  const std::string file((std::istreambuf_iterator<char>(written)), {});
+  EXPECT_FALSE(file.empty());
+  EXPECT_EQ(exr->body, file);
+
+  const json workers = get_json("/api/workers");
+  ASSERT_EQ(workers["workers"].size(), 1u);
+  const json& w = workers["workers"][0];
+  EXPECT_EQ(w["name"], "e2e-worker-0");
+  EXPECT_EQ(w["threads"], 1);
+  EXPECT_EQ(w["units_done"], 16);
+  EXPECT_EQ(w["failures"], 0);
+  EXPECT_TRUE(w["online"].get<bool>());
+  EXPECT_TRUE(w["state"] == "idle" || w["state"] == "busy");
+
+  httplib::Result metrics = get("/metrics");
+  ASSERT_TRUE(metrics);
+  EXPECT_EQ(metrics->status, 200);
+  EXPECT_NE(metrics->get_header_value("Content-Type").find("text/plain; version=0.0.4"),
+            std::string::npos);
+  EXPECT_NE(metrics->body.find("tessera_jobs{state=\"done\"} 1\n"), std::string::npos);
+  EXPECT_NE(metrics->body.find("tessera_units_done_total 16\n"), std::string::npos);
+  EXPECT_NE(metrics->body.find("tessera_merge_latency_seconds_count 16\n"), std::string::npos);
+
+  // The page and its assets come from the binary.
+  httplib::Result page = get("/");
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->status, 200);
+  EXPECT_NE(page->body.find("<script src=\"/dashboard.js\">"), std::string::npos);
+  EXPECT_EQ(get("/dashboard.js")->status, 200);
+  EXPECT_EQ(get("/dashboard.css")->status, 200);
+}
+
+TEST_F(DashboardApi, UnknownIdsAndPathsAre404WithAJsonError) {
+  farm_ = std::make_unique<FarmCluster>("dashboard-api-404");
+  farm_->start_server();
+  expect_json_error(get("/api/jobs/999"), 404, "no job 999");
+  expect_json_error(get("/api/jobs/999/preview.png"), 404, "no job 999");
+  expect_json_error(get("/api/jobs/999/image.exr"), 404, "no job 999");
+  expect_json_error(get("/api/jobs/0"), 404, "no job 0");
+  expect_json_error(get("/api/jobs/99999999999999999999"), 404, "no job");
+  expect_json_error(get("/api/jobs/abc"), 404, "not found: /api/jobs/abc");
+  expect_json_error(get("/nothing-here"), 404, "not found: /nothing-here");
+  expect_json_error(post("/api/jobs/999/cancel", "{}"), 404, "no job 999");
+  expect_json_error(post("/api/jobs/999/priority", R"({"priority": 1})"), 404, "no job 999");
+  expect_json_error(get("/api/jobs?limit=0"), 400, "limit must be");
+  EXPECT_EQ(get_json("/api/jobs")["jobs"].size(), 0u);
+  EXPECT_EQ(get_json("/api/workers")["workers"].size(), 0u);
+}
+
+TEST_F(DashboardApi, ChangesNeedTheTokenReadsDoNot) {
+  const std::string token = "dashboard-secret";
+  farm_ = std::make_unique<FarmCluster>("dashboard-api-token");
+  farm_->start_server({"--token", token});
+  // No worker: the job stays queued while we poke at it.
+  const uint64_t id = farm_->submit({kTiny, "--spp", "64"});
+  const std::string job_path = "/api/jobs/" + std::to_string(id);
+
+  const json list = get_json("/api/jobs");
+  EXPECT_TRUE(list["token_required"].get<bool>());
+  EXPECT_EQ(list["jobs"][0]["state"], "queued");
+  httplib::Result preview = get(job_path + "/preview.png");
+  ASSERT_TRUE(preview);
+  EXPECT_EQ(preview->status, 200);
+  EXPECT_EQ(preview->get_header_value("X-Tessera-Final"), "false");
+
+  httplib::Result r = post(job_path + "/cancel", "{}");
+  expect_json_error(r, 401, "needs a token");
+  EXPECT_EQ(r->get_header_value("WWW-Authenticate"), "Bearer");
+  expect_json_error(post(job_path + "/cancel", "{}", "wrong"), 401, "wrong token");
+  expect_json_error(post(job_path + "/cancel", "{}", token + "x"), 401, "wrong token");
+  expect_json_error(post(job_path + "/priority", R"({"priority": 9})"), 401, "token");
+  expect_json_error(post(job_path + "/cancel", "{}", token, "text/plain"), 415, "application/json");
+  EXPECT_EQ(farm_->job(id).state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(farm_->job(id).priority(), 0);
+
+  expect_json_error(post(job_path + "/priority", R"({"priority": "high"})", token), 400,
+                    "priority");
+  expect_json_error(post(job_path + "/priority", "not json", token), 400, "priority");
+  expect_json_error(post(job_path + "/priority", R"({"priority": 4294967296})", token), 400,
+                    "32-bit");
+  r = post(job_path + "/priority", R"({"priority": 7})", token);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(json::parse(r->body)["priority"], 7);
+  EXPECT_EQ(farm_->job(id).priority(), 7);
+
+  r = post(job_path + "/cancel", "{}", token);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(json::parse(r->body)["state"], "cancelled");
+  EXPECT_EQ(farm_->job(id).state(), v1::JOB_STATE_CANCELLED);
+  expect_json_error(post(job_path + "/cancel", "{}", token), 409, "already cancelled");
+  expect_json_error(post(job_path + "/priority", R"({"priority": 1})", token), 409,
+                    "already cancelled");
+}
+
+TEST(DashboardListener, ABadOrBusyAddressStopsTheServerWithOneLine) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("tessera-dashboard-listen-" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  // Hold a port the way a second server would.
+  httplib::Server holder;
+  const int busy = holder.bind_to_any_port("127.0.0.1");
+  ASSERT_GT(busy, 0);
+  auto server = [&](const std::string& http, const std::string& stem) {
+    return run_command({TESSERA_SERVER_BIN, "--grpc", "127.0.0.1:0", "--http", http, "--db",
+                        (dir / (stem + ".db")).string()},
+                       dir / stem, {}, kPatience);
+  };
+  CommandResult r = server("127.0.0.1:" + std::to_string(busy), "busy");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("cannot listen on 127.0.0.1:" + std::to_string(busy) + " (HTTP)"),
+            std::string::npos) << r.err;
+  r = server("no-port-here", "bad");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--http: expected HOST:PORT"), std::string::npos) << r.err;
+  r = server("127.0.0.1:70000", "range");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--http: port must be 0..65535"), std::string::npos) << r.err;
+  std::filesystem::remove_all(dir);
+}
+
+TEST_F(DashboardApi, PriorityChangesWhatRunsNext) {
+  farm_ = std::make_unique<FarmCluster>("dashboard-api-priority");
+  farm_->start_server();
+  const uint64_t first = farm_->submit({kTiny, "--spp", "4"});
+  const uint64_t second = farm_->submit({kTiny, "--spp", "4"});
+  // Without a change the older job runs first; raise the younger one.
+  httplib::Result r = post("/api/jobs/" + std::to_string(second) + "/priority", R"({"priority": 5})");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  farm_->start_worker({"--threads", "1"});
+  const v1::JobInfo a = farm_->wait_final(first);
+  const v1::JobInfo b = farm_->wait_final(second);
+  ASSERT_EQ(a.state(), v1::JOB_STATE_DONE);
+  ASSERT_EQ(b.state(), v1::JOB_STATE_DONE);
+  EXPECT_LT(b.started_unix_ms(), a.started_unix_ms());
+}
+
+}  // namespace
+}  // namespace tessera::e2e
