@@ -33,7 +33,7 @@ cleanup() {
 }
 trap cleanup EXIT
 
-"$BIN/tessera-server" --grpc 127.0.0.1:0 --port-file "$WORK/port" --db "$WORK/farm.db" \
+"$BIN/tessera-server" --grpc 127.0.0.1:0 --http 127.0.0.1:0 --port-file "$WORK/port" --db "$WORK/farm.db" \
   --output-dir "$WORK/outputs" >"$WORK/server.log" 2>&1 &
 SERVER_PID=$!
 for _ in $(seq 600); do [ -s "$WORK/port" ] && break; sleep 0.05; done

@@ -161,6 +161,8 @@ class ServerProcess {
     std::vector<std::string> args = {binary.string(),
                                      "--grpc",
                                      "127.0.0.1:0",
+                                     "--http",
+                                     "127.0.0.1:0",
                                      "--port-file",
                                      port_file.string(),
                                      "--db",

@@ -349,7 +349,7 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
   const int rounds = fault_rounds(2);
   const auto db = dir / "farm.db";
   const auto port_file = dir / "port";
-  Process server(net.in(net.server_ns, {TESSERA_SERVER_BIN, "--grpc", "10.213.0.1:0", "--db",
+  Process server(net.in(net.server_ns, {TESSERA_SERVER_BIN, "--grpc", "10.213.0.1:0", "--http", "10.213.0.1:0", "--insecure", "--db",
                                         db.string(), "--output-dir", (dir / "outputs").string(),
                                         "--port-file", port_file.string(), "--lease-seconds", "1"}),
                  dir / "server.log");

@@ -183,7 +183,7 @@ TEST(Load, SixtyFourWorkersTwentyJobsNothingLostNoDeadlock) {
   // would mean a stall, and shows as leases_expired).
   const fs::path port_file = dir / "port";
   auto server = std::make_unique<e2e::Process>(
-      std::vector<std::string>{TESSERA_SERVER_BIN, "--grpc", "127.0.0.1:0", "--db",
+      std::vector<std::string>{TESSERA_SERVER_BIN, "--grpc", "127.0.0.1:0", "--http", "127.0.0.1:0", "--db",
                                (dir / "farm.db").string(), "--output-dir",
                                (dir / "outputs").string(), "--port-file", port_file.string(),
                                "--lease-seconds", "60"},

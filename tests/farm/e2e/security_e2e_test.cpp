@@ -239,7 +239,7 @@ TEST(SecurityE2E, ADamagedDatabaseIsRefusedAtStartUp) {
   const auto db = farm.dir() / "farm.db";
   std::ofstream(db, std::ios::binary) << std::string(8192, '\x42');  // not a database at all
   const CommandResult r = run_command(
-      {TESSERA_SERVER_BIN, "--grpc", "127.0.0.1:0", "--db", db.string()}, farm.dir() / "server");
+      {TESSERA_SERVER_BIN, "--grpc", "127.0.0.1:0", "--http", "127.0.0.1:0", "--db", db.string()}, farm.dir() / "server");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("is damaged"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("refusing to serve it"), std::string::npos) << r.err;
