@@ -38,7 +38,9 @@ for b in tessera-server tessera-worker tessera; do
 done
 
 # ---- packages (only for this test, so scripts/install-deps.sh stays lean)
-PACKAGES=(podman runc debootstrap openimageio-tools python3-venv ca-certificates)
+# dnsname: container names resolve on the networks podman creates (CNI backend).
+PACKAGES=(podman runc debootstrap golang-github-containernetworking-plugin-dnsname
+          openimageio-tools python3-venv ca-certificates)
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -62,6 +64,17 @@ runtime = "runc"
 EOF
 export CONTAINERS_CONF="$CACHE/containers.conf"
 pod() { podman --runtime runc "$@"; }
+# `podman run` of an image with a HEALTHCHECK tries to start a systemd timer for it and logs an
+# error where there is no systemd; the test runs the checks itself (`podman healthcheck run`).
+pod_run() { pod run "$@" 2>>"$WORK/podman-run.log"; }
+# wait_for LIMIT_S CMD...: runs CMD until it succeeds, for at most LIMIT_S seconds of wall time.
+wait_for() {
+  local deadline=$((SECONDS + $1)); shift
+  until "$@"; do
+    [ "$SECONDS" -lt "$deadline" ] || return 1
+    sleep 0.2
+  done
+}
 
 # ---- 1. lints
 say "lint: hadolint, kubernetes-validate, compose structure"
@@ -174,8 +187,11 @@ cp -r "$DEPLOY/bin" "$WORK/ctx/deploy/"
 t0=$SECONDS
 for target in server worker; do
   image="$SERVER_IMAGE"; [ "$target" = worker ] && image="$WORKER_IMAGE"
-  pod build -q --format docker --target "$target-prebuilt" -f "$DEPLOY/Dockerfile" -t "$image" "$WORK/ctx" >/dev/null \
-    || die "podman build --target $target-prebuilt failed"
+  if ! pod build --format docker --target "$target-prebuilt" -f "$DEPLOY/Dockerfile" -t "$image" \
+      "$WORK/ctx" >"$WORK/build-$target.log" 2>&1; then
+    tail -40 "$WORK/build-$target.log" >&2
+    die "podman build --target $target-prebuilt failed (log above)"
+  fi
 done
 say "images built in $((SECONDS - t0)) s: $SERVER_IMAGE, $WORKER_IMAGE"
 for pair in "$SERVER_IMAGE tessera-server" "$WORKER_IMAGE tessera-worker"; do
@@ -197,7 +213,7 @@ pod network create "$NET" >/dev/null
 pod volume create "$VOL" >/dev/null
 LABEL="tessera-deploy-test=$RUN"
 
-pod run -d --name "$RUN-server" --label "$LABEL" --network "$NET" --network-alias tessera-server \
+pod_run -d --name "$RUN-server" --label "$LABEL" --network "$NET" --network-alias tessera-server \
   --secret "$SECRET,type=mount,target=tessera_token,uid=10001,mode=0400" \
   -e TESSERA_TOKEN_FILE=/run/secrets/tessera_token \
   -v "$VOL:/var/lib/tessera" -p 127.0.0.1::50051 "$SERVER_IMAGE" >/dev/null
@@ -207,13 +223,11 @@ ADDR="127.0.0.1:$PORT"
 cli() { TESSERA_TOKEN="$TOKEN" "$BIN/tessera" --server "$ADDR" --timeout 10 "$@"; }
 json() { python3 -c "import json,sys; d=json.load(sys.stdin); print($1)"; }
 
-ready=0
-for _ in $(seq 150); do
-  if cli list >/dev/null 2>&1; then ready=1; break; fi
+server_answers() {
   [ "$(pod inspect --format '{{.State.Running}}' "$RUN-server")" = true ] || die "the server container exited"
-  sleep 0.2
-done
-[ "$ready" = 1 ] || die "the server did not answer on $ADDR within 30 s"
+  cli list >/dev/null 2>&1
+}
+wait_for 60 server_answers || die "the server did not answer on $ADDR within 60 s"
 say "server up on $ADDR (container network $NET), user $(pod exec "$RUN-server" id -u)"
 [ "$(pod exec "$RUN-server" id -u)" = 10001 ] || die "the server runs as root"
 pod healthcheck run "$RUN-server" >/dev/null || die "the server's HEALTHCHECK reports unhealthy"
@@ -222,18 +236,15 @@ if "$BIN/tessera" --server "$ADDR" --timeout 10 list >/dev/null 2>&1; then
 fi
 
 worker() {
-  pod run -d --name "$RUN-$1" --label "$LABEL" --network "$NET" \
+  pod_run -d --name "$RUN-$1" --label "$LABEL" --network "$NET" \
     --secret "$SECRET,type=env,target=TESSERA_TOKEN" \
     -e TESSERA_SERVER=tessera-server:50051 \
     "$WORKER_IMAGE" tessera-worker --threads 1 --name "$1" >/dev/null
 }
 online_workers() { cli workers --json | json 'sum(1 for w in d if w["online"])'; }
+three_online() { [ "$(online_workers)" -ge 3 ]; }
 for w in w1 w2 w3; do worker "$w"; done
-for _ in $(seq 150); do
-  [ "$(online_workers)" -ge 3 ] && break
-  sleep 0.2
-done
-[ "$(online_workers)" -ge 3 ] || die "three workers did not register within 30 s"
+wait_for 60 three_online || die "three workers did not register within 60 s"
 pod healthcheck run "$RUN-w1" >/dev/null || die "a worker's HEALTHCHECK reports unhealthy"
 say "three workers online"
 
@@ -243,11 +254,8 @@ units_total="$(cli status "$JOB" --json | json 'd["counters"]["units_total"]')"
 say "job $JOB submitted (${JOB_ARGS[*]}): $units_total units"
 
 # Scale down to one worker mid-job: once the three are rendering, stop two with SIGTERM.
-for _ in $(seq 600); do
-  done_units="$(cli status "$JOB" --json | json 'd["counters"]["units_done"]')"
-  [ "$done_units" -ge 6 ] && break
-  sleep 0.1
-done
+some_done() { [ "$(cli status "$JOB" --json | json 'd["counters"]["units_done"]')" -ge 6 ]; }
+wait_for 120 some_done || die "job $JOB did not start within 120 s"
 read -r state progress < <(cli status "$JOB" --json | json 'd["state"], d["progress"]')
 say "before the scale-down: state $state, progress $progress"
 [ "$state" = running ] || die "the job is $state before the scale-down (expected running)"
@@ -265,12 +273,12 @@ say "two workers stopped by SIGTERM (exit 0); one left: state $state, progress $
 worker w4
 say "worker w4 joined"
 
-for _ in $(seq 1500); do
+job_ended() {
   state="$(cli status "$JOB" --json | json 'd["state"]')"
-  [ "$state" = running ] || [ "$state" = queued ] || break
-  sleep 0.2
-done
-[ "$state" = done ] || die "job $JOB ended $state (or is still running after 5 minutes)"
+  [ "$state" != running ] && [ "$state" != queued ]
+}
+wait_for 300 job_ended || die "job $JOB is still $state after 5 minutes"
+[ "$state" = done ] || die "job $JOB ended $state"
 cli status "$JOB" --json | json '" ".join(f"{k}={v}" for k, v in d["counters"].items())' \
   | sed 's/^/deploy-test: counters: /'
 cli workers --json | json '"; ".join(f"{w[\"name\"]}: {w[\"units_done\"]} units" for w in d)' \

@@ -21,4 +21,5 @@ if [ "${TESSERA_SKIP_SANITIZERS:-0}" != "1" ]; then
      UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
      ctest --output-on-failure -j "$JOBS" --timeout 1200 -LE slow)
 fi
+if [ "${TESSERA_SKIP_CONTAINERS:-0}" != "1" ]; then echo "== containers (deploy/test.sh)"; "$ROOT/deploy/test.sh"; else echo "== containers skipped (TESSERA_SKIP_CONTAINERS=1)"; fi
 echo "== all tests passed"
