@@ -248,7 +248,8 @@ wait_for 60 three_online || die "three workers did not register within 60 s"
 pod healthcheck run "$RUN-w1" >/dev/null || die "a worker's HEALTHCHECK reports unhealthy"
 say "three workers online"
 
-JOB_ARGS=(--width 64 --height 64 --spp 64 --batch 4 --tile 16)
+# Small pixels, many units (16 tiles x 256 batches): long enough to scale down mid-job.
+JOB_ARGS=(--width 64 --height 64 --spp 1024 --batch 4 --tile 16)
 JOB="$(cli submit "$ROOT/scenes/cornell.json" "${JOB_ARGS[@]}" --json | json 'd["id"]')"
 units_total="$(cli status "$JOB" --json | json 'd["counters"]["units_total"]')"
 say "job $JOB submitted (${JOB_ARGS[*]}): $units_total units"
@@ -256,8 +257,11 @@ say "job $JOB submitted (${JOB_ARGS[*]}): $units_total units"
 # Scale down to one worker mid-job: once the three are rendering, stop two with SIGTERM.
 some_done() { [ "$(cli status "$JOB" --json | json 'd["counters"]["units_done"]')" -ge 6 ]; }
 wait_for 120 some_done || die "job $JOB did not start within 120 s"
+# Freeze the three workers so that the progress read is the progress at the scale-down.
+pod pause "$RUN-w1" "$RUN-w2" "$RUN-w3" >/dev/null
 read -r state progress < <(cli status "$JOB" --json | json 'd["state"], d["progress"]')
-say "before the scale-down: state $state, progress $progress"
+pod unpause "$RUN-w1" "$RUN-w2" "$RUN-w3" >/dev/null
+say "at the scale-down: state $state, progress $progress"
 [ "$state" = running ] || die "the job is $state before the scale-down (expected running)"
 python3 -c "import sys; sys.exit(0 if float('$progress') < 1 else 1)" || die "progress is already $progress"
 pod stop -t 60 "$RUN-w2" "$RUN-w3" >/dev/null
@@ -279,9 +283,10 @@ job_ended() {
 }
 wait_for 300 job_ended || die "job $JOB is still $state after 5 minutes"
 [ "$state" = done ] || die "job $JOB ended $state"
+say "job $JOB done in $(cli status "$JOB" --json | json '(d["finished_unix_ms"] - d["started_unix_ms"]) / 1000') s"
 cli status "$JOB" --json | json '" ".join(f"{k}={v}" for k, v in d["counters"].items())' \
   | sed 's/^/deploy-test: counters: /'
-cli workers --json | json '"; ".join(f"{w[\"name\"]}: {w[\"units_done\"]} units" for w in d)' \
+cli workers --json | json '"; ".join("%s: %d units" % (w["name"], w["units_done"]) for w in d)' \
   | sed 's/^/deploy-test: workers: /'
 read -r units_done units_total < <(cli status "$JOB" --json | json 'd["counters"]["units_done"], d["counters"]["units_total"]')
 [ "$units_done" = "$units_total" ] || die "units_done $units_done != units_total $units_total"
