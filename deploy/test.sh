@@ -222,6 +222,8 @@ PORT="$(pod port "$RUN-server" 50051/tcp | sed 's/.*://')"
 ADDR="127.0.0.1:$PORT"
 cli() { TESSERA_TOKEN="$TOKEN" "$BIN/tessera" --server "$ADDR" --timeout 10 "$@"; }
 json() { python3 -c "import json,sys; d=json.load(sys.stdin); print($1)"; }
+# Polls tolerate a failed call (a loaded machine can miss a deadline): they print nothing.
+poll() { local out; out="$(cli "${@:2}" --json 2>/dev/null)" && json "$1" <<<"$out" 2>/dev/null; }
 
 server_answers() {
   [ "$(pod inspect --format '{{.State.Running}}' "$RUN-server")" = true ] || die "the server container exited"
@@ -241,8 +243,7 @@ worker() {
     -e TESSERA_SERVER=tessera-server:50051 \
     "$WORKER_IMAGE" tessera-worker --threads 1 --name "$1" >/dev/null
 }
-online_workers() { cli workers --json | json 'sum(1 for w in d if w["online"])'; }
-three_online() { [ "$(online_workers)" -ge 3 ]; }
+three_online() { [ "$(poll 'sum(1 for w in d if w["online"])' workers)" -ge 3 ] 2>/dev/null; }
 for w in w1 w2 w3; do worker "$w"; done
 wait_for 60 three_online || die "three workers did not register within 60 s"
 pod healthcheck run "$RUN-w1" >/dev/null || die "a worker's HEALTHCHECK reports unhealthy"
@@ -255,7 +256,7 @@ units_total="$(cli status "$JOB" --json | json 'd["counters"]["units_total"]')"
 say "job $JOB submitted (${JOB_ARGS[*]}): $units_total units"
 
 # Scale down to one worker mid-job: once the three are rendering, stop two with SIGTERM.
-some_done() { [ "$(cli status "$JOB" --json | json 'd["counters"]["units_done"]')" -ge 6 ]; }
+some_done() { [ "$(poll 'd["counters"]["units_done"]' status "$JOB")" -ge 6 ] 2>/dev/null; }
 wait_for 120 some_done || die "job $JOB did not start within 120 s"
 # Freeze the three workers so that the progress read is the progress at the scale-down.
 pod pause "$RUN-w1" "$RUN-w2" "$RUN-w3" >/dev/null
@@ -264,13 +265,19 @@ pod unpause "$RUN-w1" "$RUN-w2" "$RUN-w3" >/dev/null
 say "at the scale-down: state $state, progress $progress"
 [ "$state" = running ] || die "the job is $state before the scale-down (expected running)"
 python3 -c "import sys; sys.exit(0 if float('$progress') < 1 else 1)" || die "progress is already $progress"
-pod stop -t 60 "$RUN-w2" "$RUN-w3" >/dev/null
+# w2 as `podman stop` / `docker compose up --scale` stop it, w3 through the Kubernetes preStop
+# hook: both send SIGTERM; the worker finishes its unit and exits 0.
+pod exec "$RUN-w3" /usr/local/bin/tessera-worker-prestop 60 >/dev/null 2>&1 &
+prestop=$!
+pod stop -t 60 "$RUN-w2" >/dev/null
+wait "$prestop" || true   # the exec ends with the container, however it ends
+pod wait "$RUN-w3" >/dev/null
 for w in w2 w3; do
   code="$(pod inspect --format '{{.State.ExitCode}}' "$RUN-$w")"
   [ "$code" = 0 ] || die "worker $w exited with status $code after SIGTERM (expected 0)"
 done
 read -r state progress < <(cli status "$JOB" --json | json 'd["state"], d["progress"]')
-say "two workers stopped by SIGTERM (exit 0); one left: state $state, progress $progress"
+say "w2 (podman stop) and w3 (preStop hook) stopped by SIGTERM, exit 0; one left: state $state, progress $progress"
 [ "$state" = running ] || die "the job is $state right after the scale-down: make it larger"
 
 # A worker joining mid-job.
@@ -278,8 +285,8 @@ worker w4
 say "worker w4 joined"
 
 job_ended() {
-  state="$(cli status "$JOB" --json | json 'd["state"]')"
-  [ "$state" != running ] && [ "$state" != queued ]
+  state="$(poll 'd["state"]' status "$JOB")"
+  [ -n "$state" ] && [ "$state" != running ] && [ "$state" != queued ]
 }
 wait_for 300 job_ended || die "job $JOB is still $state after 5 minutes"
 [ "$state" = done ] || die "job $JOB ended $state"
@@ -292,11 +299,13 @@ read -r units_done units_total < <(cli status "$JOB" --json | json 'd["counters"
 [ "$units_done" = "$units_total" ] || die "units_done $units_done != units_total $units_total"
 
 # ---- 4. the determinism contract: the farm's pixels equal a local render of the same job
-cli get "$JOB" -o "$WORK/farm.exr" >/dev/null
+cli get "$JOB" -o "$WORK/farm.exr" >/dev/null 2>&1 || die "tessera get $JOB failed"
 pod exec "$RUN-server" test -s "/var/lib/tessera/outputs/job-$JOB.exr" || die "no EXR on the server's volume"
-"$BIN/tessera-worker" render "$ROOT/scenes/cornell.json" "${JOB_ARGS[@]}" --threads 2 -q -o "$WORK/local.exr" >/dev/null
-farm_hash="$(iinfo --hash "$WORK/farm.exr" | sed -n 's/.*SHA-1: *//p')"
-local_hash="$(iinfo --hash "$WORK/local.exr" | sed -n 's/.*SHA-1: *//p')"
+"$BIN/tessera-worker" render "$ROOT/scenes/cornell.json" "${JOB_ARGS[@]}" --threads 2 -q -o "$WORK/local.exr" \
+  >"$WORK/render.log" 2>&1 || { cat "$WORK/render.log" >&2; die "tessera-worker render failed"; }
+sed 's/^/deploy-test: local: /' "$WORK/render.log"
+farm_hash="$(iinfo --hash "$WORK/farm.exr" | sed -n 's/.*SHA-1: *\([0-9A-Fa-f]*\).*/\1/p')"
+local_hash="$(iinfo --hash "$WORK/local.exr" | sed -n 's/.*SHA-1: *\([0-9A-Fa-f]*\).*/\1/p')"
 [ -n "$farm_hash" ] && [ -n "$local_hash" ] || die "iinfo printed no pixel hash"
 idiff -q -fail 0 -failpercent 0 -warn 0 "$WORK/farm.exr" "$WORK/local.exr" >/dev/null \
   || die "the farm's image differs from the local render (idiff)"
