@@ -39,7 +39,7 @@ done
 
 # ---- packages (only for this test, so scripts/install-deps.sh stays lean)
 # dnsname: container names resolve on the networks podman creates (CNI backend).
-PACKAGES=(podman runc debootstrap golang-github-containernetworking-plugin-dnsname
+PACKAGES=(podman runc debootstrap golang-github-containernetworking-plugin-dnsname podman-compose
           openimageio-tools python3-venv ca-certificates)
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -172,6 +172,9 @@ cleanup() {
   podman network rm -f "$NET" >/dev/null 2>&1
   podman volume rm -f "$VOL" >/dev/null 2>&1
   podman secret rm "$SECRET" >/dev/null 2>&1
+  podman ps -a -q --filter "label=io.podman.compose.project=$RUN-compose" | xargs -r podman rm -f -t 0 >/dev/null 2>&1
+  podman volume rm -f "$RUN-compose_tessera-data" >/dev/null 2>&1
+  podman network rm -f "$RUN-compose_default" >/dev/null 2>&1
   if [ "${KEEP_IMAGES:-1}" = "0" ]; then podman rmi -f "$SERVER_IMAGE" "$WORKER_IMAGE" >/dev/null 2>&1; fi
   rm -rf "$WORK"
   if [ "$rc" -eq 0 ]; then say "cleaned up"; else say "cleaned up after a failure (status $rc)"; fi
@@ -315,4 +318,41 @@ say "farm image == local render, bit for bit (pixel SHA-1 $farm_hash)"
 pod stop -t 30 "$RUN-server" >/dev/null
 code="$(pod inspect --format '{{.State.ExitCode}}' "$RUN-server")"
 [ "$code" = 0 ] || die "the server exited with status $code after SIGTERM"
+
+# ---- 5. deploy/compose.yaml with podman-compose: up with two workers, a job, one more worker
+# (podman-compose 1.0.3 ignores --scale; the file's replicas come from TESSERA_WORKERS), down -v.
+COMPOSE="$WORK/compose"
+mkdir -p "$COMPOSE/secrets"
+cp "$DEPLOY/compose.yaml" "$COMPOSE/"
+printf '%s' "$TOKEN" >"$COMPOSE/secrets/tessera-token"
+chown 10001 "$COMPOSE/secrets/tessera-token"
+chmod 400 "$COMPOSE/secrets/tessera-token"
+free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+export TESSERA_SERVER_IMAGE="$SERVER_IMAGE" TESSERA_WORKER_IMAGE="$WORKER_IMAGE"
+export TESSERA_GRPC_PORT="$(free_port)" TESSERA_HTTP_PORT="$(free_port)"
+compose() {
+  podman-compose -p "$RUN-compose" -f "$COMPOSE/compose.yaml" "$@" >>"$WORK/compose.log" 2>&1 \
+    || { tail -30 "$WORK/compose.log" >&2; die "podman-compose $* failed"; }
+}
+TESSERA_WORKERS=2 compose up -d --no-build
+ADDR="127.0.0.1:$TESSERA_GRPC_PORT"
+compose_up() { cli list >/dev/null 2>&1; }
+wait_for 60 compose_up || die "the compose server did not answer on $ADDR within 60 s"
+n_online() { [ "$(poll 'sum(1 for w in d if w["online"])' workers)" -ge "$1" ] 2>/dev/null; }
+wait_for 60 n_online 2 || die "two compose workers did not register within 60 s"
+SMALL=(--width 64 --height 64 --spp 64 --batch 4 --tile 16)
+JOB="$(cli submit "$ROOT/scenes/cornell.json" "${SMALL[@]}" --json | json 'd["id"]')"
+TESSERA_WORKERS=3 compose up -d --no-build
+wait_for 60 n_online 3 || die "the third compose worker did not register within 60 s"
+wait_for 300 job_ended || die "compose job $JOB is still $state after 5 minutes"
+[ "$state" = done ] || die "compose job $JOB ended $state"
+cli get "$JOB" -o "$WORK/compose.exr" >/dev/null 2>&1 || die "tessera get $JOB (compose) failed"
+"$BIN/tessera-worker" render "$ROOT/scenes/cornell.json" "${SMALL[@]}" --threads 2 -q \
+  -o "$WORK/compose-local.exr" >/dev/null 2>&1 || die "tessera-worker render failed"
+idiff -q -fail 0 -failpercent 0 -warn 0 "$WORK/compose.exr" "$WORK/compose-local.exr" >/dev/null \
+  || die "the compose farm's image differs from the local render"
+TESSERA_WORKERS=3 compose down -v
+[ -z "$(podman ps -a -q --filter "label=io.podman.compose.project=$RUN-compose")" ] \
+  || die "podman-compose down left containers"
+say "compose: server + 2 workers, a third joined, job $JOB bit-identical to the local render, down -v"
 say "PASS in ${SECONDS} s"
