@@ -126,6 +126,7 @@ if ! pod image exists "$BASE"; then
   if [ ! -s "$tarball" ]; then
     say "making the debian:bookworm base with debootstrap (cached in $tarball)"
     rootfs="$(mktemp -d "$CACHE/rootfs.XXXXXX")"
+    trap 'rm -rf "$rootfs" "$tarball.tmp"' EXIT
     debootstrap --variant=minbase bookworm "$rootfs" http://deb.debian.org/debian >/dev/null
     # The sources of the official image: bookworm, its updates and security.
     rm -f "$rootfs/etc/apt/sources.list"
@@ -146,6 +147,7 @@ EOF
     tar -C "$rootfs" -cf "$tarball.tmp" .
     mv "$tarball.tmp" "$tarball"
     rm -rf "$rootfs"
+    trap - EXIT
   fi
   pod import -q "$tarball" "$BASE" >/dev/null
 fi
@@ -296,7 +298,7 @@ wait_for 300 job_ended || die "job $JOB is still $state after 5 minutes"
 say "job $JOB done in $(cli status "$JOB" --json | json '(d["finished_unix_ms"] - d["started_unix_ms"]) / 1000') s"
 cli status "$JOB" --json | json '" ".join(f"{k}={v}" for k, v in d["counters"].items())' \
   | sed 's/^/deploy-test: counters: /'
-cli workers --json | json '"; ".join("%s: %d units" % (w["name"], w["units_done"]) for w in d)' \
+cli workers --json | json '"; ".join("%s: %d units, %d lost" % (w["name"], w["units_done"], w["units_lost"]) for w in d)' \
   | sed 's/^/deploy-test: workers: /'
 read -r units_done units_total < <(cli status "$JOB" --json | json 'd["counters"]["units_done"], d["counters"]["units_total"]')
 [ "$units_done" = "$units_total" ] || die "units_done $units_done != units_total $units_total"
