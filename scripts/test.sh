@@ -28,4 +28,5 @@ if [ "${TESSERA_SKIP_FUZZ:-0}" != "1" ] && [ -x "$ROOT/fuzz/run.sh" ]; then
   echo "== fuzzing"
   "$ROOT/fuzz/run.sh" "${FUZZ_SECONDS:-60}"
 fi
+if [ "${TESSERA_SKIP_CONTAINERS:-0}" != "1" ]; then echo "== containers (deploy/test.sh)"; "$ROOT/deploy/test.sh"; else echo "== containers skipped (TESSERA_SKIP_CONTAINERS=1)"; fi
 echo "== all tests passed"
