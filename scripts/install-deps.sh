@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages Tessera builds, tests and runs with. Idempotent.
+# Installs the Debian 12 packages Tessera builds and runs with; with --test, also what the test
+# suite needs (scripts/test.sh passes it). Idempotent.
 set -euo pipefail
 
 PACKAGES=(
@@ -9,18 +10,22 @@ PACKAGES=(
   libsqlite3-dev libssl-dev libcpp-httplib-dev nlohmann-json3-dev libcli11-dev
   libtinyobjloader-dev libzstd-dev libgtest-dev libgmock-dev libbenchmark-dev libpugixml-dev
   python3
-  iproute2 clang-14 libclang-rt-14-dev   # tests/faults (ip netns); fuzz/run.sh (libFuzzer)
-  # The dashboard's tests: headless Chromium (driven by playwright-core from npm, which never
-  # downloads a browser), Node.js, and a venv for Prometheus' parser (tests/dashboard/browser/).
-  chromium nodejs python3-venv
 )
+if [ "${1:-}" = "--test" ]; then
+  PACKAGES+=(
+    iproute2 clang-14 libclang-rt-14-dev   # tests/faults (ip netns); fuzz/run.sh (libFuzzer)
+    # The dashboard's tests: headless Chromium (driven by playwright-core from npm, which never
+    # downloads a browser), Node.js, and a venv for Prometheus' parser (tests/dashboard/browser/).
+    chromium nodejs python3-venv
+  )
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 # Debian packages npm apart from nodejs; other builds of nodejs bring their own npm.
-command -v npm >/dev/null || missing+=(npm)
+if [ "${1:-}" = "--test" ]; then command -v npm >/dev/null || missing+=(npm); fi
 if [ ${#missing[@]} -eq 0 ]; then
   exit 0
 fi

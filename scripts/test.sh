@@ -6,7 +6,7 @@
 # runs the fuzz targets for a bounded time (fuzz/run.sh).
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
-"$ROOT/scripts/install-deps.sh"
+"$ROOT/scripts/install-deps.sh" --test
 
 JOBS="${JOBS:-$(nproc)}"
 

@@ -187,8 +187,15 @@ class FarmWorker {
     v1::LeaseUnitResponse lease;
     const grpc::Status status = client_.lease(request, &lease, stop_);
     if (stop_.requested()) {
-      // A unit leased as the signal arrived goes straight back.
-      if (status.ok() && lease.leased()) release(lease.lease_id(), false, "worker stopping");
+      // A unit leased as the signal arrived goes straight back. When the signal cancelled the
+      // long poll, the server may still have granted a lease the reply never brought: ask once
+      // more (the server answers with the lease this worker holds) and hand that back too,
+      // rather than leave the unit idle until its lease expires.
+      if (!status.ok()) {
+        lease.Clear();
+        if (!client_.lease_now(worker_id_, &lease).ok()) return;
+      }
+      if (lease.leased()) release(lease.lease_id(), false, "worker stopping");
       return;
     }
     check(status, "LeaseUnit");

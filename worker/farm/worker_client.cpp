@@ -41,6 +41,15 @@ grpc::Status WorkerClient::lease(const v1::LeaseUnitRequest& request,
   return status;
 }
 
+grpc::Status WorkerClient::lease_now(int64_t worker_id, v1::LeaseUnitResponse* response) {
+  v1::LeaseUnitRequest request;
+  request.set_worker_id(worker_id);
+  request.set_wait_ms(0);
+  grpc::ClientContext context;
+  prepare(context, kLeaseMargin);
+  return stub_->LeaseUnit(&context, request, response);
+}
+
 grpc::Status WorkerClient::heartbeat(const v1::HeartbeatRequest& request,
                                      v1::HeartbeatResponse* response, milliseconds timeout) {
   grpc::ClientContext context;

@@ -23,6 +23,10 @@ class WorkerClient {
   /// is cancelled at once when `stop` receives a signal.
   grpc::Status lease(const v1::LeaseUnitRequest& request, v1::LeaseUnitResponse* response,
                      StopSignal& stop);
+  /// One LeaseUnit call with wait_ms 0 that no signal cancels (a short deadline): after a long
+  /// poll was cancelled, it returns the lease the server may have granted meanwhile (leasing is
+  /// idempotent), so that the worker can hand it back instead of leaving it to expire.
+  grpc::Status lease_now(int64_t worker_id, v1::LeaseUnitResponse* response);
   grpc::Status heartbeat(const v1::HeartbeatRequest& request, v1::HeartbeatResponse* response,
                          std::chrono::milliseconds timeout);
   grpc::Status fetch_bundle(const v1::FetchBundleRequest& request,
