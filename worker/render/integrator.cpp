@@ -86,9 +86,22 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
     // Vertex `vertex` closes segment vertex + 1; scattering here would add one more.
     if (max_depth >= 0 && vertex + 2 > max_depth) break;
 
-    sampler.set_pair(kCameraPairs + kPairsPerVertex * uint32_t(vertex));
-    const glm::vec2 u_choice = sampler.get2d_independent();
-    const glm::vec2 u_light = sampler.get2d();
+    // Each pair is drawn only where it is used (a pure function of its pair index, so the
+    // numbers are the same as drawing all three): no light-sampling numbers at mirror and glass
+    // vertices or in a scene without emitters, no roulette number before roulette starts.
+    const uint32_t pair = kCameraPairs + kPairsPerVertex * uint32_t(vertex);
+    const bool roulette = vertex + 1 >= kRouletteVertex;
+    const bool diffuse = scene.material(g.material).type == MaterialType::diffuse;
+    glm::vec2 u_choice(0.0f), u_light(0.0f);
+    if (roulette || (diffuse && have_lights)) {
+      sampler.set_pair(pair);
+      u_choice = sampler.get2d_independent();
+    }
+    if (diffuse && have_lights) {
+      sampler.set_pair(pair + 1);
+      u_light = sampler.get2d();
+    }
+    sampler.set_pair(pair + 2);
     const glm::vec2 u_scatter = sampler.get2d();
 
     const RenderMaterial& m = scene.material(g.material);
@@ -142,7 +155,7 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
     }
     if (beta == glm::vec3(0.0f)) break;
 
-    if (vertex + 1 >= kRouletteVertex) {
+    if (roulette) {
       const float survival = std::min(max_component(beta) * eta_scale, kMaxSurvival);
       if (u_choice.y >= survival) break;
       beta /= survival;
