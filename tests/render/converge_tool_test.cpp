@@ -67,7 +67,9 @@ TEST(Converge, FurnaceAgainstItsClosedForm) {
     EXPECT_EQ(row.spp, 1u << i);
     EXPECT_GT(row.rmse, 0.0);
     EXPECT_TRUE(std::isfinite(row.relmse));
-    if (i > 0) EXPECT_GE(row.seconds, r.rows[i - 1].seconds);
+    if (i > 0) {
+      EXPECT_GE(row.seconds, r.rows[i - 1].seconds);
+    }
     for (int ch = 0; ch < 3; ++ch) {
       // A channel's RMSE is at most sqrt(3) times the RMSE over all channels.
       EXPECT_NEAR(row.mean[ch], exact, test::kSigmas * std::sqrt(3.0) * row.rmse / std::sqrt(64.0))
