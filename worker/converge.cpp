@@ -167,6 +167,13 @@ std::string convergence_markdown(const ConvergenceResult& result) {
     out << line;
   }
   const ConvergenceFit& f = result.fit;
+  if (std::isnan(f.rmse_vs_spp)) {
+    std::snprintf(line, sizeof line,
+                  "\nReference mean %.5f %.5f %.5f. No slope: fewer than two levels from %g spp on.\n",
+                  ref.x, ref.y, ref.z, f.spp_from);
+    out << line;
+    return out.str();
+  }
   std::snprintf(line, sizeof line,
                 "\nReference mean %.5f %.5f %.5f. Least-squares log-log fit over %g to %g spp: "
                 "RMSE x %.3f per doubling of spp, i.e. RMSE ~ spp^%.3f and ~ time^%.3f; relative "

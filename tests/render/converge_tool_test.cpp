@@ -100,6 +100,17 @@ TEST(Converge, FurnaceAgainstItsClosedForm) {
   EXPECT_THROW(write_convergence_plot(r, "/nonexistent-folder/plot.png"), std::runtime_error);
 }
 
+TEST(Converge, TooFewLevelsToFitSaySo) {
+  const double exact = 0.7 / (1 - 0.5);
+  const ConvergenceResult r = measure_convergence(
+      test::furnace_scene(true, 0.5, 0.7), test::test_job(4, 4, 4),
+      constant(4, 4, float(exact), float(exact), float(exact)), 4);
+  ASSERT_EQ(r.rows.size(), 3u);  // 1, 2, 4 spp: one level from 4 on
+  EXPECT_TRUE(std::isnan(r.fit.rmse_vs_spp));
+  EXPECT_NE(convergence_markdown(r).find("No slope: fewer than two levels from 4 spp on"),
+            std::string::npos);
+}
+
 TEST(Converge, ReferenceOfAnotherSizeIsAnError) {
   const Scene scene = test::furnace_scene(true, 0.5, 1.0);
   EXPECT_THROW(measure_convergence(scene, test::test_job(8, 8, 4), constant(4, 4, 1, 1, 1), 4),
