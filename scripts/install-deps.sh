@@ -10,6 +10,7 @@ PACKAGES=(
   libsqlite3-dev libssl-dev libcpp-httplib-dev nlohmann-json3-dev libcli11-dev
   libtinyobjloader-dev libzstd-dev libgtest-dev libgmock-dev libbenchmark-dev libpugixml-dev
   python3
+  fonts-dejavu-core   # the labels of tessera-worker converge's plot
 )
 if [ "${1:-}" = "--test" ]; then
   PACKAGES+=(

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "accum/film.h"
+#include "converge_command.h"
 #include "image/image_output.h"
 #include "job/tile_summary.h"
 #include "local_render.h"
@@ -229,6 +230,9 @@ int main(int argc, char** argv) {
   convert_cmd->add_option("scene", convert.scene, "Scene file (.xml or .json)")->required();
   convert_cmd->add_option("-o,--output", convert.output, "Output scene (.json)")->required();
 
+  tessera::ConvergeCommand converge;
+  converge.add_to(app);
+
 #ifdef TESSERA_HAVE_FARM
   tessera::FarmWorkerConfig farm;
   farm.server = "127.0.0.1:50051";
@@ -260,6 +264,7 @@ int main(int argc, char** argv) {
   try {
     if (render_cmd->parsed()) return run_render(render);
     if (convert_cmd->parsed()) return run_convert(convert);
+    if (converge.app->parsed()) return converge.run();
 #ifdef TESSERA_HAVE_FARM
     farm.token = tessera::wire::resolve_token(farm.token, token_file, "--token");
     return tessera::run_farm_worker(farm);

@@ -116,6 +116,9 @@ TEST(DirectLighting, NoEmittersRendersBlackAndTracesNoShadowRays) {
   Scene s;
   const uint32_t m = test::add_diffuse(s, {0.8, 0.8, 0.8});
   s.shapes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, m, true));
+  // Mirror and glass too: specular paths count emission, and there is none to count.
+  s.shapes.push_back(test::sphere({-0.4, -0.5, -0.6}, 0.3, test::add_material(s, MaterialType::mirror)));
+  s.shapes.push_back(test::sphere({0.4, -0.5, -0.6}, 0.3, test::add_material(s, MaterialType::glass, 1.5)));
   s.camera.position = {0, 0, 0};
   s.camera.look_at = {0, 0, -1};
   const Renderer renderer(s, small_job(4, 4, 16));

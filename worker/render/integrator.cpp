@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 
 #include <glm/geometric.hpp>
 
@@ -62,6 +61,42 @@ glm::dvec3 sample_direct(const TraceableScene& scene, const SurfacePoint& sp, gl
   return glm::dvec3(albedo) * glm::dvec3(le) * (geometry / 3.14159265358979323846);
 }
 
+/// Perfect mirror or glass at a hit seen from `wo`: picks the outgoing direction `wi`, turns
+/// `sp` and `ns` to the side the path arrives from, and updates the throughput and the eta^2
+/// product. Returns false when the path ends (a one-sided mirror seen from behind, or a mirror
+/// direction under the geometric surface).
+bool scatter_specular(const RenderMaterial& m, glm::vec3 wo, bool front, glm::vec2 u_scatter,
+                      SurfacePoint& sp, glm::vec3& ns, glm::vec3& beta, float& eta_scale,
+                      glm::vec3& wi) {
+  if (m.type == MaterialType::glass) {
+    // Glass is two-sided by nature: entering from the front, leaving from the back.
+    const float eta = front ? m.ior : 1.0f / m.ior;
+    if (!front) {
+      sp.ng = -sp.ng;
+      ns = -ns;
+    }
+    float cos_t = 0;
+    const float reflectance = fresnel_dielectric(glm::dot(wo, ns), eta, &cos_t);
+    if (u_scatter.x < reflectance) {
+      wi = reflect(wo, ns);
+    } else {
+      wi = refract(wo, ns, eta, cos_t);
+      // Radiance is compressed by eta^2 when it enters a denser medium (non-symmetric
+      // scattering: pbrt-v4 section 9.5.2).
+      beta /= eta * eta;
+      eta_scale *= eta * eta;
+    }
+    return true;
+  }
+  if (!front) {
+    if (!m.two_sided) return false;  // one-sided surfaces are black from behind
+    sp.ng = -sp.ng;
+    ns = -ns;
+  }
+  wi = reflect(wo, ns);
+  return glm::dot(wi, sp.ng) > 0;
+}
+
 }  // namespace
 
 glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, PixelSampler& sampler,
@@ -86,68 +121,60 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
     // Vertex `vertex` closes segment vertex + 1; scattering here would add one more.
     if (max_depth >= 0 && vertex + 2 > max_depth) break;
 
-    sampler.set_pair(kCameraPairs + kPairsPerVertex * uint32_t(vertex));
-    const glm::vec2 u_choice = sampler.get2d_independent();
-    const glm::vec2 u_light = sampler.get2d();
-    const glm::vec2 u_scatter = sampler.get2d();
-
+    // Each pair is drawn only where it is used (a pure function of its pair index, so the
+    // numbers are the same as drawing all three): no light-sampling numbers at mirror and glass
+    // vertices or in a scene without emitters, no roulette number before roulette starts.
+    const uint32_t pair = kCameraPairs + kPairsPerVertex * uint32_t(vertex);
+    const bool roulette = vertex + 1 >= kRouletteVertex;
     const RenderMaterial& m = scene.material(g.material);
     SurfacePoint sp = hit.sp;
     glm::vec3 ns = hit.ns;
     const bool front = glm::dot(wo, sp.ng) > 0;
-    glm::vec3 wi;
-    std::optional<glm::vec3> front_origin;
+    glm::vec2 u_choice(0.0f);
+    glm::vec3 wi, origin;
 
-    if (m.type == MaterialType::glass) {
-      // Glass is two-sided by nature: entering from the front, leaving from the back.
-      const float eta = front ? m.ior : 1.0f / m.ior;
-      if (!front) {
-        sp.ng = -sp.ng;
-        ns = -ns;
-      }
-      float cos_t = 0;
-      const float reflectance = fresnel_dielectric(glm::dot(wo, ns), eta, &cos_t);
-      if (u_scatter.x < reflectance) {
-        wi = reflect(wo, ns);
-      } else {
-        wi = refract(wo, ns, eta, cos_t);
-        // Radiance is compressed by eta^2 when it enters a denser medium (non-symmetric
-        // scattering: pbrt-v4 section 9.5.2).
-        beta /= eta * eta;
-        eta_scale *= eta * eta;
-      }
-      count_emission = true;
-    } else {
+    if (m.type == MaterialType::diffuse) {
+      // The common case first, with nothing of the specular materials in its way.
       if (!front) {
         if (!m.two_sided) break;  // one-sided surfaces are black from behind
         sp.ng = -sp.ng;
         ns = -ns;
       }
-      if (m.type == MaterialType::mirror) {
-        wi = reflect(wo, ns);
-        if (glm::dot(wi, sp.ng) <= 0) break;
-        count_emission = true;
-      } else {
-        // Both the shadow ray and the bounce leave on the front side: one offset serves both.
-        front_origin = offset_ray_origin(sp, sp.ng);
-        if (have_lights) {
-          radiance += glm::dvec3(beta) * sample_direct(scene, sp, *front_origin, ns, m.albedo,
-                                                       u_choice, u_light, counters);
-        }
-        wi = Frame(ns).to_world(square_to_cosine_hemisphere(u_scatter));
-        if (glm::dot(wi, sp.ng) <= 0) break;
-        beta *= m.albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
-        count_emission = false;
+      // Both the shadow ray and the bounce leave on the front side: one offset serves both.
+      origin = offset_ray_origin(sp, sp.ng);
+      if (roulette || have_lights) {
+        sampler.set_pair(pair);
+        u_choice = sampler.get2d_independent();
       }
+      if (have_lights) {
+        sampler.set_pair(pair + 1);
+        const glm::vec2 u_light = sampler.get2d();
+        radiance += glm::dvec3(beta) *
+                    sample_direct(scene, sp, origin, ns, m.albedo, u_choice, u_light, counters);
+      }
+      sampler.set_pair(pair + 2);
+      wi = Frame(ns).to_world(square_to_cosine_hemisphere(sampler.get2d()));
+      if (glm::dot(wi, sp.ng) <= 0) break;
+      beta *= m.albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
+      count_emission = false;
+    } else {
+      if (roulette) {
+        sampler.set_pair(pair);
+        u_choice = sampler.get2d_independent();
+      }
+      sampler.set_pair(pair + 2);
+      if (!scatter_specular(m, wo, front, sampler.get2d(), sp, ns, beta, eta_scale, wi)) break;
+      origin = offset_ray_origin(sp, wi);
+      count_emission = true;
     }
     if (beta == glm::vec3(0.0f)) break;
 
-    if (vertex + 1 >= kRouletteVertex) {
+    if (roulette) {
       const float survival = std::min(max_component(beta) * eta_scale, kMaxSurvival);
       if (u_choice.y >= survival) break;
       beta /= survival;
     }
-    ray.o = front_origin ? *front_origin : offset_ray_origin(sp, wi);
+    ray.o = origin;
     ray.d = wi;
     ray.t_max = std::numeric_limits<float>::infinity();
   }

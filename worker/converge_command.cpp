@@ -1,0 +1,97 @@
+#include "converge_command.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <stdexcept>
+
+#include <tbb/global_control.h>
+
+#include "converge.h"
+#include "scene/scene_loader.h"
+
+namespace tessera {
+namespace {
+
+template <typename T>
+void optional_option(CLI::App* app, const std::string& name, std::optional<T>& target,
+                     const std::string& help) {
+  app->add_option_function<T>(name, [&target](const T& v) { target = v; }, help);
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  const std::filesystem::path temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) throw std::runtime_error(path + ": cannot be written");
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    throw std::runtime_error(path + ": cannot be written");
+  }
+}
+
+}  // namespace
+
+void ConvergeCommand::add_to(CLI::App& parent) {
+  app = parent.add_subcommand(
+      "converge",
+      "Render at 1, 2, 4, ... spp and measure RMSE and relative MSE against a reference image "
+      "(table and log-log plot versus spp and wall time)");
+  app->add_option("scene", scene, "Scene file (.json or .xml)")->required();
+  app->add_option("--reference", reference, "Reference image (.exr), the size of the render")->required();
+  app->add_option("--csv", csv, "Write the table as CSV");
+  app->add_option("--md", markdown, "Write the table as Markdown (it is printed to stdout as well)");
+  app->add_option("--plot", plot, "Write the plot (.png)");
+  app->add_option("--fit-from", fit_from, "Fit the slopes from this spp on (default 4)")
+      ->check(CLI::PositiveNumber);
+  optional_option(app, "--spp", overrides.spp, "Largest spp (default 1024); levels are powers of two up to it");
+  optional_option(app, "--max-depth", overrides.max_depth, "Path segments incl. the camera ray, -1 = unbounded");
+  optional_option(app, "--seed", overrides.seed, "Random seed (default: the scene's)");
+  optional_option(app, "--isa", overrides.isa, "Pin Embree's instruction set");
+  app->add_option("--threads", threads, "Threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  app->add_flag("-q,--quiet", quiet, "Print only the table");
+}
+
+int ConvergeCommand::run() const {
+  if (!plot.empty() && std::filesystem::path(plot).extension() != ".png") {
+    throw std::invalid_argument("--plot " + plot + ": the plot must be a .png");
+  }
+  const Scene s = load_scene_file(scene);
+  RgbImage ref;
+  try {
+    ref = read_image(reference);
+  } catch (const std::exception& e) {
+    throw std::invalid_argument("--reference: " + std::string(e.what()));
+  }
+  JobOverrides o = overrides;
+  if (!o.spp) o.spp = 1024;
+  o.width = ref.width;  // the render is the reference's size; a different aspect is an error
+  o.height = ref.height;
+  if (std::abs(double(s.film.width) / s.film.height - double(ref.width) / ref.height) > 1e-3) {
+    throw std::invalid_argument("--reference " + reference + ": " + std::to_string(ref.width) + "x" +
+                                std::to_string(ref.height) + " has another aspect ratio than the scene's " +
+                                std::to_string(s.film.width) + "x" + std::to_string(s.film.height));
+  }
+  JobOptions options = resolve_job_options(s, o);
+
+  std::optional<tbb::global_control> limit;
+  if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
+  ConvergenceResult result = measure_convergence(s, options, ref, fit_from, [&](const ConvergenceRow& r) {
+    if (!quiet) std::fprintf(stderr, "converge: %u spp, %.2f s, RMSE %.5f\n", r.spp, r.seconds, r.rmse);
+  });
+  result.scene_name = std::filesystem::path(scene).filename().string();
+  const std::string md = convergence_markdown(result);
+  std::fputs(md.c_str(), stdout);
+  if (!csv.empty()) write_text(csv, convergence_csv(result));
+  if (!markdown.empty()) write_text(markdown, md);
+  if (!plot.empty()) write_convergence_plot(result, plot);
+  return 0;
+}
+
+}  // namespace tessera
