@@ -97,6 +97,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   // The dashboard serves reads to anyone who reaches it; its state changes need the client
   // token. Without one it may not listen beyond loopback either. It speaks plain HTTP.
   {
+    tessera::server::parse_http_address(flags.http_address);  // a malformed one: its own error
     const std::string warning = tessera::server::check_listen_policy(
         flags.http_address, tokens.client.empty() ? "the dashboard (HTTP)" : "", false,
         flags.insecure);

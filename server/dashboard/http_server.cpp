@@ -7,14 +7,8 @@
 #include "dashboard/api.h"
 
 namespace tessera::server {
-namespace {
 
-struct HostPort {
-  std::string host;
-  int port = 0;
-};
-
-HostPort parse_address(const std::string& address) {
+HostPort parse_http_address(const std::string& address) {
   const size_t colon = address.rfind(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == address.size()) {
     throw std::runtime_error("--http: expected HOST:PORT (got \"" + address + "\")");
@@ -37,8 +31,6 @@ HostPort parse_address(const std::string& address) {
   return hp;
 }
 
-}  // namespace
-
 DashboardServer::DashboardServer(Coordinator& coordinator, DashboardConfig config)
     : http_(std::make_unique<httplib::Server>()) {
   // httplib's default also sets SO_REUSEPORT, which lets the kernel hand the same port (even a
@@ -54,7 +46,7 @@ DashboardServer::DashboardServer(Coordinator& coordinator, DashboardConfig confi
 DashboardServer::~DashboardServer() { stop(); }
 
 int DashboardServer::start(const std::string& address) {
-  const HostPort hp = parse_address(address);
+  const HostPort hp = parse_http_address(address);
   int port = hp.port;
   if (port == 0) {
     port = http_->bind_to_any_port(hp.host);

@@ -15,6 +15,14 @@ namespace tessera::server {
 
 class Coordinator;
 
+struct HostPort {
+  std::string host;  ///< without the brackets of an IPv6 literal
+  int port = 0;
+};
+/// Parses the --http address "HOST:PORT" ("[::1]:PORT" for IPv6). Throws std::runtime_error
+/// naming the flag ("--http: expected HOST:PORT ...") when it is malformed.
+HostPort parse_http_address(const std::string& address);
+
 struct DashboardConfig {
   std::string token;  ///< the server's --token; empty: state changes need no token
 };
