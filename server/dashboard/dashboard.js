@@ -106,7 +106,13 @@ function renderDetail() {
     ['max depth', o.max_depth], ['seed', o.seed], ['tile', o.tile_size], ['batch', `${o.batch_spp} spp`],
     ['isa', o.isa || 'auto'], ['units', `${j.counters.units_total} (${j.tile_count} tiles × ${j.batch_count} batches)`]]);
   const c = j.counters;
-  dl($('#detail-progress'), [['progress', percent(j.progress)], ['spp reached', `${j.spp_merged} / ${j.spp_target}`],
+  const rule = j.stop_rule === 'time' ? `time ${j.time_budget_s} s (max ${j.spp_target} spp)`
+    : j.stop_rule === 'noise' ? `noise ${j.noise_target} (max ${j.spp_target} spp)` : `${j.spp_target} spp`;
+  const r = j.reached;
+  dl($('#detail-progress'), [['stopping rule', rule], ...(j.stop_reason && j.stop_reason !== 'none' ? [['stopped', j.stop_reason]] : []),
+    ['progress', percent(j.progress)], ['spp reached', `${j.spp_merged} / ${j.spp_target}`],
+    ...(j.stop_rule !== 'spp' ? [['spp per tile', `min ${r.spp_min} · mean ${r.spp_mean.toFixed(1)} · max ${r.spp_max}`],
+      ['tiles finished', `${r.tiles_finished} / ${j.tile_count}`]] : []),
     ['samples/s', rate(j.samples_per_s)], ['elapsed', duration(j.elapsed_s)],
     ['ETA', j.state === 'running' ? duration(j.eta_s) : '—'], ['est. error', errorText(j.relative_error)],
     ['units done', `${c.units_done} / ${c.units_total}`], ['leased now', c.units_leased],

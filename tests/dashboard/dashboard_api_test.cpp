@@ -85,6 +85,10 @@ TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
   EXPECT_EQ(summary["state"], "done");
   EXPECT_EQ(summary["progress"], 1.0);
   EXPECT_EQ(summary["spp_merged"], 8);
+  EXPECT_EQ(summary["stop_rule"], "spp");
+  EXPECT_EQ(summary["stop_reason"], "spp_reached");
+  EXPECT_EQ(summary["reached"]["spp_min"], 8);
+  EXPECT_EQ(summary["reached"]["spp_max"], 8);
   EXPECT_EQ(summary["samples_merged"], 16 * 16 * 8);
   EXPECT_EQ(summary["samples_total"], 16 * 16 * 8);
   EXPECT_EQ(summary["counters"]["units_done"], 4 * 4);
