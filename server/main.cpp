@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <thread>
 
 #include "coordinator.h"
@@ -95,11 +96,11 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   const Tokens tokens = resolve_tokens(flags);
   check_grpc_listen_policy(flags, tokens);
   // The dashboard serves reads to anyone who reaches it; its state changes need the client
-  // token. Without one it may not listen beyond loopback either. It speaks plain HTTP.
+  // token. Without one it may not listen beyond loopback either. It speaks HTTPS with --tls-cert.
   {
     tessera::server::parse_http_address(flags.http_address);  // a malformed one: its own error
     const std::string warning = tessera::server::check_listen_policy(
-        flags.http_address, tokens.client.empty() ? "the dashboard (HTTP)" : "", false,
+        flags.http_address, tokens.client.empty() ? "the dashboard (HTTP)" : "", flags.tls.active(),
         flags.insecure);
     if (!warning.empty()) std::cerr << "tessera-server: warning: " << warning << std::endl;
   }
@@ -167,17 +168,25 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
             << resumed << " unfinished job(s) resumed" << security << ")" << std::endl;
 
   // The dashboard (server/dashboard/): page, JSON API, /metrics, probes.
-  ts::DashboardServer dashboard(coordinator, ts::DashboardConfig{tokens.client});
+  // With --tls-cert/--tls-key it serves HTTPS with the same certificate as gRPC.
+  ts::DashboardConfig dashboard_config{tokens.client};
+  if (flags.tls.active()) {
+    dashboard_config.tls_cert_file = flags.tls.cert_file;
+    dashboard_config.tls_key_file = flags.tls.key_file;
+  }
+  std::optional<ts::DashboardServer> dashboard;
   int http_port = 0;
   try {
-    http_port = dashboard.start(flags.http_address);
+    dashboard.emplace(coordinator, std::move(dashboard_config));
+    http_port = dashboard->start(flags.http_address);
   } catch (const std::exception& e) {
     std::cerr << "tessera-server: " << e.what() << "\n";
     server->Shutdown();
     return 1;
   }
   const std::string http_host = flags.http_address.substr(0, flags.http_address.rfind(':'));
-  std::cout << "tessera-server: dashboard on http://" << http_host << ":" << http_port << "/"
+  std::cout << "tessera-server: dashboard on " << (flags.tls.active() ? "https" : "http") << "://"
+            << http_host << ":" << http_port << "/"
             << std::endl;
   if (!flags.http_port_file.empty()) write_port_file(flags.http_port_file, http_port);
   // Last: the gRPC port file tells scripts that both listeners are up.
@@ -195,7 +204,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
               << ", shutting down: no new leases; waiting up to " << flags.shutdown_seconds
               << " s for calls in flight (uploads commit)" << std::endl;
     coordinator.stop_leasing();  // ends long polls and watches at once
-    dashboard.stop();
+    dashboard->stop();
     server->Shutdown(std::chrono::system_clock::now() +
                      std::chrono::milliseconds(int64_t(flags.shutdown_seconds * 1000.0)));
   });

@@ -31,8 +31,25 @@ HostPort parse_http_address(const std::string& address) {
   return hp;
 }
 
+namespace {
+
+std::unique_ptr<httplib::Server> make_listener(const DashboardConfig& config) {
+  if (config.tls_cert_file.empty() && config.tls_key_file.empty()) {
+    return std::make_unique<httplib::Server>();
+  }
+  auto https = std::make_unique<httplib::SSLServer>(config.tls_cert_file.c_str(),
+                                                    config.tls_key_file.c_str());
+  if (!https->is_valid()) {
+    throw std::runtime_error("HTTPS: cannot use certificate " + config.tls_cert_file + " with key " +
+                             config.tls_key_file + " (--tls-cert, --tls-key)");
+  }
+  return https;
+}
+
+}  // namespace
+
 DashboardServer::DashboardServer(Coordinator& coordinator, DashboardConfig config)
-    : http_(std::make_unique<httplib::Server>()) {
+    : http_(make_listener(config)) {
   // httplib's default also sets SO_REUSEPORT, which lets the kernel hand the same port (even a
   // "free" one for port 0) to another process's listener, gRPC's included: a client would then
   // reach the wrong server. SO_REUSEADDR alone still allows a quick restart on the same port.

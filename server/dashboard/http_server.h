@@ -25,10 +25,14 @@ HostPort parse_http_address(const std::string& address);
 
 struct DashboardConfig {
   std::string token;  ///< the server's --token; empty: state changes need no token
+  /// PEM certificate and key (the server's --tls-cert/--tls-key): both set, the dashboard
+  /// serves HTTPS only; both empty, plain HTTP.
+  std::string tls_cert_file, tls_key_file;
 };
 
 class DashboardServer {
  public:
+  /// Throws std::runtime_error naming the files when the TLS certificate or key cannot be used.
   DashboardServer(Coordinator& coordinator, DashboardConfig config);
   ~DashboardServer();  ///< stops and joins
   DashboardServer(const DashboardServer&) = delete;

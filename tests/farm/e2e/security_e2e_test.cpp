@@ -3,6 +3,7 @@
 // listen beyond loopback without a token, the client refusing symbolic links, and a graceful
 // SIGTERM that leaves a checkpointed, intact database. Everything connects to 127.0.0.1 only.
 #include <gtest/gtest.h>
+#include <httplib.h>
 #include <signal.h>
 
 #include <algorithm>
@@ -114,6 +115,20 @@ TEST(SecurityE2E, TlsServerWorkerAndCliRenderAJob) {
                    "--token", "tls-token", "--timeout", "10", "list"},
                   farm.dir() / "untrusted");
   EXPECT_EQ(untrusted.exit_code, 1);
+  // The dashboard serves HTTPS with the same certificate; a client trusting the CA gets an
+  // answer, one speaking plain HTTP does not.
+  httplib::SSLClient https("127.0.0.1", farm.http_port());
+  https.set_ca_cert_path(c.ca.string().c_str());
+  https.enable_server_certificate_verification(true);
+  https.set_connection_timeout(10, 0);
+  const httplib::Result health = https.Get("/healthz");
+  ASSERT_TRUE(health) << "HTTPS /healthz: " << httplib::to_string(health.error());
+  EXPECT_EQ(health->status, 200);
+  httplib::Client plain_http("127.0.0.1", farm.http_port());
+  plain_http.set_connection_timeout(10, 0);
+  plain_http.set_read_timeout(10, 0);
+  const httplib::Result plain_health = plain_http.Get("/healthz");
+  EXPECT_TRUE(!plain_health || plain_health->status != 200);
 }
 
 TEST(SecurityE2E, MutualTlsAdmitsOnlyPeersWithACertificateFromTheCa) {
