@@ -5,14 +5,10 @@
 #include <optional>
 
 #include "commands.h"
+#include "job/job_flags.h"
+#include "wire/client_tls_flags.h"
 
 namespace {
-
-template <typename T>
-void optional_option(CLI::App* app, const std::string& name, std::optional<T>& target,
-                     const std::string& help) {
-  app->add_option_function<T>(name, [&target](const T& v) { target = v; }, help);
-}
 
 void json_flag(CLI::App* app, bool& json) {
   app->add_flag("--json", json, "Machine-readable JSON on stdout");
@@ -30,20 +26,9 @@ int main(int argc, char** argv) {
   app.add_option("--server", g.server, "Server address HOST:PORT")
       ->envname("TESSERA_SERVER")
       ->capture_default_str();
-  app.add_option("--token", g.token, "Access token (sent as 'authorization: Bearer TOKEN')")
-      ->envname("TESSERA_TOKEN");
-  app.add_option("--token-file", g.token_file, "Read the access token from this file (first line)")
-      ->envname("TESSERA_TOKEN_FILE");
-  app.add_option("--tls-ca", g.tls.ca_file,
-                 "Use TLS; trust server certificates signed by this CA (PEM)")
-      ->envname("TESSERA_TLS_CA");
-  app.add_flag("--tls", g.tls.enabled, "Use TLS with the system's trusted CAs")
-      ->envname("TESSERA_TLS");
-  app.add_option("--tls-cert", g.tls.cert_file,
-                 "Client certificate (PEM) for a server that requires mutual TLS")
-      ->envname("TESSERA_TLS_CERT");
-  app.add_option("--tls-key", g.tls.key_file, "Private key (PEM) of --tls-cert")
-      ->envname("TESSERA_TLS_KEY");
+  tessera::wire::add_client_auth_flags(
+      app, g.token, g.token_file, g.tls, "Access token (sent as 'authorization: Bearer TOKEN')",
+      "Client certificate (PEM) for a server that requires mutual TLS");
   app.add_option("--timeout", g.timeout_s, "Deadline of each call in seconds")
       ->envname("TESSERA_TIMEOUT")
       ->check(CLI::Range(0.1, 86400.0))
@@ -52,26 +37,7 @@ int main(int argc, char** argv) {
   tc::SubmitOptions submit;
   CLI::App* submit_cmd = app.add_subcommand("submit", "Submit a scene as a job");
   submit_cmd->add_option("scene", submit.scene, "Scene file (.json)")->required();
-  optional_option(submit_cmd, "--spp", submit.overrides.spp,
-                  "Stopping rule: exactly N samples per pixel (default: the scene's)");
-  optional_option(submit_cmd, "--time", submit.overrides.time_s,
-                  "Stopping rule: lease no batch after this many seconds; return what is merged");
-  optional_option(submit_cmd, "--noise", submit.overrides.noise,
-                  "Stopping rule: sample each tile until its estimated relative error is at most E");
-  optional_option(submit_cmd, "--max-spp", submit.overrides.max_spp,
-                  "Cap of a --noise or --time job in samples per pixel (default 4096)");
-  optional_option(submit_cmd, "--preset", submit.overrides.preset,
-                  "Quality preset: draft, preview, final, reference (docs/accuracy.md)");
-  optional_option(submit_cmd, "--max-depth", submit.overrides.max_depth,
-                  "Path segments including the camera ray, -1 = unbounded");
-  optional_option(submit_cmd, "--width", submit.overrides.width, "Image width in pixels");
-  optional_option(submit_cmd, "--height", submit.overrides.height, "Image height in pixels");
-  optional_option(submit_cmd, "--tile", submit.overrides.tile_size, "Tile size in pixels (default 64)");
-  optional_option(submit_cmd, "--batch", submit.overrides.batch_spp,
-                  "Samples per pixel in one work unit (default: derived from the job)");
-  optional_option(submit_cmd, "--seed", submit.overrides.seed, "Random seed (default: the scene's)");
-  optional_option(submit_cmd, "--isa", submit.overrides.isa,
-                  "Pin Embree's instruction set on every worker (sse2, sse4.2, avx, avx2, avx512)");
+  tessera::add_job_override_flags(submit_cmd, submit.overrides);
   submit_cmd->add_option("--priority", submit.priority, "Higher runs first (default 0)");
   submit_cmd->add_flag("--wait", submit.wait, "Follow the job until it ends (progress on stderr)");
   submit_cmd->add_option("-o,--output", submit.output,

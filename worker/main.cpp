@@ -17,6 +17,7 @@
 #include "accum/film.h"
 #include "converge_command.h"
 #include "image/image_output.h"
+#include "job/job_flags.h"
 #include "job/tile_summary.h"
 #include "local_render.h"
 #include "progress_bar.h"
@@ -25,6 +26,7 @@
 #include "scene/scene_writer.h"
 #ifdef TESSERA_HAVE_FARM
 #include "farm/farm_worker.h"
+#include "wire/client_tls_flags.h"
 #endif
 
 namespace {
@@ -185,12 +187,6 @@ int run_convert(const ConvertArgs& args) {
   return 0;
 }
 
-template <typename T>
-void optional_option(CLI::App* app, const std::string& name, std::optional<T>& target,
-                     const std::string& help) {
-  app->add_option_function<T>(name, [&target](const T& v) { target = v; }, help);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -203,23 +199,7 @@ int main(int argc, char** argv) {
   render_cmd->add_option("scene", render.scene, "Scene file: Tessera JSON (.json) or Mitsuba 3 XML (.xml)")->required();
   render_cmd->add_option("-o,--output", render.outputs, "Output image(s): .exr (linear float) or .png (sRGB)")
       ->required();
-  optional_option(render_cmd, "--spp", render.overrides.spp, "Stopping rule: exactly N samples per pixel (default: the scene's)");
-  optional_option(render_cmd, "--time", render.overrides.time_s,
-                  "Stopping rule: start no batch after this many seconds; keep what is merged");
-  optional_option(render_cmd, "--noise", render.overrides.noise,
-                  "Stopping rule: sample each tile until its estimated relative error is at most E");
-  optional_option(render_cmd, "--max-spp", render.overrides.max_spp,
-                  "Cap of a --noise or --time job in samples per pixel (default 4096)");
-  optional_option(render_cmd, "--preset", render.overrides.preset,
-                  "Quality preset: draft, preview, final, reference (docs/accuracy.md)");
-  optional_option(render_cmd, "--width", render.overrides.width, "Image width in pixels");
-  optional_option(render_cmd, "--height", render.overrides.height, "Image height in pixels");
-  optional_option(render_cmd, "--tile", render.overrides.tile_size, "Tile size in pixels (default 64)");
-  optional_option(render_cmd, "--batch", render.overrides.batch_spp, "Samples per pixel in one work unit (default: derived from the job)");
-  optional_option(render_cmd, "--seed", render.overrides.seed, "Random seed (default: the scene's)");
-  optional_option(render_cmd, "--max-depth", render.overrides.max_depth,
-                  "Path segments including the camera ray, -1 = unbounded (Mitsuba's convention)");
-  optional_option(render_cmd, "--isa", render.overrides.isa, "Pin Embree's instruction set (sse2, sse4.2, avx, avx2, avx512)");
+  tessera::add_job_override_flags(render_cmd, render.overrides);
   render_cmd->add_option("--threads", render.threads, "Threads (default: all cores)")->check(CLI::NonNegativeNumber);
   render_cmd->add_flag("--half", render.half, "Write EXR as half floats (clamped to half's range)");
   render_cmd->add_flag("-q,--quiet", render.quiet, "No progress bar");
@@ -239,20 +219,10 @@ int main(int argc, char** argv) {
   app.add_option("--server", farm.server, "Server address HOST:PORT")->envname("TESSERA_SERVER");
   app.add_option("--threads", farm.threads, "Render threads (default: all cores)")->check(CLI::NonNegativeNumber);
   app.add_option("--cache", farm.cache_dir, "Folder caching scene bundles")->envname("TESSERA_CACHE");
-  app.add_option("--token", farm.token, "Access token (the server's worker token)")
-      ->envname("TESSERA_TOKEN");
   std::string token_file;
-  app.add_option("--token-file", token_file, "Read the access token from this file (first line)")
-      ->envname("TESSERA_TOKEN_FILE");
-  app.add_option("--tls-ca", farm.tls.ca_file,
-                 "Use TLS; trust server certificates signed by this CA (PEM)")
-      ->envname("TESSERA_TLS_CA");
-  app.add_flag("--tls", farm.tls.enabled, "Use TLS with the system's trusted CAs")
-      ->envname("TESSERA_TLS");
-  app.add_option("--tls-cert", farm.tls.cert_file, "Worker certificate (PEM) for mutual TLS")
-      ->envname("TESSERA_TLS_CERT");
-  app.add_option("--tls-key", farm.tls.key_file, "Private key (PEM) of --tls-cert")
-      ->envname("TESSERA_TLS_KEY");
+  tessera::wire::add_client_auth_flags(app, farm.token, token_file, farm.tls,
+                                       "Access token (the server's worker token)",
+                                       "Worker certificate (PEM) for mutual TLS");
   app.add_option("--name", farm.name, "Worker name shown by the server (default: host name and pid)");
 #endif
 
