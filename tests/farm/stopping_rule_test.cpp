@@ -12,6 +12,7 @@ namespace tessera::server {
 namespace {
 
 using testing::StoreFixture;
+using testing::result_for;
 
 /// A job of `tiles` 4x4 tiles in a row with the given rule; batch 16 spp.
 int64_t make_rule_job(StoreFixture& f, StopRule rule, uint32_t tiles, uint32_t spp,
@@ -55,18 +56,6 @@ Accumulation noisy(const TileRect& rect) {
 }
 
 TileRect rect_of(uint32_t tile) { return {int(4 * tile), 0, int(4 * tile + 4), 4}; }
-
-UnitResult result_for(const Lease& lease, const Accumulation& acc) {
-  UnitResult r;
-  r.worker_id = lease.worker_id;
-  r.lease_id = lease.lease_id;
-  r.job_id = lease.job_id;
-  r.tile = lease.tile;
-  r.batch = lease.batch;
-  r.encoded = encode_accumulation(acc);
-  r.isa = "avx2";
-  return r;
-}
 
 int64_t count(StoreFixture& f, const std::string& sql) {
   auto q = f.db.prepare(sql);

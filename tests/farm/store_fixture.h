@@ -5,6 +5,7 @@
 #include <string>
 
 #include "accum/accumulation.h"
+#include "accum/accumulation_codec.h"
 #include "fake_clock.h"
 #include "job_store.h"
 #include "lease_table.h"
@@ -15,6 +16,19 @@
 #include "worker_registry.h"
 
 namespace tessera::server::testing {
+
+/// The upload of `acc` under `lease`, as the lease's worker would send it.
+inline UnitResult result_for(const Lease& lease, const Accumulation& acc) {
+  UnitResult r;
+  r.worker_id = lease.worker_id;
+  r.lease_id = lease.lease_id;
+  r.job_id = lease.job_id;
+  r.tile = lease.tile;
+  r.batch = lease.batch;
+  r.encoded = encode_accumulation(acc);
+  r.isa = "avx2";
+  return r;
+}
 
 struct StoreFixture {
   static constexpr int64_t kLeaseMs = 10'000;

@@ -12,6 +12,7 @@ namespace tessera::server {
 namespace {
 
 using testing::StoreFixture;
+using testing::result_for;
 
 /// Leases (tile, batch) for `worker` (which must hold no lease): helpers lease the units that
 /// the scheduler orders before it, the worker takes it, then the helpers hand theirs back.
@@ -36,18 +37,6 @@ Lease lease_unit(StoreFixture& f, int64_t worker, uint32_t tile, uint32_t batch)
     f.leases.release(b.worker_id, b.lease_id, ReleaseReason::shutdown, "");
   }
   return got;
-}
-
-UnitResult result_for(const Lease& lease, const Accumulation& acc) {
-  UnitResult r;
-  r.worker_id = lease.worker_id;
-  r.lease_id = lease.lease_id;
-  r.job_id = lease.job_id;
-  r.tile = lease.tile;
-  r.batch = lease.batch;
-  r.encoded = encode_accumulation(acc);
-  r.isa = "avx2";
-  return r;
 }
 
 Accumulation tile_sum(StoreFixture& f, int64_t job, uint32_t tile) {

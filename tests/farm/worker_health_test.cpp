@@ -25,15 +25,8 @@ void deliver(StoreFixture& f, int64_t worker, uint32_t spp, uint64_t nan, uint64
   Accumulation acc = StoreFixture::synthetic(rect, lease.batch, spp);
   acc.nan_dropped = nan;
   acc.inf_dropped = inf;
-  UnitResult r;
-  r.worker_id = worker;
-  r.lease_id = lease.lease_id;
-  r.job_id = lease.job_id;
-  r.tile = lease.tile;
-  r.batch = lease.batch;
-  r.encoded = encode_accumulation(acc);
-  r.isa = "avx2";
-  ASSERT_TRUE(f.merger.accept(r, acc).accepted);
+  ASSERT_EQ(lease.worker_id, worker);
+  ASSERT_TRUE(f.merger.accept(testing::result_for(lease, acc), acc).accepted);
 }
 
 TEST(WorkerHealth, NanAndInfSamplesAreCountedPerWorkerAndReportedPastTheThreshold) {
