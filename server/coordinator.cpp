@@ -33,12 +33,6 @@ std::optional<std::string> read_file(const std::filesystem::path& path) {
   return std::move(ss).str();
 }
 
-uint64_t sample_count(const Accumulation& a) {
-  uint64_t samples = 0;
-  for (uint32_t n : a.count) samples += n;
-  return samples;
-}
-
 }  // namespace
 
 Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
@@ -325,13 +319,14 @@ AcceptOutcome Coordinator::upload(const UnitResult& result) {
   }
   AcceptOutcome outcome;
   {
+    // The worker was checked (and its last call recorded) above; workers are never removed.
     std::lock_guard lock(mu_);
-    touch_or_throw(result.worker_id);
     outcome = merger_.accept(result, decoded);
     if (outcome.accepted) report_health(result.worker_id);
   }
-  metrics_.record_result(result.worker_id, result.job_id, outcome.accepted, sample_count(decoded),
-                         std::chrono::duration<double>(std::chrono::steady_clock::now() - received).count());
+  metrics_.record_result(
+      result.worker_id, result.job_id, outcome.accepted, outcome.samples,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - received).count());
   changes_.notify();
   if (outcome.job_complete) finish_job(result.job_id);
   return outcome;

@@ -150,8 +150,8 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
   outcome.accepted = true;
   db_.prepare("UPDATE jobs SET units_done = units_done + 1 WHERE id = ?")->bind(1, r.job_id).run();
   {
-    uint64_t samples = decoded.nan_dropped + decoded.inf_dropped;
-    for (uint32_t n : decoded.count) samples += n;
+    for (uint32_t n : decoded.count) outcome.samples += n;
+    const uint64_t samples = outcome.samples + decoded.nan_dropped + decoded.inf_dropped;
     db_.prepare(
            "UPDATE workers SET units_done = units_done + 1, samples_returned = samples_returned + "
            "?,"

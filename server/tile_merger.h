@@ -34,6 +34,7 @@ struct AcceptOutcome {
   bool accepted = false;      ///< false: dropped (stale or duplicate lease), counted on the job
   std::string reason;         ///< why it was dropped
   uint32_t merged = 0;        ///< results merged by this call (this one and waiting successors)
+  uint64_t samples = 0;       ///< pixel samples the accepted result holds (NaN/Inf excluded)
   bool job_complete = false;  ///< no unit of the job is queued or leased: ready to finish
 };
 

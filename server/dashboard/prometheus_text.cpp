@@ -25,7 +25,12 @@ class Writer {
     if (!labels.empty()) out_ << '{' << labels << '}';
     out_ << ' ' << value << '\n';
   }
-  void sample(const std::string& name, uint64_t value) { sample(name, "", std::to_string(value)); }
+  /// A family with one unlabelled sample.
+  void single(const std::string& name, const std::string& type, const std::string& help,
+              uint64_t value) {
+    family(name, type, help);
+    sample(name, "", std::to_string(value));
+  }
   std::string str() const { return out_.str(); }
 
  private:
@@ -40,20 +45,21 @@ std::string prometheus_text(const FarmSnapshotForMetrics& s) {
   for (const auto& [state, count] : s.totals.jobs_by_state) {
     w.sample("tessera_jobs", "state=\"" + state + "\"", std::to_string(count));
   }
-  w.family("tessera_units_leased", "gauge", "Work units leased to workers right now.");
-  w.sample("tessera_units_leased", s.totals.units_leased_now);
-  w.family("tessera_units_done_total", "counter",
-           "Work units whose result was accepted, over every job in the store.");
-  w.sample("tessera_units_done_total", s.totals.units_done);
-  w.family("tessera_units_expired_total", "counter",
-           "Leases that expired or were revoked at a restart (units rendered again), all jobs.");
-  w.sample("tessera_units_expired_total", s.totals.leases_expired);
-  w.family("tessera_results_dropped_total", "counter",
-           "Results dropped for a stale or duplicate lease, over every job in the store.");
-  w.sample("tessera_results_dropped_total", s.totals.results_dropped);
-  w.family("tessera_samples_merged_total", "counter",
-           "Pixel samples merged, over every job in the store.");
-  w.sample("tessera_samples_merged_total", s.totals.samples_merged);
+  w.single("tessera_units_leased", "gauge",
+           "Work units leased to workers right now.",
+           s.totals.units_leased_now);
+  w.single("tessera_units_done_total", "counter",
+           "Work units whose result was accepted, over every job in the store.",
+           s.totals.units_done);
+  w.single("tessera_units_expired_total", "counter",
+           "Leases that expired or were revoked at a restart (units rendered again), all jobs.",
+           s.totals.leases_expired);
+  w.single("tessera_results_dropped_total", "counter",
+           "Results dropped for a stale or duplicate lease, over every job in the store.",
+           s.totals.results_dropped);
+  w.single("tessera_samples_merged_total", "counter",
+           "Pixel samples merged, over every job in the store.",
+           s.totals.samples_merged);
   w.family("tessera_results_received_total", "counter",
            "Results answered by this server process, by outcome (accepted or dropped).");
   w.sample("tessera_results_received_total", "outcome=\"accepted\"",
@@ -76,7 +82,7 @@ std::string prometheus_text(const FarmSnapshotForMetrics& s) {
   }
   w.sample("tessera_merge_latency_seconds_bucket", "le=\"+Inf\"", std::to_string(s.merge.count));
   w.sample("tessera_merge_latency_seconds_sum", "", number(s.merge.sum_s));
-  w.sample("tessera_merge_latency_seconds_count", s.merge.count);
+  w.sample("tessera_merge_latency_seconds_count", "", std::to_string(s.merge.count));
   return w.str();
 }
 
