@@ -1,4 +1,4 @@
-// libFuzzer target: the Mitsuba 3 XML importer (core/scene/mitsuba_*) on arbitrary bytes.
+// libFuzzer target: the Mitsuba 3 XML importer (core/scene/mitsuba/) on arbitrary bytes.
 //
 // Build and run: docs/mitsuba.md, "Fuzzing". The input is the scene file; the bundle around
 // it holds a sensor to include (so that seeds from tests/data/mitsuba reach the shapes), the
@@ -14,10 +14,10 @@
 #include <string>
 #include <string_view>
 
-#include "scene/mitsuba_xml_loader.h"
+#include "scene/mitsuba/mitsuba_xml_loader.h"
 #include "scene/scene_error.h"
 #include "scene/scene_loader.h"
-#include "scene/scene_writer.h"
+#include "scene/native/scene_writer.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "farm_error.h"
-#include "scene/ply_header.h"
+#include "scene/mesh/ply_header.h"
 #include "scene/scene_error.h"
 
 namespace tessera::server {

@@ -23,7 +23,7 @@
 #include "progress_bar.h"
 #include "scene/scene_error.h"
 #include "scene/scene_loader.h"
-#include "scene/scene_writer.h"
+#include "scene/native/scene_writer.h"
 #ifdef TESSERA_HAVE_FARM
 #include "farm/farm_worker.h"
 #include "wire/client_tls_flags.h"

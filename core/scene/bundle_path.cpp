@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/json_value.h"
+#include "scene/native/json_value.h"
 #include "scene/scene_error.h"
 #include "scene/scene_loader.h"
 

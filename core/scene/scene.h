@@ -9,6 +9,9 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace tessera {
@@ -26,9 +29,23 @@ struct Camera {
   double focus_distance = 1;    ///< distance to the plane in focus, scene units, > 0
 };
 
+/// The pixel reconstruction filter. Tessera samples it by filter importance sampling: each
+/// camera sample's film offset is drawn from the filter's footprint around the pixel centre and
+/// counts with weight 1 in that pixel only, so tiles stay independent (docs/renderer.md).
+enum class FilterKind { box, tent, gaussian };
+
+struct PixelFilter {
+  FilterKind kind = FilterKind::box;
+  /// Half-width of the footprint in pixels: box 0.5, tent 1 (Mitsuba's defaults), gaussian
+  /// 4 * stddev (Mitsuba truncates there). > 0.
+  double radius = 0.5;
+  double stddev = 0.5;  ///< gaussian only, pixels, > 0
+};
+
 struct Film {
   int width = 256;
   int height = 256;
+  PixelFilter filter;  ///< native default box; the Mitsuba importer's default gaussian 0.5
 };
 
 /// Render defaults the scene file carries; a job may override each of them.
@@ -36,39 +53,178 @@ struct RenderSettings {
   int64_t spp = 64;      ///< samples per pixel, >= 1
   int max_depth = -1;    ///< Mitsuba convention: path segments incl. the camera ray; -1 = unbounded
   uint64_t seed = 0;
+  /// Emitters seen directly by the camera (and through perfectly specular chains from it)
+  /// count as black, as Mitsuba's `hide_emitters`; their light still reaches other surfaces.
+  bool hide_emitters = false;
 };
 
-enum class MaterialType { diffuse, mirror, glass };
+// ---------------------------------------------------------------------------------------------
+// Textures. A texture is looked up by a surface point's (u, v); every colour (and roughness,
+// opacity) parameter of a material or emitter is a constant or a texture.
+
+enum class TextureKind { bitmap, checkerboard };
+
+/// How a bitmap's texel values map to the renderer's linear RGB.
+enum class TextureColorSpace {
+  srgb,    ///< 8/16-bit images used as colours (Mitsuba's default for them): sRGB-decoded
+  linear,  ///< float images (EXR, HDR) or `raw="true"`: used as stored
+};
+enum class TextureFilter { bilinear, nearest };  ///< Mitsuba's filter_type; bilinear = trilinear mip
+enum class TextureWrap { repeat, mirror, clamp };
+
+struct Texture {
+  std::string name;    ///< id or a generated name, unique in the scene
+  std::string origin;  ///< for messages: "textures[2]" or "<file>: line <L>: <texture ...>"
+  TextureKind kind = TextureKind::bitmap;
+
+  // TextureKind::bitmap
+  std::string file;  ///< bundle path (see Scene::referenced_files)
+  TextureColorSpace color_space = TextureColorSpace::srgb;
+  TextureFilter filter = TextureFilter::bilinear;
+  TextureWrap wrap = TextureWrap::repeat;
+
+  // TextureKind::checkerboard (Mitsuba: color0 where floor(2u) + floor(2v) is even)
+  glm::dvec3 color0{0.4, 0.4, 0.4};
+  glm::dvec3 color1{0.2, 0.2, 0.2};
+
+  /// Applied to (u, v, 1) before the lookup (Mitsuba's `to_uv`): row-major 2x3 affine map.
+  glm::dmat3 to_uv{1.0};
+};
+
+/// A parameter that is a constant or a texture: value * texture(uv) when texture >= 0 (value
+/// then is a scale, 1 unless the scene says otherwise), value alone otherwise.
+struct TexturedColor {
+  glm::dvec3 value{0.5, 0.5, 0.5};
+  int32_t texture = -1;  ///< index into Scene::textures, -1 = constant
+  bool is_constant() const { return texture < 0; }
+};
+/// A scalar parameter: the texture's first channel (its mean for RGB textures, as Mitsuba's
+/// scalar lookups) times value.
+struct TexturedFloat {
+  double value = 1;
+  int32_t texture = -1;
+  bool is_constant() const { return texture < 0; }
+};
+
+// ---------------------------------------------------------------------------------------------
+// Materials (BSDFs), with Mitsuba's parameters and their meaning (docs/scenes.md).
+
+enum class MaterialType {
+  diffuse,          ///< Lambertian: reflectance
+  mirror,           ///< perfect mirror (a smooth conductor of reflectance 1)
+  glass,            ///< smooth dielectric: ior, specular_reflectance / _transmittance
+  conductor,        ///< smooth conductor: eta, k (complex IOR relative to the outside), specular_reflectance
+  rough_conductor,  ///< microfacet conductor: + distribution, alpha_u/v
+  rough_glass,      ///< microfacet dielectric (Mitsuba's roughdielectric)
+  thin_glass,       ///< thin dielectric sheet: reflection and straight transmission
+  plastic,          ///< smooth dielectric coating over a diffuse base: reflectance = diffuse_reflectance
+  rough_plastic,    ///< microfacet coating over a diffuse base
+};
+
+enum class MicrofacetDistribution { ggx, beckmann };
 
 struct Material {
   std::string name;
   MaterialType type = MaterialType::diffuse;
-  glm::dvec3 reflectance{0.5, 0.5, 0.5};  ///< diffuse albedo, linear RGB, each in [0, 1]
-  double ior = 1.5;                       ///< glass: interior over exterior index, > 0
-  bool two_sided = false;                 ///< diffuse/mirror: both sides alike (glass always is)
+  /// diffuse: albedo; plastic / rough_plastic: diffuse_reflectance. Linear RGB; constants in
+  /// [0, 1] (textures are clamped there at lookup).
+  TexturedColor reflectance{{0.5, 0.5, 0.5}, -1};
+  /// conductors, glass, plastics: Mitsuba's specular_reflectance (default 1).
+  TexturedColor specular_reflectance{{1, 1, 1}, -1};
+  /// glass kinds: Mitsuba's specular_transmittance (default 1).
+  TexturedColor specular_transmittance{{1, 1, 1}, -1};
+  /// glass kinds, plastics: interior over exterior index, > 0.
+  double ior = 1.5;
+  /// conductors: complex index of refraction relative to the exterior, per RGB channel.
+  /// `perfect` = true is Mitsuba's material="none": Fresnel reflectance 1 whatever eta and k.
+  glm::dvec3 eta{0, 0, 0};
+  glm::dvec3 k{1, 1, 1};
+  bool perfect = false;
+  /// rough kinds: Mitsuba's alpha (alpha_u = alpha_v when isotropic), each > 0.
+  MicrofacetDistribution distribution = MicrofacetDistribution::beckmann;
+  TexturedFloat alpha_u{0.1, -1};
+  TexturedFloat alpha_v{0.1, -1};
+  bool sample_visible = true;  ///< rough kinds: visible-normal sampling (Mitsuba's default)
+  bool nonlinear = false;      ///< plastics: Mitsuba's `nonlinear`
+  /// diffuse, conductors, plastics: both sides reflect alike (glass kinds always are two-sided).
+  bool two_sided = false;
+  /// Mitsuba's twosided with two different BSDFs: the material index seen from the back, whose
+  /// `two_sided` is true (it is shaded with its own front). -1 = none.
+  int32_t back = -1;
+  /// Mitsuba's mask: the probability that a hit is opaque, in [0, 1]. A hit is transparent with
+  /// probability 1 - opacity, decided by a hash of (seed, pixel, sample index, bounce, geometry,
+  /// primitive), never by the order of Embree's callbacks.
+  TexturedFloat opacity{1, -1};
+  /// Mitsuba's normalmap: texture index of a tangent-space normal map (linear RGB in [0, 1]
+  /// mapped to [-1, 1]), -1 = none.
+  int32_t normal_map = -1;
+  /// Mitsuba's bumpmap: texture index of a height field and its scale, -1 = none.
+  int32_t bump_map = -1;
+  double bump_scale = 1;
 };
 
+// ---------------------------------------------------------------------------------------------
+// Emitters that are not shapes (area emitters are Shape::emission).
+
+enum class LightKind {
+  point,        ///< position, intensity (W/sr)
+  spot,         ///< position and direction from to_world; intensity, cutoff_angle, beam_width
+  directional,  ///< direction (to_world's +z), irradiance (W/m^2)
+  constant,     ///< uniform environment: radiance
+  envmap,       ///< lat-long environment map (Mitsuba's layout): file, scale, to_world
+};
+
+struct Light {
+  LightKind kind = LightKind::point;
+  std::string origin;  ///< for messages
+  /// point / spot: the light's frame (spot shines along +z); directional: +z is the direction
+  /// light travels; envmap: the map's orientation. Rigid (rotation + translation).
+  glm::dmat4 to_world{1.0};
+  /// point / spot: intensity; directional: irradiance; constant: radiance; envmap: scale per
+  /// channel (Mitsuba's `scale`, the same on all three).
+  glm::dvec3 value{1, 1, 1};
+  double cutoff_angle_deg = 20;  ///< spot: no light beyond it
+  double beam_width_deg = 15;    ///< spot: full intensity inside it (Mitsuba's smooth falloff between)
+  std::string file;              ///< envmap: bundle path of the EXR/HDR lat-long map
+};
+
+// ---------------------------------------------------------------------------------------------
+// Shapes.
+
 /// One shape of the scene in world space. Quads, boxes, tetrahedra, triangle lists and meshes
-/// are all triangle meshes here; spheres stay exact.
+/// are all triangle meshes here; spheres stay exact; an instance places a shape group.
 struct Shape {
-  enum class Kind { triangles, sphere };
+  enum class Kind { triangles, sphere, instance };
   Kind kind = Kind::triangles;
 
   // Kind::triangles
-  std::vector<glm::dvec3> positions;   ///< world space
+  std::vector<glm::dvec3> positions;   ///< world space (a group's shapes: the group's space)
   std::vector<glm::dvec3> normals;     ///< per-vertex shading normals, empty = use face normals
   std::vector<glm::u32vec3> indices;   ///< counter-clockwise seen from the front
+  /// Per-vertex texture coordinates (OBJ `vt`, PLY u/v, serialized UVs, Mitsuba's
+  /// parametrisation of rectangle, disk and cube); empty = none (lookups then use (0, 0)).
+  std::vector<glm::dvec2> uvs;
 
   // Kind::sphere
   glm::dvec3 center{0, 0, 0};
   double radius = 1;  ///< > 0
+  /// Rotation of the sphere's own frame (its to_world without scale and translation): Mitsuba's
+  /// sphere (u, v) = (phi / 2 pi, theta / pi) are measured in that frame.
+  glm::dmat3 frame{1.0};
+
+  // Kind::instance: the group's shapes placed by to_world (Embree instancing)
+  uint32_t group = 0;  ///< index into Scene::groups
+  glm::dmat4 to_world{1.0};
 
   /// Turns the front to the other side: spheres face inward, triangles swap their winding
   /// (already applied to `indices` and `normals` for Kind::triangles; kept for messages).
   bool flip_normals = false;
 
-  uint32_t material = 0;             ///< index into Scene::materials
+  uint32_t material = 0;             ///< index into Scene::materials (not used by instances)
   glm::dvec3 emission{0, 0, 0};      ///< emitted radiance (W/(m^2 sr)), resolved from `power`
+  /// When >= 0 the radiance is emission * textures[emission_texture](uv) (Mitsuba's area
+  /// emitter with a textured `radiance`; emission then holds the scale, usually 1).
+  int32_t emission_texture = -1;
   bool two_sided_emission = false;   ///< emits from both sides
   std::string origin;                ///< where it came from, for messages: "shapes[3]"
   /// Mesh files only: degenerate faces (zero area, or fewer than 3 vertices) dropped while
@@ -78,13 +234,24 @@ struct Shape {
   bool is_emitter() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };
 
+/// Shapes declared once and placed by instances (Mitsuba's shapegroup). Group shapes are
+/// triangles or spheres, never emitters or instances.
+struct ShapeGroup {
+  std::string name;
+  std::string origin;
+  std::vector<Shape> shapes;
+};
+
 struct Scene {
   Camera camera;
   Film film;
   RenderSettings render;
   std::vector<Material> materials;
+  std::vector<Texture> textures;
   std::vector<Shape> shapes;
-  /// Files the scene references, relative to the scene file's folder ('/'-separated, no "..").
+  std::vector<ShapeGroup> groups;
+  std::vector<Light> lights;  ///< emitters that are not shapes
+  /// Files the scene references, relative to the bundle root ('/'-separated, no "..").
   /// Together with the scene file they are the job's bundle.
   std::vector<std::string> referenced_files;
 };

@@ -7,13 +7,13 @@
 #include <fstream>
 #include <iterator>
 
-#include "scene/json_document.h"
-#include "scene/json_value.h"
-#include "scene/material_parser.h"
-#include "scene/mitsuba_xml_loader.h"
+#include "scene/native/json_document.h"
+#include "scene/native/json_value.h"
+#include "scene/native/material_parser.h"
+#include "scene/mitsuba/mitsuba_xml_loader.h"
 #include "scene/scene_error.h"
-#include "scene/settings_parser.h"
-#include "scene/shape_parser.h"
+#include "scene/native/settings_parser.h"
+#include "scene/native/shape_parser.h"
 
 namespace tessera {
 namespace {

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace tessera {
@@ -16,6 +18,7 @@ struct Geometry {
   std::vector<glm::vec3> positions;
   std::vector<glm::u32vec3> indices;
   std::vector<glm::vec3> normals;  ///< per vertex; empty = flat shading
+  std::vector<glm::vec2> uvs;      ///< per vertex texture coordinates; empty = none ((0, 0))
   /// Per triangle, precomputed: unit geometric normal (counter-clockwise front) and the error
   /// bound of points on it (ray_offset.h, triangle_point_error).
   std::vector<glm::vec3> face_normals;
@@ -25,10 +28,12 @@ struct Geometry {
   glm::dvec3 center{0.0};
   double radius = 1.0;
   bool inward = false;  ///< front faces the centre
+  glm::mat3 frame{1.0f};  ///< rotation of the sphere's own frame: its uv are measured there
 
   uint32_t material = 0;
   int32_t emitter = -1;          ///< index into TraceableScene::emitters(), -1 if none
   glm::vec3 emission{0.0f};      ///< radiance of the front (and back when two-sided)
+  int32_t emission_texture = -1; ///< radiance = emission * texture(uv) when >= 0
   bool two_sided_emission = false;
 };
 

@@ -15,7 +15,7 @@ inline uint32_t add_diffuse(Scene& s, glm::dvec3 albedo, bool two_sided = false)
   Material m;
   m.name = "m" + std::to_string(s.materials.size());
   m.type = MaterialType::diffuse;
-  m.reflectance = albedo;
+  m.reflectance.value = albedo;
   m.two_sided = two_sided;
   s.materials.push_back(m);
   return uint32_t(s.materials.size() - 1);

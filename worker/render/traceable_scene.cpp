@@ -42,7 +42,7 @@ TraceableScene::TraceableScene(const Scene& scene, int width, int height, const 
   isa_ = isa.empty() ? isa_name(device_) : isa;
 
   for (const Material& m : scene.materials) {
-    materials_.push_back({m.type, glm::vec3(m.reflectance), float(m.ior), m.two_sided});
+    materials_.push_back({m.type, glm::vec3(m.reflectance.value), float(m.ior), m.two_sided});
   }
 
   scene_ = rtcNewScene(device_);

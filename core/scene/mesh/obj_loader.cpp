@@ -1,0 +1,201 @@
+#include "scene/mesh/obj_loader.h"
+
+#include <glm/geometric.hpp>
+#include <sstream>
+#include <unordered_map>
+
+#include "scene/native/json_value.h"
+#include "scene/mesh/mesh_limits.h"
+#include "scene/mesh/mtl_material.h"
+#include "scene/mesh/obj_material_reader.h"
+#include "scene/scene_error.h"
+
+namespace tessera {
+namespace {
+
+/// Faces of one material, as tinyobjloader's corners (not yet triangulated).
+struct PendingGroup {
+  int material_id = -1;
+  std::vector<tinyobj::index_t> corners;
+  std::vector<unsigned> face_sizes;
+  bool all_normals = true;  ///< every corner has a vn
+};
+
+/// Refuses files with too many vertex or face lines before tinyobjloader allocates for them.
+void check_line_counts(const std::string& bytes, const std::string& path) {
+  uint64_t vertices = 0;
+  uint64_t faces = 0;
+  size_t pos = 0;
+  while (pos < bytes.size()) {
+    size_t start = bytes.find_first_not_of(" \t", pos);
+    if (start != std::string::npos && start + 1 < bytes.size()) {
+      bool blank = bytes[start + 1] == ' ' || bytes[start + 1] == '\t';
+      vertices += bytes[start] == 'v' && blank;
+      faces += bytes[start] == 'f' && blank;
+    }
+    size_t end = bytes.find('\n', pos);
+    pos = end == std::string::npos ? bytes.size() : end + 1;
+  }
+  if (vertices > kMaxMeshElements || faces > kMaxMeshElements) {
+    throw SceneError(path + ": more than " + std::to_string(kMaxMeshElements) +
+                     " vertices or faces");
+  }
+}
+
+/// Sorts the faces of all of tinyobjloader's shapes into one group per material.
+std::vector<PendingGroup> group_faces(const std::vector<tinyobj::shape_t>& shapes, bool by_material,
+                                      const std::string& path) {
+  std::vector<PendingGroup> groups;
+  std::unordered_map<int, size_t> slot_of;
+  for (const tinyobj::shape_t& shape : shapes) {
+    const tinyobj::mesh_t& mesh = shape.mesh;
+    size_t offset = 0;
+    for (size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
+      unsigned size = mesh.num_face_vertices[f];
+      if (offset + size > mesh.indices.size()) {
+        throw SceneError(path + ": a face has more than 255 vertices");
+      }
+      int id = by_material ? mesh.material_ids[f] : -1;
+      auto [it, added] = slot_of.try_emplace(id, groups.size());
+      if (added) groups.push_back(PendingGroup{id, {}, {}, true});
+      PendingGroup& group = groups[it->second];
+      for (unsigned k = 0; k < size; ++k) {
+        group.corners.push_back(mesh.indices[offset + k]);
+        group.all_normals = group.all_normals && mesh.indices[offset + k].normal_index >= 0;
+      }
+      group.face_sizes.push_back(size);
+      offset += size;
+    }
+    if (offset != mesh.indices.size()) {
+      throw SceneError(path + ": a face has more than 255 vertices");
+    }
+  }
+  return groups;
+}
+
+/// Builds one group's mesh: vertices are the distinct (position, normal) pairs it uses.
+class GroupBuilder {
+ public:
+  GroupBuilder(const tinyobj::attrib_t& attrib, bool use_normals, const std::string& path)
+      : attrib_(attrib), use_normals_(use_normals), path_(path) {}
+
+  TriangleMesh build(const PendingGroup& group) {
+    size_t offset = 0;
+    std::vector<uint32_t> face;
+    for (unsigned size : group.face_sizes) {
+      face.clear();
+      for (unsigned k = 0; k < size; ++k) face.push_back(vertex(group.corners[offset + k]));
+      offset += size;
+      add_face(face);
+    }
+    return std::move(mesh_);
+  }
+
+ private:
+  uint32_t vertex(const tinyobj::index_t& corner) {
+    size_t position_count = attrib_.vertices.size() / 3;
+    size_t normal_count = attrib_.normals.size() / 3;
+    if (corner.vertex_index < 0 || size_t(corner.vertex_index) >= position_count) {
+      throw SceneError(path_ + ": a face refers to vertex " +
+                       std::to_string(corner.vertex_index + 1) + " but the file has " +
+                       std::to_string(position_count));
+    }
+    int normal = use_normals_ ? corner.normal_index : -1;
+    if (use_normals_ && size_t(normal) >= normal_count) {
+      throw SceneError(path_ + ": a face refers to normal " + std::to_string(normal + 1) +
+                       " but the file has " + std::to_string(normal_count));
+    }
+    uint64_t key = (uint64_t(uint32_t(corner.vertex_index)) << 32) | uint32_t(normal + 1);
+    auto [it, added] = index_of_.try_emplace(key, uint32_t(mesh_.positions.size()));
+    if (added) {
+      const double* p = &attrib_.vertices[3 * size_t(corner.vertex_index)];
+      mesh_.positions.emplace_back(p[0], p[1], p[2]);
+      if (use_normals_) {
+        const double* n = &attrib_.normals[3 * size_t(normal)];
+        mesh_.normals.emplace_back(n[0], n[1], n[2]);
+      }
+    }
+    return it->second;
+  }
+
+  /// Quads split along the shorter diagonal (as tinyobjloader does), larger polygons as a fan.
+  void add_face(const std::vector<uint32_t>& f) {
+    if (f.size() < 3) return;
+    if (mesh_.indices.size() + f.size() - 2 > kMaxMeshElements) {
+      throw SceneError(path_ + ": more than " + std::to_string(kMaxMeshElements) + " triangles");
+    }
+    if (f.size() == 4) {
+      const std::vector<glm::dvec3>& p = mesh_.positions;
+      double d02 = glm::length(p[f[2]] - p[f[0]]);
+      double d13 = glm::length(p[f[3]] - p[f[1]]);
+      if (d02 <= d13) {
+        mesh_.indices.emplace_back(f[0], f[1], f[2]);
+        mesh_.indices.emplace_back(f[0], f[2], f[3]);
+      } else {
+        mesh_.indices.emplace_back(f[0], f[1], f[3]);
+        mesh_.indices.emplace_back(f[1], f[2], f[3]);
+      }
+      return;
+    }
+    for (size_t k = 1; k + 1 < f.size(); ++k) mesh_.indices.emplace_back(f[0], f[k], f[k + 1]);
+  }
+
+  const tinyobj::attrib_t& attrib_;
+  bool use_normals_;
+  const std::string& path_;
+  TriangleMesh mesh_;
+  std::unordered_map<uint64_t, uint32_t> index_of_;
+};
+
+/// The first line of tinyobjloader's error text.
+std::string first_line(const std::string& text) {
+  std::string line = text.substr(0, text.find('\n'));
+  return line.empty() ? "cannot be parsed as OBJ" : printable(line);
+}
+
+ObjGroup make_group(const PendingGroup& pending, const tinyobj::attrib_t& attrib,
+                    const std::vector<tinyobj::material_t>& materials, const ObjOptions& options,
+                    const std::string& path) {
+  bool use_normals = !options.face_normals && pending.all_normals && !attrib.normals.empty();
+  ObjGroup group;
+  group.mesh = GroupBuilder(attrib, use_normals, path).build(pending);
+  if (!positions_finite(group.mesh)) {
+    throw SceneError(path + ": a vertex coordinate is not a finite number");
+  }
+  if (!normals_usable(group.mesh)) group.mesh.normals.clear();
+  if (pending.material_id >= 0 && size_t(pending.material_id) < materials.size()) {
+    MtlMaterial mtl = convert_mtl_material(materials[pending.material_id], path);
+    group.label = materials[pending.material_id].name;
+    group.material = mtl.material;
+    group.emission = mtl.emission;
+  }
+  return group;
+}
+
+}  // namespace
+
+ObjMesh load_obj(const std::string& path, const std::string& bytes, const FileReader& reader,
+                 const ObjOptions& options) {
+  check_line_counts(bytes, path);
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warning;
+  std::string error;
+  std::istringstream stream(bytes);
+  ObjMaterialReader material_reader(path, reader);
+  bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warning, &error, &stream,
+                             options.read_materials ? &material_reader : nullptr,
+                             /*triangulate=*/false, /*default_vcols_fallback=*/false);
+  if (material_reader.error()) throw SceneError(*material_reader.error());
+  if (!ok) throw SceneError(path + ": " + first_line(error));
+
+  ObjMesh result;
+  result.mtl_files = material_reader.files();
+  for (const PendingGroup& pending : group_faces(shapes, options.read_materials, path)) {
+    result.groups.push_back(make_group(pending, attrib, materials, options, path));
+  }
+  return result;
+}
+
+}  // namespace tessera

@@ -1,0 +1,174 @@
+#include "scene/mesh/ply_loader.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "scene/mesh/mesh_limits.h"
+#include "scene/mesh/ply_header.h"
+#include "scene/mesh/ply_value_reader.h"
+#include "scene/scene_error.h"
+
+namespace tessera {
+namespace {
+
+/// For each vertex property: where its value goes (0..2 position, 3..5 normal) or -1.
+std::vector<int> vertex_slots(const PlyElement& vertex, bool read_normals,
+                              const std::string& name) {
+  std::vector<int> slots(vertex.properties.size(), -1);
+  static const std::array<const char*, 6> kNames = {"x", "y", "z", "nx", "ny", "nz"};
+  std::array<int, 6> found;
+  for (int k = 0; k < 6; ++k) {
+    found[k] = vertex.find(kNames[k]);
+    if (found[k] >= 0 && vertex.properties[found[k]].is_list) {
+      throw SceneError(name + ": vertex property " + kNames[k] + " must not be a list");
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (found[k] < 0) throw SceneError(name + ": element vertex has no property " + kNames[k]);
+    slots[found[k]] = k;
+  }
+  bool normals = read_normals && found[3] >= 0 && found[4] >= 0 && found[5] >= 0;
+  for (int k = 3; k < 6 && normals; ++k) slots[found[k]] = k;
+  return slots;
+}
+
+/// The index of the face's vertex index list.
+int face_index_list(const PlyElement& face, const std::string& name) {
+  int list = face.find("vertex_indices");
+  if (list < 0) list = face.find("vertex_index");
+  if (list < 0 || !face.properties[list].is_list) {
+    throw SceneError(name + ": element face has no list property vertex_indices");
+  }
+  if (!ply_type_is_integer(face.properties[list].type)) {
+    throw SceneError(name + ": face vertex indices must be integers");
+  }
+  return list;
+}
+
+void skip_property(PlyValueReader& in, const PlyProperty& property) {
+  if (!property.is_list) return in.skip(property.type);
+  int64_t count = in.integer(property.count_type);
+  if (count < 0) in.fail("negative list length");
+  for (int64_t k = 0; k < count; ++k) in.skip(property.type);
+}
+
+void read_vertices(PlyValueReader& in, const PlyElement& vertex, const std::vector<int>& slots,
+                   TriangleMesh& mesh) {
+  bool normals = std::count_if(slots.begin(), slots.end(), [](int s) { return s >= 3; }) == 3;
+  mesh.positions.reserve(vertex.count);
+  if (normals) mesh.normals.reserve(vertex.count);
+  for (uint64_t row = 0; row < vertex.count; ++row) {
+    in.locate(vertex.name, row);
+    std::array<double, 6> v{};
+    for (size_t i = 0; i < slots.size(); ++i) {
+      if (slots[i] < 0) {
+        skip_property(in, vertex.properties[i]);
+      } else {
+        v[slots[i]] = in.number(vertex.properties[i].type);
+      }
+    }
+    if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
+      in.fail("vertex coordinate is not a finite number");
+    }
+    mesh.positions.emplace_back(v[0], v[1], v[2]);
+    if (normals) mesh.normals.emplace_back(v[3], v[4], v[5]);
+  }
+}
+
+/// Appends the fan (0, k, k+1) of `polygon`; counts polygons with fewer than 3 vertices.
+void add_polygon(const std::vector<uint32_t>& polygon, PlyValueReader& in, PlyMesh& out) {
+  if (polygon.size() < 3) {
+    ++out.dropped_faces;
+    return;
+  }
+  if (out.mesh.indices.size() + polygon.size() - 2 > kMaxMeshElements) {
+    in.fail("more than " + std::to_string(kMaxMeshElements) + " triangles");
+  }
+  for (size_t k = 1; k + 1 < polygon.size(); ++k) {
+    out.mesh.indices.emplace_back(polygon[0], polygon[k], polygon[k + 1]);
+  }
+}
+
+void read_faces(PlyValueReader& in, const PlyElement& face, int list, uint64_t vertex_count,
+                PlyMesh& out) {
+  out.mesh.indices.reserve(face.count);
+  std::vector<uint32_t> polygon;
+  for (uint64_t row = 0; row < face.count; ++row) {
+    in.locate(face.name, row);
+    for (size_t i = 0; i < face.properties.size(); ++i) {
+      const PlyProperty& property = face.properties[i];
+      if (static_cast<int>(i) != list) {
+        skip_property(in, property);
+        continue;
+      }
+      int64_t count = in.integer(property.count_type);
+      if (count < 0) in.fail("negative vertex count");
+      polygon.clear();
+      for (int64_t k = 0; k < count; ++k) {
+        int64_t index = in.integer(property.type);
+        if (index < 0 || static_cast<uint64_t>(index) >= vertex_count) {
+          in.fail("vertex index " + std::to_string(index) + " out of range (" +
+                  std::to_string(vertex_count) + " vertices)");
+        }
+        polygon.push_back(static_cast<uint32_t>(index));
+      }
+      add_polygon(polygon, in, out);
+    }
+  }
+}
+
+/// Skips an element we do not use; binary rows without lists are skipped in one step.
+void skip_element(PlyValueReader& in, const PlyElement& element, PlyFormat format) {
+  bool fixed = std::none_of(element.properties.begin(), element.properties.end(),
+                            [](const PlyProperty& p) { return p.is_list; });
+  if (fixed && format != PlyFormat::ascii) {
+    in.locate(element.name, 0);
+    return in.skip_rows(element.count, element.min_row_size(format));
+  }
+  for (uint64_t row = 0; row < element.count; ++row) {
+    in.locate(element.name, row);
+    for (const PlyProperty& property : element.properties) skip_property(in, property);
+  }
+}
+
+void check_limits(const PlyElement& vertex, const PlyElement& face, const std::string& name) {
+  if (vertex.count > kMaxMeshElements) {
+    throw SceneError(name + ": " + std::to_string(vertex.count) + " vertices (at most " +
+                     std::to_string(kMaxMeshElements) + ")");
+  }
+  if (face.count > kMaxMeshElements) {
+    throw SceneError(name + ": " + std::to_string(face.count) + " faces (at most " +
+                     std::to_string(kMaxMeshElements) + ")");
+  }
+}
+
+}  // namespace
+
+PlyMesh load_ply(std::string_view bytes, const std::string& name, bool read_normals) {
+  PlyHeader header = parse_ply_header(bytes, name);
+  const PlyElement* vertex = header.find("vertex");
+  const PlyElement* face = header.find("face");
+  if (!vertex) throw SceneError(name + ": no vertex element");
+  if (!face) throw SceneError(name + ": no face element (only triangle meshes are supported)");
+  check_limits(*vertex, *face, name);
+  std::vector<int> slots = vertex_slots(*vertex, read_normals, name);
+  int list = face_index_list(*face, name);
+
+  size_t first_line = 1 + std::count(bytes.begin(), bytes.begin() + header.data_offset, '\n');
+  PlyValueReader in(bytes.substr(header.data_offset), header.format, name, first_line);
+  PlyMesh out;
+  for (const PlyElement& element : header.elements) {
+    if (&element == vertex) {
+      read_vertices(in, element, slots, out.mesh);
+    } else if (&element == face) {
+      read_faces(in, element, list, vertex->count, out);
+    } else {
+      skip_element(in, element, header.format);
+    }
+  }
+  if (!normals_usable(out.mesh)) out.mesh.normals.clear();
+  return out;
+}
+
+}  // namespace tessera

@@ -1,0 +1,354 @@
+// Mitsuba sensors: the camera frame, field of view, thin lens, film, filter, sampler,
+// integrator and clip planes.
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include "scene/mitsuba/mitsuba_test_support.h"
+
+namespace tessera {
+namespace {
+
+using testing::expect_near;
+using testing::kSourceDir;
+using testing::line_of;
+using testing::mitsuba_scene;
+using testing::parse_xml;
+using testing::xml_error;
+
+/// A sensor of `type` with `inside` (parameters) and a default film.
+std::string sensor(const std::string& inside, const std::string& type = "perspective",
+                   const std::string& film = "") {
+  return "<sensor type=\"" + type + "\">\n" + inside + "\n" +
+         (film.empty() ? "<film type=\"hdrfilm\"><rfilter type=\"box\"/></film>" : film) +
+         "\n</sensor>\n";
+}
+
+Scene with_sensor(const std::string& s, const std::string& body = "") {
+  return parse_xml(mitsuba_scene(body, s));
+}
+
+std::string sensor_error(const std::string& s, const std::string& body = "") {
+  return xml_error(mitsuba_scene(body, s));
+}
+
+/// The camera's image-right direction as Tessera's renderer builds it.
+glm::dvec3 image_right(const Camera& c) {
+  return glm::normalize(glm::cross(glm::normalize(c.look_at - c.position), c.up));
+}
+
+TEST(MitsubaCamera, ReferenceCornellBoxFrame) {
+  Scene s = load_scene_file(kSourceDir + "/tests/data/reference/cbox/mitsuba.xml");
+  // to_world = [[-1,0,0,0],[0,0.99999994,0,0],[0,0,-0.99999994,3.9000001],[0,0,0,1]]: the local
+  // origin, +z and +y.
+  EXPECT_EQ(s.camera.position, glm::dvec3(0, 0, 3.9000000953674316));
+  EXPECT_EQ(s.camera.look_at, glm::dvec3(0, 0, 3.9000000953674316 - 0.9999999403953552));
+  EXPECT_EQ(s.camera.up, glm::dvec3(0, 0.9999999403953552, 0));
+  // Mitsuba's image x runs along local -x; here local +x is world -x, so the image's right is
+  // world +x, as in scenes/cornell.json.
+  expect_near(image_right(s.camera), {1, 0, 0}, 1e-15);
+  EXPECT_DOUBLE_EQ(s.camera.fov_deg, 39.3077);
+  EXPECT_EQ(s.camera.fov_axis, FovAxis::smaller);
+  EXPECT_EQ(s.camera.aperture_radius, 0);  // a pinhole: focus_distance is ignored
+}
+
+TEST(MitsubaCamera, MatchesTheNativeCornellBox) {
+  Scene xml = load_scene_file(kSourceDir + "/tests/data/reference/cbox/mitsuba.xml");
+  Scene json = load_scene_file(kSourceDir + "/scenes/cornell.json");
+  expect_near(xml.camera.position, json.camera.position, 1e-7);
+  expect_near(glm::normalize(xml.camera.look_at - xml.camera.position),
+              glm::normalize(json.camera.look_at - json.camera.position), 1e-7);
+  expect_near(image_right(xml.camera), image_right(json.camera), 1e-7);
+}
+
+TEST(MitsubaCamera, LookAtGivesTheSameViewAsTessera) {
+  Scene s = with_sensor(sensor(R"(<float name="fov" value="45"/>
+      <transform name="to_world"><lookat origin="1, 2, 3" target="1, 2, -7" up="0, 1, 0"/>
+      </transform>)"));
+  expect_near(s.camera.position, {1, 2, 3});
+  expect_near(glm::normalize(s.camera.look_at - s.camera.position), {0, 0, -1});
+  expect_near(s.camera.up, {0, 1, 0});
+  expect_near(image_right(s.camera), {1, 0, 0});  // looking down -z with y up: right is +x
+}
+
+TEST(MitsubaCamera, WithoutToWorldItLooksDownPlusZ) {
+  Scene s = with_sensor(sensor(R"(<float name="fov" value="45"/>)"));
+  expect_near(s.camera.position, {0, 0, 0});
+  expect_near(s.camera.look_at, {0, 0, 1});
+  expect_near(image_right(s.camera), {-1, 0, 0});  // image x runs along local -x
+}
+
+TEST(MitsubaCamera, RotatedFrames) {
+  // Turned 90 degrees about y: local +z (the view) becomes world +x, local -x (image right)
+  // world +z.
+  Scene s = with_sensor(sensor(R"(<float name="fov" value="45"/>
+      <transform name="to_world"><rotate y="1" angle="90"/><translate x="1"/></transform>)"));
+  expect_near(s.camera.position, {1, 0, 0});
+  expect_near(glm::normalize(s.camera.look_at - s.camera.position), {1, 0, 0}, 1e-15);
+  expect_near(image_right(s.camera), {0, 0, 1}, 1e-15);
+}
+
+TEST(MitsubaCamera, MirroredOrScaledFramesAreRefused) {
+  std::string mirror = sensor(R"(<float name="fov" value="45"/>
+<transform name="to_world"><scale x="-1"/></transform>)");
+  EXPECT_NE(
+      sensor_error(mirror).find("test.xml: line " +
+                                std::to_string(line_of(mitsuba_scene("", mirror), "<transform")) +
+                                ": <transform name=\"to_world\">: this to_world mirrors "
+                                "the image"),
+      std::string::npos);
+  EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="45"/>
+      <transform name="to_world"><scale value="2"/></transform>)"))
+                .find("a camera's to_world must be a rotation and a translation"),
+            std::string::npos);
+}
+
+TEST(MitsubaCamera, FieldOfView) {
+  EXPECT_EQ(with_sensor(sensor(R"(<float name="fov" value="30"/>)")).camera.fov_axis, FovAxis::x);
+  for (auto [name, axis] : {std::pair{"x", FovAxis::x},
+                            {"y", FovAxis::y},
+                            {"smaller", FovAxis::smaller},
+                            {"larger", FovAxis::larger}}) {
+    Scene s = with_sensor(sensor(std::string(R"(<float name="fov" value="30"/>
+        <string name="fov_axis" value=")") +
+                                 name + "\"/>"));
+    EXPECT_EQ(s.camera.fov_axis, axis) << name;
+    EXPECT_EQ(s.camera.fov_deg, 30);
+  }
+  EXPECT_EQ(with_sensor(sensor(R"(<integer name="fov" value="30"/>)")).camera.fov_deg, 30);
+}
+
+TEST(MitsubaCamera, FieldsOfViewTesseraCannotTakeAreRefused) {
+  std::string diagonal = sensor(R"(<float name="fov" value="30"/>
+<string name="fov_axis" value="diagonal"/>)");
+  EXPECT_NE(sensor_error(diagonal).find("<string name=\"fov_axis\">: Tessera's fov spans x, y, "
+                                        "the smaller or the larger image axis, not the diagonal"),
+            std::string::npos);
+  EXPECT_NE(sensor_error(sensor(R"(<string name="focal_length" value="50mm"/>)"))
+                .find("not focal_length"),
+            std::string::npos);
+  EXPECT_NE(sensor_error(sensor("")).find("give <float name=\"fov\">"), std::string::npos);
+  EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="180"/>)")).find("must be in (0, 180)"),
+            std::string::npos);
+  EXPECT_NE(sensor_error(sensor(R"(<string name="fov" value="wide"/>)"))
+                .find("fov must be given as <float>"),
+            std::string::npos);
+}
+
+TEST(MitsubaCamera, ThinLens) {
+  Scene s = with_sensor(sensor(R"(<float name="fov" value="30"/>
+      <float name="aperture_radius" value="0.1"/><float name="focus_distance" value="4.5"/>)",
+                               "thinlens"));
+  EXPECT_EQ(s.camera.aperture_radius, 0.1);
+  EXPECT_EQ(s.camera.focus_distance, 4.5);
+  // Mitsuba focuses at far_clip unless told otherwise.
+  Scene far = with_sensor(sensor(R"(<float name="fov" value="30"/>
+      <float name="aperture_radius" value="0.1"/><float name="far_clip" value="50"/>)",
+                                 "thinlens"));
+  EXPECT_EQ(far.camera.focus_distance, 50);
+  EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="30"/>)", "thinlens"))
+                .find("a thinlens sensor needs aperture_radius"),
+            std::string::npos);
+  EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="30"/>
+      <float name="aperture_radius" value="-1"/>)",
+                                "thinlens"))
+                .find("must be >= 0"),
+            std::string::npos);
+  // A perspective camera has no aperture.
+  EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="30"/>
+      <float name="aperture_radius" value="0.1"/>)"))
+                .find("<float name=\"aperture_radius\">: is not supported in <sensor "
+                      "type=\"perspective\">"),
+            std::string::npos);
+}
+
+TEST(MitsubaCamera, OtherSensorsAreRefused) {
+  std::string s = sensor(R"(<float name="fov" value="30"/>)", "orthographic");
+  EXPECT_NE(sensor_error(s).find("<sensor type=\"orthographic\">: unsupported sensor (Tessera "
+                                 "has perspective and thinlens cameras)"),
+            std::string::npos);
+  EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="30"/>
+      <float name="principal_point_offset_x" value="0.1"/>)"))
+                .find("the offset must be 0"),
+            std::string::npos);
+  EXPECT_NO_THROW(with_sensor(sensor(R"(<float name="fov" value="30"/>
+      <float name="principal_point_offset_x" value="0"/>
+      <float name="shutter_open" value="0"/><float name="shutter_close" value="1"/>)")));
+}
+
+TEST(MitsubaFilm, SizeAndAcceptedFormats) {
+  Scene s = with_sensor(sensor(R"(<float name="fov" value="30"/>)", "perspective",
+                               R"(<film type="hdrfilm"><integer name="width" value="320"/>
+      <integer name="height" value="200"/><string name="pixel_format" value="rgba"/>
+      <string name="component_format" value="float16"/><string name="file_format" value="openexr"/>
+      <boolean name="sample_border" value="true"/><integer name="crop_offset_x" value="0"/>
+      <integer name="crop_width" value="320"/><rfilter type="box"/></film>)"));
+  EXPECT_EQ(s.film.width, 320);
+  EXPECT_EQ(s.film.height, 200);
+  Scene defaults = with_sensor(sensor(R"(<float name="fov" value="30"/>)"));
+  EXPECT_EQ(defaults.film.width, 768);  // Mitsuba's hdrfilm defaults
+  EXPECT_EQ(defaults.film.height, 576);
+}
+
+TEST(MitsubaFilm, WhatChangesTheImageIsRefused) {
+  auto film_error = [](const std::string& film) {
+    return sensor_error(sensor(R"(<float name="fov" value="30"/>)", "perspective", film));
+  };
+  EXPECT_NE(film_error(R"(<film type="hdrfilm"><rfilter type="gaussian"/></film>)")
+                .find("<rfilter type=\"gaussian\">: Tessera reconstructs with a box filter only"),
+            std::string::npos);
+  EXPECT_NE(film_error(R"(<film type="hdrfilm"/>)")
+                .find("no <rfilter>: Mitsuba's default filter is gaussian"),
+            std::string::npos);
+  EXPECT_NE(film_error(R"(<film type="hdrfilm"><rfilter type="box"><float name="radius" value="1"/>
+      </rfilter></film>)")
+                .find("<float name=\"radius\">: is not supported in <rfilter type=\"box\"> (it "
+                      "takes no parameters)"),
+            std::string::npos);
+  EXPECT_NE(film_error(R"(<film type="hdrfilm"><string name="pixel_format" value="luminance"/>
+      <rfilter type="box"/></film>)")
+                .find("\"luminance\": Tessera renders RGB"),
+            std::string::npos);
+  EXPECT_NE(film_error(R"(<film type="hdrfilm"><integer name="crop_width" value="10"/>
+      <rfilter type="box"/></film>)")
+                .find("remove the crop window"),
+            std::string::npos);
+  EXPECT_NE(
+      film_error(R"(<film type="specfilm"><rfilter type="box"/></film>)").find("unsupported film"),
+      std::string::npos);
+  EXPECT_NE(film_error(R"(<film type="hdrfilm"><integer name="width" value="0"/>
+      <rfilter type="box"/></film>)")
+                .find("must be in [1, 32768] (got 0)"),
+            std::string::npos);
+  EXPECT_NE(sensor_error("<sensor type=\"perspective\"><float name=\"fov\" value=\"30\"/></sensor>")
+                .find("no <film>"),
+            std::string::npos);
+}
+
+TEST(MitsubaSampler, CountAndSeed) {
+  Scene s = with_sensor(sensor(R"(<float name="fov" value="30"/>
+      <sampler type="stratified"><integer name="sample_count" value="100"/>
+      <integer name="seed" value="7"/><boolean name="jitter" value="false"/></sampler>)"));
+  EXPECT_EQ(s.render.spp, 100);
+  EXPECT_EQ(s.render.seed, 7u);
+  EXPECT_EQ(with_sensor(sensor(R"(<float name="fov" value="30"/>)")).render.spp, 4);  // default
+  EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="30"/><sampler type="sobol"/>)"))
+                .find("unknown sampler"),
+            std::string::npos);
+  EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="30"/><sampler type="independent">
+      <integer name="sample_count" value="0"/></sampler>)"))
+                .find("must be >= 1"),
+            std::string::npos);
+  EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="30"/><sampler type="independent">
+      <float name="sample_count" value="4"/></sampler>)"))
+                .find("sample_count must be given as <integer>"),
+            std::string::npos);
+}
+
+TEST(MitsubaIntegrator, PathDepthAndFlags) {
+  auto with_integrator = [](const std::string& integrator) {
+    return parse_xml(mitsuba_scene(integrator));
+  };
+  EXPECT_EQ(with_integrator("").render.max_depth, -1);  // Mitsuba's default: path, unbounded
+  EXPECT_EQ(with_integrator(R"(<integrator type="path"/>)").render.max_depth, -1);
+  Scene s = with_integrator(R"(<integrator type="path"><integer name="max_depth" value="8"/>
+      <integer name="rr_depth" value="3"/><boolean name="hide_emitters" value="false"/>
+      </integrator>)");
+  EXPECT_EQ(s.render.max_depth, 8);
+  auto error = [](const std::string& integrator) { return xml_error(mitsuba_scene(integrator)); };
+  EXPECT_NE(error(R"(<integrator type="path"><boolean name="hide_emitters" value="true"/>
+      </integrator>)")
+                .find("Tessera always shows emitters seen directly"),
+            std::string::npos);
+  EXPECT_NE(error(R"(<integrator type="path"><integer name="max_depth" value="0"/></integrator>)")
+                .find("must be -1 (unbounded) or >= 1 (got 0)"),
+            std::string::npos);
+  EXPECT_NE(error(R"(<integrator type="bdpt"/>)").find("unsupported integrator"),
+            std::string::npos);
+  EXPECT_NE(
+      error(R"(<integrator type="path"/><integrator type="path"/>)").find("a second integrator"),
+      std::string::npos);
+}
+
+TEST(MitsubaClipPlanes, AcceptedWhenTheyHideNothing) {
+  // The camera at z = 5 looks at a rectangle at the origin: nothing nearer than 4, nothing
+  // farther than 6.
+  std::string body = R"(<shape type="rectangle"/>)";
+  EXPECT_NO_THROW(parse_xml(mitsuba_scene(body, sensor(R"(<float name="fov" value="40"/>
+      <float name="near_clip" value="3.9"/><float name="far_clip" value="6.1"/>
+      <transform name="to_world"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+      )"))));
+  // Geometry behind the camera or outside the frustum is not clipped in view.
+  std::string beside = R"(<shape type="sphere"><point name="center" value="0, 0, 9"/></shape>
+      <shape type="sphere"><point name="center" value="500, 0, -500"/></shape>)";
+  EXPECT_NO_THROW(parse_xml(mitsuba_scene(beside, sensor(R"(<float name="fov" value="40"/>
+      <float name="far_clip" value="100"/>
+      <transform name="to_world"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+      )"))));
+}
+
+TEST(MitsubaClipPlanes, ACameraInsideARoomOrASkySphereIsFine) {
+  // Walls reach behind and beside the camera, and the sky sphere encloses it: no surface is
+  // within near_clip in view, nor beyond far_clip.
+  std::string room = R"(<shape type="cube"><boolean name="flip_normals" value="true"/>
+      <transform name="to_world"><scale value="3"/></transform></shape>
+      <shape type="sphere"><float name="radius" value="50"/>
+      <boolean name="flip_normals" value="true"/></shape>)";
+  EXPECT_NO_THROW(parse_xml(mitsuba_scene(room, sensor(R"(<float name="fov" value="60"/>
+      <float name="near_clip" value="0.1"/><float name="far_clip" value="80"/>
+      <transform name="to_world"><lookat origin="0,0.5,2.8" target="0,0,0" up="0,1,0"/></transform>
+      )"))));
+  // A wall 0.05 in front of the camera is hidden by a near_clip of 0.1.
+  EXPECT_NE(xml_error(mitsuba_scene(room, sensor(R"(<float name="fov" value="60"/>
+      <float name="near_clip" value="0.1"/>
+      <transform name="to_world"><lookat origin="0,0,-2.95" target="0,0,-5" up="0,1,0"/></transform>
+      )")))
+                .find("near_clip 0.1 could hide part of test.xml"),
+            std::string::npos);
+}
+
+TEST(MitsubaClipPlanes, AThinLensSeesFromItsWholeAperture) {
+  // A sphere beside the pinhole's cone beyond far_clip, but within reach of rays from the edge
+  // of a wide aperture.
+  std::string body = R"(<shape type="sphere"><point name="center" value="1.2, 0, -20"/>
+      <float name="radius" value="0.1"/></shape>)";
+  std::string lens = R"(<float name="fov" value="1"/><float name="far_clip" value="10"/>
+      <transform name="to_world"><lookat origin="0,0,0" target="0,0,-1" up="0,1,0"/></transform>)";
+  EXPECT_NO_THROW(parse_xml(mitsuba_scene(body, sensor(lens + R"(
+      <float name="aperture_radius" value="0.001"/>)",
+                                                       "thinlens"))));
+  EXPECT_NE(xml_error(mitsuba_scene(body, sensor(lens + R"(
+      <float name="aperture_radius" value="1"/><float name="focus_distance" value="5"/>)",
+                                                 "thinlens")))
+                .find("far_clip 10 could hide part of"),
+            std::string::npos);
+}
+
+TEST(MitsubaClipPlanes, RefusedWhenTheyCouldHideGeometry) {
+  std::string body = "\n<shape type=\"rectangle\"/>";
+  std::string near = sensor(R"(<float name="fov" value="40"/><float name="near_clip" value="5.5"/>
+      <transform name="to_world"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>)");
+  std::string xml = mitsuba_scene(body, near);
+  EXPECT_EQ(xml_error(xml),
+            "test.xml: line 2: <sensor type=\"perspective\">: near_clip 5.5 could "
+            "hide part of test.xml: line " +
+                std::to_string(line_of(xml, "<shape")) +
+                ": <shape type=\"rectangle\">, and Tessera does not clip: lower "
+                "near_clip");
+  std::string far = sensor(R"(<float name="fov" value="40"/><float name="far_clip" value="4.5"/>
+      <transform name="to_world"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>)");
+  EXPECT_NE(xml_error(mitsuba_scene(body, far)).find("far_clip 4.5 could hide part of"),
+            std::string::npos);
+  // Mitsuba's default far_clip, 10^4, applies when none is given.
+  std::string huge = R"(<shape type="sphere"><point name="center" value="0, 0, -20000"/>
+      <float name="radius" value="100"/></shape>)";
+  EXPECT_NE(xml_error(mitsuba_scene(huge)).find("far_clip 10000 could hide part of"),
+            std::string::npos);
+  EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="40"/><float name="near_clip" value="2"/>
+      <float name="far_clip" value="1"/>)"))
+                .find("near_clip must be smaller than far_clip"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace tessera

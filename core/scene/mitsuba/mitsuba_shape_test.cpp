@@ -1,0 +1,309 @@
+// Mitsuba shapes: built-in geometry, spheres, mesh files, normals, flip_normals, area emitters.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+#include <random>
+
+#include "scene/mitsuba/mitsuba_shape_geometry.h"
+#include "scene/mitsuba/mitsuba_test_support.h"
+#include "scene/mitsuba/mitsuba_vertex_normals.h"
+
+namespace tessera {
+namespace {
+
+using testing::expect_near;
+using testing::face_center;
+using testing::face_normal;
+using testing::kSourceDir;
+using testing::line_of;
+using testing::mitsuba_scene;
+using testing::parse_xml;
+using testing::shape_area;
+using testing::xml_error;
+
+Shape shape_of(const std::string& shape, std::map<std::string, std::string> files = {}) {
+  return parse_xml(mitsuba_scene(shape), std::move(files)).shapes.at(0);
+}
+
+/// A tiny ASCII PLY: a square pyramid's four sides without its base, apex up.
+const char* kPyramidPly = R"(ply
+format ascii 1.0
+element vertex 5
+property float x
+property float y
+property float z
+element face 4
+property list uchar int vertex_indices
+end_header
+0 0 1
+-1 -1 0
+1 -1 0
+1 1 0
+-1 1 0
+3 0 1 2
+3 0 2 3
+3 0 3 4
+3 0 4 1
+)";
+
+TEST(MitsubaShape, RectangleIsTheSquareFacingPlusZ) {
+  Shape s = shape_of(R"(<shape type="rectangle"/>)");
+  EXPECT_EQ(s.kind, Shape::Kind::triangles);
+  EXPECT_EQ(s.indices.size(), 2u);
+  for (const glm::dvec3& p : s.positions) {
+    EXPECT_EQ(std::abs(p.x), 1);
+    EXPECT_EQ(std::abs(p.y), 1);
+    EXPECT_EQ(p.z, 0);
+  }
+  for (size_t t = 0; t < 2; ++t) expect_near(face_normal(s, t), {0, 0, 1});
+  EXPECT_DOUBLE_EQ(shape_area(s), 4);
+  EXPECT_TRUE(s.normals.empty());
+}
+
+TEST(MitsubaShape, CubeFacesOutward) {
+  Shape s = shape_of(R"(<shape type="cube"/>)");
+  EXPECT_EQ(s.indices.size(), 12u);
+  EXPECT_DOUBLE_EQ(shape_area(s), 24);
+  for (size_t t = 0; t < 12; ++t) {
+    glm::dvec3 n = face_normal(s, t), c = face_center(s, t);
+    EXPECT_NEAR(glm::dot(n, c), 1, 1e-12);  // each face's normal is its outward axis
+  }
+}
+
+TEST(MitsubaShape, DiskIsATessellatedUnitDiskFacingPlusZ) {
+  Shape s = shape_of(R"(<shape type="disk"/>)");
+  EXPECT_EQ(s.indices.size(), size_t(kMitsubaDiskSegments));
+  for (size_t t = 0; t < s.indices.size(); ++t) expect_near(face_normal(s, t), {0, 0, 1});
+  double n = kMitsubaDiskSegments;
+  EXPECT_NEAR(shape_area(s), n / 2 * std::sin(2 * std::numbers::pi / n), 1e-12);
+  EXPECT_GT(shape_area(s), 0.9998 * std::numbers::pi);
+  for (const glm::dvec3& p : s.positions) EXPECT_LE(glm::length(p), 1 + 1e-15);
+}
+
+TEST(MitsubaShape, ToWorldAndFlipNormals) {
+  Shape s = shape_of(R"(<shape type="rectangle"><transform name="to_world">
+      <scale value="2"/><rotate x="1" angle="-90"/><translate y="3"/></transform></shape>)");
+  for (size_t t = 0; t < 2; ++t) expect_near(face_normal(s, t), {0, 1, 0}, 1e-15);
+  for (const glm::dvec3& p : s.positions) EXPECT_NEAR(p.y, 3, 1e-15);
+  EXPECT_NEAR(shape_area(s), 16, 1e-12);
+  Shape flipped = shape_of(R"(<shape type="rectangle"><boolean name="flip_normals" value="true"/>
+      </shape>)");
+  for (size_t t = 0; t < 2; ++t) expect_near(face_normal(flipped, t), {0, 0, -1});
+  // A mirror keeps the front the front, as in Mitsuba.
+  Shape mirrored = shape_of(R"(<shape type="rectangle"><transform name="to_world">
+      <scale x="-1"/></transform></shape>)");
+  for (size_t t = 0; t < 2; ++t) expect_near(face_normal(mirrored, t), {0, 0, 1});
+}
+
+TEST(MitsubaShape, SpheresStayExact) {
+  Shape s = shape_of(R"(<shape type="sphere"><point name="center" x="1" y="2" z="3"/>
+      <float name="radius" value="0.5"/><transform name="to_world"><scale value="2"/>
+      <translate x="1"/></transform></shape>)");
+  EXPECT_EQ(s.kind, Shape::Kind::sphere);
+  expect_near(s.center, {3, 4, 6});
+  EXPECT_DOUBLE_EQ(s.radius, 1);
+  EXPECT_FALSE(s.flip_normals);
+  Shape unit = shape_of(R"(<shape type="sphere"/>)");
+  EXPECT_EQ(unit.center, glm::dvec3(0));
+  EXPECT_EQ(unit.radius, 1);
+  EXPECT_TRUE(shape_of(R"(<shape type="sphere"><boolean name="flip_normals" value="true"/>
+      </shape>)")
+                  .flip_normals);
+  EXPECT_EQ(
+      shape_of(R"(<shape type="sphere"><point name="center" value="1, 2, 3"/></shape>)").center,
+      glm::dvec3(1, 2, 3));
+}
+
+TEST(MitsubaShape, SphereLimits) {
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="sphere"><transform name="to_world">
+      <scale x="2"/></transform></shape>)"))
+                .find("a sphere's to_world must be a similarity"),
+            std::string::npos);
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="sphere"><float name="radius" value="0"/>
+      </shape>)"))
+                .find("<float name=\"radius\">: must be > 0 (got 0)"),
+            std::string::npos);
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="sphere"><boolean name="face_normals"
+      value="true"/></shape>)"))
+                .find("is not supported in <shape type=\"sphere\">"),
+            std::string::npos);
+}
+
+TEST(MitsubaShape, PlyWithoutNormalsGetsMitsubasVertexNormals) {
+  Shape s = shape_of(R"(<shape type="ply"><string name="filename" value="pyramid.ply"/></shape>)",
+                     {{"pyramid.ply", kPyramidPly}});
+  ASSERT_EQ(s.normals.size(), 5u);
+  expect_near(s.normals[0], {0, 0, 1}, 1e-15);  // the apex: four sides cancel sideways
+  // A base corner: two sides, normals (0, -1, 1) and (-1, 0, 1) over root 2, equal angles.
+  expect_near(s.normals[1], glm::normalize(glm::dvec3(-1, -1, 2)), 1e-15);
+  for (const glm::dvec3& n : s.normals) EXPECT_EQ(glm::normalize(n), n);  // stable
+  Shape flat = shape_of(R"(<shape type="ply"><string name="filename" value="pyramid.ply"/>
+      <boolean name="face_normals" value="true"/></shape>)",
+                        {{"pyramid.ply", kPyramidPly}});
+  EXPECT_TRUE(flat.normals.empty());
+}
+
+TEST(MitsubaShape, VertexNormalsAreAngleWeighted) {
+  // Vertex 0 has a 90 degree corner facing +z and a 45 degree corner facing +x.
+  TriangleMesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 1, 1}};
+  mesh.indices = {{0, 1, 2}, {0, 2, 3}};
+  compute_mitsuba_vertex_normals(mesh);
+  expect_near(mesh.normals[0], glm::normalize(glm::dvec3(0.25, 0, 0.5)), 1e-15);
+  expect_near(mesh.normals[1], {0, 0, 1});
+  // A vertex no triangle uses gets Mitsuba's placeholder.
+  mesh.positions.push_back({5, 5, 5});
+  compute_mitsuba_vertex_normals(mesh);
+  EXPECT_EQ(mesh.normals[4], glm::dvec3(1, 0, 0));
+}
+
+TEST(MitsubaShape, StableUnitVectorsSurviveRenormalisation) {
+  std::mt19937_64 random(3);
+  std::normal_distribution<double> gauss;
+  for (int i = 0; i < 100000; ++i) {
+    glm::dvec3 n = glm::normalize(glm::dvec3(gauss(random), gauss(random), gauss(random)));
+    glm::dvec3 w = stable_unit_vector(n);
+    ASSERT_EQ(glm::normalize(w), w);
+    EXPECT_LE(glm::length(w - n), 1e-14);
+  }
+}
+
+TEST(MitsubaShape, ObjIsReadWithoutItsMaterials) {
+  std::string obj =
+      "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl red\n"
+      "f 1 2 3 4\n";
+  Scene s = parse_xml(mitsuba_scene(R"(<shape type="obj"><string name="filename" value="q.obj"/>
+      <boolean name="face_normals" value="true"/><boolean name="flip_tex_coords" value="false"/>
+      </shape>)"),
+                      {{"q.obj", obj}});
+  ASSERT_EQ(s.shapes.size(), 1u);
+  EXPECT_EQ(s.shapes[0].indices.size(), 2u);
+  EXPECT_EQ(s.referenced_files, std::vector<std::string>{"q.obj"});  // no MTL, as in Mitsuba
+  EXPECT_EQ(s.materials.at(s.shapes[0].material).name, "(Mitsuba default diffuse)");
+}
+
+TEST(MitsubaShape, ObjNormalsFromTheFileAreKept) {
+  std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 2\nf 1//1 2//1 3//1\n";
+  Shape s = shape_of(R"(<shape type="obj"><string name="filename" value="t.obj"/>
+      <transform name="to_world"><rotate x="1" angle="90"/></transform></shape>)",
+                     {{"t.obj", obj}});
+  ASSERT_EQ(s.normals.size(), 3u);
+  expect_near(s.normals[0], {0, -1, 0}, 1e-15);
+}
+
+TEST(MitsubaShape, McGuireBoxAndBunnyFromTheScenesFolder) {
+  FileReader scenes = folder_reader(kSourceDir + "/scenes");
+  Scene box = parse_mitsuba_scene(mitsuba_scene(R"(<shape type="obj">
+      <string name="filename" value="mcguire-cornell/CornellBox-Original.obj"/></shape>)"),
+                                  "box.xml", scenes);
+  EXPECT_EQ(box.shapes.at(0).indices.size(), 36u);
+  EXPECT_EQ(box.referenced_files,
+            std::vector<std::string>{"mcguire-cornell/CornellBox-Original.obj"});
+  Scene bunny = parse_mitsuba_scene(mitsuba_scene(R"(<shape type="ply">
+      <string name="filename" value="meshes/bunny.ply"/></shape>)"),
+                                    "bunny.xml", scenes);
+  const Shape& b = bunny.shapes.at(0);
+  EXPECT_EQ(b.indices.size() + b.dropped_triangles, 69451u);
+  ASSERT_EQ(b.normals.size(), b.positions.size());
+  for (const glm::dvec3& n : b.normals) ASSERT_EQ(glm::normalize(n), n);
+}
+
+TEST(MitsubaShape, MeshPathsFollowTheBundleRules) {
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="ply"><string name="filename"
+      value="../outside.ply"/></shape>)"))
+                .find("<string name=\"filename\">: path must stay inside the scene's folder "
+                      "(\"../outside.ply\")"),
+            std::string::npos);
+  std::string xml = mitsuba_scene(
+      "<shape type=\"ply\">\n<string name=\"filename\" "
+      "value=\"gone.ply\"/></shape>");
+  EXPECT_EQ(xml_error(xml), "test.xml: line " + std::to_string(line_of(xml, "<string")) +
+                                ": <string name=\"filename\">: gone.ply: no such file in the "
+                                "scene's folder");
+  EXPECT_NE(
+      xml_error(mitsuba_scene(R"(<shape type="obj"/>)")).find("missing <string name=\"filename\">"),
+      std::string::npos);
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="ply"><string name="filename" value="a.stl"/>
+      </shape>)"),
+                      {{"a.stl", "solid"}})
+                .find("a.stl: unsupported mesh format"),
+            std::string::npos);
+}
+
+TEST(MitsubaShape, MeshPathsAreRelativeToTheFileThatNamesThem) {
+  Scene s = parse_xml(mitsuba_scene(R"(<include filename="parts/pyramid.xml"/>)"),
+                      {{"parts/pyramid.xml", R"(<shape version="3.0.0" type="ply">
+                          <string name="filename" value="pyramid.ply"/></shape>)"},
+                       {"parts/pyramid.ply", kPyramidPly}});
+  EXPECT_EQ(s.referenced_files,
+            (std::vector<std::string>{"parts/pyramid.xml", "parts/pyramid.ply"}));
+  EXPECT_EQ(s.shapes.at(0).origin, "parts/pyramid.xml: line 1: <shape type=\"ply\">");
+}
+
+TEST(MitsubaEmitter, AreaEmittersOnShapes) {
+  Shape s = shape_of(R"(<shape type="rectangle"><emitter type="area">
+      <rgb name="radiance" value="17, 12, 4"/></emitter></shape>)");
+  EXPECT_EQ(s.emission, glm::dvec3(17, 12, 4));
+  EXPECT_FALSE(s.two_sided_emission);  // Mitsuba's area lights emit from the front only
+  Shape sphere = shape_of(R"(<shape type="sphere"><emitter type="area">
+      <float name="radiance" value="3"/><float name="sampling_weight" value="2"/></emitter></shape>)");
+  EXPECT_EQ(sphere.emission, glm::dvec3(3));
+  EXPECT_FALSE(shape_of(R"(<shape type="cube"/>)").is_emitter());
+}
+
+TEST(MitsubaEmitter, WhatTesseraCannotEmitIsRefused) {
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="rectangle"><emitter type="area"/></shape>)"))
+                .find("give <rgb name=\"radiance\" .../>"),
+            std::string::npos);
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="rectangle"><emitter type="area">
+      <rgb name="radiance" value="1, -1, 1"/></emitter></shape>)"))
+                .find("each channel must be >= 0 (got -1)"),
+            std::string::npos);
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="rectangle"><emitter type="point"/></shape>)"))
+                .find("a shape's emitter must be \"area\""),
+            std::string::npos);
+  std::string xml = mitsuba_scene(
+      "<emitter type=\"envmap\">\n<string name=\"filename\" "
+      "value=\"sky.exr\"/>\n</emitter>");
+  EXPECT_EQ(xml_error(xml), "test.xml: line " + std::to_string(line_of(xml, "<emitter")) +
+                                ": <emitter type=\"envmap\">: Tessera's lights are area emitters "
+                                "on shapes: put <emitter type=\"area\"> inside a <shape>");
+}
+
+TEST(MitsubaShape, UnsupportedShapesAndParametersNameTheirLine) {
+  std::string xml = mitsuba_scene(
+      "<shape type=\"serialized\">\n<string name=\"filename\" "
+      "value=\"x.serialized\"/>\n</shape>");
+  EXPECT_EQ(xml_error(xml), "test.xml: line " + std::to_string(line_of(xml, "<shape")) +
+                                ": <shape type=\"serialized\">: unsupported shape (Tessera "
+                                "supports obj, ply, rectangle, cube, sphere and disk; convert "
+                                "other geometry to PLY)");
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="cube"><medium type="homogeneous"
+      name="interior"/></shape>)"))
+                .find("<medium type=\"homogeneous\" name=\"interior\">: is not supported in "
+                      "<shape type=\"cube\"> (Tessera reads: to_world, flip_normals, <bsdf>, "
+                      "<emitter>)"),
+            std::string::npos);
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="cube"><float name="radius" value="1"/>
+      <float name="radius" value="2"/></shape>)"))
+                .find("\"radius\" is given twice"),
+            std::string::npos);
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="cube"><boolean name="flip_normals"
+      value="yes"/></shape>)"))
+                .find("\"yes\" must be true or false"),
+            std::string::npos);
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="cube"><translate x="1"/></shape>)"))
+                .find("a transform operation must be inside <transform name=\"to_world\">"),
+            std::string::npos);
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="cube"><widget/></shape>)"))
+                .find("<widget>: unknown element"),
+            std::string::npos);
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape><float name="a" value="1"/></shape>)"))
+                .find("<shape>: missing attribute \"type\""),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace tessera

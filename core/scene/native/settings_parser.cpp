@@ -1,0 +1,102 @@
+#include "scene/native/settings_parser.h"
+
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
+
+#include "scene/scene_error.h"
+
+namespace tessera {
+namespace {
+
+FovAxis parse_fov_axis(const JsonValue& value) {
+  const std::string& axis = value.string();
+  if (axis == "x") return FovAxis::x;
+  if (axis == "y") return FovAxis::y;
+  if (axis == "smaller") return FovAxis::smaller;
+  if (axis == "larger") return FovAxis::larger;
+  value.fail("must be \"x\", \"y\", \"smaller\" or \"larger\" (got \"" + printable(axis) + "\")");
+}
+
+/// The camera's frame must be well defined: a view direction and an up vector not along it.
+void check_camera_frame(const JsonValue& value, const Camera& camera) {
+  glm::dvec3 view = camera.look_at - camera.position;
+  double view_length = glm::length(view);
+  if (!(view_length > 0)) {
+    throw SceneError(value.child_path("look_at") + ": must differ from camera.position");
+  }
+  if (!std::isfinite(view_length)) {
+    throw SceneError(value.child_path("look_at") + ": too far from camera.position");
+  }
+  double up_length = glm::length(camera.up);
+  if (!(up_length > 0) || !std::isfinite(up_length)) {
+    throw SceneError(value.child_path("up") + ": must be a non-zero vector");
+  }
+  double sine = glm::length(glm::cross(view / view_length, camera.up / up_length));
+  if (!(sine > 1e-6)) {
+    throw SceneError(value.child_path("up") + ": must not be parallel to the view direction");
+  }
+}
+
+}  // namespace
+
+Camera parse_camera(const JsonValue& value) {
+  value.expect_object(
+      {"position", "look_at", "up", "fov", "fov_axis", "aperture_radius", "focus_distance"},
+      "the camera");
+  Camera camera;
+  camera.position = value.vec3_or("position", camera.position);
+  camera.look_at = value.vec3_or("look_at", camera.look_at);
+  camera.up = value.vec3_or("up", camera.up);
+  check_camera_frame(value, camera);
+  if (std::optional<JsonValue> fov = value.find("fov")) {
+    camera.fov_deg = fov->number();
+    if (!(camera.fov_deg > 0 && camera.fov_deg < 180)) {
+      fov->fail("must be in (0, 180) degrees (got " + format_number(camera.fov_deg) + ")");
+    }
+  }
+  if (std::optional<JsonValue> axis = value.find("fov_axis")) {
+    camera.fov_axis = parse_fov_axis(*axis);
+  }
+  if (std::optional<JsonValue> aperture = value.find("aperture_radius")) {
+    camera.aperture_radius = aperture->number();
+    if (camera.aperture_radius < 0) {
+      aperture->fail("must be >= 0 (got " + format_number(camera.aperture_radius) + ")");
+    }
+  }
+  if (std::optional<JsonValue> focus = value.find("focus_distance")) {
+    camera.focus_distance = focus->number();
+    if (!(camera.focus_distance > 0)) {
+      focus->fail("must be > 0 (got " + format_number(camera.focus_distance) + ")");
+    }
+  }
+  return camera;
+}
+
+Film parse_film(const JsonValue& value) {
+  value.expect_object({"width", "height"}, "the film");
+  Film film;
+  if (std::optional<JsonValue> w = value.find("width")) film.width = int(w->integer(1, 32768));
+  if (std::optional<JsonValue> h = value.find("height")) film.height = int(h->integer(1, 32768));
+  return film;
+}
+
+RenderSettings parse_render(const JsonValue& value) {
+  value.expect_object({"spp", "max_depth", "seed"}, "render");
+  RenderSettings render;
+  if (std::optional<JsonValue> spp = value.find("spp")) {
+    render.spp = spp->integer(1, std::numeric_limits<int64_t>::max());
+  }
+  if (std::optional<JsonValue> depth = value.find("max_depth")) {
+    int64_t d =
+        depth->integer(std::numeric_limits<int64_t>::min(), std::numeric_limits<int>::max());
+    if (d < 1 && d != -1) {
+      depth->fail("must be -1 (unbounded) or >= 1 (got " + std::to_string(d) + ")");
+    }
+    render.max_depth = int(d);
+  }
+  if (std::optional<JsonValue> seed = value.find("seed")) render.seed = seed->unsigned_integer();
+  return render;
+}
+
+}  // namespace tessera
