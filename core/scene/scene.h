@@ -53,8 +53,8 @@ struct RenderSettings {
   int64_t spp = 64;      ///< samples per pixel, >= 1
   int max_depth = -1;    ///< Mitsuba convention: path segments incl. the camera ray; -1 = unbounded
   uint64_t seed = 0;
-  /// Emitters seen directly by the camera (and through perfectly specular chains from it)
-  /// count as black, as Mitsuba's `hide_emitters`; their light still reaches other surfaces.
+  /// Mitsuba's `hide_emitters`: camera rays pass through area emitters and see no environment;
+  /// the emitters' light still reaches every surface (and is seen in mirrors).
   bool hide_emitters = false;
 };
 

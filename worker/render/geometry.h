@@ -5,13 +5,16 @@
 #include <vector>
 
 #include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace tessera {
 
 struct Geometry {
-  enum class Kind { triangles, sphere };
+  /// instance: a placed shape group (Embree instance); its shapes are in TraceableScene's group
+  /// tables and `to_world` maps their space to the world.
+  enum class Kind { triangles, sphere, instance };
   Kind kind = Kind::triangles;
 
   // Kind::triangles (float copies of the world-space data Embree traces)
@@ -29,6 +32,13 @@ struct Geometry {
   double radius = 1.0;
   bool inward = false;  ///< front faces the centre
   glm::mat3 frame{1.0f};  ///< rotation of the sphere's own frame: its uv are measured there
+
+  // Kind::instance
+  uint32_t group = 0;
+  glm::mat4 to_world{1.0f};
+  glm::mat4 to_object{1.0f};        ///< inverse of to_world
+  glm::mat3 normal_to_world{1.0f};  ///< inverse transpose of to_world's linear part
+  float transform_error = 0;        ///< relative error bound of points mapped by to_world
 
   uint32_t material = 0;
   int32_t emitter = -1;          ///< index into TraceableScene::emitters(), -1 if none

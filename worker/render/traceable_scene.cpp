@@ -5,12 +5,15 @@
 #include <limits>
 
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 
 #include "scene/scene_error.h"
 #include "sphere_intersector.h"
 
 namespace tessera {
 namespace {
+
+constexpr float kPi = 3.14159265358979323846f;
 
 void on_device_error(void* user, RTCError code, const char* message) {
   auto* out = static_cast<std::string*>(user);
@@ -28,6 +31,9 @@ std::string isa_name(RTCDevice device) {
   return "sse4.2";
 }
 
+glm::vec3 transform_point(const glm::mat4& m, glm::vec3 p) { return glm::vec3(m * glm::vec4(p, 1.0f)); }
+glm::vec3 transform_vector(const glm::mat4& m, glm::vec3 v) { return glm::mat3(m) * v; }
+
 }  // namespace
 
 TraceableScene::TraceableScene(const Scene& scene, int width, int height, const std::string& isa)
@@ -42,7 +48,34 @@ TraceableScene::TraceableScene(const Scene& scene, int width, int height, const 
   isa_ = isa.empty() ? isa_name(device_) : isa;
 
   for (const Material& m : scene.materials) {
-    materials_.push_back({m.type, glm::vec3(m.reflectance.value), float(m.ior), m.two_sided});
+    materials_.push_back(make_render_material(m));
+    // Anisotropic roughness is measured along dpdu: the shading frame then needs it.
+    if (m.alpha_u.value != m.alpha_v.value || !m.alpha_u.is_constant() || !m.alpha_v.is_constant()) {
+      need_uv_ = true;
+    }
+  }
+  // uvs and their tangents cost an atan2 and an acos per sphere hit: only where used.
+  if (!scene.textures.empty()) need_uv_ = true;
+
+  // Shape groups first: each is an Embree scene of its own that instances place.
+  for (const ShapeGroup& group : scene.groups) {
+    RTCScene gs = rtcNewScene(device_);
+    rtcSetSceneFlags(gs, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(gs, RTC_BUILD_QUALITY_HIGH);
+    group_scenes_.push_back(gs);
+    group_geometries_.emplace_back();
+    for (const Shape& shape : group.shapes) {
+      if (shape.kind == Shape::Kind::instance) {
+        throw SceneError(shape.origin + ": a shape group cannot hold an instance");
+      }
+      if (shape.is_emitter()) {
+        throw SceneError(shape.origin + ": a shape group cannot hold an emitter");
+      }
+      auto g = shape.kind == Shape::Kind::sphere ? add_sphere(shape, gs) : add_triangles(shape, gs);
+      group_geometries_.back().push_back(std::move(g));
+    }
+    rtcCommitScene(gs);
+    if (!device_error_.empty()) throw SceneError(group.origin + ": " + device_error_);
   }
 
   scene_ = rtcNewScene(device_);
@@ -50,9 +83,11 @@ TraceableScene::TraceableScene(const Scene& scene, int width, int height, const 
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
   for (const Shape& shape : scene.shapes) {
     if (shape.kind == Shape::Kind::sphere) {
-      add_sphere(shape);
+      geometries_.push_back(add_sphere(shape, scene_));
+    } else if (shape.kind == Shape::Kind::instance) {
+      add_instance(shape, group_scenes_);
     } else {
-      add_triangles(shape);
+      geometries_.push_back(add_triangles(shape, scene_));
     }
   }
   rtcCommitScene(scene_);
@@ -69,15 +104,32 @@ TraceableScene::TraceableScene(const Scene& scene, int width, int height, const 
 
 TraceableScene::~TraceableScene() {
   if (scene_) rtcReleaseScene(scene_);
+  for (RTCScene gs : group_scenes_) rtcReleaseScene(gs);
   if (device_) rtcReleaseDevice(device_);
 }
 
-void TraceableScene::add_triangles(const Shape& shape) {
+void TraceableScene::attach(RTCGeometry geom, RTCScene target, size_t expected_id,
+                            const std::string& origin) {
+  rtcCommitGeometry(geom);
+  const unsigned id = rtcAttachGeometry(target, geom);
+  rtcReleaseGeometry(geom);
+  if (id != expected_id) throw SceneError(origin + ": Embree geometry ids out of sequence");
+}
+
+std::unique_ptr<Geometry> TraceableScene::add_triangles(const Shape& shape, RTCScene target) {
   auto g = std::make_unique<Geometry>();
   g->kind = Geometry::Kind::triangles;
   g->positions.reserve(shape.positions.size());
   for (const glm::dvec3& p : shape.positions) g->positions.emplace_back(p);
   for (const glm::dvec3& n : shape.normals) g->normals.push_back(glm::normalize(glm::vec3(n)));
+  if (!shape.uvs.empty()) {
+    if (shape.uvs.size() != shape.positions.size()) {
+      throw SceneError(shape.origin + ": " + std::to_string(shape.uvs.size()) + " uvs for " +
+                       std::to_string(shape.positions.size()) + " vertices");
+    }
+    g->uvs.reserve(shape.uvs.size());
+    for (const glm::dvec2& uv : shape.uvs) g->uvs.emplace_back(uv);
+  }
   g->indices = shape.indices;
   for (const glm::u32vec3& tri : g->indices) {
     const glm::vec3 p0 = g->positions[tri.x], p1 = g->positions[tri.y], p2 = g->positions[tri.z];
@@ -87,6 +139,7 @@ void TraceableScene::add_triangles(const Shape& shape) {
   }
   g->material = shape.material;
   g->emission = glm::vec3(shape.emission);
+  g->emission_texture = shape.emission_texture;
   g->two_sided_emission = shape.two_sided_emission;
 
   RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -100,30 +153,117 @@ void TraceableScene::add_triangles(const Shape& shape) {
   }
   std::memcpy(vertices, g->positions.data(), g->positions.size() * 3 * sizeof(float));
   std::memcpy(indices, g->indices.data(), g->indices.size() * 3 * sizeof(uint32_t));
-  rtcCommitGeometry(geom);
-  const unsigned id = rtcAttachGeometry(scene_, geom);
-  rtcReleaseGeometry(geom);
-  if (id != geometries_.size()) throw SceneError("Embree geometry ids out of sequence");
-  geometries_.push_back(std::move(g));
+  const size_t expected = target == scene_ ? geometries_.size() : group_geometries_.back().size();
+  attach(geom, target, expected, shape.origin);
+  return g;
 }
 
-void TraceableScene::add_sphere(const Shape& shape) {
+std::unique_ptr<Geometry> TraceableScene::add_sphere(const Shape& shape, RTCScene target) {
   auto g = std::make_unique<Geometry>();
   g->kind = Geometry::Kind::sphere;
   g->center = shape.center;
   g->radius = shape.radius;
   g->inward = shape.flip_normals;
+  g->frame = glm::mat3(shape.frame);
   g->material = shape.material;
   g->emission = glm::vec3(shape.emission);
+  g->emission_texture = shape.emission_texture;
   g->two_sided_emission = shape.two_sided_emission;
 
   RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
   attach_sphere_callbacks(geom, g.get());
-  rtcCommitGeometry(geom);
-  const unsigned id = rtcAttachGeometry(scene_, geom);
-  rtcReleaseGeometry(geom);
-  if (id != geometries_.size()) throw SceneError("Embree geometry ids out of sequence");
+  const size_t expected = target == scene_ ? geometries_.size() : group_geometries_.back().size();
+  attach(geom, target, expected, shape.origin);
+  return g;
+}
+
+void TraceableScene::add_instance(const Shape& shape, const std::vector<RTCScene>& group_scenes) {
+  if (shape.group >= group_scenes.size()) {
+    throw SceneError(shape.origin + ": instance of shape group " + std::to_string(shape.group) +
+                     ", but the scene has " + std::to_string(group_scenes.size()));
+  }
+  auto g = std::make_unique<Geometry>();
+  g->kind = Geometry::Kind::instance;
+  g->group = shape.group;
+  g->to_world = glm::mat4(shape.to_world);
+  const glm::dmat4 inverse = glm::inverse(shape.to_world);
+  g->to_object = glm::mat4(inverse);
+  g->normal_to_world = glm::mat3(glm::transpose(glm::dmat3(inverse)));
+  // A point mapped by the float matrix: 3 products and 3 sums per coordinate.
+  g->transform_error = gamma_bound(4);
+
+  RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(geom, group_scenes[shape.group]);
+  rtcSetGeometryTimeStepCount(geom, 1);
+  float xfm[12];  // column-major 3x4
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 3; ++r) xfm[c * 3 + r] = g->to_world[c][r];
+  }
+  rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+  attach(geom, scene_, geometries_.size(), shape.origin);
   geometries_.push_back(std::move(g));
+}
+
+void TraceableScene::fill_triangle_hit(const Geometry& g, uint32_t primitive, float b1, float b2,
+                                       Hit* hit) const {
+  const glm::u32vec3 tri = g.indices[primitive];
+  const glm::vec3 p0 = g.positions[tri.x], p1 = g.positions[tri.y], p2 = g.positions[tri.z];
+  const float b0 = 1.0f - b1 - b2;
+  hit->sp.p = b0 * p0 + b1 * p1 + b2 * p2;
+  hit->sp.p_error = glm::vec3(g.point_errors[primitive]);
+  hit->sp.ng = g.face_normals[primitive];
+  if (g.normals.empty()) {
+    hit->ns = hit->sp.ng;
+  } else {
+    glm::vec3 ns = b0 * g.normals[tri.x] + b1 * g.normals[tri.y] + b2 * g.normals[tri.z];
+    const float len = glm::length(ns);
+    ns = len > 0 ? ns / len : hit->sp.ng;
+    hit->ns = glm::dot(ns, hit->sp.ng) < 0 ? -ns : ns;
+  }
+  if (!need_uv_) return;
+  const glm::vec3 e1 = p1 - p0, e2 = p2 - p0;
+  if (g.uvs.empty()) {
+    hit->uv = {b1, b2};
+    hit->dpdu = e1;
+    hit->dpdv = e2;
+    return;
+  }
+  const glm::vec2 uv0 = g.uvs[tri.x], duv0 = g.uvs[tri.y] - uv0, duv1 = g.uvs[tri.z] - uv0;
+  hit->uv = uv0 + b1 * duv0 + b2 * duv1;
+  const float det = duv0.x * duv1.y - duv0.y * duv1.x;
+  if (det != 0 && std::isfinite(1.0f / det)) {
+    const float inv = 1.0f / det;
+    hit->dpdu = (duv1.y * e1 - duv0.y * e2) * inv;
+    hit->dpdv = (duv0.x * e2 - duv1.x * e1) * inv;
+  } else {
+    hit->dpdu = e1;
+    hit->dpdv = e2;
+  }
+}
+
+void TraceableScene::fill_sphere_hit(const Geometry& g, const glm::vec3& o, const glm::vec3& d,
+                                     float t, Hit* hit) const {
+  // Re-project the hit onto the sphere in double: the point is then accurate to float
+  // rounding, whatever the error of t.
+  const glm::dvec3 p = glm::dvec3(o) + double(t) * glm::dvec3(d);
+  glm::dvec3 n = glm::normalize(p - g.center);
+  const glm::dvec3 on_sphere = g.center + g.radius * n;
+  hit->sp.p = glm::vec3(on_sphere);
+  hit->sp.p_error = gamma_bound(5) * glm::abs(hit->sp.p);
+  hit->sp.ng = glm::vec3(g.inward ? -n : n);
+  hit->ns = hit->sp.ng;
+  if (!need_uv_) return;
+  // Mitsuba's parametrisation, in the sphere's own (rotated) frame.
+  const glm::vec3 local = glm::transpose(g.frame) * glm::vec3(n);
+  const float theta = std::acos(std::clamp(local.z, -1.0f, 1.0f));
+  float phi = std::atan2(local.y, local.x);
+  if (phi < 0) phi += 2 * kPi;
+  hit->uv = {phi / (2 * kPi), theta / kPi};
+  const float rd = std::sqrt(local.x * local.x + local.y * local.y);
+  const float r = float(g.radius);
+  hit->dpdu = g.frame * glm::vec3(-local.y, local.x, 0.0f) * (2 * kPi * r);
+  hit->dpdv = rd > 0 ? g.frame * glm::vec3(local.z * local.x / rd, local.z * local.y / rd, -rd) * (kPi * r)
+                     : g.frame * glm::vec3(1, 0, 0) * (kPi * r);
 }
 
 bool TraceableScene::intersect(const Ray& ray, Hit* hit) const {
@@ -148,36 +288,45 @@ bool TraceableScene::intersect(const Ray& ray, Hit* hit) const {
   rtcIntersect1(scene_, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
 
-  const Geometry& g = *geometries_[rh.hit.geomID];
-  hit->geometry = &g;
-  hit->primitive = rh.hit.primID;
-  if (g.kind == Geometry::Kind::sphere) {
-    // Re-project the hit onto the sphere in double: the point is then accurate to float
-    // rounding, whatever the error of t.
-    const glm::dvec3 p = glm::dvec3(ray.o) + double(rh.ray.tfar) * glm::dvec3(ray.d);
-    glm::dvec3 n = glm::normalize(p - g.center);
-    const glm::dvec3 on_sphere = g.center + g.radius * n;
-    if (g.inward) n = -n;
-    hit->sp.p = glm::vec3(on_sphere);
-    hit->sp.p_error = gamma_bound(5) * glm::abs(hit->sp.p);
-    hit->sp.ng = glm::vec3(n);
-    hit->ns = hit->sp.ng;
+  if (rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID) {
+    const Geometry& g = *geometries_[rh.hit.geomID];
+    hit->geometry = &g;
+    hit->primitive = rh.hit.primID;
+    hit->geometry_id = rh.hit.geomID;
+    if (g.kind == Geometry::Kind::sphere) {
+      fill_sphere_hit(g, ray.o, ray.d, rh.ray.tfar, hit);
+    } else {
+      fill_triangle_hit(g, rh.hit.primID, rh.hit.u, rh.hit.v, hit);
+    }
     return true;
   }
-  const glm::u32vec3 tri = g.indices[rh.hit.primID];
-  const glm::vec3 p0 = g.positions[tri.x], p1 = g.positions[tri.y], p2 = g.positions[tri.z];
-  const float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1.0f - b1 - b2;
-  hit->sp.p = b0 * p0 + b1 * p1 + b2 * p2;
-  hit->sp.p_error = glm::vec3(g.point_errors[rh.hit.primID]);
-  hit->sp.ng = g.face_normals[rh.hit.primID];
-  if (g.normals.empty()) {
-    hit->ns = hit->sp.ng;
+
+  // A shape of a group, placed by an instance: find the hit in the group's space, then map the
+  // point, its error bound, the normals and the tangents to the world.
+  const Geometry& inst = *geometries_[rh.hit.instID[0]];
+  const Geometry& g = *group_geometries_[inst.group][rh.hit.geomID];
+  hit->geometry = &g;
+  hit->primitive = rh.hit.primID;
+  hit->geometry_id = rh.hit.instID[0];
+  if (g.kind == Geometry::Kind::sphere) {
+    fill_sphere_hit(g, transform_point(inst.to_object, ray.o), transform_vector(inst.to_object, ray.d),
+                    rh.ray.tfar, hit);
   } else {
-    glm::vec3 ns = b0 * g.normals[tri.x] + b1 * g.normals[tri.y] + b2 * g.normals[tri.z];
-    const float len = glm::length(ns);
-    ns = len > 0 ? ns / len : hit->sp.ng;
-    hit->ns = glm::dot(ns, hit->sp.ng) < 0 ? -ns : ns;
+    fill_triangle_hit(g, rh.hit.primID, rh.hit.u, rh.hit.v, hit);
   }
+  const glm::vec3 p_object = hit->sp.p;
+  hit->sp.p = transform_point(inst.to_world, p_object);
+  // |M p| and |M| |err| bound the mapped point's error: the object-space error carried
+  // through the matrix, plus the rounding of the product itself.
+  const glm::mat3 abs_m = glm::mat3(glm::abs(glm::vec3(inst.to_world[0])), glm::abs(glm::vec3(inst.to_world[1])),
+                                    glm::abs(glm::vec3(inst.to_world[2])));
+  hit->sp.p_error = abs_m * hit->sp.p_error * (1 + inst.transform_error) +
+                    inst.transform_error * (abs_m * glm::abs(p_object) + glm::abs(glm::vec3(inst.to_world[3])));
+  hit->sp.ng = glm::normalize(inst.normal_to_world * hit->sp.ng);
+  glm::vec3 ns = glm::normalize(inst.normal_to_world * hit->ns);
+  hit->ns = glm::dot(ns, hit->sp.ng) < 0 ? -ns : ns;
+  hit->dpdu = transform_vector(inst.to_world, hit->dpdu);
+  hit->dpdv = transform_vector(inst.to_world, hit->dpdv);
   return true;
 }
 

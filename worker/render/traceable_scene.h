@@ -23,8 +23,17 @@ namespace tessera {
 struct Hit {
   SurfacePoint sp;        ///< point, error bound, unit geometric normal (the shape's front)
   glm::vec3 ns;           ///< unit shading normal, on the same side as sp.ng
-  const Geometry* geometry = nullptr;
+  /// Texture coordinates and the surface's partial derivatives along them (world space), as
+  /// Mitsuba defines them: interpolated vertex uvs on meshes (barycentrics (b1, b2) without
+  /// uvs, then dpdu, dpdv are the triangle's edges), (phi / 2 pi, theta / pi) on spheres in
+  /// their own frame. dpdu may be zero at a sphere's poles.
+  glm::vec2 uv{0.0f};
+  glm::vec3 dpdu{0.0f}, dpdv{0.0f};
+  const Geometry* geometry = nullptr;  ///< the shape hit (a group's shape for instances)
   uint32_t primitive = 0;
+  /// Embree's ids of the hit: top-level geometry (the instance for a group's shape) and, for
+  /// instances, the shape inside the group; they key per-hit decisions such as masks.
+  uint32_t geometry_id = 0;
 };
 
 class TraceableScene {
@@ -45,22 +54,35 @@ class TraceableScene {
   const RenderMaterial& material(uint32_t index) const { return materials_[index]; }
   const std::vector<Emitter>& emitters() const { return emitters_; }
   const LightSelector& light_selector() const { return *light_selector_; }
+  /// Whether hits carry uv, dpdu and dpdv (only when the scene uses them).
+  bool has_uv() const { return need_uv_; }
   /// The instruction set Embree runs with.
   const std::string& isa() const { return isa_; }
 
  private:
-  void add_triangles(const Shape& shape);
-  void add_sphere(const Shape& shape);
+  /// Builds the Geometry and Embree geometry of `shape` and attaches it to `target`.
+  /// `transform` places a group's sphere in the world (spheres are not instanced).
+  std::unique_ptr<Geometry> add_triangles(const Shape& shape, RTCScene target);
+  std::unique_ptr<Geometry> add_sphere(const Shape& shape, RTCScene target);
+  void add_instance(const Shape& shape, const std::vector<RTCScene>& group_scenes);
+  void attach(RTCGeometry geom, RTCScene target, size_t expected_id, const std::string& origin);
+  void fill_triangle_hit(const Geometry& g, uint32_t primitive, float b1, float b2, Hit* hit) const;
+  void fill_sphere_hit(const Geometry& g, const glm::vec3& o, const glm::vec3& d, float t, Hit* hit) const;
 
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   PerspectiveCamera camera_;
   std::vector<RenderMaterial> materials_;
   std::vector<std::unique_ptr<Geometry>> geometries_;  ///< indexed by Embree geometry id
+  /// Per shape group: its Embree scene and its shapes' Geometry, indexed by geometry id there.
+  std::vector<RTCScene> group_scenes_;
+  std::vector<std::vector<std::unique_ptr<Geometry>>> group_geometries_;
   std::vector<Emitter> emitters_;
   std::unique_ptr<LightSelector> light_selector_;
   std::string isa_;
   std::string device_error_;
+  /// Whether anything reads a hit's uv, dpdu, dpdv (textures, anisotropic roughness).
+  bool need_uv_ = false;
 };
 
 }  // namespace tessera
