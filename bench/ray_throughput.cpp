@@ -1,10 +1,15 @@
-// tessera-bench-rays SCENE [--seconds S] [--threads N]: Embree's raw ray throughput on a scene
-// (the limit the renderer can approach) beside the renderer's own rays/s on the same scene.
+// tessera-bench-rays SCENE [--seconds S] [--threads N] [--mode scalar|packet] [--widths 1,8,16]:
+// Embree's raw ray throughput on a scene (the limit the renderer can approach) beside the
+// renderer's own rays/s on the same scene, in the same run.
 //
 // Raw rays: a pool of path-like rays — from the camera through random pixels, then from each
 // first hit in a cosine-distributed direction — traced with closest-hit queries in parallel,
-// nothing else done per ray. The renderer: one 64x64-tile batch after another through
-// Renderer::render, counting its closest-hit and shadow rays.
+// nothing else done per ray (TraceableScene::intersect, which also builds the surface point).
+// --mode packet adds the packet tracer (worker/render/packet_tracer.h) on the same pool: for each
+// width, closest-hit (rtcIntersect1/4/8/16) and occlusion (rtcOccluded1/4/8/16, same rays and
+// t_max) queries, packets cut in pool order, 4096-ray chunks spread over the threads.
+// The renderer: one 64x64-tile batch after another through Renderer::render, counting its
+// closest-hit and shadow rays.
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -19,7 +24,9 @@
 #include <tbb/parallel_for.h>
 
 #include "render/frame.h"
+#include "render/packet_tracer.h"
 #include "render/renderer.h"
+#include "render/standalone_embree_scene.h"
 #include "scene/scene_loader.h"
 #include "render/traceable_scene.h"
 #include "render/warp.h"
@@ -51,6 +58,54 @@ std::vector<Ray> make_rays(const TraceableScene& scene, int width, int height, s
   return rays;
 }
 
+/// Rays per second of `trace(begin, end)` over chunks of `count` rays, the whole pool traced
+/// again until `seconds` have passed; `*passes` (if given) receives how many times.
+template <typename Trace>
+double rate(size_t count, double seconds, Trace trace, uint64_t* passes = nullptr) {
+  constexpr size_t chunk = 4096;  // a multiple of every packet width: packets never straddle chunks
+  uint64_t traced = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  while (seconds_since(t0) < seconds) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, (count + chunk - 1) / chunk, 1),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t c = r.begin(); c != r.end(); ++c) {
+                          trace(c * chunk, std::min(count, (c + 1) * chunk));
+                        }
+                      });
+    traced += count;
+  }
+  if (passes) *passes = traced / count;
+  return double(traced) / seconds_since(t0);
+}
+
+/// The packet tracer at each width on `pool`: closest-hit and occlusion rates, printed beside
+/// `scalar_rate` (TraceableScene::intersect on the same rays).
+void packet_rates(const Scene& scene, const std::string& isa, const std::vector<Ray>& pool,
+                  const std::vector<int>& widths, double seconds, double scalar_rate) {
+  const StandaloneEmbreeScene embree(scene, isa);
+  RayBatch rays;
+  rays.resize(pool.size());
+  for (size_t i = 0; i < pool.size(); ++i) rays.set(i, pool[i]);
+  HitBatch hits;
+  hits.resize(pool.size());
+  std::vector<uint8_t> occluded(pool.size());
+  std::printf("packet tracer (native width %d), same pool:\n", PacketTracer::native_width(embree.device()));
+  for (int width : widths) {
+    const PacketTracer tracer(embree.scene(), width);
+    const double closest = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.intersect(rays, b, e, &hits); });
+    const double shadow = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.occluded(rays, b, e, &occluded); });
+    size_t hit = 0, blocked = 0;
+    for (size_t i = 0; i < pool.size(); ++i) {
+      hit += hits.geometry[i] != RTC_INVALID_GEOMETRY_ID;
+      blocked += occluded[i];
+    }
+    std::printf("  width %2d: closest-hit %.2f M rays/s (%.2fx the scalar rate, %.1f %% hit), "
+                "occluded %.2f M rays/s (%.1f %% blocked)\n",
+                width, closest / 1e6, closest / scalar_rate, 100.0 * double(hit) / double(pool.size()),
+                shadow / 1e6, 100.0 * double(blocked) / double(pool.size()));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -63,6 +118,16 @@ int main(int argc, char** argv) {
   app.add_option("--seconds", seconds, "Time per measurement");
   app.add_option("--threads", threads, "Threads (default: all cores)");
   app.add_option("--spp", spp, "Samples per pixel per renderer batch");
+  std::string mode = "scalar";
+  std::vector<int> widths = {1, 8, 16};
+  std::string isa;
+  app.add_option("--mode", mode, "scalar: TraceableScene::intersect and the renderer; packet: also the "
+                                 "packet tracer at each --widths")
+      ->check(CLI::IsMember({"scalar", "packet"}));
+  app.add_option("--widths", widths, "Packet widths for --mode packet (1 = rtcIntersect1)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({1, 4, 8, 16}));
+  app.add_option("--isa", isa, "Pin Embree's instruction set (avx512, avx2, sse4.2)");
   CLI11_PARSE(app, argc, argv);
   std::optional<tbb::global_control> limit;
   if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
@@ -72,28 +137,27 @@ int main(int argc, char** argv) {
   overrides.spp = spp;
   overrides.max_depth = 8;
   const JobOptions options = resolve_job_options(scene, overrides);
-  const TraceableScene traceable(scene, options.width, options.height, "");
+  const TraceableScene traceable(scene, options.width, options.height, isa);
   const std::vector<Ray> rays = make_rays(traceable, options.width, options.height, 1 << 20);
 
-  uint64_t traced = 0;
   std::atomic<uint64_t> hits{0};
-  auto t0 = std::chrono::steady_clock::now();
-  while (seconds_since(t0) < seconds) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-      uint64_t local = 0;
-      for (size_t i = r.begin(); i != r.end(); ++i) {
-        Hit hit;
-        local += traceable.intersect(rays[i], &hit) ? 1 : 0;
-      }
-      hits += local;
-    });
-    traced += rays.size();
-  }
-  const double raw_rate = double(traced) / seconds_since(t0);
+  uint64_t passes = 0;
+  const double raw_rate = rate(rays.size(), seconds, [&](size_t begin, size_t end) {
+    uint64_t local = 0;
+    for (size_t i = begin; i != end; ++i) {
+      Hit hit;
+      local += traceable.intersect(rays[i], &hit) ? 1 : 0;
+    }
+    hits += local;
+  }, &passes);
+  std::printf("scene %s, isa %s\n", scene_file.c_str(), traceable.isa().c_str());
+  std::printf("embree raw closest-hit rays: %.2f M rays/s (%zu rays in the pool, %.1f %% hit)\n",
+              raw_rate / 1e6, rays.size(), 100.0 * double(hits) / double(passes * rays.size()));
+  if (mode == "packet") packet_rates(scene, isa, rays, widths, seconds, raw_rate);
 
   const Renderer renderer(scene, options);
   RenderStats stats;
-  t0 = std::chrono::steady_clock::now();
+  auto t0 = std::chrono::steady_clock::now();
   uint32_t batch = 0;
   const std::vector<TileRect> tiles = options.plan().tiles();
   while (seconds_since(t0) < seconds) {
@@ -104,9 +168,6 @@ int main(int argc, char** argv) {
   }
   const double elapsed = seconds_since(t0);
   const double render_rays = double(stats.rays + stats.shadow_rays) / elapsed;
-  std::printf("scene %s, isa %s\n", scene_file.c_str(), traceable.isa().c_str());
-  std::printf("embree raw closest-hit rays: %.2f M rays/s (%zu rays in the pool, %.1f %% hit)\n",
-              raw_rate / 1e6, rays.size(), 100.0 * double(hits) / double(traced));
   std::printf("renderer: %.2f M samples/s, %.2f M rays/s (closest-hit %.2f M/s + shadow %.2f M/s), "
               "%.1f %% of the raw rate\n",
               double(stats.samples) / elapsed / 1e6, render_rays / 1e6, double(stats.rays) / elapsed / 1e6,

@@ -12,7 +12,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 SECONDS_EACH="${1:-60}"
 BUILD="${FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
-TARGETS="${FUZZ_TARGETS:-scene_json obj_mesh ply_mesh accumulation mitsuba_xml}"
+TARGETS="${FUZZ_TARGETS:-scene_json obj_mesh ply_mesh serialized_mesh accumulation mitsuba_xml}"
 
 if ! command -v clang++-14 >/dev/null; then
   echo "fuzz/run.sh: clang++-14 is missing (scripts/install-deps.sh installs clang-14 and libclang-rt-14-dev)" >&2

@@ -4,8 +4,10 @@
 //     (with an MTL) and a small PLY that seeds may reference;
 //   2 (obj_mesh_fuzzer): the input is "m.obj", referenced by a fixed scene (materials on, so
 //     the fuzzed OBJ's mtllib reaches "m.mtl", which is the input too);
-//   3 (ply_mesh_fuzzer): the input is "m.ply", referenced by a fixed scene.
-// Seeds: fuzz/corpus/{scene_json,obj_mesh,ply_mesh}/. Run them with fuzz/run.sh.
+//   3 (ply_mesh_fuzzer): the input is "m.ply", referenced by a fixed scene;
+//   4 (serialized_mesh_fuzzer): the input is "m.serialized" (Mitsuba's format), referenced by
+//     a fixed scene that loads its shape 1 (so the end-of-file dictionary is read too).
+// Seeds: fuzz/corpus/{scene_json,obj_mesh,ply_mesh,serialized_mesh}/. Run them with fuzz/run.sh.
 //
 // Besides crashes, leaks and undefined behaviour (ASan, UBSan), it checks the parser's promise
 // to users: every refusal is a SceneError with a one-line message (the CLI prints it as is).
@@ -22,7 +24,7 @@
 #include "scene/scene_loader.h"
 
 #ifndef TESSERA_FUZZ_FORMAT
-#error "define TESSERA_FUZZ_FORMAT (1 json, 2 obj, 3 ply)"
+#error "define TESSERA_FUZZ_FORMAT (1 json, 2 obj, 3 ply, 4 serialized)"
 #endif
 
 namespace {
@@ -39,13 +41,15 @@ constexpr const char* kObj =
 
 constexpr const char* kMtl = "newmtl red\nKd 0.8 0.1 0.1\nKe 0 0 0\n";
 
-/// A scene that loads `file` as a mesh (with the file's materials for OBJ).
-std::string mesh_scene(const char* file) {
+/// A scene that loads `file` as a mesh (with the file's materials for OBJ; shape 1 of a
+/// serialized file).
+std::string mesh_scene(const std::string& file) {
+  const char* index = file.ends_with(".serialized") ? R"(, "shape_index": 1)" : "";
   return std::string(R"({"tessera": 1, "camera": {"position": [0,0,3], "look_at": [0,0,0], "fov": 40},
     "film": {"width": 8, "height": 8},
     "materials": {"white": {"type": "diffuse", "reflectance": [0.5,0.5,0.5]}},
     "shapes": [{"type": "mesh", "file": ")") +
-         file + R"(", "material": "white"},
+         file + R"(", "material": "white")" + index + R"(},
       {"type": "quad", "vertices": [[-1,2,-1],[1,2,-1],[1,2,1],[-1,2,1]], "emission": [5,5,5]}]})";
 }
 
@@ -63,10 +67,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (path == "m.ply") return format == 3 ? input : kPly;
     if (path == "m.obj") return format == 2 ? input : kObj;
     if (path == "m.mtl") return format == 2 ? input : kMtl;
+    if (path == "m.serialized" && format == 4) return input;
     throw tessera::SceneError(path + ": no such file in the scene's folder");
   };
-  const std::string scene_text =
-      format == 1 ? input : mesh_scene(format == 2 ? "m.obj" : "m.ply");
+  const char* const mesh_files[] = {"", "", "m.obj", "m.ply", "m.serialized"};
+  const std::string scene_text = format == 1 ? input : mesh_scene(mesh_files[format]);
   try {
     (void)tessera::parse_scene(scene_text, reader);
   } catch (const tessera::SceneError& e) {

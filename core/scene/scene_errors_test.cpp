@@ -75,7 +75,7 @@ TEST(SceneErrors, MissingMeshFile) {
             "shapes[4].file: meshes/x.ply: no such file in the scene's folder");
   EXPECT_EQ(
       error_of(scene_with_shapes(R"({"type": "mesh", "file": "x.stl", "material": "white"})")),
-      "shapes[0].file: x.stl: unsupported mesh format (expected a .obj or .ply file)");
+      "shapes[0].file: x.stl: unsupported mesh format (expected a .obj, .ply or .serialized file)");
 }
 
 TEST(SceneErrors, PathsMustStayInsideTheFolder) {

@@ -23,7 +23,8 @@ struct RowResult {
 
 Renderer::Renderer(const Scene& scene, const JobOptions& options)
     : scene_(std::make_unique<TraceableScene>(scene, options.width, options.height, options.isa)),
-      options_(options) {}
+      options_(options),
+      filter_(scene.film.filter) {}
 
 Renderer::~Renderer() = default;
 
@@ -63,7 +64,7 @@ Accumulation Renderer::render(const TileRect& tile, uint32_t sample_begin, uint3
           PixelSampler sampler(pixel_key, s);
           const glm::vec2 u_film = sampler.get2d();
           const glm::vec2 u_lens = sampler.get2d();
-          const Ray ray = scene.camera().generate_ray({float(x) + u_film.x, float(y) + u_film.y}, u_lens);
+          const Ray ray = scene.camera().generate_ray(filter_.film_position(x, y, u_film), u_lens);
           const glm::dvec3 l = trace_path(scene, ray, max_depth, sampler, local.counters);
           ++local.samples;
           const bool is_nan = std::isnan(l.x) || std::isnan(l.y) || std::isnan(l.z);

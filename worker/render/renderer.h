@@ -6,6 +6,7 @@
 
 #include "accum/accumulation.h"
 #include "job/job_options.h"
+#include "pixel_filter.h"
 #include "scene/scene.h"
 
 namespace tessera {
@@ -47,6 +48,7 @@ class Renderer {
  private:
   std::unique_ptr<TraceableScene> scene_;
   JobOptions options_;
+  PixelFilterSampler filter_;  ///< draws each camera sample's film position (Scene::film.filter)
 };
 
 }  // namespace tessera

@@ -64,33 +64,43 @@ double nearest_crossing(const Geometry* s, const RTCRay& ray) {
   return NAN;
 }
 
+// Embree calls these with N = 1 for rtcIntersect1 and with N = 4, 8 or 16 for ray packets
+// (worker/render/packet_tracer.h), lanes switched off by valid[i] == 0; each lane is solved
+// alone, with the same double-precision arithmetic whatever N is.
 void sphere_intersect(const RTCIntersectFunctionNArguments* args) {
-  if (args->N != 1 || !args->valid[0]) return;
   const auto* s = static_cast<const Geometry*>(args->geometryUserPtr);
-  auto* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);
-  const double t = nearest_crossing(s, rayhit->ray);
-  if (std::isnan(t)) return;
-  const float tf = float(t);
-  if (!(tf <= rayhit->ray.tfar)) return;
-  rayhit->ray.tfar = tf;
-  const glm::dvec3 p = glm::dvec3(rayhit->ray.org_x, rayhit->ray.org_y, rayhit->ray.org_z) +
-                       t * glm::dvec3(rayhit->ray.dir_x, rayhit->ray.dir_y, rayhit->ray.dir_z);
-  const glm::dvec3 n = (p - s->center) / s->radius;
-  rayhit->hit.Ng_x = float(n.x);
-  rayhit->hit.Ng_y = float(n.y);
-  rayhit->hit.Ng_z = float(n.z);
-  rayhit->hit.u = 0;
-  rayhit->hit.v = 0;
-  rayhit->hit.primID = args->primID;
-  rayhit->hit.geomID = args->geomID;
-  rayhit->hit.instID[0] = args->context->instID[0];
+  RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+  RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (!args->valid[i]) continue;
+    const RTCRay ray = rtcGetRayFromRayN(rays, args->N, i);
+    const double t = nearest_crossing(s, ray);
+    if (std::isnan(t)) continue;
+    const float tf = float(t);
+    if (!(tf <= ray.tfar)) continue;
+    RTCRayN_tfar(rays, args->N, i) = tf;
+    const glm::dvec3 p = glm::dvec3(ray.org_x, ray.org_y, ray.org_z) +
+                         t * glm::dvec3(ray.dir_x, ray.dir_y, ray.dir_z);
+    const glm::dvec3 n = (p - s->center) / s->radius;
+    RTCHitN_Ng_x(hits, args->N, i) = float(n.x);
+    RTCHitN_Ng_y(hits, args->N, i) = float(n.y);
+    RTCHitN_Ng_z(hits, args->N, i) = float(n.z);
+    RTCHitN_u(hits, args->N, i) = 0;
+    RTCHitN_v(hits, args->N, i) = 0;
+    RTCHitN_primID(hits, args->N, i) = args->primID;
+    RTCHitN_geomID(hits, args->N, i) = args->geomID;
+    RTCHitN_instID(hits, args->N, i, 0) = args->context->instID[0];
+  }
 }
 
 void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
-  if (args->N != 1 || !args->valid[0]) return;
   const auto* s = static_cast<const Geometry*>(args->geometryUserPtr);
-  auto* ray = reinterpret_cast<RTCRay*>(args->ray);
-  if (!std::isnan(nearest_crossing(s, *ray))) ray->tfar = -INFINITY;
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (!args->valid[i]) continue;
+    if (!std::isnan(nearest_crossing(s, rtcGetRayFromRayN(args->ray, args->N, i)))) {
+      RTCRayN_tfar(args->ray, args->N, i) = -INFINITY;
+    }
+  }
 }
 
 }  // namespace

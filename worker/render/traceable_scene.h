@@ -10,7 +10,7 @@
 #include <embree3/rtcore.h>
 
 #include "camera.h"
-#include "emitter.h"
+#include "light/emitter.h"
 #include "geometry.h"
 #include "material.h"
 #include "ray.h"

@@ -5,6 +5,7 @@
 
 #include "scene/mesh/obj_loader.h"
 #include "scene/mesh/ply_loader.h"
+#include "scene/mesh/serialized_loader.h"
 #include "scene/scene_error.h"
 
 namespace tessera {
@@ -46,16 +47,22 @@ std::vector<MeshPart> load_mesh_file(const std::string& path, const FileReader& 
                                      const MeshFileOptions& options,
                                      std::vector<std::string>& files_read) {
   std::string extension = lowercase_extension(path);
-  if (extension != ".obj" && extension != ".ply") {
-    throw SceneError(path + ": unsupported mesh format (expected a .obj or .ply file)");
+  if (extension != ".obj" && extension != ".ply" && extension != ".serialized") {
+    throw SceneError(path +
+                     ": unsupported mesh format (expected a .obj, .ply or .serialized file)");
   }
   std::string bytes = reader(path);
   files_read.push_back(path);
   if (extension == ".obj") return load_obj_parts(path, bytes, reader, options, files_read);
-  PlyMesh ply = load_ply(bytes, path, !options.face_normals);
   MeshPart part;
-  part.mesh = std::move(ply.mesh);
-  part.dropped_faces = ply.dropped_faces;
+  if (extension == ".serialized") {
+    part.mesh =
+        load_serialized_mesh(bytes, path, options.shape_index, !options.face_normals).mesh;
+  } else {
+    PlyMesh ply = load_ply(bytes, path, !options.face_normals);
+    part.mesh = std::move(ply.mesh);
+    part.dropped_faces = ply.dropped_faces;
+  }
   std::vector<MeshPart> parts;
   parts.push_back(std::move(part));
   return parts;

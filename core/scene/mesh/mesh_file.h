@@ -1,4 +1,5 @@
-// Mesh files a "mesh" shape names: OBJ (with MTL) and PLY, chosen by extension.
+// Mesh files a "mesh" shape names: OBJ (with MTL), PLY and Mitsuba's serialized, chosen by
+// extension.
 #pragma once
 
 #include <cstddef>
@@ -25,12 +26,14 @@ struct MeshPart {
 struct MeshFileOptions {
   bool use_file_materials = true;  ///< read the OBJ's MTL files and group faces by material
   bool face_normals = false;       ///< ignore the file's normals
+  int shape_index = 0;             ///< .serialized only: which shape of the file, >= 0
 };
 
 /// Loads the mesh file at bundle path `path` (already checked with check_bundle_path) through
-/// `reader`: ".obj" (case-insensitive) with tinyobjloader, ".ply" with load_ply. Appends every
+/// `reader`: ".obj" (case-insensitive) with tinyobjloader, ".ply" with load_ply, ".serialized"
+/// with load_serialized_mesh (shape `options.shape_index`). Appends every
 /// file read (the mesh, then its MTL files) to `files_read`. Returns one part per material (a
-/// PLY file, or an OBJ read without its materials, gives one part). Throws SceneError("<path>:
+/// PLY or serialized file, or an OBJ read without its materials, gives one part). Throws SceneError("<path>:
 /// ...").
 std::vector<MeshPart> load_mesh_file(const std::string& path, const FileReader& reader,
                                      const MeshFileOptions& options,

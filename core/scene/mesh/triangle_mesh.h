@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <glm/gtc/type_precision.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <optional>
 #include <vector>
@@ -11,11 +12,12 @@
 
 namespace tessera {
 
-/// Positions, optional per-vertex shading normals, and triangles counter-clockwise seen from
-/// the front. Shape::positions/normals/indices in the making.
+/// Positions, optional per-vertex shading normals and texture coordinates, and triangles
+/// counter-clockwise seen from the front. Shape::positions/normals/uvs/indices in the making.
 struct TriangleMesh {
   std::vector<glm::dvec3> positions;
   std::vector<glm::dvec3> normals;  ///< one per position, or empty
+  std::vector<glm::dvec2> uvs;      ///< one per position, or empty (Shape::uvs)
   std::vector<glm::u32vec3> indices;
 };
 

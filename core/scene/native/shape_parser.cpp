@@ -38,7 +38,7 @@ std::vector<std::string_view> keys_of(std::string_view type) {
   } else if (type == "box") {
     keys.insert(keys.end(), {"min", "max"});
   } else if (type == "mesh") {
-    keys.insert(keys.end(), {"file", "face_normals"});
+    keys.insert(keys.end(), {"file", "face_normals", "shape_index"});
   } else {
     return {};
   }
@@ -54,6 +54,9 @@ std::vector<Part> load_mesh_parts(const JsonValue& value, bool use_file_material
   JsonValue file = value.at("file");
   std::string path = check_bundle_path(file.string(), file.path());
   MeshFileOptions options{use_file_materials, value.boolean_or("face_normals", false)};
+  if (std::optional<JsonValue> index = value.find("shape_index")) {
+    options.shape_index = static_cast<int>(index->integer(0, INT32_MAX));
+  }
   std::vector<std::string> files_read;
   std::vector<MeshPart> mesh_parts;
   try {
@@ -186,6 +189,7 @@ Shape make_shape(Part& part, const JsonValue& value, bool flip, bool several) {
   shape.kind = part.is_sphere ? Shape::Kind::sphere : Shape::Kind::triangles;
   shape.positions = std::move(part.mesh.positions);
   shape.normals = std::move(part.mesh.normals);
+  shape.uvs = std::move(part.mesh.uvs);
   shape.indices = std::move(part.mesh.indices);
   shape.center = part.sphere.center;
   shape.radius = part.sphere.radius;

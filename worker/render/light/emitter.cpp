@@ -1,11 +1,11 @@
-#include "emitter.h"
+#include "render/light/emitter.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 
-#include "warp.h"
+#include "render/warp.h"
 
 namespace tessera {
 namespace {

@@ -7,8 +7,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "geometry.h"
-#include "ray_offset.h"
+#include "render/geometry.h"
+#include "render/ray_offset.h"
 
 namespace tessera {
 

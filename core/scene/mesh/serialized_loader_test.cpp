@@ -1,0 +1,275 @@
+// Mitsuba serialized meshes: files written here field by field (versions 3 and 4, float and
+// double, several shapes) and broken ones.
+#include "scene/mesh/serialized_loader.h"
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "scene/mesh/mesh_file.h"
+#include "scene/scene_error.h"
+#include "scene/scene_test_support.h"
+
+namespace tessera {
+namespace {
+
+/// Little-endian bytes, appended value by value.
+class Bytes {
+ public:
+  template <typename T>
+  Bytes& put(T v) {
+    unsigned char raw[sizeof(T)];
+    std::memcpy(raw, &v, sizeof(T));  // the test machines are little-endian (x86-64)
+    data.append(reinterpret_cast<const char*>(raw), sizeof(T));
+    return *this;
+  }
+  Bytes& text(const std::string& s) {
+    data += s;
+    data += '\0';
+    return *this;
+  }
+  std::string data;
+};
+
+/// One shape as the format stores it.
+struct ShapeSpec {
+  uint32_t flags = 0x1000;
+  std::string name = "shape";
+  std::vector<double> positions;  // 3 per vertex
+  std::vector<double> normals;
+  std::vector<double> uvs;
+  std::vector<double> colors;
+  std::vector<uint32_t> indices;  // 3 per triangle
+};
+
+std::string compress(const std::string& raw) {
+  uLongf size = compressBound(raw.size());
+  std::string out(size, '\0');
+  EXPECT_EQ(compress2(reinterpret_cast<Bytef*>(out.data()), &size,
+                      reinterpret_cast<const Bytef*>(raw.data()), raw.size(), 9),
+            Z_OK);
+  out.resize(size);
+  return out;
+}
+
+std::string shape_bytes(const ShapeSpec& s, uint16_t version) {
+  bool doubles = (s.flags & 0x2000) != 0;
+  Bytes body;
+  body.put<uint32_t>(s.flags);
+  if (version == 4) body.text(s.name);
+  body.put<uint64_t>(s.positions.size() / 3).put<uint64_t>(s.indices.size() / 3);
+  for (const std::vector<double>* array : {&s.positions, &s.normals, &s.uvs, &s.colors}) {
+    for (double v : *array) doubles ? body.put<double>(v) : body.put<float>(float(v));
+  }
+  for (uint32_t i : s.indices) body.put<uint32_t>(i);
+  Bytes head;
+  head.put<uint16_t>(0x041C).put<uint16_t>(version);
+  return head.data + compress(body.data);
+}
+
+/// A whole file: the shapes one after the other, then the dictionary of offsets and the count.
+std::string file_bytes(const std::vector<ShapeSpec>& shapes, uint16_t version = 4) {
+  std::string file;
+  std::vector<uint64_t> offsets;
+  for (const ShapeSpec& s : shapes) {
+    offsets.push_back(file.size());
+    file += shape_bytes(s, version);
+  }
+  Bytes tail;
+  for (uint64_t o : offsets) version == 4 ? tail.put<uint64_t>(o) : tail.put<uint32_t>(uint32_t(o));
+  tail.put<uint32_t>(uint32_t(shapes.size()));
+  return file + tail.data;
+}
+
+ShapeSpec quad(double z) {
+  ShapeSpec s;
+  s.positions = {0, 0, z, 1, 0, z, 1, 1, z, 0, 1, z};
+  s.indices = {0, 1, 2, 0, 2, 3};
+  return s;
+}
+
+std::string error_of(const std::string& bytes, int shape_index = 0) {
+  try {
+    load_serialized_mesh(bytes, "m.serialized", shape_index, true);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(SerializedLoader, ReadsPositionsNormalsUvsAndSkipsColours) {
+  ShapeSpec s = quad(0.25);
+  s.flags = 0x1000 | 0x1 | 0x2 | 0x8;
+  s.name = "Plane.001";
+  s.normals = {0, 0, 1, 0, 0, 1, 0, 0, 2, 0, 0, 1};
+  s.uvs = {0, 0, 1, 0, 1, 1, 0, 0.75};
+  s.colors = {1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1};
+  SerializedMesh m = load_serialized_mesh(file_bytes({s}), "m.serialized", 0, true);
+  EXPECT_EQ(m.shape_name, "Plane.001");
+  ASSERT_EQ(m.mesh.positions.size(), 4u);
+  EXPECT_EQ(m.mesh.positions[2], glm::dvec3(1, 1, 0.25));
+  ASSERT_EQ(m.mesh.normals.size(), 4u);
+  EXPECT_EQ(m.mesh.normals[2], glm::dvec3(0, 0, 2));  // as stored; callers normalise
+  ASSERT_EQ(m.mesh.uvs.size(), 4u);
+  EXPECT_EQ(m.mesh.uvs[3], glm::dvec2(0, 0.75));
+  ASSERT_EQ(m.mesh.indices.size(), 2u);
+  EXPECT_EQ(m.mesh.indices[1], glm::u32vec3(0, 2, 3));
+
+  SerializedMesh faceted = load_serialized_mesh(file_bytes({s}), "m.serialized", 0, false);
+  EXPECT_TRUE(faceted.mesh.normals.empty());
+  EXPECT_EQ(faceted.mesh.uvs.size(), 4u);
+}
+
+TEST(SerializedLoader, DoublePrecisionKeepsEveryBit) {
+  ShapeSpec s = quad(0.1);
+  s.flags = 0x2000 | 0x2;
+  s.positions[0] = 1.0 / 3.0;
+  s.uvs = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8};
+  SerializedMesh m = load_serialized_mesh(file_bytes({s}), "m.serialized", 0, true);
+  EXPECT_EQ(m.mesh.positions[0].x, 1.0 / 3.0);
+  EXPECT_EQ(m.mesh.positions[0].z, 0.1);
+  EXPECT_EQ(m.mesh.uvs[2], glm::dvec2(0.5, 0.6));
+  // Single precision rounds to float, as the file stores it.
+  s.flags = 0x1000 | 0x2;
+  m = load_serialized_mesh(file_bytes({s}), "m.serialized", 0, true);
+  EXPECT_EQ(m.mesh.positions[0].x, double(float(1.0 / 3.0)));
+}
+
+TEST(SerializedLoader, ShapeIndexFindsEachShapeInVersions3And4) {
+  std::vector<ShapeSpec> shapes = {quad(0), quad(1), quad(2)};
+  shapes[1].name = "second";
+  for (uint16_t version : {3, 4}) {
+    std::string file = file_bytes(shapes, version);
+    for (int index = 0; index < 3; ++index) {
+      SerializedMesh m = load_serialized_mesh(file, "m.serialized", index, true);
+      EXPECT_EQ(m.mesh.positions[0].z, index) << "version " << version;
+      EXPECT_EQ(m.shape_name, version == 4 ? shapes[index].name : "");
+    }
+    EXPECT_EQ(error_of(file, 3),
+              "m.serialized: shape_index 3 out of range (the file holds 3 shapes)");
+  }
+}
+
+TEST(SerializedLoader, FaceNormalsFlagIsIgnoredAsMitsuba3Does) {
+  ShapeSpec s = quad(0);
+  s.flags = 0x1000 | 0x1 | 0x10;
+  s.normals = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  EXPECT_EQ(load_serialized_mesh(file_bytes({s}), "m", 0, true).mesh.normals.size(), 4u);
+}
+
+TEST(SerializedLoader, UnusableNormalsAreDropped) {
+  ShapeSpec s = quad(0);
+  s.flags = 0x1000 | 0x1;
+  s.normals = {0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 1};
+  EXPECT_TRUE(load_serialized_mesh(file_bytes({s}), "m", 0, true).mesh.normals.empty());
+}
+
+TEST(SerializedLoader, RefusesBrokenFilesNamingThem) {
+  std::string good = file_bytes({quad(0)});
+  EXPECT_EQ(error_of("\x1c"), "m.serialized: truncated: no serialized file header");
+  EXPECT_EQ(error_of("PK\x03\x04" + good.substr(4)),
+            "m.serialized: not a Mitsuba serialized mesh (bad magic number)");
+  std::string v5 = good;
+  v5[2] = 5;
+  EXPECT_EQ(error_of(v5), "m.serialized: unsupported serialized format version 5 (expected 3 or 4)");
+  EXPECT_EQ(error_of(good, -1), "m.serialized: shape_index must be >= 0 (got -1)");
+
+  // The compressed stream cut short: the triangle indices are missing.
+  std::string raw_shape = shape_bytes(quad(0), 4);
+  std::string body;
+  {
+    Bytes b;
+    b.put<uint32_t>(0x1000).text("q").put<uint64_t>(4).put<uint64_t>(2);
+    for (int i = 0; i < 12; ++i) b.put<float>(0.5f * i);
+    body = b.data;  // no indices at all
+  }
+  std::string cut = raw_shape.substr(0, 4) + compress(body);
+  EXPECT_EQ(error_of(cut), "m.serialized: truncated: the compressed data ends in the triangle indices");
+  EXPECT_EQ(error_of(good.substr(0, 20)).rfind("m.serialized: truncated", 0), 0u) << error_of(good.substr(0, 20));
+  std::string corrupt = good;
+  for (size_t i = 8; i < 20; ++i) corrupt[i] = char(0xff);
+  EXPECT_NE(error_of(corrupt).find("m.serialized: "), std::string::npos);
+  EXPECT_NE(error_of(corrupt), "(no error)");
+}
+
+TEST(SerializedLoader, RefusesBadValues) {
+  ShapeSpec s = quad(0);
+  s.indices[4] = 4;
+  EXPECT_EQ(error_of(file_bytes({s})),
+            "m.serialized: triangle 1: vertex index 4 out of range (4 vertices)");
+  s = quad(0);
+  s.positions[7] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(error_of(file_bytes({s})), "m.serialized: vertex 2: position is not finite");
+  s = quad(0);
+  s.flags |= 0x2;
+  s.uvs = {0, 0, 1, 0, 1, std::numeric_limits<double>::infinity(), 0, 1};
+  EXPECT_EQ(error_of(file_bytes({s})), "m.serialized: vertex 2: texture coordinate is not finite");
+}
+
+TEST(SerializedLoader, RefusesCountsBeforeAllocating) {
+  Bytes b;
+  b.put<uint32_t>(0x1000).text("").put<uint64_t>(uint64_t(1) << 40).put<uint64_t>(1);
+  std::string huge = std::string("\x1c\x04\x04\x00", 4) + compress(b.data);
+  EXPECT_EQ(error_of(huge), "m.serialized: 1099511627776 vertices (at most 100000000)");
+  Bytes c;
+  c.put<uint32_t>(0x2000).text("").put<uint64_t>(50'000'000).put<uint64_t>(50'000'000);
+  std::string big = std::string("\x1c\x04\x04\x00", 4) + compress(c.data);
+  EXPECT_NE(error_of(big).find("cannot fit in"), std::string::npos) << error_of(big);
+}
+
+TEST(SerializedLoader, BadDictionaryIsNamed) {
+  std::string file = file_bytes({quad(0), quad(1)});
+  // Point the second entry into the middle of the first shape.
+  uint64_t wrong = 7;
+  std::memcpy(file.data() + file.size() - 4 - 8, &wrong, 8);
+  EXPECT_EQ(error_of(file, 1), "m.serialized: no shape header at offset 7 (bad shape dictionary)");
+  uint32_t many = 1'000'000;
+  std::memcpy(file.data() + file.size() - 4, &many, 4);
+  EXPECT_EQ(error_of(file, 1),
+            "m.serialized: shape dictionary of 1000000 shapes does not fit in the file");
+}
+
+TEST(SerializedLoader, MeshFileLoadsTheChosenShape) {
+  std::string file = file_bytes({quad(0), quad(5)});
+  MeshFileOptions options;
+  options.shape_index = 1;
+  std::vector<std::string> files_read;
+  std::vector<MeshPart> parts = load_mesh_file(
+      "meshes/two.serialized", testing::memory_reader({{"meshes/two.serialized", file}}), options,
+      files_read);
+  ASSERT_EQ(parts.size(), 1u);
+  EXPECT_EQ(parts[0].mesh.positions[0].z, 5);
+  EXPECT_EQ(files_read, std::vector<std::string>{"meshes/two.serialized"});
+}
+
+TEST(SerializedLoader, NativeMeshShapeTakesShapeIndexAndKeepsUvs) {
+  std::vector<ShapeSpec> shapes = {quad(0), quad(3)};
+  shapes[1].flags |= 0x2;
+  shapes[1].uvs = {0, 0, 1, 0, 1, 1, 0, 1};
+  std::map<std::string, std::string> files = {{"m.serialized", file_bytes(shapes)}};
+  Scene scene = testing::parse(
+      testing::scene_with_shapes(
+          R"({"type": "mesh", "file": "m.serialized", "shape_index": 1, "material": "white"})"),
+      files);
+  ASSERT_EQ(scene.shapes.size(), 1u);
+  EXPECT_EQ(scene.shapes[0].positions[0].z, 3);
+  ASSERT_EQ(scene.shapes[0].uvs.size(), 4u);
+  EXPECT_EQ(scene.shapes[0].uvs[2], glm::dvec2(1, 1));
+  EXPECT_EQ(scene.referenced_files, std::vector<std::string>{"m.serialized"});
+  EXPECT_EQ(testing::error_of(testing::scene_with_shapes(
+                                  R"({"type": "mesh", "file": "m.serialized", "shape_index": -1,
+                                      "material": "white"})"),
+                              files),
+            "shapes[0].shape_index: must be in [0, 2147483647] (got -1)");
+  EXPECT_EQ(testing::error_of(testing::scene_with_shapes(
+                                  R"({"type": "mesh", "file": "m.serialized", "shape_index": 2,
+                                      "material": "white"})"),
+                              files),
+            "shapes[0].file: m.serialized: shape_index 2 out of range (the file holds 2 shapes)");
+}
+
+}  // namespace
+}  // namespace tessera

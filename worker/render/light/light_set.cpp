@@ -1,0 +1,131 @@
+#include "render/light/light_set.h"
+
+#include <limits>
+#include <type_traits>
+
+namespace tessera {
+namespace {
+
+/// Area lights, then Scene::lights, in order.
+template <class Lights>
+std::vector<double> powers_of(const Lights& lights, double scene_radius) {
+  std::vector<double> powers;
+  powers.reserve(lights.size());
+  for (const auto& light : lights) {
+    powers.push_back(std::visit(
+        [&](const auto& l) -> double {
+          using T = std::decay_t<decltype(l)>;
+          if constexpr (std::is_same_v<T, DirectionalLight> || std::is_same_v<T, ConstantLight> ||
+                        std::is_same_v<T, EnvmapLight>) {
+            return l.power(scene_radius);
+          } else {
+            return l.power();
+          }
+        },
+        light));
+  }
+  return powers;
+}
+
+}  // namespace
+
+LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
+                   const std::vector<Light>& lights, const FileReader& reader,
+                   const TextureLookup& textures, float scene_radius)
+    : picker_(std::vector<double>{}) {
+  lights_.reserve(area_emitters.size() + lights.size());
+  for (const Geometry* g : area_emitters) lights_.emplace_back(AreaLight(*g, textures));
+  area_count_ = uint32_t(area_emitters.size());
+  for (const Light& light : lights) {
+    switch (light.kind) {
+      case LightKind::point: lights_.emplace_back(PointLight(light)); break;
+      case LightKind::spot: lights_.emplace_back(SpotLight(light)); break;
+      case LightKind::directional: lights_.emplace_back(DirectionalLight(light)); break;
+      case LightKind::constant:
+        environment_.push_back(uint32_t(lights_.size()));
+        lights_.emplace_back(ConstantLight(light));
+        break;
+      case LightKind::envmap:
+        environment_.push_back(uint32_t(lights_.size()));
+        lights_.emplace_back(EnvmapLight::from_file(light, reader));
+        break;
+    }
+  }
+  picker_ = LightPicker(powers_of(lights_, double(scene_radius)));
+}
+
+LightSample LightSet::sample(const SurfacePoint& ref, float u_pick, glm::vec2 u) const {
+  if (lights_.empty()) return {};
+  float pick_pmf = 0;
+  const uint32_t index = picker_.pick(u_pick, ref, &pick_pmf);
+  LightSample s = std::visit(
+      [&](const auto& l) -> LightSample {
+        using T = std::decay_t<decltype(l)>;
+        if constexpr (std::is_same_v<T, AreaLight>) {
+          return l.sample(ref.p, u);
+        } else if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight>) {
+          return l.sample(ref.p);
+        } else if constexpr (std::is_same_v<T, DirectionalLight>) {
+          return l.sample();
+        } else {
+          LightSample e;
+          float pdf = 0;
+          const glm::vec3 wi = l.sample(u, &pdf);
+          if (!(pdf > 0)) return e;
+          e.wi = wi;
+          e.distance = std::numeric_limits<float>::infinity();
+          e.radiance = environment(wi);
+          e.pdf = pdf_environment(wi);  // combined, pick probabilities included
+          return e;
+        }
+      },
+      lights_[index]);
+  const bool environment_light = std::holds_alternative<ConstantLight>(lights_[index]) ||
+                                 std::holds_alternative<EnvmapLight>(lights_[index]);
+  if (!environment_light) s.pdf *= pick_pmf;
+  if (!(s.pdf > 0)) return {};
+  return s;
+}
+
+glm::vec3 LightSet::emitted(const Geometry& g, uint32_t /*primitive*/, glm::vec2 uv,
+                            glm::vec3 ng, glm::vec3 w) const {
+  if (g.emitter < 0 || uint32_t(g.emitter) >= area_count_) return glm::vec3(0.0f);
+  return std::get<AreaLight>(lights_[size_t(g.emitter)]).emitted(uv, ng, w);
+}
+
+float LightSet::pdf_area(const Geometry& g, uint32_t /*primitive*/, const SurfacePoint& ref,
+                         glm::vec3 hit_p, glm::vec3 hit_ng) const {
+  // Uniform area sampling: the density does not depend on the primitive (solid-angle sampling
+  // of triangles will need it).
+  if (g.emitter < 0 || uint32_t(g.emitter) >= area_count_) return 0.0f;
+  const uint32_t i = uint32_t(g.emitter);
+  return picker_.pmf(i, ref) * std::get<AreaLight>(lights_[i]).pdf(ref.p, hit_p, hit_ng);
+}
+
+glm::vec3 LightSet::environment(glm::vec3 d) const {
+  glm::vec3 sum(0.0f);
+  for (uint32_t i : environment_) {
+    if (const auto* c = std::get_if<ConstantLight>(&lights_[i])) {
+      sum += c->radiance();
+    } else {
+      sum += std::get<EnvmapLight>(lights_[i]).radiance(d);
+    }
+  }
+  return sum;
+}
+
+float LightSet::environment_pdf(uint32_t i, glm::vec3 d) const {
+  if (const auto* c = std::get_if<ConstantLight>(&lights_[i])) return c->pdf();
+  return std::get<EnvmapLight>(lights_[i]).pdf(d);
+}
+
+float LightSet::pdf_environment(glm::vec3 d) const {
+  // The ref point does not matter to power picking; a contribution-based picker will need it
+  // here too.
+  const SurfacePoint nowhere{};
+  float pdf = 0;
+  for (uint32_t i : environment_) pdf += picker_.pmf(i, nowhere) * environment_pdf(i, d);
+  return pdf;
+}
+
+}  // namespace tessera

@@ -1,0 +1,82 @@
+// Every light of a scene, as the integrator sees them: one sample per shading point, the
+// radiance emitters send along rays that hit them or escape, and the densities MIS needs.
+#pragma once
+
+#include <cstdint>
+#include <variant>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "render/geometry.h"
+#include "render/light/area_light.h"
+#include "render/light/constant_light.h"
+#include "render/light/directional_light.h"
+#include "render/light/envmap_light.h"
+#include "render/light/light_picker.h"
+#include "render/light/light_sample.h"
+#include "render/light/point_light.h"
+#include "render/light/spot_light.h"
+#include "render/ray_offset.h"
+#include "scene/scene.h"
+#include "scene/scene_loader.h"
+
+namespace tessera {
+
+class LightSet {
+ public:
+  /// Builds every light of the scene.
+  /// - area_emitters: the Geometry of each emitting shape, in order, with
+  ///   area_emitters[i]->emitter == i (as traceable_scene.cpp numbers them); each must outlive
+  ///   the set. Textured radiance (Geometry::emission_texture) is looked up through `textures`.
+  /// - lights: Scene::lights (point, spot, directional, constant, envmap). Environment maps are
+  ///   decoded from the bytes `reader` returns for Light::file.
+  /// - scene_radius: radius of the geometry's bounding sphere; directional and environment
+  ///   lights count with their power through a disc of that radius when lights are picked.
+  /// Throws SceneError naming the light's origin (and file) for a bad light: an environment map
+  /// that cannot be decoded or holds NaN, infinite or negative texels, a spot light whose
+  /// beam_width exceeds its cutoff_angle.
+  LightSet(const std::vector<const Geometry*>& area_emitters, const std::vector<Light>& lights,
+           const FileReader& reader, const TextureLookup& textures, float scene_radius);
+
+  bool empty() const { return lights_.empty(); }
+
+  /// One light sample for ref (point + geometric normal for the offset): picks a light
+  /// (u_pick in [0,1)), then a point or direction on it (u in [0,1)^2). pdf == 0 means no
+  /// contribution. An environment light's sample carries the radiance of every environment
+  /// light along wi and their combined density (environment(), pdf_environment()), so that
+  /// the same density weighs a BSDF-sampled ray escaping along wi.
+  LightSample sample(const SurfacePoint& ref, float u_pick, glm::vec2 u) const;
+
+  /// Radiance leaving an emitting surface point of geometry g (primitive, uv; ng its
+  /// front-facing unit geometric normal) towards w. 0 for a geometry that does not emit.
+  glm::vec3 emitted(const Geometry& g, uint32_t primitive, glm::vec2 uv, glm::vec3 ng,
+                    glm::vec3 w) const;
+
+  /// Solid-angle pdf with which sample() from ref would have produced the point hit_p (normal
+  /// hit_ng, either orientation) on area emitter g, pick probability included: for MIS when a
+  /// BSDF-sampled ray hits it. 0 for a geometry that does not emit.
+  float pdf_area(const Geometry& g, uint32_t primitive, const SurfacePoint& ref, glm::vec3 hit_p,
+                 glm::vec3 hit_ng) const;
+
+  /// Radiance of every environment light (constant + envmaps) along escaping direction d (unit).
+  glm::vec3 environment(glm::vec3 d) const;
+  /// The density sample() gives direction d through the environment lights (pick
+  /// probabilities included).
+  float pdf_environment(glm::vec3 d) const;
+
+ private:
+  using AnyLight =
+      std::variant<AreaLight, PointLight, SpotLight, DirectionalLight, ConstantLight, EnvmapLight>;
+
+  /// Solid-angle density of environment light i (constant or envmap) for direction d.
+  float environment_pdf(uint32_t i, glm::vec3 d) const;
+
+  std::vector<AnyLight> lights_;          ///< area lights first: lights_[i] is area emitter i
+  uint32_t area_count_ = 0;
+  std::vector<uint32_t> environment_;     ///< indices of constant and envmap lights
+  LightPicker picker_;
+};
+
+}  // namespace tessera

@@ -1,0 +1,196 @@
+// The packet tracer gives the same bits whatever its packet width, and the same hits as
+// single-ray queries, on the repository's scenes and on exact spheres.
+#include "packet_tracer.h"
+
+#include <bit>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "scene/scene_loader.h"
+#include "standalone_embree_scene.h"
+#include "test_scenes.h"
+#include "warp.h"
+
+namespace tessera {
+namespace {
+
+struct Bounds {
+  glm::vec3 lo{INFINITY}, hi{-INFINITY};
+};
+
+Bounds scene_bounds(const Scene& s) {
+  Bounds b;
+  for (const Shape& sh : s.shapes) {
+    if (sh.kind == Shape::Kind::sphere) {
+      b.lo = glm::min(b.lo, glm::vec3(sh.center - sh.radius));
+      b.hi = glm::max(b.hi, glm::vec3(sh.center + sh.radius));
+    }
+    for (const glm::dvec3& p : sh.positions) {
+      b.lo = glm::min(b.lo, glm::vec3(p));
+      b.hi = glm::max(b.hi, glm::vec3(p));
+    }
+  }
+  return b;
+}
+
+/// `count` rays: half from random points of the (slightly grown) scene box in uniform
+/// directions, half leaving the hit points of those rays (found with rtcIntersect1) from the
+/// surface itself, so ties at t near 0 are exercised; a quarter have a finite t_max, one in
+/// eleven is inactive.
+RayBatch random_rays(const StandaloneEmbreeScene& scene, const Bounds& b, size_t count, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const glm::vec3 size = b.hi - b.lo;
+  const float diagonal = glm::length(size);
+  PacketTracer single(scene.scene(), 1);
+  RayBatch rays;
+  rays.resize(count);
+  HitBatch hit;
+  hit.resize(1);
+  for (size_t i = 0; i < count; ++i) {
+    Ray r;
+    r.o = b.lo - 0.1f * size + 1.2f * size * glm::vec3(u(rng), u(rng), u(rng));
+    r.d = square_to_uniform_sphere({u(rng), u(rng)});
+    if (i % 2 == 1) {
+      // From the previous ray's hit point, if it hit something.
+      const Ray prev = rays.get(i - 1);
+      RayBatch one;
+      one.resize(1);
+      one.set(0, {prev.o, prev.d});
+      single.intersect(one, 0, 1, &hit);
+      if (hit.geometry[0] != RTC_INVALID_GEOMETRY_ID) r.o = prev.o + hit.t[0] * prev.d;
+    }
+    if (u(rng) < 0.25f) r.t_max = u(rng) * diagonal;
+    rays.set(i, r);
+    rays.active[i] = i % 11 == 5 ? 0 : 1;
+  }
+  return rays;
+}
+
+uint32_t bits(float x) { return std::bit_cast<uint32_t>(x); }
+
+/// Traces `rays` at every width (in ranges that do not start on a packet boundary) and expects
+/// the same bits as width 1. Returns how many rays hit a sphere.
+int expect_same_at_every_width(const StandaloneEmbreeScene& scene, const RayBatch& rays, const std::string& name) {
+  const size_t n = rays.size();
+  HitBatch reference;
+  reference.resize(n);
+  std::vector<uint8_t> reference_blocked(n);
+  const PacketTracer single(scene.scene(), 1);
+  single.intersect(rays, 0, n, &reference);
+  single.occluded(rays, 0, n, &reference_blocked);
+  int sphere_hits = 0, blocked = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t g = reference.geometry[i];
+    if (g != RTC_INVALID_GEOMETRY_ID && scene.geometry(g).kind == Geometry::Kind::sphere) ++sphere_hits;
+    blocked += reference_blocked[i];
+    if (!rays.active[i]) {
+      EXPECT_EQ(g, RTC_INVALID_GEOMETRY_ID) << name << " inactive ray " << i;
+      EXPECT_EQ(reference_blocked[i], 0) << name << " inactive ray " << i;
+    }
+  }
+  EXPECT_GT(blocked, 0) << name;
+  for (int width : {4, 8, 16}) {
+    const PacketTracer tracer(scene.scene(), width);
+    HitBatch hits;
+    hits.resize(n);
+    std::vector<uint8_t> occluded(n, 7);
+    // Three ranges, the middle one starting off a packet boundary and ending in a short tail.
+    const size_t cut1 = 3, cut2 = n - 5;
+    for (auto [begin, end] : {std::pair{size_t(0), cut1}, {cut1, cut2}, {cut2, n}}) {
+      tracer.intersect(rays, begin, end, &hits);
+      tracer.occluded(rays, begin, end, &occluded);
+    }
+    int differences = 0;
+    for (size_t i = 0; i < n && differences < 5; ++i) {
+      const bool same = hits.geometry[i] == reference.geometry[i] && occluded[i] == reference_blocked[i] &&
+                        (hits.geometry[i] == RTC_INVALID_GEOMETRY_ID ||
+                         (hits.primitive[i] == reference.primitive[i] && bits(hits.t[i]) == bits(reference.t[i]) &&
+                          bits(hits.u[i]) == bits(reference.u[i]) && bits(hits.v[i]) == bits(reference.v[i]) &&
+                          bits(hits.ng_x[i]) == bits(reference.ng_x[i]) &&
+                          bits(hits.ng_y[i]) == bits(reference.ng_y[i]) &&
+                          bits(hits.ng_z[i]) == bits(reference.ng_z[i])));
+      if (!same) {
+        ++differences;
+        ADD_FAILURE() << name << ", width " << width << ", ray " << i << ": geometry " << hits.geometry[i]
+                      << " primitive " << hits.primitive[i] << " t " << hits.t[i] << " u " << hits.u[i]
+                      << " v " << hits.v[i] << " occluded " << int(occluded[i]) << "; width 1: geometry "
+                      << reference.geometry[i] << " primitive " << reference.primitive[i] << " t "
+                      << reference.t[i] << " u " << reference.u[i] << " v " << reference.v[i] << " occluded "
+                      << int(reference_blocked[i]);
+      }
+    }
+  }
+  return sphere_hits;
+}
+
+class PacketTracerScenes : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(PacketTracerScenes, EveryWidthGivesTheSameBits) {
+  const Scene s = load_scene_file(std::string(TESSERA_SOURCE_DIR) + "/scenes/" + GetParam());
+  for (const std::string isa : {"", "avx2", "sse4.2"}) {
+    const StandaloneEmbreeScene scene(s, isa);
+    const RayBatch rays = random_rays(scene, scene_bounds(s), 20000, 3);
+    expect_same_at_every_width(scene, rays, std::string(GetParam()) + " isa '" + isa + "'");
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, PacketTracerScenes,
+                         ::testing::Values("cornell.json", "cornell-sphere.json", "hexroom.json", "bunny.json"));
+
+TEST(PacketTracer, SpheresGiveTheSameBitsAtEveryWidth) {
+  // Spheres of several sizes overlapping a box; the user-geometry callbacks see N = 4, 8, 16.
+  Scene s;
+  const uint32_t m = test::add_diffuse(s, {0.5, 0.5, 0.5});
+  s.shapes.push_back(test::box({-2, -2, -2}, {2, 2, 2}, m, true));
+  s.shapes.push_back(test::sphere({0.3, -0.4, 0.2}, 1.1, m));
+  s.shapes.push_back(test::sphere({-1.2, 1.0, -0.5}, 0.4, m));
+  s.shapes.push_back(test::sphere({1.0, 1.0, 1.0}, 0.05, m));
+  s.shapes.push_back(test::sphere({0.0, 0.0, 0.0}, 1.9, m, true));
+  const StandaloneEmbreeScene scene(s, "");
+  const RayBatch rays = random_rays(scene, scene_bounds(s), 20000, 11);
+  EXPECT_GT(expect_same_at_every_width(scene, rays, "spheres"), 5000);
+}
+
+TEST(PacketTracer, InactiveAndTailRaysAreNotTraced) {
+  Scene s;
+  const uint32_t m = test::add_diffuse(s, {0.5, 0.5, 0.5});
+  s.shapes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, m, true));
+  const StandaloneEmbreeScene scene(s, "");
+  RayBatch rays;
+  rays.resize(21);
+  for (size_t i = 0; i < rays.size(); ++i) rays.set(i, {{0, 0, 0}, {0, 0, 1}});
+  rays.active[2] = 0;
+  for (int width : {1, 4, 8, 16}) {
+    const PacketTracer tracer(scene.scene(), width);
+    HitBatch hits;
+    hits.resize(rays.size());
+    std::vector<uint8_t> occluded(rays.size(), 0);
+    tracer.intersect(rays, 1, 20, &hits);
+    tracer.occluded(rays, 1, 20, &occluded);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const bool traced = i >= 1 && i < 20 && i != 2;
+      EXPECT_EQ(hits.geometry[i] != RTC_INVALID_GEOMETRY_ID, traced) << "width " << width << " ray " << i;
+      EXPECT_EQ(occluded[i], traced ? 1 : 0) << "width " << width << " ray " << i;
+      if (traced) {
+        EXPECT_EQ(hits.t[i], 1.0f) << "width " << width << " ray " << i;
+      }
+    }
+  }
+}
+
+TEST(PacketTracer, RefusesWidthsEmbreeHasNoQueryFor) {
+  Scene s;
+  const uint32_t m = test::add_diffuse(s, {0.5, 0.5, 0.5});
+  s.shapes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, m, true));
+  const StandaloneEmbreeScene scene(s, "");
+  EXPECT_THROW(PacketTracer(scene.scene(), 2), std::invalid_argument);
+  EXPECT_THROW(PacketTracer(scene.scene(), 32), std::invalid_argument);
+  const int native = PacketTracer::native_width(scene.device());
+  EXPECT_TRUE(native == 4 || native == 8 || native == 16) << native;
+}
+
+}  // namespace
+}  // namespace tessera
