@@ -117,8 +117,9 @@ TexelImage decode_texel_image(const std::string& bytes, const std::string& file,
   if (!read) fail(origin, file, "cannot decode image: " + in->geterror());
 
   const bool decode_srgb = integer && color_space == TextureColorSpace::srgb;
-  // Mitsuba stores images of at most 16 bits per channel in half precision.
-  const bool to_half = format.size() <= 2;
+  // Mitsuba 3.9 keeps 8-bit codes (decoding them to float at each fetch) and stores 16-bit
+  // images in half precision (measured with worker/render/texture/mitsuba_reference.py).
+  const bool to_half = format.basetype == OIIO::TypeDesc::UINT16 || format.basetype == OIIO::TypeDesc::HALF;
 
   TexelImage image;
   image.width = spec.width;

@@ -26,7 +26,8 @@ struct TexelImage {
 ///  - Y and YA images keep one channel, RGB and RGBA three; alpha is dropped unchanged (never
 ///    premultiplied); other channel counts are refused;
 ///  - 8- and 16-bit images are sRGB-decoded when `color_space` is srgb, divided by their
-///    maximum code otherwise, then rounded to half precision (Mitsuba stores them as fp16);
+///    maximum code otherwise; 16-bit values are then rounded to half precision, as Mitsuba 3.9
+///    stores them (it keeps 8-bit codes and decodes each texel to float when it fetches it);
 ///  - float images (EXR, HDR) are used as stored, whatever `color_space` says;
 ///  - an image narrower or lower than 2 texels is widened to 2 by repeating its column or row
 ///    (what Mitsuba's tent resampling to 2x2 yields for a single column or row).

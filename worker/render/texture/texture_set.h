@@ -20,7 +20,7 @@ namespace tessera {
 /// BitmapTexture and Checkerboard) and are deterministic: the same bits on every machine.
 ///
 /// Bitmaps are decoded once into texel arrays this set owns rather than served by
-/// OpenImageIO's TextureSystem: Mitsuba sRGB-decodes (and rounds to half) every texel before it
+/// OpenImageIO's TextureSystem: Mitsuba sRGB-decodes every texel before it
 /// interpolates, while the TextureSystem of OpenImageIO 2.4 filters the stored 8-bit codes and
 /// has no per-texel colour decoding; its bilinear weights, wrap modes and derivatives are not
 /// Dr.Jit's either. Mitsuba has no ray differentials, so the TextureSystem's MIP-mapping would
