@@ -25,8 +25,10 @@ double reference_profile(const PixelFilter& f, double x) {
   const double ax = std::abs(x);
   if (ax > f.radius) return 0;
   switch (f.kind) {
-    case FilterKind::box: return 1;
-    case FilterKind::tent: return 1 - ax / f.radius;
+    case FilterKind::box:
+      return 1;
+    case FilterKind::tent:
+      return 1 - ax / f.radius;
     case FilterKind::gaussian: {
       const double a = -1 / (2 * f.stddev * f.stddev);
       return std::max(0.0, std::exp(a * x * x) - std::exp(a * f.radius * f.radius));
@@ -109,10 +111,12 @@ void expect_histogram_matches(const PixelFilter& f) {
   std::vector<double> observed(size_t(bins * bins), 0), expected(size_t(bins * bins), 0);
   std::vector<double> p1(static_cast<size_t>(bins));
   for (int b = 0; b < bins; ++b) {
-    p1[size_t(b)] = integrate(f, -r + 2 * r * b / bins, -r + 2 * r * (b + 1) / bins, 0, 2000) / total;
+    p1[size_t(b)] =
+        integrate(f, -r + 2 * r * b / bins, -r + 2 * r * (b + 1) / bins, 0, 2000) / total;
   }
   for (int by = 0; by < bins; ++by)
-    for (int bx = 0; bx < bins; ++bx) expected[size_t(by * bins + bx)] = n * p1[size_t(bx)] * p1[size_t(by)];
+    for (int bx = 0; bx < bins; ++bx)
+      expected[size_t(by * bins + bx)] = n * p1[size_t(bx)] * p1[size_t(by)];
   Uniform uniform(0x5eed + uint64_t(f.kind));
   for (int i = 0; i < n; ++i) {
     const glm::vec2 d = sampler.sample({float(uniform()), float(uniform())});
@@ -220,7 +224,9 @@ TEST(PixelFilter, TheRendererSamplesTheScenesFilter) {
   const std::vector<double> b = render(box());
   // Which side is lit depends on the camera's handedness; the box tells.
   const bool left_lit = b[0] > 0.5;
-  const auto pixel = [&](const std::vector<double>& p, int k) { return left_lit ? p[size_t(4 + k)] : p[size_t(3 - k)]; };
+  const auto pixel = [&](const std::vector<double>& p, int k) {
+    return left_lit ? p[size_t(4 + k)] : p[size_t(3 - k)];
+  };
   for (int k = 0; k < 4; ++k) {
     EXPECT_EQ(pixel(b, k), 0.0) << k;
     EXPECT_EQ(pixel(b, -1 - k), 1.0) << k;

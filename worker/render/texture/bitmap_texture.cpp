@@ -50,8 +50,9 @@ BitmapTexture::Footprint BitmapTexture::bilinear_footprint(glm::vec2 uv_image) c
   const float px = uv_image.x * float(image_.width) - 0.5f;
   const float py = uv_image.y * float(image_.height) - 0.5f;
   const int ix = floor_to_int(px), iy = floor_to_int(py);
-  return {wrap(ix, image_.width), wrap(ix + 1, image_.width), wrap(iy, image_.height),
-          wrap(iy + 1, image_.height), px - float(ix), py - float(iy)};
+  return {wrap(ix, image_.width),  wrap(ix + 1, image_.width),
+          wrap(iy, image_.height), wrap(iy + 1, image_.height),
+          px - float(ix),          py - float(iy)};
 }
 
 glm::vec3 BitmapTexture::eval(glm::vec2 uv) const {

@@ -58,6 +58,8 @@ class BitmapTexture {
 };
 
 /// Luminance of linear Rec. 709 RGB with Mitsuba's coefficients (its eval_1 of RGB textures).
-inline float mitsuba_luminance(glm::vec3 c) { return c.x * 0.212671f + c.y * 0.715160f + c.z * 0.072169f; }
+inline float mitsuba_luminance(glm::vec3 c) {
+  return c.x * 0.212671f + c.y * 0.715160f + c.z * 0.072169f;
+}
 
 }  // namespace tessera

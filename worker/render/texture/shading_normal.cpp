@@ -21,7 +21,8 @@ bool normalize_checked(glm::vec3 v, glm::vec3* out) {
 /// The shading frame (s, t, ns) Mitsuba's adapters perturb.
 struct ShadingFrame {
   glm::vec3 s, t, n;
-  ShadingFrame(glm::vec3 dpdu, glm::vec3 ns) : s(shading_tangent(dpdu, ns)), t(glm::cross(ns, s)), n(ns) {}
+  ShadingFrame(glm::vec3 dpdu, glm::vec3 ns)
+      : s(shading_tangent(dpdu, ns)), t(glm::cross(ns, s)), n(ns) {}
   glm::vec3 to_local(glm::vec3 v) const { return {glm::dot(v, s), glm::dot(v, t), glm::dot(v, n)}; }
   glm::vec3 to_world(glm::vec3 v) const { return s * v.x + t * v.y + n * v.z; }
 };
@@ -33,7 +34,8 @@ glm::vec3 flip_invalid(glm::vec3 m_local, glm::vec3 wi_local) {
   return m_local;
 }
 
-glm::vec3 normal_mapped_impl(glm::vec3 texel_rgb, glm::vec3 dpdu, glm::vec3 ns, const glm::vec3* wi) {
+glm::vec3 normal_mapped_impl(glm::vec3 texel_rgb, glm::vec3 dpdu, glm::vec3 ns,
+                             const glm::vec3* wi) {
   const ShadingFrame frame(dpdu, ns);
   glm::vec3 m = texel_rgb * 2.0f - 1.0f;
   if (wi) m = flip_invalid(m, frame.to_local(*wi));
@@ -62,11 +64,13 @@ glm::vec3 shading_tangent(glm::vec3 dpdu, glm::vec3 ns) {
   // direction would be arbitrary.
   const glm::vec3 tangential = dpdu - ns * glm::dot(ns, dpdu);
   glm::vec3 s;
-  if (glm::length(tangential) > 1e-5f * glm::length(dpdu) && normalize_checked(tangential, &s)) return s;
+  if (glm::length(tangential) > 1e-5f * glm::length(dpdu) && normalize_checked(tangential, &s))
+    return s;
   return Frame(ns).s;
 }
 
-glm::vec3 normal_mapped(glm::vec3 texel_rgb, glm::vec3 dpdu, glm::vec3 /*dpdv*/, glm::vec3 ns, glm::vec3 wi) {
+glm::vec3 normal_mapped(glm::vec3 texel_rgb, glm::vec3 dpdu, glm::vec3 /*dpdv*/, glm::vec3 ns,
+                        glm::vec3 wi) {
   return normal_mapped_impl(texel_rgb, dpdu, ns, &wi);
 }
 

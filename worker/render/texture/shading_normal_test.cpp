@@ -32,10 +32,11 @@ TEST(ShadingNormal, TangentIsDpduMadeOrthogonalToTheNormal) {
 
 TEST(ShadingNormal, NormalMapTexelsMapToTheShadingFrame) {
   const glm::vec3 dpdu(2, 0, 0.5f), dpdv(0, 3, 0), ns(0, 0, 1);
-  expect_near(normal_mapped({0.5f, 0.5f, 1.0f}, dpdu, dpdv, ns), ns);            // flat
-  expect_near(normal_mapped({1.0f, 0.5f, 0.5f}, dpdu, dpdv, ns), {1, 0, 0});     // along +u
-  expect_near(normal_mapped({0.5f, 1.0f, 0.5f}, dpdu, dpdv, ns), {0, 1, 0});     // ns x s
-  expect_near(normal_mapped({1.0f, 0.5f, 1.0f}, dpdu, dpdv, ns), glm::normalize(glm::vec3(1, 0, 1)));
+  expect_near(normal_mapped({0.5f, 0.5f, 1.0f}, dpdu, dpdv, ns), ns);         // flat
+  expect_near(normal_mapped({1.0f, 0.5f, 0.5f}, dpdu, dpdv, ns), {1, 0, 0});  // along +u
+  expect_near(normal_mapped({0.5f, 1.0f, 0.5f}, dpdu, dpdv, ns), {0, 1, 0});  // ns x s
+  expect_near(normal_mapped({1.0f, 0.5f, 1.0f}, dpdu, dpdv, ns),
+              glm::normalize(glm::vec3(1, 0, 1)));
   // Mid-grey maps to no direction: the shading normal stays.
   expect_near(normal_mapped({0.5f, 0.5f, 0.5f}, dpdu, dpdv, ns), ns);
 }
@@ -47,7 +48,8 @@ TEST(ShadingNormal, NormalMapIsEquivariantUnderRotation) {
     const glm::vec3 ns = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)));
     const glm::vec3 dpdu(u(rng), u(rng), u(rng)), dpdv(u(rng), u(rng), u(rng));
     const glm::vec3 texel(t(rng), t(rng), 0.5f + 0.5f * t(rng));
-    const glm::mat3 r(glm::rotate(glm::mat4(1), 2.0f * u(rng), glm::normalize(glm::vec3(u(rng), u(rng), 1))));
+    const glm::mat3 r(
+        glm::rotate(glm::mat4(1), 2.0f * u(rng), glm::normalize(glm::vec3(u(rng), u(rng), 1))));
     const glm::vec3 n = normal_mapped(texel, dpdu, dpdv, ns);
     expect_near(normal_mapped(texel, r * dpdu, r * dpdv, r * ns), r * n, 1e-4f);
     EXPECT_NEAR(glm::length(n), 1, 1e-5f);
@@ -62,11 +64,14 @@ TEST(ShadingNormal, BumpMapIsTheNormalOfTheDisplacedSurface) {
   // (-scale dh/du, -scale dh/dv, 1), normalised.
   const glm::vec3 dpdu(1, 0, 0), dpdv(0, 1, 0), ns(0, 0, 1);
   expect_near(bump_mapped({0, 0}, 1, dpdu, dpdv, ns, ns), ns);
-  expect_near(bump_mapped({0.5f, -2}, 0.3f, dpdu, dpdv, ns, ns), glm::normalize(glm::vec3(-0.15f, 0.6f, 1)));
+  expect_near(bump_mapped({0.5f, -2}, 0.3f, dpdu, dpdv, ns, ns),
+              glm::normalize(glm::vec3(-0.15f, 0.6f, 1)));
   // A parametrisation stretched along u: the same height slope per unit length tilts alike.
-  expect_near(bump_mapped({1.0f, 0}, 1, {2, 0, 0}, dpdv, ns, ns), glm::normalize(glm::vec3(-0.5f, 0, 1)));
+  expect_near(bump_mapped({1.0f, 0}, 1, {2, 0, 0}, dpdv, ns, ns),
+              glm::normalize(glm::vec3(-0.5f, 0, 1)));
   // Turned to the side of the geometric normal.
-  expect_near(bump_mapped({0.5f, -2}, 0.3f, dpdu, dpdv, ns, {0, 0, -1}), -glm::normalize(glm::vec3(-0.15f, 0.6f, 1)));
+  expect_near(bump_mapped({0.5f, -2}, 0.3f, dpdu, dpdv, ns, {0, 0, -1}),
+              -glm::normalize(glm::vec3(-0.15f, 0.6f, 1)));
   // No parametrisation: the shading normal stays.
   expect_near(bump_mapped({0.5f, 1}, 1, glm::vec3(0), glm::vec3(0), ns, ns), ns);
 }
@@ -83,7 +88,8 @@ TEST(ShadingNormal, BumpMapMatchesFiniteDifferencesOnACurvedPatch) {
     for (float v = -1; v < 1; v += 0.29f) {
       const float scale = 1.5f;
       const glm::vec3 dpdu(-2 * std::sin(u), 2 * std::cos(u), 0), dpdv(0, 0, 1);
-      const glm::vec2 grad(0.3f * std::cos(3 * u) * std::cos(2 * v), -0.2f * std::sin(3 * u) * std::sin(2 * v));
+      const glm::vec2 grad(0.3f * std::cos(3 * u) * std::cos(2 * v),
+                           -0.2f * std::sin(3 * u) * std::sin(2 * v));
       const glm::vec3 n = bump_mapped(grad, scale, dpdu, dpdv, n_at(u), n_at(u));
       const float e = 1e-2f;
       const auto q = [&](float uu, float vv) { return p(uu, vv) + scale * h(uu, vv) * n_at(u); };
@@ -94,10 +100,10 @@ TEST(ShadingNormal, BumpMapMatchesFiniteDifferencesOnACurvedPatch) {
 }
 
 struct MitsubaShading {
-  int kind;        ///< 0 normal map, 1 bump map
-  float a, b, c;   ///< texel rgb, or the height's (d/du, d/dv) and the bump scale
+  int kind;       ///< 0 normal map, 1 bump map
+  float a, b, c;  ///< texel rgb, or the height's (d/du, d/dv) and the bump scale
   float dpdu[3], dpdv[3], ns[3], ng[3], wi[3], wo[3];
-  float value;     ///< Mitsuba's diffuse value * pi / reflectance
+  float value;  ///< Mitsuba's diffuse value * pi / reflectance
 };
 
 /// Mitsuba 3's normalmap and bumpmap adapters (defaults: flip_invalid_normals and
@@ -121,12 +127,15 @@ TEST(ShadingNormal, MatchesMitsubasAdapters) {
   int normal_maps = 0, bump_maps = 0, flipped = 0, shadowed = 0, zero = 0;
   for (const MitsubaShading& m : kMitsuba) {
     const glm::vec3 ns = v3(m.ns), wi = v3(m.wi), wo = v3(m.wo);
-    const glm::vec3 n = m.kind == 0 ? normal_mapped({m.a, m.b, m.c}, v3(m.dpdu), v3(m.dpdv), ns, wi)
-                                    : bump_mapped({m.a, m.b}, m.c, v3(m.dpdu), v3(m.dpdv), ns, v3(m.ng), wi);
-    const glm::vec3 unflipped = m.kind == 0 ? normal_mapped({m.a, m.b, m.c}, v3(m.dpdu), v3(m.dpdv), ns)
-                                            : bump_mapped({m.a, m.b}, m.c, v3(m.dpdu), v3(m.dpdv), ns, v3(m.ng));
+    const glm::vec3 n =
+        m.kind == 0 ? normal_mapped({m.a, m.b, m.c}, v3(m.dpdu), v3(m.dpdv), ns, wi)
+                    : bump_mapped({m.a, m.b}, m.c, v3(m.dpdu), v3(m.dpdv), ns, v3(m.ng), wi);
+    const glm::vec3 unflipped =
+        m.kind == 0 ? normal_mapped({m.a, m.b, m.c}, v3(m.dpdu), v3(m.dpdv), ns)
+                    : bump_mapped({m.a, m.b}, m.c, v3(m.dpdu), v3(m.dpdv), ns, v3(m.ng));
     EXPECT_NEAR(adapted_diffuse(n, ns, wi, wo), m.value, 2e-6f)
-        << "kind " << m.kind << " " << m.a << " " << m.b << " " << m.c << " wi " << wi.x << "," << wi.y << "," << wi.z;
+        << "kind " << m.kind << " " << m.a << " " << m.b << " " << m.c << " wi " << wi.x << ","
+        << wi.y << "," << wi.z;
     (m.kind == 0 ? normal_maps : bump_maps) += 1;
     flipped += glm::dot(n, unflipped) < 0.9999f;
     shadowed += shadow_terminator(n, ns, wo) < 0.999f;

@@ -13,7 +13,8 @@
 namespace tessera {
 namespace {
 
-[[noreturn]] void fail(const std::string& origin, const std::string& file, const std::string& what) {
+[[noreturn]] void fail(const std::string& origin, const std::string& file,
+                       const std::string& what) {
   throw SceneError(origin + ": " + file + ": " + what);
 }
 
@@ -71,7 +72,8 @@ TexelImage widen_to_2x2(const TexelImage& image) {
   for (int y = 0; y < out.height; ++y) {
     for (int x = 0; x < out.width; ++x) {
       const float* src = image.texel(std::min(x, image.width - 1), std::min(y, image.height - 1));
-      float* dst = out.texels.data() + (size_t(y) * size_t(out.width) + size_t(x)) * size_t(out.channels);
+      float* dst =
+          out.texels.data() + (size_t(y) * size_t(out.width) + size_t(x)) * size_t(out.channels);
       for (int c = 0; c < out.channels; ++c) dst[c] = src[c];
     }
   }
@@ -97,13 +99,15 @@ TexelImage decode_texel_image(const std::string& bytes, const std::string& file,
 
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1) {
-    fail(origin, file, "the image has no pixels (" + std::to_string(spec.width) + "x" +
-                           std::to_string(spec.height) + ")");
+    fail(origin, file,
+         "the image has no pixels (" + std::to_string(spec.width) + "x" +
+             std::to_string(spec.height) + ")");
   }
   const int kept = kept_channels(spec.nchannels);
   if (kept == 0) {
-    fail(origin, file, "unsupported channel count " + std::to_string(spec.nchannels) +
-                           " (expected Y, YA, RGB or RGBA)");
+    fail(origin, file,
+         "unsupported channel count " + std::to_string(spec.nchannels) +
+             " (expected Y, YA, RGB or RGBA)");
   }
   const OIIO::TypeDesc format = storage_format(spec);
   // Integer images of up to 16 bits are read as 16-bit codes (OpenImageIO widens 8-bit code k
@@ -112,14 +116,16 @@ TexelImage decode_texel_image(const std::string& bytes, const std::string& file,
   const size_t values = size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels);
   std::vector<uint16_t> codes(integer ? values : 0);
   std::vector<float> floats(integer ? 0 : values);
-  const bool read = integer ? in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT16, codes.data())
-                            : in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, floats.data());
+  const bool read =
+      integer ? in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT16, codes.data())
+              : in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, floats.data());
   if (!read) fail(origin, file, "cannot decode image: " + in->geterror());
 
   const bool decode_srgb = integer && color_space == TextureColorSpace::srgb;
   // Mitsuba 3.9 keeps 8-bit codes (decoding them to float at each fetch) and stores 16-bit
   // images in half precision (measured with worker/render/texture/mitsuba_reference.py).
-  const bool to_half = format.basetype == OIIO::TypeDesc::UINT16 || format.basetype == OIIO::TypeDesc::HALF;
+  const bool to_half =
+      format.basetype == OIIO::TypeDesc::UINT16 || format.basetype == OIIO::TypeDesc::HALF;
 
   TexelImage image;
   image.width = spec.width;

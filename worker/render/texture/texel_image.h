@@ -30,7 +30,7 @@ struct TexelImage {
 ///    stores them (it keeps 8-bit codes and decodes each texel to float when it fetches it);
 ///  - float images (EXR, HDR) are used as stored, whatever `color_space` says;
 ///  - an image narrower or lower than 2 texels is widened to 2 by repeating its column or row
-///    (what Mitsuba's tent resampling to 2x2 yields for a single column or row).
+///    (as Mitsuba 3.9 pads such images).
 /// Throws SceneError("<origin>: <file>: ...") when the bytes cannot be decoded, the image has no
 /// pixels or an unsupported channel count, or a texel is NaN, infinite or negative.
 TexelImage decode_texel_image(const std::string& bytes, const std::string& file,

@@ -32,7 +32,8 @@ TextureSet::TextureSet(const std::vector<Texture>& textures, const FileReader& r
         textures_.emplace_back(open_bitmap(t, reader));
         break;
       case TextureKind::checkerboard:
-        textures_.emplace_back(Checkerboard(to_float(t.color0), to_float(t.color1), UvTransform::from(t.to_uv)));
+        textures_.emplace_back(
+            Checkerboard(to_float(t.color0), to_float(t.color1), UvTransform::from(t.to_uv)));
         break;
     }
   }

@@ -40,8 +40,8 @@ Texture bitmap(const std::string& file, TextureWrap wrap = TextureWrap::repeat,
 }
 
 /// 3x2 RGB, 8 bits: row 0 is the top row of the file.
-const std::vector<uint8_t> kRgb8 = {0,  0,  0,  128, 64,  255, 255, 255, 255,   // row 0
-                                    10, 20, 30, 200, 100, 50,  1,   2,   3};    // row 1
+const std::vector<uint8_t> kRgb8 = {0,  0,  0,  128, 64,  255, 255, 255, 255,  // row 0
+                                    10, 20, 30, 200, 100, 50,  1,   2,   3};   // row 1
 
 /// 3x2 one channel, float: linear values kept exactly (0.1 is not a half).
 const std::vector<float> kWrap = {0.1f, 2, 3,   // row 0
@@ -54,7 +54,9 @@ std::map<std::string, std::string> test_files() {
   };
 }
 
-glm::vec2 centre(int x, int y, int w, int h) { return {(float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h)}; }
+glm::vec2 centre(int x, int y, int w, int h) {
+  return {(float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h)};
+}
 
 TEST(TextureSet, EightBitSrgbTexelsAreDecoded) {
   const TextureSet set({bitmap("rgb8.png")}, memory_reader(test_files()));
@@ -74,9 +76,11 @@ TEST(TextureSet, EightBitSrgbTexelsAreDecoded) {
 }
 
 TEST(TextureSet, RawEightBitTexelsAreCodesOver255) {
-  const TextureSet set({bitmap("rgb8.png", TextureWrap::repeat, TextureFilter::bilinear, TextureColorSpace::linear)},
-                       memory_reader(test_files()));
-  EXPECT_EQ(set.lookup(0, centre(1, 1, 3, 2)), glm::vec3(float(200 / 255.0), float(100 / 255.0), float(50 / 255.0)));
+  const TextureSet set(
+      {bitmap("rgb8.png", TextureWrap::repeat, TextureFilter::bilinear, TextureColorSpace::linear)},
+      memory_reader(test_files()));
+  EXPECT_EQ(set.lookup(0, centre(1, 1, 3, 2)),
+            glm::vec3(float(200 / 255.0), float(100 / 255.0), float(50 / 255.0)));
 }
 
 TEST(TextureSet, BilinearInterpolatesBetweenTexelCentres) {
@@ -94,10 +98,11 @@ TEST(TextureSet, SixteenBitAndAlphaImages) {
   const std::vector<uint16_t> y16 = {0, 32768, 65535, 1000};
   const std::vector<uint8_t> rgba = {200, 100, 50, 0, 10, 20, 30, 255, 1, 2, 3, 128, 4, 5, 6, 7};
   const std::vector<uint8_t> ya = {128, 0, 255, 255, 0, 10, 64, 200};
-  const TextureSet set({bitmap("y16.png"), bitmap("rgba.png"), bitmap("ya.png")},
-                       memory_reader({{"y16.png", encode_image("y16.png", 2, 2, 1, y16, OIIO::TypeDesc::UINT16)},
-                                      {"rgba.png", encode_image("rgba.png", 2, 2, 4, rgba, OIIO::TypeDesc::UINT8)},
-                                      {"ya.png", encode_image("ya.png", 2, 2, 2, ya, OIIO::TypeDesc::UINT8)}}));
+  const TextureSet set(
+      {bitmap("y16.png"), bitmap("rgba.png"), bitmap("ya.png")},
+      memory_reader({{"y16.png", encode_image("y16.png", 2, 2, 1, y16, OIIO::TypeDesc::UINT16)},
+                     {"rgba.png", encode_image("rgba.png", 2, 2, 4, rgba, OIIO::TypeDesc::UINT8)},
+                     {"ya.png", encode_image("ya.png", 2, 2, 2, ya, OIIO::TypeDesc::UINT8)}}));
   const float y = half_of(srgb_to_linear(32768 / 65535.0));
   EXPECT_EQ(set.lookup(0, centre(1, 0, 2, 2)), glm::vec3(y));
   EXPECT_EQ(set.lookup_1(0, centre(1, 1, 2, 2)), half_of(srgb_to_linear(1000 / 65535.0)));
@@ -108,8 +113,9 @@ TEST(TextureSet, SixteenBitAndAlphaImages) {
 }
 
 TEST(TextureSet, FloatImagesAreUsedAsStoredEvenWhenMarkedSrgb) {
-  const TextureSet set({bitmap("wrap.exr", TextureWrap::repeat, TextureFilter::nearest, TextureColorSpace::srgb)},
-                       memory_reader(test_files()));
+  const TextureSet set(
+      {bitmap("wrap.exr", TextureWrap::repeat, TextureFilter::nearest, TextureColorSpace::srgb)},
+      memory_reader(test_files()));
   EXPECT_EQ(set.lookup(0, centre(0, 0, 3, 2)), glm::vec3(0.1f));
   EXPECT_EQ(set.lookup(0, centre(2, 1, 3, 2)), glm::vec3(6.0f));
 }
@@ -126,14 +132,14 @@ TEST(TextureSet, NearestLookupsWrapLikeMitsuba) {
   };
   // Row 0 is 0.1 2 3, row 1 is 4 5 6. u * 3 and v * 2 select the texel.
   const Case cases[] = {
-      {{sixth, 0.25f}, 0.1f, 0.1f, 0.1f},          // texel (0, 0)
-      {{-sixth, 0.25f}, 3, 0.1f, 0.1f},            // x = -1: wraps to 2, mirrors to 0
-      {{1 + sixth, 0.25f}, 0.1f, 3, 3},            // x = 3: period 1
-      {{2 + sixth, 0.25f}, 0.1f, 0.1f, 3},         // x = 6: period 2 (mirror back to normal)
-      {{-1 - sixth, 0.25f}, 3, 3, 0.1f},           // x = -4: period -2
-      {{0.5f, 0.75f}, 5, 5, 5},                    // texel (1, 1)
-      {{0.5f, -0.25f}, 5, 2, 2},                   // y = -1
-      {{0.5f, 1.25f}, 2, 5, 5},                    // y = 2
+      {{sixth, 0.25f}, 0.1f, 0.1f, 0.1f},   // texel (0, 0)
+      {{-sixth, 0.25f}, 3, 0.1f, 0.1f},     // x = -1: wraps to 2, mirrors to 0
+      {{1 + sixth, 0.25f}, 0.1f, 3, 3},     // x = 3: period 1
+      {{2 + sixth, 0.25f}, 0.1f, 0.1f, 3},  // x = 6: period 2 (mirror back to normal)
+      {{-1 - sixth, 0.25f}, 3, 3, 0.1f},    // x = -4: period -2
+      {{0.5f, 0.75f}, 5, 5, 5},             // texel (1, 1)
+      {{0.5f, -0.25f}, 5, 2, 2},            // y = -1
+      {{0.5f, 1.25f}, 2, 5, 5},             // y = 2
   };
   for (const Case& c : cases) {
     EXPECT_EQ(set.lookup_1(0, c.uv), c.repeat) << c.uv.x << "," << c.uv.y;
@@ -143,9 +149,10 @@ TEST(TextureSet, NearestLookupsWrapLikeMitsuba) {
 }
 
 TEST(TextureSet, BilinearLookupsWrapAtTheBorder) {
-  const TextureSet set({bitmap("wrap.exr", TextureWrap::repeat), bitmap("wrap.exr", TextureWrap::mirror),
-                        bitmap("wrap.exr", TextureWrap::clamp)},
-                       memory_reader(test_files()));
+  const TextureSet set(
+      {bitmap("wrap.exr", TextureWrap::repeat), bitmap("wrap.exr", TextureWrap::mirror),
+       bitmap("wrap.exr", TextureWrap::clamp)},
+      memory_reader(test_files()));
   // u = 0, v = 0.25: image x = -0.5 (halfway between texels -1 and 0), row 0 exactly.
   EXPECT_FLOAT_EQ(set.lookup_1(0, {0.0f, 0.25f}), 0.5f * 3 + 0.5f * 0.1f);
   EXPECT_FLOAT_EQ(set.lookup_1(1, {0.0f, 0.25f}), 0.1f);
@@ -157,8 +164,8 @@ TEST(TextureSet, BilinearLookupsWrapAtTheBorder) {
 
 TEST(TextureSet, ToUvMapsCoordinatesBeforeTheLookup) {
   Texture shifted = bitmap("wrap.exr", TextureWrap::repeat, TextureFilter::nearest);
-  shifted.to_uv = glm::dmat3(2, 0, 0,    // column 0: u' = 2 u + 1/3
-                             0, 1, 0,    // column 1: v' = v + 1/2
+  shifted.to_uv = glm::dmat3(2, 0, 0,  // column 0: u' = 2 u + 1/3
+                             0, 1, 0,  // column 1: v' = v + 1/2
                              1.0 / 3, 0.5, 1);
   const TextureSet set({shifted}, memory_reader(test_files()));
   // u = 0.1 -> u' = 0.5333 (texel 1); v = 0.1 -> v' = 0.6 (row 1).
@@ -183,8 +190,8 @@ TEST(TextureSet, CheckerboardFollowsMitsubasPattern) {
   EXPECT_EQ(set.lookup(0, {0.6f, 0.6f}), c0);
   EXPECT_EQ(set.lookup(0, {-0.1f, 0.1f}), c1);  // fraction 0.9
   EXPECT_EQ(set.lookup(0, {1.1f, 0.1f}), c0);
-  EXPECT_EQ(set.lookup(0, {0.5f, 0.1f}), c0);   // a fraction of exactly 1/2 is the low half
-  EXPECT_EQ(set.lookup(1, {0.3f, 0.1f}), c1);   // (0.6, 0.2) after to_uv
+  EXPECT_EQ(set.lookup(0, {0.5f, 0.1f}), c0);  // a fraction of exactly 1/2 is the low half
+  EXPECT_EQ(set.lookup(1, {0.3f, 0.1f}), c1);  // (0.6, 0.2) after to_uv
   EXPECT_EQ(set.gradient(0, {0.3f, 0.3f}), glm::vec2(0.0f));
   EXPECT_FLOAT_EQ(set.lookup_1(0, {0.1f, 0.1f}), 0.212671f);
 }
@@ -205,7 +212,9 @@ TEST(TextureSet, TexturedParametersScaleTheLookup) {
 
 TEST(TextureSet, AOneTexelImageIsConstant) {
   const std::vector<uint8_t> red = {255, 0, 0};
-  const TextureSet set({bitmap("one.png")}, memory_reader({{"one.png", encode_image("one.png", 1, 1, 3, red, OIIO::TypeDesc::UINT8)}}));
+  const TextureSet set(
+      {bitmap("one.png")},
+      memory_reader({{"one.png", encode_image("one.png", 1, 1, 3, red, OIIO::TypeDesc::UINT8)}}));
   for (const glm::vec2 uv : {glm::vec2(0, 0), glm::vec2(0.3f, 0.9f), glm::vec2(-2.5f, 7.25f)}) {
     EXPECT_EQ(set.lookup(0, uv), glm::vec3(1, 0, 0));
   }
@@ -214,7 +223,8 @@ TEST(TextureSet, AOneTexelImageIsConstant) {
 
 /// Central differences of the scalar lookup, away from the lines through texel centres where
 /// the bilinear interpolant has kinks.
-void expect_gradient_matches_differences(const TextureSet& set, int texture, const glm::dmat3& to_uv, int w, int h) {
+void expect_gradient_matches_differences(const TextureSet& set, int texture,
+                                         const glm::dmat3& to_uv, int w, int h) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> uniform(-1.5f, 2.5f);
   int checked = 0;
@@ -225,8 +235,12 @@ void expect_gradient_matches_differences(const TextureSet& set, int texture, con
     if (std::abs(px - std::round(px)) < 0.02 || std::abs(py - std::round(py)) < 0.02) continue;
     const float eps = 1e-3f;
     const glm::vec2 g = set.gradient(texture, uv);
-    const float du = (set.lookup_1(texture, {uv.x + eps, uv.y}) - set.lookup_1(texture, {uv.x - eps, uv.y})) / (2 * eps);
-    const float dv = (set.lookup_1(texture, {uv.x, uv.y + eps}) - set.lookup_1(texture, {uv.x, uv.y - eps})) / (2 * eps);
+    const float du =
+        (set.lookup_1(texture, {uv.x + eps, uv.y}) - set.lookup_1(texture, {uv.x - eps, uv.y})) /
+        (2 * eps);
+    const float dv =
+        (set.lookup_1(texture, {uv.x, uv.y + eps}) - set.lookup_1(texture, {uv.x, uv.y - eps})) /
+        (2 * eps);
     EXPECT_NEAR(g.x, du, 2e-3f * (1 + std::abs(du))) << uv.x << "," << uv.y;
     EXPECT_NEAR(g.y, dv, 2e-3f * (1 + std::abs(dv))) << uv.x << "," << uv.y;
     ++checked;
@@ -247,12 +261,14 @@ TEST(TextureSet, GradientEqualsFiniteDifferences) {
   expect_gradient_matches_differences(set, 1, rotated, 3, 2);
   expect_gradient_matches_differences(set, 2, glm::dmat3(1.0), 3, 2);
   // Nearest filtering is piecewise constant.
-  const TextureSet nearest({bitmap("wrap.exr", TextureWrap::repeat, TextureFilter::nearest)}, memory_reader(test_files()));
+  const TextureSet nearest({bitmap("wrap.exr", TextureWrap::repeat, TextureFilter::nearest)},
+                           memory_reader(test_files()));
   EXPECT_EQ(nearest.gradient(0, {0.3f, 0.3f}), glm::vec2(0.0f));
 }
 
 TEST(TextureSet, ParallelLookupsEqualSerialOnes) {
-  const TextureSet set({bitmap("rgb8.png"), bitmap("wrap.exr", TextureWrap::mirror)}, memory_reader(test_files()));
+  const TextureSet set({bitmap("rgb8.png"), bitmap("wrap.exr", TextureWrap::mirror)},
+                       memory_reader(test_files()));
   const int n = 200000;
   std::vector<glm::vec2> uvs(n);
   std::mt19937 rng(11);
@@ -269,10 +285,12 @@ TEST(TextureSet, ParallelLookupsEqualSerialOnes) {
     parallel_g[size_t(i)] = set.gradient(i % 2, uvs[size_t(i)]);
   });
   EXPECT_EQ(std::memcmp(serial.data(), parallel.data(), serial.size() * sizeof(glm::vec3)), 0);
-  EXPECT_EQ(std::memcmp(serial_g.data(), parallel_g.data(), serial_g.size() * sizeof(glm::vec2)), 0);
+  EXPECT_EQ(std::memcmp(serial_g.data(), parallel_g.data(), serial_g.size() * sizeof(glm::vec2)),
+            0);
 }
 
-void expect_refused(const std::string& file, const std::string& bytes, const std::vector<std::string>& parts) {
+void expect_refused(const std::string& file, const std::string& bytes,
+                    const std::vector<std::string>& parts) {
   try {
     TextureSet set({bitmap(file)}, memory_reader({{file, bytes}}));
     FAIL() << "accepted " << file;
@@ -284,13 +302,21 @@ void expect_refused(const std::string& file, const std::string& bytes, const std
 }
 
 TEST(TextureSet, RefusesBadTexelsAndUndecodableBytesNamingTheFile) {
-  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-  expect_refused("nan.exr", encode_image("nan.exr", 2, 2, 3, std::vector<float>{0, 0, 0, 1, nan, 1, 0, 0, 0, 0, 0, 0}, OIIO::TypeDesc::FLOAT),
-                 {"texel (1, 0) channel 1 is NaN"});
-  expect_refused("inf.exr", encode_image("inf.exr", 2, 2, 1, std::vector<float>{0, 0, 0, inf}, OIIO::TypeDesc::HALF),
-                 {"texel (1, 1) channel 0 is infinite"});
-  expect_refused("neg.exr", encode_image("neg.exr", 2, 2, 1, std::vector<float>{0, -0.5f, 0, 0}, OIIO::TypeDesc::FLOAT),
-                 {"texel (1, 0) channel 0 is negative"});
+  const float nan = std::numeric_limits<float>::quiet_NaN(),
+              inf = std::numeric_limits<float>::infinity();
+  expect_refused(
+      "nan.exr",
+      encode_image("nan.exr", 2, 2, 3, std::vector<float>{0, 0, 0, 1, nan, 1, 0, 0, 0, 0, 0, 0},
+                   OIIO::TypeDesc::FLOAT),
+      {"texel (1, 0) channel 1 is NaN"});
+  expect_refused(
+      "inf.exr",
+      encode_image("inf.exr", 2, 2, 1, std::vector<float>{0, 0, 0, inf}, OIIO::TypeDesc::HALF),
+      {"texel (1, 1) channel 0 is infinite"});
+  expect_refused(
+      "neg.exr",
+      encode_image("neg.exr", 2, 2, 1, std::vector<float>{0, -0.5f, 0, 0}, OIIO::TypeDesc::FLOAT),
+      {"texel (1, 0) channel 0 is negative"});
   expect_refused("junk.png", "this is not a PNG file", {"cannot decode image"});
   expect_refused("empty.exr", "", {"cannot decode image"});
   try {
@@ -327,32 +353,47 @@ std::vector<Texture> mitsuba_reference_textures() {
   checker.kind = TextureKind::checkerboard;
   Texture checker_scaled = checker;
   checker_scaled.to_uv = to_uv;
-  return {bitmap("rgb8.png", W::repeat), bitmap("rgb8.png", W::mirror), bitmap("rgb8.png", W::clamp),
-          bitmap("rgb8.png", W::repeat, F::nearest), bitmap("rgb8.png", W::mirror, F::nearest),
+  return {bitmap("rgb8.png", W::repeat),
+          bitmap("rgb8.png", W::mirror),
+          bitmap("rgb8.png", W::clamp),
+          bitmap("rgb8.png", W::repeat, F::nearest),
+          bitmap("rgb8.png", W::mirror, F::nearest),
           bitmap("rgb8.png", W::clamp, F::nearest),
           bitmap("rgb8.png", W::repeat, F::bilinear, TextureColorSpace::linear),
-          bitmap("wrap.exr", W::repeat), bitmap("wrap.exr", W::mirror), bitmap("y16.png", W::clamp),
-          scaled, checker, checker_scaled};
+          bitmap("wrap.exr", W::repeat),
+          bitmap("wrap.exr", W::mirror),
+          bitmap("y16.png", W::clamp),
+          scaled,
+          checker,
+          checker_scaled};
 }
 
 /// Agreement to rounding: Mitsuba approximates the sRGB curve (to 4e-7) and fuses
 /// multiply-adds; gradients scale texel differences by the resolution.
 TEST(TextureSet, MatchesMitsubaLookups) {
   std::map<std::string, std::string> files = test_files();
-  files["y16.png"] = encode_image("y16.png", 2, 2, 1, std::vector<uint16_t>{0, 32768, 65535, 1000}, OIIO::TypeDesc::UINT16);
+  files["y16.png"] = encode_image("y16.png", 2, 2, 1, std::vector<uint16_t>{0, 32768, 65535, 1000},
+                                  OIIO::TypeDesc::UINT16);
   const TextureSet set(mitsuba_reference_textures(), memory_reader(files));
-  const auto close = [](float a, float b, float rel) { return std::abs(a - b) <= rel * std::max(1.0f, std::abs(b)); };
+  const auto close = [](float a, float b, float rel) {
+    return std::abs(a - b) <= rel * std::max(1.0f, std::abs(b));
+  };
   int compared = 0;
   for (const MitsubaLookup& m : kMitsuba) {
     const glm::vec2 uv(m.u, m.v);
     const glm::vec3 c = set.lookup(m.config, uv);
-    const std::string where = "config " + std::to_string(m.config) + " uv " + std::to_string(m.u) + "," + std::to_string(m.v);
+    const std::string where = "config " + std::to_string(m.config) + " uv " + std::to_string(m.u) +
+                              "," + std::to_string(m.v);
     EXPECT_TRUE(close(c.x, m.r, 2e-6f) && close(c.y, m.g, 2e-6f) && close(c.z, m.b, 2e-6f))
-        << where << ": " << c.x << " " << c.y << " " << c.z << " vs " << m.r << " " << m.g << " " << m.b;
-    if (m.config >= 11) continue;  // checkerboards: Mitsuba's eval_1 swaps the colours (texture/checkerboard.h)
-    EXPECT_TRUE(close(set.lookup_1(m.config, uv), m.eval_1, 2e-6f)) << where << ": " << set.lookup_1(m.config, uv) << " vs " << m.eval_1;
+        << where << ": " << c.x << " " << c.y << " " << c.z << " vs " << m.r << " " << m.g << " "
+        << m.b;
+    if (m.config >= 11)
+      continue;  // checkerboards: Mitsuba's eval_1 swaps the colours (texture/checkerboard.h)
+    EXPECT_TRUE(close(set.lookup_1(m.config, uv), m.eval_1, 2e-6f))
+        << where << ": " << set.lookup_1(m.config, uv) << " vs " << m.eval_1;
     const glm::vec2 g = set.gradient(m.config, uv);
-    EXPECT_TRUE(close(g.x, m.du, 1e-5f) && close(g.y, m.dv, 1e-5f)) << where << ": " << g.x << " " << g.y << " vs " << m.du << " " << m.dv;
+    EXPECT_TRUE(close(g.x, m.du, 1e-5f) && close(g.y, m.dv, 1e-5f))
+        << where << ": " << g.x << " " << g.y << " vs " << m.du << " " << m.dv;
     ++compared;
   }
   EXPECT_EQ(compared, 11 * 16);

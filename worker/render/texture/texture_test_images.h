@@ -27,7 +27,8 @@ std::string encode_image(const std::string& name, int width, int height, int cha
   OIIO::ImageSpec spec(width, height, channels, format);
   spec.attribute("oiio:UnassociatedAlpha", 1);  // store colours as given, whatever the alpha
   if (!out->open(name, spec) ||
-      !out->write_image(OIIO::TypeDesc(OIIO::BaseTypeFromC<T>::value), values.data()) || !out->close()) {
+      !out->write_image(OIIO::TypeDesc(OIIO::BaseTypeFromC<T>::value), values.data()) ||
+      !out->close()) {
     throw std::runtime_error("cannot write " + name + ": " + out->geterror());
   }
   const std::vector<unsigned char>& b = out_bytes.buffer();
