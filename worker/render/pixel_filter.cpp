@@ -54,7 +54,8 @@ double PixelFilterSampler::profile(const PixelFilter& filter, double x) {
       return std::max(0.0, 1 - ax / filter.radius);
     case FilterKind::gaussian: {
       const double alpha = -1 / (2 * filter.stddev * filter.stddev);
-      return std::max(0.0, exp_plain(alpha * x * x) - exp_plain(alpha * filter.radius * filter.radius));
+      return std::max(0.0,
+                      exp_plain(alpha * x * x) - exp_plain(alpha * filter.radius * filter.radius));
     }
   }
   return 0;
@@ -72,7 +73,8 @@ PixelFilterSampler::PixelFilterSampler(const PixelFilter& filter) : filter_(filt
   pdf_.resize(kTableSegments + 1);
   for (int i = 0; i <= kTableSegments; ++i) pdf_[size_t(i)] = profile(filter, -r + dx_ * i);
   double integral = 0;
-  for (int i = 0; i < kTableSegments; ++i) integral += 0.5 * (pdf_[size_t(i)] + pdf_[size_t(i) + 1]) * dx_;
+  for (int i = 0; i < kTableSegments; ++i)
+    integral += 0.5 * (pdf_[size_t(i)] + pdf_[size_t(i) + 1]) * dx_;
   if (!(integral > 0)) throw SceneError("film.filter: the gaussian's footprint has no weight");
   for (double& p : pdf_) p /= integral;
   cdf_.resize(kTableSegments + 1);

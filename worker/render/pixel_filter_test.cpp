@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include "renderer.h"
 #include "sampler.h"
+#include "test_scenes.h"
 #include "scene/scene_error.h"
 
 namespace tessera {
@@ -23,8 +25,10 @@ double reference_profile(const PixelFilter& f, double x) {
   const double ax = std::abs(x);
   if (ax > f.radius) return 0;
   switch (f.kind) {
-    case FilterKind::box: return 1;
-    case FilterKind::tent: return 1 - ax / f.radius;
+    case FilterKind::box:
+      return 1;
+    case FilterKind::tent:
+      return 1 - ax / f.radius;
     case FilterKind::gaussian: {
       const double a = -1 / (2 * f.stddev * f.stddev);
       return std::max(0.0, std::exp(a * x * x) - std::exp(a * f.radius * f.radius));
@@ -107,10 +111,12 @@ void expect_histogram_matches(const PixelFilter& f) {
   std::vector<double> observed(size_t(bins * bins), 0), expected(size_t(bins * bins), 0);
   std::vector<double> p1(static_cast<size_t>(bins));
   for (int b = 0; b < bins; ++b) {
-    p1[size_t(b)] = integrate(f, -r + 2 * r * b / bins, -r + 2 * r * (b + 1) / bins, 0, 2000) / total;
+    p1[size_t(b)] =
+        integrate(f, -r + 2 * r * b / bins, -r + 2 * r * (b + 1) / bins, 0, 2000) / total;
   }
   for (int by = 0; by < bins; ++by)
-    for (int bx = 0; bx < bins; ++bx) expected[size_t(by * bins + bx)] = n * p1[size_t(bx)] * p1[size_t(by)];
+    for (int bx = 0; bx < bins; ++bx)
+      expected[size_t(by * bins + bx)] = n * p1[size_t(bx)] * p1[size_t(by)];
   Uniform uniform(0x5eed + uint64_t(f.kind));
   for (int i = 0; i < n; ++i) {
     const glm::vec2 d = sampler.sample({float(uniform()), float(uniform())});
@@ -186,6 +192,55 @@ TEST(PixelFilter, OffsetMeanIsZeroAndVarianceIsTheFilters) {
   }
   EXPECT_NEAR(integrate(tent(), -1, 1, 2) / integrate(tent(), -1, 1, 0), 1.0 / 6, 1e-9);
   EXPECT_NEAR(integrate(box(), -0.5, 0.5, 2), 1.0 / 12, 1e-9);
+}
+
+/// The renderer draws film positions from Scene::film.filter: an emitter covering exactly the
+/// left half of an 8x1 image (its edge between pixels 3 and 4, radiance 1, nothing else in the
+/// scene) lights pixel 4 by the filter's weight beyond half a pixel to its left. 256 samples of
+/// a (0, 2)-sequence put the sampled fraction within 1/256 of the filter's.
+TEST(PixelFilter, TheRendererSamplesTheScenesFilter) {
+  Scene s;
+  s.camera.position = {0, 0, 1};
+  s.camera.look_at = {0, 0, 0};
+  s.camera.up = {0, 1, 0};
+  s.camera.fov_deg = 90;  // along x: film x in [0, 8) spans X in [-1, 1] on the plane z = 0
+  const uint32_t black = test::add_diffuse(s, {0, 0, 0});
+  Shape light = test::quad({-10, -10, 0}, {0, -10, 0}, {0, 10, 0}, {-10, 10, 0}, black);
+  light.emission = {1, 1, 1};
+  s.shapes.push_back(light);
+  JobOptions job;
+  job.width = 8;
+  job.height = 1;
+  job.spp = 256;
+  job.batch_spp = 256;
+  job.seed = 5;
+  const auto render = [&](const PixelFilter& f) {
+    s.film.filter = f;
+    const Accumulation acc = Renderer(s, job).render({0, 0, 8, 1}, 0, 256);
+    std::vector<double> pixels;
+    for (size_t i = 0; i < 8; ++i) pixels.push_back(acc.rgb[i * 3 + 1] / acc.count[i]);
+    return pixels;
+  };
+  const std::vector<double> b = render(box());
+  // Which side is lit depends on the camera's handedness; the box tells.
+  const bool left_lit = b[0] > 0.5;
+  const auto pixel = [&](const std::vector<double>& p, int k) {
+    return left_lit ? p[size_t(4 + k)] : p[size_t(3 - k)];
+  };
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(pixel(b, k), 0.0) << k;
+    EXPECT_EQ(pixel(b, -1 - k), 1.0) << k;
+  }
+  const std::vector<double> t = render(tent());
+  EXPECT_NEAR(pixel(t, 0), 0.125, 1.0 / 256);  // the tent's weight beyond -1/2
+  EXPECT_NEAR(pixel(t, -1), 0.875, 1.0 / 256);
+  EXPECT_EQ(pixel(t, 1), 0.0);
+  const PixelFilter g = gaussian();
+  const std::vector<double> gp = render(g);
+  const double total = integrate(g, -2, 2, 0);
+  EXPECT_NEAR(pixel(gp, 0), integrate(g, -2, -0.5, 0) / total, 1.0 / 256);
+  EXPECT_NEAR(pixel(gp, 1), integrate(g, -2, -1.5, 0) / total, 1.0 / 256);
+  EXPECT_NEAR(pixel(gp, -1), integrate(g, -2, 0.5, 0) / total, 1.0 / 256);
 }
 
 TEST(PixelFilter, RefusesABadRadiusOrStddevNamingTheKey) {

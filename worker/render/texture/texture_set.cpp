@@ -1,0 +1,75 @@
+#include "texture_set.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "scene/scene_error.h"
+#include "texel_image.h"
+
+namespace tessera {
+namespace {
+
+glm::vec3 to_float(const glm::dvec3& v) { return {float(v.x), float(v.y), float(v.z)}; }
+
+BitmapTexture open_bitmap(const Texture& t, const FileReader& reader) {
+  std::string bytes;
+  try {
+    bytes = reader(t.file);
+  } catch (const SceneError& e) {
+    throw SceneError(t.origin + ": " + e.what());
+  }
+  return BitmapTexture(decode_texel_image(bytes, t.file, t.color_space, t.origin), t.filter, t.wrap,
+                       UvTransform::from(t.to_uv));
+}
+
+}  // namespace
+
+TextureSet::TextureSet(const std::vector<Texture>& textures, const FileReader& reader) {
+  textures_.reserve(textures.size());
+  for (const Texture& t : textures) {
+    switch (t.kind) {
+      case TextureKind::bitmap:
+        textures_.emplace_back(open_bitmap(t, reader));
+        break;
+      case TextureKind::checkerboard:
+        textures_.emplace_back(
+            Checkerboard(to_float(t.color0), to_float(t.color1), UvTransform::from(t.to_uv)));
+        break;
+    }
+  }
+}
+
+const TextureSet::Entry& TextureSet::at(int32_t texture) const {
+  if (texture < 0 || size_t(texture) >= textures_.size()) {
+    throw std::out_of_range("TextureSet: texture index " + std::to_string(texture) + " of " +
+                            std::to_string(textures_.size()));
+  }
+  return textures_[size_t(texture)];
+}
+
+glm::vec3 TextureSet::lookup(int32_t texture, glm::vec2 uv) const {
+  return std::visit([uv](const auto& t) { return t.eval(uv); }, at(texture));
+}
+
+float TextureSet::lookup_1(int32_t texture, glm::vec2 uv) const {
+  const Entry& e = at(texture);
+  if (const auto* b = std::get_if<BitmapTexture>(&e)) return b->eval_1(uv);
+  return mitsuba_luminance(std::get<Checkerboard>(e).eval(uv));
+}
+
+glm::vec2 TextureSet::gradient(int32_t texture, glm::vec2 uv) const {
+  const Entry& e = at(texture);
+  if (const auto* b = std::get_if<BitmapTexture>(&e)) return b->gradient(uv);
+  return {0.0f, 0.0f};
+}
+
+glm::vec3 TextureSet::eval(const TexturedColor& c, glm::vec2 uv) const {
+  const glm::vec3 value = to_float(c.value);
+  return c.is_constant() ? value : value * lookup(c.texture, uv);
+}
+
+float TextureSet::eval(const TexturedFloat& f, glm::vec2 uv) const {
+  return f.is_constant() ? float(f.value) : float(f.value) * lookup_1(f.texture, uv);
+}
+
+}  // namespace tessera
