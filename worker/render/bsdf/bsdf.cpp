@@ -1,0 +1,56 @@
+#include "render/bsdf/bsdf.h"
+
+#include <cmath>
+
+namespace tessera {
+namespace {
+
+using Impl = std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf,
+                          RoughDielectricBsdf, ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf>;
+
+Impl make_impl(const BsdfParams& p) {
+  switch (p.type) {
+    case MaterialType::diffuse: return DiffuseBsdf(p);
+    case MaterialType::mirror:
+    case MaterialType::conductor: return ConductorBsdf(p);
+    case MaterialType::rough_conductor: return RoughConductorBsdf(p);
+    case MaterialType::glass: return DielectricBsdf(p);
+    case MaterialType::rough_glass: return RoughDielectricBsdf(p);
+    case MaterialType::thin_glass: return ThinDielectricBsdf(p);
+    case MaterialType::plastic: return PlasticBsdf(p);
+    case MaterialType::rough_plastic: return RoughPlasticBsdf(p);
+  }
+  return DiffuseBsdf(p);  // unreachable: every MaterialType is handled above
+}
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+Bsdf::Bsdf(const BsdfParams& p) : impl_(make_impl(p)) {}
+
+// The guards below make the no-NaN contract hold at the interface even if an extreme input
+// slips past a BSDF's own checks; the tests (bsdf_test.cpp) also check the BSDFs directly.
+glm::vec3 Bsdf::eval(glm::vec3 wo, glm::vec3 wi) const {
+  const glm::vec3 f = std::visit([&](const auto& b) { return b.eval(wo, wi); }, impl_);
+  return finite(f) ? f : glm::vec3(0.0f);
+}
+
+float Bsdf::pdf(glm::vec3 wo, glm::vec3 wi) const {
+  const float p = std::visit([&](const auto& b) { return b.pdf(wo, wi); }, impl_);
+  return std::isfinite(p) ? p : 0.0f;
+}
+
+std::optional<BsdfSample> Bsdf::sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const {
+  auto s = std::visit([&](const auto& b) { return b.sample(wo, u_lobe, u); }, impl_);
+  if (s && (!finite(s->wi) || !finite(s->weight) || !std::isfinite(s->pdf) || !(s->pdf > 0.0f))) {
+    return std::nullopt;
+  }
+  return s;
+}
+
+bool Bsdf::has_smooth_lobe() const {
+  return std::visit([](const auto& b) { return b.has_smooth_lobe(); }, impl_);
+}
+
+}  // namespace tessera

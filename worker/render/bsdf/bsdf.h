@@ -1,0 +1,54 @@
+// The BSDF of one material at one shading point: Mitsuba 3's diffuse, conductor, roughconductor,
+// dielectric, roughdielectric, thindielectric, plastic and roughplastic behind one interface
+// (docs/renderer.md, "BSDFs").
+//
+// All directions are unit vectors in the local shading frame (+z = the material's front, i.e.
+// the shading normal of the front side), pointing away from the surface. wo (towards the
+// camera) may lie on either side: one-sided materials (diffuse, conductors, plastics) are black
+// when wo or wi is below the surface (cos <= 0), as in Mitsuba; the integrator makes a
+// two-sided material by flipping the frame before calling. Dielectrics handle both sides.
+// No method returns NaN or infinity for finite unit inputs.
+#pragma once
+
+#include <optional>
+#include <variant>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "render/bsdf/bsdf_sample.h"
+#include "render/bsdf/conductor.h"
+#include "render/bsdf/dielectric.h"
+#include "render/bsdf/diffuse.h"
+#include "render/bsdf/plastic.h"
+#include "render/bsdf/rough_conductor.h"
+#include "render/bsdf/rough_dielectric.h"
+#include "render/bsdf/rough_plastic.h"
+#include "render/bsdf/thin_dielectric.h"
+
+namespace tessera {
+
+class Bsdf {
+ public:
+  /// Cheap: no allocation. rough_plastic needs p.rough_plastic (see rough_plastic.h).
+  explicit Bsdf(const BsdfParams& p);
+
+  /// f(wo, wi) |cos wi| of the non-delta lobes (radiance transport); 0 where undefined.
+  glm::vec3 eval(glm::vec3 wo, glm::vec3 wi) const;
+  /// The solid-angle density with which sample() returns wi among its non-delta lobes
+  /// (including the probability of choosing those lobes); 0 for delta-only materials.
+  float pdf(glm::vec3 wo, glm::vec3 wi) const;
+  /// Draws wi: u_lobe in [0, 1) chooses a lobe (reflect or refract), u in [0, 1)^2 the
+  /// direction. nullopt when the path ends (wo below a one-sided surface, a sampled direction
+  /// on the wrong side, zero density).
+  std::optional<BsdfSample> sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const;
+  /// Any non-delta lobe: next-event estimation and MIS are worth doing.
+  bool has_smooth_lobe() const;
+
+ private:
+  std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf, RoughDielectricBsdf,
+               ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf>
+      impl_;
+};
+
+}  // namespace tessera

@@ -1,0 +1,47 @@
+// The inputs and outputs every BSDF of worker/render/bsdf/ shares: one material's parameters at
+// one shading point (textures already looked up) and one sampled direction.
+#pragma once
+
+#include <array>
+
+#include <glm/vec3.hpp>
+
+#include "scene/scene.h"
+
+namespace tessera {
+
+struct RoughPlasticTable;  // rough_plastic.h
+
+/// One material's BSDF parameters at one shading point, textures already looked up. The names
+/// and meanings are Mitsuba 3's (core/scene/scene.h, docs/scenes.md).
+struct BsdfParams {
+  MaterialType type = MaterialType::diffuse;  ///< mirror = a perfect conductor
+  glm::vec3 reflectance{0.5f};                ///< diffuse albedo; plastics' diffuse_reflectance
+  glm::vec3 specular_reflectance{1.0f};
+  glm::vec3 specular_transmittance{1.0f};
+  float eta = 1.5f;  ///< dielectrics, plastics: interior / exterior index, > 0
+  glm::vec3 conductor_eta{0.0f}, conductor_k{1.0f};
+  bool perfect = false;  ///< conductor material="none": Fresnel = 1
+  MicrofacetDistribution distribution = MicrofacetDistribution::beckmann;
+  float alpha_u = 0.1f, alpha_v = 0.1f;  ///< rough kinds (rough_plastic: isotropic, alpha_u)
+  bool sample_visible = true;
+  bool nonlinear = false;  ///< plastics
+  /// rough_plastic only, required there: the material's precomputed Fresnel integrals
+  /// (make_rough_plastic_table, once per material: they cost ~0.1 s). Not owned.
+  const RoughPlasticTable* rough_plastic = nullptr;
+};
+
+/// One direction drawn by a BSDF.
+struct BsdfSample {
+  glm::vec3 wi{0.0f, 0.0f, 1.0f};  ///< unit, local frame
+  /// f(wo, wi) |cos wi| / pdf for radiance transport (a transmission includes Mitsuba's
+  /// 1 / eta^2 solid-angle compression factor).
+  glm::vec3 weight{0.0f};
+  /// Solid-angle density of the chosen lobe mix; for a delta lobe the discrete probability of
+  /// choosing that lobe.
+  float pdf = 0;
+  bool delta = false;  ///< a perfectly specular lobe was sampled (no MIS, count emission)
+  float eta = 1;       ///< relative index of the interface crossed (eta_t / eta_i), 1 for reflection
+};
+
+}  // namespace tessera

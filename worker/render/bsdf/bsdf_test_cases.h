@@ -1,0 +1,149 @@
+// Test support: the grid of BSDF parameters and outgoing directions the BSDF tests run over.
+#pragma once
+
+#include <deque>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "render/bsdf/bsdf.h"
+#include "render/bsdf/chi_square.h"
+
+namespace tessera::test {
+
+struct BsdfCase {
+  std::string name;
+  BsdfParams params;
+  bool two_sided_wo = false;  ///< dielectrics: also test wo below the surface
+};
+
+/// Every BSDF kind over a grid of parameters; owns the rough plastic tables it points to.
+class BsdfCases {
+ public:
+  /// rough_plastic = false leaves out the rough plastic cases (their tables take ~0.25 s each).
+  explicit BsdfCases(bool rough_plastic = true) {
+    const glm::vec3 gold_eta(0.2f, 0.9f, 1.1f), gold_k(3.9f, 2.4f, 2.2f);
+    BsdfParams p;
+    p.reflectance = {0.7f, 0.5f, 0.3f};
+    add("diffuse", p);
+
+    p = BsdfParams{};
+    p.type = MaterialType::conductor;
+    p.conductor_eta = gold_eta;
+    p.conductor_k = gold_k;
+    add("conductor gold", p);
+    p.perfect = true;
+    add("conductor perfect", p);
+    p = BsdfParams{};
+    p.type = MaterialType::mirror;
+    add("mirror", p);
+    for (float eta : {1.5f, 1.0f / 1.5f}) {
+      p = BsdfParams{};
+      p.type = MaterialType::glass;
+      p.eta = eta;
+      add("glass eta " + std::to_string(eta), p, true);
+      p.type = MaterialType::thin_glass;
+      add("thin glass eta " + std::to_string(eta), p, true);
+    }
+
+    const struct {
+      float u, v;
+    } alphas[] = {{0.15f, 0.15f}, {0.6f, 0.6f}, {0.1f, 0.5f}};
+    for (auto dist : {MicrofacetDistribution::beckmann, MicrofacetDistribution::ggx}) {
+      const std::string d = dist == MicrofacetDistribution::ggx ? "ggx" : "beckmann";
+      for (auto a : alphas) {
+        for (bool visible : {true, false}) {
+          const std::string tag = d + " alpha " + std::to_string(a.u) + "/" + std::to_string(a.v) +
+                                  (visible ? " visible" : " all normals");
+          p = BsdfParams{};
+          p.distribution = dist;
+          p.alpha_u = a.u;
+          p.alpha_v = a.v;
+          p.sample_visible = visible;
+          p.type = MaterialType::rough_conductor;
+          p.conductor_eta = gold_eta;
+          p.conductor_k = gold_k;
+          add("rough conductor " + tag, p);
+          p.type = MaterialType::rough_glass;
+          p.eta = 1.5f;
+          add("rough glass " + tag, p, true);
+        }
+      }
+      p = BsdfParams{};
+      p.type = MaterialType::rough_glass;
+      p.distribution = dist;
+      p.alpha_u = p.alpha_v = 0.3f;
+      p.eta = 0.75f;
+      add("rough glass " + d + " eta 0.75", p, true);
+
+      for (float alpha : {0.15f, 0.6f}) {
+        if (!rough_plastic) break;
+        for (bool nonlinear : {false, true}) {
+          p = BsdfParams{};
+          p.type = MaterialType::rough_plastic;
+          p.distribution = dist;
+          p.alpha_u = p.alpha_v = alpha;
+          p.reflectance = {0.8f, 0.5f, 0.2f};
+          p.nonlinear = nonlinear;
+          p.sample_visible = !nonlinear;  // both samplers, without doubling the grid
+          add("rough plastic " + d + " alpha " + std::to_string(alpha) +
+                  (nonlinear ? " nonlinear all normals" : " visible"),
+              with_table(p));
+        }
+      }
+    }
+    for (bool nonlinear : {false, true}) {
+      p = BsdfParams{};
+      p.type = MaterialType::plastic;
+      p.reflectance = {0.8f, 0.5f, 0.2f};
+      p.nonlinear = nonlinear;
+      add(std::string("plastic") + (nonlinear ? " nonlinear" : ""), p);
+    }
+  }
+
+  const std::vector<BsdfCase>& all() const { return cases_; }
+
+  /// The cases of one material type.
+  std::vector<BsdfCase> of(MaterialType type) const {
+    std::vector<BsdfCase> out;
+    for (const BsdfCase& c : cases_) {
+      if (c.params.type == type) out.push_back(c);
+    }
+    return out;
+  }
+
+  /// Points p at a rough plastic table owned by this object.
+  BsdfParams with_table(BsdfParams p) {
+    p.rough_plastic = nullptr;
+    for (const RoughPlasticTable& t : tables_) {
+      if (t.distribution == p.distribution && t.alpha == p.alpha_u && t.eta == p.eta) p.rough_plastic = &t;
+    }
+    if (!p.rough_plastic) {
+      tables_.push_back(make_rough_plastic_table(p.distribution, p.alpha_u, p.eta));
+      p.rough_plastic = &tables_.back();
+    }
+    return p;
+  }
+
+ private:
+  void add(std::string name, const BsdfParams& p, bool two_sided = false) {
+    cases_.push_back({std::move(name), p, two_sided});
+  }
+
+  std::deque<RoughPlasticTable> tables_;  // stable addresses
+  std::vector<BsdfCase> cases_;
+};
+
+/// Outgoing directions: normal, moderate, steep and grazing incidence (phi = 0.5 rad so that
+/// anisotropy matters), mirrored below the surface when `below`.
+inline std::vector<glm::vec3> test_wos(bool below) {
+  std::vector<glm::vec3> wos;
+  for (float theta : {0.0f, 0.6f, 1.2f, 1.5f}) {
+    wos.push_back(spherical(theta, 0.5f));
+    if (below) wos.push_back(spherical(kPi - theta, 0.5f));
+  }
+  return wos;
+}
+
+}  // namespace tessera::test
