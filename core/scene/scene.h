@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -254,6 +255,12 @@ struct Scene {
   /// Files the scene references, relative to the bundle root ('/'-separated, no "..").
   /// Together with the scene file they are the job's bundle.
   std::vector<std::string> referenced_files;
+  /// The reader the scene was loaded with (scene_loader.h), kept so that whoever builds a
+  /// renderer from it can read the files it references (textures, environment maps) without
+  /// knowing where they live: a folder on disk or a bundle in memory. Set by the loaders; the
+  /// caller keeps what it reads from (the bundle) alive while a renderer is built. Not part of
+  /// the scene's content: the writer and comparisons ignore it.
+  std::function<std::string(const std::string& bundle_path)> files;
 };
 
 }  // namespace tessera

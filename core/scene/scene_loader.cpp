@@ -76,7 +76,9 @@ std::string read_scene_file(const std::filesystem::path& scene_file) {
 }  // namespace
 
 Scene parse_scene(std::string_view json_text, const FileReader& reader) {
-  return parse_scene_text(json_text, "scene", reader);
+  Scene scene = parse_scene_text(json_text, "scene", reader);
+  scene.files = reader;
+  return scene;
 }
 
 Scene load_scene_file(const std::filesystem::path& scene_file) {
@@ -88,8 +90,10 @@ Scene load_scene_file(const std::filesystem::path& scene_file) {
 
 Scene parse_scene_any(const std::string& file_name, std::string_view text,
                       const FileReader& reader) {
-  if (is_mitsuba_xml(file_name)) return parse_mitsuba_scene(text, file_name, reader);
-  return parse_scene_text(text, file_name, reader);
+  Scene scene = is_mitsuba_xml(file_name) ? parse_mitsuba_scene(text, file_name, reader)
+                                           : parse_scene_text(text, file_name, reader);
+  scene.files = reader;
+  return scene;
 }
 
 }  // namespace tessera

@@ -6,175 +6,305 @@
 
 #include <glm/geometric.hpp>
 
-#include "fresnel.h"
+#include "bsdf/bsdf.h"
 #include "frame.h"
+#include "texture/shading_normal.h"
+#include "texture/texture_set.h"
 #include "warp.h"
 
 namespace tessera {
 namespace {
 
-/// Dimension pairs per path vertex: (light choice, roulette), light point, scattering.
-constexpr uint32_t kPairsPerVertex = 3;
+/// Dimension pairs per path vertex: (light choice, roulette), light point, BSDF direction,
+/// (BSDF lobe, mask). Pairs 0 and 3 are independent hashes: choices gain nothing from
+/// stratification.
+constexpr uint32_t kPairsPerVertex = 4;
 /// Russian roulette starts at this vertex (0 = the camera ray's hit).
 constexpr int kRouletteVertex = 3;
 constexpr float kMaxSurvival = 0.95f;
 
 float max_component(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 
-/// The radiance an emitter sends from its surface point with normal `ng` towards `w`.
-glm::vec3 emitted(const Geometry& g, glm::vec3 ng, glm::vec3 w) {
-  if (g.emitter < 0) return glm::vec3(0.0f);
-  if (glm::dot(ng, w) > 0 || g.two_sided_emission) return g.emission;
-  return glm::vec3(0.0f);
+/// The power heuristic (exponent 2), as Mitsuba's path tracer weighs its two strategies.
+float mis_weight(float pdf_a, float pdf_b) {
+  const float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+  const float w = a / (a + b);
+  return std::isfinite(w) ? w : 0.0f;
 }
 
-/// Next-event estimation at a Lambertian point: f * Le * G / pdf for one sampled light point,
-/// or zero when it is occluded or faces away.
-/// `origin` is sp offset to the front side (where every direction it accepts points).
-glm::dvec3 sample_direct(const TraceableScene& scene, const SurfacePoint& sp, glm::vec3 origin,
-                         glm::vec3 ns, glm::vec3 albedo, glm::vec2 u_pick, glm::vec2 u_point,
-                         PathCounters& counters) {
-  float pick_pmf = 0;
-  const uint32_t index = scene.light_selector().pick(u_pick.x, &pick_pmf);
-  const Emitter& emitter = scene.emitters()[index];
-  const EmitterSample ls = emitter.sample(u_point);
+/// Where a path is at one vertex, once the material is known.
+struct Vertex {
+  SurfacePoint sp;      ///< ng turned to the side the BSDF's front is on
+  Frame frame;          ///< shading frame, n = the BSDF's front
+  const RenderMaterial* m;
+  bool flipped;         ///< seen from the back (two-sided or dielectric)
+};
 
-  const glm::vec3 to_light = ls.sp.p - sp.p;
-  const float dist2 = glm::dot(to_light, to_light);
-  if (!(dist2 > 0)) return glm::dvec3(0.0);
-  const glm::vec3 wi = to_light / std::sqrt(dist2);
-  const float cos_surface = glm::dot(ns, wi);
-  if (cos_surface <= 0 || glm::dot(sp.ng, wi) <= 0) return glm::dvec3(0.0);
-  const glm::vec3 le = emitted(emitter.geometry(), ls.sp.ng, -wi);
-  const float cos_light = std::abs(glm::dot(ls.sp.ng, wi));
-  if (le == glm::vec3(0.0f) || cos_light <= 0) return glm::dvec3(0.0);
-
-  const glm::vec3 from = origin;
-  const glm::vec3 to = offset_ray_origin(ls.sp, -wi);
-  ++counters.shadow_rays;
-  if (scene.occluded(from, to - from, 1.0f)) return glm::dvec3(0.0);
-
-  // (albedo / pi) * Le * cos_surface * cos_light / dist^2 / (pdf_area * pick_pmf), in double so
-  // that tiny, bright lights cannot overflow float.
-  const double geometry =
-      double(cos_surface) * double(cos_light) / (double(dist2) * double(ls.pdf_area) * pick_pmf);
-  return glm::dvec3(albedo) * glm::dvec3(le) * (geometry / 3.14159265358979323846);
+BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm::vec2 uv) {
+  BsdfParams p;
+  p.type = m.type;
+  auto color = [&](const RenderColor& c) {
+    return c.texture < 0 ? c.value : textures.eval(TexturedColor{glm::dvec3(c.value), c.texture}, uv);
+  };
+  auto scalar = [&](const RenderFloat& f) {
+    return f.texture < 0 ? f.value : textures.eval(TexturedFloat{double(f.value), f.texture}, uv);
+  };
+  p.reflectance = color(m.reflectance);  // not clamped: Mitsuba does not clamp texels either
+  p.specular_reflectance = color(m.specular_reflectance);
+  p.specular_transmittance = color(m.specular_transmittance);
+  p.eta = m.ior;
+  p.conductor_eta = m.conductor_eta;
+  p.conductor_k = m.conductor_k;
+  p.perfect = m.perfect;
+  p.distribution = m.distribution;
+  p.alpha_u = scalar(m.alpha_u);
+  p.alpha_v = scalar(m.alpha_v);
+  p.sample_visible = m.sample_visible;
+  p.nonlinear = m.nonlinear;
+  p.rough_plastic = m.rough_plastic;
+  return p;
 }
 
-/// Perfect mirror or glass at a hit seen from `wo`: picks the outgoing direction `wi`, turns
-/// `sp` and `ns` to the side the path arrives from, and updates the throughput and the eta^2
-/// product. Returns false when the path ends (a one-sided mirror seen from behind, or a mirror
-/// direction under the geometric surface).
-bool scatter_specular(const RenderMaterial& m, glm::vec3 wo, bool front, glm::vec2 u_scatter,
-                      SurfacePoint& sp, glm::vec3& ns, glm::vec3& beta, float& eta_scale,
-                      glm::vec3& wi) {
-  if (m.type == MaterialType::glass) {
-    // Glass is two-sided by nature: entering from the front, leaving from the back.
-    const float eta = front ? m.ior : 1.0f / m.ior;
-    if (!front) {
-      sp.ng = -sp.ng;
-      ns = -ns;
-    }
-    float cos_t = 0;
-    const float reflectance = fresnel_dielectric(glm::dot(wo, ns), eta, &cos_t);
-    if (u_scatter.x < reflectance) {
-      wi = reflect(wo, ns);
-    } else {
-      wi = refract(wo, ns, eta, cos_t);
-      // Radiance is compressed by eta^2 when it enters a denser medium (non-symmetric
-      // scattering: pbrt-v4 section 9.5.2).
-      beta /= eta * eta;
-      eta_scale *= eta * eta;
-    }
-    return true;
+/// The shading frame at a hit: the interpolated normal, perturbed by a normal or bump map as
+/// Mitsuba's adapters do (texture/shading_normal.h), with its tangent along dpdu when the scene
+/// has uvs (anisotropic roughness is measured there). `wo` points to the previous vertex.
+struct ShadingFrame {
+  Frame frame;
+  glm::vec3 ns;            ///< the unperturbed shading normal
+  bool perturbed = false;  ///< a normal or bump map moved the normal
+};
+
+ShadingFrame shading_frame(const Hit& hit, const RenderMaterial& m, const TextureSet& textures,
+                           bool has_uv, glm::vec3 wo) {
+  ShadingFrame out{Frame(hit.ns), hit.ns, false};
+  glm::vec3 n = hit.ns;
+  if (m.normal_map >= 0) {
+    n = normal_mapped(textures.lookup(m.normal_map, hit.uv), hit.dpdu, hit.dpdv, hit.ns, wo);
+    out.perturbed = true;
+  } else if (m.bump_map >= 0) {
+    n = bump_mapped(textures.gradient(m.bump_map, hit.uv), m.bump_scale, hit.dpdu, hit.dpdv,
+                    hit.ns, hit.sp.ng, wo);
+    out.perturbed = true;
   }
-  if (!front) {
-    if (!m.two_sided) return false;  // one-sided surfaces are black from behind
-    sp.ng = -sp.ng;
-    ns = -ns;
+  if (!std::isfinite(n.x + n.y + n.z) || !(glm::dot(n, n) > 0)) {
+    n = hit.ns;
+    out.perturbed = false;
   }
-  wi = reflect(wo, ns);
-  return glm::dot(wi, sp.ng) > 0;
+  if (!has_uv && !out.perturbed) return out;
+  const glm::vec3 s = out.perturbed ? perturbed_tangent(n, shading_tangent(hit.dpdu, hit.ns))
+                                    : shading_tangent(hit.dpdu, n);
+  out.frame.n = n;
+  out.frame.s = s;
+  out.frame.t = glm::cross(n, s);
+  return out;
+}
+
+/// The factor a perturbed normal puts on a BSDF value towards wi (Mitsuba's adapters): 0 when
+/// wi lies on different sides of the perturbed and the true shading normal, else the
+/// shadow-terminator softening.
+float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
+  if (!f.perturbed) return 1.0f;
+  if (glm::dot(wi, f.ns) * glm::dot(wi, f.frame.n) <= 0) return 0.0f;
+  return shadow_terminator(f.frame.n, f.ns, wi);
 }
 
 }  // namespace
 
 glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, PixelSampler& sampler,
                       PathCounters& counters) {
+  const LightSet& lights = scene.lights();
+  const TextureSet& textures = scene.textures();
+  const bool have_lights = !lights.empty();
+  const bool have_environment = lights.has_environment();
+  const bool has_uv = scene.has_uv();
+
   glm::dvec3 radiance(0.0);
   glm::vec3 beta(1.0f);
-  float eta_scale = 1.0f;        // product of eta^2 over refractions, undone for roulette
-  bool count_emission = true;    // camera ray or a perfectly specular bounce
-  const bool have_lights = !scene.emitters().empty();
+  float eta_scale = 1.0f;     // product of eta^2 over refractions, undone for roulette
+  bool prev_delta = true;     // the camera ray, or a perfectly specular / null scattering
+  float prev_pdf = 0;         // solid-angle pdf of the BSDF sample that made this ray
+  SurfacePoint prev_sp{};     // where that ray started
 
   for (int vertex = 0;; ++vertex) {
     Hit hit;
     ++counters.rays;
-    if (!scene.intersect(ray, &hit)) break;
+    if (!scene.intersect(ray, &hit)) {
+      if (have_environment && !(vertex == 0 && scene.hide_emitters())) {
+        const glm::vec3 le = lights.environment(ray.d);
+        const float w = prev_delta ? 1.0f : mis_weight(prev_pdf, lights.pdf_environment(ray.d));
+        radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
+      }
+      break;
+    }
     const glm::vec3 wo = -ray.d;  // every ray the integrator spawns has a unit direction
     const Geometry& g = *hit.geometry;
 
-    if (count_emission) {
-      const glm::vec3 le = emitted(g, hit.sp.ng, wo);
-      if (le != glm::vec3(0.0f)) radiance += glm::dvec3(beta) * glm::dvec3(le);
+    if (g.emitter >= 0) {
+      if (vertex == 0 && scene.hide_emitters()) {
+        // Mitsuba's hide_emitters: the camera ray goes on through the emitter, as if unseen.
+        ray.o = offset_ray_origin(hit.sp, ray.d);
+        ray.t_max = std::numeric_limits<float>::infinity();
+        --vertex;
+        continue;
+      }
+      const glm::vec3 le = lights.emitted(g, hit.primitive, hit.uv, hit.sp.ng, wo);
+      if (le != glm::vec3(0.0f)) {
+        const float w = prev_delta
+                            ? 1.0f
+                            : mis_weight(prev_pdf, lights.pdf_area(g, hit.primitive, prev_sp, hit.sp.p, hit.sp.ng));
+        radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
+      }
     }
     // Vertex `vertex` closes segment vertex + 1; scattering here would add one more.
     if (max_depth >= 0 && vertex + 2 > max_depth) break;
 
     // Each pair is drawn only where it is used (a pure function of its pair index, so the
-    // numbers are the same as drawing all three): no light-sampling numbers at mirror and glass
-    // vertices or in a scene without emitters, no roulette number before roulette starts.
+    // numbers are the same as drawing all of them).
     const uint32_t pair = kCameraPairs + kPairsPerVertex * uint32_t(vertex);
     const bool roulette = vertex + 1 >= kRouletteVertex;
-    const RenderMaterial& m = scene.material(g.material);
-    SurfacePoint sp = hit.sp;
-    glm::vec3 ns = hit.ns;
-    const bool front = glm::dot(wo, sp.ng) > 0;
-    glm::vec2 u_choice(0.0f);
-    glm::vec3 wi, origin;
+    const RenderMaterial* m = &scene.material(g.material);
 
-    if (m.type == MaterialType::diffuse) {
-      // The common case first, with nothing of the specular materials in its way.
-      if (!front) {
-        if (!m.two_sided) break;  // one-sided surfaces are black from behind
-        sp.ng = -sp.ng;
-        ns = -ns;
+    // Mitsuba's mask: with probability 1 - opacity the hit is a null interaction, the path goes
+    // straight on (a vertex all the same, as in Mitsuba); shadow rays see the surface as opaque,
+    // and light through it arrives by this null scattering with full weight.
+    float opacity = 1;
+    if (m->masked()) {
+      opacity = m->opacity.texture < 0
+                    ? m->opacity.value
+                    : std::clamp(textures.eval(TexturedFloat{double(m->opacity.value), m->opacity.texture}, hit.uv), 0.0f, 1.0f);
+      sampler.set_pair(pair + 3);
+      const glm::vec2 u_mask = sampler.get2d_independent();
+      if (u_mask.y >= opacity) {
+        float survival = 1;
+        if (roulette) {
+          sampler.set_pair(pair);
+          survival = std::min(max_component(beta) * eta_scale, kMaxSurvival);
+          if (sampler.get2d_independent().y >= survival) break;
+          beta /= survival;
+        }
+        prev_delta = true;
+        prev_sp = hit.sp;
+        ray.o = offset_ray_origin(hit.sp, ray.d);
+        ray.t_max = std::numeric_limits<float>::infinity();
+        continue;
       }
-      // Both the shadow ray and the bounce leave on the front side: one offset serves both.
-      origin = offset_ray_origin(sp, sp.ng);
+    }
+
+    SurfacePoint sp = hit.sp;
+    const bool front = glm::dot(wo, sp.ng) > 0;
+    if (!front && !m->dielectric()) {
+      if (m->back >= 0) {
+        m = &scene.material(uint32_t(m->back));
+      } else if (!m->two_sided) {
+        break;  // one-sided surfaces are black from behind
+      }
+      sp.ng = -sp.ng;
+      hit.ns = -hit.ns;
+    }
+
+    glm::vec2 u_choice(0.0f);
+    glm::vec3 wi;
+    float bsdf_pdf = 0;
+    bool sampled_delta = false;
+    float sampled_eta = 1;
+
+    if (m->type == MaterialType::diffuse && !m->textured) {
+      // The common case, with nothing of the other materials in its way: Lambertian, constant
+      // albedo. Both the shadow ray and the bounce leave on the front side.
+      const glm::vec3 ns = hit.ns;
+      const glm::vec3 origin = offset_ray_origin(sp, sp.ng);
       if (roulette || have_lights) {
         sampler.set_pair(pair);
         u_choice = sampler.get2d_independent();
       }
       if (have_lights) {
         sampler.set_pair(pair + 1);
-        const glm::vec2 u_light = sampler.get2d();
-        radiance += glm::dvec3(beta) *
-                    sample_direct(scene, sp, origin, ns, m.albedo, u_choice, u_light, counters);
+        const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
+        if (ls.pdf > 0) {
+          const float cos_surface = glm::dot(ns, ls.wi);
+          if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
+            ++counters.shadow_rays;
+            const glm::vec3 to = offset_ray_origin(ls.point, -ls.wi);
+            const bool blocked = std::isinf(ls.distance)
+                                     ? scene.occluded(origin, ls.wi, std::numeric_limits<float>::infinity())
+                                     : scene.occluded(origin, to - origin, 1.0f);
+            if (!blocked) {
+              const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, cos_surface * (opacity * kInvPi));
+              // (albedo / pi) cos Le / pdf, in double so tiny, bright lights cannot overflow.
+              radiance += glm::dvec3(beta) * glm::dvec3(m->albedo) * glm::dvec3(ls.radiance) *
+                          (double(opacity) * double(cos_surface) * double(kInvPi) * double(w) / double(ls.pdf));
+            }
+          }
+        }
       }
       sampler.set_pair(pair + 2);
-      wi = Frame(ns).to_world(square_to_cosine_hemisphere(sampler.get2d()));
+      const glm::vec3 local = square_to_cosine_hemisphere(sampler.get2d());
+      wi = Frame(ns).to_world(local);
       if (glm::dot(wi, sp.ng) <= 0) break;
-      beta *= m.albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
-      count_emission = false;
+      beta *= m->albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
+      bsdf_pdf = local.z * kInvPi * opacity;
+      ray.o = origin;
     } else {
-      if (roulette) {
+      const ShadingFrame shading = shading_frame(hit, *m, textures, has_uv, wo);
+      const Frame& frame = shading.frame;
+      const Bsdf bsdf(bsdf_params(*m, textures, hit.uv));
+      const glm::vec3 wo_local = frame.to_local(wo);
+      if (roulette || (have_lights && bsdf.has_smooth_lobe())) {
         sampler.set_pair(pair);
         u_choice = sampler.get2d_independent();
       }
+      if (have_lights && bsdf.has_smooth_lobe()) {
+        sampler.set_pair(pair + 1);
+        const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
+        if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
+          const glm::vec3 wi_local = frame.to_local(ls.wi);
+          const glm::vec3 f = bsdf.eval(wo_local, wi_local) * (opacity * perturbation_factor(shading, ls.wi));
+          // A reflection must leave on the side it arrived from, geometrically too.
+          const bool leaks = !m->dielectric() && glm::dot(sp.ng, ls.wi) <= 0;
+          if (f != glm::vec3(0.0f) && !leaks) {
+            ++counters.shadow_rays;
+            const glm::vec3 from = offset_ray_origin(sp, ls.wi);
+            const glm::vec3 to = offset_ray_origin(ls.point, -ls.wi);
+            const bool blocked = std::isinf(ls.distance)
+                                     ? scene.occluded(from, ls.wi, std::numeric_limits<float>::infinity())
+                                     : scene.occluded(from, to - from, 1.0f);
+            if (!blocked) {
+              const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, bsdf.pdf(wo_local, wi_local) * opacity);
+              radiance += glm::dvec3(beta) * glm::dvec3(f) * glm::dvec3(ls.radiance) *
+                          (double(w) / double(ls.pdf));
+            }
+          }
+        }
+      }
+      sampler.set_pair(pair + 3);
+      const float u_lobe = sampler.get2d_independent().x;
       sampler.set_pair(pair + 2);
-      if (!scatter_specular(m, wo, front, sampler.get2d(), sp, ns, beta, eta_scale, wi)) break;
-      origin = offset_ray_origin(sp, wi);
-      count_emission = true;
+      const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, sampler.get2d());
+      if (!bs) break;
+      wi = frame.to_world(bs->wi);
+      const float len2 = glm::dot(wi, wi);
+      if (!(len2 > 0)) break;
+      wi /= std::sqrt(len2);
+      if (!m->dielectric() && glm::dot(wi, sp.ng) <= 0) break;
+      const float perturbation = perturbation_factor(shading, wi);
+      if (!(perturbation > 0)) break;
+      beta *= bs->weight * perturbation;
+      bsdf_pdf = bs->pdf * opacity;
+      sampled_delta = bs->delta;
+      sampled_eta = bs->eta;
+      eta_scale *= sampled_eta * sampled_eta;
+      ray.o = offset_ray_origin(sp, wi);
     }
-    if (beta == glm::vec3(0.0f)) break;
+    if (!(max_component(beta) > 0)) break;
 
     if (roulette) {
       const float survival = std::min(max_component(beta) * eta_scale, kMaxSurvival);
       if (u_choice.y >= survival) break;
       beta /= survival;
     }
-    ray.o = origin;
+    prev_delta = sampled_delta;
+    prev_pdf = bsdf_pdf;
+    prev_sp = sp;
     ray.d = wi;
     ray.t_max = std::numeric_limits<float>::infinity();
   }

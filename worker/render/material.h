@@ -10,6 +10,8 @@
 
 namespace tessera {
 
+struct RoughPlasticTable;  // bsdf/rough_plastic.h
+
 /// A colour parameter: constant * texture(uv) when texture >= 0, the constant otherwise.
 struct RenderColor {
   glm::vec3 value{0.0f};
@@ -40,6 +42,9 @@ struct RenderMaterial {
   int32_t normal_map = -1;
   int32_t bump_map = -1;
   float bump_scale = 1;
+
+  /// rough_plastic: the material's precomputed Fresnel integrals (owned by TraceableScene).
+  const RoughPlasticTable* rough_plastic = nullptr;
 
   /// Whether any parameter is a texture (the hit then needs its uv).
   bool textured = false;

@@ -21,8 +21,9 @@ struct RowResult {
 
 }  // namespace
 
-Renderer::Renderer(const Scene& scene, const JobOptions& options)
-    : scene_(std::make_unique<TraceableScene>(scene, options.width, options.height, options.isa)),
+Renderer::Renderer(const Scene& scene, const JobOptions& options, const FileReader& reader)
+    : scene_(std::make_unique<TraceableScene>(scene, options.width, options.height, options.isa,
+                                              reader)),
       options_(options),
       filter_(scene.film.filter) {}
 

@@ -8,6 +8,7 @@
 #include "job/job_options.h"
 #include "pixel_filter.h"
 #include "scene/scene.h"
+#include "scene/scene_loader.h"
 
 namespace tessera {
 
@@ -30,7 +31,8 @@ class Renderer {
  public:
   /// Builds the render-ready scene (Embree BVH). Throws SceneError when the scene cannot be
   /// rendered (for example an Embree ISA the CPU lacks).
-  Renderer(const Scene& scene, const JobOptions& options);
+  /// `reader` serves the scene's referenced files (textures, environment maps) by bundle path.
+  Renderer(const Scene& scene, const JobOptions& options, const FileReader& reader = {});
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

@@ -36,8 +36,16 @@ glm::vec3 transform_vector(const glm::mat4& m, glm::vec3 v) { return glm::mat3(m
 
 }  // namespace
 
-TraceableScene::TraceableScene(const Scene& scene, int width, int height, const std::string& isa)
-    : camera_(scene.camera, width, height) {
+TraceableScene::TraceableScene(const Scene& scene, int width, int height, const std::string& isa,
+                               const FileReader& reader)
+    : camera_(scene.camera, width, height), hide_emitters_(scene.render.hide_emitters) {
+  const FileReader files = reader        ? reader
+                           : scene.files ? scene.files
+                                         : FileReader([](const std::string& path) -> std::string {
+                                             throw SceneError(path + ": the scene was not loaded from files, so " +
+                                                              "the renderer cannot read it");
+                                           });
+  textures_ = std::make_unique<TextureSet>(scene.textures, files);
   const std::string config = isa.empty() ? std::string() : "isa=" + isa;
   device_ = rtcNewDevice(config.empty() ? nullptr : config.c_str());
   if (!device_) {
@@ -49,6 +57,15 @@ TraceableScene::TraceableScene(const Scene& scene, int width, int height, const 
 
   for (const Material& m : scene.materials) {
     materials_.push_back(make_render_material(m));
+    if (m.type == MaterialType::rough_plastic) {
+      if (!m.alpha_u.is_constant() || m.alpha_u.value != m.alpha_v.value) {
+        throw SceneError("material \"" + m.name + "\": a rough plastic's alpha is one constant " +
+                         "(Mitsuba's roughplastic is isotropic and untextured)");
+      }
+      rough_plastic_tables_.push_back(std::make_unique<RoughPlasticTable>(
+          make_rough_plastic_table(m.distribution, float(m.alpha_u.value), float(m.ior))));
+      materials_.back().rough_plastic = rough_plastic_tables_.back().get();
+    }
     // Anisotropic roughness is measured along dpdu: the shading frame then needs it.
     if (m.alpha_u.value != m.alpha_v.value || !m.alpha_u.is_constant() || !m.alpha_v.is_constant()) {
       need_uv_ = true;
@@ -93,13 +110,30 @@ TraceableScene::TraceableScene(const Scene& scene, int width, int height, const 
   rtcCommitScene(scene_);
   if (!device_error_.empty()) throw SceneError(device_error_);
 
+  std::vector<const Geometry*> area_emitters;
   for (auto& g : geometries_) {
     if (g->emission.x > 0 || g->emission.y > 0 || g->emission.z > 0) {
       g->emitter = int32_t(emitters_.size());
       emitters_.emplace_back(*g);
+      area_emitters.push_back(g.get());
     }
   }
   light_selector_ = std::make_unique<LightSelector>(emitters_);
+  // Directional and environment lights are weighed by their power through the scene's
+  // bounding disc: the radius of the sphere around its bounding box.
+  RTCBounds bounds;
+  rtcGetSceneBounds(scene_, &bounds);
+  float scene_radius = 0;
+  if (bounds.lower_x <= bounds.upper_x) {
+    const glm::vec3 lo(bounds.lower_x, bounds.lower_y, bounds.lower_z);
+    const glm::vec3 hi(bounds.upper_x, bounds.upper_y, bounds.upper_z);
+    scene_radius = 0.5f * glm::length(hi - lo);
+  }
+  const TextureSet* textures = textures_.get();
+  lights_ = std::make_unique<LightSet>(
+      area_emitters, scene.lights, files,
+      [textures](int32_t texture, glm::vec2 uv) { return textures->lookup(texture, uv); },
+      scene_radius);
 }
 
 TraceableScene::~TraceableScene() {

@@ -11,11 +11,15 @@
 
 #include "camera.h"
 #include "light/emitter.h"
+#include "light/light_set.h"
 #include "geometry.h"
 #include "material.h"
 #include "ray.h"
 #include "ray_offset.h"
 #include "scene/scene.h"
+#include "scene/scene_loader.h"
+#include "bsdf/rough_plastic.h"
+#include "texture/texture_set.h"
 
 namespace tessera {
 
@@ -38,9 +42,12 @@ struct Hit {
 
 class TraceableScene {
  public:
-  /// `isa` pins Embree's instruction set ("avx2", ...); empty lets Embree choose.
-  /// Throws SceneError when Embree refuses the device or the geometry.
-  TraceableScene(const Scene& scene, int width, int height, const std::string& isa);
+  /// `isa` pins Embree's instruction set ("avx2", ...); empty lets Embree choose. `reader`
+  /// serves the files the scene references (bitmap textures, environment maps) by bundle path;
+  /// an empty one fails on the first such file. Throws SceneError when Embree refuses the
+  /// device or the geometry, or a texture or light cannot be used.
+  TraceableScene(const Scene& scene, int width, int height, const std::string& isa,
+                 const FileReader& reader = {});
   ~TraceableScene();
   TraceableScene(const TraceableScene&) = delete;
   TraceableScene& operator=(const TraceableScene&) = delete;
@@ -52,6 +59,12 @@ class TraceableScene {
 
   const PerspectiveCamera& camera() const { return camera_; }
   const RenderMaterial& material(uint32_t index) const { return materials_[index]; }
+  /// Every light: area emitters, point, spot, directional and environment lights.
+  const LightSet& lights() const { return *lights_; }
+  const TextureSet& textures() const { return *textures_; }
+  /// Mitsuba's hide_emitters (RenderSettings).
+  bool hide_emitters() const { return hide_emitters_; }
+  /// The area emitters alone, picked by power (tessera-bench-diffuse's reference integrator).
   const std::vector<Emitter>& emitters() const { return emitters_; }
   const LightSelector& light_selector() const { return *light_selector_; }
   /// Whether hits carry uv, dpdu and dpdv (only when the scene uses them).
@@ -73,12 +86,16 @@ class TraceableScene {
   RTCScene scene_ = nullptr;
   PerspectiveCamera camera_;
   std::vector<RenderMaterial> materials_;
+  std::vector<std::unique_ptr<RoughPlasticTable>> rough_plastic_tables_;
   std::vector<std::unique_ptr<Geometry>> geometries_;  ///< indexed by Embree geometry id
   /// Per shape group: its Embree scene and its shapes' Geometry, indexed by geometry id there.
   std::vector<RTCScene> group_scenes_;
   std::vector<std::vector<std::unique_ptr<Geometry>>> group_geometries_;
   std::vector<Emitter> emitters_;
   std::unique_ptr<LightSelector> light_selector_;
+  std::unique_ptr<TextureSet> textures_;
+  std::unique_ptr<LightSet> lights_;
+  bool hide_emitters_ = false;
   std::string isa_;
   std::string device_error_;
   /// Whether anything reads a hit's uv, dpdu, dpdv (textures, anisotropic roughness).

@@ -41,6 +41,9 @@ class LightSet {
            const FileReader& reader, const TextureLookup& textures, float scene_radius);
 
   bool empty() const { return lights_.empty(); }
+  /// Whether any light is at infinity in every direction (constant, envmap): escaping rays
+  /// then carry light.
+  bool has_environment() const { return !environment_.empty(); }
 
   /// One light sample for ref (point + geometric normal for the offset): picks a light
   /// (u_pick in [0,1)), then a point or direction on it (u in [0,1)^2). pdf == 0 means no
