@@ -4,13 +4,8 @@
 #include "render/light/envmap_light.h"
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <optional>
-#include <sstream>
-#include <unistd.h>
 
-#include <OpenImageIO/imageio.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
@@ -21,8 +16,6 @@
 
 namespace tessera {
 namespace {
-
-namespace fs = std::filesystem;
 
 Light envmap_light(glm::dmat4 to_world = glm::dmat4(1.0), double scale = 1.0) {
   Light l;
@@ -237,33 +230,10 @@ TEST(EnvmapLight, ExtremeMapsGiveFiniteValues) {
   }
 }
 
-/// Writes an RGB float EXR with OpenImageIO and returns its bytes.
-std::string exr_bytes(int w, int h, const std::vector<float>& rgb) {
-  const fs::path path = fs::temp_directory_path() /
-                        ("tessera_envmap_test_" + std::to_string(::getpid()) + ".exr");
-  auto out = OIIO::ImageOutput::create(path.string());
-  const OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
-  EXPECT_TRUE(out && out->open(path.string(), spec));
-  EXPECT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()));
-  out->close();
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  fs::remove(path);
-  return bytes.str();
-}
-
-FileReader reader_of(const std::string& name, const std::string& bytes) {
-  return [name, bytes](const std::string& path) {
-    if (path != name) throw SceneError(path + ": not in the scene bundle");
-    return bytes;
-  };
-}
-
 TEST(EnvmapLight, DecodesExrFromBytes) {
   const std::vector<float> rgb = reference_texels(4, 3);
   const EnvmapLight decoded = EnvmapLight::from_file(envmap_light(test_rotation(), 2.0),
-                                                     reader_of("sky.exr", exr_bytes(4, 3, rgb)));
+                                                     test::reader_of("sky.exr", test::exr_bytes(4, 3, rgb)));
   const EnvmapLight direct(envmap_light(test_rotation(), 2.0), 4, 3, rgb);
   test::UniformFloats u(2);
   for (int i = 0; i < 100; ++i) {
@@ -275,7 +245,7 @@ TEST(EnvmapLight, DecodesExrFromBytes) {
 
 std::string decode_error(const std::vector<float>& rgb, int w, int h) {
   try {
-    EnvmapLight::from_file(envmap_light(), reader_of("sky.exr", exr_bytes(w, h, rgb)));
+    EnvmapLight::from_file(envmap_light(), test::reader_of("sky.exr", test::exr_bytes(w, h, rgb)));
   } catch (const SceneError& e) {
     return e.what();
   }
@@ -302,7 +272,7 @@ TEST(EnvmapLight, RefusesNanInfiniteAndNegativeTexels) {
 
 TEST(EnvmapLight, RefusesUndecodableBytes) {
   try {
-    EnvmapLight::from_file(envmap_light(), reader_of("sky.exr", "not an image"));
+    EnvmapLight::from_file(envmap_light(), test::reader_of("sky.exr", "not an image"));
     FAIL() << "no error";
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("lights[0]: sky.exr: cannot decode"), std::string::npos) << e.what();

@@ -4,18 +4,27 @@
 #pragma once
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+
+#include "scene/scene_error.h"
+#include "scene/scene_loader.h"
 
 namespace tessera::test {
 
@@ -177,6 +186,36 @@ inline DirectionBins envmap_cell_bins(uint32_t width, uint32_t height, int split
     b.phi_edges.push_back(2.0 * M_PI * (0.5 + double(i) / split) / double(width));
   }
   return b;
+}
+
+}  // namespace tessera::test
+
+namespace tessera::test {
+
+/// Writes an RGB float EXR with OpenImageIO (through a file named after the process, so that
+/// parallel test processes do not collide) and returns its bytes.
+inline std::string exr_bytes(int w, int h, const std::vector<float>& rgb) {
+  const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                        ("tessera_envmap_test_" + std::to_string(::getpid()) + ".exr");
+  auto out = OIIO::ImageOutput::create(path.string());
+  const OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+  if (!out || !out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) ||
+      !out->close()) {
+    throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  std::filesystem::remove(path);
+  return bytes.str();
+}
+
+/// A FileReader holding one file.
+inline FileReader reader_of(const std::string& name, const std::string& bytes) {
+  return [name, bytes](const std::string& path) {
+    if (path != name) throw SceneError(path + ": not in the scene bundle");
+    return bytes;
+  };
 }
 
 }  // namespace tessera::test
