@@ -2,6 +2,7 @@
 // pdf_environment against sample(), the environment mixture (chi-square), bad lights.
 #include "render/light/light_set.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -145,6 +146,62 @@ TEST(LightSet, EnvironmentMixtureMatchesPdfChiSquare) {
       test::envmap_cell_bins(8, 5, 2), 100000, sample,
       [&](glm::vec3 d) { return double(set.pdf_environment(d)); });
   EXPECT_GT(r.p_value, test::kChiSquareLevel) << r.detail;
+}
+
+/// Irradiance at p (normal n) from a uniform Lambertian polygon of radiance le (Lambert's
+/// formula: le / 2 * sum of edge angles times the cosine of their planes with n).
+double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n, double le) {
+  double sum = 0;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const glm::dvec3 a = glm::normalize(polygon[i] - p);
+    const glm::dvec3 b = glm::normalize(polygon[(i + 1) % polygon.size()] - p);
+    const double angle = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+    sum += angle * glm::dot(n, glm::normalize(glm::cross(a, b)));
+  }
+  return le / 2 * std::abs(sum);
+}
+
+TEST(LightSet, EstimatesTheIrradianceOfEveryLightTogether) {
+  // E[radiance * cos / pdf] over sample() is the unoccluded irradiance from all lights: the
+  // pick probabilities and every light's density must be right for it to come out.
+  const Geometry quad = ceiling_quad(0, 3.0f);
+  const glm::dmat4 sun_to_world = glm::rotate(glm::dmat4(1.0), glm::radians(160.0), glm::dvec3(0, 1, 0));
+  Light rotated_sky = sky();
+  rotated_sky.to_world = glm::rotate(glm::dmat4(1.0), glm::radians(70.0), glm::dvec3(1, 0, 1));
+  const LightSet set({&quad},
+                     {light_of(LightKind::point, {1, 1, 1}, glm::translate(glm::dmat4(1.0), {0.5, 0.5, 2})),
+                      light_of(LightKind::directional, {0.7, 0.7, 0.7}, sun_to_world),
+                      light_of(LightKind::constant, {0.2, 0.2, 0.2}), rotated_sky},
+                     sky_reader(), kNoTextures, 2.0f);
+  const glm::dvec3 p(kRef.p), n(0, 0, 1);
+
+  double expected = polygon_irradiance({{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}, p, n, 3.0);
+  const glm::dvec3 to_point = glm::dvec3(0.5, 0.5, 2) - p;
+  expected += glm::dot(glm::normalize(to_point), n) / glm::dot(to_point, to_point);
+  expected += 0.7 * -glm::dvec3(sun_to_world[2]).z;
+  // Constant and envmap by quadrature over the upper hemisphere (cos theta, phi).
+  const int nc = 400, np = 800;
+  for (int i = 0; i < nc; ++i) {
+    const double c = (i + 0.5) / nc, s = std::sqrt(1 - c * c);
+    for (int j = 0; j < np; ++j) {
+      const double phi = 2 * M_PI * (j + 0.5) / np;
+      const glm::vec3 l = set.environment(glm::vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)));
+      expected += double(l.y) * c * (2 * M_PI / (double(nc) * np));  // grey lights: y channel
+    }
+  }
+
+  test::UniformFloats u(25);
+  const int count = 200000;
+  double sum = 0, sum2 = 0;
+  for (int i = 0; i < count; ++i) {
+    const LightSample s = set.sample(kRef, u.next(), u.next2());
+    if (!(s.pdf > 0)) continue;
+    const double f = double(s.radiance.y) * std::max(0.0, glm::dot(glm::dvec3(s.wi), n)) / s.pdf;
+    sum += f;
+    sum2 += f * f;
+  }
+  const double mean = sum / count, se = std::sqrt((sum2 / count - mean * mean) / count);
+  EXPECT_NEAR(mean, expected, 5 * se + 1e-3 * expected) << "se " << se;
 }
 
 TEST(LightSet, NonEmittersGiveNothing) {
