@@ -2,12 +2,12 @@
 // pdf() against sample(), textured radiance at the sampled point, sides, sphere (u, v).
 #include "render/light/area_light.h"
 
-#include <cmath>
-#include <optional>
+#include <gtest/gtest.h>
 
+#include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
-#include <gtest/gtest.h>
+#include <optional>
 
 #include "render/light/light_test_support.h"
 #include "render/ray_offset.h"
@@ -91,7 +91,8 @@ TEST(AreaLight, SphereSamplesMatchPdfChiSquare) {
   const glm::vec3 z(axis), x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), z));
   bins.frame = glm::mat3(x, glm::cross(z, x), z);
   bins.cos_edges.push_back(cos_max);
-  for (int k = 14; k >= 0; --k) bins.cos_edges.push_back(cos_max + (1 - cos_max) * std::ldexp(1.0, -k));
+  for (int k = 14; k >= 0; --k)
+    bins.cos_edges.push_back(cos_max + (1 - cos_max) * std::ldexp(1.0, -k));
   for (int i = 0; i <= 12; ++i) bins.phi_edges.push_back(2 * M_PI * i / 12.0);
   const auto sample = [&]() -> std::optional<glm::vec3> {
     const LightSample s = light.sample(ref, u.next2());

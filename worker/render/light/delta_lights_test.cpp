@@ -1,10 +1,10 @@
 // Point, spot and directional lights: what sample() returns, and the spot's falloff against
 // Mitsuba 3's (reference values from mitsuba_reference.py).
-#include <cmath>
-#include <string>
-
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <string>
 
 #include "render/light/directional_light.h"
 #include "render/light/point_light.h"
@@ -24,7 +24,8 @@ Light light_of(LightKind kind, glm::dmat4 to_world, glm::dvec3 value) {
 }
 
 TEST(PointLight, RadianceFallsWithTheSquareOfDistance) {
-  const PointLight light(light_of(LightKind::point, glm::translate(glm::dmat4(1.0), {1, 2, 3}), {4, 8, 12}));
+  const PointLight light(
+      light_of(LightKind::point, glm::translate(glm::dmat4(1.0), {1, 2, 3}), {4, 8, 12}));
   const LightSample s = light.sample({1, 2, 1});
   EXPECT_TRUE(s.delta);
   EXPECT_EQ(s.pdf, 1.0f);
@@ -45,10 +46,17 @@ TEST(SpotLight, FalloffMatchesMitsuba) {
   const struct {
     float theta_deg, radiance;
   } kMitsuba[] = {
-      {0.0f, 1.0f},         {10.0f, 1.000000238418579f},    {19.9f, 1.0f},
-      {20.5f, 0.9500002861022949f}, {22.0f, 0.8000001311302185f}, {25.0f, 0.5000004768371582f},
-      {28.0f, 0.19999973475933075f}, {29.9f, 0.01000007800757885f}, {30.5f, 0.0f},
-      {45.0f, 0.0f},        {120.0f, 0.0f},
+      {0.0f, 1.0f},
+      {10.0f, 1.000000238418579f},
+      {19.9f, 1.0f},
+      {20.5f, 0.9500002861022949f},
+      {22.0f, 0.8000001311302185f},
+      {25.0f, 0.5000004768371582f},
+      {28.0f, 0.19999973475933075f},
+      {29.9f, 0.01000007800757885f},
+      {30.5f, 0.0f},
+      {45.0f, 0.0f},
+      {120.0f, 0.0f},
   };
   for (const auto& ref : kMitsuba) {
     const float t = glm::radians(ref.theta_deg);
@@ -83,7 +91,8 @@ TEST(SpotLight, RefusesBeamWiderThanCutoff) {
     SpotLight spot(l);
     FAIL() << "no error";
   } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("lights[1]: spot light needs"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("lights[1]: spot light needs"), std::string::npos)
+        << e.what();
   }
 }
 

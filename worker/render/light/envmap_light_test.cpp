@@ -3,11 +3,11 @@
 // constant emitter, decoding and refusing bad texels, and extreme maps.
 #include "render/light/envmap_light.h"
 
-#include <cmath>
-#include <optional>
-
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <optional>
 
 #include "accum/accumulation.h"
 #include "render/light/constant_light.h"
@@ -111,8 +111,9 @@ TEST(EnvmapLight, ChiSquareRejectsAWrongDensity) {
     float pdf = 0;
     return env.sample(u.next2(), &pdf);
   };
-  const test::ChiSquareResult r = test::chi_square_directions(
-      test::envmap_cell_bins(w, h, 1), 20000, sample, [&](glm::vec3 d) { return double(wrong.pdf(d)); });
+  const test::ChiSquareResult r =
+      test::chi_square_directions(test::envmap_cell_bins(w, h, 1), 20000, sample,
+                                  [&](glm::vec3 d) { return double(wrong.pdf(d)); });
   EXPECT_LT(r.p_value, test::kChiSquareLevel) << r.detail;
 }
 
@@ -143,7 +144,8 @@ TEST(EnvmapLight, EstimatorIntegratesTheRadiance) {
     const double c = -1.0 + 2.0 * (i + 0.5) / nc, s = std::sqrt(1 - c * c);
     for (int j = 0; j < np; ++j) {
       const double phi = 2 * M_PI * (j + 0.5) / np;
-      const glm::vec3 l = env.radiance(glm::vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)));
+      const glm::vec3 l =
+          env.radiance(glm::vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)));
       quadrature += luminance(l.x, l.y, l.z);
     }
   }
@@ -199,7 +201,8 @@ TEST(EnvmapLight, ExtremeMapsGiveFiniteValues) {
       EXPECT_NEAR(env.pdf(d), 1 / (4 * M_PI), 1e-5);
     }
     // The poles and the seam.
-    for (glm::vec3 d : {glm::vec3(0, 1, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, -1), glm::vec3(-0.f, 0, 1)}) {
+    for (glm::vec3 d :
+         {glm::vec3(0, 1, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, -1), glm::vec3(-0.f, 0, 1)}) {
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(env.radiance(d)[c], 2.0f + c, 1e-6f);
       EXPECT_TRUE(std::isfinite(env.pdf(d)));
     }
@@ -232,8 +235,8 @@ TEST(EnvmapLight, ExtremeMapsGiveFiniteValues) {
 
 TEST(EnvmapLight, DecodesExrFromBytes) {
   const std::vector<float> rgb = reference_texels(4, 3);
-  const EnvmapLight decoded = EnvmapLight::from_file(envmap_light(test_rotation(), 2.0),
-                                                     test::reader_of("sky.exr", test::exr_bytes(4, 3, rgb)));
+  const EnvmapLight decoded = EnvmapLight::from_file(
+      envmap_light(test_rotation(), 2.0), test::reader_of("sky.exr", test::exr_bytes(4, 3, rgb)));
   const EnvmapLight direct(envmap_light(test_rotation(), 2.0), 4, 3, rgb);
   test::UniformFloats u(2);
   for (int i = 0; i < 100; ++i) {
@@ -262,7 +265,8 @@ TEST(EnvmapLight, RefusesNanInfiniteAndNegativeTexels) {
   rgb = reference_texels(4, 3);
   rgb[0] = INFINITY;
   message = decode_error(rgb, 4, 3);
-  EXPECT_NE(message.find("sky.exr: texel (x 0, y 0) channel R is infinite"), std::string::npos) << message;
+  EXPECT_NE(message.find("sky.exr: texel (x 0, y 0) channel R is infinite"), std::string::npos)
+      << message;
 
   rgb = reference_texels(4, 3);
   rgb[(2 * 4 + 3) * 3 + 2] = -0.5f;
@@ -275,7 +279,8 @@ TEST(EnvmapLight, RefusesUndecodableBytes) {
     EnvmapLight::from_file(envmap_light(), test::reader_of("sky.exr", "not an image"));
     FAIL() << "no error";
   } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("lights[0]: sky.exr: cannot decode"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("lights[0]: sky.exr: cannot decode"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -38,9 +38,15 @@ LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
   area_count_ = uint32_t(area_emitters.size());
   for (const Light& light : lights) {
     switch (light.kind) {
-      case LightKind::point: lights_.emplace_back(PointLight(light)); break;
-      case LightKind::spot: lights_.emplace_back(SpotLight(light)); break;
-      case LightKind::directional: lights_.emplace_back(DirectionalLight(light)); break;
+      case LightKind::point:
+        lights_.emplace_back(PointLight(light));
+        break;
+      case LightKind::spot:
+        lights_.emplace_back(SpotLight(light));
+        break;
+      case LightKind::directional:
+        lights_.emplace_back(DirectionalLight(light));
+        break;
       case LightKind::constant:
         environment_.push_back(uint32_t(lights_.size()));
         lights_.emplace_back(ConstantLight(light));
@@ -87,8 +93,8 @@ LightSample LightSet::sample(const SurfacePoint& ref, float u_pick, glm::vec2 u)
   return s;
 }
 
-glm::vec3 LightSet::emitted(const Geometry& g, uint32_t /*primitive*/, glm::vec2 uv,
-                            glm::vec3 ng, glm::vec3 w) const {
+glm::vec3 LightSet::emitted(const Geometry& g, uint32_t /*primitive*/, glm::vec2 uv, glm::vec3 ng,
+                            glm::vec3 w) const {
   if (g.emitter < 0 || uint32_t(g.emitter) >= area_count_) return glm::vec3(0.0f);
   return std::get<AreaLight>(lights_[size_t(g.emitter)]).emitted(uv, ng, w);
 }

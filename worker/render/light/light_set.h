@@ -3,11 +3,10 @@
 #pragma once
 
 #include <cstdint>
-#include <variant>
-#include <vector>
-
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <variant>
+#include <vector>
 
 #include "render/geometry.h"
 #include "render/light/area_light.h"
@@ -73,9 +72,9 @@ class LightSet {
   /// Solid-angle density of environment light i (constant or envmap) for direction d.
   float environment_pdf(uint32_t i, glm::vec3 d) const;
 
-  std::vector<AnyLight> lights_;          ///< area lights first: lights_[i] is area emitter i
+  std::vector<AnyLight> lights_;  ///< area lights first: lights_[i] is area emitter i
   uint32_t area_count_ = 0;
-  std::vector<uint32_t> environment_;     ///< indices of constant and envmap lights
+  std::vector<uint32_t> environment_;  ///< indices of constant and envmap lights
   LightPicker picker_;
 };
 

@@ -2,14 +2,14 @@
 // pdf_environment against sample(), the environment mixture (chi-square), bad lights.
 #include "render/light/light_set.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
-#include <optional>
-#include <string>
-
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
-#include <gtest/gtest.h>
+#include <optional>
+#include <string>
 
 #include "render/light/light_test_support.h"
 #include "scene/scene_error.h"
@@ -83,9 +83,11 @@ TEST(LightSet, WithoutLightsSamplesNothing) {
 
 TEST(LightSet, PicksByPowerAndIncludesThePickInThePdf) {
   // Point: 4 pi I = 4 pi. Directional: pi r^2 E = pi (r = 1). So 0.8 and 0.2.
-  const LightSet set({}, {light_of(LightKind::point, {1, 1, 1}, glm::translate(glm::dmat4(1.0), {0, 0, 2})),
-                          light_of(LightKind::directional, {1, 1, 1})},
-                     test::reader_of("x", ""), kNoTextures, 1.0f);
+  const LightSet set(
+      {},
+      {light_of(LightKind::point, {1, 1, 1}, glm::translate(glm::dmat4(1.0), {0, 0, 2})),
+       light_of(LightKind::directional, {1, 1, 1})},
+      test::reader_of("x", ""), kNoTextures, 1.0f);
   test::UniformFloats u(21);
   const int n = 20000;
   int points = 0;
@@ -142,15 +144,16 @@ TEST(LightSet, EnvironmentMixtureMatchesPdfChiSquare) {
     if (!(s.pdf > 0)) return std::nullopt;
     return s.wi;
   };
-  const test::ChiSquareResult r = test::chi_square_directions(
-      test::envmap_cell_bins(8, 5, 2), 100000, sample,
-      [&](glm::vec3 d) { return double(set.pdf_environment(d)); });
+  const test::ChiSquareResult r =
+      test::chi_square_directions(test::envmap_cell_bins(8, 5, 2), 100000, sample,
+                                  [&](glm::vec3 d) { return double(set.pdf_environment(d)); });
   EXPECT_GT(r.p_value, test::kChiSquareLevel) << r.detail;
 }
 
 /// Irradiance at p (normal n) from a uniform Lambertian polygon of radiance le (Lambert's
 /// formula: le / 2 * sum of edge angles times the cosine of their planes with n).
-double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n, double le) {
+double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n,
+                          double le) {
   double sum = 0;
   for (size_t i = 0; i < polygon.size(); ++i) {
     const glm::dvec3 a = glm::normalize(polygon[i] - p);
@@ -165,14 +168,16 @@ TEST(LightSet, EstimatesTheIrradianceOfEveryLightTogether) {
   // E[radiance * cos / pdf] over sample() is the unoccluded irradiance from all lights: the
   // pick probabilities and every light's density must be right for it to come out.
   const Geometry quad = ceiling_quad(0, 3.0f);
-  const glm::dmat4 sun_to_world = glm::rotate(glm::dmat4(1.0), glm::radians(160.0), glm::dvec3(0, 1, 0));
+  const glm::dmat4 sun_to_world =
+      glm::rotate(glm::dmat4(1.0), glm::radians(160.0), glm::dvec3(0, 1, 0));
   Light rotated_sky = sky();
   rotated_sky.to_world = glm::rotate(glm::dmat4(1.0), glm::radians(70.0), glm::dvec3(1, 0, 1));
-  const LightSet set({&quad},
-                     {light_of(LightKind::point, {1, 1, 1}, glm::translate(glm::dmat4(1.0), {0.5, 0.5, 2})),
-                      light_of(LightKind::directional, {0.7, 0.7, 0.7}, sun_to_world),
-                      light_of(LightKind::constant, {0.2, 0.2, 0.2}), rotated_sky},
-                     sky_reader(), kNoTextures, 2.0f);
+  const LightSet set(
+      {&quad},
+      {light_of(LightKind::point, {1, 1, 1}, glm::translate(glm::dmat4(1.0), {0.5, 0.5, 2})),
+       light_of(LightKind::directional, {0.7, 0.7, 0.7}, sun_to_world),
+       light_of(LightKind::constant, {0.2, 0.2, 0.2}), rotated_sky},
+      sky_reader(), kNoTextures, 2.0f);
   const glm::dvec3 p(kRef.p), n(0, 0, 1);
 
   double expected = polygon_irradiance({{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}, p, n, 3.0);
@@ -185,7 +190,8 @@ TEST(LightSet, EstimatesTheIrradianceOfEveryLightTogether) {
     const double c = (i + 0.5) / nc, s = std::sqrt(1 - c * c);
     for (int j = 0; j < np; ++j) {
       const double phi = 2 * M_PI * (j + 0.5) / np;
-      const glm::vec3 l = set.environment(glm::vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)));
+      const glm::vec3 l =
+          set.environment(glm::vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)));
       expected += double(l.y) * c * (2 * M_PI / (double(nc) * np));  // grey lights: y channel
     }
   }
@@ -216,9 +222,10 @@ TEST(LightSet, NonEmittersGiveNothing) {
 
 TEST(LightSet, BlackEnvironmentBesideAPointLightStaysFinite) {
   Light black = sky();
-  const LightSet set({}, {black, light_of(LightKind::point, {1, 1, 1})},
-                     test::reader_of("sky.exr", test::exr_bytes(4, 3, std::vector<float>(36, 0.0f))),
-                     kNoTextures, 1.0f);
+  const LightSet set(
+      {}, {black, light_of(LightKind::point, {1, 1, 1})},
+      test::reader_of("sky.exr", test::exr_bytes(4, 3, std::vector<float>(36, 0.0f))), kNoTextures,
+      1.0f);
   test::UniformFloats u(24);
   for (int i = 0; i < 100; ++i) {
     const LightSample s = set.sample(kRef, u.next(), u.next2());
@@ -232,11 +239,13 @@ TEST(LightSet, BadLightsAreRefusedWithTheirOrigin) {
   std::vector<float> rgb(8 * 5 * 3, 1.0f);
   rgb[7] = -2.0f;
   try {
-    LightSet set({}, {sky()}, test::reader_of("sky.exr", test::exr_bytes(8, 5, rgb)), kNoTextures, 1.0f);
+    LightSet set({}, {sky()}, test::reader_of("sky.exr", test::exr_bytes(8, 5, rgb)), kNoTextures,
+                 1.0f);
     FAIL() << "no error";
   } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("lights[4]: sky.exr: texel (x 2, y 0) channel G is negative"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("lights[4]: sky.exr: texel (x 2, y 0) channel G is negative"),
+        std::string::npos)
         << e.what();
   }
   try {  // the reader's own error names the missing file

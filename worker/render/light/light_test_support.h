@@ -3,25 +3,24 @@
 // expected counts come from integrating the density on a fine grid inside each bin).
 #pragma once
 
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <cstdint>
 #include <functional>
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <optional>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
-
-#include <OpenImageIO/imageio.h>
-#include <glm/geometric.hpp>
-#include <glm/mat3x3.hpp>
-#include <glm/vec2.hpp>
-#include <glm/vec3.hpp>
 
 #include "scene/scene_error.h"
 #include "scene/scene_loader.h"
@@ -83,9 +82,9 @@ struct ChiSquareResult {
 /// n * (1 - integral over all bins).
 /// Bins expecting fewer than 5 are pooled (among them the bins that the integration grid
 /// sees as empty though a silhouette crosses them).
-inline ChiSquareResult chi_square_directions(const DirectionBins& bins, int n,
-                                             const std::function<std::optional<glm::vec3>()>& sample,
-                                             const std::function<double(glm::vec3)>& pdf) {
+inline ChiSquareResult chi_square_directions(
+    const DirectionBins& bins, int n, const std::function<std::optional<glm::vec3>()>& sample,
+    const std::function<double(glm::vec3)>& pdf) {
   constexpr int kSub = 32;
   const size_t nc = bins.cos_edges.size() - 1, np = bins.phi_edges.size() - 1;
   auto direction = [&](double cos_theta, double phi) {
@@ -102,7 +101,8 @@ inline ChiSquareResult chi_square_directions(const DirectionBins& bins, int n,
       double mass = 0;
       for (int a = 0; a < kSub; ++a) {
         for (int b = 0; b < kSub; ++b) {
-          mass += pdf(direction(bins.cos_edges[i] + (a + 0.5) * dc, bins.phi_edges[j] + (b + 0.5) * dp));
+          mass += pdf(
+              direction(bins.cos_edges[i] + (a + 0.5) * dc, bins.phi_edges[j] + (b + 0.5) * dp));
         }
       }
       mass *= dc * dp;
@@ -155,7 +155,8 @@ inline ChiSquareResult chi_square_directions(const DirectionBins& bins, int n,
   }
   r.dof -= 1;
   r.p_value = r.dof > 0 ? chi_square_p_value(r.chi2, r.dof) : 1.0;
-  r.detail = "chi2 " + std::to_string(r.chi2) + " dof " + std::to_string(r.dof) + "; " + worst.str();
+  r.detail =
+      "chi2 " + std::to_string(r.chi2) + " dof " + std::to_string(r.dof) + "; " + worst.str();
   return r;
 }
 
@@ -196,11 +197,11 @@ namespace tessera::test {
 /// parallel test processes do not collide) and returns its bytes.
 inline std::string exr_bytes(int w, int h, const std::vector<float>& rgb) {
   const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                        ("tessera_envmap_test_" + std::to_string(::getpid()) + ".exr");
+                                     ("tessera_envmap_test_" + std::to_string(::getpid()) + ".exr");
   auto out = OIIO::ImageOutput::create(path.string());
   const OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
-  if (!out || !out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) ||
-      !out->close()) {
+  if (!out || !out->open(path.string(), spec) ||
+      !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) || !out->close()) {
     throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
   }
   std::ifstream in(path, std::ios::binary);
