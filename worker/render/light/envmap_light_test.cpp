@@ -255,6 +255,31 @@ std::string decode_error(const std::vector<float>& rgb, int w, int h) {
   return "";
 }
 
+TEST(EnvmapLight, LinearisesEightBitSrgbAndSpreadsGrey) {
+  // An 8-bit PNG is sRGB-encoded: 128 decodes to ((128/255 + 0.055) / 1.055)^2.4. A one-channel
+  // image is grey.
+  const std::vector<uint8_t> rgb = {0, 128, 255, 255, 255, 255, 128, 128, 128, 0, 0, 0};
+  const EnvmapLight png = EnvmapLight::from_file(
+      envmap_light(),
+      test::reader_of("sky.exr",
+                      test::image_bytes(".png", 2, 2, 3, OIIO::TypeDesc::UINT8, rgb.data())));
+  const float mid = std::pow((128.0f / 255.0f + 0.055f) / 1.055f, 2.4f);
+  // Straight up (v = 0) is the top row; its u (0.5 here) lies half way between its two texels.
+  const glm::vec3 top = png.radiance({0, 1, 0});
+  EXPECT_NEAR(top.x, 0.5f, 1e-5f);
+  EXPECT_NEAR(top.y, 0.5f * (mid + 1), 1e-5f);
+  EXPECT_NEAR(top.z, 1.0f, 1e-5f);
+
+  const std::vector<float> grey = {1, 2, 3, 4, 5, 6};
+  const EnvmapLight y = EnvmapLight::from_file(
+      envmap_light(),
+      test::reader_of("sky.exr",
+                      test::image_bytes(".exr", 2, 3, 1, OIIO::TypeDesc::FLOAT, grey.data())));
+  const glm::vec3 bottom = y.radiance({0, -1, 0});
+  EXPECT_EQ(bottom, glm::vec3(bottom.x));
+  EXPECT_NEAR(bottom.x, 5.5f, 1e-5f);
+}
+
 TEST(EnvmapLight, RefusesNanInfiniteAndNegativeTexels) {
   std::vector<float> rgb = reference_texels(4, 3);
   rgb[(1 * 4 + 2) * 3 + 1] = std::nanf("");

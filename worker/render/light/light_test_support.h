@@ -193,15 +193,17 @@ inline DirectionBins envmap_cell_bins(uint32_t width, uint32_t height, int split
 
 namespace tessera::test {
 
-/// Writes an RGB float EXR with OpenImageIO (through a file named after the process, so that
-/// parallel test processes do not collide) and returns its bytes.
-inline std::string exr_bytes(int w, int h, const std::vector<float>& rgb) {
-  const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                     ("tessera_envmap_test_" + std::to_string(::getpid()) + ".exr");
+/// Writes an image of the format `extension` names (".exr", ".png", ...) with OpenImageIO
+/// from `pixels` (w * h * channels values of type `type`), through a file named after the
+/// process so that parallel test processes do not collide, and returns its bytes.
+inline std::string image_bytes(const std::string& extension, int w, int h, int channels,
+                               OIIO::TypeDesc type, const void* pixels) {
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("tessera_envmap_test_" + std::to_string(::getpid()) + extension);
   auto out = OIIO::ImageOutput::create(path.string());
-  const OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
-  if (!out || !out->open(path.string(), spec) ||
-      !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) || !out->close()) {
+  const OIIO::ImageSpec spec(w, h, channels, type);
+  if (!out || !out->open(path.string(), spec) || !out->write_image(type, pixels) || !out->close()) {
     throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
   }
   std::ifstream in(path, std::ios::binary);
@@ -209,6 +211,11 @@ inline std::string exr_bytes(int w, int h, const std::vector<float>& rgb) {
   bytes << in.rdbuf();
   std::filesystem::remove(path);
   return bytes.str();
+}
+
+/// An RGB float EXR's bytes.
+inline std::string exr_bytes(int w, int h, const std::vector<float>& rgb) {
+  return image_bytes(".exr", w, h, 3, OIIO::TypeDesc::FLOAT, rgb.data());
 }
 
 /// A FileReader holding one file.
