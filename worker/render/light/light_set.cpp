@@ -1,6 +1,8 @@
 #include "render/light/light_set.h"
 
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 
 namespace tessera {
@@ -34,7 +36,14 @@ LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
                    const TextureLookup& textures, float scene_radius)
     : picker_(std::vector<double>{}) {
   lights_.reserve(area_emitters.size() + lights.size());
-  for (const Geometry* g : area_emitters) lights_.emplace_back(AreaLight(*g, textures));
+  for (const Geometry* g : area_emitters) {
+    // emitted() and pdf_area() find a geometry's light by Geometry::emitter.
+    if (g->emitter != int32_t(lights_.size())) {
+      throw std::invalid_argument("LightSet: area emitter " + std::to_string(lights_.size()) +
+                                  " has Geometry::emitter " + std::to_string(g->emitter));
+    }
+    lights_.emplace_back(AreaLight(*g, textures));
+  }
   area_count_ = uint32_t(area_emitters.size());
   for (const Light& light : lights) {
     switch (light.kind) {

@@ -27,8 +27,9 @@ class LightSet {
  public:
   /// Builds every light of the scene.
   /// - area_emitters: the Geometry of each emitting shape, in order, with
-  ///   area_emitters[i]->emitter == i (as traceable_scene.cpp numbers them); each must outlive
-  ///   the set. Textured radiance (Geometry::emission_texture) is looked up through `textures`.
+  ///   area_emitters[i]->emitter == i (as traceable_scene.cpp numbers them; std::invalid_argument
+  ///   otherwise); each must outlive the set. Textured radiance (Geometry::emission_texture) is
+  ///   looked up through `textures`, which must be safe to call from many threads.
   /// - lights: Scene::lights (point, spot, directional, constant, envmap). Environment maps are
   ///   decoded from the bytes `reader` returns for Light::file.
   /// - scene_radius: radius of the geometry's bounding sphere; directional and environment

@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "render/light/light_test_support.h"
@@ -233,6 +234,12 @@ TEST(LightSet, BlackEnvironmentBesideAPointLightStaysFinite) {
     EXPECT_TRUE(std::isfinite(s.radiance.x));
   }
   EXPECT_EQ(set.pdf_environment({0, 1, 0}), 0.0f);
+}
+
+TEST(LightSet, AreaEmittersMustBeNumberedInOrder) {
+  const Geometry quad = ceiling_quad(1, 3.0f);
+  EXPECT_THROW(LightSet({&quad}, {}, test::reader_of("x", ""), kNoTextures, 1.0f),
+               std::invalid_argument);
 }
 
 TEST(LightSet, BadLightsAreRefusedWithTheirOrigin) {
