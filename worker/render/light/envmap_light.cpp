@@ -134,8 +134,12 @@ glm::u32vec2 EnvmapLight::cell_of(glm::vec2 uv) const {
   float gx = uv.x * float(width_) - 0.5f;
   if (gx < 0) gx += float(width_);
   const float gy = uv.y * float(height_ - 1);
-  return {std::min(uint32_t(std::max(gx, 0.0f)), width_ - 1),
-          std::min(uint32_t(std::max(gy, 0.0f)), height_ - 2)};
+  // Written so that a NaN (from a NaN direction) lands on cell 0 rather than in an undefined
+  // float-to-integer conversion.
+  const auto index = [](float g, uint32_t last) {
+    return g >= 0 ? std::min(uint32_t(std::min(g, float(last))), last) : 0u;
+  };
+  return {index(gx, width_ - 1), index(gy, height_ - 2)};
 }
 
 glm::vec3 EnvmapLight::radiance(glm::vec3 d) const {

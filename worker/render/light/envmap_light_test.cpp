@@ -220,6 +220,7 @@ TEST(EnvmapLight, ExtremeMapsGiveFiniteValues) {
       ASSERT_TRUE(std::isfinite(weight) && weight >= 0);
     }
     EXPECT_EQ(env.pdf(glm::vec3(0, -1, 0)), 0.0f);  // a black pole
+    EXPECT_TRUE(std::isfinite(env.pdf(glm::vec3(NAN, 0, 0))));  // no undefined conversion
     EXPECT_TRUE(std::isfinite(env.power(1.0)) && env.power(1.0) > 0);
   }
   {  // all black: nothing to sample, no division by zero
