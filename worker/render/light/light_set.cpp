@@ -8,7 +8,7 @@
 namespace tessera {
 namespace {
 
-/// Area lights, then Scene::lights, in order.
+/// Each light's power (luminance-weighted watts), as the picker weighs it.
 template <class Lights>
 std::vector<double> powers_of(const Lights& lights, double scene_radius) {
   std::vector<double> powers;
