@@ -5,7 +5,6 @@
 
 #include <cstdint>
 #include <functional>
-
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 

@@ -1,8 +1,7 @@
 #include "render/light/directional_light.h"
 
-#include <limits>
-
 #include <glm/geometric.hpp>
+#include <limits>
 
 #include "accum/accumulation.h"
 #include "render/warp.h"

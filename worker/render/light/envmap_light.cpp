@@ -1,13 +1,13 @@
 #include "render/light/envmap_light.h"
 
-#include <algorithm>
-#include <cmath>
-#include <sstream>
-
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
+#include <sstream>
 
 #include "accum/accumulation.h"
 #include "render/warp.h"
@@ -38,7 +38,9 @@ void check_texels(const Light& light, uint32_t width, const std::vector<float>& 
     std::ostringstream message;
     message << where(light) << ": texel (x " << texel % width << ", y " << texel / width
             << ") channel " << "RGB"[i % 3] << " is "
-            << (std::isnan(v) ? "NaN" : std::isinf(v) ? "infinite" : "negative (" + std::to_string(v) + ")")
+            << (std::isnan(v)   ? "NaN"
+                : std::isinf(v) ? "infinite"
+                                : "negative (" + std::to_string(v) + ")")
             << "; environment maps must hold finite radiance >= 0";
     throw SceneError(message.str());
   }
@@ -51,7 +53,8 @@ EnvmapLight EnvmapLight::from_file(const Light& light, const FileReader& reader)
   OIIO::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
   auto in = OIIO::ImageInput::open(light.file, nullptr, &memory);
   if (!in) {
-    throw SceneError(where(light) + ": cannot decode the environment map (" + OIIO::geterror() + ")");
+    throw SceneError(where(light) + ": cannot decode the environment map (" + OIIO::geterror() +
+                     ")");
   }
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.depth != 1) {
@@ -60,11 +63,13 @@ EnvmapLight EnvmapLight::from_file(const Light& light, const FileReader& reader)
   const size_t w = size_t(spec.width), h = size_t(spec.height), nc = size_t(spec.nchannels);
   std::vector<float> pixels(w * h * nc);
   if (!in->read_image(0, 0, 0, int(nc), OIIO::TypeDesc::FLOAT, pixels.data())) {
-    throw SceneError(where(light) + ": cannot read the environment map's pixels (" + in->geterror() + ")");
+    throw SceneError(where(light) + ": cannot read the environment map's pixels (" +
+                     in->geterror() + ")");
   }
   // Mitsuba linearises 8-bit sRGB images when it converts them to float; EXR and HDR are linear.
-  const bool srgb = spec.format.basetype == OIIO::TypeDesc::UINT8 &&
-                    OIIO::Strutil::iequals(spec.get_string_attribute("oiio:ColorSpace", "sRGB"), "sRGB");
+  const bool srgb =
+      spec.format.basetype == OIIO::TypeDesc::UINT8 &&
+      OIIO::Strutil::iequals(spec.get_string_attribute("oiio:ColorSpace", "sRGB"), "sRGB");
   std::vector<float> rgb(w * h * 3);
   for (size_t i = 0; i < w * h; ++i) {
     for (size_t c = 0; c < 3; ++c) {
@@ -76,7 +81,8 @@ EnvmapLight EnvmapLight::from_file(const Light& light, const FileReader& reader)
   return EnvmapLight(light, uint32_t(w), uint32_t(h), std::move(rgb));
 }
 
-EnvmapLight::EnvmapLight(const Light& light, uint32_t width, uint32_t height, std::vector<float> rgb)
+EnvmapLight::EnvmapLight(const Light& light, uint32_t width, uint32_t height,
+                         std::vector<float> rgb)
     : width_(width), height_(height), rgb_(std::move(rgb)), scale_(glm::vec3(light.value)) {
   if (width < 1 || height < 1 || rgb_.size() != size_t(width) * height * 3) {
     throw SceneError(where(light) + ": environment map of " + std::to_string(width) + " x " +
@@ -103,7 +109,8 @@ EnvmapLight::EnvmapLight(const Light& light, uint32_t width, uint32_t height, st
       const uint32_t x1 = (x + 1) % width_;
       const glm::vec3 sum = texel(x, y) + texel(x1, y) + texel(x, y + 1) + texel(x1, y + 1);
       const glm::dvec3 mean = glm::dvec3(scale_) * glm::dvec3(sum) * 0.25;
-      weights[size_t(y) * width_ + x] = std::max(0.0, luminance(mean.x, mean.y, mean.z)) * cell_omega_[y];
+      weights[size_t(y) * width_ + x] =
+          std::max(0.0, luminance(mean.x, mean.y, mean.z)) * cell_omega_[y];
     }
   }
   distribution_ = PiecewiseConstant2D(weights, width_, height_ - 1);
@@ -127,8 +134,12 @@ glm::u32vec2 EnvmapLight::cell_of(glm::vec2 uv) const {
   float gx = uv.x * float(width_) - 0.5f;
   if (gx < 0) gx += float(width_);
   const float gy = uv.y * float(height_ - 1);
-  return {std::min(uint32_t(std::max(gx, 0.0f)), width_ - 1),
-          std::min(uint32_t(std::max(gy, 0.0f)), height_ - 2)};
+  // Written so that a NaN (from a NaN direction) lands on cell 0 rather than in an undefined
+  // float-to-integer conversion.
+  const auto index = [](float g, uint32_t last) {
+    return g >= 0 ? std::min(uint32_t(std::min(g, float(last))), last) : 0u;
+  };
+  return {index(gx, width_ - 1), index(gy, height_ - 2)};
 }
 
 glm::vec3 EnvmapLight::radiance(glm::vec3 d) const {

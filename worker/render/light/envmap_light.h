@@ -15,12 +15,11 @@
 #pragma once
 
 #include <cstdint>
-#include <string>
-#include <vector>
-
 #include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <string>
+#include <vector>
 
 #include "render/light/piecewise_constant.h"
 #include "scene/scene.h"
@@ -64,8 +63,8 @@ class EnvmapLight {
   std::vector<float> rgb_;
   glm::vec3 scale_;
   glm::mat3 to_world_, to_local_;
-  std::vector<double> cos_theta_;    ///< per row, cos(pi y / (H - 1))
-  std::vector<double> cell_omega_;   ///< per row of cells: solid angle of one cell
+  std::vector<double> cos_theta_;   ///< per row, cos(pi y / (H - 1))
+  std::vector<double> cell_omega_;  ///< per row of cells: solid angle of one cell
   PiecewiseConstant2D distribution_;
 };
 

@@ -3,16 +3,11 @@
 // constant emitter, decoding and refusing bad texels, and extreme maps.
 #include "render/light/envmap_light.h"
 
-#include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <optional>
-#include <sstream>
-#include <unistd.h>
-
-#include <OpenImageIO/imageio.h>
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <optional>
 
 #include "accum/accumulation.h"
 #include "render/light/constant_light.h"
@@ -21,8 +16,6 @@
 
 namespace tessera {
 namespace {
-
-namespace fs = std::filesystem;
 
 Light envmap_light(glm::dmat4 to_world = glm::dmat4(1.0), double scale = 1.0) {
   Light l;
@@ -118,8 +111,9 @@ TEST(EnvmapLight, ChiSquareRejectsAWrongDensity) {
     float pdf = 0;
     return env.sample(u.next2(), &pdf);
   };
-  const test::ChiSquareResult r = test::chi_square_directions(
-      test::envmap_cell_bins(w, h, 1), 20000, sample, [&](glm::vec3 d) { return double(wrong.pdf(d)); });
+  const test::ChiSquareResult r =
+      test::chi_square_directions(test::envmap_cell_bins(w, h, 1), 20000, sample,
+                                  [&](glm::vec3 d) { return double(wrong.pdf(d)); });
   EXPECT_LT(r.p_value, test::kChiSquareLevel) << r.detail;
 }
 
@@ -150,7 +144,8 @@ TEST(EnvmapLight, EstimatorIntegratesTheRadiance) {
     const double c = -1.0 + 2.0 * (i + 0.5) / nc, s = std::sqrt(1 - c * c);
     for (int j = 0; j < np; ++j) {
       const double phi = 2 * M_PI * (j + 0.5) / np;
-      const glm::vec3 l = env.radiance(glm::vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)));
+      const glm::vec3 l =
+          env.radiance(glm::vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)));
       quadrature += luminance(l.x, l.y, l.z);
     }
   }
@@ -206,7 +201,8 @@ TEST(EnvmapLight, ExtremeMapsGiveFiniteValues) {
       EXPECT_NEAR(env.pdf(d), 1 / (4 * M_PI), 1e-5);
     }
     // The poles and the seam.
-    for (glm::vec3 d : {glm::vec3(0, 1, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, -1), glm::vec3(-0.f, 0, 1)}) {
+    for (glm::vec3 d :
+         {glm::vec3(0, 1, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, -1), glm::vec3(-0.f, 0, 1)}) {
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(env.radiance(d)[c], 2.0f + c, 1e-6f);
       EXPECT_TRUE(std::isfinite(env.pdf(d)));
     }
@@ -224,6 +220,7 @@ TEST(EnvmapLight, ExtremeMapsGiveFiniteValues) {
       ASSERT_TRUE(std::isfinite(weight) && weight >= 0);
     }
     EXPECT_EQ(env.pdf(glm::vec3(0, -1, 0)), 0.0f);  // a black pole
+    EXPECT_TRUE(std::isfinite(env.pdf(glm::vec3(NAN, 0, 0))));  // no undefined conversion
     EXPECT_TRUE(std::isfinite(env.power(1.0)) && env.power(1.0) > 0);
   }
   {  // all black: nothing to sample, no division by zero
@@ -237,33 +234,10 @@ TEST(EnvmapLight, ExtremeMapsGiveFiniteValues) {
   }
 }
 
-/// Writes an RGB float EXR with OpenImageIO and returns its bytes.
-std::string exr_bytes(int w, int h, const std::vector<float>& rgb) {
-  const fs::path path = fs::temp_directory_path() /
-                        ("tessera_envmap_test_" + std::to_string(::getpid()) + ".exr");
-  auto out = OIIO::ImageOutput::create(path.string());
-  const OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
-  EXPECT_TRUE(out && out->open(path.string(), spec));
-  EXPECT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()));
-  out->close();
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  fs::remove(path);
-  return bytes.str();
-}
-
-FileReader reader_of(const std::string& name, const std::string& bytes) {
-  return [name, bytes](const std::string& path) {
-    if (path != name) throw SceneError(path + ": not in the scene bundle");
-    return bytes;
-  };
-}
-
 TEST(EnvmapLight, DecodesExrFromBytes) {
   const std::vector<float> rgb = reference_texels(4, 3);
-  const EnvmapLight decoded = EnvmapLight::from_file(envmap_light(test_rotation(), 2.0),
-                                                     reader_of("sky.exr", exr_bytes(4, 3, rgb)));
+  const EnvmapLight decoded = EnvmapLight::from_file(
+      envmap_light(test_rotation(), 2.0), test::reader_of("sky.exr", test::exr_bytes(4, 3, rgb)));
   const EnvmapLight direct(envmap_light(test_rotation(), 2.0), 4, 3, rgb);
   test::UniformFloats u(2);
   for (int i = 0; i < 100; ++i) {
@@ -275,11 +249,36 @@ TEST(EnvmapLight, DecodesExrFromBytes) {
 
 std::string decode_error(const std::vector<float>& rgb, int w, int h) {
   try {
-    EnvmapLight::from_file(envmap_light(), reader_of("sky.exr", exr_bytes(w, h, rgb)));
+    EnvmapLight::from_file(envmap_light(), test::reader_of("sky.exr", test::exr_bytes(w, h, rgb)));
   } catch (const SceneError& e) {
     return e.what();
   }
   return "";
+}
+
+TEST(EnvmapLight, LinearisesEightBitSrgbAndSpreadsGrey) {
+  // An 8-bit PNG is sRGB-encoded: 128 decodes to ((128/255 + 0.055) / 1.055)^2.4. A one-channel
+  // image is grey.
+  const std::vector<uint8_t> rgb = {0, 128, 255, 255, 255, 255, 128, 128, 128, 0, 0, 0};
+  const EnvmapLight png = EnvmapLight::from_file(
+      envmap_light(),
+      test::reader_of("sky.exr",
+                      test::image_bytes(".png", 2, 2, 3, OIIO::TypeDesc::UINT8, rgb.data())));
+  const float mid = std::pow((128.0f / 255.0f + 0.055f) / 1.055f, 2.4f);
+  // Straight up (v = 0) is the top row; its u (0.5 here) lies half way between its two texels.
+  const glm::vec3 top = png.radiance({0, 1, 0});
+  EXPECT_NEAR(top.x, 0.5f, 1e-5f);
+  EXPECT_NEAR(top.y, 0.5f * (mid + 1), 1e-5f);
+  EXPECT_NEAR(top.z, 1.0f, 1e-5f);
+
+  const std::vector<float> grey = {1, 2, 3, 4, 5, 6};
+  const EnvmapLight y = EnvmapLight::from_file(
+      envmap_light(),
+      test::reader_of("sky.exr",
+                      test::image_bytes(".exr", 2, 3, 1, OIIO::TypeDesc::FLOAT, grey.data())));
+  const glm::vec3 bottom = y.radiance({0, -1, 0});
+  EXPECT_EQ(bottom, glm::vec3(bottom.x));
+  EXPECT_NEAR(bottom.x, 5.5f, 1e-5f);
 }
 
 TEST(EnvmapLight, RefusesNanInfiniteAndNegativeTexels) {
@@ -292,7 +291,8 @@ TEST(EnvmapLight, RefusesNanInfiniteAndNegativeTexels) {
   rgb = reference_texels(4, 3);
   rgb[0] = INFINITY;
   message = decode_error(rgb, 4, 3);
-  EXPECT_NE(message.find("sky.exr: texel (x 0, y 0) channel R is infinite"), std::string::npos) << message;
+  EXPECT_NE(message.find("sky.exr: texel (x 0, y 0) channel R is infinite"), std::string::npos)
+      << message;
 
   rgb = reference_texels(4, 3);
   rgb[(2 * 4 + 3) * 3 + 2] = -0.5f;
@@ -302,10 +302,11 @@ TEST(EnvmapLight, RefusesNanInfiniteAndNegativeTexels) {
 
 TEST(EnvmapLight, RefusesUndecodableBytes) {
   try {
-    EnvmapLight::from_file(envmap_light(), reader_of("sky.exr", "not an image"));
+    EnvmapLight::from_file(envmap_light(), test::reader_of("sky.exr", "not an image"));
     FAIL() << "no error";
   } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("lights[0]: sky.exr: cannot decode"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("lights[0]: sky.exr: cannot decode"), std::string::npos)
+        << e.what();
   }
 }
 

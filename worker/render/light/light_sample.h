@@ -10,15 +10,15 @@ namespace tessera {
 
 /// What a light sample says, seen from a shading point `ref`.
 struct LightSample {
-  glm::vec3 wi{0.0f};      ///< unit, from ref towards the light
-  float distance = 0;      ///< to the sampled point; +inf for environment and directional lights
+  glm::vec3 wi{0.0f};  ///< unit, from ref towards the light
+  float distance = 0;  ///< to the sampled point; +inf for environment and directional lights
   /// What arrives along -wi if unoccluded (point/spot: intensity / distance^2, with the spot's
   /// falloff), NOT divided by pdf.
   glm::vec3 radiance{0.0f};
   /// Solid-angle density w.r.t. ref, including the light-pick probability; for delta lights
   /// the pick probability alone. 0 = no contribution (radiance is then 0 too).
   float pdf = 0;
-  bool delta = false;      ///< point, spot, directional: MIS does not apply
+  bool delta = false;  ///< point, spot, directional: MIS does not apply
   /// Area lights: the sampled point with its error bound and front-facing normal, so that the
   /// shadow ray can end at offset_ray_origin(point, -wi). Point and spot lights: the light's
   /// position with a zero error bound (ng = -wi). Unused for environment and directional lights.

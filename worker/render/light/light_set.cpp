@@ -1,12 +1,14 @@
 #include "render/light/light_set.h"
 
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 
 namespace tessera {
 namespace {
 
-/// Area lights, then Scene::lights, in order.
+/// Each light's power (luminance-weighted watts), as the picker weighs it.
 template <class Lights>
 std::vector<double> powers_of(const Lights& lights, double scene_radius) {
   std::vector<double> powers;
@@ -34,13 +36,26 @@ LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
                    const TextureLookup& textures, float scene_radius)
     : picker_(std::vector<double>{}) {
   lights_.reserve(area_emitters.size() + lights.size());
-  for (const Geometry* g : area_emitters) lights_.emplace_back(AreaLight(*g, textures));
+  for (const Geometry* g : area_emitters) {
+    // emitted() and pdf_area() find a geometry's light by Geometry::emitter.
+    if (g->emitter != int32_t(lights_.size())) {
+      throw std::invalid_argument("LightSet: area emitter " + std::to_string(lights_.size()) +
+                                  " has Geometry::emitter " + std::to_string(g->emitter));
+    }
+    lights_.emplace_back(AreaLight(*g, textures));
+  }
   area_count_ = uint32_t(area_emitters.size());
   for (const Light& light : lights) {
     switch (light.kind) {
-      case LightKind::point: lights_.emplace_back(PointLight(light)); break;
-      case LightKind::spot: lights_.emplace_back(SpotLight(light)); break;
-      case LightKind::directional: lights_.emplace_back(DirectionalLight(light)); break;
+      case LightKind::point:
+        lights_.emplace_back(PointLight(light));
+        break;
+      case LightKind::spot:
+        lights_.emplace_back(SpotLight(light));
+        break;
+      case LightKind::directional:
+        lights_.emplace_back(DirectionalLight(light));
+        break;
       case LightKind::constant:
         environment_.push_back(uint32_t(lights_.size()));
         lights_.emplace_back(ConstantLight(light));
@@ -87,8 +102,8 @@ LightSample LightSet::sample(const SurfacePoint& ref, float u_pick, glm::vec2 u)
   return s;
 }
 
-glm::vec3 LightSet::emitted(const Geometry& g, uint32_t /*primitive*/, glm::vec2 uv,
-                            glm::vec3 ng, glm::vec3 w) const {
+glm::vec3 LightSet::emitted(const Geometry& g, uint32_t /*primitive*/, glm::vec2 uv, glm::vec3 ng,
+                            glm::vec3 w) const {
   if (g.emitter < 0 || uint32_t(g.emitter) >= area_count_) return glm::vec3(0.0f);
   return std::get<AreaLight>(lights_[size_t(g.emitter)]).emitted(uv, ng, w);
 }

@@ -3,11 +3,10 @@
 #pragma once
 
 #include <cstdint>
-#include <variant>
-#include <vector>
-
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <variant>
+#include <vector>
 
 #include "render/geometry.h"
 #include "render/light/area_light.h"
@@ -28,8 +27,9 @@ class LightSet {
  public:
   /// Builds every light of the scene.
   /// - area_emitters: the Geometry of each emitting shape, in order, with
-  ///   area_emitters[i]->emitter == i (as traceable_scene.cpp numbers them); each must outlive
-  ///   the set. Textured radiance (Geometry::emission_texture) is looked up through `textures`.
+  ///   area_emitters[i]->emitter == i (as traceable_scene.cpp numbers them; std::invalid_argument
+  ///   otherwise); each must outlive the set. Textured radiance (Geometry::emission_texture) is
+  ///   looked up through `textures`, which must be safe to call from many threads.
   /// - lights: Scene::lights (point, spot, directional, constant, envmap). Environment maps are
   ///   decoded from the bytes `reader` returns for Light::file.
   /// - scene_radius: radius of the geometry's bounding sphere; directional and environment
@@ -76,9 +76,9 @@ class LightSet {
   /// Solid-angle density of environment light i (constant or envmap) for direction d.
   float environment_pdf(uint32_t i, glm::vec3 d) const;
 
-  std::vector<AnyLight> lights_;          ///< area lights first: lights_[i] is area emitter i
+  std::vector<AnyLight> lights_;  ///< area lights first: lights_[i] is area emitter i
   uint32_t area_count_ = 0;
-  std::vector<uint32_t> environment_;     ///< indices of constant and envmap lights
+  std::vector<uint32_t> environment_;  ///< indices of constant and envmap lights
   LightPicker picker_;
 };
 

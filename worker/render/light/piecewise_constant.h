@@ -5,9 +5,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <glm/vec2.hpp>
+#include <vector>
 
 namespace tessera {
 
@@ -58,7 +57,7 @@ class PiecewiseConstant2D {
   float pmf(uint32_t x, uint32_t y) const;
 
  private:
-  PiecewiseConstant1D marginal_;                ///< over rows
+  PiecewiseConstant1D marginal_;                  ///< over rows
   std::vector<PiecewiseConstant1D> conditional_;  ///< one per row
 };
 

@@ -1,7 +1,6 @@
 #include "render/light/point_light.h"
 
 #include <cmath>
-
 #include <glm/geometric.hpp>
 
 #include "accum/accumulation.h"

@@ -1,7 +1,6 @@
 #include "render/light/spot_light.h"
 
 #include <cmath>
-
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 

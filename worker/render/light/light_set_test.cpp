@@ -1,0 +1,267 @@
+// The light set: picking by power, the pick probability in every pdf, pdf_area and
+// pdf_environment against sample(), the environment mixture (chi-square), bad lights.
+#include "render/light/light_set.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "render/light/light_test_support.h"
+#include "scene/scene_error.h"
+
+namespace tessera {
+namespace {
+
+const TextureLookup kNoTextures = [](int32_t, glm::vec2) { return glm::vec3(1.0f); };
+
+Light light_of(LightKind kind, glm::dvec3 value, glm::dmat4 to_world = glm::dmat4(1.0)) {
+  Light l;
+  l.kind = kind;
+  l.origin = "lights[" + std::to_string(int(kind)) + "]";
+  l.value = value;
+  l.to_world = to_world;
+  return l;
+}
+
+/// A one-sided quad facing -z over [-1, 1]^2 at z = 1.
+Geometry ceiling_quad(int32_t index, float le) {
+  Geometry g;
+  g.positions = {{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
+  g.indices = {{0, 2, 1}, {0, 3, 2}};
+  for (const glm::u32vec3& t : g.indices) {
+    const glm::vec3 p0 = g.positions[t.x], p1 = g.positions[t.y], p2 = g.positions[t.z];
+    g.face_normals.push_back(glm::normalize(glm::cross(p1 - p0, p2 - p0)));
+    g.point_errors.push_back(triangle_point_error(p0, p1, p2));
+  }
+  g.emitter = index;
+  g.emission = glm::vec3(le);
+  return g;
+}
+
+Geometry sphere_light(int32_t index, glm::dvec3 center, double radius, float le) {
+  Geometry g;
+  g.kind = Geometry::Kind::sphere;
+  g.center = center;
+  g.radius = radius;
+  g.emitter = index;
+  g.emission = glm::vec3(le);
+  return g;
+}
+
+/// An 8 x 5 map with variation and one bright texel, as an EXR file "sky.exr".
+FileReader sky_reader() {
+  std::vector<float> rgb;
+  for (int y = 0; y < 5; ++y) {
+    for (int x = 0; x < 8; ++x) {
+      const float v = (x == 5 && y == 2) ? 200.0f : 0.2f + 0.1f * float((x + 2 * y) % 4);
+      rgb.insert(rgb.end(), {v, v, 0.5f * v});
+    }
+  }
+  return test::reader_of("sky.exr", test::exr_bytes(8, 5, rgb));
+}
+
+Light sky() {
+  Light l = light_of(LightKind::envmap, {1, 1, 1});
+  l.file = "sky.exr";
+  return l;
+}
+
+const SurfacePoint kRef{{0.1f, -0.2f, 0.0f}, {0, 0, 0}, {0, 0, 1}};
+
+TEST(LightSet, WithoutLightsSamplesNothing) {
+  const LightSet set({}, {}, test::reader_of("x", ""), kNoTextures, 1.0f);
+  EXPECT_TRUE(set.empty());
+  EXPECT_EQ(set.sample(kRef, 0.5f, {0.5f, 0.5f}).pdf, 0.0f);
+  EXPECT_EQ(set.environment({0, 0, 1}), glm::vec3(0.0f));
+  EXPECT_EQ(set.pdf_environment({0, 0, 1}), 0.0f);
+}
+
+TEST(LightSet, PicksByPowerAndIncludesThePickInThePdf) {
+  // Point: 4 pi I = 4 pi. Directional: pi r^2 E = pi (r = 1). So 0.8 and 0.2.
+  const LightSet set(
+      {},
+      {light_of(LightKind::point, {1, 1, 1}, glm::translate(glm::dmat4(1.0), {0, 0, 2})),
+       light_of(LightKind::directional, {1, 1, 1})},
+      test::reader_of("x", ""), kNoTextures, 1.0f);
+  test::UniformFloats u(21);
+  const int n = 20000;
+  int points = 0;
+  for (int i = 0; i < n; ++i) {
+    const LightSample s = set.sample(kRef, u.next(), u.next2());
+    ASSERT_TRUE(s.delta);
+    if (std::isfinite(s.distance)) {
+      ++points;
+      EXPECT_NEAR(s.pdf, 0.8f, 1e-6f);
+    } else {
+      EXPECT_NEAR(s.pdf, 0.2f, 1e-6f);
+    }
+  }
+  const double se = std::sqrt(n * 0.8 * 0.2);
+  EXPECT_NEAR(points, 0.8 * n, 5 * se);
+}
+
+TEST(LightSet, AreaAndEnvironmentPdfsAgreeWithSample) {
+  const Geometry quad = ceiling_quad(0, 3.0f);
+  const Geometry ball = sphere_light(1, {3, 0, 0.5}, 0.5, 5.0f);
+  const LightSet set({&quad, &ball}, {light_of(LightKind::constant, {0.1, 0.1, 0.1}), sky()},
+                     sky_reader(), kNoTextures, 0.5f);
+  test::UniformFloats u(22);
+  int area = 0, environment = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const LightSample s = set.sample(kRef, u.next(), u.next2());
+    if (!(s.pdf > 0)) continue;
+    ASSERT_FALSE(s.delta);
+    ASSERT_TRUE(std::isfinite(s.pdf));
+    if (std::isinf(s.distance)) {
+      ++environment;
+      EXPECT_NEAR(set.pdf_environment(s.wi), s.pdf, 1e-4f * s.pdf);
+      EXPECT_EQ(set.environment(s.wi), s.radiance);
+      continue;
+    }
+    ++area;
+    const bool on_ball = std::abs(glm::length(s.point.p - glm::vec3(ball.center)) - 0.5f) < 1e-4f;
+    const Geometry& g = on_ball ? ball : quad;
+    EXPECT_NEAR(set.pdf_area(g, 0, kRef, s.point.p, s.point.ng), s.pdf, 1e-4f * s.pdf);
+    EXPECT_EQ(set.emitted(g, 0, {0, 0}, s.point.ng, -s.wi), s.radiance);
+  }
+  EXPECT_GT(area, 500);
+  EXPECT_GT(environment, 500);
+}
+
+TEST(LightSet, EnvironmentMixtureMatchesPdfChiSquare) {
+  // A constant and an envmap light: sample() picks one of them but reports the directions'
+  // combined density; the directions must follow it.
+  const LightSet set({}, {light_of(LightKind::constant, {0.5, 0.5, 0.5}), sky()}, sky_reader(),
+                     kNoTextures, 1.0f);
+  test::UniformFloats u(23);
+  const auto sample = [&]() -> std::optional<glm::vec3> {
+    const LightSample s = set.sample(kRef, u.next(), u.next2());
+    if (!(s.pdf > 0)) return std::nullopt;
+    return s.wi;
+  };
+  const test::ChiSquareResult r =
+      test::chi_square_directions(test::envmap_cell_bins(8, 5, 2), 100000, sample,
+                                  [&](glm::vec3 d) { return double(set.pdf_environment(d)); });
+  EXPECT_GT(r.p_value, test::kChiSquareLevel) << r.detail;
+}
+
+/// Irradiance at p (normal n) from a uniform Lambertian polygon of radiance le (Lambert's
+/// formula: le / 2 * sum of edge angles times the cosine of their planes with n).
+double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n,
+                          double le) {
+  double sum = 0;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const glm::dvec3 a = glm::normalize(polygon[i] - p);
+    const glm::dvec3 b = glm::normalize(polygon[(i + 1) % polygon.size()] - p);
+    const double angle = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+    sum += angle * glm::dot(n, glm::normalize(glm::cross(a, b)));
+  }
+  return le / 2 * std::abs(sum);
+}
+
+TEST(LightSet, EstimatesTheIrradianceOfEveryLightTogether) {
+  // E[radiance * cos / pdf] over sample() is the unoccluded irradiance from all lights: the
+  // pick probabilities and every light's density must be right for it to come out.
+  const Geometry quad = ceiling_quad(0, 3.0f);
+  const glm::dmat4 sun_to_world =
+      glm::rotate(glm::dmat4(1.0), glm::radians(160.0), glm::dvec3(0, 1, 0));
+  Light rotated_sky = sky();
+  rotated_sky.to_world = glm::rotate(glm::dmat4(1.0), glm::radians(70.0), glm::dvec3(1, 0, 1));
+  const LightSet set(
+      {&quad},
+      {light_of(LightKind::point, {1, 1, 1}, glm::translate(glm::dmat4(1.0), {0.5, 0.5, 2})),
+       light_of(LightKind::directional, {0.7, 0.7, 0.7}, sun_to_world),
+       light_of(LightKind::constant, {0.2, 0.2, 0.2}), rotated_sky},
+      sky_reader(), kNoTextures, 2.0f);
+  const glm::dvec3 p(kRef.p), n(0, 0, 1);
+
+  double expected = polygon_irradiance({{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}, p, n, 3.0);
+  const glm::dvec3 to_point = glm::dvec3(0.5, 0.5, 2) - p;
+  expected += glm::dot(glm::normalize(to_point), n) / glm::dot(to_point, to_point);
+  expected += 0.7 * -glm::dvec3(sun_to_world[2]).z;
+  // Constant and envmap by quadrature over the upper hemisphere (cos theta, phi).
+  const int nc = 400, np = 800;
+  for (int i = 0; i < nc; ++i) {
+    const double c = (i + 0.5) / nc, s = std::sqrt(1 - c * c);
+    for (int j = 0; j < np; ++j) {
+      const double phi = 2 * M_PI * (j + 0.5) / np;
+      const glm::vec3 l =
+          set.environment(glm::vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)));
+      expected += double(l.y) * c * (2 * M_PI / (double(nc) * np));  // grey lights: y channel
+    }
+  }
+
+  test::UniformFloats u(25);
+  const int count = 200000;
+  double sum = 0, sum2 = 0;
+  for (int i = 0; i < count; ++i) {
+    const LightSample s = set.sample(kRef, u.next(), u.next2());
+    if (!(s.pdf > 0)) continue;
+    const double f = double(s.radiance.y) * std::max(0.0, glm::dot(glm::dvec3(s.wi), n)) / s.pdf;
+    sum += f;
+    sum2 += f * f;
+  }
+  const double mean = sum / count, se = std::sqrt((sum2 / count - mean * mean) / count);
+  EXPECT_NEAR(mean, expected, 5 * se + 1e-3 * expected) << "se " << se;
+}
+
+TEST(LightSet, NonEmittersGiveNothing) {
+  const Geometry quad = ceiling_quad(0, 3.0f);
+  Geometry wall = ceiling_quad(-1, 0.0f);
+  const LightSet set({&quad}, {}, test::reader_of("x", ""), kNoTextures, 1.0f);
+  EXPECT_EQ(set.emitted(wall, 0, {0, 0}, {0, 0, -1}, {0, 0, -1}), glm::vec3(0.0f));
+  EXPECT_EQ(set.pdf_area(wall, 0, kRef, {0, 0, 1}, {0, 0, -1}), 0.0f);
+  EXPECT_EQ(set.emitted(quad, 0, {0, 0}, {0, 0, -1}, {0, 0, -1}), glm::vec3(3.0f));
+  EXPECT_GT(set.pdf_area(quad, 0, kRef, {0, 0, 1}, {0, 0, -1}), 0.0f);
+}
+
+TEST(LightSet, BlackEnvironmentBesideAPointLightStaysFinite) {
+  Light black = sky();
+  const LightSet set(
+      {}, {black, light_of(LightKind::point, {1, 1, 1})},
+      test::reader_of("sky.exr", test::exr_bytes(4, 3, std::vector<float>(36, 0.0f))), kNoTextures,
+      1.0f);
+  test::UniformFloats u(24);
+  for (int i = 0; i < 100; ++i) {
+    const LightSample s = set.sample(kRef, u.next(), u.next2());
+    EXPECT_TRUE(s.pdf == 0 || (s.delta && s.pdf == 1.0f));
+    EXPECT_TRUE(std::isfinite(s.radiance.x));
+  }
+  EXPECT_EQ(set.pdf_environment({0, 1, 0}), 0.0f);
+}
+
+TEST(LightSet, AreaEmittersMustBeNumberedInOrder) {
+  const Geometry quad = ceiling_quad(1, 3.0f);
+  EXPECT_THROW(LightSet({&quad}, {}, test::reader_of("x", ""), kNoTextures, 1.0f),
+               std::invalid_argument);
+}
+
+TEST(LightSet, BadLightsAreRefusedWithTheirOrigin) {
+  std::vector<float> rgb(8 * 5 * 3, 1.0f);
+  rgb[7] = -2.0f;
+  try {
+    LightSet set({}, {sky()}, test::reader_of("sky.exr", test::exr_bytes(8, 5, rgb)), kNoTextures,
+                 1.0f);
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("lights[4]: sky.exr: texel (x 2, y 0) channel G is negative"),
+        std::string::npos)
+        << e.what();
+  }
+  try {  // the reader's own error names the missing file
+    LightSet set({}, {sky()}, test::reader_of("other.exr", ""), kNoTextures, 1.0f);
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("sky.exr"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace tessera
