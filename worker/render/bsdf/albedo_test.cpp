@@ -26,7 +26,8 @@ struct AlbedoRow {
 };
 
 std::vector<AlbedoRow> read_table(std::string* header) {
-  const std::string path = std::string(TESSERA_SOURCE_DIR) + "/worker/render/bsdf/mitsuba_albedo.txt";
+  const std::string path =
+      std::string(TESSERA_SOURCE_DIR) + "/worker/render/bsdf/mitsuba_albedo.txt";
   std::ifstream in(path);
   EXPECT_TRUE(in) << "cannot read " << path;
   std::vector<AlbedoRow> rows;
@@ -64,7 +65,8 @@ BsdfParams params_of(const AlbedoRow& r) {
   } else {
     ADD_FAILURE() << "line " << r.line << ": unknown type " << r.type;
   }
-  p.distribution = r.distribution == "ggx" ? MicrofacetDistribution::ggx : MicrofacetDistribution::beckmann;
+  p.distribution =
+      r.distribution == "ggx" ? MicrofacetDistribution::ggx : MicrofacetDistribution::beckmann;
   p.alpha_u = r.alpha_u;
   p.alpha_v = r.alpha_v;
   p.eta = r.eta;
@@ -93,7 +95,8 @@ glm::dvec3 albedo(const Bsdf& bsdf, glm::vec3 wo, uint64_t seed, glm::dvec3* se)
   }
   const double n = double(kGrid) * kGrid;
   const glm::dvec3 mean = sum / n;
-  *se = glm::sqrt(glm::max(sum2 / n - mean * mean, 0.0) / n);  // ignores stratification: an upper bound
+  // Ignores the stratification: an upper bound.
+  *se = glm::sqrt(glm::max(sum2 / n - mean * mean, 0.0) / n);
   return mean;
 }
 

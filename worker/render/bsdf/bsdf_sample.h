@@ -41,7 +41,8 @@ struct BsdfSample {
   /// choosing that lobe.
   float pdf = 0;
   bool delta = false;  ///< a perfectly specular lobe was sampled (no MIS, count emission)
-  float eta = 1;       ///< relative index of the interface crossed (eta_t / eta_i), 1 for reflection
+  /// Relative index of the interface crossed (eta_t / eta_i); 1 for reflection.
+  float eta = 1;
 };
 
 }  // namespace tessera

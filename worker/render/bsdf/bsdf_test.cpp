@@ -99,7 +99,8 @@ TEST(BsdfFurnace, NoBsdfCreatesEnergy) {
   uint64_t seed = 100;
   for (BsdfCase c : cases.all()) {
     // White parameters make the bound tight: 1 is reached only by lossless materials.
-    c.params.reflectance = c.params.specular_reflectance = c.params.specular_transmittance = glm::vec3(1.0f);
+    c.params.reflectance = c.params.specular_reflectance = glm::vec3(1.0f);
+    c.params.specular_transmittance = glm::vec3(1.0f);
     const Bsdf bsdf(c.params);  // a rough plastic's table does not depend on the colours
     for (glm::vec3 wo : test_wos(c.two_sided_wo)) {
       const Mean m = furnace(bsdf, wo, seed++, 20000);
@@ -160,7 +161,8 @@ TEST(BsdfReciprocity, ReflectionIsSymmetricAndTransmissionScalesByEtaSquared) {
       const glm::vec3 b = square_to_uniform_sphere({u01(rng), u01(rng)});
       if (std::abs(a.z) < 0.02f || std::abs(b.z) < 0.02f) continue;
       // BSDF values without the cosine.
-      const glm::vec3 f_ab = bsdf.eval(a, b) / std::abs(b.z), f_ba = bsdf.eval(b, a) / std::abs(a.z);
+      const glm::vec3 f_ab = bsdf.eval(a, b) / std::abs(b.z);
+      const glm::vec3 f_ba = bsdf.eval(b, a) / std::abs(a.z);
       // f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2, eta_x the index on x's side (1 outside).
       const float eta_a = a.z > 0 ? 1.0f : c.params.eta, eta_b = b.z > 0 ? 1.0f : c.params.eta;
       for (int ch = 0; ch < 3; ++ch) {
