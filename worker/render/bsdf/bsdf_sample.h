@@ -2,8 +2,6 @@
 // one shading point (textures already looked up) and one sampled direction.
 #pragma once
 
-#include <array>
-
 #include <glm/vec3.hpp>
 
 #include "scene/scene.h"
