@@ -2,8 +2,6 @@
 // one shading point (textures already looked up) and one sampled direction.
 #pragma once
 
-#include <array>
-
 #include <glm/vec3.hpp>
 
 #include "scene/scene.h"
@@ -41,7 +39,8 @@ struct BsdfSample {
   /// choosing that lobe.
   float pdf = 0;
   bool delta = false;  ///< a perfectly specular lobe was sampled (no MIS, count emission)
-  float eta = 1;       ///< relative index of the interface crossed (eta_t / eta_i), 1 for reflection
+  /// Relative index of the interface crossed (eta_t / eta_i); 1 for reflection.
+  float eta = 1;
 };
 
 }  // namespace tessera

@@ -99,7 +99,8 @@ TEST(BsdfFurnace, NoBsdfCreatesEnergy) {
   uint64_t seed = 100;
   for (BsdfCase c : cases.all()) {
     // White parameters make the bound tight: 1 is reached only by lossless materials.
-    c.params.reflectance = c.params.specular_reflectance = c.params.specular_transmittance = glm::vec3(1.0f);
+    c.params.reflectance = c.params.specular_reflectance = glm::vec3(1.0f);
+    c.params.specular_transmittance = glm::vec3(1.0f);
     const Bsdf bsdf(c.params);  // a rough plastic's table does not depend on the colours
     for (glm::vec3 wo : test_wos(c.two_sided_wo)) {
       const Mean m = furnace(bsdf, wo, seed++, 20000);
@@ -160,7 +161,8 @@ TEST(BsdfReciprocity, ReflectionIsSymmetricAndTransmissionScalesByEtaSquared) {
       const glm::vec3 b = square_to_uniform_sphere({u01(rng), u01(rng)});
       if (std::abs(a.z) < 0.02f || std::abs(b.z) < 0.02f) continue;
       // BSDF values without the cosine.
-      const glm::vec3 f_ab = bsdf.eval(a, b) / std::abs(b.z), f_ba = bsdf.eval(b, a) / std::abs(a.z);
+      const glm::vec3 f_ab = bsdf.eval(a, b) / std::abs(b.z);
+      const glm::vec3 f_ba = bsdf.eval(b, a) / std::abs(a.z);
       // f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2, eta_x the index on x's side (1 outside).
       const float eta_a = a.z > 0 ? 1.0f : c.params.eta, eta_b = b.z > 0 ? 1.0f : c.params.eta;
       for (int ch = 0; ch < 3; ++ch) {
@@ -186,7 +188,7 @@ TEST(BsdfExtremes, EveryOutputIsFinite) {
                             MaterialType::plastic, MaterialType::rough_plastic}) {
     for (auto dist : {MicrofacetDistribution::beckmann, MicrofacetDistribution::ggx}) {
       for (float alpha : {1e-4f, 1e-3f, 1.0f}) {
-        for (float eta : {1.0001f, 1.0f / 1.0001f, 1.5f, 4.0f}) {
+        for (float eta : {1.0f, 1.0001f, 1.0f / 1.0001f, 1.5f, 4.0f}) {
           for (bool visible : {true, false}) {
             BsdfParams p;
             p.type = type;
@@ -201,7 +203,7 @@ TEST(BsdfExtremes, EveryOutputIsFinite) {
               // Each table costs ~0.25 s: the extreme corners only.
               const bool corner = (dist == MicrofacetDistribution::beckmann && alpha == 1e-4f) ||
                                   (dist == MicrofacetDistribution::ggx && alpha == 1.0f);
-              if (!corner || !visible || eta == 1.5f || eta < 1) continue;
+              if (!corner || !visible || eta == 1.5f || eta <= 1) continue;
               p = owner.with_table(p);
             }
             params.push_back(p);

@@ -117,7 +117,8 @@ class BsdfCases {
   BsdfParams with_table(BsdfParams p) {
     p.rough_plastic = nullptr;
     for (const RoughPlasticTable& t : tables_) {
-      if (t.distribution == p.distribution && t.alpha == p.alpha_u && t.eta == p.eta) p.rough_plastic = &t;
+      const bool same = t.distribution == p.distribution && t.alpha == p.alpha_u && t.eta == p.eta;
+      if (same) p.rough_plastic = &t;
     }
     if (!p.rough_plastic) {
       tables_.push_back(make_rough_plastic_table(p.distribution, p.alpha_u, p.eta));

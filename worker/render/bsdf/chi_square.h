@@ -81,7 +81,8 @@ inline ChiSquareResult chi_square_test(const Bsdf& bsdf, glm::vec3 wo, uint64_t 
     const float theta = std::acos(std::clamp(s->wi.z, -1.0f, 1.0f));
     float phi = std::atan2(s->wi.y, s->wi.x);
     if (phi < 0) phi += 2 * kPi;
-    const int ti = std::min(kTheta - 1, int(theta / dtheta)), pi = std::min(kPhi - 1, int(phi / dphi));
+    const int ti = std::min(kTheta - 1, int(theta / dtheta));
+    const int pi = std::min(kPhi - 1, int(phi / dphi));
     observed[ti * kPhi + pi] += 1;
   }
   // The midpoint rule over kSub x kSub cells per bin of sin(theta) pdf(theta, phi): robust to

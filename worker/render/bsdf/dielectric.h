@@ -13,7 +13,9 @@ namespace tessera {
 class DielectricBsdf {
  public:
   explicit DielectricBsdf(const BsdfParams& p)
-      : eta_(p.eta), reflectance_(p.specular_reflectance), transmittance_(p.specular_transmittance) {}
+      : eta_(p.eta),
+        reflectance_(p.specular_reflectance),
+        transmittance_(p.specular_transmittance) {}
   /// Only delta lobes: eval and pdf are 0 for every pair of directions.
   glm::vec3 eval(glm::vec3, glm::vec3) const { return glm::vec3(0.0f); }
   float pdf(glm::vec3, glm::vec3) const { return 0.0f; }

@@ -44,7 +44,8 @@ inline glm::vec3 refract(glm::vec3 wo, glm::vec3 n, float eta, float cos_t) {
 /// The dielectric Fresnel term for a direction on either side of the boundary.
 struct DielectricFresnel {
   float r = 1;            ///< reflectance in [0, 1]; 1 under total internal reflection
-  float cos_theta_t = 0;  ///< signed cosine of the refracted direction (opposite side to wi), 0 under TIR
+  /// Signed cosine of the refracted direction (on the side opposite wi); 0 under TIR.
+  float cos_theta_t = 0;
   float eta_it = 1;       ///< index on the transmitted side over the incident side's
   float eta_ti = 1;       ///< its inverse
 };
@@ -79,7 +80,8 @@ inline glm::vec3 fresnel_conductor(float cos_theta_i, glm::vec3 eta, glm::vec3 k
   glm::vec3 r;
   for (int c = 0; c < 3; ++c) {
     const float temp = eta[c] * eta[c] - k[c] * k[c] - s2;
-    const float a2pb2 = std::sqrt(std::max(0.0f, temp * temp + 4.0f * k[c] * k[c] * eta[c] * eta[c]));
+    const float ek = eta[c] * k[c];
+    const float a2pb2 = std::sqrt(std::max(0.0f, temp * temp + 4.0f * ek * ek));
     const float a = std::sqrt(std::max(0.0f, 0.5f * (a2pb2 + temp)));
     const float t1 = a2pb2 + c2, t2 = 2.0f * cos_theta_i * a;
     const float r_s = t1 + t2 > 0.0f ? (t1 - t2) / (t1 + t2) : 1.0f;
@@ -97,8 +99,8 @@ inline float fresnel_diffuse_reflectance(float eta) {
   const float inv = 1.0f / eta;
   if (eta < 1.0f) return 0.0636f * inv + (eta * (eta * -1.4399f + 0.7099f) + 0.6681f);
   // Horner form of 0.919317 - 3.4793 x + 6.75335 x^2 - 7.80989 x^3 + 4.98554 x^4 - 1.36881 x^5.
-  return 0.919317f +
-         inv * (-3.4793f + inv * (6.75335f + inv * (-7.80989f + inv * (4.98554f + inv * -1.36881f))));
+  const float tail = -7.80989f + inv * (4.98554f + inv * -1.36881f);
+  return 0.919317f + inv * (-3.4793f + inv * (6.75335f + inv * tail));
 }
 
 /// Reflection about the local +z axis.

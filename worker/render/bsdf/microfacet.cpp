@@ -46,7 +46,8 @@ float erfinv(float x) {
   return p * x;
 }
 
-Microfacet::Microfacet(MicrofacetDistribution type, float alpha_u, float alpha_v, bool sample_visible)
+Microfacet::Microfacet(MicrofacetDistribution type, float alpha_u, float alpha_v,
+                       bool sample_visible)
     : type_(type),
       alpha_u_(std::max(alpha_u, kMinAlpha)),
       alpha_v_(std::max(alpha_v, kMinAlpha)),

@@ -39,7 +39,9 @@ class Microfacet {
   /// the back of m relative to the macro surface).
   float smith_g1(glm::vec3 v, glm::vec3 m) const;
   /// The separable bidirectional shadowing-masking G1(wi) G1(wo).
-  float G(glm::vec3 wi, glm::vec3 wo, glm::vec3 m) const { return smith_g1(wi, m) * smith_g1(wo, m); }
+  float G(glm::vec3 wi, glm::vec3 wo, glm::vec3 m) const {
+    return smith_g1(wi, m) * smith_g1(wo, m);
+  }
 
  private:
   glm::vec2 sample_visible_11(float cos_theta_i, glm::vec2 u) const;

@@ -5,7 +5,8 @@
 
 namespace tessera {
 
-float plastic_specular_sampling_weight(glm::vec3 diffuse_reflectance, glm::vec3 specular_reflectance) {
+float plastic_specular_sampling_weight(glm::vec3 diffuse_reflectance,
+                                       glm::vec3 specular_reflectance) {
   const float d = (diffuse_reflectance.x + diffuse_reflectance.y + diffuse_reflectance.z) / 3.0f;
   const float s = (specular_reflectance.x + specular_reflectance.y + specular_reflectance.z) / 3.0f;
   return d + s > 0.0f ? s / (d + s) : 0.5f;

@@ -40,6 +40,7 @@ float plastic_internal_reflectance(float eta);
 
 /// Mitsuba's steering of samples between the specular and diffuse lobes of the plastics:
 /// mean(specular) / (mean(diffuse) + mean(specular)); 0.5 when both are black.
-float plastic_specular_sampling_weight(glm::vec3 diffuse_reflectance, glm::vec3 specular_reflectance);
+float plastic_specular_sampling_weight(glm::vec3 diffuse_reflectance,
+                                       glm::vec3 specular_reflectance);
 
 }  // namespace tessera

@@ -74,7 +74,8 @@ float RoughDielectricBsdf::pdf(glm::vec3 wo, glm::vec3 wi) const {
   return std::isfinite(pdf) ? pdf : 0.0f;
 }
 
-std::optional<BsdfSample> RoughDielectricBsdf::sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const {
+std::optional<BsdfSample> RoughDielectricBsdf::sample(glm::vec3 wo, float u_lobe,
+                                                      glm::vec2 u) const {
   if (wo.z == 0.0f) return std::nullopt;
   const Microfacet sd = sampling_distribution(wo);
   const glm::vec3 wo_up = wo.z > 0.0f ? wo : -wo;

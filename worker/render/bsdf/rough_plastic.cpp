@@ -68,7 +68,8 @@ float rough_fresnel_integral(const Microfacet& distr, glm::vec3 wi, float eta, b
 
 }  // namespace
 
-RoughPlasticTable make_rough_plastic_table(MicrofacetDistribution distribution, float alpha, float eta) {
+RoughPlasticTable make_rough_plastic_table(MicrofacetDistribution distribution, float alpha,
+                                           float eta) {
   RoughPlasticTable t;
   t.distribution = distribution;
   t.alpha = alpha;
@@ -109,7 +110,8 @@ float RoughPlasticBsdf::transmittance(float cos_theta) const {
   const float x = cos_theta * float(RoughPlasticTable::kResolution - 1);
   const int i = std::clamp(int(x), 0, RoughPlasticTable::kResolution - 2);
   const float w = x - float(i);
-  const float t = (1.0f - w) * table_->external_transmittance[i] + w * table_->external_transmittance[i + 1];
+  const auto& table = table_->external_transmittance;
+  const float t = (1.0f - w) * table[i] + w * table[i + 1];
   return std::clamp(t, 0.0f, 1.0f);  // the quadrature may overshoot 1 slightly when eta ~ 1
 }
 

@@ -30,7 +30,8 @@ struct RoughPlasticTable {
 
 /// Computes the table (a few tenths of a second: 64 directions times Gauss-Legendre grids of
 /// 32^2 and 128^2 visible-normal samples, as Mitsuba's eval_transmittance / eval_reflectance).
-RoughPlasticTable make_rough_plastic_table(MicrofacetDistribution distribution, float alpha, float eta);
+RoughPlasticTable make_rough_plastic_table(MicrofacetDistribution distribution, float alpha,
+                                           float eta);
 
 class RoughPlasticBsdf {
  public:
