@@ -368,7 +368,7 @@ std::string shape_json(const Shape& s, const std::string& what,
   }
   if (s.is_emitter() && s.two_sided_emission) {
     const Material& m = materials[s.material];
-    if (!m.two_sided && m.type != MaterialType::glass) {
+    if (!m.two_sided && !is_glass_kind(m.type)) {
       throw SceneError(what +
                        ": it emits from both sides but its material is one-sided, which "
                        "the native format cannot say");
