@@ -1,6 +1,7 @@
 #include "scene/native/texture_parser.h"
 
 #include <algorithm>
+#include <cctype>
 
 #include "scene/scene_error.h"
 #include "scene/scene_loader.h"
