@@ -105,7 +105,8 @@ Light parse_light_object(const JsonValue& value, std::vector<std::string>& refer
 
 }  // namespace
 
-std::vector<Light> parse_lights(const JsonValue& value, std::vector<std::string>& referenced_files) {
+std::vector<Light> parse_lights(const JsonValue& value,
+                               std::vector<std::string>& referenced_files) {
   std::vector<Light> lights;
   for (const JsonValue& light : value.elements()) {
     lights.push_back(parse_light_object(light, referenced_files));

@@ -14,6 +14,7 @@ namespace tessera {
 /// constant: "radiance"; envmap: "file", "scale"; all but constant: "transform", which must be
 /// rigid). Envmap files are checked with check_bundle_path and added to `referenced_files`.
 /// Throws SceneError naming the JSON path of what is wrong.
-std::vector<Light> parse_lights(const JsonValue& value, std::vector<std::string>& referenced_files);
+std::vector<Light> parse_lights(const JsonValue& value,
+                               std::vector<std::string>& referenced_files);
 
 }  // namespace tessera

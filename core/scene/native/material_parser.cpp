@@ -119,7 +119,9 @@ void parse_roughness(const JsonValue& value, const TextureNames& textures, Mater
 void parse_type_keys(const JsonValue& value, const TextureNames& textures, Material& m) {
   MaterialType type = m.type;
   if (type == MaterialType::diffuse) {
-    if (auto r = value.find("reflectance")) m.reflectance = parse_textured_color(*r, textures, {0, 1});
+    if (auto r = value.find("reflectance")) {
+      m.reflectance = parse_textured_color(*r, textures, {0, 1});
+    }
   }
   if (is_plastic(type)) {
     if (auto r = value.find("diffuse_reflectance")) {

@@ -108,7 +108,8 @@ TEST(SceneModelParse, MaterialKindsTakeMitsubasParameters) {
             "materials.m.reflectance: plastics call it diffuse_reflectance");
   EXPECT_EQ(material_error(R"({"type": "thin_glass", "two_sided": true})"),
             "materials.m.two_sided: glass is always two-sided (remove this key)");
-  EXPECT_EQ(material_error(R"({"opacity": 1.5})"), "materials.m.opacity: must be in [0, 1] (got 1.5)");
+  EXPECT_EQ(material_error(R"({"opacity": 1.5})"),
+            "materials.m.opacity: must be in [0, 1] (got 1.5)");
   EXPECT_EQ(material_error(R"({"type": "conductor", "eta": [1, -1, 1]})"),
             "materials.m.eta[1]: must be >= 0 (got -1)");
   EXPECT_EQ(material_error(R"({"back": "m"})"), "materials.m.back: must name another material");
@@ -153,7 +154,8 @@ TEST(SceneModelParse, LightsFilterAndHideEmitters) {
   EXPECT_EQ(error_of(with(R"("lights": [{"type": "constant", "transform": {}}])")).rfind(
                 "lights[0].transform: unknown key", 0),
             0u);
-  EXPECT_EQ(error_of(with(R"("lights": [{"type": "envmap", "file": "a.exr", "scale": [1, 2, 3]}])")),
+  EXPECT_EQ(error_of(with(R"("lights": [{"type": "envmap", "file": "a.exr",
+                                         "scale": [1, 2, 3]}])")),
             "lights[0].scale: must be a number");
   EXPECT_EQ(error_of(with(R"("lights": [{"type": "area"}])")),
             "lights[0].type: unknown light type \"area\" (expected point, spot, directional, "

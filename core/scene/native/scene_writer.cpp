@@ -318,7 +318,8 @@ std::string film_json(const Film& film) {
       filter = "{\"type\": \"box\"}";
       break;
     case FilterKind::tent:
-      filter = "{\"type\": \"tent\", \"radius\": " + number(film.filter.radius, "film.filter") + "}";
+      filter =
+          "{\"type\": \"tent\", \"radius\": " + number(film.filter.radius, "film.filter") + "}";
       break;
     case FilterKind::gaussian:
       filter = "{\"type\": \"gaussian\", \"stddev\": " + number(film.filter.stddev, "film.filter") +

@@ -151,7 +151,9 @@ void expect_same_scene(const Scene& a, const Scene& b) {
     EXPECT_TRUE(same_bits(x.to_uv, y.to_uv)) << x.name;
   }
   ASSERT_EQ(a.materials.size(), b.materials.size());
-  for (size_t i = 0; i < a.materials.size(); ++i) expect_same_material(a.materials[i], b.materials[i]);
+  for (size_t i = 0; i < a.materials.size(); ++i) {
+    expect_same_material(a.materials[i], b.materials[i]);
+  }
   ASSERT_EQ(a.groups.size(), b.groups.size());
   for (size_t g = 0; g < a.groups.size(); ++g) {
     EXPECT_EQ(a.groups[g].name, b.groups[g].name);

@@ -211,7 +211,9 @@ Shape parse_instance(const JsonValue& value, const ShapeContext& context) {
   JsonValue group = value.at("group");
   if (!context.groups) value.at("type").fail("groups cannot hold instances");
   auto it = context.groups->find(group.string());
-  if (it == context.groups->end()) group.fail("unknown group \"" + printable(group.string()) + "\"");
+  if (it == context.groups->end()) {
+    group.fail("unknown group \"" + printable(group.string()) + "\"");
+  }
   Shape shape;
   shape.kind = Shape::Kind::instance;
   shape.group = it->second;

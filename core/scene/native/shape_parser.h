@@ -29,8 +29,8 @@ struct ShapeContext {
 ///
 /// An "instance" shape ({"group": name, "transform"}) becomes one Shape::Kind::instance.
 /// Otherwise applies, in order: the geometry of its "type" (quad, sphere, triangles, box,
-/// tetrahedron, mesh); "transform"; "flip_normals"; degenerate triangles (an error for explicit geometry,
-/// dropped and counted for mesh files); the material ("material", else the file's MTL
+/// tetrahedron, mesh); "transform"; "flip_normals"; degenerate triangles (an error for
+/// explicit geometry, dropped and counted for mesh files); the material ("material", else the file's MTL
 /// material, else "(black)" for lights), made two-sided by "two_sided"; the light
 /// ("emission", or "power" over the world-space area of all its parts, else the MTL's Ke).
 /// Throws SceneError whose message starts with the JSON path of what is wrong.

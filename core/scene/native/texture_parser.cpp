@@ -24,8 +24,9 @@ constexpr std::pair<const char*, TextureColorSpace> kColorSpaces[] = {
     {"srgb", TextureColorSpace::srgb}, {"linear", TextureColorSpace::linear}};
 constexpr std::pair<const char*, TextureFilter> kFilters[] = {
     {"bilinear", TextureFilter::bilinear}, {"nearest", TextureFilter::nearest}};
-constexpr std::pair<const char*, TextureWrap> kWraps[] = {
-    {"repeat", TextureWrap::repeat}, {"mirror", TextureWrap::mirror}, {"clamp", TextureWrap::clamp}};
+constexpr std::pair<const char*, TextureWrap> kWraps[] = {{"repeat", TextureWrap::repeat},
+                                                          {"mirror", TextureWrap::mirror},
+                                                          {"clamp", TextureWrap::clamp}};
 
 /// Float images are linear, others sRGB: Mitsuba's default for bitmaps.
 TextureColorSpace default_color_space(const std::string& file) {
