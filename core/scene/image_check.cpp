@@ -3,6 +3,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -76,6 +77,20 @@ ImageCheck check_image_bytes(const std::string& path, std::string_view bytes) {
   in->close();
   check_values(path, spec, pixels);
   return {spec.width, spec.height, spec.nchannels, in->format_name()};
+}
+
+std::vector<std::string> scene_image_files(const Scene& scene) {
+  std::vector<std::string> files;
+  auto add = [&files](const std::string& file) {
+    if (std::find(files.begin(), files.end(), file) == files.end()) files.push_back(file);
+  };
+  for (const Texture& texture : scene.textures) {
+    if (texture.kind == TextureKind::bitmap) add(texture.file);
+  }
+  for (const Light& light : scene.lights) {
+    if (light.kind == LightKind::envmap) add(light.file);
+  }
+  return files;
 }
 
 }  // namespace tessera

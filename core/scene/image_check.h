@@ -6,6 +6,9 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
+
+#include "scene/scene.h"
 
 namespace tessera {
 
@@ -27,5 +30,9 @@ inline constexpr uint64_t kMaxImageValues = uint64_t(1) << 28;
 /// than kMaxImageValues values, or has a NaN, infinite or negative value (naming the first such
 /// pixel and channel).
 ImageCheck check_image_bytes(const std::string& path, std::string_view bytes);
+
+/// The bundle paths of the images `scene` uses (bitmap textures, then envmap files), each once,
+/// in order of first use: the files of Scene::referenced_files that check_image_bytes checks.
+std::vector<std::string> scene_image_files(const Scene& scene);
 
 }  // namespace tessera

@@ -93,5 +93,22 @@ TEST(ImageCheck, RefusesWhatIsNotAnImage) {
   EXPECT_NE(cut_png, "(no error)");
 }
 
+TEST(ImageCheck, SceneImageFilesAreTexturesAndEnvmaps) {
+  Scene scene;
+  Texture bitmap;
+  bitmap.file = "tex/a.png";
+  Texture checks;
+  checks.kind = TextureKind::checkerboard;
+  Texture again = bitmap;
+  scene.textures = {bitmap, checks, again};
+  Light env;
+  env.kind = LightKind::envmap;
+  env.file = "sky.exr";
+  Light point;
+  scene.lights = {point, env};
+  scene.referenced_files = {"m.ply", "tex/a.png", "sky.exr"};
+  EXPECT_EQ(scene_image_files(scene), (std::vector<std::string>{"tex/a.png", "sky.exr"}));
+}
+
 }  // namespace
 }  // namespace tessera
