@@ -45,7 +45,8 @@ constexpr const char* kMtl = "newmtl red\nKd 0.8 0.1 0.1\nKe 0 0 0\n";
 /// serialized file).
 std::string mesh_scene(const std::string& file) {
   const char* index = file.ends_with(".serialized") ? R"(, "shape_index": 1)" : "";
-  return std::string(R"({"tessera": 1, "camera": {"position": [0,0,3], "look_at": [0,0,0], "fov": 40},
+  return std::string(
+             R"({"tessera": 1, "camera": {"position": [0,0,3], "look_at": [0,0,0], "fov": 40},
     "film": {"width": 8, "height": 8},
     "materials": {"white": {"type": "diffuse", "reflectance": [0.5,0.5,0.5]}},
     "shapes": [{"type": "mesh", "file": ")") +

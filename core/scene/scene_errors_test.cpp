@@ -33,17 +33,18 @@ TEST(SceneErrors, DuplicateKey) {
 }
 
 TEST(SceneErrors, UnknownKeys) {
-  EXPECT_EQ(error_of(R"({"tessera": 1, "lights": []})"),
-            "lights: unknown key (a scene has: tessera, camera, film, render, materials, shapes)");
+  EXPECT_EQ(error_of(R"({"tessera": 1, "light": []})"),
+            "light: unknown key (a scene has: tessera, camera, film, render, textures, materials, "
+            "groups, shapes, lights)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "camera": {"fov_deg": 40}})"),
             "camera.fov_deg: unknown key (the camera has: position, look_at, up, fov, fov_axis, "
             "aperture_radius, focus_distance)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "render": {"spp": 4, "threads": 2}})"),
-            "render.threads: unknown key (render has: spp, max_depth, seed)");
+            "render.threads: unknown key (render has: spp, max_depth, seed, hide_emitters)");
   EXPECT_EQ(
       error_of(scene_with_shapes(R"({"type": "sphere", "material": "white", "colour": [1,0,0]})")),
       "shapes[0].colour: unknown key (a \"sphere\" shape has: type, material, emission, power, "
-      "two_sided, flip_normals, transform, center, radius)");
+      "two_sided, flip_normals, transform, center, radius, frame)");
 }
 
 TEST(SceneErrors, WrongTypes) {

@@ -9,29 +9,12 @@
 
 #include "scene/native/json_document.h"
 #include "scene/native/json_value.h"
-#include "scene/native/material_parser.h"
 #include "scene/mitsuba/mitsuba_xml_loader.h"
 #include "scene/scene_error.h"
-#include "scene/native/settings_parser.h"
-#include "scene/native/shape_parser.h"
+#include "scene/native/scene_parser.h"
 
 namespace tessera {
 namespace {
-
-constexpr int kFormatVersion = 1;
-
-void check_version(const JsonValue& root) {
-  JsonValue version = root.at("tessera");
-  if (!version.json().is_number()) version.fail("must be the format version, 1");
-  int64_t v = version.integer(INT64_MIN, INT64_MAX);
-  if (v != kFormatVersion) {
-    version.fail("unsupported format version " + std::to_string(v) + " (this build reads 1)");
-  }
-}
-
-void parse_shapes(const JsonValue& shapes, ShapeContext& context, Scene& scene) {
-  for (const JsonValue& shape : shapes.elements()) parse_shape(shape, context, scene.shapes);
-}
 
 /// Parses scene text; `source_name` names it in JSON syntax errors.
 Scene parse_scene_text(std::string_view json_text, const std::string& source_name,
@@ -41,18 +24,7 @@ Scene parse_scene_text(std::string_view json_text, const std::string& source_nam
     throw SceneError(source_name + ": a scene must be a JSON object ({\"tessera\": 1, ...})");
   }
   JsonValue root(document, "");
-  root.expect_object({"tessera", "camera", "film", "render", "materials", "shapes"}, "a scene");
-  check_version(root);
-  Scene scene;
-  if (std::optional<JsonValue> camera = root.find("camera")) scene.camera = parse_camera(*camera);
-  if (std::optional<JsonValue> film = root.find("film")) scene.film = parse_film(*film);
-  if (std::optional<JsonValue> render = root.find("render")) scene.render = parse_render(*render);
-  MaterialTable materials;
-  if (std::optional<JsonValue> m = root.find("materials")) parse_materials(*m, materials);
-  ShapeContext context{materials, reader, scene.referenced_files};
-  if (std::optional<JsonValue> shapes = root.find("shapes")) parse_shapes(*shapes, context, scene);
-  scene.materials = materials.take();
-  return scene;
+  return parse_native_scene(root, reader);
 }
 
 bool is_mitsuba_xml(const std::string& file_name) {

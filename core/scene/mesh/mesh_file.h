@@ -33,8 +33,8 @@ struct MeshFileOptions {
 /// `reader`: ".obj" (case-insensitive) with tinyobjloader, ".ply" with load_ply, ".serialized"
 /// with load_serialized_mesh (shape `options.shape_index`). Appends every
 /// file read (the mesh, then its MTL files) to `files_read`. Returns one part per material (a
-/// PLY or serialized file, or an OBJ read without its materials, gives one part). Throws SceneError("<path>:
-/// ...").
+/// PLY or serialized file, or an OBJ read without its materials, gives one part). Throws
+/// SceneError("<path>: ...").
 std::vector<MeshPart> load_mesh_file(const std::string& path, const FileReader& reader,
                                      const MeshFileOptions& options,
                                      std::vector<std::string>& files_read);

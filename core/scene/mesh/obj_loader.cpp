@@ -1,5 +1,6 @@
 #include "scene/mesh/obj_loader.h"
 
+#include <cmath>
 #include <glm/geometric.hpp>
 #include <sstream>
 #include <unordered_map>
@@ -19,6 +20,7 @@ struct PendingGroup {
   std::vector<tinyobj::index_t> corners;
   std::vector<unsigned> face_sizes;
   bool all_normals = true;  ///< every corner has a vn
+  bool all_uvs = true;      ///< every corner has a vt
 };
 
 /// Refuses files with too many vertex or face lines before tinyobjloader allocates for them.
@@ -57,11 +59,12 @@ std::vector<PendingGroup> group_faces(const std::vector<tinyobj::shape_t>& shape
       }
       int id = by_material ? mesh.material_ids[f] : -1;
       auto [it, added] = slot_of.try_emplace(id, groups.size());
-      if (added) groups.push_back(PendingGroup{id, {}, {}, true});
+      if (added) groups.push_back(PendingGroup{id, {}, {}, true, true});
       PendingGroup& group = groups[it->second];
       for (unsigned k = 0; k < size; ++k) {
         group.corners.push_back(mesh.indices[offset + k]);
         group.all_normals = group.all_normals && mesh.indices[offset + k].normal_index >= 0;
+        group.all_uvs = group.all_uvs && mesh.indices[offset + k].texcoord_index >= 0;
       }
       group.face_sizes.push_back(size);
       offset += size;
@@ -73,11 +76,26 @@ std::vector<PendingGroup> group_faces(const std::vector<tinyobj::shape_t>& shape
   return groups;
 }
 
-/// Builds one group's mesh: vertices are the distinct (position, normal) pairs it uses.
+/// A corner's (position, normal, texture coordinate) indices; -1 for an unused one.
+struct CornerKey {
+  int position, normal, uv;
+  bool operator==(const CornerKey&) const = default;
+};
+struct CornerKeyHash {
+  size_t operator()(const CornerKey& k) const {
+    uint64_t h = (uint64_t(uint32_t(k.position)) << 32) ^ uint32_t(k.normal + 1);
+    return std::hash<uint64_t>()(h * 0x9E3779B97F4A7C15ull ^ uint32_t(k.uv + 1));
+  }
+};
+
+/// Builds one group's mesh: vertices are the distinct (position, normal, uv) triples it uses.
+/// OBJ's v points up the image; Mitsuba (and Tessera) look textures up with v pointing down, so
+/// a vt (u, v) becomes (u, 1 - v), as Mitsuba's OBJ loader does.
 class GroupBuilder {
  public:
-  GroupBuilder(const tinyobj::attrib_t& attrib, bool use_normals, const std::string& path)
-      : attrib_(attrib), use_normals_(use_normals), path_(path) {}
+  GroupBuilder(const tinyobj::attrib_t& attrib, bool use_normals, bool use_uvs,
+               const std::string& path)
+      : attrib_(attrib), use_normals_(use_normals), use_uvs_(use_uvs), path_(path) {}
 
   TriangleMesh build(const PendingGroup& group) {
     size_t offset = 0;
@@ -105,7 +123,13 @@ class GroupBuilder {
       throw SceneError(path_ + ": a face refers to normal " + std::to_string(normal + 1) +
                        " but the file has " + std::to_string(normal_count));
     }
-    uint64_t key = (uint64_t(uint32_t(corner.vertex_index)) << 32) | uint32_t(normal + 1);
+    int uv = use_uvs_ ? corner.texcoord_index : -1;
+    size_t uv_count = attrib_.texcoords.size() / 2;
+    if (use_uvs_ && size_t(uv) >= uv_count) {
+      throw SceneError(path_ + ": a face refers to texture coordinate " + std::to_string(uv + 1) +
+                       " but the file has " + std::to_string(uv_count));
+    }
+    CornerKey key{corner.vertex_index, normal, uv};
     auto [it, added] = index_of_.try_emplace(key, uint32_t(mesh_.positions.size()));
     if (added) {
       const double* p = &attrib_.vertices[3 * size_t(corner.vertex_index)];
@@ -113,6 +137,14 @@ class GroupBuilder {
       if (use_normals_) {
         const double* n = &attrib_.normals[3 * size_t(normal)];
         mesh_.normals.emplace_back(n[0], n[1], n[2]);
+      }
+      if (use_uvs_) {
+        const double* t = &attrib_.texcoords[2 * size_t(uv)];
+        if (!std::isfinite(t[0]) || !std::isfinite(t[1])) {
+          throw SceneError(path_ + ": texture coordinate " + std::to_string(uv + 1) +
+                           " is not a finite number");
+        }
+        mesh_.uvs.emplace_back(t[0], 1 - t[1]);
       }
     }
     return it->second;
@@ -142,9 +174,10 @@ class GroupBuilder {
 
   const tinyobj::attrib_t& attrib_;
   bool use_normals_;
+  bool use_uvs_;
   const std::string& path_;
   TriangleMesh mesh_;
-  std::unordered_map<uint64_t, uint32_t> index_of_;
+  std::unordered_map<CornerKey, uint32_t, CornerKeyHash> index_of_;
 };
 
 /// The first line of tinyobjloader's error text.
@@ -158,7 +191,8 @@ ObjGroup make_group(const PendingGroup& pending, const tinyobj::attrib_t& attrib
                     const std::string& path) {
   bool use_normals = !options.face_normals && pending.all_normals && !attrib.normals.empty();
   ObjGroup group;
-  group.mesh = GroupBuilder(attrib, use_normals, path).build(pending);
+  bool use_uvs = pending.all_uvs && !attrib.texcoords.empty();
+  group.mesh = GroupBuilder(attrib, use_normals, use_uvs, path).build(pending);
   if (!positions_finite(group.mesh)) {
     throw SceneError(path + ": a vertex coordinate is not a finite number");
   }

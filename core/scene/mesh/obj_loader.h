@@ -34,9 +34,11 @@ struct ObjMesh {
 /// through `reader`, relative to the OBJ's folder. Faces with more than 3 vertices are split
 /// (quads along their shorter diagonal, larger polygons as a fan), keeping their winding.
 /// Per-vertex normals are kept for a group only when every corner of it has a vn (and not
-/// `options.face_normals`) and all are non-zero. Throws SceneError("<path>: ...") for a parse
-/// error, an unreadable MTL file, indices out of range, non-finite coordinates, MTL values out
-/// of range, or more than kMaxMeshElements vertices or faces.
+/// `options.face_normals`) and all are non-zero; texture coordinates (vt) when every corner of
+/// the group has one, as (u, 1 - v) (Mitsuba's orientation, v down the image). Throws
+/// SceneError("<path>: ...") for a parse error, an unreadable MTL file, indices out of range,
+/// non-finite coordinates or uvs, MTL values out of range, or more than kMaxMeshElements
+/// vertices or faces.
 ObjMesh load_obj(const std::string& path, const std::string& bytes, const FileReader& reader,
                  const ObjOptions& options);
 

@@ -206,6 +206,47 @@ f 1//1 2//1 3//1
   EXPECT_TRUE(flat.shapes[0].normals.empty());
 }
 
+TEST(ObjLoader, TextureCoordinatesFlipVAsMitsubaDoes) {
+  // Vertex 1 is used with two different vt: it becomes two vertices. Mitsuba 3 reads vt (u, v)
+  // as (u, 1 - v) (checked with its Python build: vt 0.1 0.2 gives uv (0.1, 0.8)).
+  const char* obj = R"(v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+vt 0.1 0.2
+vt 0.3 0.4
+vt 0.5 0.6
+vt 0.7 0.75
+f 1/1 2/2 3/3
+f 1/4 3/3 4/1
+)";
+  std::map<std::string, std::string> files = {{"t.obj", obj}};
+  Scene scene =
+      parse(scene_with_shapes(R"({"type": "mesh", "file": "t.obj", "material": "white"})"), files);
+  const Shape& shape = scene.shapes[0];
+  ASSERT_EQ(shape.positions.size(), 5u);
+  ASSERT_EQ(shape.uvs.size(), 5u);
+  auto expect_uv = [](const glm::dvec2& uv, double u, double v) {
+    EXPECT_NEAR(uv.x, u, 1e-15);  // tinyobjloader's number parser is not always exact
+    EXPECT_NEAR(uv.y, v, 1e-15);
+  };
+  expect_uv(shape.uvs[shape.indices[0].x], 0.1, 0.8);
+  expect_uv(shape.uvs[shape.indices[0].z], 0.5, 0.4);
+  expect_uv(shape.uvs[shape.indices[1].x], 0.7, 0.25);
+  EXPECT_EQ(shape.positions[shape.indices[1].x], glm::dvec3(0, 0, 0));
+  EXPECT_NE(shape.indices[0].x, shape.indices[1].x);
+
+  // A group with a corner without vt has no uvs.
+  files["t.obj"] = std::string(obj) + "f 2 3 4\n";
+  scene = parse(scene_with_shapes(R"({"type": "mesh", "file": "t.obj", "material": "white"})"),
+                files);
+  EXPECT_TRUE(scene.shapes[0].uvs.empty());
+  files["t.obj"] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n";
+  EXPECT_EQ(error_of(scene_with_shapes(R"({"type": "mesh", "file": "t.obj", "material": "white"})"),
+                     files),
+            "shapes[0].file: t.obj: a face refers to texture coordinate 2 but the file has 1");
+}
+
 TEST(ObjLoader, DegenerateFacesAreDroppedAndCounted) {
   const char* obj = R"(v 0 0 0
 v 1 0 0

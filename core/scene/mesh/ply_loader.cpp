@@ -12,7 +12,12 @@
 namespace tessera {
 namespace {
 
-/// For each vertex property: where its value goes (0..2 position, 3..5 normal) or -1.
+/// Names of a vertex's texture coordinates, in the order Mitsuba 3 looks for them; stored as
+/// they are (Mitsuba flips no PLY uv).
+constexpr std::array<std::array<const char*, 2>, 3> kUvNames = {
+    {{"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}}};
+
+/// For each vertex property: where its value goes (0..2 position, 3..5 normal, 6..7 uv) or -1.
 std::vector<int> vertex_slots(const PlyElement& vertex, bool read_normals,
                               const std::string& name) {
   std::vector<int> slots(vertex.properties.size(), -1);
@@ -30,6 +35,18 @@ std::vector<int> vertex_slots(const PlyElement& vertex, bool read_normals,
   }
   bool normals = read_normals && found[3] >= 0 && found[4] >= 0 && found[5] >= 0;
   for (int k = 3; k < 6 && normals; ++k) slots[found[k]] = k;
+  for (const auto& [u_name, v_name] : kUvNames) {
+    int u = vertex.find(u_name);
+    int v = vertex.find(v_name);
+    if (u < 0 || v < 0) continue;
+    if (vertex.properties[u].is_list || vertex.properties[v].is_list) {
+      throw SceneError(name + ": vertex properties " + u_name + " and " + v_name +
+                       " must not be lists");
+    }
+    slots[u] = 6;
+    slots[v] = 7;
+    break;
+  }
   return slots;
 }
 
@@ -55,12 +72,14 @@ void skip_property(PlyValueReader& in, const PlyProperty& property) {
 
 void read_vertices(PlyValueReader& in, const PlyElement& vertex, const std::vector<int>& slots,
                    TriangleMesh& mesh) {
-  bool normals = std::count_if(slots.begin(), slots.end(), [](int s) { return s >= 3; }) == 3;
+  bool normals = std::count(slots.begin(), slots.end(), 3) == 1;
+  bool uvs = std::count(slots.begin(), slots.end(), 6) == 1;
   mesh.positions.reserve(vertex.count);
   if (normals) mesh.normals.reserve(vertex.count);
+  if (uvs) mesh.uvs.reserve(vertex.count);
   for (uint64_t row = 0; row < vertex.count; ++row) {
     in.locate(vertex.name, row);
-    std::array<double, 6> v{};
+    std::array<double, 8> v{};
     for (size_t i = 0; i < slots.size(); ++i) {
       if (slots[i] < 0) {
         skip_property(in, vertex.properties[i]);
@@ -73,6 +92,12 @@ void read_vertices(PlyValueReader& in, const PlyElement& vertex, const std::vect
     }
     mesh.positions.emplace_back(v[0], v[1], v[2]);
     if (normals) mesh.normals.emplace_back(v[3], v[4], v[5]);
+    if (uvs) {
+      if (!std::isfinite(v[6]) || !std::isfinite(v[7])) {
+        in.fail("texture coordinate is not a finite number");
+      }
+      mesh.uvs.emplace_back(v[6], v[7]);
+    }
   }
 }
 

@@ -16,11 +16,12 @@ struct PlyMesh {
 };
 
 /// Reads PLY `bytes` (ascii, binary_little_endian or binary_big_endian). Element "vertex" needs
-/// scalar properties x, y, z (any numeric type, any order; other properties are skipped) and
-/// may have nx, ny, nz (read when `read_normals` and all three are there; dropped when one is
-/// zero or not finite). Element "face" needs a list "vertex_indices" (or "vertex_index") of
-/// integers. Other elements are skipped. Throws SceneError("<name>: ...") for bad headers,
-/// truncated data, non-finite coordinates, indices out of range, and for more than
+/// scalar properties x, y, z (any numeric type, any order; other properties are skipped) and may
+/// have nx, ny, nz (read when `read_normals` and all three are there; dropped when one is zero or
+/// not finite), and texture coordinates u, v (or s, t, or texture_u, texture_v, the first pair
+/// present; stored as they are, as Mitsuba does). Element "face" needs a list "vertex_indices" (or
+/// "vertex_index") of integers. Other elements are skipped. Throws SceneError("<name>: ...") for
+/// bad headers, truncated data, non-finite coordinates, indices out of range, and for more than
 /// kMaxMeshElements vertices, faces or triangles (refused before allocating).
 PlyMesh load_ply(std::string_view bytes, const std::string& name, bool read_normals);
 

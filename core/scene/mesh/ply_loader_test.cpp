@@ -51,6 +51,11 @@ class PlyBuilder {
     return *this;
   }
 
+  PlyBuilder& body_text(const std::string& text) {
+    body_ += text;
+    return *this;
+  }
+
   PlyBuilder& end_row() {
     if (format_ == "ascii") body_ += "\n";
     return *this;
@@ -113,6 +118,51 @@ Shape load_ply_shape(const std::string& bytes, const std::string& extra = "") {
 std::string ply_error(const std::string& bytes) {
   return error_of(scene_with_shapes(R"({"type": "mesh", "file": "m.ply", "material": "white"})"),
                   {{"m.ply", bytes}});
+}
+
+TEST(PlyLoader, TextureCoordinatesUnderEachOfMitsubasNames) {
+  // Mitsuba 3 keeps PLY uvs as stored (checked with its Python build for u/v, s/t and
+  // texture_u/texture_v).
+  for (const char* format : {"ascii", "binary_little_endian"}) {
+    for (auto [u, v] : {std::pair{"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}}) {
+      SCOPED_TRACE(std::string(format) + " " + u);
+      PlyBuilder ply(format);
+      ply.header("element vertex 3")
+          .header("property float x")
+          .header(std::string("property double ") + v)
+          .header("property float y")
+          .header("property float z")
+          .header(std::string("property float ") + u)
+          .header("element face 1")
+          .header("property list uchar int vertex_indices");
+      const double rows[3][5] = {{0, 0.2, 0, 0, 0.1}, {1, 0.4, 0, 0, 0.3}, {1, 0.75, 1, 0, 0.5}};
+      for (const auto& r : rows) {
+        ply.value(float(r[0])).value(double(r[1])).value(float(r[2])).value(float(r[3]));
+        ply.value(float(r[4])).end_row();
+      }
+      ply.value(uint8_t(3)).value(int32_t(0)).value(int32_t(1)).value(int32_t(2)).end_row();
+      Shape shape = load_ply_shape(ply.bytes());
+      ASSERT_EQ(shape.uvs.size(), 3u);
+      EXPECT_EQ(shape.uvs[0], glm::dvec2(double(0.1f), 0.2));
+      EXPECT_EQ(shape.uvs[2], glm::dvec2(0.5, 0.75));
+    }
+  }
+  EXPECT_TRUE(load_ply_shape(square_and_triangle("ascii")).uvs.empty());
+  PlyBuilder bad("ascii");
+  bad.header("element vertex 3")
+      .header("property float x")
+      .header("property float y")
+      .header("property float z")
+      .header("property float u")
+      .header("property float v")
+      .header("element face 1")
+      .header("property list uchar int vertex_indices");
+  bad.value(0).value(0).value(0).value(0).value(0).end_row();
+  bad.value(1).value(0).value(0).value(0).end_row();
+  bad.body_text("inf 0\n1 1 0 0 0\n3 0 1 2\n");
+  EXPECT_EQ(ply_error(bad.bytes()),
+            "shapes[0].file: m.ply: line 15 (element vertex, row 1): texture coordinate is not a "
+            "finite number");
 }
 
 TEST(PlyLoader, AllThreeEncodingsGiveTheSameMesh) {

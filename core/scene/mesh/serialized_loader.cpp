@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -198,7 +199,9 @@ void read_arrays(ZlibReader& in, uint32_t flags, uint64_t vertices, uint64_t tri
     std::vector<double> n = read_reals(in, 3 * vertices, doubles, "vertex normals");
     if (read_normals) {
       mesh.normals.resize(vertices);
-      for (uint64_t i = 0; i < vertices; ++i) mesh.normals[i] = {n[3 * i], n[3 * i + 1], n[3 * i + 2]};
+      for (uint64_t i = 0; i < vertices; ++i) {
+        mesh.normals[i] = {n[3 * i], n[3 * i + 1], n[3 * i + 2]};
+      }
     }
   }
   if (flags & kHasUvs) {

@@ -174,7 +174,8 @@ TEST(SerializedLoader, RefusesBrokenFilesNamingThem) {
             "m.serialized: not a Mitsuba serialized mesh (bad magic number)");
   std::string v5 = good;
   v5[2] = 5;
-  EXPECT_EQ(error_of(v5), "m.serialized: unsupported serialized format version 5 (expected 3 or 4)");
+  EXPECT_EQ(error_of(v5),
+            "m.serialized: unsupported serialized format version 5 (expected 3 or 4)");
   EXPECT_EQ(error_of(good, -1), "m.serialized: shape_index must be >= 0 (got -1)");
 
   // The compressed stream cut short: the triangle indices are missing.
@@ -187,8 +188,10 @@ TEST(SerializedLoader, RefusesBrokenFilesNamingThem) {
     body = b.data;  // no indices at all
   }
   std::string cut = raw_shape.substr(0, 4) + compress(body);
-  EXPECT_EQ(error_of(cut), "m.serialized: truncated: the compressed data ends in the triangle indices");
-  EXPECT_EQ(error_of(good.substr(0, 20)).rfind("m.serialized: truncated", 0), 0u) << error_of(good.substr(0, 20));
+  EXPECT_EQ(error_of(cut),
+            "m.serialized: truncated: the compressed data ends in the triangle indices");
+  std::string short_file = error_of(good.substr(0, 20));
+  EXPECT_EQ(short_file.rfind("m.serialized: truncated", 0), 0u) << short_file;
   std::string corrupt = good;
   for (size_t i = 8; i < 20; ++i) corrupt[i] = char(0xff);
   EXPECT_NE(error_of(corrupt).find("m.serialized: "), std::string::npos);

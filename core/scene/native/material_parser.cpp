@@ -1,82 +1,204 @@
 #include "scene/native/material_parser.h"
 
+#include <utility>
+
+#include "scene/scene_error.h"
+
 namespace tessera {
 namespace {
+
+constexpr std::pair<const char*, MaterialType> kTypes[] = {
+    {"diffuse", MaterialType::diffuse},
+    {"mirror", MaterialType::mirror},
+    {"glass", MaterialType::glass},
+    {"conductor", MaterialType::conductor},
+    {"rough_conductor", MaterialType::rough_conductor},
+    {"rough_glass", MaterialType::rough_glass},
+    {"thin_glass", MaterialType::thin_glass},
+    {"plastic", MaterialType::plastic},
+    {"rough_plastic", MaterialType::rough_plastic},
+};
 
 MaterialType parse_type(const JsonValue& value) {
   std::optional<JsonValue> type = value.find("type");
   if (!type) return MaterialType::diffuse;
   const std::string& name = type->string();
-  if (name == "diffuse") return MaterialType::diffuse;
-  if (name == "mirror") return MaterialType::mirror;
-  if (name == "glass") return MaterialType::glass;
+  for (const auto& [text, kind] : kTypes) {
+    if (name == text) return kind;
+  }
   type->fail("unknown material type \"" + printable(name) +
-             "\" (expected diffuse, mirror or glass)");
+             "\" (expected diffuse, mirror, glass, conductor, rough_conductor, rough_glass, "
+             "thin_glass, plastic or rough_plastic)");
 }
 
-/// Keys that belong to another type get a message saying whose they are.
+bool is_rough(MaterialType t) {
+  return t == MaterialType::rough_conductor || t == MaterialType::rough_glass ||
+         t == MaterialType::rough_plastic;
+}
+bool is_conductor(MaterialType t) {
+  return t == MaterialType::conductor || t == MaterialType::rough_conductor;
+}
+bool is_plastic(MaterialType t) {
+  return t == MaterialType::plastic || t == MaterialType::rough_plastic;
+}
+
+/// The keys of each type, besides those every material has.
+std::vector<std::string_view> keys_of(MaterialType type) {
+  std::vector<std::string_view> keys = {"type"};
+  if (type == MaterialType::diffuse) keys.push_back("reflectance");
+  if (is_plastic(type)) keys.insert(keys.end(), {"diffuse_reflectance", "nonlinear"});
+  if (type != MaterialType::diffuse && type != MaterialType::mirror) {
+    keys.push_back("specular_reflectance");
+  }
+  if (is_glass_kind(type)) keys.push_back("specular_transmittance");
+  if (is_glass_kind(type) || is_plastic(type)) keys.push_back("ior");
+  if (is_conductor(type)) keys.insert(keys.end(), {"eta", "k", "perfect"});
+  if (is_rough(type)) {
+    keys.insert(keys.end(), {"distribution", "alpha", "sample_visible"});
+    if (type != MaterialType::rough_plastic) keys.insert(keys.end(), {"alpha_u", "alpha_v"});
+  }
+  if (!is_glass_kind(type)) keys.push_back("two_sided");
+  keys.insert(keys.end(), {"opacity", "normal_map", "bump_map", "bump_scale", "back"});
+  return keys;
+}
+
+/// Keys that belong to other types get a message saying whose they are.
 void refuse_foreign_keys(const JsonValue& value, MaterialType type) {
-  if (type != MaterialType::glass) {
-    if (std::optional<JsonValue> ior = value.find("ior")) ior->fail("only glass has an ior");
+  auto refuse = [&](const char* key, const char* message) {
+    if (std::optional<JsonValue> v = value.find(key)) v->fail(message);
+  };
+  if (!is_glass_kind(type) && !is_plastic(type)) {
+    refuse("ior", "only glass kinds and plastics have an ior");
   }
   if (type != MaterialType::diffuse) {
-    if (std::optional<JsonValue> r = value.find("reflectance")) {
-      r->fail("only diffuse materials have a reflectance");
-    }
+    refuse("reflectance", is_plastic(type) ? "plastics call it diffuse_reflectance"
+                                           : "only diffuse materials have a reflectance");
   }
-  if (type == MaterialType::glass) {
-    if (std::optional<JsonValue> t = value.find("two_sided")) {
-      t->fail("glass is always two-sided (remove this key)");
-    }
-  }
+  if (is_glass_kind(type)) refuse("two_sided", "glass is always two-sided (remove this key)");
+  if (!is_rough(type)) refuse("alpha", "only rough kinds have an alpha");
+  if (!is_conductor(type)) refuse("eta", "only conductors have an eta");
 }
 
-glm::dvec3 parse_reflectance(const JsonValue& value) {
+glm::dvec3 rgb_at_least(const JsonValue& value, double min) {
   glm::dvec3 rgb = value.vec3();
   std::vector<JsonValue> channels = value.elements(3);
   for (int i = 0; i < 3; ++i) {
-    if (rgb[i] < 0 || rgb[i] > 1) {
-      channels[i].fail("must be in [0, 1] (got " + format_number(rgb[i]) + ")");
-    }
+    if (rgb[i] < min) channels[i].fail("must be >= " + format_number(min) + " (got " +
+                                       format_number(rgb[i]) + ")");
   }
   return rgb;
 }
 
+MicrofacetDistribution parse_distribution(const JsonValue& value) {
+  const std::string& name = value.string();
+  if (name == "beckmann") return MicrofacetDistribution::beckmann;
+  if (name == "ggx") return MicrofacetDistribution::ggx;
+  value.fail("must be \"beckmann\" or \"ggx\" (got \"" + printable(name) + "\")");
+}
+
+void parse_roughness(const JsonValue& value, const TextureNames& textures, Material& m) {
+  if (auto d = value.find("distribution")) m.distribution = parse_distribution(*d);
+  m.sample_visible = value.boolean_or("sample_visible", true);
+  std::optional<JsonValue> alpha = value.find("alpha");
+  std::optional<JsonValue> alpha_u = value.find("alpha_u");
+  std::optional<JsonValue> alpha_v = value.find("alpha_v");
+  if (alpha && (alpha_u || alpha_v)) {
+    (alpha_u ? alpha_u : alpha_v)->fail("give either alpha or alpha_u and alpha_v, not both");
+  }
+  if (alpha_u.has_value() != alpha_v.has_value()) {
+    value.fail("alpha_u and alpha_v go together");
+  }
+  if (alpha) {
+    m.alpha_u = m.alpha_v = parse_textured_float(*alpha, textures, 0, 1e300, true);
+  } else if (alpha_u) {
+    m.alpha_u = parse_textured_float(*alpha_u, textures, 0, 1e300, true);
+    m.alpha_v = parse_textured_float(*alpha_v, textures, 0, 1e300, true);
+  }
+}
+
+void parse_type_keys(const JsonValue& value, const TextureNames& textures, Material& m) {
+  MaterialType type = m.type;
+  if (type == MaterialType::diffuse) {
+    if (auto r = value.find("reflectance")) {
+      m.reflectance = parse_textured_color(*r, textures, {0, 1});
+    }
+  }
+  if (is_plastic(type)) {
+    if (auto r = value.find("diffuse_reflectance")) {
+      m.reflectance = parse_textured_color(*r, textures, {0, 1});
+    }
+    m.nonlinear = value.boolean_or("nonlinear", false);
+  }
+  if (auto s = value.find("specular_reflectance")) {
+    m.specular_reflectance = parse_textured_color(*s, textures, {0, 1e300});
+  }
+  if (auto s = value.find("specular_transmittance")) {
+    m.specular_transmittance = parse_textured_color(*s, textures, {0, 1e300});
+  }
+  if (auto ior = value.find("ior")) {
+    m.ior = ior->number();
+    if (!(m.ior > 0)) ior->fail("must be > 0 (got " + format_number(m.ior) + ")");
+  }
+  if (is_conductor(type)) {
+    if (auto eta = value.find("eta")) m.eta = rgb_at_least(*eta, 0);
+    if (auto k = value.find("k")) m.k = rgb_at_least(*k, 0);
+    m.perfect = value.boolean_or("perfect", false);
+  }
+  if (is_rough(type)) parse_roughness(value, textures, m);
+}
+
+void parse_common_keys(const JsonValue& value, const TextureNames& textures, Material& m) {
+  m.two_sided = value.boolean_or("two_sided", false);
+  if (auto o = value.find("opacity")) m.opacity = parse_textured_float(*o, textures, 0, 1, false);
+  if (auto n = value.find("normal_map")) m.normal_map = texture_index(*n, textures);
+  if (auto b = value.find("bump_map")) m.bump_map = texture_index(*b, textures);
+  if (auto s = value.find("bump_scale")) m.bump_scale = s->number();
+}
+
 }  // namespace
 
-Material parse_material(const std::string& name, const JsonValue& value) {
+bool is_glass_kind(MaterialType type) {
+  return type == MaterialType::glass || type == MaterialType::rough_glass ||
+         type == MaterialType::thin_glass;
+}
+
+Material parse_material(const std::string& name, const JsonValue& value,
+                        const TextureNames& textures) {
   if (!value.json().is_object()) value.expect_object({}, "a material");
   Material material;
   material.name = name;
   material.type = parse_type(value);
   refuse_foreign_keys(value, material.type);
-  switch (material.type) {
-    case MaterialType::diffuse:
-      value.expect_object({"type", "reflectance", "two_sided"}, "a diffuse material");
-      if (std::optional<JsonValue> r = value.find("reflectance")) {
-        material.reflectance.value = parse_reflectance(*r);
-      }
-      material.two_sided = value.boolean_or("two_sided", false);
-      break;
-    case MaterialType::mirror:
-      value.expect_object({"type", "two_sided"}, "a mirror material");
-      material.two_sided = value.boolean_or("two_sided", false);
-      break;
-    case MaterialType::glass:
-      value.expect_object({"type", "ior"}, "a glass material");
-      if (std::optional<JsonValue> ior = value.find("ior")) {
-        material.ior = ior->number();
-        if (!(material.ior > 0)) ior->fail("must be > 0 (got " + format_number(material.ior) + ")");
-      }
-      break;
+  const char* type_name = "diffuse";
+  for (const auto& [text, kind] : kTypes) {
+    if (kind == material.type) type_name = text;
   }
+  value.expect_object(keys_of(material.type), std::string("a ") + type_name + " material");
+  parse_type_keys(value, textures, material);
+  parse_common_keys(value, textures, material);
   return material;
 }
 
-void parse_materials(const JsonValue& materials, MaterialTable& table) {
+void parse_materials(const JsonValue& materials, MaterialTable& table,
+                     const TextureNames& textures) {
+  std::vector<std::pair<uint32_t, JsonValue>> backs;
   for (const auto& [name, value] : materials.members()) {
     if (name.empty()) value.fail("a material name must not be empty");
-    table.declare(parse_material(name, value));
+    uint32_t index = table.declare(parse_material(name, value, textures));
+    if (value.json().is_object()) {
+      if (auto back = value.find("back")) backs.emplace_back(index, *back);
+    }
+  }
+  // "back" may name a material declared later.
+  for (const auto& [index, back] : backs) {
+    std::optional<uint32_t> other = table.find_declared(back.string());
+    if (!other) back.fail("unknown material \"" + printable(back.string()) + "\"");
+    if (*other == index) back.fail("must name another material");
+    if (!table[*other].two_sided && !is_glass_kind(table[*other].type)) {
+      back.fail("material \"" + printable(back.string()) +
+                "\" must be two-sided (it is shaded with its own front)");
+    }
+    table.set_back(index, int32_t(*other));
   }
 }
 

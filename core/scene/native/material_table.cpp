@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "scene/native/material_parser.h"
+
 namespace tessera {
 
 uint32_t MaterialTable::push(Material material) {
@@ -40,7 +42,7 @@ uint32_t MaterialTable::derive(const Material& material) {
 
 uint32_t MaterialTable::two_sided(uint32_t index) {
   const Material& original = materials_[index];
-  if (original.two_sided || original.type == MaterialType::glass) return index;
+  if (original.two_sided || is_glass_kind(original.type)) return index;
   auto it = two_sided_copies_.find(index);
   if (it != two_sided_copies_.end()) return it->second;
   Material copy = original;

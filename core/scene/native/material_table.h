@@ -32,6 +32,8 @@ class MaterialTable {
   uint32_t two_sided(uint32_t index);
 
   const Material& operator[](uint32_t index) const { return materials_[index]; }
+  /// Sets Material::back of material `index`.
+  void set_back(uint32_t index, int32_t back) { materials_[index].back = back; }
   /// The materials in index order; the table is empty afterwards.
   std::vector<Material> take();
 

@@ -175,7 +175,7 @@ TEST(SceneParse, MaterialTypesAndDefaults) {
 
 TEST(SceneParse, MaterialKeysBelongToTheirType) {
   EXPECT_EQ(error_of(R"({"tessera": 1, "materials": {"m": {"type": "diffuse", "ior": 1.3}}})"),
-            "materials.m.ior: only glass has an ior");
+            "materials.m.ior: only glass kinds and plastics have an ior");
   EXPECT_EQ(
       error_of(R"({"tessera": 1, "materials": {"m": {"type": "mirror", "reflectance": [1,1,1]}}})"),
       "materials.m.reflectance: only diffuse materials have a reflectance");
@@ -183,14 +183,14 @@ TEST(SceneParse, MaterialKeysBelongToTheirType) {
             "materials.g.two_sided: glass is always two-sided (remove this key)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "materials": {"g": {"type": "glass", "ior": 0}}})"),
             "materials.g.ior: must be > 0 (got 0)");
-  EXPECT_EQ(
-      error_of(R"({"tessera": 1, "materials": {"m": {"type": "plastic"}}})"),
-      "materials.m.type: unknown material type \"plastic\" (expected diffuse, mirror or glass)");
+  EXPECT_EQ(error_of(R"({"tessera": 1, "materials": {"m": {"type": "velvet"}}})"),
+            "materials.m.type: unknown material type \"velvet\" (expected diffuse, mirror, glass, "
+            "conductor, rough_conductor, rough_glass, thin_glass, plastic or rough_plastic)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "materials": {"white": {"reflectance": [0.5, 1.2, 0.5]}}})"),
             "materials.white.reflectance[1]: must be in [0, 1] (got 1.2)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "materials": {"m": {"roughness": 0.1}}})"),
             "materials.m.roughness: unknown key (a diffuse material has: type, reflectance, "
-            "two_sided)");
+            "two_sided, opacity, normal_map, bump_map, bump_scale, back)");
 }
 
 TEST(SceneParse, TwoSidedShapeGetsOneTwoSidedCopyPerMaterial) {

@@ -2,9 +2,12 @@
 
 #include <charconv>
 #include <cmath>
+#include <glm/gtc/matrix_access.hpp>
+#include <glm/matrix.hpp>
 #include <set>
 
 #include "scene/native/json_value.h"
+#include "scene/native/material_parser.h"
 #include "scene/scene_error.h"
 
 namespace tessera {
@@ -107,13 +110,14 @@ std::string camera_json(const Camera& c) {
          ", \"focus_distance\": " + number(c.focus_distance, "camera.focus_distance") + "\n  },\n";
 }
 
-/// Material names as written: valid UTF-8, non-empty and unique.
-std::vector<std::string> material_names(const std::vector<Material>& materials) {
+/// Names as written (of materials, textures, groups): valid UTF-8, non-empty and unique.
+template <typename T>
+std::vector<std::string> unique_names(const std::vector<T>& items, const char* fallback) {
   std::vector<std::string> names;
   std::set<std::string> used;
-  for (const Material& m : materials) {
+  for (const T& m : items) {
     std::string base = valid_utf8(m.name);
-    if (base.empty()) base = "material";
+    if (base.empty()) base = fallback;
     std::string name = base;
     for (int k = 2; used.count(name); ++k) name = base + " #" + std::to_string(k);
     used.insert(name);
@@ -122,23 +126,208 @@ std::vector<std::string> material_names(const std::vector<Material>& materials) 
   return names;
 }
 
-std::string material_json(const Material& m, const std::string& name) {
+const char* bool_text(bool b) { return b ? "true" : "false"; }
+
+/// The names the JSON uses for textures, materials and groups.
+struct Names {
+  std::vector<std::string> textures, materials, groups;
+};
+
+std::string texture_name(int32_t index, const Names& names, const std::string& what) {
+  if (index < 0 || size_t(index) >= names.textures.size()) {
+    throw SceneError(what + ": texture index out of range");
+  }
+  return json_string(names.textures[index]);
+}
+
+std::string textured_color(const TexturedColor& c, const Names& names, const std::string& what) {
+  if (c.is_constant()) return vec3(c.value, what);
+  return "{\"texture\": " + texture_name(c.texture, names, what) +
+         ", \"scale\": " + vec3(c.value, what) + "}";
+}
+
+std::string textured_float(const TexturedFloat& f, const Names& names, const std::string& what) {
+  if (f.is_constant()) return number(f.value, what);
+  return "{\"texture\": " + texture_name(f.texture, names, what) +
+         ", \"scale\": " + number(f.value, what) + "}";
+}
+
+const char* material_type_name(MaterialType type) {
+  switch (type) {
+    case MaterialType::diffuse: return "diffuse";
+    case MaterialType::mirror: return "mirror";
+    case MaterialType::glass: return "glass";
+    case MaterialType::conductor: return "conductor";
+    case MaterialType::rough_conductor: return "rough_conductor";
+    case MaterialType::rough_glass: return "rough_glass";
+    case MaterialType::thin_glass: return "thin_glass";
+    case MaterialType::plastic: return "plastic";
+    case MaterialType::rough_plastic: return "rough_plastic";
+  }
+  return "diffuse";
+}
+
+/// The keys of `m`'s type, every one written.
+std::string material_type_keys(const Material& m, const Names& names, const std::string& what) {
+  MaterialType t = m.type;
+  bool glass = is_glass_kind(t);
+  bool plastic = t == MaterialType::plastic || t == MaterialType::rough_plastic;
+  bool conductor = t == MaterialType::conductor || t == MaterialType::rough_conductor;
+  bool rough = t == MaterialType::rough_conductor || t == MaterialType::rough_glass ||
+               t == MaterialType::rough_plastic;
+  std::string out;
+  if (t == MaterialType::diffuse) {
+    out += ", \"reflectance\": " + textured_color(m.reflectance, names, what + ".reflectance");
+  }
+  if (plastic) {
+    out += ", \"diffuse_reflectance\": " +
+           textured_color(m.reflectance, names, what + ".diffuse_reflectance") +
+           ", \"nonlinear\": " + bool_text(m.nonlinear);
+  }
+  if (t != MaterialType::diffuse && t != MaterialType::mirror) {
+    out += ", \"specular_reflectance\": " +
+           textured_color(m.specular_reflectance, names, what + ".specular_reflectance");
+  }
+  if (glass) {
+    out += ", \"specular_transmittance\": " +
+           textured_color(m.specular_transmittance, names, what + ".specular_transmittance");
+  }
+  if (glass || plastic) out += ", \"ior\": " + number(m.ior, what + ".ior");
+  if (conductor) {
+    out += ", \"eta\": " + vec3(m.eta, what + ".eta") + ", \"k\": " + vec3(m.k, what + ".k") +
+           ", \"perfect\": " + bool_text(m.perfect);
+  }
+  if (rough) {
+    out += std::string(", \"distribution\": \"") +
+           (m.distribution == MicrofacetDistribution::ggx ? "ggx" : "beckmann") + "\"";
+    if (t == MaterialType::rough_plastic) {
+      if (m.alpha_u.value != m.alpha_v.value || m.alpha_u.texture != m.alpha_v.texture) {
+        throw SceneError(what + ": a rough plastic is isotropic (alpha_u must equal alpha_v)");
+      }
+      out += ", \"alpha\": " + textured_float(m.alpha_u, names, what + ".alpha");
+    } else {
+      out += ", \"alpha_u\": " + textured_float(m.alpha_u, names, what + ".alpha_u") +
+             ", \"alpha_v\": " + textured_float(m.alpha_v, names, what + ".alpha_v");
+    }
+    out += std::string(", \"sample_visible\": ") + bool_text(m.sample_visible);
+  }
+  return out;
+}
+
+std::string material_json(const Material& m, size_t index, const Names& names) {
+  const std::string& name = names.materials[index];
   std::string what = "materials." + printable(name);
-  std::string body;
-  switch (m.type) {
-    case MaterialType::diffuse:
-      body = "\"type\": \"diffuse\", \"reflectance\": " + vec3(m.reflectance.value, what) +
-             ", \"two_sided\": " + (m.two_sided ? "true" : "false");
-      break;
-    case MaterialType::mirror:
-      body =
-          std::string("\"type\": \"mirror\", \"two_sided\": ") + (m.two_sided ? "true" : "false");
-      break;
-    case MaterialType::glass:
-      body = "\"type\": \"glass\", \"ior\": " + number(m.ior, what + ".ior");
-      break;
+  std::string body = std::string("\"type\": \"") + material_type_name(m.type) + "\"";
+  body += material_type_keys(m, names, what);
+  if (!is_glass_kind(m.type)) body += std::string(", \"two_sided\": ") + bool_text(m.two_sided);
+  if (!m.opacity.is_constant() || m.opacity.value != 1) {
+    body += ", \"opacity\": " + textured_float(m.opacity, names, what + ".opacity");
+  }
+  if (m.normal_map >= 0) body += ", \"normal_map\": " + texture_name(m.normal_map, names, what);
+  if (m.bump_map >= 0) {
+    body += ", \"bump_map\": " + texture_name(m.bump_map, names, what) +
+            ", \"bump_scale\": " + number(m.bump_scale, what + ".bump_scale");
+  }
+  if (m.back >= 0) {
+    if (size_t(m.back) >= names.materials.size()) throw SceneError(what + ": back out of range");
+    body += ", \"back\": " + json_string(names.materials[m.back]);
   }
   return "    " + json_string(name) + ": {" + body + "}";
+}
+
+/// A 4 x 4 matrix as {"matrix": rows}.
+std::string matrix_json(const glm::dmat4& m, const std::string& what) {
+  std::string out = "{\"matrix\": [";
+  for (int r = 0; r < 4; ++r) {
+    out += r ? ", [" : "[";
+    for (int c = 0; c < 4; ++c) out += (c ? ", " : "") + number(m[c][r], what);
+    out += "]";
+  }
+  return out + "]}";
+}
+
+std::string texture_json(const Texture& t, size_t index, const Names& names) {
+  const std::string& name = names.textures[index];
+  std::string what = "textures." + printable(name);
+  std::string out = "    " + json_string(name) + ": {";
+  if (t.kind == TextureKind::bitmap) {
+    out += "\"type\": \"bitmap\", \"file\": " + json_string(valid_utf8(t.file)) +
+           ", \"color_space\": \"" +
+           (t.color_space == TextureColorSpace::srgb ? "srgb" : "linear") + "\", \"filter\": \"" +
+           (t.filter == TextureFilter::bilinear ? "bilinear" : "nearest") + "\", \"wrap\": \"" +
+           (t.wrap == TextureWrap::repeat   ? "repeat"
+            : t.wrap == TextureWrap::mirror ? "mirror"
+                                            : "clamp") +
+           "\"";
+  } else {
+    out += "\"type\": \"checkerboard\", \"color0\": " + vec3(t.color0, what) +
+           ", \"color1\": " + vec3(t.color1, what);
+  }
+  if (t.to_uv != glm::dmat3(1.0)) {
+    if (t.to_uv[0][2] != 0 || t.to_uv[1][2] != 0 || t.to_uv[2][2] != 1) {
+      throw SceneError(what + ": to_uv must be affine (last row 0 0 1)");
+    }
+    out += ", \"to_uv\": [";
+    for (int r = 0; r < 2; ++r) {
+      out += r ? ", [" : "[";
+      for (int c = 0; c < 3; ++c) out += (c ? ", " : "") + number(t.to_uv[c][r], what);
+      out += "]";
+    }
+    out += "]";
+  }
+  return out + "}";
+}
+
+std::string light_json(const Light& l, size_t index) {
+  std::string what = "lights[" + std::to_string(index) + "] (" + printable(l.origin) + ")";
+  static const char* kTypes[] = {"point", "spot", "directional", "constant", "envmap"};
+  std::string out = std::string("    {\"type\": \"") + kTypes[int(l.kind)] + "\"";
+  switch (l.kind) {
+    case LightKind::point:
+      out += ", \"intensity\": " + vec3(l.value, what);
+      break;
+    case LightKind::spot:
+      out += ", \"intensity\": " + vec3(l.value, what) +
+             ", \"cutoff_angle\": " + number(l.cutoff_angle_deg, what) +
+             ", \"beam_width\": " + number(l.beam_width_deg, what);
+      break;
+    case LightKind::directional:
+      out += ", \"irradiance\": " + vec3(l.value, what);
+      break;
+    case LightKind::constant:
+      out += ", \"radiance\": " + vec3(l.value, what);
+      break;
+    case LightKind::envmap:
+      if (l.value.x != l.value.y || l.value.x != l.value.z) {
+        throw SceneError(what + ": an envmap's scale is one number");
+      }
+      out += ", \"file\": " + json_string(valid_utf8(l.file)) +
+             ", \"scale\": " + number(l.value.x, what);
+      break;
+  }
+  if (l.kind != LightKind::constant && l.to_world != glm::dmat4(1.0)) {
+    out += ",\n      \"transform\": " + matrix_json(l.to_world, what);
+  }
+  return out + "}";
+}
+
+std::string film_json(const Film& film) {
+  std::string filter;
+  switch (film.filter.kind) {
+    case FilterKind::box:
+      filter = "{\"type\": \"box\"}";
+      break;
+    case FilterKind::tent:
+      filter =
+          "{\"type\": \"tent\", \"radius\": " + number(film.filter.radius, "film.filter") + "}";
+      break;
+    case FilterKind::gaussian:
+      filter = "{\"type\": \"gaussian\", \"stddev\": " + number(film.filter.stddev, "film.filter") +
+               ", \"radius\": " + number(film.filter.radius, "film.filter") + "}";
+      break;
+  }
+  return "  \"film\": {\"width\": " + std::to_string(film.width) +
+         ", \"height\": " + std::to_string(film.height) + ", \"filter\": " + filter + "},\n";
 }
 
 void append_points(std::string& out, const char* key, const std::vector<glm::dvec3>& points,
@@ -153,23 +342,34 @@ void append_points(std::string& out, const char* key, const std::vector<glm::dve
   out += "\n      ]";
 }
 
-std::string shape_json(const Shape& s, size_t index, const std::vector<Material>& materials,
-                       const std::vector<std::string>& names) {
-  std::string what = "shapes[" + std::to_string(index) + "] (" + printable(s.origin) + ")";
+std::string shape_json(const Shape& s, const std::string& what,
+                       const std::vector<Material>& materials, const Names& names) {
+  if (s.kind == Shape::Kind::instance) {
+    if (s.group >= names.groups.size()) throw SceneError(what + ": group index out of range");
+    return "    {\"type\": \"instance\", \"group\": " + json_string(names.groups[s.group]) +
+           ",\n      \"transform\": " + matrix_json(s.to_world, what) + "}";
+  }
   if (s.material >= materials.size()) throw SceneError(what + ": material index out of range");
   std::string out = "    {";
   if (s.kind == Shape::Kind::sphere) {
     out += "\"type\": \"sphere\", \"center\": " + vec3(s.center, what) +
            ", \"radius\": " + number(s.radius, what) +
            ", \"flip_normals\": " + (s.flip_normals ? "true" : "false");
+    if (s.frame != glm::dmat3(1.0)) {
+      out += ",\n      \"frame\": [" + vec3(glm::row(s.frame, 0), what) + ", " +
+             vec3(glm::row(s.frame, 1), what) + ", " + vec3(glm::row(s.frame, 2), what) + "]";
+    }
   } else {
     out += "\"type\": \"triangles\"";
   }
-  out += ", \"material\": " + json_string(names[s.material]);
-  if (s.is_emitter()) out += ",\n      \"emission\": " + vec3(s.emission, what);
+  out += ", \"material\": " + json_string(names.materials[s.material]);
+  if (s.is_emitter()) {
+    out += ",\n      \"emission\": " +
+           textured_color({s.emission, s.emission_texture}, names, what + ".emission");
+  }
   if (s.is_emitter() && s.two_sided_emission) {
     const Material& m = materials[s.material];
-    if (!m.two_sided && m.type != MaterialType::glass) {
+    if (!m.two_sided && !is_glass_kind(m.type)) {
       throw SceneError(what +
                        ": it emits from both sides but its material is one-sided, which "
                        "the native format cannot say");
@@ -190,8 +390,28 @@ std::string shape_json(const Shape& s, size_t index, const std::vector<Material>
     }
     out += "\n      ]";
     if (!s.normals.empty()) append_points(out, "normals", s.normals, what);
+    if (!s.uvs.empty()) {
+      if (s.uvs.size() != s.positions.size()) {
+        throw SceneError(what + ": one uv per vertex is needed");
+      }
+      out += ",\n      \"uvs\": [";
+      for (size_t i = 0; i < s.uvs.size(); ++i) {
+        out += i ? ", [" : "\n        [";
+        out += number(s.uvs[i].x, what) + ", " + number(s.uvs[i].y, what) + "]";
+      }
+      out += "\n      ]";
+    }
   }
   return out + "}";
+}
+
+/// `items` as the body of a JSON object ("{...}") or array ("[...]"), one per line.
+template <typename F>
+std::string block(size_t count, char open, char close, F item) {
+  std::string out(1, open);
+  for (size_t i = 0; i < count; ++i) out += (i ? ",\n" : "\n") + item(i);
+  out += count ? "\n  " : "";
+  return out + close;
 }
 
 }  // namespace
@@ -201,22 +421,42 @@ std::string write_scene_json(const Scene& scene, const std::string& comment) {
   if (!comment.empty()) out += "// " + valid_utf8(printable(comment)) + "\n";
   out += "{\n  \"tessera\": 1,\n";
   out += camera_json(scene.camera);
-  out += "  \"film\": {\"width\": " + std::to_string(scene.film.width) +
-         ", \"height\": " + std::to_string(scene.film.height) + "},\n";
+  out += film_json(scene.film);
   out += "  \"render\": {\"spp\": " + std::to_string(scene.render.spp) +
          ", \"max_depth\": " + std::to_string(scene.render.max_depth) +
-         ", \"seed\": " + std::to_string(scene.render.seed) + "},\n";
-  std::vector<std::string> names = material_names(scene.materials);
-  out += "  \"materials\": {";
-  for (size_t i = 0; i < scene.materials.size(); ++i) {
-    out += (i ? ",\n" : "\n") + material_json(scene.materials[i], names[i]);
-  }
-  out += scene.materials.empty() ? "},\n" : "\n  },\n";
-  out += "  \"shapes\": [";
-  for (size_t i = 0; i < scene.shapes.size(); ++i) {
-    out += (i ? ",\n" : "\n") + shape_json(scene.shapes[i], i, scene.materials, names);
-  }
-  out += scene.shapes.empty() ? "]\n}\n" : "\n  ]\n}\n";
+         ", \"seed\": " + std::to_string(scene.render.seed) +
+         ", \"hide_emitters\": " + bool_text(scene.render.hide_emitters) + "},\n";
+  Names names{unique_names(scene.textures, "texture"), unique_names(scene.materials, "material"),
+              unique_names(scene.groups, "group")};
+  out += "  \"textures\": " + block(scene.textures.size(), '{', '}', [&](size_t i) {
+    return texture_json(scene.textures[i], i, names);
+  }) + ",\n";
+  out += "  \"materials\": " + block(scene.materials.size(), '{', '}', [&](size_t i) {
+    return material_json(scene.materials[i], i, names);
+  }) + ",\n";
+  out += "  \"groups\": " + block(scene.groups.size(), '{', '}', [&](size_t g) {
+    const ShapeGroup& group = scene.groups[g];
+    std::string body = "    " + json_string(names.groups[g]) + ": {\"shapes\": [";
+    for (size_t i = 0; i < group.shapes.size(); ++i) {
+      const Shape& shape = group.shapes[i];
+      if (shape.kind == Shape::Kind::instance) {
+        throw SceneError("groups." + printable(names.groups[g]) + ": groups cannot hold instances");
+      }
+      body += (i ? ",\n" : "\n") +
+              shape_json(shape, "groups." + printable(names.groups[g]) + ".shapes[" +
+                                    std::to_string(i) + "] (" + printable(shape.origin) + ")",
+                         scene.materials, names);
+    }
+    return body + "]}";
+  }) + ",\n";
+  out += "  \"shapes\": " + block(scene.shapes.size(), '[', ']', [&](size_t i) {
+    const Shape& shape = scene.shapes[i];
+    return shape_json(shape, "shapes[" + std::to_string(i) + "] (" + printable(shape.origin) + ")",
+                      scene.materials, names);
+  }) + ",\n";
+  out += "  \"lights\": " + block(scene.lights.size(), '[', ']', [&](size_t i) {
+    return light_json(scene.lights[i], i);
+  }) + "\n}\n";
   return out;
 }
 

@@ -30,6 +30,93 @@ bool same_bits(double a, double b) {
   return ::testing::AssertionSuccess();
 }
 
+bool same_bits(const glm::dmat3& a, const glm::dmat3& b) {
+  for (int c = 0; c < 3; ++c) {
+    if (!same_bits(a[c], b[c])) return false;
+  }
+  return true;
+}
+
+bool same_bits(const glm::dmat4& a, const glm::dmat4& b) {
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      if (!same_bits(a[c][r], b[c][r])) return false;
+    }
+  }
+  return true;
+}
+
+void expect_same(const TexturedColor& a, const TexturedColor& b) {
+  EXPECT_TRUE(same_bits(a.value, b.value));
+  EXPECT_EQ(a.texture, b.texture);
+}
+
+void expect_same(const TexturedFloat& a, const TexturedFloat& b) {
+  EXPECT_TRUE(same_bits(a.value, b.value));
+  EXPECT_EQ(a.texture, b.texture);
+}
+
+void expect_same_material(const Material& x, const Material& y) {
+  SCOPED_TRACE(x.name);
+  EXPECT_EQ(x.name, y.name);
+  EXPECT_EQ(x.type, y.type);
+  expect_same(x.reflectance, y.reflectance);
+  EXPECT_TRUE(same_bits(x.ior, y.ior));
+  EXPECT_EQ(x.two_sided, y.two_sided);
+  if (x.type != MaterialType::diffuse && x.type != MaterialType::mirror) {
+    expect_same(x.specular_reflectance, y.specular_reflectance);
+  }
+  expect_same(x.specular_transmittance, y.specular_transmittance);
+  EXPECT_TRUE(same_bits(x.eta, y.eta));
+  EXPECT_TRUE(same_bits(x.k, y.k));
+  EXPECT_EQ(x.perfect, y.perfect);
+  EXPECT_EQ(x.distribution, y.distribution);
+  expect_same(x.alpha_u, y.alpha_u);
+  expect_same(x.alpha_v, y.alpha_v);
+  EXPECT_EQ(x.sample_visible, y.sample_visible);
+  EXPECT_EQ(x.nonlinear, y.nonlinear);
+  EXPECT_EQ(x.back, y.back);
+  expect_same(x.opacity, y.opacity);
+  EXPECT_EQ(x.normal_map, y.normal_map);
+  EXPECT_EQ(x.bump_map, y.bump_map);
+  EXPECT_TRUE(same_bits(x.bump_scale, y.bump_scale));
+}
+
+void expect_same_shape(const Shape& x, const Shape& y) {
+  SCOPED_TRACE(x.origin);
+  ASSERT_EQ(x.kind, y.kind);
+  if (x.kind == Shape::Kind::instance) {
+    EXPECT_EQ(x.group, y.group);
+    EXPECT_TRUE(same_bits(x.to_world, y.to_world));
+    return;
+  }
+  EXPECT_EQ(x.material, y.material);
+  EXPECT_TRUE(same_bits(x.emission, y.emission));
+  EXPECT_EQ(x.emission_texture, y.emission_texture);
+  EXPECT_EQ(x.two_sided_emission, y.two_sided_emission);
+  if (x.kind == Shape::Kind::sphere) {
+    EXPECT_TRUE(same_bits(x.center, y.center));
+    EXPECT_TRUE(same_bits(x.radius, y.radius));
+    EXPECT_TRUE(same_bits(x.frame, y.frame));
+    EXPECT_EQ(x.flip_normals, y.flip_normals);
+    return;
+  }
+  ASSERT_EQ(x.positions.size(), y.positions.size());
+  for (size_t k = 0; k < x.positions.size(); ++k) {
+    ASSERT_TRUE(same_bits(x.positions[k], y.positions[k])) << "vertex " << k;
+  }
+  ASSERT_EQ(x.normals.size(), y.normals.size());
+  for (size_t k = 0; k < x.normals.size(); ++k) {
+    ASSERT_TRUE(same_bits(x.normals[k], y.normals[k])) << "normal " << k;
+  }
+  ASSERT_EQ(x.uvs.size(), y.uvs.size());
+  for (size_t k = 0; k < x.uvs.size(); ++k) {
+    ASSERT_TRUE(same_bits(x.uvs[k].x, y.uvs[k].x) && same_bits(x.uvs[k].y, y.uvs[k].y))
+        << "uv " << k;
+  }
+  EXPECT_EQ(x.indices, y.indices);
+}
+
 /// Every field the renderer reads, compared bit for bit. Not compared: Shape::origin,
 /// dropped_triangles and referenced_files (the JSON keeps no such thing) and flip_normals of
 /// triangle shapes (applied to their winding).
@@ -46,38 +133,46 @@ void expect_same_scene(const Scene& a, const Scene& b) {
   EXPECT_EQ(a.render.spp, b.render.spp);
   EXPECT_EQ(a.render.max_depth, b.render.max_depth);
   EXPECT_EQ(a.render.seed, b.render.seed);
+  EXPECT_EQ(a.film.filter.kind, b.film.filter.kind);
+  EXPECT_TRUE(same_bits(a.film.filter.radius, b.film.filter.radius));
+  EXPECT_TRUE(same_bits(a.film.filter.stddev, b.film.filter.stddev));
+  EXPECT_EQ(a.render.hide_emitters, b.render.hide_emitters);
+  ASSERT_EQ(a.textures.size(), b.textures.size());
+  for (size_t i = 0; i < a.textures.size(); ++i) {
+    const Texture &x = a.textures[i], &y = b.textures[i];
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.kind, y.kind);
+    EXPECT_EQ(x.file, y.file);
+    EXPECT_EQ(x.color_space, y.color_space);
+    EXPECT_EQ(x.filter, y.filter);
+    EXPECT_EQ(x.wrap, y.wrap);
+    EXPECT_TRUE(same_bits(x.color0, y.color0));
+    EXPECT_TRUE(same_bits(x.color1, y.color1));
+    EXPECT_TRUE(same_bits(x.to_uv, y.to_uv)) << x.name;
+  }
   ASSERT_EQ(a.materials.size(), b.materials.size());
   for (size_t i = 0; i < a.materials.size(); ++i) {
-    const Material &x = a.materials[i], &y = b.materials[i];
-    EXPECT_EQ(x.name, y.name);
-    EXPECT_EQ(x.type, y.type);
-    EXPECT_TRUE(same_bits(x.reflectance.value, y.reflectance.value));
-    EXPECT_TRUE(same_bits(x.ior, y.ior));
-    EXPECT_EQ(x.two_sided, y.two_sided);
+    expect_same_material(a.materials[i], b.materials[i]);
+  }
+  ASSERT_EQ(a.groups.size(), b.groups.size());
+  for (size_t g = 0; g < a.groups.size(); ++g) {
+    EXPECT_EQ(a.groups[g].name, b.groups[g].name);
+    ASSERT_EQ(a.groups[g].shapes.size(), b.groups[g].shapes.size());
+    for (size_t i = 0; i < a.groups[g].shapes.size(); ++i) {
+      expect_same_shape(a.groups[g].shapes[i], b.groups[g].shapes[i]);
+    }
   }
   ASSERT_EQ(a.shapes.size(), b.shapes.size());
-  for (size_t i = 0; i < a.shapes.size(); ++i) {
-    const Shape &x = a.shapes[i], &y = b.shapes[i];
-    SCOPED_TRACE(x.origin);
-    ASSERT_EQ(x.kind, y.kind);
-    EXPECT_EQ(x.material, y.material);
-    EXPECT_TRUE(same_bits(x.emission, y.emission));
-    EXPECT_EQ(x.two_sided_emission, y.two_sided_emission);
-    if (x.kind == Shape::Kind::sphere) {
-      EXPECT_TRUE(same_bits(x.center, y.center));
-      EXPECT_TRUE(same_bits(x.radius, y.radius));
-      EXPECT_EQ(x.flip_normals, y.flip_normals);
-      continue;
-    }
-    ASSERT_EQ(x.positions.size(), y.positions.size());
-    for (size_t k = 0; k < x.positions.size(); ++k) {
-      ASSERT_TRUE(same_bits(x.positions[k], y.positions[k])) << "vertex " << k;
-    }
-    ASSERT_EQ(x.normals.size(), y.normals.size());
-    for (size_t k = 0; k < x.normals.size(); ++k) {
-      ASSERT_TRUE(same_bits(x.normals[k], y.normals[k])) << "normal " << k;
-    }
-    EXPECT_EQ(x.indices, y.indices);
+  for (size_t i = 0; i < a.shapes.size(); ++i) expect_same_shape(a.shapes[i], b.shapes[i]);
+  ASSERT_EQ(a.lights.size(), b.lights.size());
+  for (size_t i = 0; i < a.lights.size(); ++i) {
+    const Light &x = a.lights[i], &y = b.lights[i];
+    EXPECT_EQ(x.kind, y.kind);
+    EXPECT_TRUE(same_bits(x.to_world, y.to_world)) << i;
+    EXPECT_TRUE(same_bits(x.value, y.value));
+    EXPECT_TRUE(same_bits(x.cutoff_angle_deg, y.cutoff_angle_deg));
+    EXPECT_TRUE(same_bits(x.beam_width_deg, y.beam_width_deg));
+    EXPECT_EQ(x.file, y.file);
   }
 }
 
@@ -219,6 +314,162 @@ TEST(SceneWriter, RefusesWhatJsonCannotSay) {
   }
   s = awkward_scene();
   s.shapes[2].material = 7;
+  EXPECT_THROW(write_scene_json(s), SceneError);
+}
+
+/// Every field of the scene model that the native format holds, each away from its default.
+Scene full_model_scene() {
+  Scene s;
+  s.film.filter = {FilterKind::gaussian, 1.7000000000000002, 0.4};
+  s.render.hide_emitters = true;
+  Texture wood;
+  wood.name = "wood";
+  wood.file = "tex/wood.png";
+  wood.filter = TextureFilter::nearest;
+  wood.wrap = TextureWrap::mirror;
+  wood.to_uv[0][0] = 2;    // u' = 2 u + 0.1 v + 0.25
+  wood.to_uv[1][0] = 0.1;
+  wood.to_uv[2][0] = 0.25;
+  wood.to_uv[1][1] = -3;   // v' = -3 v + 1e-17
+  wood.to_uv[2][1] = 1e-17;
+  Texture height = wood;
+  height.name = "height";
+  height.file = "tex/height.exr";
+  height.color_space = TextureColorSpace::linear;
+  height.filter = TextureFilter::bilinear;
+  height.wrap = TextureWrap::clamp;
+  height.to_uv = glm::dmat3(1.0);
+  Texture checks;
+  checks.name = "checks";
+  checks.kind = TextureKind::checkerboard;
+  checks.color0 = {0.1, 0.2, 0.30000000000000004};
+  checks.color1 = {1, 0, 0.5};
+  s.textures = {wood, height, checks};
+
+  auto material = [](const char* name, MaterialType type) {
+    Material m;
+    m.name = name;
+    m.type = type;
+    return m;
+  };
+  Material diffuse = material("diffuse", MaterialType::diffuse);
+  diffuse.reflectance = {{1, 0.5, 2}, 0};
+  diffuse.opacity = {0.7, 2};
+  diffuse.normal_map = 1;
+  diffuse.back = 9;
+  Material mirror = material("mirror", MaterialType::mirror);
+  mirror.bump_map = 1;
+  mirror.bump_scale = -0.01;
+  mirror.opacity = {0.25, -1};
+  Material glass = material("glass", MaterialType::glass);
+  glass.ior = 1.33;
+  glass.specular_reflectance = {{0.5, 0.5, 0.5}, -1};
+  glass.specular_transmittance = {{1, 1, 1}, 2};
+  Material conductor = material("gold", MaterialType::conductor);
+  conductor.eta = {0.143, 0.374, 1.442};
+  conductor.k = {3.983, 2.385, 1.603};
+  conductor.specular_reflectance = {{0.9, 0.8, 0.7}, -1};
+  Material rough_conductor = material("brushed", MaterialType::rough_conductor);
+  rough_conductor.perfect = true;
+  rough_conductor.distribution = MicrofacetDistribution::ggx;
+  rough_conductor.alpha_u = {0.05, -1};
+  rough_conductor.alpha_v = {0.3, 1};
+  rough_conductor.sample_visible = false;
+  Material rough_glass = material("frosted", MaterialType::rough_glass);
+  rough_glass.ior = 1.5046;
+  rough_glass.alpha_u = rough_glass.alpha_v = {0.2, -1};
+  Material thin = material("window", MaterialType::thin_glass);
+  thin.ior = 1.52;
+  Material plastic = material("plastic", MaterialType::plastic);
+  plastic.reflectance = {{0.1, 0.2, 0.3}, -1};
+  plastic.nonlinear = true;
+  plastic.ior = 1.9;
+  Material rough_plastic = material("rough plastic", MaterialType::rough_plastic);
+  rough_plastic.reflectance = {{2, 2, 2}, 2};
+  rough_plastic.alpha_u = rough_plastic.alpha_v = {0.4, -1};
+  Material back = material("back", MaterialType::diffuse);
+  back.two_sided = true;
+  s.materials = {diffuse, mirror, glass, conductor, rough_conductor, rough_glass, thin,
+                 plastic, rough_plastic, back};
+
+  Shape tri;
+  tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  tri.uvs = {{0, 0}, {1.5, -0.0}, {1e-300, 1}};
+  tri.indices = {{0, 1, 2}};
+  tri.material = 0;
+  Shape ball;
+  ball.kind = Shape::Kind::sphere;
+  ball.radius = 0.5;
+  double c = std::cos(0.3), sn = std::sin(0.3);
+  ball.frame = glm::dmat3(c, sn, 0, -sn, c, 0, 0, 0, 1);
+  ball.material = 3;
+  ShapeGroup group;
+  group.name = "pair";
+  group.shapes = {tri, ball};
+  s.groups = {group};
+
+  Shape instance;
+  instance.kind = Shape::Kind::instance;
+  instance.group = 0;
+  instance.to_world = glm::dmat4(2.0);
+  instance.to_world[3] = glm::dvec4(1, 2, 3, 1);
+  Shape glowing = tri;
+  glowing.material = 6;
+  glowing.emission = {1, 1, 1};
+  glowing.emission_texture = 2;
+  Shape plain = ball;
+  plain.material = 8;
+  s.shapes = {instance, glowing, plain, instance};
+
+  Light point;
+  point.to_world[3] = glm::dvec4(0, 4, 0, 1);
+  point.value = {10, 20, 30};
+  Light spot = point;
+  spot.kind = LightKind::spot;
+  spot.to_world = glm::dmat4(glm::dmat3(c, 0, -sn, 0, 1, 0, sn, 0, c));
+  spot.cutoff_angle_deg = 30;
+  spot.beam_width_deg = 12.5;
+  Light sun;
+  sun.kind = LightKind::directional;
+  sun.value = {3, 3, 3};
+  Light sky;
+  sky.kind = LightKind::constant;
+  sky.value = {0.1, 0.2, 0.4};
+  Light env;
+  env.kind = LightKind::envmap;
+  env.file = "sky.exr";
+  env.value = glm::dvec3(0.75);
+  env.to_world = spot.to_world;
+  s.lights = {point, spot, sun, sky, env};
+  return s;
+}
+
+TEST(SceneWriter, EveryFieldOfTheModelRoundTripsExactly) {
+  Scene s = full_model_scene();
+  std::string json = write_scene_json(s);
+  Scene back = parse_scene(json, memory_reader({}));
+  expect_same_scene(s, back);
+  EXPECT_EQ(back.referenced_files,
+            (std::vector<std::string>{"tex/wood.png", "tex/height.exr", "sky.exr"}));
+  EXPECT_EQ(write_scene_json(back), json);
+  for (FilterKind kind : {FilterKind::box, FilterKind::tent}) {
+    s.film.filter = {kind, kind == FilterKind::box ? 0.5 : 1.25, 0.5};
+    expect_same_scene(s, round_trip(s));
+  }
+}
+
+TEST(SceneWriter, RefusesModelFieldsJsonCannotSay) {
+  Scene s = full_model_scene();
+  s.materials[8].alpha_v = {0.5, -1};  // rough plastic is isotropic
+  EXPECT_THROW(write_scene_json(s), SceneError);
+  s = full_model_scene();
+  s.lights[4].value = {1, 2, 3};  // an envmap's scale is one number
+  EXPECT_THROW(write_scene_json(s), SceneError);
+  s = full_model_scene();
+  s.groups[0].shapes[0].uvs.pop_back();
+  EXPECT_THROW(write_scene_json(s), SceneError);
+  s = full_model_scene();
+  s.materials[0].reflectance.texture = 7;
   EXPECT_THROW(write_scene_json(s), SceneError);
 }
 

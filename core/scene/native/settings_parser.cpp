@@ -73,16 +73,45 @@ Camera parse_camera(const JsonValue& value) {
   return camera;
 }
 
+PixelFilter parse_filter(const JsonValue& value) {
+  PixelFilter filter;
+  JsonValue type = value.at("type");
+  const std::string& name = type.string();
+  auto positive = [&](const char* key, double fallback) {
+    std::optional<JsonValue> v = value.find(key);
+    if (!v) return fallback;
+    double x = v->number();
+    if (!(x > 0)) v->fail("must be > 0 (got " + format_number(x) + ")");
+    return x;
+  };
+  if (name == "box") {
+    value.expect_object({"type"}, "a box filter");
+  } else if (name == "tent") {
+    value.expect_object({"type", "radius"}, "a tent filter");
+    filter.kind = FilterKind::tent;
+    filter.radius = positive("radius", 1);
+  } else if (name == "gaussian") {
+    value.expect_object({"type", "stddev", "radius"}, "a gaussian filter");
+    filter.kind = FilterKind::gaussian;
+    filter.stddev = positive("stddev", 0.5);
+    filter.radius = positive("radius", 4 * filter.stddev);
+  } else {
+    type.fail("unknown filter \"" + printable(name) + "\" (expected box, tent or gaussian)");
+  }
+  return filter;
+}
+
 Film parse_film(const JsonValue& value) {
-  value.expect_object({"width", "height"}, "the film");
+  value.expect_object({"width", "height", "filter"}, "the film");
   Film film;
   if (std::optional<JsonValue> w = value.find("width")) film.width = int(w->integer(1, 32768));
   if (std::optional<JsonValue> h = value.find("height")) film.height = int(h->integer(1, 32768));
+  if (std::optional<JsonValue> f = value.find("filter")) film.filter = parse_filter(*f);
   return film;
 }
 
 RenderSettings parse_render(const JsonValue& value) {
-  value.expect_object({"spp", "max_depth", "seed"}, "render");
+  value.expect_object({"spp", "max_depth", "seed", "hide_emitters"}, "render");
   RenderSettings render;
   if (std::optional<JsonValue> spp = value.find("spp")) {
     render.spp = spp->integer(1, std::numeric_limits<int64_t>::max());
@@ -96,6 +125,7 @@ RenderSettings parse_render(const JsonValue& value) {
     render.max_depth = int(d);
   }
   if (std::optional<JsonValue> seed = value.find("seed")) render.seed = seed->unsigned_integer();
+  render.hide_emitters = value.boolean_or("hide_emitters", false);
   return render;
 }
 

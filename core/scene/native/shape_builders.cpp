@@ -1,5 +1,7 @@
 #include "scene/native/shape_builders.h"
 
+#include <glm/matrix.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -96,6 +98,12 @@ TriangleMesh build_triangles(const JsonValue& shape) {
       mesh.normals.push_back(normal);
     }
   }
+  if (std::optional<JsonValue> uvs = shape.find("uvs")) {
+    for (const JsonValue& uv : uvs->elements(mesh.positions.size())) {
+      std::vector<JsonValue> pair = uv.elements(2);
+      mesh.uvs.emplace_back(pair[0].number(), pair[1].number());
+    }
+  }
   return mesh;
 }
 
@@ -153,6 +161,21 @@ SphereGeometry build_sphere(const JsonValue& shape) {
     sphere.radius = radius->number();
     if (!(sphere.radius > 0)) {
       radius->fail("must be > 0 (got " + format_number(sphere.radius) + ")");
+    }
+  }
+  if (std::optional<JsonValue> frame = shape.find("frame")) {
+    std::vector<JsonValue> rows = frame->elements(3);
+    for (int r = 0; r < 3; ++r) {
+      glm::dvec3 row = rows[r].vec3();
+      for (int c = 0; c < 3; ++c) sphere.frame[c][r] = row[c];
+    }
+    glm::dmat3 gram = glm::transpose(sphere.frame) * sphere.frame;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        if (std::abs(gram[c][r] - (r == c ? 1.0 : 0.0)) > 1e-6) {
+          frame->fail("must be an orthogonal matrix (a rotation, row by row)");
+        }
+      }
     }
   }
   return sphere;

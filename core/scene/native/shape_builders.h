@@ -30,9 +30,11 @@ TriangleMesh build_tetrahedron(const JsonValue& shape);
 struct SphereGeometry {
   glm::dvec3 center{0, 0, 0};
   double radius = 1;
+  glm::dmat3 frame{1.0};  ///< Shape::frame
 };
 
-/// "sphere": "center" (default origin), "radius" (> 0, default 1).
+/// "sphere": "center" (default origin), "radius" (> 0, default 1), "frame" (3 x 3 rows of an
+/// orthogonal matrix, default identity).
 SphereGeometry build_sphere(const JsonValue& shape);
 
 }  // namespace tessera

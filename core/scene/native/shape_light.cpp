@@ -24,12 +24,18 @@ glm::dvec3 parse_power(const JsonValue& value) {
 
 }  // namespace
 
-LightSpec parse_light(const JsonValue& shape) {
+LightSpec parse_light(const JsonValue& shape, const TextureNames& textures) {
   LightSpec spec;
   std::optional<JsonValue> emission = shape.find("emission");
   std::optional<JsonValue> power = shape.find("power");
   if (emission && power) power->fail("give either emission or power, not both");
-  if (emission) spec.emission = non_negative_rgb(*emission);
+  if (emission && emission->json().is_object()) {
+    TexturedColor color = parse_textured_color(*emission, textures, {0, 1e300});
+    spec.emission = color.value;
+    spec.emission_texture = color.texture;
+  } else if (emission) {
+    spec.emission = non_negative_rgb(*emission);
+  }
   if (power) spec.power_w = parse_power(*power);
   spec.given = emission || power;
   return spec;

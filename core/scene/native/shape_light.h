@@ -5,19 +5,22 @@
 #include <optional>
 
 #include "scene/native/json_value.h"
+#include "scene/native/texture_parser.h"
 
 namespace tessera {
 
 /// What a shape object says about its light.
 struct LightSpec {
   bool given = false;                 ///< "emission" or "power" is present
-  glm::dvec3 emission{0};             ///< "emission": radiance, each channel >= 0
+  glm::dvec3 emission{0};             ///< "emission": radiance (or a texture's scale), >= 0
+  int32_t emission_texture = -1;      ///< "emission": {"texture": ...}: Shape::emission_texture
   std::optional<glm::dvec3> power_w;  ///< "power": flux in watts, each channel >= 0
 };
 
-/// Reads "emission" ([r,g,b] >= 0) and "power" (a number >= 0 for grey, or [r,g,b] >= 0) of
-/// the shape object `shape`; both at once is an error.
-LightSpec parse_light(const JsonValue& shape);
+/// Reads "emission" ([r,g,b] >= 0, or {"texture": name, "scale": s} naming one of `textures`)
+/// and "power" (a number >= 0 for grey, or [r,g,b] >= 0) of the shape object `shape`; both at
+/// once is an error.
+LightSpec parse_light(const JsonValue& shape, const TextureNames& textures);
 
 /// The radiance of a light given by `spec` on a shape of world-space `area`: the emission as
 /// given, or power / (pi * area), halved again when the shape emits from both sides (the power

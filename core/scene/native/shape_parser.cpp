@@ -32,9 +32,9 @@ std::vector<std::string_view> keys_of(std::string_view type) {
   if (type == "quad" || type == "tetrahedron") {
     keys.push_back("vertices");
   } else if (type == "sphere") {
-    keys.insert(keys.end(), {"center", "radius"});
+    keys.insert(keys.end(), {"center", "radius", "frame"});
   } else if (type == "triangles") {
-    keys.insert(keys.end(), {"vertices", "indices", "normals"});
+    keys.insert(keys.end(), {"vertices", "indices", "normals", "uvs"});
   } else if (type == "box") {
     keys.insert(keys.end(), {"min", "max"});
   } else if (type == "mesh") {
@@ -110,6 +110,9 @@ void place_sphere(Part& part, const Transform& transform, const JsonValue& value
   }
   part.sphere.center = transform.point(part.sphere.center);
   part.sphere.radius *= *scale;
+  if (transform.matrix() != glm::dmat4(1.0)) {
+    part.sphere.frame = glm::dmat3(transform.matrix()) * (1 / *scale) * part.sphere.frame;
+  }
   glm::dvec3 c = part.sphere.center;
   if (!std::isfinite(c.x + c.y + c.z) || !std::isfinite(part.sphere.radius) ||
       !(part.sphere.radius > 0)) {
@@ -193,6 +196,7 @@ Shape make_shape(Part& part, const JsonValue& value, bool flip, bool several) {
   shape.indices = std::move(part.mesh.indices);
   shape.center = part.sphere.center;
   shape.radius = part.sphere.radius;
+  shape.frame = part.sphere.frame;
   shape.flip_normals = flip;
   shape.dropped_triangles = part.dropped;
   shape.origin = value.path();
@@ -202,18 +206,40 @@ Shape make_shape(Part& part, const JsonValue& value, bool flip, bool several) {
   return shape;
 }
 
+Shape parse_instance(const JsonValue& value, const ShapeContext& context) {
+  value.expect_object({"type", "group", "transform"}, "an \"instance\" shape");
+  JsonValue group = value.at("group");
+  if (!context.groups) value.at("type").fail("groups cannot hold instances");
+  auto it = context.groups->find(group.string());
+  if (it == context.groups->end()) {
+    group.fail("unknown group \"" + printable(group.string()) + "\"");
+  }
+  Shape shape;
+  shape.kind = Shape::Kind::instance;
+  shape.group = it->second;
+  if (std::optional<JsonValue> t = value.find("transform")) {
+    shape.to_world = parse_transform(*t).matrix();
+  }
+  shape.origin = value.path();
+  return shape;
+}
+
 }  // namespace
 
 void parse_shape(const JsonValue& value, ShapeContext& context, std::vector<Shape>& shapes) {
   JsonValue type_value = value.at("type");
   const std::string& type = type_value.string();
+  if (type == "instance") return shapes.push_back(parse_instance(value, context));
   std::vector<std::string_view> keys = keys_of(type);
   if (keys.empty()) {
     type_value.fail("unknown shape type \"" + printable(type) +
-                    "\" (expected quad, sphere, triangles, box, tetrahedron or mesh)");
+                    "\" (expected quad, sphere, triangles, box, tetrahedron, mesh or instance)");
   }
   value.expect_object(keys, "a \"" + type + "\" shape");
-  LightSpec light = parse_light(value);
+  LightSpec light = parse_light(value, context.textures);
+  if (light.emission_texture >= 0 && light.power_w) {
+    value.at("power").fail("a textured emission cannot be given as power");
+  }
   std::optional<uint32_t> declared = declared_material(value, context.materials);
   bool two_sided = value.boolean_or("two_sided", false);
   bool flip = value.boolean_or("flip_normals", false);
@@ -238,6 +264,7 @@ void parse_shape(const JsonValue& value, ShapeContext& context, std::vector<Shap
     Shape shape = make_shape(part, value, flip, parts.size() > 1);
     shape.material = two_sided ? context.materials.two_sided(material) : material;
     shape.emission = light.given ? radiance : part.file_emission;
+    shape.emission_texture = light.emission_texture;
     shape.two_sided_emission = two_sided && shape.is_emitter();
     shapes.push_back(std::move(shape));
   }

@@ -1,0 +1,114 @@
+// check_image_bytes: images written here with OpenImageIO, then broken.
+#include "scene/image_check.h"
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "scene/scene_error.h"
+
+namespace tessera {
+namespace {
+
+/// The bytes of a `width` x `height` RGB image of `pixels` in the format of `extension`.
+std::string encode(const std::string& extension, int width, int height,
+                   const std::vector<float>& pixels, OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT) {
+  std::vector<unsigned char> buffer;
+  OIIO::Filesystem::IOVecOutput out(buffer);
+  std::unique_ptr<OIIO::ImageOutput> writer = OIIO::ImageOutput::create("x" + extension);
+  EXPECT_TRUE(writer);
+  OIIO::ImageSpec spec(width, height, 3, type);
+  void* proxy = &out;
+  spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  EXPECT_TRUE(writer->open("x" + extension, spec)) << writer->geterror();
+  EXPECT_TRUE(writer->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+  writer->close();
+  return std::string(buffer.begin(), buffer.end());
+}
+
+std::string error_of(const std::string& path, const std::string& bytes) {
+  try {
+    check_image_bytes(path, bytes);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+std::vector<float> ramp(int width, int height) {
+  std::vector<float> pixels(size_t(width) * height * 3);
+  for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = float(i % 7) / 7;
+  return pixels;
+}
+
+TEST(ImageCheck, AcceptsGoodImagesAndReportsTheirSize) {
+  ImageCheck exr = check_image_bytes("textures/a.exr", encode(".exr", 5, 3, ramp(5, 3)));
+  EXPECT_EQ(exr.width, 5);
+  EXPECT_EQ(exr.height, 3);
+  EXPECT_EQ(exr.channels, 3);
+  EXPECT_EQ(exr.format, "openexr");
+  ImageCheck png =
+      check_image_bytes("a.PNG", encode(".png", 4, 2, ramp(4, 2), OIIO::TypeDesc::UINT8));
+  EXPECT_EQ(png.format, "png");
+  EXPECT_EQ(png.width, 4);
+  ImageCheck hdr = check_image_bytes("sky.hdr", encode(".hdr", 8, 4, ramp(8, 4)));
+  EXPECT_EQ(hdr.format, "hdr");
+}
+
+TEST(ImageCheck, RefusesBadValuesNamingThePixel) {
+  std::vector<float> pixels = ramp(4, 3);
+  pixels[(2 * 4 + 1) * 3 + 2] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(error_of("env.exr", encode(".exr", 4, 3, pixels)),
+            "env.exr: pixel (1, 2) channel B is NaN (nan); images must hold finite values >= 0");
+  pixels = ramp(4, 3);
+  pixels[1] = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(error_of("env.exr", encode(".exr", 4, 3, pixels)),
+            "env.exr: pixel (0, 0) channel G is infinite (inf); images must hold finite values "
+            ">= 0");
+  pixels = ramp(4, 3);
+  pixels[3 * 3] = -0.5f;
+  EXPECT_EQ(error_of("env.exr", encode(".exr", 4, 3, pixels)),
+            "env.exr: pixel (3, 0) channel R is negative (-0.500000); images must hold finite "
+            "values >= 0");
+}
+
+TEST(ImageCheck, RefusesWhatIsNotAnImage) {
+  EXPECT_EQ(error_of("a.png", ""), "a.png: empty file, not an image");
+  std::string not_png = error_of("a.png", "this is text, not a PNG file");
+  EXPECT_EQ(not_png.rfind("a.png: cannot be read as an image (", 0), 0u) << not_png;
+  std::string unknown = error_of("a.xyz", "whatever");
+  EXPECT_EQ(unknown.rfind("a.xyz: cannot be read as an image (", 0), 0u) << unknown;
+  // Cut short: the header survives, the pixels do not.
+  std::string exr = encode(".exr", 64, 64, ramp(64, 64));
+  std::string cut = error_of("t.exr", exr.substr(0, exr.size() / 2));
+  EXPECT_EQ(cut.rfind("t.exr: ", 0), 0u) << cut;
+  EXPECT_NE(cut, "(no error)");
+  std::string png = encode(".png", 64, 64, ramp(64, 64), OIIO::TypeDesc::UINT8);
+  std::string cut_png = error_of("t.png", png.substr(0, png.size() / 2));
+  EXPECT_EQ(cut_png.rfind("t.png: ", 0), 0u) << cut_png;
+  EXPECT_NE(cut_png, "(no error)");
+}
+
+TEST(ImageCheck, SceneImageFilesAreTexturesAndEnvmaps) {
+  Scene scene;
+  Texture bitmap;
+  bitmap.file = "tex/a.png";
+  Texture checks;
+  checks.kind = TextureKind::checkerboard;
+  Texture again = bitmap;
+  scene.textures = {bitmap, checks, again};
+  Light env;
+  env.kind = LightKind::envmap;
+  env.file = "sky.exr";
+  Light point;
+  scene.lights = {point, env};
+  scene.referenced_files = {"m.ply", "tex/a.png", "sky.exr"};
+  EXPECT_EQ(scene_image_files(scene), (std::vector<std::string>{"tex/a.png", "sky.exr"}));
+}
+
+}  // namespace
+}  // namespace tessera

@@ -1,0 +1,214 @@
+// The native format's textures, material kinds, lights, filters, groups and instances: what
+// they read into, and how bad values are refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scene/scene_test_support.h"
+
+namespace tessera {
+namespace {
+
+using testing::error_of;
+using testing::parse;
+using testing::scene_with_shapes;
+
+std::string with(const std::string& sections) { return R"({"tessera": 1, )" + sections + "}"; }
+
+TEST(SceneModelParse, TexturesAndTexturedParameters) {
+  Scene s = parse(with(R"(
+    "textures": {
+      "albedo": {"type": "bitmap", "file": "tex\\albedo.png"},
+      "hdr": {"type": "bitmap", "file": "tex/a.EXR", "filter": "nearest", "wrap": "clamp",
+              "to_uv": [[2, 0, 0.5], [0, 3, 0]]},
+      "checks": {"type": "checkerboard", "color0": [1, 1, 1]}},
+    "materials": {
+      "a": {"reflectance": {"texture": "albedo"}},
+      "b": {"reflectance": {"texture": "checks", "scale": 0.5}, "opacity": {"texture": "hdr"}},
+      "c": {"type": "rough_conductor", "alpha": {"texture": "hdr", "scale": 0.2}}})"));
+  ASSERT_EQ(s.textures.size(), 3u);
+  EXPECT_EQ(s.textures[0].file, "tex/albedo.png");
+  EXPECT_EQ(s.textures[0].color_space, TextureColorSpace::srgb);
+  EXPECT_EQ(s.textures[1].color_space, TextureColorSpace::linear);  // float images: linear
+  EXPECT_EQ(s.textures[1].filter, TextureFilter::nearest);
+  EXPECT_EQ(s.textures[1].wrap, TextureWrap::clamp);
+  glm::dvec3 uv = s.textures[1].to_uv * glm::dvec3(1, 1, 1);
+  EXPECT_EQ(uv, glm::dvec3(2.5, 3, 1));
+  EXPECT_EQ(s.textures[2].kind, TextureKind::checkerboard);
+  EXPECT_EQ(s.textures[2].color1, glm::dvec3(0.2));
+  EXPECT_EQ(s.referenced_files, (std::vector<std::string>{"tex/albedo.png", "tex/a.EXR"}));
+  EXPECT_EQ(s.materials[0].reflectance.texture, 0);
+  EXPECT_EQ(s.materials[0].reflectance.value, glm::dvec3(1));
+  EXPECT_EQ(s.materials[1].reflectance.value, glm::dvec3(0.5));
+  EXPECT_EQ(s.materials[1].opacity.texture, 1);
+  EXPECT_EQ(s.materials[2].alpha_u.texture, 1);
+  EXPECT_EQ(s.materials[2].alpha_v.value, 0.2);
+
+  EXPECT_EQ(error_of(with(R"("materials": {"a": {"reflectance": {"texture": "nope"}}})")),
+            "materials.a.reflectance.texture: unknown texture \"nope\"");
+  EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "bitmap", "file": "../t.png"}})"))
+                .rfind("textures.t.file: ", 0),
+            0u);
+  EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "noise"}})")),
+            "textures.t.type: unknown texture type \"noise\" (expected bitmap or checkerboard)");
+  EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "bitmap", "file": "a.png",
+                                                 "wrap": "tile"}})")),
+            "textures.t.wrap: must be \"repeat\", \"mirror\" or \"clamp\" (got \"tile\")");
+  EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "checkerboard",
+                                                 "to_uv": [[0, 0, 1], [0, 0, 1]]}})")),
+            "textures.t.to_uv: must be invertible");
+}
+
+TEST(SceneModelParse, MaterialKindsTakeMitsubasParameters) {
+  Scene s = parse(with(R"("materials": {
+      "gold": {"type": "conductor", "eta": [0.2, 0.4, 1.4], "k": [4, 2.4, 1.6]},
+      "brushed": {"type": "rough_conductor", "distribution": "ggx", "alpha_u": 0.05,
+                  "alpha_v": 0.3, "sample_visible": false, "perfect": true},
+      "frosted": {"type": "rough_glass", "ior": 1.33, "alpha": 0.2},
+      "window": {"type": "thin_glass", "specular_transmittance": [0.9, 0.9, 0.9]},
+      "red": {"type": "plastic", "diffuse_reflectance": [0.5, 0, 0], "nonlinear": true},
+      "satin": {"type": "rough_plastic", "alpha": 0.3, "ior": 1.6, "two_sided": true},
+      "leaf": {"reflectance": [0, 0.5, 0], "back": "satin", "bump_map": "h", "bump_scale": 2,
+               "normal_map": "h"}},
+      "textures": {"h": {"type": "bitmap", "file": "h.png"}})"));
+  ASSERT_EQ(s.materials.size(), 7u);
+  EXPECT_EQ(s.materials[0].type, MaterialType::conductor);
+  EXPECT_EQ(s.materials[0].k, glm::dvec3(4, 2.4, 1.6));
+  EXPECT_EQ(s.materials[1].distribution, MicrofacetDistribution::ggx);
+  EXPECT_EQ(s.materials[1].alpha_v.value, 0.3);
+  EXPECT_FALSE(s.materials[1].sample_visible);
+  EXPECT_TRUE(s.materials[1].perfect);
+  EXPECT_EQ(s.materials[2].alpha_u.value, 0.2);
+  EXPECT_EQ(s.materials[2].distribution, MicrofacetDistribution::beckmann);
+  EXPECT_EQ(s.materials[3].specular_transmittance.value, glm::dvec3(0.9));
+  EXPECT_EQ(s.materials[4].reflectance.value, glm::dvec3(0.5, 0, 0));
+  EXPECT_TRUE(s.materials[4].nonlinear);
+  EXPECT_EQ(s.materials[6].back, 5);
+  EXPECT_EQ(s.materials[6].normal_map, 0);
+  EXPECT_EQ(s.materials[6].bump_scale, 2);
+
+  auto material_error = [](const std::string& m) {
+    return error_of(with(R"("materials": {"m": )" + m + "}"));
+  };
+  EXPECT_EQ(material_error(R"({"type": "rough_conductor", "alpha": 0})"),
+            "materials.m.alpha: must be > 0 (got 0)");
+  EXPECT_EQ(material_error(R"({"type": "rough_glass", "alpha_u": 0.1})"),
+            "materials.m: alpha_u and alpha_v go together");
+  EXPECT_EQ(material_error(R"({"type": "rough_glass", "alpha": 0.1, "alpha_u": 0.1})"),
+            "materials.m.alpha_u: give either alpha or alpha_u and alpha_v, not both");
+  EXPECT_EQ(material_error(R"({"type": "rough_plastic", "alpha_u": 0.1})").rfind(
+                "materials.m.alpha_u: unknown key", 0),
+            0u);
+  EXPECT_EQ(material_error(R"({"type": "conductor", "distribution": "ggx"})").rfind(
+                "materials.m.distribution: unknown key", 0),
+            0u);
+  EXPECT_EQ(material_error(R"({"type": "rough_conductor", "distribution": "phong"})"),
+            "materials.m.distribution: must be \"beckmann\" or \"ggx\" (got \"phong\")");
+  EXPECT_EQ(material_error(R"({"type": "plastic", "reflectance": [1, 1, 1]})"),
+            "materials.m.reflectance: plastics call it diffuse_reflectance");
+  EXPECT_EQ(material_error(R"({"type": "thin_glass", "two_sided": true})"),
+            "materials.m.two_sided: glass is always two-sided (remove this key)");
+  EXPECT_EQ(material_error(R"({"opacity": 1.5})"),
+            "materials.m.opacity: must be in [0, 1] (got 1.5)");
+  EXPECT_EQ(material_error(R"({"type": "conductor", "eta": [1, -1, 1]})"),
+            "materials.m.eta[1]: must be >= 0 (got -1)");
+  EXPECT_EQ(material_error(R"({"back": "m"})"), "materials.m.back: must name another material");
+  EXPECT_EQ(error_of(with(R"("materials": {"m": {"back": "n"}, "n": {}})")),
+            "materials.m.back: material \"n\" must be two-sided (it is shaded with its own front)");
+}
+
+TEST(SceneModelParse, LightsFilterAndHideEmitters) {
+  Scene s = parse(with(R"(
+    "film": {"width": 4, "height": 4, "filter": {"type": "gaussian", "stddev": 0.25}},
+    "render": {"hide_emitters": true},
+    "lights": [
+      {"type": "point", "transform": {"translate": [0, 3, 0]}, "intensity": 5},
+      {"type": "spot", "cutoff_angle": 40, "intensity": [1, 2, 3],
+       "transform": {"rotate": {"axis": [1, 0, 0], "angle": 90}}},
+      {"type": "directional", "irradiance": [2, 2, 2]},
+      {"type": "constant", "radiance": 0.5},
+      {"type": "envmap", "file": "sky.hdr", "scale": 2}])"));
+  EXPECT_EQ(s.film.filter.kind, FilterKind::gaussian);
+  EXPECT_EQ(s.film.filter.radius, 1.0);  // 4 standard deviations
+  EXPECT_TRUE(s.render.hide_emitters);
+  ASSERT_EQ(s.lights.size(), 5u);
+  EXPECT_EQ(s.lights[0].to_world[3], glm::dvec4(0, 3, 0, 1));
+  EXPECT_EQ(s.lights[0].value, glm::dvec3(5));
+  EXPECT_EQ(s.lights[1].beam_width_deg, 30);  // 3/4 of the cutoff, as Mitsuba
+  EXPECT_EQ(s.lights[3].value, glm::dvec3(0.5));
+  EXPECT_EQ(s.lights[4].file, "sky.hdr");
+  EXPECT_EQ(s.referenced_files, std::vector<std::string>{"sky.hdr"});
+  EXPECT_EQ(parse(with(R"("film": {"filter": {"type": "tent"}})")).film.filter.radius, 1);
+  EXPECT_EQ(parse(R"({"tessera": 1})").film.filter.kind, FilterKind::box);
+
+  EXPECT_EQ(error_of(with(R"("film": {"filter": {"type": "lanczos"}})")),
+            "film.filter.type: unknown filter \"lanczos\" (expected box, tent or gaussian)");
+  EXPECT_EQ(error_of(with(R"("film": {"filter": {"type": "tent", "radius": 0}})")),
+            "film.filter.radius: must be > 0 (got 0)");
+  EXPECT_EQ(error_of(with(R"("lights": [{"type": "point", "transform": {"scale": 2}}])")),
+            "lights[0].transform: a light's transform must be a rotation and a translation (no "
+            "scale or mirror)");
+  EXPECT_EQ(error_of(with(R"("lights": [{"type": "spot", "cutoff_angle": 10,
+                                         "beam_width": 20}])")),
+            "lights[0].beam_width: must be in (0, 10] degrees (got 20)");
+  EXPECT_EQ(error_of(with(R"("lights": [{"type": "constant", "transform": {}}])")).rfind(
+                "lights[0].transform: unknown key", 0),
+            0u);
+  EXPECT_EQ(error_of(with(R"("lights": [{"type": "envmap", "file": "a.exr",
+                                         "scale": [1, 2, 3]}])")),
+            "lights[0].scale: must be a number");
+  EXPECT_EQ(error_of(with(R"("lights": [{"type": "area"}])")),
+            "lights[0].type: unknown light type \"area\" (expected point, spot, directional, "
+            "constant or envmap)");
+}
+
+TEST(SceneModelParse, UvsFramesGroupsInstancesAndTexturedEmission) {
+  Scene s = parse(scene_with_shapes(R"(
+      {"type": "triangles", "material": "white", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+       "indices": [[0, 1, 2]], "uvs": [[0, 0], [1, 0], [0, 1]]},
+      {"type": "sphere", "material": "white", "frame": [[0, -1, 0], [1, 0, 0], [0, 0, 1]],
+       "transform": {"rotate": {"axis": [0, 0, 1], "angle": 90}, "scale": 2}},
+      {"type": "instance", "group": "g", "transform": {"translate": [5, 0, 0]}},
+      {"type": "quad", "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]],
+       "emission": {"texture": "t", "scale": [2, 2, 2]}})",
+                                    R"("textures": {"t": {"type": "checkerboard"}},
+      "groups": {"g": {"shapes": [{"type": "sphere", "material": "mirror"}]}}, )"));
+  ASSERT_EQ(s.shapes.size(), 4u);
+  EXPECT_EQ(s.shapes[0].uvs[1], glm::dvec2(1, 0));
+  // The frame turned by the transform's rotation: a quarter turn after a quarter turn.
+  glm::dvec3 x = s.shapes[1].frame * glm::dvec3(1, 0, 0);
+  EXPECT_NEAR(x.x, -1, 1e-15);
+  EXPECT_NEAR(x.y, 0, 1e-15);
+  EXPECT_EQ(s.shapes[2].kind, Shape::Kind::instance);
+  EXPECT_EQ(s.shapes[2].group, 0u);
+  EXPECT_EQ(s.shapes[2].to_world[3], glm::dvec4(5, 0, 0, 1));
+  ASSERT_EQ(s.groups.size(), 1u);
+  EXPECT_EQ(s.groups[0].shapes.at(0).kind, Shape::Kind::sphere);
+  EXPECT_EQ(s.shapes[3].emission_texture, 0);
+  EXPECT_EQ(s.shapes[3].emission, glm::dvec3(2));
+
+  EXPECT_EQ(error_of(scene_with_shapes(R"({"type": "triangles", "material": "white",
+      "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "indices": [[0, 1, 2]], "uvs": [[0, 0]]})")),
+            "shapes[0].uvs: must have 3 elements (got 1)");
+  EXPECT_EQ(error_of(scene_with_shapes(R"({"type": "sphere", "material": "white",
+      "frame": [[1, 0, 0], [0, 2, 0], [0, 0, 1]]})")),
+            "shapes[0].frame: must be an orthogonal matrix (a rotation, row by row)");
+  EXPECT_EQ(error_of(scene_with_shapes(R"({"type": "instance", "group": "h"})")),
+            "shapes[0].group: unknown group \"h\"");
+  EXPECT_EQ(error_of(scene_with_shapes(R"({"type": "instance", "group": "g", "material": "white"})",
+                                       R"("groups": {"g": {"shapes": [{"type": "sphere",
+                                           "material": "white"}]}}, )")),
+            "shapes[0].material: unknown key (an \"instance\" shape has: type, group, transform)");
+  EXPECT_EQ(error_of(scene_with_shapes("", R"("groups": {"g": {"shapes": [
+      {"type": "sphere", "emission": [1, 1, 1]}]}}, )")),
+            "groups.g.shapes[0]: shapes in a group cannot emit light");
+  EXPECT_EQ(error_of(scene_with_shapes("", R"("groups": {"g": {"shapes": [
+      {"type": "instance", "group": "g"}]}}, )")),
+            "groups.g.shapes[0].type: groups cannot hold instances");
+  EXPECT_EQ(error_of(scene_with_shapes(R"({"type": "sphere", "power": 3,
+      "emission": {"texture": "t"}})", R"("textures": {"t": {"type": "checkerboard"}}, )")),
+            "shapes[0].power: give either emission or power, not both");
+}
+
+}  // namespace
+}  // namespace tessera

@@ -1,0 +1,81 @@
+#include "scene/native/scene_parser.h"
+
+#include <map>
+
+#include "scene/native/light_parser.h"
+#include "scene/native/material_parser.h"
+#include "scene/native/settings_parser.h"
+#include "scene/native/shape_parser.h"
+#include "scene/native/texture_parser.h"
+#include "scene/scene_error.h"
+
+namespace tessera {
+namespace {
+
+constexpr int kFormatVersion = 1;
+
+void check_version(const JsonValue& root) {
+  JsonValue version = root.at("tessera");
+  if (!version.json().is_number()) version.fail("must be the format version, 1");
+  int64_t v = version.integer(INT64_MIN, INT64_MAX);
+  if (v != kFormatVersion) {
+    version.fail("unsupported format version " + std::to_string(v) + " (this build reads 1)");
+  }
+}
+
+/// "groups": name -> {"shapes": [...]}; group shapes are triangles or spheres, not lights.
+std::map<std::string, uint32_t> parse_groups(const JsonValue& value, ShapeContext& context,
+                                             Scene& scene) {
+  std::map<std::string, uint32_t> names;
+  for (const auto& [name, group_value] : value.members()) {
+    if (name.empty()) group_value.fail("a group name must not be empty");
+    group_value.expect_object({"shapes"}, "a group");
+    ShapeGroup group;
+    group.name = name;
+    group.origin = group_value.path();
+    for (const JsonValue& shape : group_value.at("shapes").elements()) {
+      size_t first = group.shapes.size();
+      parse_shape(shape, context, group.shapes);
+      for (size_t i = first; i < group.shapes.size(); ++i) {
+        if (group.shapes[i].is_emitter()) shape.fail("shapes in a group cannot emit light");
+      }
+    }
+    if (group.shapes.empty()) group_value.at("shapes").fail("a group needs at least one shape");
+    names[name] = uint32_t(scene.groups.size());
+    scene.groups.push_back(std::move(group));
+  }
+  return names;
+}
+
+}  // namespace
+
+Scene parse_native_scene(const JsonValue& root, const FileReader& reader) {
+  root.expect_object({"tessera", "camera", "film", "render", "textures", "materials", "groups",
+                      "shapes", "lights"},
+                     "a scene");
+  check_version(root);
+  Scene scene;
+  if (std::optional<JsonValue> camera = root.find("camera")) scene.camera = parse_camera(*camera);
+  if (std::optional<JsonValue> film = root.find("film")) scene.film = parse_film(*film);
+  if (std::optional<JsonValue> render = root.find("render")) scene.render = parse_render(*render);
+  TextureNames textures;
+  if (std::optional<JsonValue> t = root.find("textures")) {
+    textures = parse_textures(*t, scene.textures, scene.referenced_files);
+  }
+  MaterialTable materials;
+  if (std::optional<JsonValue> m = root.find("materials")) parse_materials(*m, materials, textures);
+  ShapeContext context{materials, reader, scene.referenced_files, textures, nullptr};
+  std::map<std::string, uint32_t> groups;
+  if (std::optional<JsonValue> g = root.find("groups")) groups = parse_groups(*g, context, scene);
+  context.groups = &groups;
+  if (std::optional<JsonValue> shapes = root.find("shapes")) {
+    for (const JsonValue& shape : shapes->elements()) parse_shape(shape, context, scene.shapes);
+  }
+  if (std::optional<JsonValue> lights = root.find("lights")) {
+    scene.lights = parse_lights(*lights, scene.referenced_files);
+  }
+  scene.materials = materials.take();
+  return scene;
+}
+
+}  // namespace tessera
