@@ -6,6 +6,7 @@
 
 #include "scene/native/json_value.h"
 #include "scene/mesh/mesh_file.h"
+#include "scene/mitsuba/mitsuba_emitter.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
 #include "scene/mitsuba/mitsuba_shape_geometry.h"
 #include "scene/mitsuba/mitsuba_vertex_normals.h"
@@ -15,7 +16,8 @@ namespace tessera {
 namespace {
 
 constexpr const char* kSupported =
-    "Tessera supports obj, ply, rectangle, cube, sphere and disk; convert other geometry to PLY";
+    "Tessera supports obj, ply, rectangle, cube, sphere, disk, shapegroup and instance; convert "
+    "other geometry to PLY";
 
 /// The geometry of a mesh file, in object space.
 TriangleMesh load_file(MitsubaPlugin& plugin, MitsubaShapeContext& context, bool face_normals,
@@ -23,15 +25,14 @@ TriangleMesh load_file(MitsubaPlugin& plugin, MitsubaShapeContext& context, bool
   std::optional<std::string> filename = plugin.take_string("filename");
   if (!filename) fail_at(plugin.element(), "missing <string name=\"filename\">");
   const MitsubaElement& where = *plugin.property("filename");
-  std::string relative = check_bundle_path(*filename, where.where());
-  std::string path = where.folder + relative;  // relative to the XML file that names it
+  std::string path = context.files.resolve(where, *filename);
   MeshFileOptions options;
   options.use_file_materials = false;  // Mitsuba reads no MTL files
   options.face_normals = face_normals;
   std::vector<std::string> files_read;
   std::vector<MeshPart> parts;
   try {
-    parts = load_mesh_file(path, context.reader, options, files_read);
+    parts = load_mesh_file(path, context.files.reader(), options, files_read);
   } catch (const SceneError& e) {
     fail_at(where, e.what());
   }
@@ -83,6 +84,7 @@ void place_sphere(Shape& shape, MitsubaPlugin& plugin, const Transform& to_world
   shape.kind = Shape::Kind::sphere;
   shape.center = Transform().point(to_world.point(center));
   shape.radius = radius * *scale;
+  shape.frame = glm::dmat3(to_world.matrix()) / *scale;
   glm::dvec3 c = shape.center;
   if (!std::isfinite(c.x + c.y + c.z) || !std::isfinite(shape.radius) || !(shape.radius > 0)) {
     fail_at(plugin.element(), "the sphere does not stay finite after to_world");
@@ -96,32 +98,23 @@ uint32_t read_material(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
   return context.materials.of(*bsdfs.front().element);
 }
 
-/// The radiance of the shape's area emitter, or zero without one.
-glm::dvec3 read_emitter(MitsubaPlugin& plugin, const MitsubaIds& ids) {
+/// The shape's area emitter, if any.
+void read_emitter(MitsubaPlugin& plugin, MitsubaShapeContext& context, Shape& shape) {
   std::vector<MitsubaObject> emitters = plugin.take_objects("emitter");
-  if (emitters.empty()) return glm::dvec3(0);
+  if (emitters.empty()) return;
   if (emitters.size() > 1) fail_at(*emitters[1].written, "a shape has at most one emitter");
-  MitsubaPlugin emitter(*emitters.front().element, ids);
-  if (emitter.type() != "area") {
-    fail_at(emitter.element(),
-            "a shape's emitter must be \"area\" (Tessera's lights are "
-            "emitting shapes)");
+  MitsubaAreaEmission emission =
+      read_mitsuba_area_emitter(*emitters.front().element, context.ids, context.textures);
+  shape.emission = emission.radiance;
+  shape.emission_texture = emission.texture;
+}
+
+/// Media on either side of a shape: refused, naming what Tessera does instead.
+void refuse_media(MitsubaPlugin& plugin) {
+  for (const MitsubaObject& medium : plugin.take_objects("medium")) {
+    fail_at(*medium.written,
+            "participating media are not supported (Tessera renders surfaces in vacuum)");
   }
-  std::optional<glm::dvec3> radiance = emitter.take_color("radiance");
-  if (!radiance) {
-    fail_at(emitter.element(),
-            "give <rgb name=\"radiance\" .../> (Mitsuba's default is a D65 spectrum, which "
-            "Tessera does not model)");
-  }
-  for (int i = 0; i < 3; ++i) {
-    if (!((*radiance)[i] >= 0)) {
-      fail_at(*emitter.property("radiance"),
-              "each channel must be >= 0 (got " + format_number((*radiance)[i]) + ")");
-    }
-  }
-  emitter.ignore("sampling_weight");  // how often it is sampled: noise only
-  emitter.finish();
-  return *radiance;
 }
 
 double area_of(const Shape& shape) {
@@ -135,11 +128,38 @@ double area_of(const Shape& shape) {
   return area;
 }
 
+Shape read_instance(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
+  std::vector<MitsubaObject> groups = plugin.take_objects("shape");
+  if (groups.size() != 1) {
+    fail_at(plugin.element(), "an instance names one shapegroup (<ref id=\"...\"/>)");
+  }
+  const std::string* type = groups.front().element->attribute("type");
+  if (!type || *type != "shapegroup") {
+    fail_at(*groups.front().written, "an instance places a shapegroup");
+  }
+  Shape shape;
+  shape.kind = Shape::Kind::instance;
+  shape.origin = plugin.element().where();
+  shape.group = read_mitsuba_shape_group(*groups.front().element, context);
+  shape.to_world = plugin.take_transform("to_world").value_or(Transform()).matrix();
+  plugin.finish();
+  return shape;
+}
+
 }  // namespace
 
 Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& context) {
   MitsubaPlugin plugin(element, context.ids);
   const std::string& type = plugin.type();
+  if (type == "instance") return read_instance(plugin, context);
+  if (type == "serialized") {
+    fail_at(element,
+            "serialized meshes are not read by this build yet (convert the file to PLY; "
+            + std::string(kSupported) + ")");
+  }
+  if (type == "shapegroup") {
+    fail_at(element, "a shapegroup belongs at the top of the scene (instances place it)");
+  }
   bool is_file = type == "obj" || type == "ply";
   if (!is_file && type != "rectangle" && type != "cube" && type != "disk" && type != "sphere") {
     fail_at(element, std::string("unsupported shape (") + kSupported + ")");
@@ -157,12 +177,15 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
     bool face_normals = false;
     if (is_file) {
       face_normals = plugin.take_boolean("face_normals").value_or(false);
-      if (type == "obj") plugin.ignore("flip_tex_coords");  // texture coordinates: unused
+      // Mitsuba flips an OBJ's v by default; applied once the mesh readers return uvs.
+      if (type == "obj") plugin.ignore("flip_tex_coords");
       mesh = load_file(plugin, context, face_normals, dropped);
     } else {
-      mesh = type == "rectangle" ? mitsuba_rectangle()
-             : type == "cube"    ? mitsuba_cube()
-                                 : mitsuba_disk();
+      MitsubaBuiltinMesh builtin = type == "rectangle" ? mitsuba_rectangle()
+                                   : type == "cube"    ? mitsuba_cube()
+                                                       : mitsuba_disk();
+      mesh = std::move(builtin.mesh);
+      shape.uvs = std::move(builtin.uvs);
     }
     place_mesh(mesh, to_world, flip, is_file, face_normals, dropped, element);
     shape.positions = std::move(mesh.positions);
@@ -171,7 +194,8 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
     shape.dropped_triangles = dropped;
   }
   shape.material = read_material(plugin, context);
-  shape.emission = read_emitter(plugin, context.ids);
+  read_emitter(plugin, context, shape);
+  refuse_media(plugin);
   if (shape.is_emitter()) {
     double area = area_of(shape);
     if (!(area > 0) || !std::isfinite(area)) {
@@ -181,6 +205,33 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
   }
   plugin.finish();
   return shape;
+}
+
+uint32_t read_mitsuba_shape_group(const MitsubaElement& element, MitsubaShapeContext& context) {
+  auto it = context.group_index.find(&element);
+  if (it != context.group_index.end()) return it->second;
+  MitsubaPlugin plugin(element, context.ids);
+  ShapeGroup group;
+  const std::string* id = element.attribute("id");
+  group.name = id ? *id : "shapegroup (" + element.file + " line " + std::to_string(element.line) + ")";
+  group.origin = element.where();
+  for (const MitsubaObject& member : plugin.take_objects("shape")) {
+    const std::string* type = member.element->attribute("type");
+    if (type && (*type == "instance" || *type == "shapegroup")) {
+      fail_at(*member.written, "a shapegroup holds shapes, not instances or groups");
+    }
+    Shape shape = read_mitsuba_shape(*member.element, context);
+    if (shape.is_emitter()) {
+      fail_at(*member.written, "a shapegroup's shapes cannot emit light (as in Mitsuba)");
+    }
+    group.shapes.push_back(std::move(shape));
+  }
+  if (group.shapes.empty()) fail_at(element, "a shapegroup needs at least one shape");
+  plugin.finish();
+  context.groups.push_back(std::move(group));
+  uint32_t index = uint32_t(context.groups.size() - 1);
+  context.group_index[&element] = index;
+  return index;
 }
 
 }  // namespace tessera
