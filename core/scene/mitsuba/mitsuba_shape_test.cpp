@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <glm/geometric.hpp>
 #include <numbers>
 #include <random>
@@ -317,7 +319,32 @@ TEST(MitsubaEmitter, AreaEmittersOnShapes) {
   EXPECT_FALSE(shape_of(R"(<shape type="cube"/>)").is_emitter());
 }
 
+#if __has_include("scene/mesh/serialized_loader.h")
+TEST(MitsubaShape, SerializedShapesAreReadWithTheirUvs) {
+  // Two shapes with normals and uvs (the serialized reader's fuzzing seed).
+  std::ifstream in(kSourceDir + "/fuzz/corpus/serialized_mesh/v4_normals_uvs.serialized",
+                   std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(bytes.empty());
+  Scene s = parse_xml(mitsuba_scene(R"(<shape type="serialized">
+      <string name="filename" value="meshes/m.serialized"/><integer name="shape_index" value="1"/>
+      </shape>)"),
+                      {{"meshes/m.serialized", bytes}});
+  const Shape& shape = s.shapes.at(0);
+  EXPECT_FALSE(shape.indices.empty());
+  EXPECT_EQ(shape.uvs.size(), shape.positions.size());
+  EXPECT_EQ(s.referenced_files, std::vector<std::string>{"meshes/m.serialized"});
+  std::string xml = mitsuba_scene(R"(<shape type="serialized">
+<string name="filename" value="m.serialized"/><integer name="shape_index" value="7"/></shape>)");
+  EXPECT_NE(xml_error(xml, {{"m.serialized", bytes}})
+                .find("test.xml: line " + std::to_string(line_of(xml, "<string")) +
+                      ": <string name=\"filename\">: m.serialized"),
+            std::string::npos);
+}
+#endif
+
 TEST(MitsubaShape, UnsupportedShapesAndParametersNameTheirLine) {
+#if !__has_include("scene/mesh/serialized_loader.h")
   std::string xml = mitsuba_scene(
       "<shape type=\"serialized\">\n<string name=\"filename\" "
       "value=\"x.serialized\"/>\n</shape>");
@@ -326,6 +353,7 @@ TEST(MitsubaShape, UnsupportedShapesAndParametersNameTheirLine) {
                                 "by this build yet (convert the file to PLY; Tessera supports "
                                 "obj, ply, rectangle, cube, sphere, disk, shapegroup and "
                                 "instance; convert other geometry to PLY)");
+#endif
   EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="cube"><medium type="homogeneous"
       name="interior"/></shape>)"))
                 .find("<medium type=\"homogeneous\" name=\"interior\">: participating media "
