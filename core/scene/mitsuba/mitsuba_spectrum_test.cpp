@@ -43,9 +43,9 @@ TEST(MitsubaSpectrum, EmissionHasNoD65Weighting) {
 }
 
 TEST(MitsubaSpectrum, ClampsAsMitsuba) {
-  // A narrow band at 450 nm is outside sRGB's gamut: red goes negative before clamping.
-  glm::dvec3 blue = rgb("440:0, 450:1, 460:0", MitsubaColorRole::reflectance);
-  EXPECT_EQ(blue.x, 0);
+  // A narrow band at 500 nm is outside sRGB's gamut: red goes negative before clamping.
+  glm::dvec3 cyan = rgb("490:0, 500:1, 510:0", MitsubaColorRole::reflectance);
+  EXPECT_EQ(cyan.x, 0);
   glm::dvec3 bright = rgb("400:5, 700:5", MitsubaColorRole::reflectance);
   EXPECT_EQ(bright, glm::dvec3(1));  // reflectances are bounded
   EXPECT_GT(rgb("400:5, 700:5", MitsubaColorRole::unbounded).y, 1);
