@@ -1,6 +1,5 @@
 #include "wire/scene_bundle.h"
 
-#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <memory>
@@ -9,15 +8,6 @@
 #include "scene/scene_error.h"
 #include "wire/sha256.h"
 
-// The image check (decoding with OpenImageIO) comes with the mesh and image work of issue 12
-// (core/scene/image_check.h, another branch); until both branches meet, bundles are built and
-// parsed without it. Remove this guard once merged.
-#if __has_include("scene/image_check.h")
-#include "scene/image_check.h"
-#define TESSERA_BUNDLE_IMAGE_CHECK 1
-#else
-#define TESSERA_BUNDLE_IMAGE_CHECK 0
-#endif
 
 namespace tessera::wire {
 namespace {
@@ -85,30 +75,6 @@ std::string read_file_bytes(const std::filesystem::path& path) {
 }
 
 }  // namespace
-
-void check_scene_images(const Scene& scene, const FileReader& reader) {
-#if TESSERA_BUNDLE_IMAGE_CHECK
-  std::vector<std::string> checked;
-  auto check = [&](const std::string& path, const std::string& origin) {
-    if (std::find(checked.begin(), checked.end(), path) != checked.end()) return;
-    checked.push_back(path);
-    try {
-      check_image_bytes(path, reader(path));
-    } catch (const SceneError& e) {
-      throw SceneError(origin + ": " + e.what());
-    }
-  };
-  for (const Texture& texture : scene.textures) {
-    if (texture.kind == TextureKind::bitmap) check(texture.file, texture.origin);
-  }
-  for (const Light& light : scene.lights) {
-    if (light.kind == LightKind::envmap) check(light.file, light.origin);
-  }
-#else
-  (void)scene;
-  (void)reader;
-#endif
-}
 
 BundleContents bundle_from_proto(const v1::SceneBundle& bundle) {
   BundleContents out;
@@ -188,10 +154,8 @@ FileReader bundle_reader(const BundleContents& bundle) {
 }
 
 Scene parse_bundle_scene(const BundleContents& bundle) {
-  const FileReader reader = bundle_reader(bundle);
-  Scene scene = parse_scene_any(bundle.scene_file, bundle.files.at(bundle.scene_file), reader);
-  check_scene_images(scene, reader);
-  return scene;
+  return parse_scene_any(bundle.scene_file, bundle.files.at(bundle.scene_file),
+                         bundle_reader(bundle));
 }
 
 BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene_out,
@@ -204,7 +168,6 @@ BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* 
                      " points to)");
   }
   SceneOnDisk loaded = load_scene_bundle(scene_file, root);
-  check_scene_images(loaded.scene, folder_reader(loaded.root));
   BundleContents out;
   out.scene_file = loaded.scene_path;
   out.files.emplace(out.scene_file, read_file_bytes(scene_file));

@@ -56,15 +56,7 @@ std::string bundle_sha256(const BundleContents& bundle);
 /// naming the path when the bundle lacks it. The reader keeps its own copy of the files.
 FileReader bundle_reader(const BundleContents& bundle);
 
-/// Decodes every image `scene` uses (bitmap textures, environment maps) through `reader`, each
-/// once: a file that is missing, does not decode, or holds NaN, infinite or negative values is
-/// refused with SceneError("<file>: line <L>: <element>: <image path>: <what is wrong>"), naming
-/// the element that uses it (Texture::origin, Light::origin). The check is
-/// core/scene/image_check.h's; a build without that header checks nothing.
-void check_scene_images(const Scene& scene, const FileReader& reader);
-
-/// Parses the bundle's scene (parse_scene_any over bundle_reader) and checks its images
-/// (check_scene_images): what the server does at submit. Throws SceneError.
+/// Parses the bundle's scene (parse_scene_any over bundle_reader). Throws SceneError.
 Scene parse_bundle_scene(const BundleContents& bundle);
 
 /// Builds the bundle of a scene file on disk: the scene file and every file in
@@ -72,8 +64,8 @@ Scene parse_bundle_scene(const BundleContents& bundle);
 /// when given, else the scene's folder, or for a Mitsuba scene the common folder of everything
 /// it names), read through folder_reader (which refuses files outside the root, and symbolic
 /// links anywhere below it); the scene file itself must not be a symbolic link either.
-/// Validates with load_scene_bundle and check_scene_images first (the parsed scene goes to
-/// `scene` when not null); throws SceneError on a bad scene or image.
+/// Validates with load_scene_bundle first (the parsed scene goes to `scene` when not null);
+/// throws SceneError on a bad scene.
 BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene = nullptr,
                                 const std::optional<std::filesystem::path>& root = std::nullopt);
 

@@ -2,8 +2,6 @@
 #include "wire/scene_bundle.h"
 
 #include <gtest/gtest.h>
-#include <iterator>
-#include <fstream>
 
 #include "scene/scene_error.h"
 #include "wire/sha256.h"
@@ -93,32 +91,6 @@ TEST(SceneBundle, ReaderTakesBundlePaths) {
   EXPECT_EQ(read("scenes/meshes/a.ply"), "A");
   EXPECT_THROW(read("meshes/a.ply"), std::exception);
 }
-
-#if __has_include("scene/image_check.h")
-TEST(SceneBundle, ImagesAreDecodedAtSubmitNamingTheElement) {
-  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/../../data/mitsuba/wood.png",
-                   std::ios::binary);
-  const std::string png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  ASSERT_FALSE(png.empty());
-  const std::string scene = R"(<scene version="3.0.0">
-<sensor type="perspective"><transform name="to_world"><translate z="-5"/></transform></sensor>
-<shape type="rectangle"><bsdf type="diffuse">
-<texture type="bitmap" name="reflectance"><string name="filename" value="tex.png"/></texture>
-</bsdf></shape></scene>)";
-  EXPECT_NO_THROW(parse_bundle_scene(
-      bundle_from_proto(make("a/s.xml", {{"a/s.xml", scene}, {"a/tex.png", png}}))));
-  try {
-    parse_bundle_scene(bundle_from_proto(
-        make("a/s.xml", {{"a/s.xml", scene}, {"a/tex.png", "not an image at all"}})));
-    FAIL() << "no error";
-  } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("a/s.xml: line 4: <texture type=\"bitmap\" "
-                                         "name=\"reflectance\">: a/tex.png: "),
-              std::string::npos)
-        << e.what();
-  }
-}
-#endif
 
 TEST(SceneBundle, NativeScenesBelowTheRootNameFilesFromTheirFolder) {
   const std::string scene =
