@@ -30,8 +30,8 @@ namespace tessera {
 namespace {
 
 constexpr const char* kSupported =
-    "Tessera supports obj, ply, rectangle, cube, sphere, disk, shapegroup and instance; convert "
-    "other geometry to PLY";
+    "Tessera supports obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, shapegroup "
+    "and instance; convert other geometry to PLY";
 
 /// The geometry of a mesh file, in object space.
 TriangleMesh load_file(MitsubaPlugin& plugin, MitsubaShapeContext& context, bool face_normals,
@@ -129,6 +129,24 @@ void place_sphere(Shape& shape, MitsubaPlugin& plugin, const Transform& to_world
   }
 }
 
+/// p0, p1 and radius of a cylinder as the transform from its own space.
+Transform cylinder_placement(MitsubaPlugin& plugin) {
+  glm::dvec3 p0 = plugin.take_point("p0").value_or(glm::dvec3(0));
+  glm::dvec3 p1 = plugin.take_point("p1").value_or(glm::dvec3(0, 0, 1));
+  double radius = plugin.take_float("radius").value_or(1.0);
+  if (!(radius > 0)) {
+    fail_at(*plugin.property("radius"), "must be > 0 (got " + format_number(radius) + ")");
+  }
+  if (p0 == p1) fail_at(plugin.element(), "p0 and p1 must differ");
+  glm::dmat4 m = mitsuba_cylinder_placement(p0, p1, radius);
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      if (!std::isfinite(m[c][r])) fail_at(plugin.element(), "the cylinder is not finite");
+    }
+  }
+  return Transform(m);
+}
+
 uint32_t read_material(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
   std::vector<MitsubaObject> bsdfs = plugin.take_objects("bsdf");
   if (bsdfs.size() > 1) fail_at(*bsdfs[1].written, "a shape has at most one BSDF");
@@ -192,16 +210,15 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
   if (type == "instance") return read_instance(plugin, context);
 #if !TESSERA_MITSUBA_MESH_UVS
   if (type == "serialized") {
-    fail_at(element,
-            "serialized meshes are not read by this build yet (convert the file to PLY; "
-            + std::string(kSupported) + ")");
+    fail_at(element, "serialized meshes are not read by this build yet (convert the file to PLY)");
   }
 #endif
   if (type == "shapegroup") {
     fail_at(element, "a shapegroup belongs at the top of the scene (instances place it)");
   }
   bool is_file = type == "obj" || type == "ply" || type == "serialized";
-  if (!is_file && type != "rectangle" && type != "cube" && type != "disk" && type != "sphere") {
+  if (!is_file && type != "rectangle" && type != "cube" && type != "disk" && type != "sphere" &&
+      type != "cylinder") {
     fail_at(element, std::string("unsupported shape (") + kSupported + ")");
   }
   Transform to_world = plugin.take_transform("to_world").value_or(Transform());
@@ -231,9 +248,11 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
       mesh = load_file(plugin, context, face_normals, dropped);
 #endif
     } else {
-      MitsubaBuiltinMesh builtin = type == "rectangle" ? mitsuba_rectangle()
-                                   : type == "cube"    ? mitsuba_cube()
-                                                       : mitsuba_disk();
+      MitsubaBuiltinMesh builtin = type == "rectangle"  ? mitsuba_rectangle()
+                                   : type == "cube"     ? mitsuba_cube()
+                                   : type == "cylinder" ? mitsuba_cylinder()
+                                                        : mitsuba_disk();
+      if (type == "cylinder") to_world = cylinder_placement(plugin).then(to_world);
       mesh = std::move(builtin.mesh);
       shape.uvs = std::move(builtin.uvs);
     }

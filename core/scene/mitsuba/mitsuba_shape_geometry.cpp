@@ -33,6 +33,44 @@ MitsubaBuiltinMesh mitsuba_cube() {
   return out;
 }
 
+MitsubaBuiltinMesh mitsuba_cylinder() {
+  MitsubaBuiltinMesh out;
+  const int n = kMitsubaDiskSegments;
+  for (int k = 0; k <= n; ++k) {  // column k at phi = 2 pi k / n; column n closes the seam
+    double phi = 2 * std::numbers::pi * (k % n) / n;
+    glm::dvec3 radial(std::cos(phi), std::sin(phi), 0);
+    for (int z = 0; z < 2; ++z) {
+      out.mesh.positions.push_back(radial + glm::dvec3(0, 0, z));
+      out.mesh.normals.push_back(radial);
+      out.uvs.emplace_back(double(k) / n, double(z));
+    }
+  }
+  for (uint32_t k = 0; k < uint32_t(n); ++k) {
+    uint32_t a0 = 2 * k, a1 = a0 + 1, b0 = a0 + 2, b1 = a0 + 3;
+    out.mesh.indices.emplace_back(a0, b0, b1);
+    out.mesh.indices.emplace_back(a0, b1, a1);
+  }
+  return out;
+}
+
+glm::dmat4 mitsuba_cylinder_placement(const glm::dvec3& p0, const glm::dvec3& p1, double radius) {
+  glm::dvec3 d = p1 - p0;
+  double length = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  glm::dvec3 n = d / length;
+  // Mitsuba's coordinate_system(n): the frame's s and t.
+  double sign = std::copysign(1.0, n.z);
+  double a = -1.0 / (sign + n.z);
+  double b = n.x * n.y * a;
+  glm::dvec3 s(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+  glm::dvec3 t(b, sign + n.y * n.y * a, -n.y);
+  glm::dmat4 m(1.0);
+  m[0] = glm::dvec4(s * radius, 0);
+  m[1] = glm::dvec4(t * radius, 0);
+  m[2] = glm::dvec4(n * length, 0);
+  m[3] = glm::dvec4(p0, 1);
+  return m;
+}
+
 MitsubaBuiltinMesh mitsuba_disk() {
   MitsubaBuiltinMesh out;
   const int n = kMitsubaDiskSegments;

@@ -2,7 +2,9 @@
 // Mitsuba's texture coordinates.
 #pragma once
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <vector>
 
 #include "scene/mesh/triangle_mesh.h"
@@ -27,6 +29,18 @@ MitsubaBuiltinMesh mitsuba_rectangle();
 /// face (24 in all) with (u, v) = (0, 1), (1, 1), (1, 0), (0, 0) and triangles {4s, 4s+1, 4s+2},
 /// {4s+3, 4s, 4s+2}.
 MitsubaBuiltinMesh mitsuba_cube();
+
+/// Mitsuba's `cylinder` in its own space: the open tube of radius 1 around the z axis from
+/// z = 0 to z = 1, fronts outward, tessellated like the disk into kMitsubaDiskSegments quads
+/// (two triangles each) with radial vertex normals (smooth, as Mitsuba's analytic normal);
+/// (u, v) = (phi / 2 pi, z) as Mitsuba's, exact at the vertices (the seam has its own column
+/// of vertices at u = 1).
+MitsubaBuiltinMesh mitsuba_cylinder();
+
+/// Mitsuba's placement of a cylinder from p0 to p1 of `radius` (before the shape's to_world):
+/// translate(p0) * to_frame(Frame(d / |d|)) * scale(radius, radius, |d|), d = p1 - p0, with
+/// Mitsuba's coordinate_system for the frame (Duff et al. 2017). Not finite when p0 = p1.
+glm::dmat4 mitsuba_cylinder_placement(const glm::dvec3& p0, const glm::dvec3& p1, double radius);
 
 /// Mitsuba's `disk`: the unit disk in the plane z = 0, front +z, as a fan of
 /// kMitsubaDiskSegments triangles; (u, v) = (r, phi / 2 pi) as Mitsuba's disk, exact at the

@@ -285,6 +285,30 @@ TEST(MitsubaShape, BuiltinShapesHaveMitsubasUvs) {
   EXPECT_EQ(sphere.radius, 2);
 }
 
+TEST(MitsubaShape, CylinderIsMitsubasOpenTube) {
+  Shape c = shape_of(R"(<shape type="cylinder"><point name="p0" value="1, 2, 3"/>
+      <point name="p1" value="1, 2, 7"/><float name="radius" value="0.5"/></shape>)");
+  double n = kMitsubaDiskSegments;
+  // The inscribed 256-gon of radius 0.5 (perimeter 2 r n sin(pi / n)) times the length 4.
+  EXPECT_NEAR(shape_area(c), 2 * 0.5 * n * std::sin(std::numbers::pi / n) * 4, 1e-9);
+  ASSERT_EQ(c.uvs.size(), c.positions.size());
+  ASSERT_EQ(c.normals.size(), c.positions.size());
+  for (size_t i = 0; i < c.positions.size(); ++i) {
+    glm::dvec3 radial = c.positions[i] - glm::dvec3(1, 2, c.positions[i].z);
+    EXPECT_NEAR(glm::length(radial), 0.5, 1e-12);
+    EXPECT_NEAR(c.uvs[i].y, (c.positions[i].z - 3) / 4, 1e-12);  // v runs from p0 to p1
+    testing::expect_near(c.normals[i], radial / 0.5, 1e-12);    // outward, smooth
+  }
+  for (size_t t = 0; t < c.indices.size(); ++t) {
+    glm::dvec3 centre = face_center(c, t);
+    EXPECT_GT(glm::dot(face_normal(c, t), centre - glm::dvec3(1, 2, centre.z)), 0);  // outward
+  }
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="cylinder"><point name="p1" value="0"/>
+      </shape>)"))
+                .find("p0 and p1 must differ"),
+            std::string::npos);
+}
+
 TEST(MitsubaShape, ShapeGroupsAndInstances) {
   Scene s = parse_xml(mitsuba_scene(R"(
     <shape type="shapegroup" id="tree"><shape type="cube"/><shape type="sphere"/></shape>
@@ -350,9 +374,7 @@ TEST(MitsubaShape, UnsupportedShapesAndParametersNameTheirLine) {
       "value=\"x.serialized\"/>\n</shape>");
   EXPECT_EQ(xml_error(xml), "test.xml: line " + std::to_string(line_of(xml, "<shape")) +
                                 ": <shape type=\"serialized\">: serialized meshes are not read "
-                                "by this build yet (convert the file to PLY; Tessera supports "
-                                "obj, ply, rectangle, cube, sphere, disk, shapegroup and "
-                                "instance; convert other geometry to PLY)");
+                                "by this build yet (convert the file to PLY)");
 #endif
   EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="cube"><medium type="homogeneous"
       name="interior"/></shape>)"))
