@@ -136,7 +136,9 @@ int submit(const GlobalOptions& g, const SubmitOptions& s) {
     if (!s.output.empty()) format_of(s.output);  // refuse a bad name before rendering
     // Validate locally first: a bad scene or option fails here, without the server.
     Scene scene;
-    const wire::BundleContents bundle = wire::bundle_from_disk(s.scene, &scene);
+    const wire::BundleContents bundle = wire::bundle_from_disk(
+        s.scene, &scene,
+        s.root.empty() ? std::nullopt : std::optional<std::filesystem::path>(s.root));
     resolve_job_options(scene, s.overrides);
     v1::SubmitJobRequest request;
     *request.mutable_bundle() = wire::bundle_to_proto(bundle);

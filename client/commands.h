@@ -22,6 +22,7 @@ struct GlobalOptions {
 
 struct SubmitOptions {
   std::string scene;
+  std::string root;  ///< --root: the bundle root ("" = the scene's own, docs/mitsuba.md)
   JobOverrides overrides;
   int priority = 0;
   bool wait = false;

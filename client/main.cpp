@@ -36,7 +36,8 @@ int main(int argc, char** argv) {
 
   tc::SubmitOptions submit;
   CLI::App* submit_cmd = app.add_subcommand("submit", "Submit a scene as a job");
-  submit_cmd->add_option("scene", submit.scene, "Scene file (.json)")->required();
+  submit_cmd->add_option("scene", submit.scene, "Scene file (.json or Mitsuba 3 .xml)")->required();
+  submit_cmd->add_option("--root", submit.root, "Bundle root: the folder every file the scene names must be in (default: the common folder of them all)");
   tessera::add_job_override_flags(submit_cmd, submit.overrides);
   submit_cmd->add_option("--priority", submit.priority, "Higher runs first (default 0)");
   submit_cmd->add_flag("--wait", submit.wait, "Follow the job until it ends (progress on stderr)");

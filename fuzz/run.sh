@@ -32,7 +32,8 @@ for name in $TARGETS; do
     # Its seeds are the project's XML scenes (docs/mitsuba.md, "Fuzzing").
     seeds="$BUILD/seeds-mitsuba_xml"
     mkdir -p "$seeds"
-    cp "$ROOT"/tests/data/mitsuba/*.xml "$ROOT"/tests/data/reference/cbox/mitsuba.xml "$ROOT"/scenes/*.xml "$seeds/"
+    cp "$ROOT"/tests/data/mitsuba/*.xml "$ROOT"/tests/data/reference/cbox/mitsuba.xml "$ROOT"/scenes/*.xml \
+      "$ROOT"/fuzz/corpus/mitsuba_xml/*.xml "$seeds/"
     extra=(-dict="$ROOT/fuzz/mitsuba_xml.dict")
   fi
   work="$BUILD/corpus-$name"

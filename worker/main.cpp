@@ -33,6 +33,7 @@ namespace {
 
 struct RenderArgs {
   std::string scene;
+  std::string root;  ///< --root: the bundle root ("" = the scene's own, docs/mitsuba.md)
   std::vector<std::string> outputs;
   tessera::JobOverrides overrides;
   int threads = 0;
@@ -46,6 +47,11 @@ std::string lower_extension(const std::filesystem::path& p) {
   return ext;
 }
 
+std::optional<std::filesystem::path> bundle_root(const std::string& root) {
+  if (root.empty()) return std::nullopt;
+  return std::filesystem::path(root);
+}
+
 int run_render(const RenderArgs& args) {
   for (const std::string& out : args.outputs) {
     const std::string ext = lower_extension(out);
@@ -53,7 +59,7 @@ int run_render(const RenderArgs& args) {
       throw std::invalid_argument("-o " + out + ": the output must end in .exr or .png");
     }
   }
-  const tessera::Scene scene = tessera::load_scene_file(args.scene);
+  const tessera::Scene scene = tessera::load_scene_file(args.scene, bundle_root(args.root));
   const tessera::JobOptions options = tessera::resolve_job_options(scene, args.overrides);
 
   std::optional<tbb::global_control> thread_limit;
@@ -142,6 +148,7 @@ int run_render(const RenderArgs& args) {
 
 struct ConvertArgs {
   std::string scene;
+  std::string root;  ///< --root: the bundle root ("" = the scene's own)
   std::string output;
 };
 
@@ -174,7 +181,7 @@ int run_convert(const ConvertArgs& args) {
   if (lower_extension(args.output) != ".json") {
     throw std::invalid_argument("-o " + args.output + ": the output must end in .json");
   }
-  const tessera::Scene scene = tessera::load_scene_file(args.scene);
+  const tessera::Scene scene = tessera::load_scene_file(args.scene, bundle_root(args.root));
   const std::string source = std::filesystem::path(args.scene).filename().string();
   write_file_atomically(
       args.output, tessera::write_scene_json(
@@ -197,6 +204,7 @@ int main(int argc, char** argv) {
   CLI::App* render_cmd = app.add_subcommand(
       "render", "Render a scene locally through the farm's tile/batch/merge path");
   render_cmd->add_option("scene", render.scene, "Scene file: Tessera JSON (.json) or Mitsuba 3 XML (.xml)")->required();
+  render_cmd->add_option("--root", render.root, "Bundle root: the folder every file the scene names must be in (default: the common folder of them all)");
   render_cmd->add_option("-o,--output", render.outputs, "Output image(s): .exr (linear float) or .png (sRGB)")
       ->required();
   tessera::add_job_override_flags(render_cmd, render.overrides);
@@ -208,6 +216,7 @@ int main(int argc, char** argv) {
   CLI::App* convert_cmd = app.add_subcommand(
       "convert", "Convert a scene (Mitsuba 3 .xml, or .json) to Tessera's native JSON");
   convert_cmd->add_option("scene", convert.scene, "Scene file (.xml or .json)")->required();
+  convert_cmd->add_option("--root", convert.root, "Bundle root: the folder every file the scene names must be in (default: the common folder of them all)");
   convert_cmd->add_option("-o,--output", convert.output, "Output scene (.json)")->required();
 
   tessera::ConvergeCommand converge;

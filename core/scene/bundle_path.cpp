@@ -1,4 +1,5 @@
-// check_bundle_path (scene_loader.h): the rule that keeps a scene's files inside its bundle.
+// check_bundle_path and join_bundle_path (scene_loader.h): the rules that keep a scene's files
+// inside its bundle.
 #include <algorithm>
 #include <cctype>
 #include <string>
@@ -40,6 +41,59 @@ std::string check_bundle_path(const std::string& path, const std::string& contex
   }
   if (normalised.empty()) fail("path must name a file");
   return normalised;
+}
+
+std::string join_bundle_path(const std::string& folder, const std::string& path,
+                             const std::string& context, const std::string& root_name) {
+  auto fail = [&](const std::string& why) {
+    throw SceneError(context + ": \"" + printable(path) + "\" " + why);
+  };
+  if (path.empty()) throw SceneError(context + ": path must not be empty");
+  if (path.find('\0') != std::string::npos) fail("must not contain a NUL character");
+  std::string slashed = path;
+  for (char& c : slashed) c = c == '\\' ? '/' : c;
+  if (looks_absolute(slashed)) {
+    fail("is absolute: paths are relative to the file that names them and stay inside the "
+         "bundle root (" + root_name + ")");
+  }
+  std::vector<std::string> components;
+  int escaped = 0;  // ".." components above the root
+  auto push = [&](const std::string& all, bool user) {
+    size_t start = 0;
+    while (start <= all.size()) {
+      size_t end = std::min(all.find('/', start), all.size());
+      std::string component = all.substr(start, end - start);
+      start = end + 1;
+      if (component.empty()) {
+        if (user && end < all.size()) fail("must not have an empty component");
+        if (user) fail("must name a file");
+        continue;
+      }
+      if (component == ".") continue;
+      if (component == "..") {
+        if (components.empty()) {
+          ++escaped;
+        } else {
+          components.pop_back();
+        }
+        continue;
+      }
+      components.push_back(component);
+    }
+  };
+  push(folder, false);
+  push(slashed, true);
+  if (escaped > 0) {
+    throw BundleEscapeError(context + ": \"" + printable(path) + "\" leaves the bundle root (" +
+                                root_name +
+                                "): every file a scene names must be inside it (render, convert "
+                                "and submit take --root DIR to widen it)",
+                            escaped);
+  }
+  if (components.empty()) fail("must name a file");
+  std::string joined;
+  for (const std::string& c : components) joined += (joined.empty() ? "" : "/") + c;
+  return joined;
 }
 
 }  // namespace tessera

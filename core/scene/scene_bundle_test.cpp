@@ -132,5 +132,70 @@ TEST_F(SceneBundle, LoadSceneFileErrors) {
   EXPECT_THROW(load_scene_file(folder() / "absent.json"), SceneError);
 }
 
+TEST(SceneBundlePath, JoinAllowsDotDotInsideTheRoot) {
+  EXPECT_EQ(join_bundle_path("scenes/a/", "../common/x.obj", "ctx"), "scenes/common/x.obj");
+  EXPECT_EQ(join_bundle_path("", "meshes\\x.obj", "ctx"), "meshes/x.obj");
+  EXPECT_EQ(join_bundle_path("a/", "./b/../c.png", "ctx"), "a/c.png");
+  try {
+    join_bundle_path("a/", "../../x.obj", "scene.xml: line 3: <string name=\"filename\">", "/data");
+    FAIL() << "no error";
+  } catch (const BundleEscapeError& e) {
+    EXPECT_EQ(e.levels(), 1);
+    EXPECT_STREQ(e.what(),
+                 "scene.xml: line 3: <string name=\"filename\">: \"../../x.obj\" leaves the bundle "
+                 "root (/data): every file a scene names must be inside it (render, convert and "
+                 "submit take --root DIR to widen it)");
+  }
+  EXPECT_THROW(join_bundle_path("a/", "/etc/x", "ctx"), SceneError);
+  EXPECT_THROW(join_bundle_path("a/", "x//y", "ctx"), SceneError);
+  EXPECT_THROW(join_bundle_path("a/", "..", "ctx"), SceneError);
+}
+
+TEST_F(SceneBundle, MitsubaScenesWidenTheDefaultRootToWhatTheyName) {
+  // The layout of public scenes: a shared folder beside the scene's folder.
+  fs::create_directories(root_ / "common");
+  write("common/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  write("scene/s.xml", R"(<scene version="3.0.0">
+    <path value="../common"/>
+    <sensor type="perspective"><float name="fov" value="40"/>
+      <transform name="to_world"><translate z="-5"/></transform></sensor>
+    <shape type="obj"><string name="filename" value="tri.obj"/></shape>
+  </scene>)");
+  SceneOnDisk loaded = load_scene_bundle(folder() / "s.xml");
+  EXPECT_EQ(loaded.root, fs::weakly_canonical(root_));
+  EXPECT_EQ(loaded.scene_path, "scene/s.xml");
+  EXPECT_EQ(loaded.scene.referenced_files, std::vector<std::string>{"common/tri.obj"});
+  // A scene that stays in its folder keeps its folder as the root.
+  write("scene/own.xml", R"(<scene version="3.0.0">
+    <sensor type="perspective"><float name="fov" value="40"/>
+      <transform name="to_world"><translate z="-5"/></transform></sensor>
+    <shape type="obj"><string name="filename" value="meshes/tri.obj"/></shape></scene>)");
+  SceneOnDisk own = load_scene_bundle(folder() / "own.xml");
+  EXPECT_EQ(own.root, fs::weakly_canonical(folder()));
+  EXPECT_EQ(own.scene_path, "own.xml");
+}
+
+TEST_F(SceneBundle, AGivenRootIsFixed) {
+  write("scene/s.xml", R"(<scene version="3.0.0">
+    <sensor type="perspective"><float name="fov" value="40"/>
+      <transform name="to_world"><translate z="-5"/></transform></sensor>
+    <shape type="obj"><string name="filename" value="../outside.obj"/></shape></scene>)");
+  SceneOnDisk loaded = load_scene_bundle(folder() / "s.xml", root_);
+  EXPECT_EQ(loaded.scene_path, "scene/s.xml");
+  EXPECT_EQ(loaded.scene.referenced_files, std::vector<std::string>{"outside.obj"});
+  try {
+    load_scene_bundle(folder() / "s.xml", folder());
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("s.xml: line 4: <string name=\"filename\">: "
+                                         "\"../outside.obj\" leaves the bundle root (" +
+                                         fs::weakly_canonical(folder()).string() + ")"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(load_scene_bundle(folder() / "s.xml", folder() / "meshes"), SceneError);
+  EXPECT_THROW(load_scene_bundle(folder() / "s.xml", root_ / "absent"), SceneError);
+}
+
 }  // namespace
 }  // namespace tessera

@@ -53,17 +53,83 @@ Scene parse_scene(std::string_view json_text, const FileReader& reader) {
   return scene;
 }
 
-Scene load_scene_file(const std::filesystem::path& scene_file) {
+Scene load_scene_file(const std::filesystem::path& scene_file,
+                      const std::optional<std::filesystem::path>& root) {
+  return load_scene_bundle(scene_file, root).scene;
+}
+
+SceneOnDisk load_scene_bundle(const std::filesystem::path& scene_file,
+                              const std::optional<std::filesystem::path>& root) {
+  namespace fs = std::filesystem;
   std::string text = read_scene_file(scene_file);
-  std::filesystem::path folder = scene_file.parent_path();
-  if (folder.empty()) folder = ".";
-  return parse_scene_any(scene_file.filename().string(), text, folder_reader(folder));
+  std::error_code error;
+  const fs::path scene = fs::weakly_canonical(fs::absolute(scene_file), error);
+  if (error) throw SceneError(scene_file.string() + ": " + error.message());
+  SceneOnDisk result;
+  if (root) {
+    result.root = fs::weakly_canonical(fs::absolute(*root), error);
+    if (error || !fs::is_directory(result.root)) {
+      throw SceneError("--root " + root->string() + ": no such folder");
+    }
+    fs::path inside = scene.lexically_relative(result.root);
+    if (inside.empty() || *inside.begin() == "..") {
+      throw SceneError(scene_file.string() + ": the scene file is not inside the bundle root " +
+                       result.root.string() + " (--root)");
+    }
+    result.scene_path = inside.generic_string();
+    result.scene = parse_scene_any(result.scene_path, text, folder_reader(result.root),
+                                   result.root.string());
+    return result;
+  }
+  // The default root: the scene's folder, widened (for a Mitsuba scene) as far as its paths
+  // climb with "..", one reading per widening.
+  result.root = scene.parent_path();
+  result.scene_path = scene.filename().generic_string();
+  for (;;) {
+    try {
+      result.scene = parse_scene_any(result.scene_path, text, folder_reader(result.root),
+                                     result.root.string());
+      return result;
+    } catch (const BundleEscapeError& escape) {
+      fs::path wider = result.root;
+      std::string below;
+      for (int level = 0; level < escape.levels(); ++level) {
+        if (wider == wider.root_path()) throw;
+        below = wider.filename().generic_string() + "/" + below;
+        wider = wider.parent_path();
+      }
+      result.root = wider;
+      result.scene_path = below + result.scene_path;
+    }
+  }
 }
 
 Scene parse_scene_any(const std::string& file_name, std::string_view text,
-                      const FileReader& reader) {
-  Scene scene = is_mitsuba_xml(file_name) ? parse_mitsuba_scene(text, file_name, reader)
-                                           : parse_scene_text(text, file_name, reader);
+                      const FileReader& reader, const std::string& root_name) {
+  // The scene keeps the root's reader: the renderer reads textures and environment maps by
+  // their bundle paths through it.
+  if (is_mitsuba_xml(file_name)) {
+    Scene scene = parse_mitsuba_scene(text, file_name, reader, root_name);
+    scene.files = reader;
+    return scene;
+  }
+  // Scene format v1 names files relative to the scene's folder, which need not be the root.
+  const size_t slash = file_name.rfind('/');
+  const std::string folder = slash == std::string::npos ? "" : file_name.substr(0, slash + 1);
+  if (folder.empty()) {
+    Scene scene = parse_scene_text(text, file_name, reader);
+    scene.files = reader;
+    return scene;
+  }
+  FileReader in_folder = [&](const std::string& path) { return reader(folder + path); };
+  Scene scene = parse_scene_text(text, file_name, in_folder);
+  for (std::string& path : scene.referenced_files) path = folder + path;
+  for (Texture& texture : scene.textures) {
+    if (!texture.file.empty()) texture.file = folder + texture.file;
+  }
+  for (Light& light : scene.lights) {
+    if (!light.file.empty()) light.file = folder + light.file;
+  }
   scene.files = reader;
   return scene;
 }

@@ -1,41 +1,85 @@
-// Parsing scene format v1 (docs/scenes.md) into a Scene.
+// Reading scene files (scene format v1, docs/scenes.md; Mitsuba 3 XML, docs/mitsuba.md) and
+// the bundle of files each one names.
 #pragma once
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
 #include "scene/scene.h"
+#include "scene/scene_error.h"
 
 namespace tessera {
 
-/// Reads a file the scene references, given its path relative to the scene file's folder
-/// (already checked: relative, '/'-separated, no "..", no empty component). Returns the bytes;
+/// Reads a file of the scene's bundle, given its bundle path: relative to the bundle root,
+/// already checked ('/'-separated, no "..", no empty component). The scene file's own folder is
+/// the root unless the bundle root lies above it (see load_scene_bundle). Returns the bytes;
 /// throws SceneError naming the path when it is missing or unreadable.
-using FileReader = std::function<std::string(const std::string& relative_path)>;
+using FileReader = std::function<std::string(const std::string& bundle_path)>;
+
+/// A path that leaves the bundle root: `levels` more folders above the root would hold it.
+/// load_scene_bundle widens a default root by that much and reads the scene again; with a
+/// fixed root (--root DIR, a bundle on the farm) it is a refusal like any SceneError.
+class BundleEscapeError : public SceneError {
+ public:
+  BundleEscapeError(const std::string& message, int levels)
+      : SceneError(message), levels_(levels) {}
+  int levels() const { return levels_; }
+
+ private:
+  int levels_;
+};
 
 /// Parses scene JSON text. `reader` supplies referenced files (meshes, MTL files). Throws
 /// SceneError whose message starts with the JSON path of the offending value.
 Scene parse_scene(std::string_view json_text, const FileReader& reader);
 
-/// Loads a scene file from disk; referenced files are read relative to its folder and must stay
-/// inside it (symlinks that leave the folder are refused). A file whose name ends in ".xml" (any
-/// case) is read as a Mitsuba 3 scene (docs/mitsuba.md), any other as scene format v1.
-Scene load_scene_file(const std::filesystem::path& scene_file);
+/// A scene file on disk read with its bundle (docs/mitsuba.md, "Files, bundles and paths").
+struct SceneOnDisk {
+  Scene scene;                 ///< Scene::referenced_files are bundle paths below `root`
+  std::filesystem::path root;  ///< the bundle root: absolute, canonical
+  std::string scene_path;      ///< the scene file's bundle path below `root`
+};
 
-/// Parses the text of a scene file named `file_name` (its name at the root of its bundle): a
-/// Mitsuba 3 XML scene when the name ends in ".xml" (any case), scene format v1 otherwise.
-/// `reader` supplies the files it references. For callers that hold a bundle's bytes rather
-/// than files on disk, such as the farm.
+/// Loads a scene file from disk with its bundle. The bundle root is `root` when given (the
+/// scene file must be inside it), else the scene file's folder, widened for a Mitsuba scene to
+/// the common folder of everything it names (`..` is allowed as long as the path stays inside
+/// the root). Files are read through folder_reader(root): absolute paths, paths leaving the root
+/// and symbolic links below it are refused, naming the file, line and root. A file whose name
+/// ends in ".xml" (any case) is read as a Mitsuba 3 scene (docs/mitsuba.md), any other as scene
+/// format v1 (whose paths are relative to the scene's folder, without "..").
+SceneOnDisk load_scene_bundle(const std::filesystem::path& scene_file,
+                              const std::optional<std::filesystem::path>& root = std::nullopt);
+
+/// load_scene_bundle(scene_file, root).scene.
+Scene load_scene_file(const std::filesystem::path& scene_file,
+                      const std::optional<std::filesystem::path>& root = std::nullopt);
+
+/// Parses the text of a scene file at bundle path `file_name` (the root of its bundle, or a
+/// folder below it): a Mitsuba 3 XML scene when the name ends in ".xml" (any case), scene format
+/// v1 otherwise. `reader` supplies the bundle's files; `root_name` names the bundle root in
+/// messages. For callers that hold a bundle's bytes rather than files on disk, such as the farm.
 Scene parse_scene_any(const std::string& file_name, std::string_view text,
-                      const FileReader& reader);
+                      const FileReader& reader,
+                      const std::string& root_name = "the bundle root");
 
-/// A FileReader over a folder on disk, refusing anything that resolves outside it.
+/// A FileReader over a folder on disk, refusing anything that resolves outside it and symbolic
+/// links anywhere below it.
 FileReader folder_reader(const std::filesystem::path& folder);
 
 /// Checks a relative path as a bundle path; throws SceneError("<context>: ...") when absolute,
 /// empty, or containing ".." or empty components. Returns it normalised with '/' separators.
 std::string check_bundle_path(const std::string& path, const std::string& context);
+
+/// The bundle path of `path` as written in a scene file (relative; '\\' or '/' separators; "."
+/// and ".." components allowed) read from bundle folder `folder` ("" for the root, else ending
+/// in '/'), normalised. Throws SceneError("<context>: ...") for an empty or absolute path, an
+/// empty component or no file name, and BundleEscapeError("<context>: ... leaves the bundle
+/// root (<root_name>) ...") when ".." climbs above the root.
+std::string join_bundle_path(const std::string& folder, const std::string& path,
+                             const std::string& context,
+                             const std::string& root_name = "the bundle root");
 
 }  // namespace tessera

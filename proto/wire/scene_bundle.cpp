@@ -8,6 +8,7 @@
 #include "scene/scene_error.h"
 #include "wire/sha256.h"
 
+
 namespace tessera::wire {
 namespace {
 
@@ -63,11 +64,6 @@ class Reader {
   std::string_view bytes_;
   size_t pos_ = 0;
 };
-
-std::string scene_folder(const std::string& scene_file) {
-  const size_t slash = scene_file.rfind('/');
-  return slash == std::string::npos ? std::string() : scene_file.substr(0, slash + 1);
-}
 
 std::string read_file_bytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -148,21 +144,22 @@ std::string bundle_sha256(const BundleContents& bundle) {
 
 FileReader bundle_reader(const BundleContents& bundle) {
   auto files = std::make_shared<const std::map<std::string, std::string>>(bundle.files);
-  const std::string folder = scene_folder(bundle.scene_file);
-  return [files, folder](const std::string& relative_path) -> std::string {
+  return [files](const std::string& bundle_path) -> std::string {
     // The parser checks paths before it asks; checking again keeps this reader safe on its own.
-    const std::string path = check_bundle_path(relative_path, relative_path);
-    const auto it = files->find(folder + path);
-    if (it == files->end()) throw SceneError(relative_path + ": not in the scene bundle");
+    const std::string path = check_bundle_path(bundle_path, bundle_path);
+    const auto it = files->find(path);
+    if (it == files->end()) throw SceneError(bundle_path + ": not in the scene bundle");
     return it->second;
   };
 }
 
 Scene parse_bundle_scene(const BundleContents& bundle) {
-  return parse_scene_any(bundle.scene_file, bundle.files.at(bundle.scene_file), bundle_reader(bundle));
+  return parse_scene_any(bundle.scene_file, bundle.files.at(bundle.scene_file),
+                         bundle_reader(bundle));
 }
 
-BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene_out) {
+BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene_out,
+                                const std::optional<std::filesystem::path>& root) {
   // A bundle holds files, never links: a linked scene file could pull in anything readable.
   std::error_code error;
   if (std::filesystem::is_symlink(std::filesystem::symlink_status(scene_file, error))) {
@@ -170,19 +167,17 @@ BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* 
                      ": is a symbolic link; bundles take regular files only (submit the file it"
                      " points to)");
   }
-  Scene scene = load_scene_file(scene_file);
+  SceneOnDisk loaded = load_scene_bundle(scene_file, root);
   BundleContents out;
-  out.scene_file = scene_file.filename().string();
+  out.scene_file = loaded.scene_path;
   out.files.emplace(out.scene_file, read_file_bytes(scene_file));
-  const FileReader reader = folder_reader(scene_file.parent_path().empty()
-                                              ? std::filesystem::path(".")
-                                              : scene_file.parent_path());
-  for (const std::string& rel : scene.referenced_files) {
+  const FileReader reader = folder_reader(loaded.root);
+  for (const std::string& rel : loaded.scene.referenced_files) {
     const std::string path = check_bundle_path(rel, "referenced file");
     if (path == out.scene_file) continue;
     out.files.emplace(path, reader(path));
   }
-  if (scene_out) *scene_out = std::move(scene);
+  if (scene_out) *scene_out = std::move(loaded.scene);
   return out;
 }
 

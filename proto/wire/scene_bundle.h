@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -25,7 +26,7 @@ class BundleError : public std::runtime_error {
 /// A validated bundle: every path checked with check_bundle_path (relative, '/'-separated, no
 /// "..", no empty component), unique, and the scene file among them.
 struct BundleContents {
-  std::string scene_file;                     ///< path of the scene JSON inside the bundle
+  std::string scene_file;                     ///< bundle path of the scene file (JSON or XML)
   std::map<std::string, std::string> files;   ///< path -> bytes, sorted by path
 
   bool operator==(const BundleContents&) const = default;
@@ -50,19 +51,22 @@ BundleContents parse_canonical(std::string_view bytes);
 /// SHA-256 of canonical_bytes, lowercase hex.
 std::string bundle_sha256(const BundleContents& bundle);
 
-/// A FileReader over the bundle: paths are relative to the scene file's folder, as parse_scene
-/// asks. Throws SceneError naming the path when the bundle lacks it. The reader keeps its own
-/// copy of the files.
+/// A FileReader over the bundle: paths are bundle paths, relative to the bundle root, as
+/// parse_scene_any asks (the scene file may sit in a folder below the root). Throws SceneError
+/// naming the path when the bundle lacks it. The reader keeps its own copy of the files.
 FileReader bundle_reader(const BundleContents& bundle);
 
-/// Parses the bundle's scene (parse_scene over bundle_reader). Throws SceneError.
+/// Parses the bundle's scene (parse_scene_any over bundle_reader). Throws SceneError.
 Scene parse_bundle_scene(const BundleContents& bundle);
 
-/// Builds the bundle of a scene file on disk: the scene file (at the bundle's root) and every
-/// file in Scene::referenced_files, read through folder_reader (which refuses files outside the
-/// scene's folder, and symbolic links anywhere below it); the scene file itself must not be a
-/// symbolic link either. Validates with load_scene_file first (the parsed scene goes to `scene`
-/// when not null); throws SceneError on a bad scene.
-BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene = nullptr);
+/// Builds the bundle of a scene file on disk: the scene file and every file in
+/// Scene::referenced_files, at their paths below the bundle root (load_scene_bundle: `root`
+/// when given, else the scene's folder, or for a Mitsuba scene the common folder of everything
+/// it names), read through folder_reader (which refuses files outside the root, and symbolic
+/// links anywhere below it); the scene file itself must not be a symbolic link either.
+/// Validates with load_scene_bundle first (the parsed scene goes to `scene` when not null);
+/// throws SceneError on a bad scene.
+BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene = nullptr,
+                                const std::optional<std::filesystem::path>& root = std::nullopt);
 
 }  // namespace tessera::wire

@@ -83,12 +83,24 @@ TEST(SceneBundle, RefusesDuplicatesAndAMissingSceneFile) {
   EXPECT_NE(missing.find("s.json"), std::string::npos) << missing;
 }
 
-TEST(SceneBundle, ReaderResolvesRelativeToTheSceneFolder) {
+TEST(SceneBundle, ReaderTakesBundlePaths) {
+  // Paths are relative to the bundle root: a Mitsuba scene below it may name shared folders.
   const auto b = bundle_from_proto(
       make("scenes/s.json", {{"scenes/s.json", "{}"}, {"scenes/meshes/a.ply", "A"}}));
   const FileReader read = bundle_reader(b);
-  EXPECT_EQ(read("meshes/a.ply"), "A");
-  EXPECT_THROW(read("meshes/b.ply"), std::exception);
+  EXPECT_EQ(read("scenes/meshes/a.ply"), "A");
+  EXPECT_THROW(read("meshes/a.ply"), std::exception);
+}
+
+TEST(SceneBundle, NativeScenesBelowTheRootNameFilesFromTheirFolder) {
+  const std::string scene =
+      R"({"tessera": 1, "materials": {"w": {"type": "diffuse"}},
+          "shapes": [{"type": "mesh", "file": "meshes/t.obj", "material": "w"}]})";
+  const auto b = bundle_from_proto(make(
+      "scenes/s.json",
+      {{"scenes/s.json", scene}, {"scenes/meshes/t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}}));
+  const Scene parsed = parse_bundle_scene(b);
+  EXPECT_EQ(parsed.referenced_files, std::vector<std::string>{"scenes/meshes/t.obj"});
 }
 
 }  // namespace
@@ -102,11 +114,12 @@ TEST(SceneBundle, ReaderServesOnlyTheBundlesOwnFiles) {
   b.scene_file = "scenes/scene.json";
   b.files = {{"scenes/scene.json", "{}"}, {"scenes/meshes/m.ply", "mesh"}, {"top.txt", "top"}};
   const FileReader reader = bundle_reader(b);
-  EXPECT_EQ(reader("meshes/m.ply"), "mesh");
-  EXPECT_EQ(reader("./meshes/m.ply"), "mesh");  // "." components are dropped
-  // Nothing outside the scene's folder, even inside the bundle; nothing absolute; never disk.
-  for (const char* path : {"../top.txt", "/etc/passwd", "meshes/../../top.txt", "C:\\x", "",
-                           "meshes//m.ply"}) {
+  EXPECT_EQ(reader("scenes/meshes/m.ply"), "mesh");
+  EXPECT_EQ(reader("./scenes/meshes/m.ply"), "mesh");  // "." components are dropped
+  EXPECT_EQ(reader("top.txt"), "top");
+  // Nothing outside the bundle's root; nothing absolute; never disk.
+  for (const char* path : {"../top.txt", "/etc/passwd", "scenes/../../top.txt", "C:\\x", "",
+                           "scenes//meshes/m.ply", "meshes/m.ply"}) {
     EXPECT_THROW(reader(path), SceneError) << path;
   }
 }

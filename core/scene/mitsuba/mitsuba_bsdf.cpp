@@ -2,51 +2,23 @@
 
 #include <cmath>
 
-#include "scene/native/json_value.h"
 #include "scene/mitsuba/mitsuba_ior.h"
+#include "scene/mitsuba/mitsuba_metals.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
+#include "scene/native/json_value.h"
 
 namespace tessera {
 namespace {
 
 constexpr const char* kSupported =
-    "Tessera supports diffuse, conductor with material=\"none\" (a mirror), dielectric and "
-    "twosided";
+    "Tessera supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
+    "thindielectric, plastic, roughplastic, twosided, mask, bumpmap and normalmap";
 
-/// Accepts `name` only at Mitsuba's default of 1, which is what Tessera renders.
-void expect_unit(MitsubaPlugin& plugin, const std::string& name) {
-  std::optional<glm::dvec3> value = plugin.take_color(name);
-  if (value && *value != glm::dvec3(1)) {
-    fail_at(*plugin.property(name), name + " must be 1: Tessera's " +
-                                        (plugin.type() == "conductor" ? "mirror" : "glass") +
-                                        " has no tint");
-  }
-}
+constexpr MitsubaColorRole kReflectance = MitsubaColorRole::reflectance;
 
-Material read_diffuse(MitsubaPlugin& plugin) {
-  Material m;
-  m.type = MaterialType::diffuse;
-  m.reflectance.value = plugin.take_color("reflectance").value_or(glm::dvec3(0.5));
-  for (int i = 0; i < 3; ++i) {
-    if (!(m.reflectance.value[i] >= 0 && m.reflectance.value[i] <= 1)) {
-      fail_at(*plugin.property("reflectance"),
-              "each channel must be in [0, 1] (got " + format_number(m.reflectance.value[i]) + ")");
-    }
-  }
-  return m;
-}
-
-Material read_conductor(MitsubaPlugin& plugin) {
-  std::optional<std::string> material = plugin.take_string("material");
-  if (material && *material != "none") {
-    fail_at(*plugin.property("material"),
-            "material \"" + printable(*material) +
-                "\": Tessera's only conductor is the perfect mirror (material=\"none\")");
-  }
-  expect_unit(plugin, "specular_reflectance");
-  Material m;
-  m.type = MaterialType::mirror;
-  return m;
+bool is_glass(MaterialType type) {
+  return type == MaterialType::glass || type == MaterialType::rough_glass ||
+         type == MaterialType::thin_glass;
 }
 
 /// int_ior or ext_ior: a positive number, or a name from Mitsuba's table.
@@ -66,52 +38,224 @@ double read_ior(MitsubaPlugin& plugin, const std::string& name, std::string_view
   return *ior;
 }
 
-Material read_dielectric(MitsubaPlugin& plugin) {
-  Material m;
-  m.type = MaterialType::glass;
-  double interior = read_ior(plugin, "int_ior", "bk7");
-  double exterior = read_ior(plugin, "ext_ior", "air");
-  m.ior = interior / exterior;
-  if (!std::isfinite(m.ior) || !(m.ior > 0)) {
+/// int_ior / ext_ior with Mitsuba's defaults for the BSDF.
+double read_relative_ior(MitsubaPlugin& plugin, std::string_view interior_default) {
+  double ior = read_ior(plugin, "int_ior", interior_default) / read_ior(plugin, "ext_ior", "air");
+  if (!std::isfinite(ior) || !(ior > 0)) {
     fail_at(plugin.element(), "int_ior / ext_ior is not a usable index of refraction");
   }
-  expect_unit(plugin, "specular_reflectance");
-  expect_unit(plugin, "specular_transmittance");
+  return ior;
+}
+
+/// One alpha: > 0 when constant (the smooth BSDFs are the alpha = 0 limit).
+TexturedFloat read_alpha(MitsubaPlugin& plugin, std::string_view name,
+                         MitsubaTextures& textures) {
+  TexturedFloat alpha = read_textured_float(plugin, name, 0.1, textures);
+  if (alpha.is_constant() && !(alpha.value > 0)) {
+    fail_at(*plugin.property(name),
+            "must be > 0 (got " + format_number(alpha.value) +
+                "; for a smooth surface use the BSDF without \"rough\")");
+  }
+  return alpha;
+}
+
+/// distribution, alpha (or alpha_u and alpha_v when `anisotropic`) and sample_visible.
+void read_microfacets(MitsubaPlugin& plugin, Material& m, MitsubaTextures& textures,
+                      bool anisotropic) {
+  std::optional<std::string> distribution = plugin.take_string("distribution");
+  if (!distribution || *distribution == "beckmann") {
+    m.distribution = MicrofacetDistribution::beckmann;
+  } else if (*distribution == "ggx") {
+    m.distribution = MicrofacetDistribution::ggx;
+  } else {
+    fail_at(*plugin.property("distribution"),
+            "\"" + printable(*distribution) + "\" is no distribution (beckmann or ggx)");
+  }
+  if (anisotropic && (plugin.has("alpha_u") || plugin.has("alpha_v"))) {
+    if (plugin.has("alpha")) {
+      fail_at(plugin.element(), "give alpha or alpha_u and alpha_v, not both");
+    }
+    if (!plugin.has("alpha_u") || !plugin.has("alpha_v")) {
+      fail_at(plugin.element(), "give both alpha_u and alpha_v (or alpha)");
+    }
+    m.alpha_u = read_alpha(plugin, "alpha_u", textures);
+    m.alpha_v = read_alpha(plugin, "alpha_v", textures);
+  } else {
+    m.alpha_u = read_alpha(plugin, "alpha", textures);
+    m.alpha_v = m.alpha_u;
+  }
+  m.sample_visible = plugin.take_boolean("sample_visible").value_or(true);
+}
+
+Material read_diffuse(MitsubaPlugin& plugin, MitsubaTextures& textures) {
+  Material m;
+  m.type = MaterialType::diffuse;
+  m.reflectance = read_textured_color(plugin, "reflectance", glm::dvec3(0.5), kReflectance,
+                                      textures);
   return m;
 }
 
-Material read_twosided(MitsubaPlugin& plugin, const MitsubaIds& ids) {
+Material read_conductor(MitsubaPlugin& plugin, MitsubaTextures& textures, bool rough) {
+  Material m;
+  std::optional<std::string> material = plugin.take_string("material");
+  std::optional<glm::dvec3> eta = plugin.take_color("eta", MitsubaColorRole::unbounded);
+  std::optional<glm::dvec3> k = plugin.take_color("k", MitsubaColorRole::unbounded);
+  if (eta || k) {
+    if (material && *material != "none") {
+      fail_at(*plugin.property("material"),
+              "give either eta and k or material, not both (as Mitsuba requires)");
+    }
+    m.eta = eta.value_or(glm::dvec3(0));
+    m.k = k.value_or(glm::dvec3(1));
+  } else if (!material || *material == "none") {
+    m.perfect = true;  // Mitsuba's eta 0, k 1: reflectance 1 at every angle
+    m.eta = glm::dvec3(0);
+    m.k = glm::dvec3(1);
+  } else {
+    std::optional<MitsubaMetal> metal = mitsuba_named_metal(*material);
+    if (!metal) {
+      fail_at(*plugin.property("material"),
+              "unknown conductor \"" + printable(*material) + "\" (Mitsuba's names: " +
+                  mitsuba_metal_names() + ", none)");
+    }
+    m.eta = metal->eta;
+    m.k = metal->k;
+  }
+  m.specular_reflectance = read_textured_color(plugin, "specular_reflectance", glm::dvec3(1),
+                                               kReflectance, textures);
+  if (rough) {
+    m.type = MaterialType::rough_conductor;
+    read_microfacets(plugin, m, textures, true);
+  } else if (m.perfect && m.specular_reflectance.is_constant() &&
+             m.specular_reflectance.value == glm::dvec3(1)) {
+    m.type = MaterialType::mirror;
+  } else {
+    m.type = MaterialType::conductor;
+  }
+  return m;
+}
+
+Material read_dielectric(MitsubaPlugin& plugin, MitsubaTextures& textures, MaterialType type) {
+  Material m;
+  m.type = type;
+  m.ior = read_relative_ior(plugin, "bk7");
+  m.specular_reflectance = read_textured_color(plugin, "specular_reflectance", glm::dvec3(1),
+                                               kReflectance, textures);
+  m.specular_transmittance = read_textured_color(plugin, "specular_transmittance",
+                                                 glm::dvec3(1), kReflectance, textures);
+  if (type == MaterialType::rough_glass) read_microfacets(plugin, m, textures, true);
+  return m;
+}
+
+Material read_plastic(MitsubaPlugin& plugin, MitsubaTextures& textures, bool rough) {
+  Material m;
+  m.type = rough ? MaterialType::rough_plastic : MaterialType::plastic;
+  m.reflectance = read_textured_color(plugin, "diffuse_reflectance", glm::dvec3(0.5),
+                                      kReflectance, textures);
+  m.specular_reflectance = read_textured_color(plugin, "specular_reflectance", glm::dvec3(1),
+                                               kReflectance, textures);
+  m.ior = read_relative_ior(plugin, "polypropylene");
+  m.nonlinear = plugin.take_boolean("nonlinear").value_or(false);
+  if (rough) read_microfacets(plugin, m, textures, false);
+  return m;
+}
+
+/// The one BSDF nested in a wrapper (twosided, mask, bumpmap, normalmap).
+const MitsubaElement& single_nested(MitsubaPlugin& plugin) {
   std::vector<MitsubaObject> nested = plugin.take_objects("bsdf");
   if (nested.size() != 1) {
-    fail_at(plugin.element(), nested.empty()
-                                  ? "needs one nested BSDF"
-                                  : "has two BSDFs (different front and back): Tessera's two-sided "
-                                    "materials are alike on both sides");
+    fail_at(nested.empty() ? plugin.element() : *nested[1].written,
+            nested.empty() ? "needs one nested BSDF" : "takes one nested BSDF");
   }
-  const MitsubaElement& inner = *nested.front().element;
-  const std::string* type = inner.attribute("type");
-  if (type && (*type == "twosided" || *type == "dielectric")) {
-    fail_at(*nested.front().written,
-            "twosided may wrap only diffuse or conductor (a dielectric is two-sided already)");
-  }
-  Material m = read_mitsuba_bsdf(inner, ids);
-  m.two_sided = true;
-  return m;
+  return *nested.front().element;
 }
 
 }  // namespace
 
-Material read_mitsuba_bsdf(const MitsubaElement& bsdf, const MitsubaIds& ids) {
-  MitsubaPlugin plugin(bsdf, ids);
+Material MitsubaMaterials::read_twosided(MitsubaPlugin& plugin) {
+  std::vector<MitsubaObject> nested = plugin.take_objects("bsdf");
+  if (nested.empty() || nested.size() > 2) {
+    fail_at(nested.empty() ? plugin.element() : *nested[2].written,
+            "takes one nested BSDF (both sides alike) or two (front, back)");
+  }
+  std::vector<Material> sides;
+  for (const MitsubaObject& side : nested) {
+    const std::string* type = side.element->attribute("type");
+    if (type && *type == "twosided") fail_at(*side.written, "twosided may not nest twosided");
+    Material m = read(*side.element);
+    if (is_glass(m.type)) {
+      fail_at(*side.written,
+              "twosided takes only BSDFs that do not transmit light (as in Mitsuba); a "
+              "dielectric is two-sided already");
+    }
+    m.two_sided = true;
+    sides.push_back(std::move(m));
+  }
+  if (sides.size() == 2) {
+    sides[0].back = int32_t(add(std::move(sides[1]), *nested[1].element));
+  }
+  return sides[0];
+}
+
+Material MitsubaMaterials::read_wrapper(MitsubaPlugin& plugin) {
+  if (plugin.type() == "mask") {
+    TexturedFloat opacity = read_textured_float(plugin, "opacity", 0.5, textures_);
+    if (opacity.is_constant() && !(opacity.value >= 0 && opacity.value <= 1)) {
+      fail_at(*plugin.property("opacity"),
+              "must be in [0, 1] (got " + format_number(opacity.value) + ")");
+    }
+    Material m = read(single_nested(plugin));
+    m.opacity = opacity;
+    return m;
+  }
+  if (plugin.type() == "bumpmap") {
+    std::vector<MitsubaObject> height = plugin.take_objects("texture");
+    if (height.size() != 1) {
+      fail_at(plugin.element(), "takes one nested <texture>, the height field");
+    }
+    double scale = plugin.take_float("scale").value_or(1.0);
+    Material m = read(single_nested(plugin));
+    if (m.bump_map >= 0 || m.normal_map >= 0) {
+      fail_at(plugin.element(), "Tessera applies one bumpmap or normalmap per material");
+    }
+    m.bump_map = textures_.of(*height.front().element);
+    m.bump_scale = scale;
+    return m;
+  }
+  // normalmap
+  std::optional<MitsubaObject> normals = plugin.take_named_object("normalmap");
+  if (!normals) {
+    fail_at(plugin.element(), "needs <texture type=\"bitmap\" name=\"normalmap\"> (raw)");
+  }
+  Material m = read(single_nested(plugin));
+  if (m.bump_map >= 0 || m.normal_map >= 0) {
+    fail_at(plugin.element(), "Tessera applies one bumpmap or normalmap per material");
+  }
+  m.normal_map = textures_.of(*normals->element);
+  return m;
+}
+
+Material MitsubaMaterials::read(const MitsubaElement& bsdf) {
+  if (bsdf.tag != "bsdf") fail_at(bsdf, "is no <bsdf>");
+  MitsubaPlugin plugin(bsdf, ids_);
+  const std::string& type = plugin.type();
   Material m;
-  if (plugin.type() == "diffuse") {
-    m = read_diffuse(plugin);
-  } else if (plugin.type() == "conductor") {
-    m = read_conductor(plugin);
-  } else if (plugin.type() == "dielectric") {
-    m = read_dielectric(plugin);
-  } else if (plugin.type() == "twosided") {
-    m = read_twosided(plugin, ids);
+  if (type == "diffuse") {
+    m = read_diffuse(plugin, textures_);
+  } else if (type == "conductor" || type == "roughconductor") {
+    m = read_conductor(plugin, textures_, type == "roughconductor");
+  } else if (type == "dielectric") {
+    m = read_dielectric(plugin, textures_, MaterialType::glass);
+  } else if (type == "roughdielectric") {
+    m = read_dielectric(plugin, textures_, MaterialType::rough_glass);
+  } else if (type == "thindielectric") {
+    m = read_dielectric(plugin, textures_, MaterialType::thin_glass);
+  } else if (type == "plastic" || type == "roughplastic") {
+    m = read_plastic(plugin, textures_, type == "roughplastic");
+  } else if (type == "twosided") {
+    m = read_twosided(plugin);
+  } else if (type == "mask" || type == "bumpmap" || type == "normalmap") {
+    m = read_wrapper(plugin);
   } else {
     fail_at(bsdf, std::string("unsupported BSDF (") + kSupported + ")");
   }
@@ -119,7 +263,7 @@ Material read_mitsuba_bsdf(const MitsubaElement& bsdf, const MitsubaIds& ids) {
   return m;
 }
 
-uint32_t MitsubaMaterials::add(Material material, std::string name) {
+uint32_t MitsubaMaterials::add_named(Material material, const std::string& name) {
   std::string unique = name;
   for (int k = 2; names_.count(unique); ++k) unique = name + " #" + std::to_string(k);
   names_.insert(unique);
@@ -128,10 +272,7 @@ uint32_t MitsubaMaterials::add(Material material, std::string name) {
   return uint32_t(materials_.size() - 1);
 }
 
-uint32_t MitsubaMaterials::of(const MitsubaElement& bsdf) {
-  auto it = index_of_.find(&bsdf);
-  if (it != index_of_.end()) return it->second;
-  Material material = read_mitsuba_bsdf(bsdf, ids_);
+uint32_t MitsubaMaterials::add(Material material, const MitsubaElement& bsdf) {
   std::string name;
   const std::string* id = bsdf.attribute("id");
   if (id && !id->empty()) {
@@ -141,7 +282,14 @@ uint32_t MitsubaMaterials::of(const MitsubaElement& bsdf) {
     name = (type ? *type : std::string("bsdf")) + " (" + bsdf.file + " line " +
            std::to_string(bsdf.line) + ")";
   }
-  uint32_t index = add(std::move(material), name);
+  return add_named(std::move(material), name);
+}
+
+uint32_t MitsubaMaterials::of(const MitsubaElement& bsdf) {
+  auto it = index_of_.find(&bsdf);
+  if (it != index_of_.end()) return it->second;
+  Material material = read(bsdf);
+  uint32_t index = add(std::move(material), bsdf);
   index_of_[&bsdf] = index;
   return index;
 }
@@ -151,7 +299,7 @@ uint32_t MitsubaMaterials::default_material() {
     Material diffuse;
     diffuse.type = MaterialType::diffuse;
     diffuse.reflectance.value = glm::dvec3(0.5);
-    default_ = add(diffuse, "(Mitsuba default diffuse)");
+    default_ = add_named(std::move(diffuse), "(Mitsuba default diffuse)");
   }
   return *default_;
 }

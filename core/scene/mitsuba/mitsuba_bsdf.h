@@ -9,29 +9,41 @@
 #include <vector>
 
 #include "scene/mitsuba/mitsuba_ids.h"
+#include "scene/mitsuba/mitsuba_texture.h"
 #include "scene/mitsuba/mitsuba_xml_document.h"
 #include "scene/scene.h"
 
 namespace tessera {
 
-/// Reads one <bsdf> element:
-/// - `diffuse`: `reflectance` as <rgb> or <float>, each channel in [0, 1] (default 0.5);
-///   one-sided, as in Mitsuba;
-/// - `conductor` with `material` "none" (Mitsuba's default): the perfect mirror, one-sided;
-/// - `dielectric`: glass with ior = int_ior / ext_ior, each a number or a name of Mitsuba's
-///   table (defaults "bk7" and "air");
-/// - `twosided` around one diffuse or conductor: the same material, two-sided.
-/// `specular_reflectance` / `specular_transmittance` are accepted only when 1 (the default).
-/// Everything else is refused: SceneError naming the element and what Tessera supports. The
-/// material's name is left empty (see MitsubaMaterials).
-Material read_mitsuba_bsdf(const MitsubaElement& bsdf, const MitsubaIds& ids);
-
 /// The materials of a Mitsuba scene as shapes ask for them: one per BSDF element (a BSDF named
 /// by several shapes through <ref> is one material), in order of first use, each named after
 /// its id (or its type and line when it has none), names made unique.
+///
+/// The BSDFs, with Mitsuba 3's parameters, defaults and meaning (colour parameters take
+/// <rgb>, <float>, <spectrum> or a texture, unless said otherwise):
+/// - `diffuse`: reflectance (0.5);
+/// - `conductor`, `roughconductor`: material (a name of Mitsuba's table, or "none", the
+///   default: a perfect mirror unless eta or k is given), or eta (0) and k (1) as constants;
+///   specular_reflectance (1); rough: distribution (beckmann, ggx), alpha or alpha_u/alpha_v
+///   (0.1, textured), sample_visible (true). A smooth perfect conductor with no tint is the
+///   `mirror` material;
+/// - `dielectric`, `roughdielectric`, `thindielectric`: int_ior (bk7), ext_ior (air), each a
+///   number or a name of Mitsuba's table; specular_reflectance, specular_transmittance (1);
+///   rough: as roughconductor;
+/// - `plastic`, `roughplastic`: diffuse_reflectance (0.5), specular_reflectance (1), int_ior
+///   (polypropylene), ext_ior (air), nonlinear (false); rough: distribution (beckmann), alpha
+///   (0.1, textured), sample_visible;
+/// - `twosided` around one BSDF (the same on both sides) or two (front, back); the nested BSDFs
+///   must not transmit light, as in Mitsuba;
+/// - `mask` around one BSDF: opacity (0.5, textured);
+/// - `bumpmap` around one BSDF: one nested texture (the height field), scale (1);
+/// - `normalmap` around one BSDF: the nested texture `normalmap`.
+/// Everything else is refused: SceneError naming the element and what Tessera supports.
 class MitsubaMaterials {
  public:
-  explicit MitsubaMaterials(const MitsubaIds& ids) : ids_(ids) {}
+  /// `ids` and `textures` must outlive this.
+  MitsubaMaterials(const MitsubaIds& ids, MitsubaTextures& textures)
+      : ids_(ids), textures_(textures) {}
 
   /// The index of the material of BSDF element `bsdf`, read on first use.
   uint32_t of(const MitsubaElement& bsdf);
@@ -41,9 +53,14 @@ class MitsubaMaterials {
   std::vector<Material> take();
 
  private:
-  uint32_t add(Material material, std::string name);
+  uint32_t add(Material material, const MitsubaElement& bsdf);
+  uint32_t add_named(Material material, const std::string& name);
+  Material read(const MitsubaElement& bsdf);
+  Material read_twosided(MitsubaPlugin& plugin);
+  Material read_wrapper(MitsubaPlugin& plugin);
 
   const MitsubaIds& ids_;
+  MitsubaTextures& textures_;
   std::vector<Material> materials_;
   std::map<const MitsubaElement*, uint32_t> index_of_;
   std::set<std::string> names_;

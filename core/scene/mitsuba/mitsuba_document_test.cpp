@@ -9,8 +9,9 @@ namespace {
 
 using testing::memory_reader;
 
-MitsubaDocument read(const std::string& xml, std::map<std::string, std::string> files = {}) {
-  return read_mitsuba_document(xml, "main.xml", memory_reader(std::move(files)));
+MitsubaDocument read(const std::string& xml, std::map<std::string, std::string> files = {},
+                     const std::string& file_name = "main.xml") {
+  return read_mitsuba_document(xml, file_name, memory_reader(std::move(files)));
 }
 
 std::string read_error(const std::string& xml, std::map<std::string, std::string> files = {}) {
@@ -58,9 +59,10 @@ TEST(MitsubaDocument, OnlyMitsuba3ScenesAreRead) {
   EXPECT_NO_THROW(read("<scene version=\"3.0.0\"/>"));
   EXPECT_NO_THROW(read("<scene version=\"3.5\"/>"));
   EXPECT_NO_THROW(read("<scene version=\"3\"/>"));
+  EXPECT_NO_THROW(read("<scene version=\"2.1.0\"/>"));  // Mitsuba 3 reads 2.x files as they are
   EXPECT_EQ(read_error("<scene version=\"0.6.0\"/>"),
             "main.xml: line 1: <scene>: version \"0.6.0\": Tessera reads Mitsuba 3 scenes "
-            "(version=\"3.x.y\"); upgrade older files with Mitsuba 3 first");
+            "(version=\"3.x.y\" or \"2.x.y\"); upgrade older files with Mitsuba 3 first");
   EXPECT_NE(read_error("<scene version=\"3.x\"/>").find("version \"3.x\""), std::string::npos);
   EXPECT_NE(read_error("<scene/>").find("missing attribute \"version\""), std::string::npos);
   EXPECT_NE(read_error("<bsdf version=\"3.0.0\" type=\"diffuse\"/>").find("root element must be"),
@@ -189,18 +191,50 @@ TEST(MitsubaDocument, IncludesShareParametersAndResolveRelativeToTheirFile) {
 TEST(MitsubaDocument, IncludesStayInsideTheBundle) {
   std::string xml = "<scene version=\"3.0.0\">\n<include filename=\"../secret.xml\"/>\n</scene>";
   EXPECT_EQ(read_error(xml),
-            "main.xml: line 2: <include>: path must stay inside the scene's folder "
-            "(\"../secret.xml\")");
+            "main.xml: line 2: <include>: \"../secret.xml\" leaves the bundle root (the bundle "
+            "root): every file a scene names must be inside it (render, convert and submit take "
+            "--root DIR to widen it)");
   EXPECT_NE(read_error("<scene version=\"3.0.0\"><include filename=\"/etc/x.xml\"/></scene>")
-                .find("path must be relative"),
+                .find("<include>: \"/etc/x.xml\" is absolute"),
             std::string::npos);
-  // From an included file in a subfolder, ".." is refused as well: no path ever climbs.
+  // From an included file in a subfolder, ".." may climb back to the root, not above it.
+  MitsubaDocument d = read("<scene version=\"3.0.0\"><include filename=\"a/one.xml\"/></scene>",
+                           {{"a/one.xml",
+                             "<scene version=\"3.0.0\"><include filename=\"../b.xml\"/>"
+                             "</scene>"},
+                            {"b.xml", "<scene version=\"3.0.0\"><float name=\"x\" value=\"1\"/>"
+                                      "</scene>"}});
+  EXPECT_EQ(d.files_read, (std::vector<std::string>{"a/one.xml", "b.xml"}));
   EXPECT_NE(read_error("<scene version=\"3.0.0\"><include filename=\"a/one.xml\"/></scene>",
                        {{"a/one.xml",
-                         "<scene version=\"3.0.0\"><include filename=\"../b.xml\"/>"
-                         "</scene>"},
-                        {"b.xml", "<scene version=\"3.0.0\"/>"}})
-                .find("a/one.xml: line 1: <include>: path must stay inside"),
+                         "<scene version=\"3.0.0\"><include filename=\"../../b.xml\"/>"
+                         "</scene>"}})
+                .find("a/one.xml: line 1: <include>: \"../../b.xml\" leaves the bundle root"),
+            std::string::npos);
+}
+
+TEST(MitsubaDocument, PathElementsAreSearchedFirst) {
+  // Mitsuba's FileResolver: <path> folders, the latest first, then the scene's folder. An
+  // include looks in the including file's folder before them.
+  MitsubaDocument d = read(R"(<scene version="3.0.0">
+    <path value="common"/>
+    <path value="../shared"/>
+    <include filename="parts.xml"/>
+  </scene>)",
+                           {{"scene/common/parts.xml", "<scene version=\"3.0.0\"/>"},
+                            {"shared/parts.xml", "<scene version=\"3.0.0\"/>"}},
+                           "scene/main.xml");
+  EXPECT_EQ(d.search_folders,
+            (std::vector<std::string>{"shared/", "scene/common/", "scene/"}));
+  EXPECT_EQ(d.files_read, (std::vector<std::string>{"shared/parts.xml"}));
+  EXPECT_NE(read_error("<scene version=\"3.0.0\"><shape type=\"cube\"><path value=\"x\"/>"
+                       "</shape></scene>")
+                .find("a <path> must be a child of the <scene>"),
+            std::string::npos);
+  EXPECT_NE(read_error("<scene version=\"3.0.0\"><path value=\"x\"/>"
+                       "<include filename=\"gone.xml\"/></scene>")
+                .find("<include>: \"gone.xml\" is in none of the folders searched ((the root), "
+                      "x/; first: gone.xml: no such file"),
             std::string::npos);
 }
 

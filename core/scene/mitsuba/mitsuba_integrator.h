@@ -1,17 +1,36 @@
 // Mitsuba's <integrator> (docs/mitsuba.md, "Integrator").
 #pragma once
 
+#include <string>
+
 #include "scene/mitsuba/mitsuba_ids.h"
 #include "scene/mitsuba/mitsuba_xml_document.h"
 
 namespace tessera {
 
-/// Reads a `path` integrator and returns its max_depth (Mitsuba's convention, which Tessera's
-/// render.max_depth shares: path segments including the camera ray, -1 unbounded, the
-/// default). rr_depth is accepted and ignored: Tessera's Russian roulette (from the third
-/// bounce) is unbiased too, so where it starts changes the noise, not the image. hide_emitters
-/// is accepted when false; true is refused. Other integrators and max_depth 0 or < -1 are
-/// refused with SceneError naming the element.
-int read_mitsuba_integrator(const MitsubaElement& integrator, const MitsubaIds& ids);
+/// What an integrator says about the image.
+struct MitsubaIntegrator {
+  /// Mitsuba's convention, which Tessera's render.max_depth shares: path segments including the
+  /// camera ray, -1 unbounded (the default).
+  int max_depth = -1;
+  bool hide_emitters = false;
+  /// For an integrator Tessera renders as `path`: a line saying so ("" for path itself).
+  std::string note;
+};
+
+/// Reads an integrator whose image is the one Tessera's path tracer makes:
+/// - `path`: max_depth, rr_depth, hide_emitters;
+/// - `ptracer` (light tracing: the same image, other noise): max_depth, rr_depth,
+///   hide_emitters; samples_per_pass accepted;
+/// - `volpath` (the same as path without media, which Tessera refuses anyway): max_depth,
+///   rr_depth, hide_emitters;
+/// - `direct` (direct illumination only: path with max_depth 2): hide_emitters;
+///   emitter_samples, bsdf_samples and shading_samples change noise only.
+/// rr_depth is accepted and ignored: Tessera's Russian roulette is unbiased too, so where it
+/// starts changes the noise, not the image. Integrators that make another kind of image (aov,
+/// moment, stokes, depth, ...) or need media are refused, as are max_depth 0 or < -1, with
+/// SceneError naming the element.
+MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& integrator,
+                                          const MitsubaIds& ids);
 
 }  // namespace tessera

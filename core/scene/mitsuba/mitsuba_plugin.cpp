@@ -61,7 +61,7 @@ void check_property(const MitsubaElement& p) {
   if (std::find(kOperations.begin(), kOperations.end(), e.tag) != kOperations.end()) {
     fail_at(e, "a transform operation must be inside <transform name=\"to_world\">");
   }
-  if (e.tag == "alias" || e.tag == "path") {
+  if (e.tag == "alias") {
     fail_at(e, "not supported by Tessera's importer (write the scene without it)");
   }
   fail_at(e, "unknown element (Mitsuba 3 has no <" + printable(e.tag) + ">)");
@@ -105,6 +105,14 @@ const MitsubaElement* MitsubaPlugin::property(std::string_view name) const {
     if (c.is_property && *c.element->attribute("name") == name) return c.element;
   }
   return nullptr;
+}
+
+bool MitsubaPlugin::has(std::string_view name) const {
+  for (const Child& c : children_) {
+    const std::string* child_name = c.element->attribute("name");
+    if (child_name && *child_name == name) return true;
+  }
+  return false;
 }
 
 const MitsubaElement* MitsubaPlugin::take(std::string_view name) {
@@ -163,15 +171,15 @@ std::optional<std::string> MitsubaPlugin::take_string(std::string_view name) {
   return *p->attribute("value");
 }
 
-std::optional<glm::dvec3> MitsubaPlugin::take_color(std::string_view name) {
+std::optional<glm::dvec3> MitsubaPlugin::take_color(std::string_view name, MitsubaColorRole role) {
   const MitsubaElement* p = take(name);
   if (!p) {
     // A texture given as a nested plugin, <texture name="reflectance" ...> or a <ref>.
     for (const Child& c : children_) {
       const std::string* child_name = c.element->attribute("name");
       if (!c.is_property && child_name && *child_name == name) {
-        fail_at(*c.element,
-                "textures are not supported: give " + std::string(name) + " as <rgb> or <float>");
+        fail_at(*c.element, std::string(name) + " takes no texture in " + element_.label() +
+                                " (give it as <rgb>, <float> or <spectrum>)");
       }
     }
     return std::nullopt;
@@ -181,7 +189,18 @@ std::optional<glm::dvec3> MitsubaPlugin::take_color(std::string_view name) {
     if (!grey) fail_at(*p, "\"" + printable(*p->attribute("value")) + "\" is not a finite number");
     return glm::dvec3(*grey);
   }
-  if (p->tag != "rgb") fail_type(*p, "<rgb> or <float>");
+  if (p->tag == "spectrum") {
+    const std::string* value = p->attribute("value");
+    if (!value) {
+      fail_at(*p, "spectra from files are not supported: give the wavelength:value pairs in "
+                  "value=\"...\" or an <rgb>");
+    }
+    std::string error;
+    std::optional<glm::dvec3> rgb = mitsuba_spectrum_to_rgb(*value, role, error);
+    if (!rgb) fail_at(*p, error);
+    return rgb;
+  }
+  if (p->tag != "rgb") fail_type(*p, "<rgb>, <float> or <spectrum>");
   const std::string& text = *p->attribute("value");
   if (std::optional<std::vector<double>> one = parse_mitsuba_floats(text, 1)) {
     return glm::dvec3((*one)[0]);
@@ -252,6 +271,18 @@ std::vector<MitsubaObject> MitsubaPlugin::take_objects(std::string_view tag) {
     }
   }
   return objects;
+}
+
+std::optional<MitsubaObject> MitsubaPlugin::take_named_object(std::string_view name) {
+  if (std::find(reads_.begin(), reads_.end(), name) == reads_.end()) reads_.emplace_back(name);
+  for (Child& c : children_) {
+    const std::string* child_name = c.element->attribute("name");
+    if (!c.is_property && !c.taken && child_name && *child_name == name) {
+      c.taken = true;
+      return MitsubaObject{c.target, c.element};
+    }
+  }
+  return std::nullopt;
 }
 
 void MitsubaPlugin::finish() const {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "scene/mitsuba/mitsuba_ids.h"
+#include "scene/mitsuba/mitsuba_spectrum.h"
 #include "scene/mitsuba/mitsuba_xml_document.h"
 #include "scene/transform.h"
 
@@ -50,9 +51,11 @@ class MitsubaPlugin {
   std::optional<bool> take_boolean(std::string_view name);
   /// <string>.
   std::optional<std::string> take_string(std::string_view name);
-  /// <rgb> (one or three numbers) or <float> (grey). Spectra and textures are refused with a
-  /// message saying so.
-  std::optional<glm::dvec3> take_color(std::string_view name);
+  /// <rgb> (one or three numbers), <float> (grey) or <spectrum name=... value=...> (as
+  /// mitsuba_spectrum_to_rgb for `role`). A texture given for it is refused with a message
+  /// saying so (read_textured_color takes textures).
+  std::optional<glm::dvec3> take_color(std::string_view name,
+                                       MitsubaColorRole role = MitsubaColorRole::reflectance);
   /// <point> or <vector>: value="x, y, z" (or one number for all three), or x/y/z attributes
   /// (missing ones are 0).
   std::optional<glm::dvec3> take_point(std::string_view name);
@@ -64,12 +67,17 @@ class MitsubaPlugin {
 
   /// The property element `name`, taken or not, or nullptr: for messages about its value.
   const MitsubaElement* property(std::string_view name) const;
+  /// True when `name` is given, as a property or as a named nested plugin (a texture).
+  bool has(std::string_view name) const;
   /// Accepts property `name` whatever its value: for parameters that do not change the image.
   void ignore(std::string_view name);
 
   /// The nested plugins whose tag is `tag` (in place or through <ref>), in file order. They are
   /// taken: their parent accepts them.
   std::vector<MitsubaObject> take_objects(std::string_view tag);
+  /// The nested plugin (or <ref>) whose `name` attribute is `name`, such as
+  /// <texture type="bitmap" name="reflectance">, taken; nullopt when there is none.
+  std::optional<MitsubaObject> take_named_object(std::string_view name);
 
   /// Throws SceneError at the first child nobody took, naming what this plugin reads instead.
   void finish() const;

@@ -5,9 +5,11 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 #include <limits>
+#include <numbers>
 
 #include "scene/native/json_value.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
+#include "scene/mitsuba/mitsuba_values.h"
 
 namespace tessera {
 namespace {
@@ -47,34 +49,61 @@ void check_crop(MitsubaPlugin& film, const Film& size) {
   }
 }
 
-void read_rfilter(MitsubaPlugin& film, const MitsubaIds& ids) {
+/// The film's <rfilter>: box (radius 0.5), tent (radius 1) or gaussian (stddev 0.5, footprint
+/// 4 stddev); without one, Mitsuba's default gaussian.
+PixelFilter read_rfilter(MitsubaPlugin& film, const MitsubaIds& ids) {
+  PixelFilter filter;
   const MitsubaElement* rfilter = single_object(film, "rfilter");
   if (!rfilter) {
-    fail_at(film.element(),
-            "no <rfilter>: Mitsuba's default filter is gaussian, which Tessera does not have; "
-            "add <rfilter type=\"box\"/> to render with a box filter");
+    filter.kind = FilterKind::gaussian;
+    filter.stddev = 0.5;
+    filter.radius = 4 * filter.stddev;
+    return filter;
   }
-  MitsubaPlugin box(*rfilter, ids);
-  if (box.type() != "box") {
+  MitsubaPlugin plugin(*rfilter, ids);
+  auto positive = [&](const char* name, double fallback) {
+    double value = plugin.take_float(name).value_or(fallback);
+    if (!(value > 0)) {
+      fail_at(*plugin.property(name), "must be > 0 (got " + format_number(value) + ")");
+    }
+    return value;
+  };
+  if (plugin.type() == "box") {
+    filter.kind = FilterKind::box;
+    filter.radius = positive("radius", 0.5);
+  } else if (plugin.type() == "tent") {
+    filter.kind = FilterKind::tent;
+    filter.radius = positive("radius", 1.0);
+  } else if (plugin.type() == "gaussian") {
+    filter.kind = FilterKind::gaussian;
+    filter.stddev = positive("stddev", 0.5);
+    filter.radius = 4 * filter.stddev;
+  } else {
     fail_at(*rfilter,
-            "Tessera reconstructs with a box filter only (another filter changes the "
-            "image): use <rfilter type=\"box\"/>");
+            "unsupported reconstruction filter (Tessera has box, tent and gaussian)");
   }
-  box.finish();
+  plugin.finish();
+  return filter;
 }
 
 Film read_film(MitsubaPlugin& sensor, const MitsubaIds& ids) {
   const MitsubaElement* element = single_object(sensor, "film");
-  if (!element) {
-    fail_at(sensor.element(),
-            "no <film>: add <film type=\"hdrfilm\"> with width, height and "
-            "<rfilter type=\"box\"/>");
+  if (!element) {  // Mitsuba's default film: hdrfilm 768 x 576 with its gaussian filter
+    Film film;
+    film.width = 768;
+    film.height = 576;
+    film.filter.kind = FilterKind::gaussian;
+    film.filter.stddev = 0.5;
+    film.filter.radius = 2;
+    return film;
   }
   MitsubaPlugin film(*element, ids);
   if (film.type() != "hdrfilm") {
     fail_at(*element, "unsupported film (Tessera writes RGB images: use type=\"hdrfilm\")");
   }
-  Film size{film_size(film, "width", 768), film_size(film, "height", 576)};
+  Film size;
+  size.width = film_size(film, "width", 768);
+  size.height = film_size(film, "height", 576);
   if (std::optional<std::string> format = film.take_string("pixel_format")) {
     if (*format != "rgb" && *format != "rgba") {
       fail_at(*film.property("pixel_format"),
@@ -84,10 +113,11 @@ Film read_film(MitsubaPlugin& sensor, const MitsubaIds& ids) {
   // How pixels are stored and in which file format: chosen by `tessera-worker render -o`.
   film.ignore("component_format");
   film.ignore("file_format");
-  // Widening the sampled area changes nothing with a box filter of radius 1/2.
+  // Samples outside the image that would splat into border pixels: Tessera's filter importance
+  // sampling gives every sample to its own pixel, so there is nothing to widen.
   film.ignore("sample_border");
   check_crop(film, size);
-  read_rfilter(film, ids);
+  size.filter = read_rfilter(film, ids);
   film.finish();
   return size;
 }
@@ -117,50 +147,78 @@ void read_sampler(MitsubaPlugin& sensor, const MitsubaIds& ids, MitsubaSensor& r
   sampler.finish();
 }
 
-FovAxis read_fov_axis(MitsubaPlugin& sensor) {
-  std::optional<std::string> axis = sensor.take_string("fov_axis");
-  if (!axis || *axis == "x") return FovAxis::x;
-  if (*axis == "y") return FovAxis::y;
-  if (*axis == "smaller") return FovAxis::smaller;
-  if (*axis == "larger") return FovAxis::larger;
-  const MitsubaElement& where = *sensor.property("fov_axis");
-  if (*axis == "diagonal") {
-    fail_at(where,
-            "Tessera's fov spans x, y, the smaller or the larger image axis, not the "
-            "diagonal; give the horizontal fov 2 atan(tan(fov/2) w / sqrt(w^2 + h^2)) "
-            "with fov_axis x");
-  }
-  fail_at(where, "\"" + printable(*axis) + "\" is no fov axis (x, y, smaller or larger)");
+/// Mitsuba's diagonal field of view as the horizontal one (parse_fov in src/render/sensor.cpp).
+double diagonal_to_x(double fov_deg, double aspect) {
+  double diagonal = 2 * std::tan(0.5 * fov_deg * std::numbers::pi / 180);
+  double width = diagonal / std::sqrt(1 + 1 / (aspect * aspect));
+  return 2 * std::atan(width * 0.5) * 180 / std::numbers::pi;
 }
 
-void read_fov(MitsubaPlugin& sensor, Camera& camera) {
-  if (sensor.property("focal_length")) {
-    fail_at(*sensor.property("focal_length"),
-            "Tessera takes the field of view as fov (degrees) with fov_axis, not focal_length");
+/// fov with fov_axis, or focal_length (Mitsuba's default "50mm", a 35 mm film's diagonal).
+void read_fov(MitsubaPlugin& sensor, Camera& camera, const Film& film) {
+  const double aspect = double(film.width) / film.height;
+  if (sensor.property("focal_length") && sensor.property("fov")) {
+    fail_at(*sensor.property("focal_length"), "give fov or focal_length, not both");
   }
   std::optional<double> fov = sensor.take_float("fov");
-  if (!fov) {
-    fail_at(sensor.element(),
-            "give <float name=\"fov\"> (Mitsuba's default, a 50 mm focal "
-            "length along the diagonal, is not supported)");
+  std::string axis = "x";
+  if (fov) {
+    if (std::optional<std::string> given = sensor.take_string("fov_axis")) axis = *given;
+    for (char& c : axis) c = char(std::tolower(static_cast<unsigned char>(c)));
+  } else {
+    std::string focal = sensor.take_string("focal_length").value_or("50mm");
+    std::string number = focal.ends_with("mm") ? focal.substr(0, focal.size() - 2) : focal;
+    std::optional<double> mm = parse_mitsuba_float(number);
+    if (!mm || !(*mm > 0)) {
+      fail_at(*sensor.property("focal_length"),
+              "\"" + printable(focal) + "\" is no focal length (write e.g. \"50mm\")");
+    }
+    fov = 2 * std::atan(std::sqrt(36.0 * 36 + 24 * 24) / (2 * *mm)) * 180 / std::numbers::pi;
+    axis = "diagonal";
+  }
+  if (axis == "x") {
+    camera.fov_axis = FovAxis::x;
+  } else if (axis == "y") {
+    camera.fov_axis = FovAxis::y;
+  } else if (axis == "smaller") {
+    camera.fov_axis = FovAxis::smaller;
+  } else if (axis == "larger") {
+    camera.fov_axis = FovAxis::larger;
+  } else if (axis == "diagonal") {
+    camera.fov_axis = FovAxis::x;
+    fov = diagonal_to_x(*fov, aspect);
+  } else {
+    fail_at(*sensor.property("fov_axis"),
+            "\"" + printable(axis) + "\" is no fov axis (x, y, smaller, larger or diagonal)");
   }
   if (!(*fov > 0 && *fov < 180)) {
-    fail_at(*sensor.property("fov"),
-            "must be in (0, 180) degrees (got " + format_number(*fov) + ")");
+    const MitsubaElement* where = sensor.property("fov");
+    fail_at(where ? *where : sensor.element(),
+            "the field of view must be in (0, 180) degrees (got " + format_number(*fov) + ")");
   }
   camera.fov_deg = *fov;
-  camera.fov_axis = read_fov_axis(sensor);
+}
+
+/// Mitsuba's Transform::has_scale: the rows of the linear part are orthonormal within 1e-3.
+bool has_scale(const glm::dmat4& m) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i; j < 3; ++j) {
+      double dot = 0;
+      for (int k = 0; k < 3; ++k) dot += m[k][i] * m[k][j];
+      if (!(std::abs(dot - (i == j ? 1.0 : 0.0)) <= 1e-3)) return true;
+    }
+  }
+  return false;
 }
 
 /// Position, look_at and up from to_world, which must be rigid and keep orientation.
 void read_frame(MitsubaPlugin& sensor, MitsubaSensor& result) {
   std::optional<Transform> to_world = sensor.take_transform("to_world");
   if (!to_world) return;  // camera space = world space: at the origin looking down +z
-  std::optional<double> scale = to_world->similarity_scale();
-  if (!scale || std::abs(*scale - 1) > 1e-3) {
+  if (has_scale(to_world->matrix())) {
     fail_at(*sensor.property("to_world"),
-            "a camera's to_world must be a rotation and a "
-            "translation (no scale or shear)");
+            "a camera's to_world must be a rotation and a translation (no scale or shear; "
+            "Mitsuba's tolerance: rows orthonormal within 1e-3)");
   }
   if (to_world->flips_orientation()) {
     fail_at(*sensor.property("to_world"),
@@ -233,12 +291,12 @@ MitsubaSensor read_mitsuba_sensor(const MitsubaElement& element, const MitsubaId
   result.camera.look_at = glm::dvec3(0, 0, 1);
   result.camera.up = glm::dvec3(0, 1, 0);
   read_frame(sensor, result);
-  read_fov(sensor, result.camera);
+  result.film = read_film(sensor, ids);
+  read_fov(sensor, result.camera, result.film);
   read_lens(sensor, result);
   read_principal_point(sensor);
   sensor.ignore("shutter_open");  // motion blur needs moving geometry, which the subset lacks
   sensor.ignore("shutter_close");
-  result.film = read_film(sensor, ids);
   read_sampler(sensor, ids, result);
   sensor.finish();
   return result;

@@ -2,20 +2,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "scene/native/json_value.h"
 #include "scene/mesh/mesh_file.h"
+#include "scene/mitsuba/mitsuba_emitter.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
 #include "scene/mitsuba/mitsuba_shape_geometry.h"
 #include "scene/mitsuba/mitsuba_vertex_normals.h"
 #include "scene/scene_error.h"
 
+#include "scene/mesh/serialized_loader.h"
+
 namespace tessera {
 namespace {
 
 constexpr const char* kSupported =
-    "Tessera supports obj, ply, rectangle, cube, sphere and disk; convert other geometry to PLY";
+    "Tessera supports obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, shapegroup "
+    "and instance; convert other geometry to PLY";
 
 /// The geometry of a mesh file, in object space.
 TriangleMesh load_file(MitsubaPlugin& plugin, MitsubaShapeContext& context, bool face_normals,
@@ -23,15 +28,14 @@ TriangleMesh load_file(MitsubaPlugin& plugin, MitsubaShapeContext& context, bool
   std::optional<std::string> filename = plugin.take_string("filename");
   if (!filename) fail_at(plugin.element(), "missing <string name=\"filename\">");
   const MitsubaElement& where = *plugin.property("filename");
-  std::string relative = check_bundle_path(*filename, where.where());
-  std::string path = where.folder + relative;  // relative to the XML file that names it
+  std::string path = context.files.resolve(where, *filename);
   MeshFileOptions options;
   options.use_file_materials = false;  // Mitsuba reads no MTL files
   options.face_normals = face_normals;
   std::vector<std::string> files_read;
   std::vector<MeshPart> parts;
   try {
-    parts = load_mesh_file(path, context.reader, options, files_read);
+    parts = load_mesh_file(path, context.files.reader(), options, files_read);
   } catch (const SceneError& e) {
     fail_at(where, e.what());
   }
@@ -42,6 +46,28 @@ TriangleMesh load_file(MitsubaPlugin& plugin, MitsubaShapeContext& context, bool
   if (parts.size() != 1) fail_at(where, "the file gives no geometry");
   dropped = parts.front().dropped_faces;
   return std::move(parts.front().mesh);
+}
+
+/// Shape `shape_index` of a Mitsuba .serialized file, in object space.
+TriangleMesh load_serialized(MitsubaPlugin& plugin, MitsubaShapeContext& context,
+                             bool face_normals) {
+  std::optional<std::string> filename = plugin.take_string("filename");
+  if (!filename) fail_at(plugin.element(), "missing <string name=\"filename\">");
+  const MitsubaElement& where = *plugin.property("filename");
+  std::string path = context.files.resolve(where, *filename);
+  int64_t index = plugin.take_integer("shape_index").value_or(0);
+  if (index < 0 || index > std::numeric_limits<int>::max()) {
+    fail_at(*plugin.property("shape_index"), "must be >= 0 (got " + std::to_string(index) + ")");
+  }
+  SerializedMesh mesh;
+  try {
+    mesh = load_serialized_mesh(context.files.read(path), path, int(index), !face_normals);
+  } catch (const SceneError& e) {
+    fail_at(where, e.what());
+  }
+  std::vector<std::string>& files = context.referenced_files;
+  if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
+  return std::move(mesh.mesh);
 }
 
 /// Puts a mesh in world space the way Mitsuba does, in the form the native format reads back
@@ -83,10 +109,29 @@ void place_sphere(Shape& shape, MitsubaPlugin& plugin, const Transform& to_world
   shape.kind = Shape::Kind::sphere;
   shape.center = Transform().point(to_world.point(center));
   shape.radius = radius * *scale;
+  shape.frame = glm::dmat3(to_world.matrix()) / *scale;
   glm::dvec3 c = shape.center;
   if (!std::isfinite(c.x + c.y + c.z) || !std::isfinite(shape.radius) || !(shape.radius > 0)) {
     fail_at(plugin.element(), "the sphere does not stay finite after to_world");
   }
+}
+
+/// p0, p1 and radius of a cylinder as the transform from its own space.
+Transform cylinder_placement(MitsubaPlugin& plugin) {
+  glm::dvec3 p0 = plugin.take_point("p0").value_or(glm::dvec3(0));
+  glm::dvec3 p1 = plugin.take_point("p1").value_or(glm::dvec3(0, 0, 1));
+  double radius = plugin.take_float("radius").value_or(1.0);
+  if (!(radius > 0)) {
+    fail_at(*plugin.property("radius"), "must be > 0 (got " + format_number(radius) + ")");
+  }
+  if (p0 == p1) fail_at(plugin.element(), "p0 and p1 must differ");
+  glm::dmat4 m = mitsuba_cylinder_placement(p0, p1, radius);
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      if (!std::isfinite(m[c][r])) fail_at(plugin.element(), "the cylinder is not finite");
+    }
+  }
+  return Transform(m);
 }
 
 uint32_t read_material(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
@@ -96,32 +141,23 @@ uint32_t read_material(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
   return context.materials.of(*bsdfs.front().element);
 }
 
-/// The radiance of the shape's area emitter, or zero without one.
-glm::dvec3 read_emitter(MitsubaPlugin& plugin, const MitsubaIds& ids) {
+/// The shape's area emitter, if any.
+void read_emitter(MitsubaPlugin& plugin, MitsubaShapeContext& context, Shape& shape) {
   std::vector<MitsubaObject> emitters = plugin.take_objects("emitter");
-  if (emitters.empty()) return glm::dvec3(0);
+  if (emitters.empty()) return;
   if (emitters.size() > 1) fail_at(*emitters[1].written, "a shape has at most one emitter");
-  MitsubaPlugin emitter(*emitters.front().element, ids);
-  if (emitter.type() != "area") {
-    fail_at(emitter.element(),
-            "a shape's emitter must be \"area\" (Tessera's lights are "
-            "emitting shapes)");
+  MitsubaAreaEmission emission =
+      read_mitsuba_area_emitter(*emitters.front().element, context.ids, context.textures);
+  shape.emission = emission.radiance;
+  shape.emission_texture = emission.texture;
+}
+
+/// Media on either side of a shape: refused, naming what Tessera does instead.
+void refuse_media(MitsubaPlugin& plugin) {
+  for (const MitsubaObject& medium : plugin.take_objects("medium")) {
+    fail_at(*medium.written,
+            "participating media are not supported (Tessera renders surfaces in vacuum)");
   }
-  std::optional<glm::dvec3> radiance = emitter.take_color("radiance");
-  if (!radiance) {
-    fail_at(emitter.element(),
-            "give <rgb name=\"radiance\" .../> (Mitsuba's default is a D65 spectrum, which "
-            "Tessera does not model)");
-  }
-  for (int i = 0; i < 3; ++i) {
-    if (!((*radiance)[i] >= 0)) {
-      fail_at(*emitter.property("radiance"),
-              "each channel must be >= 0 (got " + format_number((*radiance)[i]) + ")");
-    }
-  }
-  emitter.ignore("sampling_weight");  // how often it is sampled: noise only
-  emitter.finish();
-  return *radiance;
 }
 
 double area_of(const Shape& shape) {
@@ -135,13 +171,36 @@ double area_of(const Shape& shape) {
   return area;
 }
 
+Shape read_instance(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
+  std::vector<MitsubaObject> groups = plugin.take_objects("shape");
+  if (groups.size() != 1) {
+    fail_at(plugin.element(), "an instance names one shapegroup (<ref id=\"...\"/>)");
+  }
+  const std::string* type = groups.front().element->attribute("type");
+  if (!type || *type != "shapegroup") {
+    fail_at(*groups.front().written, "an instance places a shapegroup");
+  }
+  Shape shape;
+  shape.kind = Shape::Kind::instance;
+  shape.origin = plugin.element().where();
+  shape.group = read_mitsuba_shape_group(*groups.front().element, context);
+  shape.to_world = plugin.take_transform("to_world").value_or(Transform()).matrix();
+  plugin.finish();
+  return shape;
+}
+
 }  // namespace
 
 Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& context) {
   MitsubaPlugin plugin(element, context.ids);
   const std::string& type = plugin.type();
-  bool is_file = type == "obj" || type == "ply";
-  if (!is_file && type != "rectangle" && type != "cube" && type != "disk" && type != "sphere") {
+  if (type == "instance") return read_instance(plugin, context);
+  if (type == "shapegroup") {
+    fail_at(element, "a shapegroup belongs at the top of the scene (instances place it)");
+  }
+  bool is_file = type == "obj" || type == "ply" || type == "serialized";
+  if (!is_file && type != "rectangle" && type != "cube" && type != "disk" && type != "sphere" &&
+      type != "cylinder") {
     fail_at(element, std::string("unsupported shape (") + kSupported + ")");
   }
   Transform to_world = plugin.take_transform("to_world").value_or(Transform());
@@ -157,12 +216,22 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
     bool face_normals = false;
     if (is_file) {
       face_normals = plugin.take_boolean("face_normals").value_or(false);
-      if (type == "obj") plugin.ignore("flip_tex_coords");  // texture coordinates: unused
-      mesh = load_file(plugin, context, face_normals, dropped);
+      // The OBJ reader flips v as Mitsuba does by default (flip_tex_coords true).
+      bool flip_v = type == "obj" && !plugin.take_boolean("flip_tex_coords").value_or(true);
+      mesh = type == "serialized" ? load_serialized(plugin, context, face_normals)
+                                  : load_file(plugin, context, face_normals, dropped);
+      if (flip_v) {
+        for (glm::dvec2& uv : mesh.uvs) uv.y = 1 - uv.y;
+      }
+      shape.uvs = mesh.uvs;
     } else {
-      mesh = type == "rectangle" ? mitsuba_rectangle()
-             : type == "cube"    ? mitsuba_cube()
-                                 : mitsuba_disk();
+      MitsubaBuiltinMesh builtin = type == "rectangle"  ? mitsuba_rectangle()
+                                   : type == "cube"     ? mitsuba_cube()
+                                   : type == "cylinder" ? mitsuba_cylinder()
+                                                        : mitsuba_disk();
+      if (type == "cylinder") to_world = cylinder_placement(plugin).then(to_world);
+      mesh = std::move(builtin.mesh);
+      shape.uvs = std::move(builtin.uvs);
     }
     place_mesh(mesh, to_world, flip, is_file, face_normals, dropped, element);
     shape.positions = std::move(mesh.positions);
@@ -171,7 +240,8 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
     shape.dropped_triangles = dropped;
   }
   shape.material = read_material(plugin, context);
-  shape.emission = read_emitter(plugin, context.ids);
+  read_emitter(plugin, context, shape);
+  refuse_media(plugin);
   if (shape.is_emitter()) {
     double area = area_of(shape);
     if (!(area > 0) || !std::isfinite(area)) {
@@ -181,6 +251,33 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
   }
   plugin.finish();
   return shape;
+}
+
+uint32_t read_mitsuba_shape_group(const MitsubaElement& element, MitsubaShapeContext& context) {
+  auto it = context.group_index.find(&element);
+  if (it != context.group_index.end()) return it->second;
+  MitsubaPlugin plugin(element, context.ids);
+  ShapeGroup group;
+  const std::string* id = element.attribute("id");
+  group.name = id ? *id : "shapegroup (" + element.file + " line " + std::to_string(element.line) + ")";
+  group.origin = element.where();
+  for (const MitsubaObject& member : plugin.take_objects("shape")) {
+    const std::string* type = member.element->attribute("type");
+    if (type && (*type == "instance" || *type == "shapegroup")) {
+      fail_at(*member.written, "a shapegroup holds shapes, not instances or groups");
+    }
+    Shape shape = read_mitsuba_shape(*member.element, context);
+    if (shape.is_emitter()) {
+      fail_at(*member.written, "a shapegroup's shapes cannot emit light (as in Mitsuba)");
+    }
+    group.shapes.push_back(std::move(shape));
+  }
+  if (group.shapes.empty()) fail_at(element, "a shapegroup needs at least one shape");
+  plugin.finish();
+  context.groups.push_back(std::move(group));
+  uint32_t index = uint32_t(context.groups.size() - 1);
+  context.group_index[&element] = index;
+  return index;
 }
 
 }  // namespace tessera

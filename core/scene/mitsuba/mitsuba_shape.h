@@ -1,34 +1,46 @@
 // Mitsuba shapes as Tessera shapes in world space (docs/mitsuba.md, "Shapes").
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
 #include "scene/mitsuba/mitsuba_bsdf.h"
+#include "scene/mitsuba/mitsuba_file_resolver.h"
 #include "scene/mitsuba/mitsuba_ids.h"
+#include "scene/mitsuba/mitsuba_texture.h"
 #include "scene/mitsuba/mitsuba_xml_document.h"
 #include "scene/scene.h"
 #include "scene/scene_loader.h"
 
 namespace tessera {
 
-/// What reading shapes needs beyond the shape element.
+/// What reading shapes needs beyond the shape element; every member outlives the reading.
 struct MitsubaShapeContext {
   const MitsubaIds& ids;
-  const FileReader& reader;                    ///< mesh files, by bundle path
+  MitsubaFileResolver& files;                  ///< mesh files, looked up as Mitsuba does
   MitsubaMaterials& materials;                 ///< BSDFs become materials on first use
+  MitsubaTextures& textures;                   ///< textured area emitters
   std::vector<std::string>& referenced_files;  ///< mesh files read, each once
+  std::vector<ShapeGroup>& groups;             ///< shape groups, read on first use
+  std::map<const MitsubaElement*, uint32_t> group_index{};
 };
 
-/// Reads one <shape> element: `obj` and `ply` (filename relative to the folder of the XML file
-/// that names it, face_normals; an OBJ's MTL files are not read, as in Mitsuba), `rectangle`,
-/// `cube`, `disk` (tessellated) and `sphere` (center, radius; it stays exact, so its to_world
-/// must be a similarity), each with to_world and flip_normals, at most one BSDF (Mitsuba's
-/// default diffuse 0.5 without one) and at most one area emitter (radiance). Mesh files without
-/// normals get Mitsuba's vertex normals unless face_normals is true. Degenerate triangles of
-/// mesh files are dropped and counted; built-in shapes made degenerate by to_world are an error.
-/// Shape::origin is the element's place, "<file>: line <L>: <shape ...>". Throws SceneError
-/// naming the element for anything else.
+/// Reads one <shape> element: `obj` and `ply` (filename looked up as Mitsuba does,
+/// face_normals; an OBJ's MTL files are not read, as in Mitsuba), `rectangle`, `cube`, `disk`
+/// (tessellated, with Mitsuba's uv parametrisation) and `sphere` (center, radius; it stays
+/// exact, so its to_world must be a similarity), each with to_world and flip_normals, at most
+/// one BSDF (Mitsuba's default diffuse 0.5 without one) and at most one area emitter; and
+/// `instance`, which places a `shapegroup` (named through <ref>) by its to_world. Mesh files
+/// without normals get Mitsuba's vertex normals unless face_normals is true. Degenerate
+/// triangles of mesh files are dropped and counted; built-in shapes made degenerate by to_world
+/// are an error. Shape::origin is the element's place, "<file>: line <L>: <shape ...>". Throws
+/// SceneError naming the element for anything else (`shapegroup` is read by
+/// read_mitsuba_shape_group).
 Shape read_mitsuba_shape(const MitsubaElement& shape, MitsubaShapeContext& context);
+
+/// The index in context.groups of <shape type="shapegroup"> element `group`, read on first use:
+/// its shapes (not emitters, instances or groups) in the group's own space.
+uint32_t read_mitsuba_shape_group(const MitsubaElement& group, MitsubaShapeContext& context);
 
 }  // namespace tessera

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <pugixml.hpp>
 
+#include "scene/mitsuba/mitsuba_file_resolver.h"
 #include "scene/native/json_value.h"
 #include "scene/scene_error.h"
 
@@ -91,9 +92,10 @@ std::string folder_of(const std::string& path) {
   return slash == std::string::npos ? "" : path.substr(0, slash + 1);
 }
 
-/// True for "3", "3.0", "3.0.0", ...: a Mitsuba 3 version number.
+/// True for "3", "3.0", "3.0.0", "2.1.0", ...: a version Mitsuba 3 reads as it is (older files
+/// need Mitsuba's upgrade of parameter names first).
 bool is_version_3(const std::string& version) {
-  if (version.empty() || version[0] != '3') return false;
+  if (version.empty() || (version[0] != '3' && version[0] != '2')) return false;
   bool digit_expected = false;
   for (size_t i = 1; i < version.size(); ++i) {
     char c = version[i];
@@ -124,11 +126,13 @@ void expect_attributes(const MitsubaElement& element,
 
 class DocumentReader {
  public:
-  explicit DocumentReader(const FileReader& reader) : reader_(reader) {}
+  DocumentReader(const FileReader& reader, const std::string& file_name,
+                 const std::string& root_name)
+      : reader_(reader), resolver_(reader, folder_of(file_name), root_name) {}
 
   MitsubaDocument read(std::string_view xml, const std::string& file_name) {
     pugi::xml_document document;
-    Source source(file_name, "", xml);
+    Source source(file_name, folder_of(file_name), xml);
     pugi::xml_node root = parse(document, xml, source);
     MitsubaDocument result;
     result.scene = element_of(root, source);
@@ -139,6 +143,7 @@ class DocumentReader {
     include_stack_.push_back(file_name);
     read_children(root, source, result.scene, 1, 0);
     result.files_read = std::move(files_read_);
+    result.search_folders = resolver_.folders();
     return result;
   }
 
@@ -163,8 +168,8 @@ class DocumentReader {
     if (!version) fail_at(root, "missing attribute \"version\" (write version=\"3.0.0\")");
     if (!is_version_3(*version)) {
       fail_at(root, "version \"" + printable(*version) +
-                        "\": Tessera reads Mitsuba 3 scenes (version=\"3.x.y\"); upgrade older "
-                        "files with Mitsuba 3 first");
+                        "\": Tessera reads Mitsuba 3 scenes (version=\"3.x.y\" or \"2.x.y\"); "
+                        "upgrade older files with Mitsuba 3 first");
     }
   }
 
@@ -226,8 +231,27 @@ class DocumentReader {
       include(element, parent, depth, include_depth);
       return;
     }
+    if (element.tag == "path") {
+      add_search_folder(element, parent, depth);
+      return;
+    }
     read_children(node, source, element, depth + 1, include_depth);
     parent.children.push_back(std::move(element));
+  }
+
+  /// <path value="dir"/>: a folder searched first from now on (as Mitsuba's FileResolver).
+  void add_search_folder(const MitsubaElement& element, const MitsubaElement& parent, int depth) {
+    expect_attributes(element, {"value"});
+    if (parent.tag != "scene" || depth != 1) {
+      fail_at(element, "a <path> must be a child of the <scene>");
+    }
+    const std::string& value = *element.attribute("value");
+    std::string folder = value.empty() || value == "." || value == "./"
+                             ? element.folder
+                             : join_bundle_path(element.folder, value, element.where(),
+                                                resolver_.root_name()) +
+                                   "/";
+    resolver_.prepend(folder);
   }
 
   void include(const MitsubaElement& element, MitsubaElement& parent, int depth,
@@ -237,17 +261,13 @@ class DocumentReader {
       fail_at(element,
               "includes nest more than " + std::to_string(kMaxMitsubaIncludeDepth) + " deep");
     }
-    std::string relative = check_bundle_path(*element.attribute("filename"), element.where());
-    std::string path = element.folder + relative;
+    std::string path =
+        resolver_.resolve(element, *element.attribute("filename"), element.folder);
     if (std::find(include_stack_.begin(), include_stack_.end(), path) != include_stack_.end()) {
       fail_at(element, "\"" + printable(path) + "\" includes itself");
     }
-    std::string text;
-    try {
-      text = reader_(path);
-    } catch (const SceneError& e) {
-      fail_at(element, e.what());
-    }
+    std::string text = resolver_.read(path);
+    const std::vector<std::string> search = resolver_.folders();
     if (std::find(files_read_.begin(), files_read_.end(), path) == files_read_.end()) {
       files_read_.push_back(path);
     }
@@ -265,9 +285,11 @@ class DocumentReader {
       add_element(std::move(root_element), root, source, parent, depth, include_depth + 1);
     }
     include_stack_.pop_back();
+    resolver_.reset(search);
   }
 
   const FileReader& reader_;
+  MitsubaFileResolver resolver_;
   Parameters parameters_;
   std::vector<std::string> include_stack_;  ///< the scene file, then the includes being read
   std::vector<std::string> files_read_;
@@ -302,8 +324,8 @@ void fail_at(const MitsubaElement& element, std::string_view message) {
 }
 
 MitsubaDocument read_mitsuba_document(std::string_view xml, const std::string& file_name,
-                                      const FileReader& reader) {
-  return DocumentReader(reader).read(xml, file_name);
+                                      const FileReader& reader, const std::string& root_name) {
+  return DocumentReader(reader, file_name, root_name).read(xml, file_name);
 }
 
 }  // namespace tessera

@@ -47,22 +47,31 @@ inline constexpr size_t kMaxMitsubaElements = 1'000'000;  ///< elements after in
 struct MitsubaDocument {
   MitsubaElement scene;                 ///< the root <scene> element
   std::vector<std::string> files_read;  ///< bundle paths of the included files, each once
+  /// Where the scene's file names are looked for, in order: the folders of its <path> elements
+  /// (the latest first), then the scene file's folder (MitsubaFileResolver).
+  std::vector<std::string> search_folders;
 };
 
-/// Reads the XML text of the scene file `file_name` (its name, at the root of its bundle).
+/// Reads the XML text of the scene file at bundle path `file_name`.
 ///
-/// - The root must be `<scene version="3.x.y">`.
+/// - The root must be `<scene version="3.x.y">` (or "2.x.y", which Mitsuba 3 reads alike).
 /// - `<default name="n" value="v"/>` declares parameter `n` unless it exists already (the first
 ///   declaration wins, as in Mitsuba). Every attribute of every later element, in document
 ///   order, has `$n` replaced by `v` (longer names first, so `$spp2` is not read as `$spp`
 ///   followed by "2"); `\$` is a literal dollar; a `$name` left undeclared is an error.
-/// - `<include filename="f.xml"/>` reads `f.xml` through `reader`, relative to the folder of the
-///   file that names it and inside the bundle (check_bundle_path); a root `<scene>` there
-///   contributes its children, any other root element itself. Parameters are shared with
-///   included files. Includes nest at most kMaxMitsubaIncludeDepth deep and never in a cycle.
+/// - `<path value="dir"/>`, a child of the root: `dir`, relative to the folder of the file that
+///   names it, is searched first for the files named after it (MitsubaFileResolver).
+/// - `<include filename="f.xml"/>` reads `f.xml` through `reader`, looked for in the folder of
+///   the file that names it, then along the search path; a root `<scene>` there contributes its
+///   children, any other root element itself. Parameters are shared with included files; the
+///   <path>s of an included file end with it. Includes nest at most kMaxMitsubaIncludeDepth
+///   deep and never in a cycle.
+/// `root_name` names the bundle root in messages about paths that leave it.
 ///
-/// Throws SceneError("<file>: line <L>: ...") for malformed XML and for every rule above.
+/// Throws SceneError("<file>: line <L>: ...") for malformed XML and for every rule above, and
+/// BundleEscapeError for a path that leaves the bundle root.
 MitsubaDocument read_mitsuba_document(std::string_view xml, const std::string& file_name,
-                                      const FileReader& reader);
+                                      const FileReader& reader,
+                                      const std::string& root_name = "the bundle root");
 
 }  // namespace tessera

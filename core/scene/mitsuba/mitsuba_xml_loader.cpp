@@ -1,15 +1,20 @@
 #include "scene/mitsuba/mitsuba_xml_loader.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <optional>
+#include <set>
 
 #include "scene/mitsuba/mitsuba_bsdf.h"
 #include "scene/mitsuba/mitsuba_clip_check.h"
+#include "scene/mitsuba/mitsuba_emitter.h"
+#include "scene/mitsuba/mitsuba_file_resolver.h"
 #include "scene/mitsuba/mitsuba_ids.h"
 #include "scene/mitsuba/mitsuba_integrator.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
 #include "scene/mitsuba/mitsuba_sensor.h"
 #include "scene/mitsuba/mitsuba_shape.h"
+#include "scene/mitsuba/mitsuba_texture.h"
 #include "scene/mitsuba/mitsuba_xml_document.h"
 
 namespace tessera {
@@ -18,44 +23,46 @@ namespace {
 /// The top-level elements of a scene that Tessera does not read, with what to do instead.
 [[noreturn]] void refuse_top_level(const MitsubaElement& element) {
   const std::string& tag = element.tag;
-  if (tag == "emitter") {
-    fail_at(element,
-            "Tessera's lights are area emitters on shapes: put <emitter type=\"area\"> "
-            "inside a <shape>");
-  }
-  if (tag == "texture" || tag == "spectrum") {
-    fail_at(element, "textures are not supported (give colours as <rgb>)");
-  }
   if (tag == "medium" || tag == "phase" || tag == "volume") {
-    fail_at(element, "participating media are not supported");
+    fail_at(element, "participating media are not supported (Tessera renders surfaces in vacuum)");
   }
-  if (tag == "film" || tag == "sampler" || tag == "rfilter") {
-    fail_at(element, "belongs inside the <sensor>");
-  }
+  if (tag == "film") fail_at(element, "belongs inside the <sensor>");
   if (tag == "ref") fail_at(element, "a <ref> belongs inside the object that uses it");
   fail_at(element,
           "not supported at the top of a scene (Tessera reads <sensor>, <integrator>, "
-          "<bsdf> and <shape> there)");
+          "<emitter>, <bsdf>, <texture>, <shape>, <sampler> and <rfilter> there)");
+}
+
+/// Adds every object some <ref> below `element` names to `targets`.
+void collect_references(const MitsubaElement& element, const MitsubaIds& ids,
+                        std::set<const MitsubaElement*>& targets) {
+  for (const MitsubaElement& child : element.children) {
+    if (child.tag == "ref") targets.insert(&ids.resolve(child));
+    collect_references(child, ids, targets);
+  }
 }
 
 class SceneBuilder {
  public:
-  SceneBuilder(const MitsubaElement& root, const FileReader& reader,
-               std::vector<std::string> included)
+  SceneBuilder(const MitsubaElement& root, const FileReader& reader, MitsubaDocument& document,
+               const std::string& root_name)
       : root_(root),
         ids_(root),
-        materials_(ids_),
-        reader_(reader),
-        files_(std::move(included)),
-        context_{ids_, reader_, materials_, files_} {}
+        files_(reader, "", root_name),
+        referenced_(std::move(document.files_read)),
+        textures_(ids_, files_, referenced_),
+        materials_(ids_, textures_),
+        context_{ids_, files_, materials_, textures_, referenced_, groups_} {
+    files_.reset(document.search_folders);
+    collect_references(root_, ids_, referenced_objects_);
+  }
 
   Scene build() {
     const MitsubaPlugin checked(root_, ids_);  // every child is a Mitsuba element; refs resolve
     for (const MitsubaElement& child : root_.children) add(child);
     if (!sensor_) {
       fail_at(root_,
-              "the scene has no <sensor> (Tessera needs a perspective or thinlens sensor "
-              "with an hdrfilm and a box rfilter)");
+              "the scene has no <sensor> (Tessera needs a perspective or thinlens sensor)");
     }
     check_mitsuba_clip_planes(*sensor_, shapes_);
     Scene result;
@@ -63,56 +70,107 @@ class SceneBuilder {
     result.film = sensor_->film;
     result.render.spp = sensor_->spp;
     result.render.seed = sensor_->seed;
-    result.render.max_depth = max_depth_;
+    result.render.max_depth = integrator_.max_depth;
+    result.render.hide_emitters = integrator_.hide_emitters;
     result.materials = materials_.take();
+    result.textures = textures_.take();
     result.shapes = std::move(shapes_);
-    result.referenced_files = std::move(files_);
+    result.groups = std::move(groups_);
+    result.lights = std::move(lights_);
+    result.referenced_files = std::move(referenced_);
+    if (!integrator_.note.empty()) {
+      std::fprintf(stderr, "note: %s: line %d: %s\n", integrator_element_->file.c_str(),
+                   integrator_element_->line, integrator_.note.c_str());
+    }
     return result;
   }
 
  private:
   void add(const MitsubaElement& element) {
-    if (element.tag == "sensor") {
+    const std::string& tag = element.tag;
+    if (tag == "sensor") {
       if (sensor_) {
         fail_at(element, "a second sensor (Tessera renders one camera; first at line " +
                              std::to_string(sensor_->element->line) + ")");
       }
       sensor_ = read_mitsuba_sensor(element, ids_);
-    } else if (element.tag == "integrator") {
-      if (integrator_) {
-        fail_at(element,
-                "a second integrator (first at line " + std::to_string(integrator_->line) + ")");
+    } else if (tag == "integrator") {
+      if (integrator_element_) {
+        fail_at(element, "a second integrator (first at line " +
+                             std::to_string(integrator_element_->line) + ")");
       }
-      integrator_ = &element;
-      max_depth_ = read_mitsuba_integrator(element, ids_);
-    } else if (element.tag == "shape") {
-      shapes_.push_back(read_mitsuba_shape(element, context_));
-    } else if (element.tag == "bsdf") {
-      // Declared for <ref>s; read now so that an unsupported one is refused even when unused.
-      read_mitsuba_bsdf(element, ids_);
+      integrator_element_ = &element;
+      integrator_ = read_mitsuba_integrator(element, ids_);
+    } else if (tag == "shape") {
+      const std::string* type = element.attribute("type");
+      if (type && *type == "shapegroup") {
+        read_mitsuba_shape_group(element, context_);  // placed by instances
+      } else {
+        shapes_.push_back(read_mitsuba_shape(element, context_));
+      }
+    } else if (tag == "bsdf") {
+      // Declared for <ref>s, and checked even when unused, as Mitsuba instantiates it.
+      if (referenced_objects_.count(&element)) {
+        materials_.of(element);
+      } else {
+        check_unused_bsdf(element);
+      }
+    } else if (tag == "texture") {
+      textures_.of(element);
+    } else if (tag == "emitter") {
+      add_emitter(element);
+    } else if (tag == "sampler" || tag == "rfilter") {
+      // Top-level objects a sensor or film names with <ref>; read there.
+      if (!referenced_objects_.count(&element)) {
+        fail_at(element, "belongs inside the <sensor> (or is named there by <ref>)");
+      }
     } else {
       refuse_top_level(element);
     }
   }
 
+  void add_emitter(const MitsubaElement& element) {
+    const std::string* type = element.attribute("type");
+    if (type && *type == "area") {
+      // An area emitter declared once and attached to shapes through <ref>.
+      if (!referenced_objects_.count(&element)) {
+        fail_at(element, "an area emitter belongs inside a <shape> (or is named by one with <ref>)");
+      }
+      return;
+    }
+    lights_.push_back(read_mitsuba_light(element, ids_, files_, referenced_));
+  }
+
+  /// Reads an unused BSDF into scratch tables, so that an unsupported one is still refused.
+  void check_unused_bsdf(const MitsubaElement& element) {
+    std::vector<std::string> scratch_files;
+    MitsubaTextures scratch_textures(ids_, files_, scratch_files);
+    MitsubaMaterials scratch(ids_, scratch_textures);
+    scratch.of(element);
+  }
+
   const MitsubaElement& root_;
   MitsubaIds ids_;
+  MitsubaFileResolver files_;
+  std::vector<std::string> referenced_;
+  MitsubaTextures textures_;
   MitsubaMaterials materials_;
-  const FileReader& reader_;
-  std::vector<std::string> files_;
+  std::vector<ShapeGroup> groups_;
   MitsubaShapeContext context_;
   std::optional<MitsubaSensor> sensor_;
-  const MitsubaElement* integrator_ = nullptr;
-  int max_depth_ = -1;  // Mitsuba's default integrator: path, unbounded
+  const MitsubaElement* integrator_element_ = nullptr;
+  MitsubaIntegrator integrator_;  // Mitsuba's default integrator: path, unbounded
   std::vector<Shape> shapes_;
+  std::vector<Light> lights_;
+  std::set<const MitsubaElement*> referenced_objects_;
 };
 
 }  // namespace
 
 Scene parse_mitsuba_scene(std::string_view xml, const std::string& file_name,
-                          const FileReader& reader) {
-  MitsubaDocument document = read_mitsuba_document(xml, file_name, reader);
-  return SceneBuilder(document.scene, reader, std::move(document.files_read)).build();
+                          const FileReader& reader, const std::string& root_name) {
+  MitsubaDocument document = read_mitsuba_document(xml, file_name, reader, root_name);
+  return SceneBuilder(document.scene, reader, document, root_name).build();
 }
 
 }  // namespace tessera

@@ -15,11 +15,15 @@
 
 namespace tessera {
 
-/// Parses the Mitsuba 3 XML text of the scene file `file_name` (its name at the root of its
-/// bundle, for messages; the files it names are read through `reader` relative to the bundle
-/// root). Scene::referenced_files lists the included XML files and the mesh files. Throws
-/// SceneError("<file>: line <L>: <element>: <what is wrong>").
+/// Parses the Mitsuba 3 XML text of the scene file at bundle path `file_name` (also its name
+/// in messages; the files it names are looked up as Mitsuba does, from its folder, and read
+/// through `reader` by bundle path). Scene::referenced_files lists the included XML files, the
+/// mesh files and the images. `root_name` names the bundle root in messages. An integrator
+/// rendered as `path` (ptracer, volpath, direct) is noted on stderr. Throws
+/// SceneError("<file>: line <L>: <element>: <what is wrong>"), BundleEscapeError for a path
+/// that leaves the bundle root.
 Scene parse_mitsuba_scene(std::string_view xml, const std::string& file_name,
-                          const FileReader& reader);
+                          const FileReader& reader,
+                          const std::string& root_name = "the bundle root");
 
 }  // namespace tessera

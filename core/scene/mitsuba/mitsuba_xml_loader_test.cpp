@@ -133,10 +133,33 @@ TEST(MitsubaScene, LoadSceneFileAndParseSceneAnyChooseByExtension) {
 TEST(MitsubaScene, TheSceneNeedsOneSensor) {
   EXPECT_EQ(xml_error("<scene version=\"3.0.0\">\n<shape type=\"cube\"/>\n</scene>"),
             "test.xml: line 1: <scene>: the scene has no <sensor> (Tessera needs a perspective or "
-            "thinlens sensor with an hdrfilm and a box rfilter)");
+            "thinlens sensor)");
   std::string two = mitsuba_scene(testing::mitsuba_sensor());
   EXPECT_NE(xml_error(two).find("a second sensor (Tessera renders one camera; first at line 2)"),
             std::string::npos);
+}
+
+TEST(MitsubaScene, TopLevelObjectsUsedByRef) {
+  Scene s = parse_xml(mitsuba_scene(R"(
+    <texture type="checkerboard" id="checks"><rgb name="color0" value="0.1"/></texture>
+    <emitter type="area" id="lamp"><rgb name="radiance" value="5"/></emitter>
+    <bsdf type="diffuse" id="floor"><ref name="reflectance" id="checks"/></bsdf>
+    <shape type="rectangle"><ref id="floor"/><ref id="lamp"/></shape>
+    <shape type="disk"><ref id="floor"/></shape>)"));
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures[0].name, "checks");
+  EXPECT_EQ(s.textures[0].kind, TextureKind::checkerboard);
+  EXPECT_EQ(s.textures[0].color0, glm::dvec3(0.1));
+  EXPECT_EQ(s.textures[0].color1, glm::dvec3(0.2));  // Mitsuba's default
+  EXPECT_EQ(s.materials.at(0).reflectance.texture, 0);
+  EXPECT_EQ(s.shapes.at(0).emission, glm::dvec3(5));
+  EXPECT_FALSE(s.shapes.at(1).is_emitter());
+  // A sampler declared at the top and named by the sensor.
+  Scene sampled = parse_xml(R"(<scene version="3.0.0">
+    <sampler type="independent" id="spp"><integer name="sample_count" value="32"/></sampler>
+    <sensor type="perspective"><float name="fov" value="40"/><ref id="spp"/></sensor>
+  </scene>)");
+  EXPECT_EQ(sampled.render.spp, 32);
 }
 
 TEST(MitsubaScene, TopLevelElementsTesseraDoesNotRead) {
@@ -148,24 +171,23 @@ TEST(MitsubaScene, TopLevelElementsTesseraDoesNotRead) {
         << message;
     return message;
   };
-  EXPECT_NE(error(R"(<emitter type="constant"/>)").find("area emitters on shapes"),
+  EXPECT_NE(error(R"(<emitter type="area"/>)").find("an area emitter belongs inside a <shape>"),
             std::string::npos);
-  EXPECT_NE(error(R"(<emitter type="point"><point name="position" value="0,1,0"/></emitter>)")
-                .find("area emitters on shapes"),
-            std::string::npos);
-  EXPECT_NE(error(R"(<texture type="bitmap" id="t"/>)").find("textures are not supported"),
+  EXPECT_NE(error(R"(<texture type="perlin" id="t"/>)").find("unsupported texture"),
             std::string::npos);
   EXPECT_NE(error(R"(<medium type="homogeneous" id="fog"/>)").find("participating media"),
             std::string::npos);
   EXPECT_NE(error(R"(<film type="hdrfilm"/>)").find("belongs inside the <sensor>"),
+            std::string::npos);
+  EXPECT_NE(error(R"(<sampler type="independent"/>)").find("belongs inside the <sensor>"),
             std::string::npos);
   EXPECT_NE(error(R"(<float name="x" value="1"/>)").find("not supported at the top of a scene"),
             std::string::npos);
   EXPECT_NE(error(R"(<alias id="a" as="b"/>)").find("not supported by Tessera's importer"),
             std::string::npos);
   EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="rectangle"><emitter type="area">
-      <spectrum name="radiance" value="400:1, 700:1"/></emitter></shape>)"))
-                .find("<spectrum name=\"radiance\">: Tessera renders in RGB and reads no spectra"),
+      <spectrum name="radiance" filename="d65.spd"/></emitter></shape>)"))
+                .find("<spectrum name=\"radiance\">: spectra from files are not supported"),
             std::string::npos);
 }
 

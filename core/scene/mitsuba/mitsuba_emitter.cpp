@@ -1,0 +1,159 @@
+#include "scene/mitsuba/mitsuba_emitter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "scene/mitsuba/mitsuba_plugin.h"
+#include "scene/mitsuba/mitsuba_transform.h"
+#include "scene/native/json_value.h"
+
+namespace tessera {
+namespace {
+
+constexpr MitsubaColorRole kEmission = MitsubaColorRole::emission;
+
+glm::dvec3 non_negative(MitsubaPlugin& plugin, std::string_view name) {
+  glm::dvec3 value = plugin.take_color(name, kEmission).value_or(glm::dvec3(1));
+  for (int c = 0; c < 3; ++c) {
+    if (!(value[c] >= 0)) {
+      fail_at(*plugin.property(name),
+              "each channel must be >= 0 (got " + format_number(value[c]) + ")");
+    }
+  }
+  return value;
+}
+
+/// to_world, which must be a rotation and a translation (Mitsuba's tolerance, 1e-3).
+glm::dmat4 rigid_to_world(MitsubaPlugin& plugin) {
+  std::optional<Transform> to_world = plugin.take_transform("to_world");
+  if (!to_world) return glm::dmat4(1.0);
+  std::optional<double> scale = to_world->similarity_scale();
+  if (!scale || std::abs(*scale - 1) > 1e-3 || to_world->flips_orientation()) {
+    fail_at(*plugin.property("to_world"),
+            "this emitter's to_world must be a rotation and a translation");
+  }
+  return to_world->matrix();
+}
+
+/// A frame whose +z is `direction` (a directional light is the same about its axis).
+glm::dmat4 frame_along(const glm::dvec3& direction) {
+  glm::dvec3 z = glm::normalize(direction);
+  glm::dvec3 helper = std::abs(z.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  glm::dvec3 x = glm::normalize(glm::cross(helper, z));
+  glm::dvec3 y = glm::cross(z, x);
+  glm::dmat4 m(1.0);
+  m[0] = glm::dvec4(x, 0);
+  m[1] = glm::dvec4(y, 0);
+  m[2] = glm::dvec4(z, 0);
+  return m;
+}
+
+void read_point(MitsubaPlugin& plugin, Light& light) {
+  light.kind = LightKind::point;
+  if (std::optional<glm::dvec3> position = plugin.take_point("position")) {
+    if (plugin.property("to_world")) {
+      fail_at(*plugin.property("to_world"), "give position or to_world, not both");
+    }
+    light.to_world[3] = glm::dvec4(*position, 1);
+  } else {
+    light.to_world = rigid_to_world(plugin);
+  }
+  light.value = non_negative(plugin, "intensity");
+}
+
+void read_spot(MitsubaPlugin& plugin, Light& light) {
+  light.kind = LightKind::spot;
+  light.to_world = rigid_to_world(plugin);
+  light.value = non_negative(plugin, "intensity");
+  light.cutoff_angle_deg = plugin.take_float("cutoff_angle").value_or(20.0);
+  light.beam_width_deg = plugin.take_float("beam_width").value_or(light.cutoff_angle_deg * 0.75);
+  if (!(light.cutoff_angle_deg > 0 && light.cutoff_angle_deg <= 180)) {
+    fail_at(*plugin.property("cutoff_angle"), "must be in (0, 180] degrees");
+  }
+  if (!(light.beam_width_deg > 0 && light.beam_width_deg <= light.cutoff_angle_deg)) {
+    fail_at(plugin.property("beam_width") ? *plugin.property("beam_width") : plugin.element(),
+            "beam_width must be in (0, cutoff_angle]");
+  }
+}
+
+void read_directional(MitsubaPlugin& plugin, Light& light) {
+  light.kind = LightKind::directional;
+  if (std::optional<glm::dvec3> direction = plugin.take_point("direction")) {
+    if (plugin.property("to_world")) {
+      fail_at(*plugin.property("to_world"), "give direction or to_world, not both");
+    }
+    if (!(glm::length(*direction) > 0)) fail_at(*plugin.property("direction"), "must not be 0");
+    light.to_world = frame_along(*direction);
+  } else {
+    light.to_world = rigid_to_world(plugin);
+  }
+  light.value = non_negative(plugin, "irradiance");
+}
+
+void read_envmap(MitsubaPlugin& plugin, Light& light, MitsubaFileResolver& files,
+                 std::vector<std::string>& referenced_files) {
+  light.kind = LightKind::envmap;
+  std::optional<std::string> filename = plugin.take_string("filename");
+  if (!filename) fail_at(plugin.element(), "missing <string name=\"filename\">");
+  light.file = files.resolve(*plugin.property("filename"), *filename);
+  if (std::find(referenced_files.begin(), referenced_files.end(), light.file) ==
+      referenced_files.end()) {
+    referenced_files.push_back(light.file);
+  }
+  double scale = plugin.take_float("scale").value_or(1.0);
+  if (!(scale >= 0)) {
+    fail_at(*plugin.property("scale"), "must be >= 0 (got " + format_number(scale) + ")");
+  }
+  light.value = glm::dvec3(scale);
+  light.to_world = rigid_to_world(plugin);
+  plugin.ignore("mis_compensation");  // a sampling strategy: the same image, other noise
+}
+
+}  // namespace
+
+MitsubaAreaEmission read_mitsuba_area_emitter(const MitsubaElement& element, const MitsubaIds& ids,
+                                              MitsubaTextures& textures) {
+  MitsubaPlugin emitter(element, ids);
+  if (emitter.type() != "area") {
+    fail_at(element,
+            "a shape's emitter must be \"area\" (point, spot, directional, constant and envmap "
+            "emitters stand at the top of the scene)");
+  }
+  TexturedColor radiance =
+      read_textured_color(emitter, "radiance", glm::dvec3(1), kEmission, textures);
+  emitter.ignore("sampling_weight");  // how often it is sampled: noise only
+  emitter.finish();
+  return MitsubaAreaEmission{radiance.value, radiance.texture};
+}
+
+Light read_mitsuba_light(const MitsubaElement& element, const MitsubaIds& ids,
+                         MitsubaFileResolver& files, std::vector<std::string>& referenced_files) {
+  MitsubaPlugin plugin(element, ids);
+  Light light;
+  light.origin = element.where();
+  const std::string& type = plugin.type();
+  if (type == "point") {
+    read_point(plugin, light);
+  } else if (type == "spot") {
+    read_spot(plugin, light);
+  } else if (type == "directional") {
+    read_directional(plugin, light);
+  } else if (type == "constant") {
+    light.kind = LightKind::constant;
+    light.value = non_negative(plugin, "radiance");
+  } else if (type == "envmap") {
+    read_envmap(plugin, light, files, referenced_files);
+  } else if (type == "area") {
+    fail_at(element, "an area emitter belongs inside a <shape> (or is named by one with <ref>)");
+  } else {
+    fail_at(element,
+            "unsupported emitter (Tessera has area, point, spot, directional, constant and "
+            "envmap)");
+  }
+  plugin.ignore("sampling_weight");  // how often it is sampled: noise only
+  plugin.finish();
+  return light;
+}
+
+}  // namespace tessera

@@ -1,0 +1,155 @@
+#include "scene/mitsuba/mitsuba_texture.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "scene/native/json_value.h"
+
+namespace tessera {
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  size_t dot = path.rfind('.');
+  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+TextureFilter read_filter(MitsubaPlugin& plugin) {
+  std::optional<std::string> filter = plugin.take_string("filter_type");
+  if (!filter || *filter == "bilinear") return TextureFilter::bilinear;
+  if (*filter == "nearest") return TextureFilter::nearest;
+  fail_at(*plugin.property("filter_type"),
+          "\"" + printable(*filter) + "\" is no filter_type (bilinear or nearest)");
+}
+
+TextureWrap read_wrap(MitsubaPlugin& plugin) {
+  std::optional<std::string> wrap = plugin.take_string("wrap_mode");
+  if (!wrap || *wrap == "repeat") return TextureWrap::repeat;
+  if (*wrap == "mirror") return TextureWrap::mirror;
+  if (*wrap == "clamp") return TextureWrap::clamp;
+  fail_at(*plugin.property("wrap_mode"),
+          "\"" + printable(*wrap) + "\" is no wrap_mode (repeat, mirror or clamp)");
+}
+
+void check_range(const MitsubaElement* where, const glm::dvec3& value, MitsubaColorRole role) {
+  for (int c = 0; c < 3; ++c) {
+    bool ok = role == MitsubaColorRole::reflectance ? value[c] >= 0 && value[c] <= 1
+                                                    : value[c] >= 0;
+    if (!ok && where) {
+      fail_at(*where, std::string("each channel must be ") +
+                          (role == MitsubaColorRole::reflectance ? "in [0, 1]" : ">= 0") +
+                          " (got " + format_number(value[c]) + ")");
+    }
+  }
+}
+
+}  // namespace
+
+glm::dmat3 read_mitsuba_to_uv(MitsubaPlugin& plugin) {
+  std::optional<Transform> to_uv = plugin.take_transform("to_uv");
+  if (!to_uv) return glm::dmat3(1.0);
+  const glm::dmat4& m = to_uv->matrix();
+  glm::dmat3 uv(1.0);
+  for (int row = 0; row < 2; ++row) {
+    uv[0][row] = m[0][row];
+    uv[1][row] = m[1][row];
+    uv[2][row] = m[3][row];
+  }
+  return uv;
+}
+
+Texture MitsubaTextures::read(const MitsubaElement& element) {
+  MitsubaPlugin plugin(element, ids_);
+  Texture texture;
+  texture.origin = element.where();
+  if (plugin.type() == "bitmap") {
+    texture.kind = TextureKind::bitmap;
+    std::optional<std::string> filename = plugin.take_string("filename");
+    if (!filename) fail_at(element, "missing <string name=\"filename\">");
+    texture.file = files_.resolve(*plugin.property("filename"), *filename);
+    if (std::find(referenced_files_.begin(), referenced_files_.end(), texture.file) ==
+        referenced_files_.end()) {
+      referenced_files_.push_back(texture.file);
+    }
+    bool raw = plugin.take_boolean("raw").value_or(false);
+    std::string ext = lower_extension(texture.file);
+    bool linear_file = ext == "exr" || ext == "hdr" || ext == "pfm";
+    texture.color_space =
+        raw || linear_file ? TextureColorSpace::linear : TextureColorSpace::srgb;
+    texture.filter = read_filter(plugin);
+    texture.wrap = read_wrap(plugin);
+    plugin.ignore("accel");   // Mitsuba's GPU texture units: the same lookups
+    plugin.ignore("format");  // storage precision of the texels in Mitsuba's memory
+  } else if (plugin.type() == "checkerboard") {
+    texture.kind = TextureKind::checkerboard;
+    texture.color0 = plugin.take_color("color0").value_or(glm::dvec3(0.4));
+    texture.color1 = plugin.take_color("color1").value_or(glm::dvec3(0.2));
+  } else {
+    fail_at(element,
+            "unsupported texture (Tessera has bitmap and checkerboard; bake others into a "
+            "bitmap)");
+  }
+  texture.to_uv = read_mitsuba_to_uv(plugin);
+  plugin.finish();
+  return texture;
+}
+
+int32_t MitsubaTextures::of(const MitsubaElement& element) {
+  auto it = index_of_.find(&element);
+  if (it != index_of_.end()) return it->second;
+  if (element.tag != "texture") {
+    fail_at(element, "is no <texture> (a colour parameter takes <rgb>, <float>, <spectrum> or "
+                     "a <texture>)");
+  }
+  Texture texture = read(element);
+  const std::string* id = element.attribute("id");
+  std::string name = id && !id->empty() ? *id
+                                        : *element.attribute("type") + " (" + element.file +
+                                              " line " + std::to_string(element.line) + ")";
+  std::string unique = name;
+  for (int k = 2; names_.count(unique); ++k) unique = name + " #" + std::to_string(k);
+  names_.insert(unique);
+  texture.name = unique;
+  textures_.push_back(std::move(texture));
+  int32_t index = int32_t(textures_.size() - 1);
+  index_of_[&element] = index;
+  return index;
+}
+
+std::vector<Texture> MitsubaTextures::take() {
+  std::vector<Texture> result = std::move(textures_);
+  textures_.clear();
+  index_of_.clear();
+  names_.clear();
+  return result;
+}
+
+TexturedColor read_textured_color(MitsubaPlugin& plugin, std::string_view name,
+                                  const glm::dvec3& fallback, MitsubaColorRole role,
+                                  MitsubaTextures& textures) {
+  TexturedColor color;
+  if (std::optional<MitsubaObject> texture = plugin.take_named_object(name)) {
+    color.value = glm::dvec3(1);
+    color.texture = textures.of(*texture->element);
+    return color;
+  }
+  std::optional<glm::dvec3> value = plugin.take_color(name, role);
+  color.value = value.value_or(fallback);
+  if (value) check_range(plugin.property(name), color.value, role);
+  return color;
+}
+
+TexturedFloat read_textured_float(MitsubaPlugin& plugin, std::string_view name, double fallback,
+                                  MitsubaTextures& textures) {
+  TexturedFloat result;
+  if (std::optional<MitsubaObject> texture = plugin.take_named_object(name)) {
+    result.value = 1;
+    result.texture = textures.of(*texture->element);
+    return result;
+  }
+  result.value = plugin.take_float(name).value_or(fallback);
+  return result;
+}
+
+}  // namespace tessera
