@@ -129,6 +129,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({1, 4, 8, 16}));
   app.add_option("--isa", isa, "Pin Embree's instruction set (avx512, avx2, sse4.2)");
   CLI11_PARSE(app, argc, argv);
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each figure shows as soon as it is measured
   std::optional<tbb::global_control> limit;
   if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
 
@@ -160,9 +161,13 @@ int main(int argc, char** argv) {
   auto t0 = std::chrono::steady_clock::now();
   uint32_t batch = 0;
   const std::vector<TileRect> tiles = options.plan().tiles();
-  while (seconds_since(t0) < seconds) {
+  // Stops at the first tile boundary past `seconds`, so a large image at a high --spp does not
+  // run a whole batch of the frame on a loaded machine (the figure then covers the tiles reached).
+  bool done = false;
+  while (!done) {
     for (const TileRect& tile : tiles) {
       renderer.render(tile, batch * spp, (batch + 1) * spp, &stats);
+      if ((done = seconds_since(t0) >= seconds)) break;
     }
     ++batch;
   }
