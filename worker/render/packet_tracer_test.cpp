@@ -11,6 +11,7 @@
 #include "scene/scene_loader.h"
 #include "standalone_embree_scene.h"
 #include "test_scenes.h"
+#include "traceable_scene.h"
 #include "warp.h"
 
 namespace tessera {
@@ -135,6 +136,33 @@ TEST_P(PacketTracerScenes, EveryWidthGivesTheSameBits) {
     const RayBatch rays = random_rays(scene, scene_bounds(s), 20000, 3);
     expect_same_at_every_width(scene, rays, std::string(GetParam()) + " isa '" + isa + "'");
   }
+}
+
+TEST_P(PacketTracerScenes, StandaloneSceneHitsWhatTheRendererHits) {
+  // The tests and tessera-bench-rays trace a StandaloneEmbreeScene; it must be TraceableScene's.
+  const Scene s = load_scene_file(std::string(TESSERA_SOURCE_DIR) + "/scenes/" + GetParam());
+  const StandaloneEmbreeScene scene(s, "");
+  const TraceableScene traceable(s, 64, 64, "");
+  const RayBatch rays = random_rays(scene, scene_bounds(s), 5000, 7);
+  HitBatch hits;
+  hits.resize(rays.size());
+  PacketTracer(scene.scene(), PacketTracer::native_width(scene.device())).intersect(rays, 0, rays.size(), &hits);
+  int compared = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (!rays.active[i]) continue;
+    Hit hit;
+    const bool found = traceable.intersect(rays.get(i), &hit);
+    ASSERT_EQ(found, hits.geometry[i] != RTC_INVALID_GEOMETRY_ID) << GetParam() << " ray " << i;
+    if (!found) continue;
+    const Geometry& g = scene.geometry(hits.geometry[i]);
+    EXPECT_EQ(hit.geometry->kind, g.kind) << GetParam() << " ray " << i;
+    EXPECT_EQ(hit.primitive, hits.primitive[i]) << GetParam() << " ray " << i;
+    const Ray r = rays.get(i);
+    const glm::vec3 p = r.o + hits.t[i] * r.d;
+    EXPECT_LE(glm::length(p - hit.sp.p), 1e-4f * (1.0f + glm::length(p))) << GetParam() << " ray " << i;
+    ++compared;
+  }
+  EXPECT_GT(compared, 1000) << GetParam();
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, PacketTracerScenes,
