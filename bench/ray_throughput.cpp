@@ -1,4 +1,5 @@
-// tessera-bench-rays SCENE [--seconds S] [--threads N] [--mode scalar|packet] [--widths 1,8,16]:
+// tessera-bench-rays SCENE [--seconds S] [--threads N] [--mode scalar|packet] [--widths 1,8,16]
+// [--rounds 3] [--isa ISA] [--spp N]:
 // Embree's raw ray throughput on a scene (the limit the renderer can approach) beside the
 // renderer's own rays/s on the same scene, in the same run.
 //
@@ -7,11 +8,15 @@
 // nothing else done per ray (TraceableScene::intersect, which also builds the surface point).
 // --mode packet adds the packet tracer (worker/render/packet_tracer.h) on the same pool: for each
 // width, closest-hit (rtcIntersect1/4/8/16) and occlusion (rtcOccluded1/4/8/16, same rays and
-// t_max) queries, packets cut in pool order, 4096-ray chunks spread over the threads.
+// t_max) queries, packets cut in pool order, 4096-ray chunks spread over the threads; every
+// query runs once per round, rounds interleaved with the scalar query, medians printed.
 // The renderer: one 64x64-tile batch after another through Renderer::render, counting its
 // closest-hit and shadow rays.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <functional>
+#include <map>
 #include <cstdio>
 #include <optional>
 #include <random>
@@ -78,10 +83,19 @@ double rate(size_t count, double seconds, Trace trace, uint64_t* passes = nullpt
   return double(traced) / seconds_since(t0);
 }
 
-/// The packet tracer at each width on `pool`: closest-hit and occlusion rates, printed beside
-/// `scalar_rate` (TraceableScene::intersect on the same rays).
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// The packet tracer at each width on `pool`, closest-hit and occlusion, interleaved with
+/// `scalar` (TraceableScene::intersect's rate on the same rays) in each of `rounds` rounds, so
+/// load drifts on a shared machine hit every query alike; prints every round and the medians,
+/// with each width's rate divided by the same round's scalar rate.
 void packet_rates(const Scene& scene, const std::string& isa, const std::vector<Ray>& pool,
-                  const std::vector<int>& widths, double seconds, double scalar_rate) {
+                  const std::vector<int>& widths, double seconds, int rounds,
+                  const std::function<double()>& scalar) {
   const StandaloneEmbreeScene embree(scene, isa);
   RayBatch rays;
   rays.resize(pool.size());
@@ -89,21 +103,36 @@ void packet_rates(const Scene& scene, const std::string& isa, const std::vector<
   HitBatch hits;
   hits.resize(pool.size());
   std::vector<uint8_t> occluded(pool.size());
-  std::printf("packet tracer (native width %d), same pool:\n", PacketTracer::native_width(embree.device()));
-  for (int width : widths) {
-    const PacketTracer tracer(embree.scene(), width);
-    const double closest = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.intersect(rays, b, e, &hits); });
-    const double shadow = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.occluded(rays, b, e, &occluded); });
-    size_t hit = 0, blocked = 0;
-    for (size_t i = 0; i < pool.size(); ++i) {
-      hit += hits.geometry[i] != RTC_INVALID_GEOMETRY_ID;
-      blocked += occluded[i];
+  std::printf("packet tracer (native width %d), same pool, %d rounds of %.1f s per query:\n",
+              PacketTracer::native_width(embree.device()), rounds, seconds);
+  std::vector<double> scalar_rates;
+  std::map<int, std::vector<double>> closest, shadow, closest_ratio;
+  for (int round = 1; round <= rounds; ++round) {
+    scalar_rates.push_back(scalar());
+    std::printf("  round %d: scalar %.2f", round, scalar_rates.back() / 1e6);
+    for (int width : widths) {
+      const PacketTracer tracer(embree.scene(), width);
+      closest[width].push_back(
+          rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.intersect(rays, b, e, &hits); }));
+      shadow[width].push_back(
+          rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.occluded(rays, b, e, &occluded); }));
+      closest_ratio[width].push_back(closest[width].back() / scalar_rates.back());
+      std::printf(", width %d %.2f / %.2f", width, closest[width].back() / 1e6, shadow[width].back() / 1e6);
     }
-    std::printf("  width %2d: closest-hit %.2f M rays/s (%.2fx the scalar rate, %.1f %% hit), "
-                "occluded %.2f M rays/s (%.1f %% blocked)\n",
-                width, closest / 1e6, closest / scalar_rate, 100.0 * double(hit) / double(pool.size()),
-                shadow / 1e6, 100.0 * double(blocked) / double(pool.size()));
+    std::printf(" M rays/s (closest-hit / occluded)\n");
   }
+  size_t hit = 0, blocked = 0;
+  for (size_t i = 0; i < pool.size(); ++i) {
+    hit += hits.geometry[i] != RTC_INVALID_GEOMETRY_ID;
+    blocked += occluded[i];
+  }
+  std::printf("  medians: scalar (TraceableScene::intersect) closest-hit %.2f M rays/s\n", median(scalar_rates) / 1e6);
+  for (int width : widths) {
+    std::printf("  width %2d: closest-hit %.2f M rays/s (%.2fx the scalar rate), occluded %.2f M rays/s\n", width,
+                median(closest[width]) / 1e6, median(closest_ratio[width]), median(shadow[width]) / 1e6);
+  }
+  std::printf("  (%.1f %% of the pool hit, %.1f %% blocked)\n", 100.0 * double(hit) / double(pool.size()),
+              100.0 * double(blocked) / double(pool.size()));
 }
 
 }  // namespace
@@ -127,6 +156,9 @@ int main(int argc, char** argv) {
   app.add_option("--widths", widths, "Packet widths for --mode packet (1 = rtcIntersect1)")
       ->delimiter(',')
       ->check(CLI::IsMember({1, 4, 8, 16}));
+  int rounds = 3;
+  app.add_option("--rounds", rounds, "--mode packet: rounds of every query, interleaved; medians printed")
+      ->check(CLI::PositiveNumber);
   app.add_option("--isa", isa, "Pin Embree's instruction set (avx512, avx2, sse4.2)");
   CLI11_PARSE(app, argc, argv);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each figure shows as soon as it is measured
@@ -143,18 +175,21 @@ int main(int argc, char** argv) {
 
   std::atomic<uint64_t> hits{0};
   uint64_t passes = 0;
-  const double raw_rate = rate(rays.size(), seconds, [&](size_t begin, size_t end) {
-    uint64_t local = 0;
-    for (size_t i = begin; i != end; ++i) {
-      Hit hit;
-      local += traceable.intersect(rays[i], &hit) ? 1 : 0;
-    }
-    hits += local;
-  }, &passes);
+  const auto scalar = [&] {
+    return rate(rays.size(), seconds, [&](size_t begin, size_t end) {
+      uint64_t local = 0;
+      for (size_t i = begin; i != end; ++i) {
+        Hit hit;
+        local += traceable.intersect(rays[i], &hit) ? 1 : 0;
+      }
+      hits += local;
+    }, &passes);
+  };
+  const double raw_rate = scalar();
   std::printf("scene %s, isa %s\n", scene_file.c_str(), traceable.isa().c_str());
   std::printf("embree raw closest-hit rays: %.2f M rays/s (%zu rays in the pool, %.1f %% hit)\n",
               raw_rate / 1e6, rays.size(), 100.0 * double(hits) / double(passes * rays.size()));
-  if (mode == "packet") packet_rates(scene, isa, rays, widths, seconds, raw_rate);
+  if (mode == "packet") packet_rates(scene, isa, rays, widths, seconds, rounds, scalar);
 
   const Renderer renderer(scene, options);
   RenderStats stats;
