@@ -23,7 +23,7 @@ the reference too: its per-channel mean difference should be within noise and it
 the rounds' median over sqrt(R) when the renderer and reference agree.
 
 When REFERENCE does not exist it is rendered first with Mitsuba at --ref-spp (seed 100000) and
-written there.
+written there, with REFERENCE.json saying how (its spp then serves as --reference-spp).
 
 Usage (repository root; bench/tessera_vs_mitsuba.sh runs this for several scenes):
   /work/venv-mitsuba/bin/python bench/tessera_vs_mitsuba.py SCENE.json --reference REF.exr
@@ -123,11 +123,15 @@ def main():
           f"{args.tessera_spp} spp, Mitsuba {mi.__version__} llvm_ad_rgb {args.mitsuba_spp} spp; "
           f"{args.runs} rounds; load {Path('/proc/loadavg').read_text().split()[:3]}", flush=True)
 
+    sidecar = Path(str(args.reference) + ".json")  # how a reference made here was made
     if not Path(args.reference).exists():
-        args.reference_spp = args.ref_spp
         img, dt = mitsuba_render(scene, args.ref_spp, 100000)
         write_exr(args.reference, img)
+        sidecar.write_text(json.dumps({"renderer": f"mitsuba {mi.__version__} llvm_ad_rgb", "spp": args.ref_spp,
+                                       "seed": 100000, "seconds": round(dt, 1)}) + "\n")
         print(f"reference: Mitsuba {args.ref_spp} spp, seed 100000, {dt:.1f} s -> {args.reference}", flush=True)
+    if args.reference_spp is None and sidecar.exists():
+        args.reference_spp = json.loads(sidecar.read_text())["spp"]
     ref = read_rgb(args.reference)
     if ref.shape[:2] != (h, w):
         raise SystemExit(f"{args.reference} is {ref.shape[1]}x{ref.shape[0]}, the renders {w}x{h}")
