@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <ctime>
 #include <functional>
 #include <map>
 #include <cstdio>
@@ -63,24 +64,41 @@ std::vector<Ray> make_rays(const TraceableScene& scene, int width, int height, s
   return rays;
 }
 
-/// Rays per second of `trace(begin, end)` over chunks of `count` rays, the whole pool traced
-/// again until `seconds` have passed; `*passes` (if given) receives how many times.
+double thread_cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+/// A query's throughput: rays per wall-clock second (all threads together) and rays per CPU
+/// second (time the tracing threads were actually on a core: on a shared, loaded machine this
+/// one measures the query, the wall rate mostly the load).
+struct Rate {
+  double wall = 0;
+  double cpu = 0;
+};
+
+/// The rate of `trace(begin, end)` over chunks of `count` rays, the whole pool traced again
+/// until `seconds` have passed; `*passes` (if given) receives how many times.
 template <typename Trace>
-double rate(size_t count, double seconds, Trace trace, uint64_t* passes = nullptr) {
+Rate rate(size_t count, double seconds, Trace trace, uint64_t* passes = nullptr) {
   constexpr size_t chunk = 4096;  // a multiple of every packet width: packets never straddle chunks
   uint64_t traced = 0;
+  std::atomic<int64_t> cpu_ns{0};
   const auto t0 = std::chrono::steady_clock::now();
   while (seconds_since(t0) < seconds) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, (count + chunk - 1) / chunk, 1),
                       [&](const tbb::blocked_range<size_t>& r) {
+                        const double c0 = thread_cpu_seconds();
                         for (size_t c = r.begin(); c != r.end(); ++c) {
                           trace(c * chunk, std::min(count, (c + 1) * chunk));
                         }
+                        cpu_ns += int64_t(1e9 * (thread_cpu_seconds() - c0));
                       });
     traced += count;
   }
   if (passes) *passes = traced / count;
-  return double(traced) / seconds_since(t0);
+  return {double(traced) / seconds_since(t0), double(traced) / (1e-9 * double(cpu_ns))};
 }
 
 double median(std::vector<double> v) {
@@ -92,10 +110,11 @@ double median(std::vector<double> v) {
 /// The packet tracer at each width on `pool`, closest-hit and occlusion, interleaved with
 /// `scalar` (TraceableScene::intersect's rate on the same rays) in each of `rounds` rounds, so
 /// load drifts on a shared machine hit every query alike; prints every round and the medians,
-/// with each width's rate divided by the same round's scalar rate.
-void packet_rates(const Scene& scene, const std::string& isa, const std::vector<Ray>& pool,
+/// with each width's rate divided by the same round's scalar rate. Returns the widest width's
+/// median closest-hit rays per CPU-second.
+double packet_rates(const Scene& scene, const std::string& isa, const std::vector<Ray>& pool,
                   const std::vector<int>& widths, double seconds, int rounds,
-                  const std::function<double()>& scalar) {
+                  const std::function<Rate()>& scalar) {
   const StandaloneEmbreeScene embree(scene, isa);
   RayBatch rays;
   rays.resize(pool.size());
@@ -105,34 +124,41 @@ void packet_rates(const Scene& scene, const std::string& isa, const std::vector<
   std::vector<uint8_t> occluded(pool.size());
   std::printf("packet tracer (native width %d), same pool, %d rounds of %.1f s per query:\n",
               PacketTracer::native_width(embree.device()), rounds, seconds);
-  std::vector<double> scalar_rates;
-  std::map<int, std::vector<double>> closest, shadow, closest_ratio;
+  std::vector<double> scalar_rates, scalar_wall;
+  std::map<int, std::vector<double>> closest, shadow, closest_ratio, closest_wall;
   for (int round = 1; round <= rounds; ++round) {
-    scalar_rates.push_back(scalar());
-    std::printf("  round %d: scalar %.2f", round, scalar_rates.back() / 1e6);
+    const Rate s = scalar();
+    scalar_rates.push_back(s.cpu);
+    scalar_wall.push_back(s.wall);
+    std::printf("  round %d: scalar %.2f", round, s.cpu / 1e6);
     for (int width : widths) {
       const PacketTracer tracer(embree.scene(), width);
-      closest[width].push_back(
-          rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.intersect(rays, b, e, &hits); }));
-      shadow[width].push_back(
-          rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.occluded(rays, b, e, &occluded); }));
-      closest_ratio[width].push_back(closest[width].back() / scalar_rates.back());
-      std::printf(", width %d %.2f / %.2f", width, closest[width].back() / 1e6, shadow[width].back() / 1e6);
+      const Rate c = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.intersect(rays, b, e, &hits); });
+      const Rate o = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.occluded(rays, b, e, &occluded); });
+      closest[width].push_back(c.cpu);
+      closest_wall[width].push_back(c.wall);
+      shadow[width].push_back(o.cpu);
+      closest_ratio[width].push_back(c.cpu / s.cpu);
+      std::printf(", width %d %.2f / %.2f", width, c.cpu / 1e6, o.cpu / 1e6);
     }
-    std::printf(" M rays/s (closest-hit / occluded)\n");
+    std::printf(" M rays per CPU-second (closest-hit / occluded)\n");
   }
   size_t hit = 0, blocked = 0;
   for (size_t i = 0; i < pool.size(); ++i) {
     hit += hits.geometry[i] != RTC_INVALID_GEOMETRY_ID;
     blocked += occluded[i];
   }
-  std::printf("  medians: scalar (TraceableScene::intersect) closest-hit %.2f M rays/s\n", median(scalar_rates) / 1e6);
+  std::printf("  medians, M rays per CPU-second (wall-clock M rays/s):\n"
+              "  scalar (TraceableScene::intersect): closest-hit %.2f (%.2f)\n",
+              median(scalar_rates) / 1e6, median(scalar_wall) / 1e6);
   for (int width : widths) {
-    std::printf("  width %2d: closest-hit %.2f M rays/s (%.2fx the scalar rate), occluded %.2f M rays/s\n", width,
-                median(closest[width]) / 1e6, median(closest_ratio[width]), median(shadow[width]) / 1e6);
+    std::printf("  width %2d: closest-hit %.2f (%.2f), %.2fx the scalar rate; occluded %.2f\n", width,
+                median(closest[width]) / 1e6, median(closest_wall[width]) / 1e6, median(closest_ratio[width]),
+                median(shadow[width]) / 1e6);
   }
   std::printf("  (%.1f %% of the pool hit, %.1f %% blocked)\n", 100.0 * double(hit) / double(pool.size()),
               100.0 * double(blocked) / double(pool.size()));
+  return median(closest[*std::max_element(widths.begin(), widths.end())]);
 }
 
 }  // namespace
@@ -185,14 +211,18 @@ int main(int argc, char** argv) {
       hits += local;
     }, &passes);
   };
-  const double raw_rate = scalar();
+  const Rate raw = scalar();
+  const double raw_rate = raw.wall;
   std::printf("scene %s, isa %s\n", scene_file.c_str(), traceable.isa().c_str());
-  std::printf("embree raw closest-hit rays: %.2f M rays/s (%zu rays in the pool, %.1f %% hit)\n",
-              raw_rate / 1e6, rays.size(), 100.0 * double(hits) / double(passes * rays.size()));
-  if (mode == "packet") packet_rates(scene, isa, rays, widths, seconds, rounds, scalar);
+  std::printf("embree raw closest-hit rays: %.2f M rays/s, %.2f M rays per CPU-second (%zu rays in the pool, "
+              "%.1f %% hit)\n",
+              raw_rate / 1e6, raw.cpu / 1e6, rays.size(), 100.0 * double(hits) / double(passes * rays.size()));
+  const double packet_cpu_rate = mode == "packet" ? packet_rates(scene, isa, rays, widths, seconds, rounds, scalar) : 0;
 
   const Renderer renderer(scene, options);
   RenderStats stats;
+  timespec cpu0, cpu1;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu0);
   auto t0 = std::chrono::steady_clock::now();
   uint32_t batch = 0;
   const std::vector<TileRect> tiles = options.plan().tiles();
@@ -207,10 +237,19 @@ int main(int argc, char** argv) {
     ++batch;
   }
   const double elapsed = seconds_since(t0);
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu1);
+  const double cpu = double(cpu1.tv_sec - cpu0.tv_sec) + 1e-9 * double(cpu1.tv_nsec - cpu0.tv_nsec);
   const double render_rays = double(stats.rays + stats.shadow_rays) / elapsed;
   std::printf("renderer: %.2f M samples/s, %.2f M rays/s (closest-hit %.2f M/s + shadow %.2f M/s), "
               "%.1f %% of the raw rate\n",
               double(stats.samples) / elapsed / 1e6, render_rays / 1e6, double(stats.rays) / elapsed / 1e6,
               double(stats.shadow_rays) / elapsed / 1e6, 100.0 * render_rays / raw_rate);
+  std::printf("renderer per CPU-second (all its threads): %.2f M rays, %.1f %% of the raw per-CPU-second rate\n",
+              double(stats.rays + stats.shadow_rays) / cpu / 1e6,
+              100.0 * double(stats.rays + stats.shadow_rays) / cpu / raw.cpu);
+  if (packet_cpu_rate > 0) {
+    std::printf("renderer per CPU-second: %.1f %% of the widest packet's closest-hit rate\n",
+                100.0 * double(stats.rays + stats.shadow_rays) / cpu / packet_cpu_rate);
+  }
   return 0;
 }
