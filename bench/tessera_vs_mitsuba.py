@@ -22,6 +22,9 @@ Bias check: the mean of all of each renderer's rounds (R images with R seeds) is
 the reference too: its per-channel mean difference should be within noise and its RMSE about
 the rounds' median over sqrt(R) when the renderer and reference agree.
 
+--cross-check checks the reference against an independent image of the same view (for hexroom,
+Tessera's own 96x54 reference of tests/data/reference/hexroom/), box-filtered down to its size.
+
 When REFERENCE does not exist it is rendered first with Mitsuba at --ref-spp (seed 100000) and
 written there, with REFERENCE.json saying how (its spp then serves as --reference-spp).
 
@@ -106,6 +109,8 @@ def main():
     ap.add_argument("--ref-spp", type=int, default=4096, help="spp of a reference rendered here")
     ap.add_argument("--reference-spp", type=int,
                     help="spp of the reference when it is Mitsuba's (independent sampler): subtract its noise")
+    ap.add_argument("--cross-check", help="an independent image of the same view (e.g. Tessera's own reference) "
+                    "whose size divides the render's: the reference, box-filtered down to it, is compared with it")
     ap.add_argument("--tessera", default="build/bin/tessera-worker")
     ap.add_argument("--out", default="out/tessera_vs_mitsuba", help="folder for the renders")
     args = ap.parse_args()
@@ -136,6 +141,16 @@ def main():
     if ref.shape[:2] != (h, w):
         raise SystemExit(f"{args.reference} is {ref.shape[1]}x{ref.shape[0]}, the renders {w}x{h}")
 
+    if args.cross_check:
+        other = read_rgb(args.cross_check)
+        fy, fx = h // other.shape[0], w // other.shape[1]
+        if fy * other.shape[0] != h or fx * other.shape[1] != w:
+            raise SystemExit(f"{args.cross_check}: {other.shape[1]}x{other.shape[0]} does not divide {w}x{h}")
+        down = ref.reshape(other.shape[0], fy, other.shape[1], fx, 3).mean(axis=(1, 3))
+        c = compare(down, other)
+        print(f"cross-check: reference box-filtered to {other.shape[1]}x{other.shape[0]} vs {args.cross_check}: "
+              f"RMSE {c['rmse']:.5f}, mean difference per channel "
+              + ", ".join(f"{x:+.2f} %" for x in c["rel_mean_diff_rgb_percent"]), flush=True)
     if args.runs == 0:
         return 0
     mitsuba_render(scene, args.mitsuba_spp, 99999)  # warm-up: JIT compilation, untimed
