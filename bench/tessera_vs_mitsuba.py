@@ -45,6 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
+sys.dont_write_bytecode = True  # no __pycache__ beside the scripts
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from compare_exr import compare, read_rgb  # noqa: E402
 import tessera_to_mitsuba  # noqa: E402
