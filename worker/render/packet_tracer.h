@@ -52,7 +52,7 @@ struct HitBatch {
 /// bits for every width (packet_tracer_test.cpp checks widths 1, 4, 8 and 16 against each other
 /// on triangle meshes and the double-precision spheres): width is a speed choice only. Across
 /// Embree instruction sets they are not: rtcIntersect1 on the same 20,000 random rays of the
-/// repository's scenes gave other t or u bits for 14-17 % of them with isa=avx2 and 45-57 %
+/// repository's scenes gave other t or u bits for 13-17 % of them with isa=avx2 and 44-57 %
 /// with isa=sse4.2 than with avx512, and up to 276 other primitives, so a farm's determinism
 /// still rests on pinning Embree's ISA (--isa).
 /// Thread-safe: const queries on a read-only scene; each call is sequential, callers
