@@ -5,11 +5,10 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake ninja-build pkg-config git ca-certificates
-  libembree-dev libopenimageio-dev openimageio-tools libglm-dev libtbb-dev
+  libembree-dev libopenimageio-dev openimageio-tools libglm-dev libtbb-dev libhwy-dev
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libsqlite3-dev libssl-dev libcpp-httplib-dev nlohmann-json3-dev libcli11-dev
   libtinyobjloader-dev libzstd-dev libgtest-dev libgmock-dev libbenchmark-dev libpugixml-dev
-  libhwy-dev          # worker/simd: Google Highway, kernels dispatched to SSE4, AVX2, AVX-512
   python3
   fonts-dejavu-core   # the labels of tessera-worker converge's plot
 )
