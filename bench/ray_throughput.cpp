@@ -1,4 +1,5 @@
-// tessera-bench-rays SCENE [--seconds S] [--threads N] [--mode scalar|packet] [--widths 1,8,16]:
+// tessera-bench-rays SCENE [--seconds S] [--threads N] [--mode scalar|packet] [--widths 1,8,16]
+// [--rounds 3] [--isa ISA] [--spp N]:
 // Embree's raw ray throughput on a scene (the limit the renderer can approach) beside the
 // renderer's own rays/s on the same scene, in the same run.
 //
@@ -7,11 +8,16 @@
 // nothing else done per ray (TraceableScene::intersect, which also builds the surface point).
 // --mode packet adds the packet tracer (worker/render/packet_tracer.h) on the same pool: for each
 // width, closest-hit (rtcIntersect1/4/8/16) and occlusion (rtcOccluded1/4/8/16, same rays and
-// t_max) queries, packets cut in pool order, 4096-ray chunks spread over the threads.
+// t_max) queries, packets cut in pool order, 4096-ray chunks spread over the threads; every
+// query runs once per round, rounds interleaved with the scalar query, medians printed.
 // The renderer: one 64x64-tile batch after another through Renderer::render, counting its
 // closest-hit and shadow rays.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <ctime>
+#include <functional>
+#include <map>
 #include <cstdio>
 #include <optional>
 #include <random>
@@ -58,30 +64,57 @@ std::vector<Ray> make_rays(const TraceableScene& scene, int width, int height, s
   return rays;
 }
 
-/// Rays per second of `trace(begin, end)` over chunks of `count` rays, the whole pool traced
-/// again until `seconds` have passed; `*passes` (if given) receives how many times.
+double thread_cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+/// A query's throughput: rays per wall-clock second (all threads together) and rays per CPU
+/// second (time the tracing threads were actually on a core: on a shared, loaded machine this
+/// one measures the query, the wall rate mostly the load).
+struct Rate {
+  double wall = 0;
+  double cpu = 0;
+};
+
+/// The rate of `trace(begin, end)` over chunks of `count` rays, the whole pool traced again
+/// until `seconds` have passed; `*passes` (if given) receives how many times.
 template <typename Trace>
-double rate(size_t count, double seconds, Trace trace, uint64_t* passes = nullptr) {
+Rate rate(size_t count, double seconds, Trace trace, uint64_t* passes = nullptr) {
   constexpr size_t chunk = 4096;  // a multiple of every packet width: packets never straddle chunks
   uint64_t traced = 0;
+  std::atomic<int64_t> cpu_ns{0};
   const auto t0 = std::chrono::steady_clock::now();
   while (seconds_since(t0) < seconds) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, (count + chunk - 1) / chunk, 1),
                       [&](const tbb::blocked_range<size_t>& r) {
+                        const double c0 = thread_cpu_seconds();
                         for (size_t c = r.begin(); c != r.end(); ++c) {
                           trace(c * chunk, std::min(count, (c + 1) * chunk));
                         }
+                        cpu_ns += int64_t(1e9 * (thread_cpu_seconds() - c0));
                       });
     traced += count;
   }
   if (passes) *passes = traced / count;
-  return double(traced) / seconds_since(t0);
+  return {double(traced) / seconds_since(t0), double(traced) / (1e-9 * double(cpu_ns))};
 }
 
-/// The packet tracer at each width on `pool`: closest-hit and occlusion rates, printed beside
-/// `scalar_rate` (TraceableScene::intersect on the same rays).
-void packet_rates(const Scene& scene, const std::string& isa, const std::vector<Ray>& pool,
-                  const std::vector<int>& widths, double seconds, double scalar_rate) {
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// The packet tracer at each width on `pool`, closest-hit and occlusion, interleaved with
+/// `scalar` (TraceableScene::intersect's rate on the same rays) in each of `rounds` rounds, so
+/// load drifts on a shared machine hit every query alike; prints every round and the medians,
+/// with each width's rate divided by the same round's scalar rate. Returns the widest width's
+/// median closest-hit rays per CPU-second.
+double packet_rates(const Scene& scene, const std::string& isa, const std::vector<Ray>& pool,
+                  const std::vector<int>& widths, double seconds, int rounds,
+                  const std::function<Rate()>& scalar) {
   const StandaloneEmbreeScene embree(scene, isa);
   RayBatch rays;
   rays.resize(pool.size());
@@ -89,21 +122,43 @@ void packet_rates(const Scene& scene, const std::string& isa, const std::vector<
   HitBatch hits;
   hits.resize(pool.size());
   std::vector<uint8_t> occluded(pool.size());
-  std::printf("packet tracer (native width %d), same pool:\n", PacketTracer::native_width(embree.device()));
-  for (int width : widths) {
-    const PacketTracer tracer(embree.scene(), width);
-    const double closest = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.intersect(rays, b, e, &hits); });
-    const double shadow = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.occluded(rays, b, e, &occluded); });
-    size_t hit = 0, blocked = 0;
-    for (size_t i = 0; i < pool.size(); ++i) {
-      hit += hits.geometry[i] != RTC_INVALID_GEOMETRY_ID;
-      blocked += occluded[i];
+  std::printf("packet tracer (native width %d), same pool, %d rounds of %.1f s per query:\n",
+              PacketTracer::native_width(embree.device()), rounds, seconds);
+  std::vector<double> scalar_rates, scalar_wall;
+  std::map<int, std::vector<double>> closest, shadow, closest_ratio, closest_wall;
+  for (int round = 1; round <= rounds; ++round) {
+    const Rate s = scalar();
+    scalar_rates.push_back(s.cpu);
+    scalar_wall.push_back(s.wall);
+    std::printf("  round %d: scalar %.2f", round, s.cpu / 1e6);
+    for (int width : widths) {
+      const PacketTracer tracer(embree.scene(), width);
+      const Rate c = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.intersect(rays, b, e, &hits); });
+      const Rate o = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.occluded(rays, b, e, &occluded); });
+      closest[width].push_back(c.cpu);
+      closest_wall[width].push_back(c.wall);
+      shadow[width].push_back(o.cpu);
+      closest_ratio[width].push_back(c.cpu / s.cpu);
+      std::printf(", width %d %.2f / %.2f", width, c.cpu / 1e6, o.cpu / 1e6);
     }
-    std::printf("  width %2d: closest-hit %.2f M rays/s (%.2fx the scalar rate, %.1f %% hit), "
-                "occluded %.2f M rays/s (%.1f %% blocked)\n",
-                width, closest / 1e6, closest / scalar_rate, 100.0 * double(hit) / double(pool.size()),
-                shadow / 1e6, 100.0 * double(blocked) / double(pool.size()));
+    std::printf(" M rays per CPU-second (closest-hit / occluded)\n");
   }
+  size_t hit = 0, blocked = 0;
+  for (size_t i = 0; i < pool.size(); ++i) {
+    hit += hits.geometry[i] != RTC_INVALID_GEOMETRY_ID;
+    blocked += occluded[i];
+  }
+  std::printf("  medians, M rays per CPU-second (wall-clock M rays/s):\n"
+              "  scalar (TraceableScene::intersect): closest-hit %.2f (%.2f)\n",
+              median(scalar_rates) / 1e6, median(scalar_wall) / 1e6);
+  for (int width : widths) {
+    std::printf("  width %2d: closest-hit %.2f (%.2f), %.2fx the scalar rate; occluded %.2f\n", width,
+                median(closest[width]) / 1e6, median(closest_wall[width]) / 1e6, median(closest_ratio[width]),
+                median(shadow[width]) / 1e6);
+  }
+  std::printf("  (%.1f %% of the pool hit, %.1f %% blocked)\n", 100.0 * double(hit) / double(pool.size()),
+              100.0 * double(blocked) / double(pool.size()));
+  return median(closest[*std::max_element(widths.begin(), widths.end())]);
 }
 
 }  // namespace
@@ -127,8 +182,12 @@ int main(int argc, char** argv) {
   app.add_option("--widths", widths, "Packet widths for --mode packet (1 = rtcIntersect1)")
       ->delimiter(',')
       ->check(CLI::IsMember({1, 4, 8, 16}));
+  int rounds = 3;
+  app.add_option("--rounds", rounds, "--mode packet: rounds of every query, interleaved; medians printed")
+      ->check(CLI::PositiveNumber);
   app.add_option("--isa", isa, "Pin Embree's instruction set (avx512, avx2, sse4.2)");
   CLI11_PARSE(app, argc, argv);
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each figure shows as soon as it is measured
   std::optional<tbb::global_control> limit;
   if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
 
@@ -142,35 +201,55 @@ int main(int argc, char** argv) {
 
   std::atomic<uint64_t> hits{0};
   uint64_t passes = 0;
-  const double raw_rate = rate(rays.size(), seconds, [&](size_t begin, size_t end) {
-    uint64_t local = 0;
-    for (size_t i = begin; i != end; ++i) {
-      Hit hit;
-      local += traceable.intersect(rays[i], &hit) ? 1 : 0;
-    }
-    hits += local;
-  }, &passes);
+  const auto scalar = [&] {
+    return rate(rays.size(), seconds, [&](size_t begin, size_t end) {
+      uint64_t local = 0;
+      for (size_t i = begin; i != end; ++i) {
+        Hit hit;
+        local += traceable.intersect(rays[i], &hit) ? 1 : 0;
+      }
+      hits += local;
+    }, &passes);
+  };
+  const Rate raw = scalar();
+  const double raw_rate = raw.wall;
   std::printf("scene %s, isa %s\n", scene_file.c_str(), traceable.isa().c_str());
-  std::printf("embree raw closest-hit rays: %.2f M rays/s (%zu rays in the pool, %.1f %% hit)\n",
-              raw_rate / 1e6, rays.size(), 100.0 * double(hits) / double(passes * rays.size()));
-  if (mode == "packet") packet_rates(scene, isa, rays, widths, seconds, raw_rate);
+  std::printf("embree raw closest-hit rays: %.2f M rays/s, %.2f M rays per CPU-second (%zu rays in the pool, "
+              "%.1f %% hit)\n",
+              raw_rate / 1e6, raw.cpu / 1e6, rays.size(), 100.0 * double(hits) / double(passes * rays.size()));
+  const double packet_cpu_rate = mode == "packet" ? packet_rates(scene, isa, rays, widths, seconds, rounds, scalar) : 0;
 
   const Renderer renderer(scene, options);
   RenderStats stats;
+  timespec cpu0, cpu1;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu0);
   auto t0 = std::chrono::steady_clock::now();
   uint32_t batch = 0;
   const std::vector<TileRect> tiles = options.plan().tiles();
-  while (seconds_since(t0) < seconds) {
+  // Stops at the first tile boundary past `seconds`, so a large image at a high --spp does not
+  // run a whole batch of the frame on a loaded machine (the figure then covers the tiles reached).
+  bool done = false;
+  while (!done) {
     for (const TileRect& tile : tiles) {
       renderer.render(tile, batch * spp, (batch + 1) * spp, &stats);
+      if ((done = seconds_since(t0) >= seconds)) break;
     }
     ++batch;
   }
   const double elapsed = seconds_since(t0);
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu1);
+  const double cpu = double(cpu1.tv_sec - cpu0.tv_sec) + 1e-9 * double(cpu1.tv_nsec - cpu0.tv_nsec);
   const double render_rays = double(stats.rays + stats.shadow_rays) / elapsed;
   std::printf("renderer: %.2f M samples/s, %.2f M rays/s (closest-hit %.2f M/s + shadow %.2f M/s), "
               "%.1f %% of the raw rate\n",
               double(stats.samples) / elapsed / 1e6, render_rays / 1e6, double(stats.rays) / elapsed / 1e6,
               double(stats.shadow_rays) / elapsed / 1e6, 100.0 * render_rays / raw_rate);
+  std::printf("renderer per CPU-second (all its threads): %.2f M rays, %.1f %% of the raw per-CPU-second rate\n",
+              double(stats.rays + stats.shadow_rays) / cpu / 1e6,
+              100.0 * double(stats.rays + stats.shadow_rays) / cpu / raw.cpu);
+  if (packet_cpu_rate > 0) {
+    std::printf("renderer per CPU-second: %.1f %% of the widest packet's closest-hit rate\n",
+                100.0 * double(stats.rays + stats.shadow_rays) / cpu / packet_cpu_rate);
+  }
   return 0;
 }

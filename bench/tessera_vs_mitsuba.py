@@ -22,8 +22,11 @@ Bias check: the mean of all of each renderer's rounds (R images with R seeds) is
 the reference too: its per-channel mean difference should be within noise and its RMSE about
 the rounds' median over sqrt(R) when the renderer and reference agree.
 
+--cross-check checks the reference against an independent image of the same view (for hexroom,
+Tessera's own 96x54 reference of tests/data/reference/hexroom/), box-filtered down to its size.
+
 When REFERENCE does not exist it is rendered first with Mitsuba at --ref-spp (seed 100000) and
-written there.
+written there, with REFERENCE.json saying how (its spp then serves as --reference-spp).
 
 Usage (repository root; bench/tessera_vs_mitsuba.sh runs this for several scenes):
   /work/venv-mitsuba/bin/python bench/tessera_vs_mitsuba.py SCENE.json --reference REF.exr
@@ -42,6 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
+sys.dont_write_bytecode = True  # no __pycache__ beside the scripts
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from compare_exr import compare, read_rgb  # noqa: E402
 import tessera_to_mitsuba  # noqa: E402
@@ -106,6 +110,8 @@ def main():
     ap.add_argument("--ref-spp", type=int, default=4096, help="spp of a reference rendered here")
     ap.add_argument("--reference-spp", type=int,
                     help="spp of the reference when it is Mitsuba's (independent sampler): subtract its noise")
+    ap.add_argument("--cross-check", help="an independent image of the same view (e.g. Tessera's own reference) "
+                    "whose size divides the render's: the reference, box-filtered down to it, is compared with it")
     ap.add_argument("--tessera", default="build/bin/tessera-worker")
     ap.add_argument("--out", default="out/tessera_vs_mitsuba", help="folder for the renders")
     args = ap.parse_args()
@@ -123,15 +129,29 @@ def main():
           f"{args.tessera_spp} spp, Mitsuba {mi.__version__} llvm_ad_rgb {args.mitsuba_spp} spp; "
           f"{args.runs} rounds; load {Path('/proc/loadavg').read_text().split()[:3]}", flush=True)
 
+    sidecar = Path(str(args.reference) + ".json")  # how a reference made here was made
     if not Path(args.reference).exists():
-        args.reference_spp = args.ref_spp
         img, dt = mitsuba_render(scene, args.ref_spp, 100000)
         write_exr(args.reference, img)
+        sidecar.write_text(json.dumps({"renderer": f"mitsuba {mi.__version__} llvm_ad_rgb", "spp": args.ref_spp,
+                                       "seed": 100000, "seconds": round(dt, 1)}) + "\n")
         print(f"reference: Mitsuba {args.ref_spp} spp, seed 100000, {dt:.1f} s -> {args.reference}", flush=True)
+    if args.reference_spp is None and sidecar.exists():
+        args.reference_spp = json.loads(sidecar.read_text())["spp"]
     ref = read_rgb(args.reference)
     if ref.shape[:2] != (h, w):
         raise SystemExit(f"{args.reference} is {ref.shape[1]}x{ref.shape[0]}, the renders {w}x{h}")
 
+    if args.cross_check:
+        other = read_rgb(args.cross_check)
+        fy, fx = h // other.shape[0], w // other.shape[1]
+        if fy * other.shape[0] != h or fx * other.shape[1] != w:
+            raise SystemExit(f"{args.cross_check}: {other.shape[1]}x{other.shape[0]} does not divide {w}x{h}")
+        down = ref.reshape(other.shape[0], fy, other.shape[1], fx, 3).mean(axis=(1, 3))
+        c = compare(down, other)
+        print(f"cross-check: reference box-filtered to {other.shape[1]}x{other.shape[0]} vs {args.cross_check}: "
+              f"RMSE {c['rmse']:.5f}, mean difference per channel "
+              + ", ".join(f"{x:+.2f} %" for x in c["rel_mean_diff_rgb_percent"]), flush=True)
     if args.runs == 0:
         return 0
     mitsuba_render(scene, args.mitsuba_spp, 99999)  # warm-up: JIT compilation, untimed

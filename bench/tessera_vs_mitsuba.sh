@@ -6,14 +6,15 @@
 # Per scene, known ones get their settings and reference:
 #   scenes/cornell.json         256x256, depth 8, tests/data/reference/cbox/ref_depth8.exr (Mitsuba)
 #   scenes/cornell-sphere.json  256x256, unbounded, out/ref/cornell-sphere_256x256.exr
-#   scenes/hexroom.json         384x216, unbounded, out/ref/hexroom_384x216.exr
+#   scenes/hexroom.json         384x216, unbounded, out/ref/hexroom_384x216.exr, cross-checked
+#                               against Tessera's 8192-spp 96x54 reference
 #   anything else               its own film size, unbounded, out/ref/STEM.exr
-# A missing reference is rendered with Mitsuba at REF_SPP first (an existing one under out/ref/
-# is taken to have REF_SPP too: its noise is subtracted on that assumption). Environment: RUNS (3),
+# A missing reference is rendered with Mitsuba at REF_SPP first, and REF.exr.json records its
+# spp (the reference's noise is subtracted on that basis). Environment: RUNS (3),
 # TESSERA_SPP (64), MITSUBA_SPP (256), REF_SPP (4096), THREADS (2),
 # PY (/work/venv-mitsuba/bin/python: Mitsuba 3.9 with drjit, libllvm19 for llvm_ad_rgb).
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n 2,14p "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n 2,16p "$0"; exit 2; }
 PY=${PY:-/work/venv-mitsuba/bin/python}
 RUNS=${RUNS:-3}
 TESSERA_SPP=${TESSERA_SPP:-64}
@@ -25,13 +26,14 @@ echo "tessera: $(git rev-parse --short HEAD 2>/dev/null || echo '?'), load befor
 for scene in "$@"; do
   stem=$(basename "$scene" .json)
   case "$stem" in
-    cornell) size=(--width 256 --height 256); depth=8; ref=tests/data/reference/cbox/ref_depth8.exr; ref_spp=8192 ;;
-    cornell-sphere) size=(--width 256 --height 256); depth=-1; ref=out/ref/cornell-sphere_256x256.exr; ref_spp=$REF_SPP ;;
-    hexroom) size=(--width 384 --height 216); depth=-1; ref=out/ref/hexroom_384x216.exr; ref_spp=$REF_SPP ;;
-    *) size=(); depth=-1; ref=out/ref/$stem.exr; ref_spp=$REF_SPP ;;
+    cornell) size=(--width 256 --height 256); depth=8; ref=tests/data/reference/cbox/ref_depth8.exr; ref_spp=(--reference-spp 8192) ;;
+    cornell-sphere) size=(--width 256 --height 256); depth=-1; ref=out/ref/cornell-sphere_256x256.exr; ref_spp=() ;;
+    hexroom) size=(--width 384 --height 216); depth=-1; ref=out/ref/hexroom_384x216.exr
+      ref_spp=(--cross-check tests/data/reference/hexroom/ref_96x54_8192spp.exr) ;;
+    *) size=(); depth=-1; ref=out/ref/$stem.exr; ref_spp=() ;;
   esac
   "$PY" bench/tessera_vs_mitsuba.py "$scene" --reference "$ref" "${size[@]}" --max-depth "$depth" \
     --tessera-spp "$TESSERA_SPP" --mitsuba-spp "$MITSUBA_SPP" --runs "$RUNS" --threads "$THREADS" \
-    --ref-spp "$REF_SPP" --reference-spp "$ref_spp"
+    --ref-spp "$REF_SPP" "${ref_spp[@]}"
 done
 echo "load after: $(cat /proc/loadavg)"

@@ -92,6 +92,7 @@ void intersect_packets(RTCScene scene, const RayBatch& rays, size_t begin, size_
     for (size_t lane = 0; lane < n; ++lane) {
       const size_t i = first + lane;
       hits->geometry[i] = valid[lane] ? rh.hit.geomID[lane] : RTC_INVALID_GEOMETRY_ID;
+      hits->instance[i] = rh.hit.instID[0][lane];
       hits->primitive[i] = rh.hit.primID[lane];
       hits->t[i] = rh.ray.tfar[lane];
       hits->u[i] = rh.hit.u[lane];
@@ -127,6 +128,7 @@ void intersect_single(RTCScene scene, const RayBatch& rays, size_t begin, size_t
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene, &context, &rh);
     hits->geometry[i] = rh.hit.geomID;
+    hits->instance[i] = rh.hit.instID[0];
     hits->primitive[i] = rh.hit.primID;
     hits->t[i] = rh.ray.tfar;
     hits->u[i] = rh.hit.u;
@@ -205,6 +207,7 @@ void RayBatch::set(size_t i, const Ray& ray) {
 
 void HitBatch::resize(size_t n) {
   geometry.resize(n, RTC_INVALID_GEOMETRY_ID);
+  instance.resize(n, RTC_INVALID_GEOMETRY_ID);
   primitive.resize(n, RTC_INVALID_GEOMETRY_ID);
   for (std::vector<float>* f : {&t, &u, &v, &ng_x, &ng_y, &ng_z}) f->resize(n, 0.0f);
 }

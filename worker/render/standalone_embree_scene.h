@@ -30,6 +30,9 @@ class StandaloneEmbreeScene {
     rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
     for (const Shape& shape : scene.shapes) {
+      if (shape.kind != Shape::Kind::sphere && shape.kind != Shape::Kind::triangles) {
+        throw SceneError(shape.origin + ": only triangles and spheres are copied into a standalone Embree scene");
+      }
       auto g = std::make_unique<Geometry>();
       RTCGeometry geom;
       if (shape.kind == Shape::Kind::sphere) {
