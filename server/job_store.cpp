@@ -288,6 +288,52 @@ CancelOutcome JobStore::cancel(int64_t job_id, int64_t now) {
   return CancelOutcome::cancelled;
 }
 
+DeleteOutcome JobStore::remove(int64_t job_id) {
+  {
+    Transaction tx(db_);
+    std::optional<JobState> state;
+    std::string bundle;
+    {
+      auto q = db_.prepare("SELECT state, bundle_sha256 FROM jobs WHERE id = ?");
+      q->bind(1, job_id);
+      if (q->step()) {
+        state = job_state_from_string(q->text(0));
+        bundle = q->text(1);
+      }
+    }
+    if (!state) return DeleteOutcome::not_found;
+    if (!is_final(*state)) return DeleteOutcome::not_final;
+    // ON DELETE CASCADE removes tiles, units (and their failures), pending results, the job's
+    // worker failures, contributors and client.
+    db_.prepare("DELETE FROM jobs WHERE id = ? AND state = ?")
+        ->bind(1, job_id)
+        .bind(2, s(*state))
+        .run();
+    if (db_.changes() != 1) return DeleteOutcome::not_found;
+    db_.prepare(
+           "DELETE FROM bundles WHERE sha256 = ?1 AND NOT EXISTS"
+           " (SELECT 1 FROM jobs WHERE bundle_sha256 = ?1)")
+        ->bind(1, bundle)
+        .run();
+    tx.commit();
+  }
+  db_.exec("PRAGMA incremental_vacuum");
+  return DeleteOutcome::deleted;
+}
+
+std::vector<int64_t> JobStore::finished_before(int64_t before) {
+  std::vector<int64_t> out;
+  auto q = db_.prepare(
+      "SELECT id FROM jobs WHERE state IN (?, ?, ?) AND finished_unix_ms > 0"
+      " AND finished_unix_ms < ? ORDER BY id");
+  q->bind(1, s(JobState::done))
+      .bind(2, s(JobState::failed))
+      .bind(3, s(JobState::cancelled))
+      .bind(4, before);
+  while (q->step()) out.push_back(q->int64(0));
+  return out;
+}
+
 bool JobStore::fail_in_transaction(int64_t job_id, const std::string& message, int64_t now) {
   if (!apply_job_event(db_, job_id, JobEvent::fail, nullptr)) return false;
   db_.prepare("UPDATE jobs SET finished_unix_ms = ?, error = ?, stop_reason = '' WHERE id = ?")
