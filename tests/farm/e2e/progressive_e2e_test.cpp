@@ -41,6 +41,8 @@ TEST(ProgressiveE2E, DefaultScheduleBitIdenticalToLocalRender) {
   EXPECT_EQ(job.counters().results_merged(), job.counters().units_total());
   EXPECT_EQ(job.spp_merged(), 64u);
   EXPECT_TRUE(same_pixels(job.output_exr(), local));
+  EXPECT_EQ(image_attribute(job.output_exr(), "tessera:batch_schedule"), "progressive");
+  EXPECT_EQ(image_attribute(local, "tessera:batch_schedule"), "progressive");
   const CommandResult text = farm.cli({"status", std::to_string(id)});
   EXPECT_NE(text.out.find("every tile has at least 64 of 64 spp"), std::string::npos) << text.out;
   if (HasFailure()) farm.dump_logs();
