@@ -3,8 +3,12 @@
 // migration 5).
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 
+#include "coordinator.h"
+#include "farm_error.h"
 #include "store_fixture.h"
 
 namespace tessera::server {
@@ -85,6 +89,50 @@ TEST(DeleteJob, FinishedBeforeListsOnlyOldFinalJobs) {
   EXPECT_EQ(f.jobs.get(running)->state, JobState::running);
   EXPECT_EQ(f.jobs.finished_before(2'000), std::vector<int64_t>{old_job});
   EXPECT_TRUE(f.jobs.finished_before(1'000).empty());
+}
+
+// --retention-days through the coordinator: a final job older than the retention is deleted by
+// the reaper's periodic call, a younger one and an unfinished one are kept.
+TEST(DeleteJob, RetentionDeletesOnlyOldFinalJobs) {
+  testing::FakeClock clock;
+  CoordinatorConfig config;
+  config.db_path = ":memory:";
+  config.output_dir = std::filesystem::temp_directory_path() / "tessera-retention-test";
+  config.retention_days = 1;
+  Coordinator coordinator(config, clock);
+  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/tiny.json");
+  std::ostringstream scene;
+  scene << in.rdbuf();
+  v1::SceneBundle bundle;
+  bundle.set_scene_file("scene.json");
+  auto* file = bundle.add_files();
+  file->set_path("scene.json");
+  file->set_data(scene.str());
+  const int64_t old_job = coordinator.submit(bundle, {}, 0, "c").id;
+  coordinator.cancel(old_job);
+  clock.advance(3'600'000);
+  const int64_t young_job = coordinator.submit(bundle, {}, 0, "c").id;
+  coordinator.cancel(young_job);
+  const int64_t queued_job = coordinator.submit(bundle, {}, 0, "c").id;
+  clock.advance(86'400'000 - 3'600'000 - 30'000);  // the old job ended a day less 30 s ago
+  EXPECT_EQ(coordinator.apply_retention(), 0);     // nothing a day old yet
+  clock.advance(31'000);                           // now it is, but the last check was 31 s ago
+  EXPECT_EQ(coordinator.apply_retention(), 0);     // at most once a minute
+  clock.advance(30'000);
+  EXPECT_EQ(coordinator.apply_retention(), 1);
+  EXPECT_THROW(coordinator.job(old_job), FarmError);
+  EXPECT_EQ(coordinator.job(young_job).state, JobState::cancelled);
+  EXPECT_EQ(coordinator.job(queued_job).state, JobState::queued);
+  // Deleting by hand: an unknown or unfinished job is refused, naming why.
+  try {
+    coordinator.remove(queued_job);
+    ADD_FAILURE() << "a queued job was deleted";
+  } catch (const FarmError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "job " + std::to_string(queued_job) + " is queued: cancel it first");
+    EXPECT_EQ(e.code(), ErrorCode::failed_precondition);
+  }
+  EXPECT_THROW(coordinator.remove(old_job), FarmError);
 }
 
 }  // namespace
