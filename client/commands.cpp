@@ -180,7 +180,8 @@ int status(const GlobalOptions& g, uint64_t job_id) {
     }
     const auto& o = job.options();
     const auto& c = job.counters();
-    std::printf("job %llu: %s, %.1f%% (%u of %u spp merged everywhere), priority %d\n",
+    std::printf("job %llu: %s, %.1f %% \u2014 every tile has at least %u of %u spp, "
+                "priority %d\n",
                 static_cast<unsigned long long>(job.id()), state_name(job.state()).c_str(),
                 100.0 * job.progress(), job.spp_merged(), o.spp(), job.priority());
     std::printf("  scene     %s (bundle sha256 %s)\n", job.scene_file().c_str(),

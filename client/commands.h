@@ -34,6 +34,8 @@ int status(const GlobalOptions& g, uint64_t job_id);
 int watch(const GlobalOptions& g, uint64_t job_id);
 int get(const GlobalOptions& g, uint64_t job_id, const std::string& output);
 int cancel(const GlobalOptions& g, uint64_t job_id);
+/// delete_command.cpp: a final job off the server.
+int delete_job(const GlobalOptions& g, uint64_t job_id);
 int list(const GlobalOptions& g);
 int workers(const GlobalOptions& g);
 

@@ -60,6 +60,10 @@ int main(int argc, char** argv) {
   CLI::App* cancel_cmd = app.add_subcommand("cancel", "Cancel a job");
   cancel_cmd->add_option("job", job_id, "Job id")->required();
   json_flag(cancel_cmd, g.json);
+  CLI::App* delete_cmd =
+      app.add_subcommand("delete", "Delete a finished or cancelled job and its outputs");
+  delete_cmd->add_option("job", job_id, "Job id")->required();
+  json_flag(delete_cmd, g.json);
   CLI::App* list_cmd = app.add_subcommand("list", "List jobs, newest first");
   json_flag(list_cmd, g.json);
   CLI::App* workers_cmd = app.add_subcommand("workers", "List workers");
@@ -78,6 +82,7 @@ int main(int argc, char** argv) {
   if (watch_cmd->parsed()) return tc::watch(g, job_id);
   if (get_cmd->parsed()) return tc::get(g, job_id, output);
   if (cancel_cmd->parsed()) return tc::cancel(g, job_id);
+  if (delete_cmd->parsed()) return tc::delete_job(g, job_id);
   if (list_cmd->parsed()) return tc::list(g);
   if (workers_cmd->parsed()) return tc::workers(g);
   return 2;

@@ -45,7 +45,8 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       merger_(db_, clock_),
       output_(config.output_dir),
       limits_(config.limits),
-      nan_report_fraction_(config.nan_report_fraction) {
+      nan_report_fraction_(config.nan_report_fraction),
+      retention_days_(config.retention_days) {
   check_integrity(db_, config.db_path);
   migrate(db_, clock_.now_unix_ms());
   leases_.set_health_policy(config.health);
@@ -100,6 +101,7 @@ JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobReques
   } catch (const std::invalid_argument& e) {
     throw invalid(e.what());
   }
+  check_unit_count(resolved, limits_);
   NewJob job;
   job.bundle_bytes = wire::canonical_bytes(contents);
   job.bundle_sha256 = wire::sha256_hex(job.bundle_bytes);
@@ -170,6 +172,54 @@ JobRecord Coordinator::cancel(int64_t job_id) {
   }
   changes_.notify();
   return record;
+}
+
+void Coordinator::remove(int64_t job_id) {
+  std::optional<JobRecord> record;
+  {
+    std::lock_guard lock(mu_);
+    record = jobs_.get(job_id);
+    if (!record) throw job_not_found(job_id);
+    if (finishing_.contains(job_id)) {
+      throw FarmError(ErrorCode::failed_precondition,
+                      "job " + std::to_string(job_id) + " is writing its output: try again");
+    }
+    switch (jobs_.remove(job_id)) {
+      case DeleteOutcome::not_found: throw job_not_found(job_id);
+      case DeleteOutcome::not_final:
+        throw FarmError(ErrorCode::failed_precondition,
+                        "job " + std::to_string(job_id) + " is " +
+                            std::string(to_string(record->state)) + ": cancel it first");
+      case DeleteOutcome::deleted: break;
+    }
+  }
+  // The job is gone from the store: its files are nobody's now.
+  for (const std::string& file : {record->output_exr, record->output_png}) {
+    std::error_code ec;
+    if (!file.empty()) std::filesystem::remove(file, ec);
+  }
+  changes_.notify();
+}
+
+int Coordinator::apply_retention() {
+  std::vector<int64_t> old;
+  {
+    std::lock_guard lock(mu_);
+    const int64_t now = clock_.now_unix_ms();
+    if (retention_days_ <= 0 || now - last_retention_unix_ms_ < 60'000) return 0;
+    last_retention_unix_ms_ = now;
+    old = jobs_.finished_before(now - int64_t(retention_days_ * 86'400'000.0));
+  }
+  int deleted = 0;
+  for (int64_t id : old) {
+    try {
+      remove(id);
+      ++deleted;
+    } catch (const FarmError&) {
+      // Deleted meanwhile (by hand): nothing to do.
+    }
+  }
+  return deleted;
 }
 
 JobImage Coordinator::image(int64_t job_id, const std::string& format) {

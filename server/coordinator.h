@@ -37,6 +37,8 @@ struct CoordinatorConfig {
   WorkerHealthPolicy health;                     ///< blocking and failing (docs/reliability.md)
   /// A worker whose NaN/Inf samples exceed this fraction of its samples is reported.
   double nan_report_fraction = 1e-3;
+  /// Final jobs older than this many days are deleted (--retention-days); 0 = keep them.
+  double retention_days = 0;
 };
 
 /// A unit leased to a worker, with what it needs to render it.
@@ -107,6 +109,12 @@ class Coordinator {
   std::vector<JobRecord> jobs(uint32_t limit);
   /// Throws FarmError: not_found, failed_precondition when already finished.
   JobRecord cancel(int64_t job_id);
+  /// Deletes a final job and its output files (JobStore::remove). Throws FarmError: not_found,
+  /// failed_precondition when it is queued or running (cancel it first).
+  void remove(int64_t job_id);
+  /// Deletes the final jobs that finished more than `retention_days` ago (config; 0 = keep),
+  /// at most once a minute; called by the LeaseReaper. Returns how many.
+  int apply_retention();
   /// `format` is "exr" or "png". The final output when the job is done, else a preview.
   JobImage image(int64_t job_id, const std::string& format);
 
@@ -179,6 +187,8 @@ class Coordinator {
   FarmLimits limits_;
   double nan_report_fraction_;
   std::set<int64_t> reported_workers_;  ///< NaN/Inf warning logged (guarded by mu_)
+  double retention_days_;
+  int64_t last_retention_unix_ms_ = 0;  ///< guarded by mu_
   ChangeNotifier changes_;
   FarmMetrics metrics_{clock_};  ///< dashboard counters (thread-safe on its own)
 };

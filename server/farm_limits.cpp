@@ -44,6 +44,21 @@ uint64_t obj_faces(const std::string& bytes) {
 
 }  // namespace
 
+void check_unit_count(const JobOptions& options, const FarmLimits& limits) {
+  const JobPlan plan = options.plan();
+  const uint64_t tiles = uint64_t((plan.width + plan.tile_size - 1) / plan.tile_size) *
+                         uint64_t((plan.height + plan.tile_size - 1) / plan.tile_size);
+  const uint64_t units = tiles * plan.batch_count();
+  if (units > limits.max_units_per_job) {
+    throw FarmError(ErrorCode::invalid_argument,
+                    "job has " + std::to_string(units) + " work units (" + std::to_string(tiles) +
+                        " tiles x " + std::to_string(plan.batch_count()) +
+                        " batches), over the farm's limit of " +
+                        std::to_string(limits.max_units_per_job) +
+                        " (server flag --max-units): use fewer spp, a larger --tile or --batch");
+  }
+}
+
 void check_bundle_limits(const v1::SceneBundle& bundle, const FarmLimits& limits) {
   const uint64_t files = uint64_t(bundle.files_size());
   if (files > limits.max_bundle_files) {

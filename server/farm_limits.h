@@ -22,7 +22,14 @@ struct FarmLimits {
   uint64_t max_triangles = 50'000'000;  ///< triangles in a scene (--max-triangles)
   /// Unfinished (queued or running) jobs one client may have (--max-queued-jobs); 0 = no limit.
   uint64_t max_queued_jobs_per_client = 100;
+  /// Work units (tiles x batches) one job may have (--max-units).
+  uint64_t max_units_per_job = 1'000'000;
 };
+
+/// The job's work units (tiles x batches of its schedule) against --max-units, computed without
+/// building the plan's tiles. Throws FarmError(invalid_argument) with one line giving the count
+/// and the cap.
+void check_unit_count(const JobOptions& options, const FarmLimits& limits);
 
 /// Bundle size and file count, on the request as received (before anything is copied).
 /// Throws FarmError(invalid_argument).

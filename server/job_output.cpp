@@ -45,6 +45,8 @@ std::map<std::string, std::string> JobOutput::provenance(const JobRecord& job) {
   m["tessera:scene_file"] = job.scene_file;
   m["tessera:scene_sha256"] = job.bundle_sha256;
   m["tessera:job_options"] = wire::options_to_json(job.options);
+  // job_options' batch_spp is the cap of a progressive schedule (docs/farm.md, "Batches").
+  m["tessera:batch_schedule"] = std::string(to_string(job.options.batch_kind));
   m["tessera:spp"] = std::to_string(job.spp_merged);
   m["tessera:spp_min"] = std::to_string(job.reached.spp_min);
   m["tessera:spp_mean"] = std::to_string(job.reached.spp_mean);

@@ -69,6 +69,16 @@ grpc::Status JobServiceImpl::CancelJob(grpc::ServerContext* context,
   });
 }
 
+grpc::Status JobServiceImpl::DeleteJob(grpc::ServerContext* context,
+                                       const v1::DeleteJobRequest* request,
+                                       v1::DeleteJobResponse* response) {
+  return guarded(auth_, *context, "DeleteJob", [&] {
+    coordinator_.remove(job_id_of(request->job_id()));
+    response->set_job_id(request->job_id());
+    return grpc::Status::OK;
+  });
+}
+
 grpc::Status JobServiceImpl::WatchJob(grpc::ServerContext* context,
                                       const v1::WatchJobRequest* request,
                                       grpc::ServerWriter<v1::JobInfo>* writer) {

@@ -21,21 +21,17 @@ constexpr const char* kJobColumns = R"sql(
   j.samples_merged, j.nan_dropped, j.inf_dropped,
   j.submitted_unix_ms, j.started_unix_ms, j.finished_unix_ms, j.error, j.output_exr, j.output_png,
   (SELECT COUNT(*) FROM units u WHERE u.job_id = j.id AND u.state = ?1),
-  (SELECT MIN(t.next_batch) FROM tiles t WHERE t.job_id = j.id),
+  (SELECT MIN(t.spp) FROM tiles t WHERE t.job_id = j.id),
   j.stop_rule, j.time_budget_ms, j.noise_target, j.budget_reached_unix_ms, j.stop_reason,
   j.units_skipped, j.results_wasted,
-  (SELECT MAX(t.next_batch) FROM tiles t WHERE t.job_id = j.id),
-  (SELECT AVG(MIN(t.next_batch * j.batch_spp, j.spp)) FROM tiles t WHERE t.job_id = j.id),
+  (SELECT MAX(t.spp) FROM tiles t WHERE t.job_id = j.id),
+  (SELECT AVG(t.spp) FROM tiles t WHERE t.job_id = j.id),
   (SELECT MAX(t.error) FROM tiles t WHERE t.job_id = j.id),
   (SELECT AVG(t.error) FROM tiles t WHERE t.job_id = j.id),
   (SELECT COUNT(*) FROM tiles t WHERE t.job_id = j.id AND t.finished != ''),
-  NOT EXISTS (SELECT 1 FROM units u WHERE u.job_id = j.id AND u.state IN ('queued', 'leased'))
+  NOT EXISTS (SELECT 1 FROM units u WHERE u.job_id = j.id AND u.state IN ('queued', 'leased')),
+  j.batch_schedule
 )sql";
-
-/// The stored spp of a tile with batches [0, next_batch) merged.
-uint32_t spp_of(const JobOptions& o, uint32_t next_batch) {
-  return next_batch == 0 ? 0 : o.plan().batch_end(next_batch - 1);
-}
 
 JobRecord read_job(const Statement& q) {
   JobRecord r;
@@ -71,8 +67,7 @@ JobRecord read_job(const Statement& q) {
   r.output_exr = q.text(c++);
   r.output_png = q.text(c++);
   r.counters.units_leased = uint32_t(q.int64(c++));
-  const uint32_t min_next_batch = uint32_t(q.int64(c++));
-  r.spp_merged = spp_of(r.options, min_next_batch);
+  r.spp_merged = uint32_t(q.int64(c++));
   r.options.rule = stop_rule_from_string(q.text(c++)).value_or(StopRule::spp);
   r.options.time_budget_s = double(q.int64(c++)) / 1000.0;
   r.options.noise_target = q.real(c++);
@@ -81,12 +76,13 @@ JobRecord read_job(const Statement& q) {
   r.counters.units_skipped = uint32_t(q.int64(c++));
   r.counters.results_wasted = uint32_t(q.int64(c++));
   r.reached.spp_min = r.spp_merged;
-  r.reached.spp_max = spp_of(r.options, uint32_t(q.int64(c++)));
+  r.reached.spp_max = uint32_t(q.int64(c++));
   r.reached.spp_mean = q.real(c++);
   r.reached.error_max = q.real(c++);
   r.reached.error_mean = q.real(c++);
   r.tiles_finished = uint32_t(q.int64(c++));
   r.complete = q.int64(c++) != 0;
+  r.options.batch_kind = batch_kind_from_string(q.text(c++)).value_or(BatchKind::fixed);
   return r;
 }
 
@@ -156,8 +152,9 @@ int64_t JobStore::create(const NewJob& job, int64_t now) {
   db_.prepare(R"sql(
       INSERT INTO jobs (state, priority, bundle_sha256, scene_file, width, height, spp, max_depth,
                         seed, tile_size, batch_spp, isa, tile_count, batch_count, units_total,
-                        submitted_unix_ms, stop_rule, time_budget_ms, noise_target)
-      VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?))sql")
+                        submitted_unix_ms, stop_rule, time_budget_ms, noise_target,
+                        batch_schedule)
+      VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?))sql")
       ->bind(1, s(JobState::queued))
       .bind(2, job.priority)
       .bind(3, job.bundle_sha256)
@@ -177,6 +174,7 @@ int64_t JobStore::create(const NewJob& job, int64_t now) {
       .bind(17, std::string(to_string(o.rule)))
       .bind(18, int64_t(std::llround(o.time_budget_s * 1000.0)))
       .bind(19, o.noise_target)
+      .bind(20, std::string(to_string(o.batch_kind)))
       .run();
   const int64_t job_id = db_.last_insert_rowid();
   for (size_t t = 0; t < tiles.size(); ++t) {
@@ -290,6 +288,52 @@ CancelOutcome JobStore::cancel(int64_t job_id, int64_t now) {
   return CancelOutcome::cancelled;
 }
 
+DeleteOutcome JobStore::remove(int64_t job_id) {
+  {
+    Transaction tx(db_);
+    std::optional<JobState> state;
+    std::string bundle;
+    {
+      auto q = db_.prepare("SELECT state, bundle_sha256 FROM jobs WHERE id = ?");
+      q->bind(1, job_id);
+      if (q->step()) {
+        state = job_state_from_string(q->text(0));
+        bundle = q->text(1);
+      }
+    }
+    if (!state) return DeleteOutcome::not_found;
+    if (!is_final(*state)) return DeleteOutcome::not_final;
+    // ON DELETE CASCADE removes tiles, units (and their failures), pending results, the job's
+    // worker failures, contributors and client.
+    db_.prepare("DELETE FROM jobs WHERE id = ? AND state = ?")
+        ->bind(1, job_id)
+        .bind(2, s(*state))
+        .run();
+    if (db_.changes() != 1) return DeleteOutcome::not_found;
+    db_.prepare(
+           "DELETE FROM bundles WHERE sha256 = ?1 AND NOT EXISTS"
+           " (SELECT 1 FROM jobs WHERE bundle_sha256 = ?1)")
+        ->bind(1, bundle)
+        .run();
+    tx.commit();
+  }
+  db_.exec("PRAGMA incremental_vacuum");
+  return DeleteOutcome::deleted;
+}
+
+std::vector<int64_t> JobStore::finished_before(int64_t before) {
+  std::vector<int64_t> out;
+  auto q = db_.prepare(
+      "SELECT id FROM jobs WHERE state IN (?, ?, ?) AND finished_unix_ms > 0"
+      " AND finished_unix_ms < ? ORDER BY id");
+  q->bind(1, s(JobState::done))
+      .bind(2, s(JobState::failed))
+      .bind(3, s(JobState::cancelled))
+      .bind(4, before);
+  while (q->step()) out.push_back(q->int64(0));
+  return out;
+}
+
 bool JobStore::fail_in_transaction(int64_t job_id, const std::string& message, int64_t now) {
   if (!apply_job_event(db_, job_id, JobEvent::fail, nullptr)) return false;
   db_.prepare("UPDATE jobs SET finished_unix_ms = ?, error = ?, stop_reason = '' WHERE id = ?")
@@ -364,7 +408,7 @@ bool JobStore::finish(int64_t job_id, const std::string& output_exr, const std::
 std::vector<TileRecord> JobStore::tiles(int64_t job_id) {
   std::vector<TileRecord> out;
   auto q = db_.prepare(
-      "SELECT tile, x0, y0, x1, y1, next_batch, accumulation, error, finished FROM tiles"
+      "SELECT tile, x0, y0, x1, y1, next_batch, accumulation, error, finished, spp FROM tiles"
       " WHERE job_id = ? ORDER BY tile");
   q->bind(1, job_id);
   while (q->step()) {
@@ -375,6 +419,7 @@ std::vector<TileRecord> JobStore::tiles(int64_t job_id) {
     if (!q->is_null(6)) t.accumulation = q->blob(6);
     t.error = q->real(7);
     t.finished = stop_reason_from_string(q->text(8)).value_or(StopReason::none);
+    t.spp = uint32_t(q->int64(9));
     out.push_back(std::move(t));
   }
   return out;
@@ -383,7 +428,7 @@ std::vector<TileRecord> JobStore::tiles(int64_t job_id) {
 std::optional<JobSpec> JobStore::spec(int64_t job_id) {
   auto q = db_.prepare(
       "SELECT width, height, spp, max_depth, seed, tile_size, batch_spp, isa, stop_rule,"
-      " time_budget_ms, noise_target, bundle_sha256 FROM jobs WHERE id = ?");
+      " time_budget_ms, noise_target, bundle_sha256, batch_schedule FROM jobs WHERE id = ?");
   q->bind(1, job_id);
   if (!q->step()) return std::nullopt;
   JobSpec spec;
@@ -400,6 +445,7 @@ std::optional<JobSpec> JobStore::spec(int64_t job_id) {
   o.time_budget_s = double(q->int64(9)) / 1000.0;
   o.noise_target = q->real(10);
   spec.bundle_sha256 = q->text(11);
+  o.batch_kind = batch_kind_from_string(q->text(12)).value_or(BatchKind::fixed);
   return spec;
 }
 

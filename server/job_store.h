@@ -68,6 +68,7 @@ struct TileRecord {
   uint32_t tile = 0;
   TileRect rect;
   uint32_t next_batch = 0;    ///< batches [0, next_batch) are merged
+  uint32_t spp = 0;           ///< samples per pixel merged: the schedule's end of next_batch - 1
   std::string accumulation;   ///< encode_accumulation bytes; empty = nothing merged yet
   double error = 0;           ///< estimated relative error after the last merge
   StopReason finished = StopReason::none;  ///< the verdict that closed the tile; none = open
@@ -88,6 +89,7 @@ struct NewJob {
 };
 
 enum class CancelOutcome { cancelled, not_found, already_final };
+enum class DeleteOutcome { deleted, not_found, not_final };
 
 class JobStore {
  public:
@@ -110,6 +112,13 @@ class JobStore {
   /// queued|running -> cancelled; its queued and leased units -> cancelled (leases revoked),
   /// pending results deleted. One transaction.
   CancelOutcome cancel(int64_t job_id, int64_t now_unix_ms);
+  /// Removes a final (done, failed or cancelled) job with its tiles, units, pending results,
+  /// failures, contributors and client, and its bundle when no other job uses it; then gives
+  /// the freed pages back to the file system (PRAGMA incremental_vacuum). A queued or running
+  /// job is left alone (not_final: cancel it first). The output files are the caller's.
+  DeleteOutcome remove(int64_t job_id);
+  /// Ids of final jobs that finished before `before_unix_ms` (for --retention-days).
+  std::vector<int64_t> finished_before(int64_t before_unix_ms);
   /// queued|running -> failed with `message`; units cancelled. Call inside a transaction.
   /// Returns false when the job was already final.
   bool fail_in_transaction(int64_t job_id, const std::string& message, int64_t now_unix_ms);

@@ -23,6 +23,11 @@ void LeaseReaper::run() {
     try {
       const int expired = coordinator_.expire_leases();
       if (expired > 0) std::cerr << "tessera-server: " << expired << " lease(s) expired\n";
+      const int deleted = coordinator_.apply_retention();
+      if (deleted > 0) {
+        std::cerr << "tessera-server: deleted " << deleted
+                  << " job(s) past --retention-days\n";
+      }
     } catch (const std::exception& e) {
       // A busy or failing store: try again next period.
       std::cerr << "tessera-server: expiring leases: " << e.what() << "\n";

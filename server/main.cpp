@@ -18,6 +18,7 @@
 #include "job_service.h"
 #include "lease_reaper.h"
 #include "listen_policy.h"
+#include "store/db_lock.h"
 #include "store/integrity.h"
 #include "wire/bearer_token.h"
 #include "wire/rpc_channel.h"
@@ -44,6 +45,7 @@ struct Flags {
   tessera::server::WorkerHealthPolicy health;
   double forgive_seconds = 600;
   double nan_report_fraction = 1e-3;
+  double retention_days = 0;  ///< --retention-days (0: keep finished jobs)
   std::string http_port_file;
 };
 
@@ -110,6 +112,8 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
     const auto parent = std::filesystem::path(flags.db).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
   }
+  // Before the database is opened: a second server on it is refused, naming the holder.
+  const ts::DatabaseLock db_lock(flags.db);
   ts::SystemClock clock;
   ts::CoordinatorConfig config;
   config.db_path = flags.db;
@@ -120,6 +124,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   config.health = flags.health;
   config.health.forgive_ms = int64_t(flags.forgive_seconds * 1000.0);
   config.nan_report_fraction = flags.nan_report_fraction;
+  config.retention_days = flags.retention_days;
   ts::Coordinator coordinator(config, clock);
   const int resumed = coordinator.resume();
 
@@ -309,6 +314,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 4096));
   limit_option(app, "--max-queued-jobs", limits.max_queued_jobs_per_client,
                "TESSERA_MAX_QUEUED_JOBS", "most unfinished jobs per client host (0: no limit)");
+  limit_option(app, "--max-units", limits.max_units_per_job, "TESSERA_MAX_UNITS",
+               "most work units (tiles x batches) per job")
+      ->check(CLI::Range(uint64_t(1), uint64_t(1) << 22));
 
   // Worker health (docs/reliability.md).
   limit_option(app, "--block-after-failures", flags.health.failures_to_block,
@@ -326,6 +334,12 @@ int main(int argc, char** argv) {
                "TESSERA_NAN_REPORT_FRACTION",
                "report a worker whose NaN/Inf samples exceed this fraction of its samples")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--retention-days", flags.retention_days,
+                 "delete finished, failed and cancelled jobs this many days after they ended"
+                 " (0: keep them)")
+      ->envname("TESSERA_RETENTION_DAYS")
+      ->check(CLI::Range(0.0, 36500.0))
+      ->capture_default_str();
   app.add_option("--http-port-file", flags.http_port_file,
                  "write the HTTP port chosen to this file once listening (for --http HOST:0)")
       ->envname("TESSERA_HTTP_PORT_FILE");

@@ -1,5 +1,6 @@
 #include "scheduler.h"
 
+#include <limits>
 #include <string>
 
 namespace tessera::server {
@@ -16,19 +17,21 @@ const char* Scheduler::first_unit_sql(bool noise) {
   // checked in tests/farm/scheduler_test.cpp). The noise form looks up each candidate's tile by
   // its primary key; CROSS JOIN keeps units as the outer loop.
   static constexpr const char* kUniform = R"sql(
-      SELECT u.id FROM units u WHERE u.job_id = ?1 AND u.state = ?2
+      SELECT u.id FROM units u WHERE u.job_id = ?1 AND u.state = ?2 AND u.batch < ?4
       ORDER BY u.batch, u.tile LIMIT 1)sql";
   static constexpr const char* kNoise = R"sql(
       SELECT u.id FROM units u CROSS JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile
-      WHERE u.job_id = ?1 AND u.state = ?2 AND u.batch < t.next_batch + ?3
+      WHERE u.job_id = ?1 AND u.state = ?2 AND u.batch < ?4 AND u.batch < t.next_batch + ?3
       ORDER BY u.batch, u.tile LIMIT 1)sql";
   return noise ? kNoise : kUniform;
 }
 
-std::optional<int64_t> Scheduler::first_unit(int64_t job_id, bool noise) {
+std::optional<int64_t> Scheduler::first_unit(int64_t job_id, bool noise, bool over_budget) {
   auto q = db_.prepare(first_unit_sql(noise));
   q->bind(1, job_id).bind(2, s(UnitState::queued));
   if (noise) q->bind(3, kNoiseLookahead);
+  // Past its budget a time job gets batch 0 only: every tile gets its first batch.
+  q->bind(4, over_budget ? int64_t(1) : std::numeric_limits<int64_t>::max());
   if (q->step()) return q->int64(0);
   return std::nullopt;
 }
@@ -43,14 +46,18 @@ std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
     return held;
   }
   // The jobs that may lease, in scheduling order (the jobs_schedule index); few at a time.
-  std::vector<std::pair<int64_t, bool>> candidates;  // (job id, noise rule)
+  struct Candidate {
+    int64_t job_id;
+    bool noise, over_budget;
+  };
+  std::vector<Candidate> candidates;
   {
     auto q = db_.prepare(R"sql(
-        SELECT j.id, j.stop_rule = 'noise'
+        SELECT j.id, j.stop_rule = 'noise',
+               j.stop_rule = 'time' AND j.started_unix_ms > 0
+                 AND j.started_unix_ms + j.time_budget_ms <= ?3
         FROM jobs j
         WHERE j.state IN (?1, ?2)
-          AND NOT (j.stop_rule = 'time' AND j.started_unix_ms > 0
-                   AND j.started_unix_ms + j.time_budget_ms <= ?3)
           AND NOT EXISTS (SELECT 1 FROM job_worker_failures f
                           WHERE f.job_id = j.id AND f.worker_id = ?4 AND f.failures >= ?5
                             AND f.last_failure_unix_ms > ?6)
@@ -61,11 +68,11 @@ std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
         .bind(4, worker_id)
         .bind(5, leases_.health_policy().failures_to_block)
         .bind(6, leases_.forgiven_before_unix_ms());
-    while (q->step()) candidates.emplace_back(q->int64(0), q->int64(1) != 0);
+    while (q->step()) candidates.push_back({q->int64(0), q->int64(1) != 0, q->int64(2) != 0});
   }
   std::optional<int64_t> unit_id;
-  for (const auto& [job_id, noise] : candidates) {
-    unit_id = first_unit(job_id, noise);
+  for (const Candidate& c : candidates) {
+    unit_id = first_unit(c.job_id, c.noise, c.over_budget);
     if (unit_id) break;
   }
   if (!unit_id) return std::nullopt;  // rolls back: nothing written
@@ -99,7 +106,8 @@ std::vector<int64_t> Scheduler::enforce_time_budgets() {
   std::vector<int64_t> complete;
   const UnitState skipped = *next_state(UnitState::queued, UnitEvent::skip);
   for (int64_t job_id : over) {
-    db_.prepare("UPDATE units SET state = ? WHERE job_id = ? AND state = ?")
+    // Batch 0 is never skipped: every tile gets it, even after the budget.
+    db_.prepare("UPDATE units SET state = ? WHERE job_id = ? AND state = ? AND batch > 0")
         ->bind(1, s(skipped))
         .bind(2, job_id)
         .bind(3, s(UnitState::queued))

@@ -1,8 +1,10 @@
 // Hands out work units. Jobs are walked by priority (higher first), then age (older first); in
 // the first job with a unit to give, one indexed query takes its first queued unit by (batch,
 // tile), so a job's tiles progress together (a preview that sharpens evenly) and each tile's
-// batches arrive roughly in merge order. The stopping rules act here too: a `time` job gets no
-// lease past its budget, and a `noise` tile is leased at most kNoiseLookahead batches past its
+// batches arrive roughly in merge order: batch b+1 of a job is leased once no batch <= b of it is
+// left unleased, without waiting for results (no barrier). The stopping rules act here too: a
+// `time` job past its budget gets only what is left of batch 0 (every tile gets its first batch,
+// nothing else starts), and a `noise` tile is leased at most kNoiseLookahead batches past its
 // merged prefix (speculation the rule may waste, never a change of bits: see tile_merger.h).
 #pragma once
 
@@ -26,25 +28,25 @@ class Scheduler {
 
   /// The worker's lease. Idempotent: a worker that already holds a lease gets the same lease
   /// (same id, expiry extended) — a retried call after a lost reply leases nothing new. Otherwise
-  /// leases the first queued unit of a queued/running job the worker is not blocked from (and,
-  /// for a `time` job, still within its budget: started_unix_ms + budget > now), and starts the
-  /// job (queued -> running). nullopt when there is no work: a normal answer.
+  /// leases the first queued unit of a queued/running job the worker is not blocked from (for a
+  /// `time` job past its budget, started_unix_ms + budget <= now, a unit of batch 0 only), and
+  /// starts the job (queued -> running). nullopt when there is no work: a normal answer.
   std::optional<Lease> lease_next(int64_t worker_id);
 
   /// The time rule's bookkeeping, called periodically (and before answering a lease): every
   /// running `time` job past its budget is marked (budget_reached_unix_ms) and its queued units
-  /// skipped (UnitEvent::skip; units back from an expired lease are skipped on the next call).
-  /// Leased units are awaited: their results merge if their batch prefix is complete. Returns
+  /// of batches > 0 skipped (UnitEvent::skip; units back from an expired lease are skipped on
+  /// the next call; batch 0 is leased again, whatever the time). Leased units are awaited: their results merge if their batch prefix is complete. Returns
   /// the ids of such jobs with no unit queued or leased left: ready to settle and finish.
   std::vector<int64_t> enforce_time_budgets();
 
   /// The query that picks a job's next unit (?1 job, ?2 'queued', ?3 kNoiseLookahead for noise
-  /// jobs), public so tests can check its plan.
+  /// jobs, ?4 the first batch not to lease), public so tests can check its plan.
   static const char* first_unit_sql(bool noise);
 
  private:
   /// The first leasable unit of `job_id`, or nullopt.
-  std::optional<int64_t> first_unit(int64_t job_id, bool noise);
+  std::optional<int64_t> first_unit(int64_t job_id, bool noise, bool over_budget);
 
   Database& db_;
   LeaseTable& leases_;

@@ -27,7 +27,8 @@ struct UnitContext {
 std::optional<UnitContext> load_unit(Database& db, const UnitResult& r) {
   auto q = db.prepare(R"sql(
       SELECT u.id, t.x0, t.y0, t.x1, t.y1, t.next_batch, t.accumulation,
-             j.width, j.height, j.tile_size, j.spp, j.batch_spp, j.stop_rule, j.noise_target
+             j.width, j.height, j.tile_size, j.spp, j.batch_spp, j.stop_rule, j.noise_target,
+             j.batch_schedule
       FROM units u
       JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile
       JOIN jobs j ON j.id = u.job_id
@@ -46,6 +47,7 @@ std::optional<UnitContext> load_unit(Database& db, const UnitResult& r) {
   c.plan.batch_spp = uint32_t(q->int64(11));
   c.rule = stop_rule_from_string(q->text(12)).value_or(StopRule::spp);
   c.noise_target = q->real(13);
+  c.plan.batch_kind = batch_kind_from_string(q->text(14)).value_or(BatchKind::fixed);
   return c;
 }
 
@@ -217,15 +219,16 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
     }
     if (verdict.finished) close_tile(r.job_id, r.tile);
     db_.prepare(
-           "UPDATE tiles SET next_batch = ?, accumulation = ?, error = ?, finished = ?"
+           "UPDATE tiles SET next_batch = ?, accumulation = ?, error = ?, finished = ?, spp = ?"
            " WHERE job_id = ? AND tile = ? AND next_batch = ?")
         ->bind(1, next)
         .bind_blob(2, encode_accumulation(tile))
         .bind(3, verdict.relative_error)
         .bind(4, std::string(to_string(verdict.reason)))
-        .bind(5, r.job_id)
-        .bind(6, r.tile)
-        .bind(7, c->next_batch)
+        .bind(5, c->plan.schedule().spp_after(next))
+        .bind(6, r.job_id)
+        .bind(7, r.tile)
+        .bind(8, c->next_batch)
         .run();
     if (db_.changes() != 1) {
       throw FarmError(ErrorCode::internal, "tile " + std::to_string(r.tile) + " of job " +

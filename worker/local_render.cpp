@@ -29,7 +29,10 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
   const auto budget = std::chrono::duration<double>(options.time_budget_s);
   bool over_budget = false;
   for (uint32_t b = 0; b < plan.batch_count() && !open.empty(); ++b) {
-    if (options.rule == StopRule::time && std::chrono::steady_clock::now() - start >= budget) {
+    // The time rule: batch 0 of every tile always completes (no black tile); no batch starts
+    // after the budget. The farm's scheduler applies the same rule (server/scheduler.h).
+    if (options.rule == StopRule::time && b > 0 &&
+        std::chrono::steady_clock::now() - start >= budget) {
       over_budget = true;
       break;
     }

@@ -96,6 +96,7 @@ int run_render(const RenderArgs& args) {
       {"tessera:seed", std::to_string(options.seed)},
       {"tessera:tile", std::to_string(options.tile_size)},
       {"tessera:batch", std::to_string(options.batch_spp)},
+      {"tessera:batch_schedule", std::string(tessera::to_string(options.batch_kind))},
       {"tessera:isa", result.isa},
       {"tessera:estimated_relative_error", std::to_string(rel_error)},
       {"tessera:tile_error_max", std::to_string(summary.error_max)},

@@ -100,7 +100,7 @@ ResolvedRule resolve_rule(const Scene& scene, const JobOverrides& o, const JobLi
 }  // namespace
 
 JobPlan JobOptions::plan() const {
-  return make_job_plan(width, height, tile_size, spp, batch_spp);
+  return make_job_plan(width, height, tile_size, spp, batch_spp, batch_kind);
 }
 
 JobOptions resolve_job_options(const Scene& scene, const JobOverrides& o, const JobLimits& limits) {
@@ -123,8 +123,9 @@ JobOptions resolve_job_options(const Scene& scene, const JobOverrides& o, const 
   const int64_t batch =
       o.batch_spp.value_or(job.rule == StopRule::noise ? std::min(kNoiseBatchSpp, job.spp) : 0);
   if (o.batch_spp.has_value()) in_range("--batch", batch, 1, limits.max_spp);
-  job.batch_spp = make_job_plan(job.width, job.height, job.tile_size, job.spp, uint32_t(batch))
-                      .batch_spp;
+  const JobPlan plan = make_job_plan(job.width, job.height, job.tile_size, job.spp, uint32_t(batch));
+  job.batch_spp = plan.batch_spp;
+  job.batch_kind = plan.batch_kind;
   if (o.isa.has_value()) {
     static constexpr std::array<const char*, 5> kIsas = {"sse2", "sse4.2", "avx", "avx2",
                                                          "avx512"};

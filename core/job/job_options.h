@@ -40,7 +40,9 @@ struct JobOptions {
   int max_depth = -1;  ///< Mitsuba convention; -1 unbounded
   uint64_t seed = 0;
   int tile_size = 64;
-  uint32_t batch_spp = 0;  ///< resolved: never 0
+  uint32_t batch_spp = 0;  ///< resolved: never 0; the cap of a progressive schedule
+  /// Progressive unless the user fixed the batch (--batch) or the job uses the noise rule.
+  BatchKind batch_kind = BatchKind::fixed;
   std::string isa;         ///< empty = Embree picks the best for the CPU
 
   JobPlan plan() const;
@@ -56,8 +58,9 @@ struct JobLimits {
 /// Resolves and validates. Throws std::invalid_argument with a message naming the option, e.g.
 /// "--spp: must be >= 1 (got -3)", or the clashing rules ("--spp and --noise are mutually
 /// exclusive: give one stopping rule"). A preset is replaced by its rule's values; a `noise`
-/// job's default batch is kNoiseBatchSpp (its first check lands at kNoiseMinSpp), a `time` job's
-/// is derived from its cap like an `spp` job's.
+/// job's default batch is a fixed kNoiseBatchSpp (its first check lands at kNoiseMinSpp); `spp`
+/// and `time` jobs get the progressive schedule (batch_schedule.h), its cap derived from spp
+/// (a `time` job's cap) by default_batch_spp. `--batch B` fixes every batch at B.
 JobOptions resolve_job_options(const Scene& scene, const JobOverrides& overrides,
                                const JobLimits& limits = {});
 

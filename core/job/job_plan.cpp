@@ -21,17 +21,11 @@ int JobPlan::tile_count() const {
   return ((width + tile_size - 1) / tile_size) * ((height + tile_size - 1) / tile_size);
 }
 
-uint32_t JobPlan::batch_count() const {
-  return uint32_t((uint64_t(spp) + batch_spp - 1) / batch_spp);
-}
+uint32_t JobPlan::batch_count() const { return schedule().count(); }
 
-uint32_t JobPlan::batch_begin(uint32_t b) const {
-  return uint32_t(std::min<uint64_t>(uint64_t(b) * batch_spp, spp));
-}
+uint32_t JobPlan::batch_begin(uint32_t b) const { return schedule().begin(b); }
 
-uint32_t JobPlan::batch_end(uint32_t b) const {
-  return uint32_t(std::min<uint64_t>(uint64_t(b + 1) * batch_spp, spp));
-}
+uint32_t JobPlan::batch_end(uint32_t b) const { return schedule().end(b); }
 
 uint32_t default_batch_spp(int tile_size, int width, int height, uint32_t spp) {
   // About 2^20 samples per unit: a second or so on a typical 8-core worker for scenes like the
@@ -42,10 +36,12 @@ uint32_t default_batch_spp(int tile_size, int width, int height, uint32_t spp) {
   const int64_t pixels = std::max<int64_t>(1, tile_w * tile_h);
   const uint64_t target = std::max<uint64_t>(1, (uint64_t(1) << 20) / uint64_t(pixels));
   const uint64_t pow2 = std::bit_floor(target);
-  return uint32_t(std::clamp<uint64_t>(pow2, 1, std::max<uint32_t>(spp, 1)));
+  const uint64_t spp_pow2 = std::bit_ceil(uint64_t(std::max<uint32_t>(spp, 1)));
+  return uint32_t(std::clamp<uint64_t>(pow2, 1, spp_pow2));
 }
 
-JobPlan make_job_plan(int width, int height, int tile_size, uint32_t spp, uint32_t batch_spp) {
+JobPlan make_job_plan(int width, int height, int tile_size, uint32_t spp, uint32_t batch_spp,
+                      BatchKind kind) {
   if (width < 1 || height < 1) {
     throw std::invalid_argument("image size must be at least 1x1 (got " + std::to_string(width) +
                                 "x" + std::to_string(height) + ")");
@@ -59,8 +55,19 @@ JobPlan make_job_plan(int width, int height, int tile_size, uint32_t spp, uint32
   plan.height = height;
   plan.tile_size = tile_size;
   plan.spp = spp;
-  plan.batch_spp = batch_spp == 0 ? default_batch_spp(tile_size, width, height, spp)
-                                  : std::min(batch_spp, spp);
+  if (batch_spp == 0) {
+    plan.batch_kind = BatchKind::progressive;
+    plan.batch_spp = default_batch_spp(tile_size, width, height, spp);
+  } else if (kind == BatchKind::progressive) {
+    if (!std::has_single_bit(batch_spp)) {
+      throw std::invalid_argument("progressive batch cap must be a power of two (got " +
+                                  std::to_string(batch_spp) + ")");
+    }
+    plan.batch_kind = BatchKind::progressive;
+    plan.batch_spp = batch_spp;
+  } else {
+    plan.batch_spp = std::min(batch_spp, spp);
+  }
   return plan;
 }
 

@@ -98,6 +98,7 @@ TEST(ResolveStoppingRule, NoiseJobsPlanUpToTheCapIn16SppBatches) {
   EXPECT_EQ(job.noise_target, 0.02);
   EXPECT_EQ(job.spp, kDefaultMaxSpp);
   EXPECT_EQ(job.batch_spp, kNoiseBatchSpp);
+  EXPECT_EQ(job.batch_kind, BatchKind::fixed);
   o.max_spp = 8;
   EXPECT_EQ(resolve_job_options(scene(), o).batch_spp, 8u);  // never more than the cap
   o.max_spp = 1024;
@@ -113,6 +114,7 @@ TEST(ResolveStoppingRule, TimeJobsKeepABudgetAndACap) {
   EXPECT_EQ(job.time_budget_s, 10.0);
   EXPECT_EQ(job.spp, kDefaultMaxSpp);
   EXPECT_EQ(job.batch_spp, default_batch_spp(64, 64, 32, kDefaultMaxSpp));
+  EXPECT_EQ(job.batch_kind, BatchKind::progressive);  // 1 spp first: every tile early
 }
 
 TEST(ResolveStoppingRule, PresetsArePlainRules) {

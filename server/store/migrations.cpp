@@ -174,6 +174,21 @@ CREATE TABLE job_clients (
 );
 CREATE INDEX job_clients_client ON job_clients (client);
 )sql"},
+      {4, "batch schedules: progressive jobs, samples per pixel merged per tile", R"sql(
+-- The job's batch schedule (core/job/batch_schedule.h): batch_spp is every batch of a 'fixed'
+-- schedule, the cap of a 'progressive' one. Jobs stored before keep their fixed batches.
+ALTER TABLE jobs ADD COLUMN batch_schedule TEXT NOT NULL DEFAULT 'fixed'
+  CHECK (batch_schedule IN ('fixed', 'progressive'));
+
+-- Samples per pixel merged into the tile: the end of its batch next_batch - 1 (0 before batch
+-- 0), kept by the merger so that status reads no schedule.
+ALTER TABLE tiles ADD COLUMN spp INTEGER NOT NULL DEFAULT 0;
+UPDATE tiles SET spp = (SELECT MIN(tiles.next_batch * j.batch_spp, j.spp) FROM jobs j
+                        WHERE j.id = tiles.job_id);
+)sql"},
+      // Deleted jobs give their pages back (PRAGMA incremental_vacuum after a delete): switching
+      // an existing database to incremental auto-vacuum takes one VACUUM.
+      {5, "incremental auto-vacuum", "PRAGMA auto_vacuum = INCREMENTAL; VACUUM;", true},
   };
   return kMigrations;
 }
@@ -205,8 +220,9 @@ int migrate(Database& db, int64_t now_unix_ms) {
       applied = q->step();
     }
     if (applied) continue;
+    if (m.outside_transaction) db.exec(m.sql);
     Transaction tx(db);
-    db.exec(m.sql);
+    if (!m.outside_transaction) db.exec(m.sql);
     db.prepare("INSERT INTO schema_migrations (version, name, applied_unix_ms) VALUES (?, ?, ?)")
         ->bind(1, m.version)
         .bind(2, m.name)

@@ -13,6 +13,9 @@ struct Migration {
   int version;       ///< 1, 2, 3, ... in order, no gaps
   std::string name;  ///< what it does, for people reading schema_migrations
   std::string sql;
+  /// Run outside a transaction (VACUUM cannot run inside one), then recorded in its own. Such a
+  /// migration must be idempotent: a crash between the two runs it again.
+  bool outside_transaction = false;
 };
 
 /// Every migration of the schema, in order. docs/farm.md describes the resulting schema.

@@ -169,6 +169,29 @@ TEST(Limits, ImageSizeSppAndTile) {
   EXPECT_TRUE(farm.coordinator->jobs(100).empty());
 }
 
+// The job: 32x32 at 2147483647 spp is about 2.1 million units (1 tile x the progressive
+// schedule); refused with one line giving the count and the cap, before anything is stored.
+TEST(Limits, WorkUnitsPerJob) {
+  Farm farm(FarmLimits{});  // default: 1,000,000
+  v1::JobRequestOptions huge;
+  huge.set_width(32);
+  huge.set_height(32);
+  huge.set_spp(2147483647);
+  const std::string why = farm.refusal(bundle(tiny_scene()), huge);
+  EXPECT_EQ(why,
+            "job has 2097162 work units (1 tiles x 2097162 batches), over the farm's limit of "
+            "1000000 (server flag --max-units): use fewer spp, a larger --tile or --batch");
+  EXPECT_TRUE(farm.coordinator->jobs(100).empty());
+  FarmLimits small;
+  small.max_units_per_job = 4;
+  Farm capped(small);
+  v1::JobRequestOptions four;  // 16x16 tiny scene in one tile: 8 spp = batches 1, 1, 2, 4
+  four.set_spp(8);
+  EXPECT_EQ(capped.refusal(bundle(tiny_scene()), four), "");
+  four.set_spp(9);  // a fifth batch
+  expect_refused(capped.refusal(bundle(tiny_scene()), four), "--max-units");
+}
+
 TEST(Limits, UnfinishedJobsPerClient) {
   FarmLimits limits;
   limits.max_queued_jobs_per_client = 2;

@@ -107,15 +107,57 @@ TEST(TimeRule, BudgetCountsFromTheFirstLeaseNotFromSubmission) {
 TEST(TimeRule, AnExpiredLeaseAfterTheBudgetIsSkippedAndTheJobFinishes) {
   StoreFixture f;
   const int64_t job = make_rule_job(f, StopRule::time, 1, 32, 1);  // 1 tile x 2 batches
-  const Lease l = *f.scheduler.lease_next(f.make_worker());
+  const Lease l0 = *f.scheduler.lease_next(f.make_worker());
+  const Lease l1 = *f.scheduler.lease_next(f.make_worker("b"));
+  EXPECT_EQ(l1.batch, 1u);
   f.clock.advance(1'000);
-  EXPECT_TRUE(f.scheduler.enforce_time_budgets().empty());  // batch 1 skipped, batch 0 in flight
+  EXPECT_TRUE(f.scheduler.enforce_time_budgets().empty());  // both in flight
   f.clock.advance(StoreFixture::kLeaseMs + 1);
-  EXPECT_EQ(f.leases.expire_due(), 1);                                       // back to queued ...
-  EXPECT_EQ(f.scheduler.enforce_time_budgets(), std::vector<int64_t>{job});  // ... and skipped
+  EXPECT_EQ(f.leases.expire_due(), 2);                                       // back to queued ...
+  EXPECT_EQ(f.scheduler.enforce_time_budgets(), std::vector<int64_t>{});     // batch 0 kept
+  EXPECT_EQ(f.jobs.get(job)->counters.units_skipped, 1u);                    // batch 1 skipped
+  EXPECT_FALSE(f.merger.accept(result_for(l1, smooth(rect_of(0))), smooth(rect_of(0))).accepted);
+  // Batch 0 is leased again after the budget: a time job never leaves a tile black.
+  const Lease again = *f.scheduler.lease_next(f.make_worker("c"));
+  EXPECT_EQ(again.batch, 0u);
+  EXPECT_FALSE(f.merger.accept(result_for(l0, smooth(rect_of(0))), smooth(rect_of(0))).accepted);
+  EXPECT_EQ(f.scheduler.lease_next(f.make_worker("d")), std::nullopt);
+  EXPECT_TRUE(
+      f.merger.accept(result_for(again, smooth(rect_of(0))), smooth(rect_of(0))).job_complete);
   EXPECT_EQ(f.jobs.settle(job), StopReason::time_budget);
-  EXPECT_EQ(f.jobs.get(job)->reached.spp_max, 0u);
-  EXPECT_FALSE(f.merger.accept(result_for(l, smooth(rect_of(0))), smooth(rect_of(0))).accepted);
+  EXPECT_EQ(f.jobs.get(job)->reached.spp_max, 16u);
+}
+
+// The rule on a fake clock: past the budget, batch 0 of every tile is still leased and merged;
+// no later batch starts.
+TEST(TimeRule, BatchZeroOfEveryTileCompletesNothingStartsAfterTheBudget) {
+  StoreFixture f;
+  const uint32_t tiles = 5;
+  const int64_t job = make_rule_job(f, StopRule::time, tiles, 64, /*budget_s=*/2);
+  const int64_t w = f.make_worker("only");
+  // One worker, one unit at a time; the first unit alone takes longer than the budget.
+  const Lease first = *f.scheduler.lease_next(w);
+  f.clock.advance(3'000);
+  EXPECT_TRUE(f.merger.accept(result_for(first, smooth(rect_of(first.tile))),
+                              smooth(rect_of(first.tile)))
+                  .accepted);
+  EXPECT_TRUE(f.scheduler.enforce_time_budgets().empty());
+  std::vector<uint32_t> leased_tiles{first.tile};
+  for (;;) {
+    const std::optional<Lease> l = f.scheduler.lease_next(w);
+    if (!l) break;
+    EXPECT_EQ(l->batch, 0u) << "a batch started after the budget";
+    leased_tiles.push_back(l->tile);
+    f.clock.advance(1'000);
+    f.merger.accept(result_for(*l, smooth(rect_of(l->tile))), smooth(rect_of(l->tile)));
+    f.scheduler.enforce_time_budgets();
+  }
+  EXPECT_EQ(leased_tiles.size(), tiles);
+  EXPECT_TRUE(f.jobs.get(job)->complete);
+  EXPECT_EQ(f.jobs.settle(job), StopReason::time_budget);
+  const JobRecord r = *f.jobs.get(job);
+  EXPECT_EQ(r.reached.spp_min, 16u);  // every tile has its batch 0
+  EXPECT_EQ(r.counters.units_skipped, tiles * 3);
 }
 
 TEST(TimeRule, AJobDoneBeforeItsBudgetReportsTheCap) {
@@ -249,7 +291,7 @@ TEST(SchedulerQuery, FirstUnitWalksTheIndexWithoutSorting) {
   StoreFixture f;
   for (bool noise : {false, true}) {
     auto q = f.db.prepare(std::string("EXPLAIN QUERY PLAN ") + Scheduler::first_unit_sql(noise));
-    q->bind(1, int64_t(1)).bind(2, "queued");
+    q->bind(1, int64_t(1)).bind(2, "queued").bind(4, int64_t(1));
     if (noise) q->bind(3, int64_t(2));
     std::string plan;
     while (q->step()) plan += q->text(3) + "\n";

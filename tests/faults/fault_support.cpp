@@ -36,8 +36,13 @@ int fault_rounds(int fallback) {
 std::filesystem::path cornell_scene() { return e2e::source_dir() / "scenes" / "cornell.json"; }
 
 std::vector<std::string> tiny_job(uint64_t seed, uint32_t spp, uint32_t batch) {
-  return {"--width", "32", "--height", "32", "--tile", "16", "--spp", std::to_string(spp),
-          "--batch", std::to_string(batch), "--seed", std::to_string(seed)};
+  std::vector<std::string> options = {"--width", "32", "--height", "32", "--tile", "16",
+                                      "--spp", std::to_string(spp), "--seed", std::to_string(seed)};
+  if (batch > 0) {
+    options.push_back("--batch");
+    options.push_back(std::to_string(batch));
+  }
+  return options;
 }
 
 nlohmann::json cli_status(const CliRunner& cli, uint64_t job_id) {

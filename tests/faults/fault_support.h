@@ -26,6 +26,7 @@ int fault_rounds(int fallback);
 
 /// The Cornell box at 32x32 in 4 tiles of 16x16 and many tiny batches (256 spp in batches of
 /// 2: 512 units), so that a fault lands mid-job whatever the machine's speed, plus `seed`.
+/// batch = 0 gives no --batch: the progressive default (1, 1, 2, ... 128 spp: 36 units).
 std::vector<std::string> tiny_job(uint64_t seed, uint32_t spp = 256, uint32_t batch = 2);
 
 std::filesystem::path cornell_scene();

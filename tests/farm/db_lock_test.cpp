@@ -1,0 +1,74 @@
+// One server per database (store/db_lock.h): a second lock on the same database is refused
+// naming the holder's pid and host; a holder killed with SIGKILL releases it.
+#include "store/db_lock.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+namespace tessera::server {
+namespace {
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("tessera-db-lock-" + name + "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string refusal(const std::string& db) {
+  try {
+    DatabaseLock second(db);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DatabaseLock, ASecondHolderIsRefusedNamingTheFirst) {
+  const std::string db = (fresh_dir("second") / "farm.db").string();
+  std::string why;
+  {
+    DatabaseLock first(db);
+    EXPECT_EQ(first.path(), db + ".lock");
+    why = refusal(db);
+    EXPECT_NE(why.find("database " + db + " is in use by tessera-server pid " +
+                       std::to_string(::getpid()) + " on host "),
+              std::string::npos)
+        << why;
+  }
+  EXPECT_EQ(refusal(db), "");  // released with its holder
+  EXPECT_EQ(refusal(":memory:"), "");
+}
+
+TEST(DatabaseLock, AHolderKilledWithSigkillReleasesIt) {
+  const std::string db = (fresh_dir("kill") / "farm.db").string();
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    DatabaseLock held(db);
+    const char c = 'x';
+    if (::write(ready[1], &c, 1) != 1) _exit(2);
+    for (;;) ::pause();
+  }
+  char c = 0;
+  ASSERT_EQ(::read(ready[0], &c, 1), 1);
+  EXPECT_NE(refusal(db).find("pid " + std::to_string(child) + " on host "), std::string::npos);
+  ASSERT_EQ(::kill(child, SIGKILL), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_EQ(refusal(db), "");  // the kernel released the dead holder's lock
+  ::close(ready[0]);
+  ::close(ready[1]);
+}
+
+}  // namespace
+}  // namespace tessera::server

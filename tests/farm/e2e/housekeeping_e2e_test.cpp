@@ -1,0 +1,93 @@
+// Housekeeping end to end (issue 14): one server per database (a second one is refused naming
+// the holder; a SIGKILLed one's successor gets the lock back), `tessera delete` of finished and
+// cancelled jobs (outputs and space returned; a running or unknown job refused, exit 1), and the
+// --max-units refusal at submit.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+
+#include <nlohmann/json.hpp>
+
+#include "farm_cluster.h"
+#include "process.h"
+
+namespace tessera::e2e {
+namespace {
+
+const std::string kTiny = (source_dir() / "tests" / "farm" / "data" / "tiny.json").string();
+
+TEST(HousekeepingE2E, ASecondServerOnTheSameDatabaseIsRefused) {
+  FarmCluster farm("db-lock");
+  farm.start_server();
+  const CommandResult second = run_command(
+      {TESSERA_SERVER_BIN, "--db", farm.db_path().string(), "--grpc", "127.0.0.1:0", "--http",
+       "127.0.0.1:0", "--output-dir", (farm.dir() / "outputs2").string()},
+      farm.dir() / "second-server", {}, std::chrono::seconds(60));
+  EXPECT_EQ(second.exit_code, 1);
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  EXPECT_NE(second.err.find("database " + farm.db_path().string() +
+                            " is in use by tessera-server pid "),
+            std::string::npos)
+      << second.err;
+  EXPECT_NE(second.err.find(std::string(" on host ") + host), std::string::npos) << second.err;
+  EXPECT_EQ(std::count(second.err.begin(), second.err.end(), '\n'), 1) << second.err;
+  // SIGKILL leaves no stale lock: the next server starts and serves.
+  farm.kill_server();
+  farm.start_server();
+  const uint64_t id = farm.submit({kTiny, "--spp", "2"});
+  EXPECT_NE(id, 0u);
+  if (HasFailure()) farm.dump_logs();
+}
+
+TEST(HousekeepingE2E, DeleteFinishedAndCancelledJobsOnly) {
+  FarmCluster farm("delete");
+  farm.start_server();
+  // A queued job (no worker yet) cannot be deleted; an unknown id exits 1.
+  const uint64_t queued = farm.submit({kTiny, "--spp", "4"});
+  CommandResult r = farm.cli({"delete", std::to_string(queued)});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("job " + std::to_string(queued) + " is queued: cancel it first"),
+            std::string::npos)
+      << r.err;
+  r = farm.cli({"delete", "999999"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("999999"), std::string::npos) << r.err;
+
+  farm.start_worker();
+  const v1::JobInfo done = farm.wait_final(queued);
+  ASSERT_EQ(done.state(), v1::JOB_STATE_DONE) << done.error();
+  ASSERT_TRUE(std::filesystem::exists(done.output_exr()));
+  r = farm.cli({"delete", std::to_string(queued)});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "job " + std::to_string(queued) + " deleted\n");
+  EXPECT_FALSE(std::filesystem::exists(done.output_exr()));
+  EXPECT_FALSE(std::filesystem::exists(done.output_png()));
+  EXPECT_EQ(farm.cli({"status", std::to_string(queued)}).exit_code, 1);
+  EXPECT_EQ(farm.cli({"delete", std::to_string(queued)}).exit_code, 1);  // gone
+
+  // A cancelled job can be deleted.
+  const uint64_t big = farm.submit({kTiny, "--spp", "10000000", "--batch", "100000"});
+  ASSERT_EQ(farm.cli({"cancel", std::to_string(big)}).exit_code, 0);
+  r = farm.cli({"delete", std::to_string(big), "--json"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out).at("deleted"), true);
+  if (HasFailure()) farm.dump_logs();
+}
+
+TEST(HousekeepingE2E, AJobOverTheUnitCapIsRefusedWithOneLine) {
+  FarmCluster farm("max-units");
+  farm.start_server();
+  const CommandResult r = farm.cli({"submit", kTiny, "--width", "32", "--height", "32", "--spp",
+                                    "2147483647"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err,
+            "tessera: job has 2097162 work units (1 tiles x 2097162 batches), over the farm's "
+            "limit of 1000000 (server flag --max-units): use fewer spp, a larger --tile or "
+            "--batch\n");
+  EXPECT_EQ(farm.cli({"list", "--json"}).out.find("\"id\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tessera::e2e
