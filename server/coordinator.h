@@ -37,6 +37,8 @@ struct CoordinatorConfig {
   WorkerHealthPolicy health;                     ///< blocking and failing (docs/reliability.md)
   /// A worker whose NaN/Inf samples exceed this fraction of its samples is reported.
   double nan_report_fraction = 1e-3;
+  /// Writes the output files (empty: write_image); tests inject a full disk here.
+  ImageFileWriter output_writer;
 };
 
 /// A unit leased to a worker, with what it needs to render it.
@@ -162,6 +164,9 @@ class Coordinator {
  private:
   /// Writes the output of a fully merged job and marks it done (or failed with the reason).
   void finish_job(int64_t job_id);
+  /// Writes a done job's output files again when one is missing (a full disk when it finished,
+  /// or a file removed since). Failures are logged: the image stays in the store.
+  void rewrite_missing_output(const JobRecord& record);
   void touch_or_throw(int64_t worker_id);
   /// Logs, once per server run, a worker whose NaN/Inf share crossed the report threshold.
   void report_health(int64_t worker_id);

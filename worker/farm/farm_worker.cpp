@@ -80,6 +80,11 @@ void check(const grpc::Status& status, const char* call) {
   const std::string line = std::string(call) + ": " + wire::status_line(status);
   switch (status.error_code()) {
     case grpc::StatusCode::UNAUTHENTICATED:
+      // Say which token and where this worker reads it (docs/security.md, "Tokens and roles").
+      throw Fatal(line +
+                  "; the server wants its worker token (the server's --worker-token, or --token):"
+                  " give it to this worker with --token or --token-file, or in TESSERA_TOKEN or"
+                  " TESSERA_TOKEN_FILE");
     case grpc::StatusCode::PERMISSION_DENIED:
     case grpc::StatusCode::UNIMPLEMENTED:
       throw Fatal(line);
