@@ -74,7 +74,7 @@ Film read_film(MitsubaPlugin& sensor, const MitsubaIds& ids) {
   if (film.type() != "hdrfilm") {
     fail_at(*element, "unsupported film (Tessera writes RGB images: use type=\"hdrfilm\")");
   }
-  Film size{film_size(film, "width", 768), film_size(film, "height", 576)};
+  Film size{film_size(film, "width", 768), film_size(film, "height", 576), PixelFilter{}};
   if (std::optional<std::string> format = film.take_string("pixel_format")) {
     if (*format != "rgb" && *format != "rgba") {
       fail_at(*film.property("pixel_format"),

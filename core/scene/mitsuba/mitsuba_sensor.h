@@ -13,7 +13,7 @@ namespace tessera {
 /// What a sensor says about the image.
 struct MitsubaSensor {
   Camera camera;
-  Film film{768, 576};      ///< Mitsuba's hdrfilm defaults
+  Film film{768, 576, PixelFilter{}};  ///< Mitsuba's hdrfilm defaults
   int64_t spp = 4;          ///< the sampler's sample_count (Mitsuba's default sampler: 4)
   uint64_t seed = 0;        ///< the sampler's seed
   double near_clip = 1e-2;  ///< scene units along the view axis (Mitsuba's defaults)

@@ -69,6 +69,14 @@ Material parse_material(const std::string& name, const JsonValue& value) {
         if (!(material.ior > 0)) ior->fail("must be > 0 (got " + format_number(material.ior) + ")");
       }
       break;
+    // Only Mitsuba scenes have these (parse_type never returns them for native JSON).
+    case MaterialType::conductor:
+    case MaterialType::rough_conductor:
+    case MaterialType::rough_glass:
+    case MaterialType::thin_glass:
+    case MaterialType::plastic:
+    case MaterialType::rough_plastic:
+      break;
   }
   return material;
 }
