@@ -242,7 +242,16 @@ void Coordinator::report_health(int64_t worker_id) {
 }
 
 bool Coordinator::online(const WorkerRecord& worker) const {
+  {
+    std::lock_guard lock(departed_mu_);
+    if (departed_.contains(worker.id)) return false;
+  }
   return clock_.now_unix_ms() - worker.last_seen_unix_ms <= 3 * leases_.lease_ms();
+}
+
+void Coordinator::deregister(int64_t worker_id) {
+  std::lock_guard lock(departed_mu_);
+  departed_.insert(worker_id);
 }
 
 int64_t Coordinator::register_worker(const WorkerRegistration& info) {
@@ -256,6 +265,10 @@ int64_t Coordinator::register_worker(const WorkerRegistration& info) {
 }
 
 void Coordinator::touch_or_throw(int64_t worker_id) {
+  {
+    std::lock_guard lock(departed_mu_);
+    departed_.erase(worker_id);  // it calls again: online again
+  }
   if (!workers_.touch(worker_id, clock_.now_unix_ms())) {
     // FAILED_PRECONDITION, not NOT_FOUND: the worker tells "register again" by the code alone.
     throw FarmError(ErrorCode::failed_precondition,

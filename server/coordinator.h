@@ -117,6 +117,10 @@ class Coordinator {
   bool online(const WorkerRecord& worker) const;
 
   int64_t register_worker(const WorkerRegistration& info);
+  /// The worker is stopping: online() is false for it until it calls again. Kept in memory
+  /// (after a server restart a departed worker is offline three lease periods after its last
+  /// call, as one that vanished).
+  void deregister(int64_t worker_id);
   /// Leases a unit, waiting up to `wait` for one to appear (long poll) unless `cancelled()`
   /// says the caller went away. nullopt: no work. Every worker call throws
   /// FarmError(failed_precondition) for an unknown worker id (register again).
@@ -180,6 +184,8 @@ class Coordinator {
   Scheduler scheduler_;
   TileMerger merger_;
   JobOutput output_;
+  mutable std::mutex departed_mu_;
+  std::set<int64_t> departed_;  ///< workers that deregistered and have not called since
   std::set<int64_t> finishing_;  ///< jobs whose output is being written (guarded by mu_)
   FarmLimits limits_;
   double nan_report_fraction_;

@@ -160,6 +160,7 @@ class FarmWorker {
       log(e.what());
       return 1;
     }
+    deregister();
     log("stopped after delivering " + std::to_string(units_uploaded_) + " unit(s), " +
         std::to_string(result_bytes_) + " result bytes" +
         (units_uploaded_ ? " (" + std::to_string(result_bytes_ / units_uploaded_) + " per unit)"
@@ -328,6 +329,17 @@ class FarmWorker {
       }
       stop_.wait_for(backoff.next());
     }
+  }
+
+  /// Tells the server this worker is leaving, so that it is listed offline at once; a failure
+  /// is only logged (the server then marks it offline after three lease periods).
+  void deregister() {
+    if (worker_id_ == 0) return;
+    v1::DeregisterRequest request;
+    request.set_worker_id(worker_id_);
+    v1::DeregisterResponse response;
+    const grpc::Status status = client_.deregister(request, &response);
+    if (!status.ok()) log("Deregister: " + wire::status_line(status));
   }
 
   /// Hands a unit back; failures to reach the server are only logged (the lease then expires).
