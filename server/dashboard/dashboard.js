@@ -37,9 +37,15 @@ function authHeaders(extra = {}) {
 }
 
 async function request(path, options = {}) {
+  const sent = sessionStorage.getItem(TOKEN_KEY) || '';
   const res = await fetch(path, { cache: 'no-store', ...options,
                                   headers: authHeaders(options.headers || {}) });
-  if (res.status === 401) askForToken();
+  // Only an answer to the token held now says anything about it: a poll sent before the token
+  // was saved may come back 401 after.
+  if (sent === (sessionStorage.getItem(TOKEN_KEY) || '')) {
+    if (res.status === 401) askForToken();
+    else if (res.ok) $('#token-needed').hidden = true;
+  }
   return res;
 }
 
@@ -128,14 +134,17 @@ function dl(el, pairs) {
 function renderDetail() {
   const j = state.detail;
   $('#job-detail').hidden = !j;
-  if (!j) return;
+  if (!j) { $('#selected-failure').hidden = true; return; }
   $('#detail-id').textContent = j.id;
   const st = $('#detail-state');
   st.textContent = j.state; st.className = `state state-${j.state}`;
   $('#detail-scene').textContent = `${j.scene_file} · priority ${j.priority}`;
-  // Why a job failed comes first, above the images, not below the fold.
+  // Why a job failed comes first: at the top of the page (above the job list, so never below
+  // the fold however many jobs there are) and above the job's images.
   $('#detail-error').hidden = !j.error;
   $('#detail-error').textContent = j.error ? `Failed: ${j.error}` : '';
+  $('#selected-failure').hidden = !j.error;
+  $('#selected-failure').textContent = j.error ? `Job ${j.id} failed: ${j.error}` : '';
   const final = ['done', 'failed', 'cancelled'].includes(j.state);
   $('#cancel-job').disabled = final;
   $('#set-priority').disabled = final;
@@ -264,7 +273,9 @@ async function change(path, body) {
 
 function select(id) {
   state.selected = id; state.detail = null; state.previewKey = '';
-  $('#preview').removeAttribute('src'); delete $('#preview').dataset.version;
+  const p = $('#preview');
+  if (p.src.startsWith('blob:')) URL.revokeObjectURL(p.src);
+  p.removeAttribute('src'); delete p.dataset.version;
   message('', true);
   refresh();
 }
