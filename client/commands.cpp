@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "cli/output_path.h"
 #include "job_client.h"
 #include "json_view.h"
 #include "progress_view.h"
@@ -34,12 +35,11 @@ std::string lower_extension(const std::filesystem::path& p) {
   return ext;
 }
 
-/// .exr or .png from the output's name; throws ClientError otherwise.
+/// .exr or .png from the output's name, after checking that the output can be written
+/// (cli::check_output_path); throws std::runtime_error naming what is wrong otherwise.
 v1::ImageFormat format_of(const std::string& output) {
-  const std::string ext = lower_extension(output);
-  if (ext == ".exr") return v1::IMAGE_FORMAT_EXR;
-  if (ext == ".png") return v1::IMAGE_FORMAT_PNG;
-  throw ClientError("-o " + output + ": the output must end in .exr or .png");
+  cli::check_output_path(output, {".exr", ".png"});
+  return lower_extension(output) == ".exr" ? v1::IMAGE_FORMAT_EXR : v1::IMAGE_FORMAT_PNG;
 }
 
 void write_file(const std::string& path, const std::string& bytes) {
@@ -133,7 +133,7 @@ int guarded(F&& body) {
 
 int submit(const GlobalOptions& g, const SubmitOptions& s) {
   return guarded([&] {
-    if (!s.output.empty()) format_of(s.output);  // refuse a bad name before rendering
+    if (!s.output.empty()) format_of(s.output);  // refuse an unwritable output before submitting
     // Validate locally first: a bad scene or option fails here, without the server.
     Scene scene;
     const wire::BundleContents bundle = wire::bundle_from_disk(
@@ -232,6 +232,7 @@ int watch(const GlobalOptions& g, uint64_t job_id) {
 
 int get(const GlobalOptions& g, uint64_t job_id, const std::string& output) {
   return guarded([&] {
+    format_of(output);  // before any call
     JobClient client = connect(g);
     const v1::GetImageResponse image = download(client, job_id, output);
     if (g.json) {

@@ -5,6 +5,7 @@
 #include <optional>
 #include <thread>
 
+#include "wire/job_json.h"
 #include "wire/rpc_channel.h"
 
 namespace tessera::client {
@@ -26,16 +27,7 @@ void check(const grpc::Status& status, const std::string& server) {
 
 }  // namespace
 
-std::string state_name(v1::JobState state) {
-  switch (state) {
-    case v1::JOB_STATE_QUEUED: return "queued";
-    case v1::JOB_STATE_RUNNING: return "running";
-    case v1::JOB_STATE_DONE: return "done";
-    case v1::JOB_STATE_FAILED: return "failed";
-    case v1::JOB_STATE_CANCELLED: return "cancelled";
-    default: return "unknown";
-  }
-}
+std::string state_name(v1::JobState state) { return wire::job_state_name(state); }
 
 bool is_final(v1::JobState state) {
   return state == v1::JOB_STATE_DONE || state == v1::JOB_STATE_FAILED ||
@@ -114,7 +106,10 @@ v1::JobInfo JobClient::watch(uint64_t job_id,
                              const std::function<void(const v1::JobInfo&)>& on_update) {
   v1::JobInfo last;
   // A server restart breaks the stream: keep trying for kWatchReconnect before failing.
-  std::optional<std::chrono::steady_clock::time_point> unreachable_since;
+  // (A time point and a flag rather than an optional: GCC 12 warns, wrongly, that the optional's
+  // value may be read uninitialized.)
+  std::chrono::steady_clock::time_point unreachable_since{};
+  bool unreachable = false;
   for (;;) {
     grpc::ClientContext context;
     prepare(context, kWatchSegment);
@@ -133,13 +128,14 @@ v1::JobInfo JobClient::watch(uint64_t job_id,
     if (status.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED) continue;
     if (status.error_code() == grpc::StatusCode::UNAVAILABLE) {
       const auto now = std::chrono::steady_clock::now();
-      if (!unreachable_since) unreachable_since = now;
-      if (now - *unreachable_since < kWatchReconnect) {
+      if (!unreachable) unreachable_since = now;
+      unreachable = true;
+      if (now - unreachable_since < kWatchReconnect) {
         std::this_thread::sleep_for(std::chrono::milliseconds(500));
         continue;
       }
     } else {
-      unreachable_since.reset();
+      unreachable = false;
     }
     check(status, server_);
     if (status.ok()) return last;  // the server ended the stream without a final state

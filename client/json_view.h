@@ -8,14 +8,7 @@
 
 namespace tessera::client {
 
-/// {"id", "state" (queued|running|done|failed|cancelled), "progress" (0..1), "priority",
-///  "scene_file", "scene_sha256", "options" {...}, "counters" {...}, "spp_merged",
-///  "submitted_unix_ms", "started_unix_ms", "finished_unix_ms", "error", "output_exr",
-///  "output_png", "worker_isas" [...], "stop_rule" {"rule" (spp|time|noise), "spp",
-///  "time_budget_s", "noise_target", "max_spp"}, "stop_reason" (null while running, else
-///  spp_reached|noise_target|max_spp|time_budget|cancelled), "wall_time_s", "reached"
-///  {"spp_min", "spp_mean", "spp_max", "error_max", "error_mean", "tiles_finished"},
-///  "nan_inf_dropped"}
+/// The one JSON form of a job, shared with the dashboard's API (wire/job_json.h).
 nlohmann::json to_json(const v1::JobInfo& job);
 
 /// "spp 256", "time 10 s (max 4096 spp)", "noise 0.02 (max 4096 spp)".

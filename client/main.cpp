@@ -4,6 +4,8 @@
 #include <iostream>
 #include <optional>
 
+#include "cli/host_port.h"
+#include "cli/usage_exit.h"
 #include "commands.h"
 #include "job/job_flags.h"
 #include "wire/client_tls_flags.h"
@@ -25,6 +27,7 @@ int main(int argc, char** argv) {
   tc::GlobalOptions g;
   app.add_option("--server", g.server, "Server address HOST:PORT")
       ->envname("TESSERA_SERVER")
+      ->check(tessera::cli::host_port_check())
       ->capture_default_str();
   tessera::wire::add_client_auth_flags(
       app, g.token, g.token_file, g.tls, "Access token (sent as 'authorization: Bearer TOKEN')",
@@ -36,7 +39,8 @@ int main(int argc, char** argv) {
 
   tc::SubmitOptions submit;
   CLI::App* submit_cmd = app.add_subcommand("submit", "Submit a scene as a job");
-  submit_cmd->add_option("scene", submit.scene, "Scene file (.json or Mitsuba 3 .xml)")->required();
+  submit_cmd->add_option("scene", submit.scene, "Scene file: Tessera JSON (.json) or Mitsuba 3 XML (.xml)")
+      ->required();
   submit_cmd->add_option("--root", submit.root, "Bundle root: the folder every file the scene names must be in (default: the common folder of them all)");
   tessera::add_job_override_flags(submit_cmd, submit.overrides);
   submit_cmd->add_option("--priority", submit.priority, "Higher runs first (default 0)");
@@ -69,12 +73,16 @@ int main(int argc, char** argv) {
   CLI::App* workers_cmd = app.add_subcommand("workers", "List workers");
   json_flag(workers_cmd, g.json);
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return tessera::cli::exit_for_parse_error(app, e, "tessera");
+  }
   try {
     g.token = tessera::wire::resolve_token(g.token, g.token_file, "--token");
   } catch (const std::exception& e) {
     std::cerr << "tessera: " << e.what() << "\n";
-    return 1;
+    return tessera::cli::kExitFailure;
   }
 
   if (submit_cmd->parsed()) return tc::submit(g, submit);
@@ -85,5 +93,5 @@ int main(int argc, char** argv) {
   if (delete_cmd->parsed()) return tc::delete_job(g, job_id);
   if (list_cmd->parsed()) return tc::list(g);
   if (workers_cmd->parsed()) return tc::workers(g);
-  return 2;
+  return tessera::cli::kExitUsage;
 }

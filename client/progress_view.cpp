@@ -1,5 +1,7 @@
 #include "progress_view.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -34,6 +36,9 @@ std::string duration(double seconds) {
 }
 
 }  // namespace
+
+ProgressView::ProgressView(std::FILE* out)
+    : ProgressView(out, out != nullptr && isatty(fileno(out)) != 0) {}
 
 void ProgressView::update(const v1::JobInfo& job) {
   if (!out_) return;
@@ -71,16 +76,29 @@ void ProgressView::update(const v1::JobInfo& job) {
     const double total = double(o.width()) * double(o.height()) * double(o.spp());
     if (rate > 0) eta = (total - done) / rate;
   }
+  const std::string eta_text = is_final(job.state()) ? "00:00" : duration(eta);
+  if (!terminal_) {
+    // A line per tenth of the job or change of state: how many depends on the job, not the clock.
+    const int tenths = int(std::floor(std::clamp(job.progress(), 0.0, 1.0) * 10.0));
+    if (tenths <= tenths_printed_ && job.state() == state_printed_) return;
+    tenths_printed_ = tenths;
+    state_printed_ = job.state();
+    std::fprintf(out_, "job %llu %s %5.1f%%  %s%s samples/s  ETA %s\n",
+                 static_cast<unsigned long long>(job.id()), state_name(job.state()).c_str(),
+                 100.0 * job.progress(), extra.c_str(), si(rate).c_str(), eta_text.c_str());
+    std::fflush(out_);
+    return;
+  }
   std::fprintf(out_, "\rjob %llu %-9s [%s] %5.1f%%  %s%s samples/s  ETA %s  ",
                static_cast<unsigned long long>(job.id()), state_name(job.state()).c_str(),
                bar.c_str(), 100.0 * job.progress(), extra.c_str(), si(rate).c_str(),
-               is_final(job.state()) ? "00:00" : duration(eta).c_str());
+               eta_text.c_str());
   std::fflush(out_);
   drawn_ = true;
 }
 
 void ProgressView::finish() {
-  if (out_ && drawn_) std::fputc('\n', out_);
+  if (out_ && terminal_ && drawn_) std::fputc('\n', out_);
   drawn_ = false;
 }
 

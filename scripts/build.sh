@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Configures and builds Tessera into BUILD_DIR (default build/). Extra arguments go to CMake.
+# TARGETS (space-separated) builds only those targets and what they need; unset, everything
+# (tests included).
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 BUILD_DIR="${BUILD_DIR:-$ROOT/build}"
 cmake -S "$ROOT" -B "$BUILD_DIR" -G Ninja "$@" >/dev/null
-ninja -C "$BUILD_DIR"
+# shellcheck disable=SC2086  # TARGETS is a list
+ninja -C "$BUILD_DIR" ${TARGETS:-}

@@ -1,6 +1,8 @@
 #include "coordinator.h"
 
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <iostream>
 #include <sstream>
 
@@ -43,7 +45,7 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       leases_(db_, jobs_, clock_, config.lease_ms),
       scheduler_(db_, leases_, clock_),
       merger_(db_, clock_),
-      output_(config.output_dir),
+      output_(config.output_dir, config.output_writer),
       limits_(config.limits),
       nan_report_fraction_(config.nan_report_fraction),
       retention_days_(config.retention_days) {
@@ -72,6 +74,15 @@ int Coordinator::resume() {
     }
     if (job && job->state == JobState::running && job->complete) finish_job(id);
   }
+  // Done jobs whose output could not be written (a full disk) get their files now.
+  std::vector<JobRecord> done;
+  {
+    std::lock_guard lock(mu_);
+    for (JobRecord& job : jobs_.list(std::numeric_limits<uint32_t>::max())) {
+      if (job.state == JobState::done) done.push_back(std::move(job));
+    }
+  }
+  for (const JobRecord& job : done) rewrite_missing_output(job);
   changes_.notify();
   return int(unfinished.size());
 }
@@ -243,7 +254,13 @@ JobImage Coordinator::image(int64_t job_id, const std::string& format) {
       out.bytes = std::move(*bytes);
       return out;
     }
-    // The file was removed: the merged tiles are still in the store, encode them again.
+    // The file is missing (it could not be written, or was removed): the merged tiles are still
+    // in the store. Write the files again, and encode the answer from the tiles.
+    rewrite_missing_output(record);
+    if (std::optional<std::string> bytes = read_file(path)) {
+      out.bytes = std::move(*bytes);
+      return out;
+    }
   }
   {
     std::lock_guard lock(mu_);
@@ -275,7 +292,16 @@ void Coordinator::report_health(int64_t worker_id) {
 }
 
 bool Coordinator::online(const WorkerRecord& worker) const {
+  {
+    std::lock_guard lock(departed_mu_);
+    if (departed_.contains(worker.id)) return false;
+  }
   return clock_.now_unix_ms() - worker.last_seen_unix_ms <= 3 * leases_.lease_ms();
+}
+
+void Coordinator::deregister(int64_t worker_id) {
+  std::lock_guard lock(departed_mu_);
+  departed_.insert(worker_id);
 }
 
 int64_t Coordinator::register_worker(const WorkerRegistration& info) {
@@ -289,6 +315,10 @@ int64_t Coordinator::register_worker(const WorkerRegistration& info) {
 }
 
 void Coordinator::touch_or_throw(int64_t worker_id) {
+  {
+    std::lock_guard lock(departed_mu_);
+    departed_.erase(worker_id);  // it calls again: online again
+  }
   if (!workers_.touch(worker_id, clock_.now_unix_ms())) {
     // FAILED_PRECONDITION, not NOT_FOUND: the worker tells "register again" by the code alone.
     throw FarmError(ErrorCode::failed_precondition,
@@ -422,23 +452,41 @@ void Coordinator::finish_job(int64_t job_id) {
   }
   const int64_t now = clock_.now_unix_ms();
   record.finished_unix_ms = now;
-  std::optional<OutputFiles> files;
-  std::string error;
+  // Every unit is merged: the job is done whatever happens to its files. A write that fails (a
+  // full disk) is logged and retried by the next `get` of the job and at the next start; the
+  // merged image stays in the store meanwhile (docs/design.md, "Leases and failures").
+  const OutputFiles files = output_.files(record);
   try {
-    files = output_.write(record, tiles);
+    output_.write(record, tiles);
   } catch (const std::exception& e) {
-    error = std::string("writing the output failed: ") + e.what();
+    std::cerr << "tessera-server: job " << job_id << " is done but its output was not written: "
+              << e.what() << "; the image stays in the store and is written again by the next"
+              << " `tessera get " << job_id << "` or server start" << std::endl;
   }
   {
     std::lock_guard lock(mu_);
     finishing_.erase(job_id);
-    if (files) {
-      jobs_.finish(job_id, files->exr.string(), files->png.string(), now);
-    } else {
-      jobs_.fail(job_id, error, now);
-    }
+    jobs_.finish(job_id, files.exr.string(), files.png.string(), now);
   }
   changes_.notify();
+}
+
+void Coordinator::rewrite_missing_output(const JobRecord& record) {
+  if (record.state != JobState::done) return;
+  if (std::filesystem::exists(record.output_exr) && std::filesystem::exists(record.output_png)) {
+    return;
+  }
+  std::vector<TileRecord> tiles;
+  {
+    std::lock_guard lock(mu_);
+    tiles = jobs_.tiles(record.id);
+  }
+  try {
+    output_.write(record, tiles);
+  } catch (const std::exception& e) {
+    std::cerr << "tessera-server: job " << record.id << ": writing its output again failed: "
+              << e.what() << std::endl;
+  }
 }
 
 }  // namespace tessera::server

@@ -39,6 +39,8 @@ struct CoordinatorConfig {
   double nan_report_fraction = 1e-3;
   /// Final jobs older than this many days are deleted (--retention-days); 0 = keep them.
   double retention_days = 0;
+  /// Writes the output files (empty: write_image); tests inject a full disk here.
+  ImageFileWriter output_writer;
 };
 
 /// A unit leased to a worker, with what it needs to render it.
@@ -123,6 +125,10 @@ class Coordinator {
   bool online(const WorkerRecord& worker) const;
 
   int64_t register_worker(const WorkerRegistration& info);
+  /// The worker is stopping: online() is false for it until it calls again. Kept in memory
+  /// (after a server restart a departed worker is offline three lease periods after its last
+  /// call, as one that vanished).
+  void deregister(int64_t worker_id);
   /// Leases a unit, waiting up to `wait` for one to appear (long poll) unless `cancelled()`
   /// says the caller went away. nullopt: no work. Every worker call throws
   /// FarmError(failed_precondition) for an unknown worker id (register again).
@@ -170,6 +176,9 @@ class Coordinator {
  private:
   /// Writes the output of a fully merged job and marks it done (or failed with the reason).
   void finish_job(int64_t job_id);
+  /// Writes a done job's output files again when one is missing (a full disk when it finished,
+  /// or a file removed since). Failures are logged: the image stays in the store.
+  void rewrite_missing_output(const JobRecord& record);
   void touch_or_throw(int64_t worker_id);
   /// Logs, once per server run, a worker whose NaN/Inf share crossed the report threshold.
   void report_health(int64_t worker_id);
@@ -183,6 +192,8 @@ class Coordinator {
   Scheduler scheduler_;
   TileMerger merger_;
   JobOutput output_;
+  mutable std::mutex departed_mu_;
+  std::set<int64_t> departed_;  ///< workers that deregistered and have not called since
   std::set<int64_t> finishing_;  ///< jobs whose output is being written (guarded by mu_)
   FarmLimits limits_;
   double nan_report_fraction_;

@@ -17,12 +17,18 @@ std::string joined(const std::vector<std::string>& items) {
   return out;
 }
 
-void write_atomically(const RgbImage& image, const std::filesystem::path& path,
-                      const ImageWriteOptions& options) {
+void write_atomically(const ImageFileWriter& writer, const RgbImage& image,
+                      const std::filesystem::path& path, const ImageWriteOptions& options) {
   // write_image picks the format from the extension: keep it last in the temporary name.
   std::filesystem::path temp = path;
   temp.replace_extension(".partial" + path.extension().string());
-  write_image(image, temp, options);
+  try {
+    writer(image, temp, options);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(temp, ignored);  // a full disk keeps no half-written file
+    throw;
+  }
   std::error_code ec;
   std::filesystem::rename(temp, path, ec);
   if (ec) throw std::runtime_error(path.string() + ": cannot rename into place: " + ec.message());
@@ -86,6 +92,12 @@ std::vector<ExtraChannel> JobOutput::extra_channels(const JobRecord& job,
   return {{"spp", spp_channel(job.options.width, job.options.height, rects, spp)}};
 }
 
+OutputFiles JobOutput::files(const JobRecord& job) const {
+  const std::string stem = "job-" + std::to_string(job.id);
+  return {std::filesystem::absolute(dir_ / (stem + ".exr")),
+          std::filesystem::absolute(dir_ / (stem + ".png"))};
+}
+
 OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TileRecord>& tiles) const {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
@@ -94,12 +106,10 @@ OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TileRecord>
   ImageWriteOptions options;
   options.metadata = provenance(job);
   options.extra_channels = extra_channels(job, tiles);
-  const std::string stem = "job-" + std::to_string(job.id);
-  OutputFiles files{std::filesystem::absolute(dir_ / (stem + ".exr")),
-                    std::filesystem::absolute(dir_ / (stem + ".png"))};
-  write_atomically(image, files.exr, options);
-  write_atomically(image, files.png, options);
-  return files;
+  const OutputFiles out = files(job);
+  write_atomically(writer_, image, out.exr, options);
+  write_atomically(writer_, image, out.png, options);
+  return out;
 }
 
 }  // namespace tessera::server

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -16,9 +17,16 @@ struct OutputFiles {
   std::filesystem::path exr, png;
 };
 
+/// Writes one image file (core's write_image in production). The seam through which tests
+/// make the disk full (ENOSPC) or fail in other ways.
+using ImageFileWriter = std::function<void(const RgbImage&, const std::filesystem::path&,
+                                           const ImageWriteOptions&)>;
+
 class JobOutput {
  public:
-  explicit JobOutput(std::filesystem::path output_dir) : dir_(std::move(output_dir)) {}
+  /// `writer` empty: write_image.
+  explicit JobOutput(std::filesystem::path output_dir, ImageFileWriter writer = {})
+      : dir_(std::move(output_dir)), writer_(writer ? std::move(writer) : ImageFileWriter(write_image)) {}
 
   /// The image of the merged samples so far: per pixel the mean of what is merged, black where
   /// nothing is. Throws CodecError when a stored tile does not decode.
@@ -35,14 +43,18 @@ class JobOutput {
   static std::vector<ExtraChannel> extra_channels(const JobRecord& job,
                                                   const std::vector<TileRecord>& tiles);
 
-  /// Writes <output_dir>/job-<id>.exr and .png (each written to a temporary name, then renamed,
-  /// so a reader never sees half a file). Throws std::runtime_error naming the file.
+  /// Where the job's files go: <output_dir>/job-<id>.exr and .png, absolute.
+  OutputFiles files(const JobRecord& job) const;
+
+  /// Writes files(job) (each to a temporary name, then renamed, so a reader never sees half a
+  /// file). Throws std::runtime_error naming the file and why (e.g. "No space left on device").
   OutputFiles write(const JobRecord& job, const std::vector<TileRecord>& tiles) const;
 
   const std::filesystem::path& dir() const { return dir_; }
 
  private:
   std::filesystem::path dir_;
+  ImageFileWriter writer_;
 };
 
 }  // namespace tessera::server

@@ -1,4 +1,4 @@
-// The one state machine of job and work-unit status (STYLE.md habit 9). Every transition the
+// The one state machine of job and work-unit status (docs/design.md, "Leases and failures"). Every transition the
 // farm makes is decided here, in the two switches of job_state.cpp; the store applies them as
 // compare-and-set updates (`UPDATE ... SET state = <to> WHERE ... AND state = <from>`).
 //

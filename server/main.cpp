@@ -17,6 +17,8 @@
 #include "dashboard/http_server.h"
 #include "job_service.h"
 #include "lease_reaper.h"
+#include "cli/host_port.h"
+#include "cli/usage_exit.h"
 #include "listen_policy.h"
 #include "store/db_lock.h"
 #include "store/integrity.h"
@@ -97,10 +99,10 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   namespace ts = tessera::server;
   const Tokens tokens = resolve_tokens(flags);
   check_grpc_listen_policy(flags, tokens);
-  // The dashboard serves reads to anyone who reaches it; its state changes need the client
-  // token. Without one it may not listen beyond loopback either. It speaks HTTPS with --tls-cert.
+  // The dashboard needs the client token for everything but its page and probes
+  // (docs/security.md). Without one it may not listen beyond loopback either. It speaks HTTPS
+  // with --tls-cert. (The flags' check has refused a malformed --http address already.)
   {
-    tessera::server::parse_http_address(flags.http_address);  // a malformed one: its own error
     const std::string warning = tessera::server::check_listen_policy(
         flags.http_address, tokens.client.empty() ? "the dashboard (HTTP)" : "", flags.tls.active(),
         flags.insecure);
@@ -174,7 +176,8 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
 
   // The dashboard (server/dashboard/): page, JSON API, /metrics, probes.
   // With --tls-cert/--tls-key it serves HTTPS with the same certificate as gRPC.
-  ts::DashboardConfig dashboard_config{tokens.client};
+  ts::DashboardConfig dashboard_config;
+  dashboard_config.token = tokens.client;
   if (flags.tls.active()) {
     dashboard_config.tls_cert_file = flags.tls.cert_file;
     dashboard_config.tls_key_file = flags.tls.key_file;
@@ -237,10 +240,12 @@ int main(int argc, char** argv) {
   Flags flags;
   app.add_option("--grpc", flags.grpc_address, "gRPC listen address HOST:PORT (port 0: any free)")
       ->envname("TESSERA_GRPC")
+      ->check(tessera::cli::host_port_check())
       ->capture_default_str();
   app.add_option("--http", flags.http_address,
                  "HTTP dashboard, JSON API and /metrics address HOST:PORT (port 0: any free)")
       ->envname("TESSERA_HTTP")
+      ->check(tessera::cli::host_port_check())
       ->capture_default_str();
   app.add_option("--db", flags.db, "SQLite database file (created if missing)")
       ->envname("TESSERA_DB")
@@ -343,7 +348,11 @@ int main(int argc, char** argv) {
   app.add_option("--http-port-file", flags.http_port_file,
                  "write the HTTP port chosen to this file once listening (for --http HOST:0)")
       ->envname("TESSERA_HTTP_PORT_FILE");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return tessera::cli::exit_for_parse_error(app, e, "tessera-server");
+  }
 
   // Block the stop signals before any thread starts, so only sigwait sees them.
   sigset_t stop_signals;

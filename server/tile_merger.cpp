@@ -22,13 +22,14 @@ struct UnitContext {
   std::optional<std::string> tile_accumulation;  ///< nullopt: nothing merged yet
   StopRule rule = StopRule::spp;
   double noise_target = 0;
+  bool cancelled = false;  ///< the unit was cancelled (its job ended, or the rule skipped it)
 };
 
 std::optional<UnitContext> load_unit(Database& db, const UnitResult& r) {
   auto q = db.prepare(R"sql(
       SELECT u.id, t.x0, t.y0, t.x1, t.y1, t.next_batch, t.accumulation,
              j.width, j.height, j.tile_size, j.spp, j.batch_spp, j.stop_rule, j.noise_target,
-             j.batch_schedule
+             j.batch_schedule, u.state
       FROM units u
       JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile
       JOIN jobs j ON j.id = u.job_id
@@ -48,6 +49,7 @@ std::optional<UnitContext> load_unit(Database& db, const UnitResult& r) {
   c.rule = stop_rule_from_string(q->text(12)).value_or(StopRule::spp);
   c.noise_target = q->real(13);
   c.plan.batch_kind = batch_kind_from_string(q->text(14)).value_or(BatchKind::fixed);
+  c.cancelled = q->text(15) == s(UnitState::cancelled);
   return c;
 }
 
@@ -140,9 +142,13 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
     db_.prepare("UPDATE jobs SET results_dropped = results_dropped + 1 WHERE id = ?")
         ->bind(1, r.job_id)
         .run();
-    db_.prepare("UPDATE workers SET units_lost = units_lost + 1 WHERE id = ?")
-        ->bind(1, r.worker_id)
-        .run();
+    // A unit cancelled under the worker (its job was cancelled or failed, or the stopping rule
+    // no longer needs it) is not the worker's failure: only a lost lease counts against it.
+    if (!c->cancelled) {
+      db_.prepare("UPDATE workers SET units_lost = units_lost + 1 WHERE id = ?")
+          ->bind(1, r.worker_id)
+          .run();
+    }
     tx.commit();
     outcome.reason =
         "lease " + r.lease_id + " is not the current lease of the unit (expired and re-leased, "

@@ -120,4 +120,13 @@ grpc::Status WorkerServiceImpl::ReleaseUnit(grpc::ServerContext* context,
   });
 }
 
+grpc::Status WorkerServiceImpl::Deregister(grpc::ServerContext* context,
+                                           const v1::DeregisterRequest* request,
+                                           v1::DeregisterResponse*) {
+  return guarded(auth_, *context, "Deregister", [&] {
+    coordinator_.deregister(worker_id_of(request->worker_id()));
+    return grpc::Status::OK;
+  });
+}
+
 }  // namespace tessera::server

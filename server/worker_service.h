@@ -28,6 +28,8 @@ class WorkerServiceImpl final : public v1::WorkerService::Service {
                             v1::UploadResultResponse* response) override;
   grpc::Status ReleaseUnit(grpc::ServerContext* context, const v1::ReleaseUnitRequest* request,
                            v1::ReleaseUnitResponse* response) override;
+  grpc::Status Deregister(grpc::ServerContext* context, const v1::DeregisterRequest* request,
+                          v1::DeregisterResponse* response) override;
 
  private:
   Coordinator& coordinator_;

@@ -9,15 +9,16 @@
 #include <tbb/global_control.h>
 
 #include "converge.h"
+#include "job/job_flags.h"
 #include "scene/scene_loader.h"
 
 namespace tessera {
 namespace {
 
 template <typename T>
-void optional_option(CLI::App* app, const std::string& name, std::optional<T>& target,
-                     const std::string& help) {
-  app->add_option_function<T>(name, [&target](const T& v) { target = v; }, help);
+CLI::Option* optional_option(CLI::App* app, const std::string& name, std::optional<T>& target,
+                             const std::string& help) {
+  return app->add_option_function<T>(name, [&target](const T& v) { target = v; }, help);
 }
 
 void write_text(const std::string& path, const std::string& text) {
@@ -52,9 +53,11 @@ void ConvergeCommand::add_to(CLI::App& parent) {
       ->check(CLI::PositiveNumber);
   optional_option(app, "--spp", overrides.spp, "Largest spp (default 1024); levels are powers of two up to it");
   optional_option(app, "--max-depth", overrides.max_depth, "Path segments incl. the camera ray, -1 = unbounded");
-  optional_option(app, "--seed", overrides.seed, "Random seed (default: the scene's)");
+  optional_option(app, "--seed", overrides.seed, "Random seed in [0, 2^64-1] (default: the scene's)")
+      ->check(seed_check());
   optional_option(app, "--isa", overrides.isa, "Pin Embree's instruction set");
-  app->add_option("--threads", threads, "Threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  app->add_option("--threads", threads, "Threads, 0 to 1024 (default 0: all cores)")
+      ->check(CLI::Range(0, 1024));
   app->add_flag("-q,--quiet", quiet, "Print only the table");
 }
 

@@ -15,6 +15,9 @@
 #include <unistd.h>
 
 #include "accum/film.h"
+#include "cli/host_port.h"
+#include "cli/output_path.h"
+#include "cli/usage_exit.h"
 #include "converge_command.h"
 #include "image/image_output.h"
 #include "job/job_flags.h"
@@ -41,24 +44,14 @@ struct RenderArgs {
   bool quiet = false;
 };
 
-std::string lower_extension(const std::filesystem::path& p) {
-  std::string ext = p.extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 std::optional<std::filesystem::path> bundle_root(const std::string& root) {
   if (root.empty()) return std::nullopt;
   return std::filesystem::path(root);
 }
 
 int run_render(const RenderArgs& args) {
-  for (const std::string& out : args.outputs) {
-    const std::string ext = lower_extension(out);
-    if (ext != ".exr" && ext != ".png") {
-      throw std::invalid_argument("-o " + out + ": the output must end in .exr or .png");
-    }
-  }
+  // Every output is checked before the scene is read: a render never runs to be thrown away.
+  for (const std::string& out : args.outputs) tessera::cli::check_output_path(out, {".exr", ".png"});
   const tessera::Scene scene = tessera::load_scene_file(args.scene, bundle_root(args.root));
   const tessera::JobOptions options = tessera::resolve_job_options(scene, args.overrides);
 
@@ -179,9 +172,7 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 /// `tessera-worker convert IN -o OUT.json`: any scene Tessera reads (a Mitsuba .xml scene, or
 /// native JSON) as native JSON that reads back to the same Scene (scene_writer.h).
 int run_convert(const ConvertArgs& args) {
-  if (lower_extension(args.output) != ".json") {
-    throw std::invalid_argument("-o " + args.output + ": the output must end in .json");
-  }
+  tessera::cli::check_output_path(args.output, {".json"});
   const tessera::Scene scene = tessera::load_scene_file(args.scene, bundle_root(args.root));
   const std::string source = std::filesystem::path(args.scene).filename().string();
   write_file_atomically(
@@ -209,7 +200,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("-o,--output", render.outputs, "Output image(s): .exr (linear float) or .png (sRGB)")
       ->required();
   tessera::add_job_override_flags(render_cmd, render.overrides);
-  render_cmd->add_option("--threads", render.threads, "Threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  render_cmd->add_option("--threads", render.threads, "Threads, 0 to 1024 (default 0: all cores)")
+      ->check(CLI::Range(0, 1024));
   render_cmd->add_flag("--half", render.half, "Write EXR as half floats (clamped to half's range)");
   render_cmd->add_flag("-q,--quiet", render.quiet, "No progress bar");
 
@@ -226,8 +218,11 @@ int main(int argc, char** argv) {
 #ifdef TESSERA_HAVE_FARM
   tessera::FarmWorkerConfig farm;
   farm.server = "127.0.0.1:50051";
-  app.add_option("--server", farm.server, "Server address HOST:PORT")->envname("TESSERA_SERVER");
-  app.add_option("--threads", farm.threads, "Render threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  app.add_option("--server", farm.server, "Server address HOST:PORT")
+      ->envname("TESSERA_SERVER")
+      ->check(tessera::cli::host_port_check());
+  app.add_option("--threads", farm.threads, "Render threads, 0 to 1024 (default 0: all cores)")
+      ->check(CLI::Range(0, 1024));
   app.add_option("--cache", farm.cache_dir, "Folder caching scene bundles")->envname("TESSERA_CACHE");
   std::string token_file;
   tessera::wire::add_client_auth_flags(app, farm.token, token_file, farm.tls,
@@ -239,7 +234,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return tessera::cli::exit_for_parse_error(app, e, "tessera-worker");
   }
   try {
     if (render_cmd->parsed()) return run_render(render);
@@ -250,12 +245,12 @@ int main(int argc, char** argv) {
     return tessera::run_farm_worker(farm);
 #else
     std::fprintf(stderr, "tessera-worker: this build has no farm mode; use `tessera-worker render`\n");
-    return 2;
+    return tessera::cli::kExitUsage;
 #endif
   } catch (const tessera::SceneError& e) {
     std::fprintf(stderr, "tessera-worker: %s\n", e.what());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tessera-worker: %s\n", e.what());
   }
-  return 1;
+  return tessera::cli::kExitFailure;
 }

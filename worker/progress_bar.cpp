@@ -1,18 +1,30 @@
 #include "progress_bar.h"
 
+#include <algorithm>
 #include <cmath>
 #include <unistd.h>
 
 namespace tessera {
 
 ProgressBar::ProgressBar(std::FILE* stream, uint64_t total_samples)
+    : ProgressBar(stream, total_samples,
+                  stream != nullptr && isatty(fileno(stream)) != 0 ? Style::redraw
+                                                                   : Style::lines) {}
+
+ProgressBar::ProgressBar(std::FILE* stream, uint64_t total_samples, Style style)
     : stream_(stream),
-      enabled_(stream != nullptr && isatty(fileno(stream)) != 0),
+      style_(style),
       total_(total_samples == 0 ? 1 : total_samples),
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_ - std::chrono::seconds(1)) {}
 
 void ProgressBar::update(uint64_t done_samples) {
+  if (stream_ == nullptr) return;
+  if (style_ == Style::lines) {
+    // A line per tenth of the work: how many depends on the work alone, never on the clock.
+    if (done_samples * 10 / total_ > uint64_t(tenths_printed_)) print_line(done_samples);
+    return;
+  }
   const auto now = std::chrono::steady_clock::now();
   if (now - last_draw_ < std::chrono::milliseconds(100)) return;
   last_draw_ = now;
@@ -20,12 +32,27 @@ void ProgressBar::update(uint64_t done_samples) {
 }
 
 void ProgressBar::finish(uint64_t done_samples) {
+  if (stream_ == nullptr) return;
+  if (style_ == Style::lines) {
+    if (tenths_printed_ < 10) print_line(done_samples);
+    return;
+  }
   draw(done_samples);
-  if (enabled_) std::fputc('\n', stream_);
+  std::fputc('\n', stream_);
+}
+
+void ProgressBar::print_line(uint64_t done) {
+  tenths_printed_ = int(std::min<uint64_t>(10, done * 10 / total_));
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double rate = elapsed > 0 ? double(done) / elapsed : 0;
+  std::fprintf(stream_, "progress %5.1f%%  %ssamples/s  elapsed %s\n",
+               100.0 * double(done) / double(total_), si_count(rate).c_str(),
+               format_duration(elapsed).c_str());
+  std::fflush(stream_);
 }
 
 void ProgressBar::draw(uint64_t done) {
-  if (!enabled_) return;
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double fraction = double(done) / double(total_);

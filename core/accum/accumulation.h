@@ -17,7 +17,7 @@ struct DroppedSample {
 };
 
 /// Per-pixel sums over a set of samples of one tile. Pixels are row-major within `rect`.
-/// Sums are in double and divided only at read-out (STYLE.md habit 6). A dropped (NaN/Inf)
+/// Sums are in double and divided only at read-out. A dropped (NaN/Inf)
 /// sample adds nothing, not even to `count`.
 struct Accumulation {
   TileRect rect;

@@ -18,7 +18,7 @@ namespace tessera {
 
 /// The estimated relative error of the mean luminance over a set of pixels:
 /// sqrt(mean over pixels of the variance of each pixel's mean luminance) / max(mean luminance,
-/// 1e-4), from the sums of luminance and squared luminance (the noise rule of DESIGN.md).
+/// 1e-4), from the sums of luminance and squared luminance (the noise rule, docs/accuracy.md).
 /// Pixels with fewer than 2 samples are left out; returns 0 when no pixel has 2.
 double estimate_relative_error(const std::vector<Accumulation>& tiles);
 

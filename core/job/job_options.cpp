@@ -116,9 +116,7 @@ JobOptions resolve_job_options(const Scene& scene, const JobOverrides& o, const 
   const int depth = o.max_depth.value_or(scene.render.max_depth);
   if (depth != -1 && depth < 1) bad("--max-depth", "must be -1 (unbounded) or >= 1", depth);
   job.max_depth = depth;
-  const int64_t seed = o.seed.has_value() ? *o.seed : int64_t(scene.render.seed);
-  if (seed < 0) bad("--seed", "must be >= 0", seed);
-  job.seed = uint64_t(seed);
+  job.seed = o.seed.value_or(scene.render.seed);  // every 64-bit value is a seed
   job.tile_size = int(in_range("--tile", o.tile_size.value_or(64), 1, limits.max_tile));
   const int64_t batch =
       o.batch_spp.value_or(job.rule == StopRule::noise ? std::min(kNoiseBatchSpp, job.spp) : 0);

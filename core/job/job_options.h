@@ -19,7 +19,7 @@ struct JobOverrides {
   std::optional<int> width, height;
   std::optional<int> tile_size;
   std::optional<int64_t> batch_spp;
-  std::optional<int64_t> seed;
+  std::optional<uint64_t> seed;  ///< any 64-bit value
   std::optional<int> max_depth;
   std::optional<std::string> isa;  ///< Embree ISA to pin ("sse2", "sse4.2", "avx", "avx2", "avx512")
   // Stopping rule: at most one of spp, time_s, noise and preset (docs/accuracy.md).

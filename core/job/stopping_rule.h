@@ -1,4 +1,4 @@
-// Stopping rules: the user's trade between speed and accuracy (DESIGN.md, "The job"). A job stops
+// Stopping rules: the user's trade between speed and accuracy (docs/design.md, "The job"). A job stops
 // at a number of samples per pixel (`spp N`), at a wall-time budget (`time T`), or, tile by tile,
 // when the estimated relative error of the tile's merged samples reaches a target (`noise E`, up
 // to a cap). The decision for one tile is `judge_tile`, shared by the local renderer and the

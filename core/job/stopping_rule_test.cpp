@@ -76,7 +76,8 @@ TEST(JudgeTile, SppAndTimeRulesFinishOnlyAtTheirLastBatch) {
 
 Scene scene() {
   Scene s;
-  s.film = {64, 32};
+  s.film.width = 64;
+  s.film.height = 32;
   s.render.spp = 32;
   return s;
 }

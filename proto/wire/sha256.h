@@ -1,4 +1,4 @@
-// SHA-256 through OpenSSL's EVP interface (a well-kept library, STYLE.md habit 14).
+// SHA-256 through OpenSSL's EVP interface (a well-kept library).
 #pragma once
 
 #include <string>

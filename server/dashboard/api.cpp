@@ -16,12 +16,17 @@
 #include "dashboard_assets.h"
 #include "farm_error.h"
 #include "job_output.h"
+#include "proto_convert.h"
+#include "wire/job_json.h"
 #include "wire/job_options_wire.h"
 
 namespace tessera::server {
 namespace {
 
 using nlohmann::json;
+
+/// The largest request body the API reads: its bodies are a few bytes of JSON.
+constexpr size_t kMaxBodyBytes = 64 * 1024;
 
 json optional_number(std::optional<double> v) { return v ? json(*v) : json(nullptr); }
 
@@ -44,6 +49,7 @@ int status_of(ErrorCode code) {
     case ErrorCode::invalid_argument: return 400;
     case ErrorCode::not_found: return 404;
     case ErrorCode::failed_precondition: return 409;
+    case ErrorCode::resource_exhausted: return 429;
     case ErrorCode::internal: return 500;
   }
   return 500;
@@ -76,14 +82,9 @@ class Api {
     }
   }
 
-  /// True when the request may change state; otherwise answers 401/415 and returns false.
-  bool authorised_change(const httplib::Request& req, httplib::Response& res) const {
-    // A JSON body type keeps cross-site forms out even without a token (they cannot send it
-    // without a CORS preflight, which this server never grants).
-    if (req.get_header_value("Content-Type").rfind("application/json", 0) != 0) {
-      send_error(res, 415, "requests that change state must be sent as application/json");
-      return false;
-    }
+  /// True when the request carries the token (or the server has none); otherwise answers 401
+  /// and returns false. Called before anything of the request's body is read.
+  bool authorised(const httplib::Request& req, httplib::Response& res) const {
     if (config_.token.empty()) return true;
     const std::string expected = "Bearer " + config_.token;
     const std::string given = req.get_header_value("Authorization");
@@ -227,6 +228,67 @@ class Api {
   std::map<int64_t, CachedMap> maps_;
 };
 
+/// Paths anyone may read, token or not: the page itself (it asks for the token) and the probes.
+bool is_open_path(const std::string& path) {
+  return path == "/" || path == "/dashboard.js" || path == "/dashboard.css" ||
+         path == "/healthz" || path == "/readyz";
+}
+
+/// Methods whose requests httplib reads a body for.
+bool carries_body(const std::string& method) {
+  return method == "POST" || method == "PUT" || method == "PATCH" || method == "DELETE";
+}
+
+/// Runs on the request's headers alone, before httplib reads any body (docs/security.md,
+/// "The dashboard"): the token (401), then for requests with a body its type (415), a declared
+/// length (411) and its size (413). Returns true when it answered.
+bool refuse_before_body(const Api& api, const httplib::Request& req, httplib::Response& res) {
+  if (!is_open_path(req.path) && !api.authorised(req, res)) return true;
+  if (!carries_body(req.method)) return false;
+  // A JSON body type also keeps cross-site forms out (they cannot send it without a CORS
+  // preflight, which this server never grants).
+  if (req.get_header_value("Content-Type").rfind("application/json", 0) != 0) {
+    send_error(res, 415, "requests that change state must be sent as application/json");
+    return true;
+  }
+  const bool chunked = req.get_header_value("Transfer-Encoding").find("chunked") !=
+                       std::string::npos;
+  if (!req.has_header("Content-Length")) {
+    if (chunked) return false;  // read_body stops past kMaxBodyBytes (413)
+    send_error(res, 411, "send the body's length (Content-Length)");
+    return true;
+  }
+  const std::string length = req.get_header_value("Content-Length");
+  if (length.empty() || length.find_first_not_of("0123456789") != std::string::npos) {
+    send_error(res, 400, "Content-Length must be a number of bytes (got \"" + length + "\")");
+    return true;
+  }
+  if (length.size() > 7 || std::stoul(length) > kMaxBodyBytes) {
+    send_error(res, 413, "the body may be at most " + std::to_string(kMaxBodyBytes) +
+                             " bytes (Content-Length " + length + ")");
+    return true;
+  }
+  return false;
+}
+
+/// Reads the request's body into `body`, at most kMaxBodyBytes; answers 413 and returns false
+/// past that (the rest is never read: the connection closes after this request).
+bool read_body(const httplib::ContentReader& reader, httplib::Response& res, std::string& body) {
+  bool too_large = false;
+  reader([&](const char* data, size_t length) {
+    if (body.size() + length > kMaxBodyBytes) {
+      too_large = true;
+      return false;
+    }
+    body.append(data, length);
+    return true;
+  });
+  if (too_large) {
+    send_error(res, 413, "the body may be at most " + std::to_string(kMaxBodyBytes) + " bytes");
+  }
+  return !too_large;
+}
+
 void send_image(Api& api, const httplib::Request& req, httplib::Response& res,
                 const std::string& format) {
   api.guarded(res, [&] {
@@ -242,15 +304,12 @@ void send_image(Api& api, const httplib::Request& req, httplib::Response& res,
 
 json job_json(const JobRecord& job, int64_t now_unix_ms, double samples_per_s) {
   const uint64_t total = samples_total(job);
-  double elapsed_s = 0;
-  if (job.started_unix_ms > 0) {
-    const int64_t end = job.finished_unix_ms > 0 ? job.finished_unix_ms : now_unix_ms;
-    elapsed_s = std::max<double>(0, double(end - job.started_unix_ms) / 1000.0);
-  }
   // ETA from the recent rate, else the average since the start.
   json eta = nullptr;
   if (job.state == JobState::running) {
     double rate = samples_per_s;
+    const double elapsed_s =
+        job.started_unix_ms > 0 ? double(now_unix_ms - job.started_unix_ms) / 1000.0 : 0.0;
     if (rate <= 0 && elapsed_s > 0) rate = double(job.counters.samples_merged) / elapsed_s;
     if (rate > 0) {
       const uint64_t left = total > job.counters.samples_merged ? total - job.counters.samples_merged : 0;
@@ -259,57 +318,17 @@ json job_json(const JobRecord& job, int64_t now_unix_ms, double samples_per_s) {
   } else if (job.state == JobState::done) {
     eta = 0.0;
   }
-  const JobCounters& c = job.counters;
-  return json{
-      {"id", job.id},
-      {"state", std::string(to_string(job.state))},
-      {"priority", job.priority},
-      {"scene_file", job.scene_file},
-      {"bundle_sha256", job.bundle_sha256},
-      {"options", json::parse(wire::options_to_json(job.options))},
-      {"progress", job.progress()},
-      {"spp_merged", job.spp_merged},
-      {"spp_target", job.options.spp},
-      // The stopping rule and what the job reached (docs/accuracy.md): per-tile spp and error.
-      {"stop_rule", std::string(to_string(job.options.rule))},
-      {"time_budget_s", job.options.time_budget_s},
-      {"noise_target", job.options.noise_target},
-      {"stop_reason", std::string(to_string(job.stop_reason))},
-      {"reached",
-       {{"spp_min", job.reached.spp_min},
-        {"spp_mean", job.reached.spp_mean},
-        {"spp_max", job.reached.spp_max},
-        {"error_max", job.reached.error_max},
-        {"error_mean", job.reached.error_mean},
-        {"tiles_finished", job.tiles_finished}}},
-      {"samples_merged", c.samples_merged},
-      {"samples_total", total},
-      {"samples_per_s", samples_per_s},
-      {"elapsed_s", elapsed_s},
-      {"eta_s", eta},
-      {"tile_count", job.tile_count},
-      {"batch_count", job.batch_count},
-      {"counters",
-       {{"units_total", job.units_total},
-        {"units_done", c.units_done},
-        {"units_leased", c.units_leased},
-        {"results_merged", c.results_merged},
-        {"results_dropped", c.results_dropped},
-        {"leases_expired", c.leases_expired},
-        {"units_released", c.units_released},
-        {"units_skipped", c.units_skipped},
-        {"results_wasted", c.results_wasted},
-        {"nan_dropped", c.nan_dropped},
-        {"inf_dropped", c.inf_dropped}}},
-      {"submitted_unix_ms", job.submitted_unix_ms},
-      {"started_unix_ms", job.started_unix_ms},
-      {"finished_unix_ms", job.finished_unix_ms},
-      {"error", job.error},
-      {"isas", job.isas},
-      {"renderer_versions", job.versions},
-      {"preview_url", "/api/jobs/" + std::to_string(job.id) + "/preview.png"},
-      {"image_url", "/api/jobs/" + std::to_string(job.id) + "/image.exr"},
-  };
+  // The job's one schema (wire/job_json.h), then only what a live view adds.
+  json j = wire::job_json(to_proto(job));
+  j["samples_total"] = total;
+  j["samples_per_s"] = samples_per_s;
+  j["eta_s"] = eta;
+  j["tile_count"] = job.tile_count;
+  j["batch_count"] = job.batch_count;
+  j["renderer_versions"] = job.versions;
+  j["preview_url"] = "/api/jobs/" + std::to_string(job.id) + "/preview.png";
+  j["image_url"] = "/api/jobs/" + std::to_string(job.id) + "/image.exr";
+  return j;
 }
 
 json tiles_json(const std::vector<TileView>& tiles) {
@@ -330,6 +349,11 @@ json tiles_json(const std::vector<TileView>& tiles) {
 void install_dashboard_routes(httplib::Server& http, Coordinator& coordinator,
                               DashboardConfig config) {
   auto api = std::make_shared<Api>(coordinator, std::move(config));
+  http.set_pre_routing_handler([api](const httplib::Request& req, httplib::Response& res) {
+    return refuse_before_body(*api, req, res) ? httplib::Server::HandlerResponse::Handled
+                                              : httplib::Server::HandlerResponse::Unhandled;
+  });
+  http.set_payload_max_length(kMaxBodyBytes);  // a second guard: the routes read at most this
 
   auto asset = [](std::string_view body, const char* type) {
     return [body, type](const httplib::Request&, httplib::Response& res) {
@@ -366,18 +390,26 @@ void install_dashboard_routes(httplib::Server& http, Coordinator& coordinator,
            [api](const httplib::Request& req, httplib::Response& res) {
              send_image(*api, req, res, "exr");
            });
-  http.Post(R"(/api/jobs/(\d+)/cancel)", [api](const httplib::Request& req, httplib::Response& res) {
-    if (!api->authorised_change(req, res)) return;
-    api->guarded(res, [&] {
-      const JobRecord job = api->coordinator().cancel(job_id_of(req));
-      send_json(res, 200, api->job_summary(job, api->coordinator().clock().now_unix_ms()));
-    });
-  });
-  http.Post(R"(/api/jobs/(\d+)/priority)",
-            [api](const httplib::Request& req, httplib::Response& res) {
-              if (!api->authorised_change(req, res)) return;
+  // Bodies are read through a content reader, at most kMaxBodyBytes of them: a chunked body
+  // (whose length no header declares) is cut off there with 413.
+  http.Post(R"(/api/jobs/(\d+)/cancel)",
+            [api](const httplib::Request& req, httplib::Response& res,
+                  const httplib::ContentReader& reader) {
+              std::string body;
+              if (!read_body(reader, res, body)) return;
               api->guarded(res, [&] {
-                const json body = json::parse(req.body, nullptr, /*allow_exceptions=*/false);
+                const JobRecord job = api->coordinator().cancel(job_id_of(req));
+                send_json(res, 200,
+                          api->job_summary(job, api->coordinator().clock().now_unix_ms()));
+              });
+            });
+  http.Post(R"(/api/jobs/(\d+)/priority)",
+            [api](const httplib::Request& req, httplib::Response& res,
+                  const httplib::ContentReader& reader) {
+              std::string text;
+              if (!read_body(reader, res, text)) return;
+              api->guarded(res, [&] {
+                const json body = json::parse(text, nullptr, /*allow_exceptions=*/false);
                 if (!body.is_object() || !body.contains("priority") ||
                     !body["priority"].is_number_integer() ||
                     body["priority"].get<int64_t>() < INT_MIN ||

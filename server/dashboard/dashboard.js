@@ -1,5 +1,7 @@
 // Tessera dashboard: polls the JSON API (docs/dashboard.md) and redraws. No build step, no
-// dependencies. The token for state changes is kept in sessionStorage, never in the URL.
+// dependencies. With a client token on the server every API call needs it: the page asks for it
+// first, keeps it in sessionStorage (never in the URL) and sends it as an Authorization header,
+// images included (fetched as blobs).
 'use strict';
 
 const params = new URLSearchParams(location.search);
@@ -29,11 +31,42 @@ function rate(v) {
 function percent(x) { return (100 * x).toFixed(x >= 1 ? 0 : 1) + ' %'; }
 function errorText(e) { return e === null || e === undefined ? '—' : (100 * e).toFixed(2) + ' %'; }
 
+function authHeaders(extra = {}) {
+  const token = sessionStorage.getItem(TOKEN_KEY) || '';
+  return token ? { ...extra, Authorization: `Bearer ${token}` } : extra;
+}
+
+async function request(path, options = {}) {
+  const sent = sessionStorage.getItem(TOKEN_KEY) || '';
+  const res = await fetch(path, { cache: 'no-store', ...options,
+                                  headers: authHeaders(options.headers || {}) });
+  // Only an answer to the token held now says anything about it: a poll sent before the token
+  // was saved may come back 401 after.
+  if (sent === (sessionStorage.getItem(TOKEN_KEY) || '')) {
+    if (res.status === 401) askForToken();
+    else if (res.ok) $('#token-needed').hidden = true;
+  }
+  return res;
+}
+
 async function api(path, options = {}) {
-  const res = await fetch(path, { cache: 'no-store', ...options });
+  const res = await request(path, options);
   const body = res.headers.get('Content-Type')?.startsWith('application/json') ? await res.json() : null;
   if (!res.ok) throw Object.assign(new Error(body?.error || `HTTP ${res.status}`), { status: res.status });
   return body;
+}
+
+// An image through the API (with the token): a blob URL, or null when the server refused it.
+async function imageUrl(path) {
+  const res = await request(path);
+  return res.ok ? URL.createObjectURL(await res.blob()) : null;
+}
+
+function askForToken() {
+  if (!$('#token-needed').hidden) return;
+  $('#token-needed').hidden = false;
+  $('#token-input').placeholder = 'this server needs a token';
+  $('#token-input').focus();
 }
 
 function jobRow(j) {
@@ -42,8 +75,8 @@ function jobRow(j) {
     <td class="num">${j.id}</td><td>${esc(j.scene_file)}</td>
     <td><span class="state state-${esc(j.state)}">${esc(j.state)}</span></td>
     <td class="progress-col"><div class="bar" data-progress="${j.progress}"><span style="width:${(100 * j.progress).toFixed(2)}%"></span><b>${percent(j.progress)}</b></div></td>
-    <td class="num">${j.spp_merged}/${j.spp_target}</td><td class="num wide">${rate(j.samples_per_s)}</td>
-    <td class="num wide">${duration(j.elapsed_s)}</td><td class="num">${j.state === 'running' ? duration(j.eta_s) : '—'}</td>
+    <td class="num">${j.spp_merged}/${j.options.spp}</td><td class="num wide">${rate(j.samples_per_s)}</td>
+    <td class="num wide">${duration(j.wall_time_s)}</td><td class="num">${j.state === 'running' ? duration(j.eta_s) : '—'}</td>
     <td class="num wide">${errorText(j.relative_error)}</td><td class="num wide">${j.priority}</td></tr>`;
 }
 
@@ -68,6 +101,32 @@ function renderLists() {
   document.body.dataset.renderMs = (performance.now() - t0).toFixed(1);
 }
 
+// Provenance as a person reads it: labels in words, numbers without trailing zeros
+// ("spp_mean 220.000000" reads "spp mean 220"), empty values left out.
+const PROVENANCE_LABELS = {
+  scene_sha256: 'scene SHA-256', spp_min: 'spp min', spp_mean: 'spp mean', spp_max: 'spp max',
+  stop_rule: 'stopping rule', stop_reason: 'stopped', max_depth: 'max depth', tile: 'tile size',
+  batch: 'batch spp', isa: 'ISA', estimated_relative_error: 'est. error',
+  tile_error_max: 'tile error max', tile_error_mean: 'tile error mean',
+  nan_inf_dropped: 'NaN / Inf dropped', wall_time_s: 'wall time', noise_target: 'noise target',
+  time_budget_s: 'time budget', max_spp: 'max spp', scene_file: 'scene',
+  worker_isas: 'worker ISAs', renderer_version: 'renderer', job_id: 'job',
+  samples_merged: 'samples merged', nan_dropped: 'NaN dropped', inf_dropped: 'Inf dropped',
+};
+function provenanceValue(key, v) {
+  if (key === 'wall_time_s' || key === 'time_budget_s') return duration(Number(v));
+  if (key === 'estimated_relative_error' || key.startsWith('tile_error')) return errorText(Number(v));
+  if (/^-?\d+(\.\d+)?(e[-+]?\d+)?$/i.test(v)) return String(Number(Number(v).toPrecision(6)));
+  return String(v).replace(/_/g, ' ');
+}
+function provenanceRows(provenance) {
+  return Object.entries(provenance)
+    .map(([k, v]) => [k.replace('tessera:', ''), String(v ?? '').trim()])
+    .filter(([k, v]) => k !== 'job_options' && v !== '' && !(k === 'stop_reason' && v === 'none'))
+    .map(([k, v]) => [PROVENANCE_LABELS[k] || k.replace(/_/g, ' '),
+                      k === 'scene_sha256' ? v : provenanceValue(k, v)]);
+}
+
 function dl(el, pairs) {
   el.innerHTML = pairs.map(([k, v]) => `<dt>${esc(k)}</dt><dd>${esc(v)}</dd>`).join('');
 }
@@ -75,30 +134,35 @@ function dl(el, pairs) {
 function renderDetail() {
   const j = state.detail;
   $('#job-detail').hidden = !j;
-  if (!j) return;
+  if (!j) { $('#selected-failure').hidden = true; return; }
   $('#detail-id').textContent = j.id;
   const st = $('#detail-state');
   st.textContent = j.state; st.className = `state state-${j.state}`;
   $('#detail-scene').textContent = `${j.scene_file} · priority ${j.priority}`;
+  // Why a job failed comes first: at the top of the page (above the job list, so never below
+  // the fold however many jobs there are) and above the job's images.
+  $('#detail-error').hidden = !j.error;
+  $('#detail-error').textContent = j.error ? `Failed: ${j.error}` : '';
+  $('#selected-failure').hidden = !j.error;
+  $('#selected-failure').textContent = j.error ? `Job ${j.id} failed: ${j.error}` : '';
   const final = ['done', 'failed', 'cancelled'].includes(j.state);
   $('#cancel-job').disabled = final;
   $('#set-priority').disabled = final;
   if (document.activeElement !== $('#priority-input')) $('#priority-input').value = j.priority;
-  $('#download-exr').href = j.image_url;
-  // A new preview only when more results are merged; loaded off-screen, then swapped in.
+  // A new preview only when more results are merged; fetched with the token, then swapped in.
   const key = `${j.id}:${j.counters.results_merged}:${j.state}`;
   if (key !== state.previewKey) {
     state.previewKey = key;
-    const img = new Image();
-    img.onload = () => {
-      if (state.detail?.id !== j.id) return;
+    imageUrl(`${j.preview_url}?v=${encodeURIComponent(key)}`).then((url) => {
+      if (!url) return;
+      if (state.detail?.id !== j.id || state.previewKey !== key) { URL.revokeObjectURL(url); return; }
       const p = $('#preview');
-      p.src = img.src;
+      if (p.src.startsWith('blob:')) URL.revokeObjectURL(p.src);
+      p.src = url;
       p.dataset.version = key;
       $('#preview-caption').textContent =
         `${j.spp_merged} spp merged${j.state === 'done' ? ' (final)' : ''} · ${j.options.width}×${j.options.height}`;
-    };
-    img.src = `${j.preview_url}?v=${encodeURIComponent(key)}`;
+    });
   }
   drawTileMap(j);
   const o = j.options;
@@ -106,20 +170,19 @@ function renderDetail() {
     ['max depth', o.max_depth], ['seed', o.seed], ['tile', o.tile_size], ['batch', `${o.batch_spp} spp`],
     ['isa', o.isa || 'auto'], ['units', `${j.counters.units_total} (${j.tile_count} tiles × ${j.batch_count} batches)`]]);
   const c = j.counters;
-  const rule = j.stop_rule === 'time' ? `time ${j.time_budget_s} s (max ${j.spp_target} spp)`
-    : j.stop_rule === 'noise' ? `noise ${j.noise_target} (max ${j.spp_target} spp)` : `${j.spp_target} spp`;
+  const rule = j.stop_rule === 'time' ? `time ${j.options.time_budget_s} s (max ${j.options.spp} spp)`
+    : j.stop_rule === 'noise' ? `noise ${j.options.noise_target} (max ${j.options.spp} spp)` : `${j.options.spp} spp`;
   const r = j.reached;
-  dl($('#detail-progress'), [['stopping rule', rule], ...(j.stop_reason && j.stop_reason !== 'none' ? [['stopped', j.stop_reason]] : []),
-    ['progress', percent(j.progress)], ['spp reached', `${j.spp_merged} / ${j.spp_target}`],
+  dl($('#detail-progress'), [['stopping rule', rule], ...(j.stop_reason ? [['stopped', j.stop_reason.replace(/_/g, ' ')]] : []),
+    ['progress', percent(j.progress)], ['spp reached', `${j.spp_merged} / ${j.options.spp}`],
     ...(j.stop_rule !== 'spp' ? [['spp per tile', `min ${r.spp_min} · mean ${r.spp_mean.toFixed(1)} · max ${r.spp_max}`],
       ['tiles finished', `${r.tiles_finished} / ${j.tile_count}`]] : []),
-    ['samples/s', rate(j.samples_per_s)], ['elapsed', duration(j.elapsed_s)],
+    ['samples/s', rate(j.samples_per_s)], ['elapsed', duration(j.wall_time_s)],
     ['ETA', j.state === 'running' ? duration(j.eta_s) : '—'], ['est. error', errorText(j.relative_error)],
     ['units done', `${c.units_done} / ${c.units_total}`], ['leased now', c.units_leased],
     ['leases expired', c.leases_expired], ['results dropped', c.results_dropped],
-    ['NaN / Inf dropped', `${c.nan_dropped} / ${c.inf_dropped}`], ...(j.error ? [['error', j.error]] : [])]);
-  dl($('#detail-provenance'), Object.entries(j.provenance)
-    .filter(([k]) => k !== 'tessera:job_options').map(([k, v]) => [k.replace('tessera:', ''), v]));
+    ['NaN / Inf dropped', `${c.nan_dropped} / ${c.inf_dropped}`]]);
+  dl($('#detail-provenance'), provenanceRows(j.provenance));
 }
 
 // Heat map: each tile coloured by its samples per pixel (of the target) or by its estimated
@@ -144,7 +207,7 @@ function drawTileMap(j) {
   const lo = Math.log(Math.min(...errors)), hi = Math.log(Math.max(...errors));
   for (const t of j.tiles) {
     let v = null, label = '';
-    if (state.metric === 'spp') { v = t.spp / j.spp_target; label = String(t.spp); }
+    if (state.metric === 'spp') { v = t.spp / j.options.spp; label = String(t.spp); }
     else if (t.relative_error > 0) {
       v = hi > lo ? (Math.log(t.relative_error) - lo) / (hi - lo) : 0.5;
       label = (100 * t.relative_error).toFixed(1) + '%';
@@ -160,7 +223,7 @@ function drawTileMap(j) {
     }
   }
   $('#tile-legend').textContent = state.metric === 'spp'
-    ? `dark: 0 spp · bright: ${j.spp_target} spp`
+    ? `dark: 0 spp · bright: ${j.options.spp} spp`
     : errors.length ? `dark: ${(100 * Math.exp(lo)).toFixed(2)} % · bright: ${(100 * Math.exp(hi)).toFixed(2)} %`
                     : 'no estimate yet (needs 2 spp)';
 }
@@ -197,9 +260,7 @@ function message(text, ok) {
 }
 
 async function change(path, body) {
-  const token = sessionStorage.getItem(TOKEN_KEY) || '';
   const headers = { 'Content-Type': 'application/json' };
-  if (token) headers.Authorization = `Bearer ${token}`;
   try {
     await api(path, { method: 'POST', headers, body: JSON.stringify(body) });
     return true;
@@ -212,7 +273,9 @@ async function change(path, body) {
 
 function select(id) {
   state.selected = id; state.detail = null; state.previewKey = '';
-  $('#preview').removeAttribute('src'); delete $('#preview').dataset.version;
+  const p = $('#preview');
+  if (p.src.startsWith('blob:')) URL.revokeObjectURL(p.src);
+  p.removeAttribute('src'); delete p.dataset.version;
   message('', true);
   refresh();
 }
@@ -227,6 +290,7 @@ $('#cancel-job').addEventListener('click', async () => {
   refresh();
 });
 $('#set-priority').addEventListener('click', async () => {
+  const id = state.selected;
   const text = $('#priority-input').value.trim(), p = Number(text);
   if (text === '' || !Number.isInteger(p)) { message('priority must be an integer', false); return; }
   if (id !== null && await change(`/api/jobs/${id}/priority`, { priority: p })) {
@@ -239,8 +303,23 @@ $('#token-form').addEventListener('submit', (ev) => {
   const v = $('#token-input').value.trim();
   if (v) sessionStorage.setItem(TOKEN_KEY, v); else sessionStorage.removeItem(TOKEN_KEY);
   $('#token-input').value = '';
-  $('#token-input').placeholder = v ? 'token saved for this tab' : 'needed to cancel or re-prioritise';
+  $('#token-input').placeholder = v ? 'token saved for this tab' : 'the server\'s client token';
+  $('#token-needed').hidden = true;
   message(v ? 'token saved for this tab' : 'token cleared', true);
+  state.previewKey = '';
+  refresh();
+});
+// The EXR through the API with the token: a blob saved under the job's name.
+$('#download-exr').addEventListener('click', async (ev) => {
+  ev.preventDefault();
+  const j = state.detail;
+  if (!j) return;
+  const url = await imageUrl(j.image_url);
+  if (!url) { message('the EXR could not be downloaded', false); return; }
+  const a = document.createElement('a');
+  a.href = url; a.download = `tessera-job-${j.id}.exr`;
+  document.body.appendChild(a); a.click(); a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 60000);
 });
 for (const r of document.querySelectorAll('input[name="tile-metric"]')) {
   r.addEventListener('change', () => { state.metric = r.value; if (state.detail) drawTileMap(state.detail); });

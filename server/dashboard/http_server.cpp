@@ -4,32 +4,10 @@
 
 #include <stdexcept>
 
+#include "cli/host_port.h"
 #include "dashboard/api.h"
 
 namespace tessera::server {
-
-HostPort parse_http_address(const std::string& address) {
-  const size_t colon = address.rfind(':');
-  if (colon == std::string::npos || colon == 0 || colon + 1 == address.size()) {
-    throw std::runtime_error("--http: expected HOST:PORT (got \"" + address + "\")");
-  }
-  HostPort hp;
-  hp.host = address.substr(0, colon);
-  if (hp.host.size() >= 2 && hp.host.front() == '[' && hp.host.back() == ']') {
-    hp.host = hp.host.substr(1, hp.host.size() - 2);
-  }
-  const std::string port = address.substr(colon + 1);
-  size_t used = 0;
-  try {
-    hp.port = std::stoi(port, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != port.size() || hp.port < 0 || hp.port > 65535) {
-    throw std::runtime_error("--http: port must be 0..65535 (got \"" + port + "\")");
-  }
-  return hp;
-}
 
 namespace {
 
@@ -57,13 +35,22 @@ DashboardServer::DashboardServer(Coordinator& coordinator, DashboardConfig confi
     int yes = 1;
     setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
   });
+  // One request per connection: a request refused on its headers (401, 411, 413, 415) leaves its
+  // body unread, and the connection is closed rather than reading that body as the next request.
+  http_->set_keep_alive_max_count(1);
   install_dashboard_routes(*http_, coordinator, std::move(config));
 }
 
 DashboardServer::~DashboardServer() { stop(); }
 
 int DashboardServer::start(const std::string& address) {
-  const HostPort hp = parse_http_address(address);
+  cli::HostPort hp;
+  try {
+    hp = cli::parse_host_port(address);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("--http: ") + e.what());
+  }
+  if (hp.unix_socket) throw std::runtime_error("--http: " + address + ": a unix: socket is gRPC only");
   int port = hp.port;
   if (port == 0) {
     port = http_->bind_to_any_port(hp.host);

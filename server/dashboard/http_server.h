@@ -1,6 +1,7 @@
 // The dashboard's HTTP listener (cpp-httplib): the page at /, the JSON API under /api/, /metrics
-// and the health probes, served from a thread pool beside the gRPC server. Reads are open; every
-// request that changes state needs `Authorization: Bearer TOKEN` when the server has a token.
+// and the health probes, served from a thread pool beside the gRPC server. With a client token,
+// everything but the page, its script and stylesheet, /healthz and /readyz needs
+// `Authorization: Bearer TOKEN` (docs/security.md, "The dashboard").
 #pragma once
 
 #include <memory>
@@ -15,16 +16,8 @@ namespace tessera::server {
 
 class Coordinator;
 
-struct HostPort {
-  std::string host;  ///< without the brackets of an IPv6 literal
-  int port = 0;
-};
-/// Parses the --http address "HOST:PORT" ("[::1]:PORT" for IPv6). Throws std::runtime_error
-/// naming the flag ("--http: expected HOST:PORT ...") when it is malformed.
-HostPort parse_http_address(const std::string& address);
-
 struct DashboardConfig {
-  std::string token;  ///< the server's --token; empty: state changes need no token
+  std::string token;  ///< the client token (--client-token or --token); empty: no token needed
   /// PEM certificate and key (the server's --tls-cert/--tls-key): both set, the dashboard
   /// serves HTTPS only; both empty, plain HTTP.
   std::string tls_cert_file, tls_key_file;

@@ -1,6 +1,6 @@
 // RAII wrappers over SQLite's C API: a connection, prepared statements, and write transactions.
 // Errors are thrown as SqliteError carrying SQLite's (extended) result code, so callers decide
-// by code, never by matching message text (STYLE.md habit 10).
+// by code, never by matching message text.
 #pragma once
 
 #include <sqlite3.h>

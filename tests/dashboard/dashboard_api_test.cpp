@@ -1,11 +1,16 @@
 // The dashboard's HTTP API against a real tessera-server on loopback (label e2e): every endpoint,
-// unknown ids, and the token on requests that change state. The server binds 127.0.0.1:0 for
+// unknown ids, the token on every read and change, and requests refused on their headers before
+// any body is read. The server binds 127.0.0.1:0 for
 // HTTP and writes the port it got (FarmCluster reads it).
 #include <gtest/gtest.h>
 #include <httplib.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -20,6 +25,41 @@ using nlohmann::json;
 
 const std::string kTiny = (source_dir() / "tests" / "farm" / "data" / "tiny.json").string();
 
+/// Sends `head` (request line and headers, no body) over a fresh connection and returns the
+/// status code of the answer, or -1 when none came: the server must answer from the headers
+/// alone. The 60 s receive limit only bounds a failing test.
+int status_from_headers_only(int port, const std::string& head) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  if (fd < 0) return -1;
+  timeval limit{60, 0};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(uint16_t(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  int status = -1;
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0 &&
+      ::send(fd, head.data(), head.size(), MSG_NOSIGNAL) == ssize_t(head.size())) {
+    std::string got;
+    char buf[512];
+    while (got.find("\r\n") == std::string::npos) {
+      const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
+      if (n <= 0) break;
+      got.append(buf, size_t(n));
+    }
+    // "HTTP/1.1 413 Payload Too Large"
+    if (got.starts_with("HTTP/1.") && got.size() >= 12) status = std::stoi(got.substr(9, 3));
+  }
+  ::close(fd);
+  return status;
+}
+
+std::string post_head(const std::string& path, const std::vector<std::string>& headers) {
+  std::string head = "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\n";
+  for (const std::string& h : headers) head += h + "\r\n";
+  return head + "\r\n";
+}
+
 class DashboardApi : public ::testing::Test {
  protected:
   httplib::Client client() {
@@ -32,6 +72,13 @@ class DashboardApi : public ::testing::Test {
   httplib::Result get(const std::string& path) {
     httplib::Client c = client();
     httplib::Result r = c.Get(path.c_str());
+    EXPECT_TRUE(r) << path << ": " << httplib::to_string(r.error());
+    return r;
+  }
+  /// GET with `Authorization: Bearer token`.
+  httplib::Result get_with_token(const std::string& path, const std::string& token) {
+    httplib::Client c = client();
+    httplib::Result r = c.Get(path.c_str(), {{"Authorization", "Bearer " + token}});
     EXPECT_TRUE(r) << path << ": " << httplib::to_string(r.error());
     return r;
   }
@@ -89,7 +136,7 @@ TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
   EXPECT_EQ(summary["stop_reason"], "spp_reached");
   EXPECT_EQ(summary["reached"]["spp_min"], 8);
   EXPECT_EQ(summary["reached"]["spp_max"], 8);
-  EXPECT_EQ(summary["samples_merged"], 16 * 16 * 8);
+  EXPECT_EQ(summary["counters"]["samples_merged"], 16 * 16 * 8);
   EXPECT_EQ(summary["samples_total"], 16 * 16 * 8);
   EXPECT_EQ(summary["counters"]["units_done"], 4 * 4);
   EXPECT_EQ(summary["options"]["batch_spp"], 2);
@@ -118,6 +165,16 @@ TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
   ASSERT_FALSE(local_error.empty());
   EXPECT_NEAR(detail["relative_error"].get<double>(), std::stod(local_error), 1e-6);
   EXPECT_EQ(detail["provenance"]["tessera:scene_sha256"], done.bundle_sha256());
+  // One schema for a job (issue 15): every key of `tessera status --json` is in the API's job,
+  // with the same value (the job is done: nothing moves any more).
+  const CommandResult status = farm_->cli({"status", std::to_string(id), "--json"});
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  const json cli = json::parse(status.out);
+  EXPECT_GE(cli.size(), 20u);
+  for (const auto& [key, value] : cli.items()) {
+    ASSERT_TRUE(detail.contains(key)) << key;
+    EXPECT_EQ(detail[key], value) << key;
+  }
   EXPECT_EQ(detail["provenance"]["tessera:spp"], "8");
 
   // The preview of a done job is its final PNG; the EXR is the file the server wrote.
@@ -187,7 +244,9 @@ TEST_F(DashboardApi, UnknownIdsAndPathsAre404WithAJsonError) {
   EXPECT_EQ(get_json("/api/workers")["workers"].size(), 0u);
 }
 
-TEST_F(DashboardApi, ChangesNeedTheTokenReadsDoNot) {
+// Before issue 15 every read was open; now, with a client token, only the page and the probes
+// are.
+TEST_F(DashboardApi, EveryReadAndChangeNeedsTheTokenButThePageAndProbes) {
   const std::string token = "dashboard-secret";
   farm_ = std::make_unique<FarmCluster>("dashboard-api-token");
   farm_->start_server({"--token", token});
@@ -195,13 +254,34 @@ TEST_F(DashboardApi, ChangesNeedTheTokenReadsDoNot) {
   const uint64_t id = farm_->submit({kTiny, "--spp", "64"});
   const std::string job_path = "/api/jobs/" + std::to_string(id);
 
-  const json list = get_json("/api/jobs");
+  const std::vector<std::string> guarded = {"/api/jobs", job_path, job_path + "/preview.png",
+                                            job_path + "/image.exr", "/api/workers", "/metrics",
+                                            "/api/jobs/999", "/api/nothing"};
+  for (const std::string& path : guarded) {
+    SCOPED_TRACE(path);
+    httplib::Result r = get(path);
+    expect_json_error(r, 401, "needs a token");
+    EXPECT_EQ(r->get_header_value("WWW-Authenticate"), "Bearer");
+    expect_json_error(get_with_token(path, "wrong"), 401, "wrong token");
+  }
+  for (const std::string path : {"/", "/dashboard.js", "/dashboard.css", "/healthz", "/readyz"}) {
+    httplib::Result r = get(path);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200) << path;
+  }
+  httplib::Result listed = get_with_token("/api/jobs", token);
+  ASSERT_TRUE(listed);
+  ASSERT_EQ(listed->status, 200) << listed->body;
+  const json list = json::parse(listed->body);
   EXPECT_TRUE(list["token_required"].get<bool>());
   EXPECT_EQ(list["jobs"][0]["state"], "queued");
-  httplib::Result preview = get(job_path + "/preview.png");
+  httplib::Result preview = get_with_token(job_path + "/preview.png", token);
   ASSERT_TRUE(preview);
   EXPECT_EQ(preview->status, 200);
   EXPECT_EQ(preview->get_header_value("X-Tessera-Final"), "false");
+  httplib::Result metrics = get_with_token("/metrics", token);  // Prometheus' bearer_token
+  ASSERT_TRUE(metrics);
+  EXPECT_EQ(metrics->status, 200);
 
   httplib::Result r = post(job_path + "/cancel", "{}");
   expect_json_error(r, 401, "needs a token");
@@ -251,12 +331,14 @@ TEST(DashboardListener, ABadOrBusyAddressStopsTheServerWithOneLine) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("cannot listen on 127.0.0.1:" + std::to_string(busy) + " (HTTP)"),
             std::string::npos) << r.err;
+  // A malformed address is a usage error (status 2) naming the flag and what is wrong.
   r = server("no-port-here", "bad");
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("--http: expected HOST:PORT"), std::string::npos) << r.err;
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--http: no-port-here: expected HOST:PORT"), std::string::npos) << r.err;
   r = server("127.0.0.1:70000", "range");
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("--http: port must be 0..65535"), std::string::npos) << r.err;
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--http: 127.0.0.1:70000: port 70000 is out of range [0, 65535]"),
+            std::string::npos) << r.err;
   std::filesystem::remove_all(dir);
 }
 
@@ -275,6 +357,49 @@ TEST_F(DashboardApi, PriorityChangesWhatRunsNext) {
   ASSERT_EQ(a.state(), v1::JOB_STATE_DONE);
   ASSERT_EQ(b.state(), v1::JOB_STATE_DONE);
   EXPECT_LT(b.started_unix_ms(), a.started_unix_ms());
+}
+
+// Before issue 15 a POST body was read whole before any check (a 200 MB body took the server
+// from 254 MB to 1.11 GB) and one without Content-Length waited 5 s for a generic 400. Now the
+// headers decide, in this order: token 401, type 415, no length 411, over 64 KiB 413. Each request
+// below sends its headers only: the status must come without the body.
+TEST_F(DashboardApi, PostsAreRefusedOnTheirHeadersBeforeAnyBodyIsRead) {
+  const std::string token = "body-secret";
+  farm_ = std::make_unique<FarmCluster>("dashboard-api-bodies");
+  farm_->start_server({"--token", token});
+  const int port = farm_->http_port();
+  const std::string cancel = "/api/jobs/1/cancel";
+  const std::string auth = "Authorization: Bearer " + token;
+  const std::string huge = "Content-Length: 200000000";
+  const std::string type = "Content-Type: application/json";
+  EXPECT_EQ(status_from_headers_only(port, post_head(cancel, {huge, type})), 401);
+  EXPECT_EQ(status_from_headers_only(port, post_head(cancel, {huge, "Content-Type: text/plain", "Authorization: Bearer wrong"})), 401);
+  EXPECT_EQ(status_from_headers_only(port, post_head(cancel, {huge, "Content-Type: text/plain", auth})), 415);
+  EXPECT_EQ(status_from_headers_only(port, post_head(cancel, {huge, auth})), 415);
+  EXPECT_EQ(status_from_headers_only(port, post_head(cancel, {type, auth})), 411);
+  EXPECT_EQ(status_from_headers_only(port, post_head(cancel, {huge, type, auth})), 413);
+  EXPECT_EQ(status_from_headers_only(port, post_head(cancel, {"Content-Length: 65537", type, auth})), 413);
+  EXPECT_EQ(status_from_headers_only(port, post_head(cancel, {"Content-Length: 99999999999999999999999", type, auth})), 413);
+  EXPECT_EQ(status_from_headers_only(port, post_head(cancel, {"Content-Length: -5", type, auth})), 400);
+  // Within the limit the body is read and the request goes on (no job 1: 404).
+  expect_json_error(post(cancel, "{}", token), 404, "no job 1");
+  // A chunked body is read up to the limit, then refused. The server may close the connection
+  // while the client still writes: that must be an error here, not a SIGPIPE.
+  std::signal(SIGPIPE, SIG_IGN);
+  httplib::Client c = client();
+  const std::string big(70 * 1024, ' ');
+  httplib::Result r = c.Post(cancel.c_str(), {{"Authorization", "Bearer " + token}},
+                             [&](size_t, httplib::DataSink& sink) {  // no length: chunked
+                               sink.write(big.data(), big.size());
+                               sink.done();
+                               return true;
+                             },
+                             "application/json");
+  if (r) {
+    EXPECT_EQ(r->status, 413);  // or the connection is closed under the client
+  }
+  // The server still serves.
+  EXPECT_EQ(get_json("/healthz")["status"], "ok");
 }
 
 }  // namespace

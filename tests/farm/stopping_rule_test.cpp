@@ -57,12 +57,6 @@ Accumulation noisy(const TileRect& rect) {
 
 TileRect rect_of(uint32_t tile) { return {int(4 * tile), 0, int(4 * tile + 4), 4}; }
 
-int64_t count(StoreFixture& f, const std::string& sql) {
-  auto q = f.db.prepare(sql);
-  EXPECT_TRUE(q->step());
-  return q->int64(0);
-}
-
 TEST(TimeRule, NoLeaseAfterTheBudgetInFlightUnitsAreAwaited) {
   StoreFixture f;
   const int64_t job = make_rule_job(f, StopRule::time, 2, 64, /*budget_s=*/5);  // 2 x 4 units

@@ -255,5 +255,24 @@ TEST(WorkerRegistry, RegistersTouchesAndShowsTheLeasedUnit) {
   EXPECT_EQ(all[1].job_id, std::nullopt);
 }
 
+// Seeds are any 64-bit value (issue 15): SQLite's signed integer holds the bit pattern, and
+// every value from 2^63 up reads back as it was written.
+TEST(JobStore, SeedsOfEverySixtyFourBitValueRoundTrip) {
+  StoreFixture f;
+  for (const uint64_t seed : {uint64_t(0), uint64_t(1) << 63, ~uint64_t(0), uint64_t(12345)}) {
+    NewJob job;
+    job.scene_file = "scene.json";
+    job.bundle_bytes = "bundle";
+    job.bundle_sha256 = std::string(64, 'b');
+    job.options.width = job.options.height = 8;
+    job.options.tile_size = 8;
+    job.options.spp = job.options.batch_spp = 1;
+    job.options.seed = seed;
+    const int64_t id = f.jobs.create(job, f.clock.now_unix_ms());
+    EXPECT_EQ(f.jobs.get(id)->options.seed, seed);
+    EXPECT_EQ(f.jobs.spec(id)->options.seed, seed);
+  }
+}
+
 }  // namespace
 }  // namespace tessera::server

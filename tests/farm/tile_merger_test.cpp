@@ -135,12 +135,15 @@ TEST(TileMerger, AnotherWorkersLeaseIdIsNotEnough) {
 TEST(TileMerger, ResultsOfACancelledJobAreDropped) {
   StoreFixture f;
   const int64_t job = f.make_job(4, 4, 4, 1, 1);
-  const Lease lease = *f.scheduler.lease_next(f.make_worker());
+  const int64_t worker = f.make_worker();
+  const Lease lease = *f.scheduler.lease_next(worker);
   f.jobs.cancel(job, 0);
   const Accumulation acc = StoreFixture::synthetic(kTile, 0, 1);
   EXPECT_FALSE(f.merger.accept(result_for(lease, acc), acc).accepted);
   EXPECT_EQ(f.jobs.get(job)->counters.results_dropped, 1u);
   EXPECT_EQ(f.jobs.get(job)->state, JobState::cancelled);
+  // The user cancelled, the worker did not fail: nothing counts against it (issue 15).
+  EXPECT_EQ(f.workers.get(worker)->units_lost, 0u);
 }
 
 TEST(TileMerger, RefusesAResultThatDoesNotFitTheUnit) {

@@ -80,6 +80,11 @@ void check(const grpc::Status& status, const char* call) {
   const std::string line = std::string(call) + ": " + wire::status_line(status);
   switch (status.error_code()) {
     case grpc::StatusCode::UNAUTHENTICATED:
+      // Say which token and where this worker reads it (docs/security.md, "Tokens and roles").
+      throw Fatal(line +
+                  "; the server wants its worker token (the server's --worker-token, or --token):"
+                  " give it to this worker with --token or --token-file, or in TESSERA_TOKEN or"
+                  " TESSERA_TOKEN_FILE");
     case grpc::StatusCode::PERMISSION_DENIED:
     case grpc::StatusCode::UNIMPLEMENTED:
       throw Fatal(line);
@@ -155,6 +160,7 @@ class FarmWorker {
       log(e.what());
       return 1;
     }
+    deregister();
     log("stopped after delivering " + std::to_string(units_uploaded_) + " unit(s), " +
         std::to_string(result_bytes_) + " result bytes" +
         (units_uploaded_ ? " (" + std::to_string(result_bytes_ / units_uploaded_) + " per unit)"
@@ -323,6 +329,17 @@ class FarmWorker {
       }
       stop_.wait_for(backoff.next());
     }
+  }
+
+  /// Tells the server this worker is leaving, so that it is listed offline at once; a failure
+  /// is only logged (the server then marks it offline after three lease periods).
+  void deregister() {
+    if (worker_id_ == 0) return;
+    v1::DeregisterRequest request;
+    request.set_worker_id(worker_id_);
+    v1::DeregisterResponse response;
+    const grpc::Status status = client_.deregister(request, &response);
+    if (!status.ok()) log("Deregister: " + wire::status_line(status));
   }
 
   /// Hands a unit back; failures to reach the server are only logged (the lease then expires).

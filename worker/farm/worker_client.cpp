@@ -78,4 +78,11 @@ grpc::Status WorkerClient::release(const v1::ReleaseUnitRequest& request,
   return stub_->ReleaseUnit(&context, request, response);
 }
 
+grpc::Status WorkerClient::deregister(const v1::DeregisterRequest& request,
+                                      v1::DeregisterResponse* response) {
+  grpc::ClientContext context;
+  prepare(context, kReleaseTimeout);
+  return stub_->Deregister(&context, request, response);
+}
+
 }  // namespace tessera::farm

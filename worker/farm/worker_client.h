@@ -33,6 +33,7 @@ class WorkerClient {
                             v1::FetchBundleResponse* response);
   grpc::Status upload(const v1::UploadResultRequest& request, v1::UploadResultResponse* response);
   grpc::Status release(const v1::ReleaseUnitRequest& request, v1::ReleaseUnitResponse* response);
+  grpc::Status deregister(const v1::DeregisterRequest& request, v1::DeregisterResponse* response);
 
  private:
   void prepare(grpc::ClientContext& context, std::chrono::milliseconds timeout) const;

@@ -6,7 +6,7 @@
 // by a hash of (seed, pixel, pair). Shuffling by Owen-scrambling the index maps every aligned
 // block of 2^k indices onto an aligned block, so every power-of-two batch of samples [b*B,
 // (b+1)*B) is itself a (0,k,2)-net: stratification survives any batch size that is a power of
-// two, and nothing depends on tiles, threads or workers (DESIGN.md, determinism contract).
+// two, and nothing depends on tiles, threads or workers (docs/design.md, "The determinism contract").
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 // The immutable render-ready scene: Embree BVH, materials, emitters and the camera, built once
-// from the editable Scene description (STYLE.md habit 8).
+// from the editable Scene description.
 #pragma once
 
 #include <cstdint>

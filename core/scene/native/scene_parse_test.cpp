@@ -30,7 +30,7 @@ TEST(SceneParse, MinimalSceneHasDocumentedDefaults) {
 }
 
 TEST(SceneParse, DesignDocumentExampleParses) {
-  // DESIGN.md's example, with its comments (comments are allowed).
+  // The format's example, with its comments (comments are allowed).
   Scene scene = parse(R"({
     "tessera": 1,
     "camera": { "position": [0,0,3.9], "look_at": [0,0,0], "up": [0,1,0],

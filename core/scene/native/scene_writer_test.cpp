@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "scene/native/json_value.h"
+#include "scene/scene_error.h"
 #include "scene/mitsuba/mitsuba_test_support.h"
 
 namespace tessera {
@@ -476,6 +477,23 @@ TEST(SceneWriter, RefusesModelFieldsJsonCannotSay) {
 TEST(SceneWriter, AnEmptySceneIsValid) {
   Scene s;
   expect_same_scene(s, round_trip(s));
+}
+
+// Before, a material native JSON cannot express was written as "{}" and read back as diffuse.
+TEST(SceneWriter, AMaterialNativeJsonCannotExpressIsRefusedByName) {
+  Scene s;
+  Material plastic;
+  plastic.name = "shiny";
+  plastic.type = MaterialType::plastic;
+  s.materials.push_back(plastic);
+  try {
+    write_scene_json(s);
+    FAIL() << "written";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("materials.shiny: this material type cannot be written"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

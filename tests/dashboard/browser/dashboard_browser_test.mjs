@@ -1,8 +1,10 @@
 // The dashboard in a real browser (Debian's headless Chromium driven by playwright-core):
-//  1. a farm (server with a token + 2 workers), the Cornell box submitted with many small units:
-//     the job appears, its preview changes at least twice while it renders, it reaches 100 %;
-//     a second job is cancelled from the page (refused without the token, done with it);
-//  2. a farm with 50 jobs and 32 registered workers: every row listed, the page still quick;
+//  1. a farm (server with a token + 2 workers): the page asks for the token before it shows
+//     anything; the Cornell box submitted with many small units appears, its preview (fetched
+//     with the token) changes at least twice while it renders, it reaches 100 %, its provenance
+//     reads as words and plain numbers; a second job is cancelled from the page;
+//  2. a farm with 50 jobs and 32 registered workers: every row listed, the page still quick; a
+//     failed job's reason shows above its images;
 //  3. the same page at a phone's viewport: no sideways scrolling of the page.
 // Screenshots go to $ARTIFACTS. Waits are bounded by a generous patience, never timed.
 // Environment: TESSERA_BIN_DIR, TESSERA_SOURCE_DIR, TOOLS_DIR (setup.sh), ARTIFACTS,
@@ -78,8 +80,8 @@ async function submit(farm, args, token = '') {
   return JSON.parse(stdout).id;
 }
 
-async function apiJob(farm, id) {
-  const res = await fetch(`${farm.http}/api/jobs/${id}`);
+async function apiJob(farm, id, token = TOKEN) {
+  const res = await fetch(`${farm.http}/api/jobs/${id}`, { headers: { Authorization: `Bearer ${token}` } });
   return res.json();
 }
 
@@ -115,6 +117,13 @@ try {
     const pageErrors = [];
     page.on('pageerror', (e) => pageErrors.push(String(e)));
     await page.goto(`${farm.http}/?poll=200`);
+    // With a client token every read needs it: the page asks for it before showing anything.
+    await page.locator('#token-needed').waitFor({ state: 'visible', timeout: PATIENCE_MS });
+    check((await page.locator('#jobs tbody tr').count()) === 0, 'no jobs shown without the token');
+    check((await fetch(`${farm.http}/api/jobs`)).status === 401, '/api/jobs refused without the token');
+    await page.locator('#token-input').fill(TOKEN);
+    await page.locator('#token-save').click();
+    await page.locator('#token-needed').waitFor({ state: 'hidden', timeout: PATIENCE_MS });
     // 4 tiles x 128 batches of 2 spp: hundreds of small units, so the page sees many merges.
     const cornell = path.join(SRC, 'scenes', 'cornell.json');
     const id = await submit(farm, [cornell, '--width', '96', '--height', '96', '--tile', '48',
@@ -148,21 +157,22 @@ try {
     const bar = page.locator(`#jobs tr[data-job-id="${id}"] .bar b`);
     check((await bar.textContent()).trim() === '100 %', 'the progress bar reads 100 %');
     check((await page.locator('#detail-progress').textContent()).includes('256 / 256'), 'spp 256 / 256');
+    // Provenance as words and plain numbers: "spp mean 256", never "spp_mean 256.000000".
+    const provenance = await page.locator('#detail-provenance').textContent();
+    check(provenance.includes('spp mean256'), `provenance reads "spp mean 256" (${provenance})`);
+    check(!/\.000000|spp_mean|stop_reason/.test(provenance), `no raw keys or padded numbers (${provenance})`);
+    check(await page.locator('#detail-error').isHidden(), 'no error line for a done job');
+    check(await page.locator('#selected-failure').isHidden(), 'no failure banner for a done job');
     const tiles = (await apiJob(farm, id)).tiles;
     check(tiles.length === 4 && tiles.every((t) => t.spp === 256), 'every tile at 256 spp');
     await page.locator('input[name="tile-metric"][value="error"]').check();
     await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard-done.png') });
     await page.locator('input[name="tile-metric"][value="spp"]').check();
 
-    // A second job, cancelled from the page: refused without the token, done with it.
+    // A second job, cancelled from the page (with the token the page already holds).
     const second = await submit(farm, [cornell, '--width', '96', '--height', '96', '--spp', '100000'], TOKEN);
     await page.locator(`#jobs tr[data-job-id="${second}"]`).click();
     await page.locator('#detail-id', { hasText: String(second) }).waitFor({ timeout: PATIENCE_MS });
-    await page.locator('#cancel-job').click();
-    await page.locator('#action-message', { hasText: 'token' }).waitFor({ timeout: PATIENCE_MS });
-    check(['queued', 'running'].includes((await apiJob(farm, second)).state), 'not cancelled without the token');
-    await page.locator('#token-input').fill(TOKEN);
-    await page.locator('#token-save').click();
     await page.locator('#cancel-job').click();
     await until('the second job to show cancelled', async () => (await rowState(page, second)) === 'cancelled');
     check((await apiJob(farm, second)).state === 'cancelled', 'the server says cancelled');
@@ -192,6 +202,28 @@ try {
     console.log(`  click to details: ${Date.now() - t0} ms`);
     await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard-50-jobs.png'), fullPage: true });
     await page.close();
+
+    // A failed job says why first, above its images. The server's real answer for job 23, with
+    // its state and reason changed as a unit failing on every worker would leave them.
+    const failing = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const reason = 'tile 0 batch 0 failed on 3 workers: w1: out of memory; w2: out of memory; w3: out of memory';
+    await failing.route('**/api/jobs/23', async (route) => {
+      const response = await route.fetch();
+      const job = await response.json();
+      await route.fulfill({ response, json: { ...job, state: 'failed', error: reason } });
+    });
+    await failing.goto(`${farm.http}/#job=23`);
+    await failing.locator('#selected-failure').waitFor({ state: 'visible', timeout: PATIENCE_MS });
+    const banner = await failing.locator('#selected-failure').textContent();
+    check(banner.includes('Job 23 failed') && banner.includes(reason), `the reason is shown (${banner})`);
+    const bannerBox = await failing.locator('#selected-failure').boundingBox();
+    check(bannerBox.y + bannerBox.height <= 900, `the reason is above the fold (y ${bannerBox.y})`);
+    const errorBox = await failing.locator('#detail-error').boundingBox();
+    const previewBox = await failing.locator('#preview').boundingBox();
+    check((await failing.locator('#detail-error').textContent()).includes(reason), 'and in the job');
+    check(!previewBox || errorBox.y < previewBox.y, 'the reason comes before the images');
+    await failing.screenshot({ path: path.join(ARTIFACTS, 'dashboard-failed.png') });
+    await failing.close();
 
     const phone = await browser.newContext({ viewport: { width: 390, height: 844 },
                                               deviceScaleFactor: 2, isMobile: true, hasTouch: true });

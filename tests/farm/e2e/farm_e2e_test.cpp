@@ -491,10 +491,18 @@ TEST(FarmE2E, CliStatusPreviewWatchAndGracefulWorkerStop) {
   // SIGTERM: the worker finishes its unit and exits 0; another one completes the job.
   farm.worker(first).signal(SIGTERM);
   EXPECT_EQ(farm.worker(first).wait_for(kPatience), 0);
+  // It deregistered on its way out: offline at once, not three lease periods later (issue 15).
+  const CommandResult workers = farm.cli({"workers", "--json"});
+  ASSERT_EQ(workers.exit_code, 0) << workers.err;
+  const nlohmann::json listed = nlohmann::json::parse(workers.out);
+  ASSERT_EQ(listed.size(), 1u) << listed.dump();
+  EXPECT_FALSE(listed.at(0).at("online").get<bool>()) << listed.dump();
   farm.start_worker();
   const CommandResult watch = farm.cli({"watch", std::to_string(id)});
   EXPECT_EQ(watch.exit_code, 0) << watch.err;
   EXPECT_NE(watch.err.find("100.0%"), std::string::npos) << watch.err;
+  // stderr is a file here: plain lines, no '\r' frames (issue 15).
+  EXPECT_EQ(watch.err.find('\r'), std::string::npos) << watch.err;
   expect_every_unit_merged_once(farm.job(id));
 
   const CommandResult list = farm.cli({"list", "--json"});

@@ -147,7 +147,8 @@ TEST(StoppingRuleE2E, TimeJobReturnsAfterItsBudgetAndSaysWhatItReached) {
   ASSERT_EQ(status.exit_code, 0) << status.err;
   const nlohmann::json j = nlohmann::json::parse(status.out);
   EXPECT_EQ(j.at("stop_reason"), "time_budget");
-  EXPECT_EQ(j.at("stop_rule").at("rule"), "time");
+  EXPECT_EQ(j.at("stop_rule"), "time");  // the job's one JSON schema (wire/job_json.h)
+  EXPECT_EQ(j.at("options").at("time_budget_s"), 10.0);
   EXPECT_EQ(j.at("reached").at("spp_max").get<uint32_t>(), job.reached().spp_max());
   const CommandResult text = farm.cli({"status", std::to_string(id)});
   EXPECT_NE(text.out.find("stopped by time_budget"), std::string::npos) << text.out;
@@ -187,12 +188,13 @@ TEST(StoppingRuleE2E, BadRulesAreRefusedNamingTheFlag) {
       {{"--preset", "nice"}, "--preset: unknown preset \"nice\""},
   };
   for (const Case& c : cases) {
+    // Usage errors (status 2, docs/design.md "Exit statuses"), found before the scene is read.
     const CommandResult r = farm.cli(concat({"submit", kCornell}, c.args));
-    EXPECT_EQ(r.exit_code, 1) << c.message;
+    EXPECT_EQ(r.exit_code, 2) << c.message;
     EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
     const CommandResult local =
         farm.local_render(concat({kCornell, "-q", "-o", (farm.dir() / "x.png").string()}, c.args));
-    EXPECT_EQ(local.exit_code, 1) << c.message;
+    EXPECT_EQ(local.exit_code, 2) << c.message;
     EXPECT_NE(local.err.find(c.message), std::string::npos) << local.err;
   }
   // The server refuses them too (a client that skips local validation).

@@ -1,0 +1,122 @@
+// A full output disk (issue 15): the job that completes while the disk is full stays done with
+// its merged image in the store; `get` answers the final image and writes the files again once
+// space is back, and so does the next server start. ENOSPC comes through the output writer's
+// seam (CoordinatorConfig::output_writer).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include "accum/accumulation_codec.h"
+#include "coordinator.h"
+#include "fake_clock.h"
+#include "store_fixture.h"
+
+namespace tessera::server {
+namespace {
+
+/// write_image, unless the disk is "full": then what a full disk gives (ENOSPC).
+struct Disk {
+  bool full = false;
+  int refused = 0;
+  ImageFileWriter writer() {
+    return [this](const RgbImage& image, const std::filesystem::path& path,
+                  const ImageWriteOptions& options) {
+      if (full) {
+        ++refused;
+        throw std::system_error(ENOSPC, std::generic_category(), path.string());
+      }
+      write_image(image, path, options);
+    };
+  }
+};
+
+v1::SceneBundle tiny_bundle() {
+  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/tiny.json");
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  v1::SceneBundle bundle;
+  bundle.set_scene_file("tiny.json");
+  auto* file = bundle.add_files();
+  file->set_path("tiny.json");
+  file->set_data(text);
+  return bundle;
+}
+
+/// Renders nothing: delivers synthetic results for every unit until the job is done.
+void complete(Coordinator& farm, int64_t job_id) {
+  const int64_t worker = farm.register_worker({"w", 1, "avx2", "test"});
+  for (;;) {
+    const std::optional<LeasedUnit> unit =
+        farm.lease(worker, std::chrono::milliseconds(0), [] { return false; });
+    if (!unit) break;
+    const Accumulation acc =
+        testing::StoreFixture::synthetic(unit->rect, unit->lease.batch,
+                                         unit->sample_end - unit->sample_begin);
+    UnitResult r = testing::result_for(unit->lease, acc);
+    ASSERT_TRUE(farm.upload(r).accepted);
+  }
+  ASSERT_EQ(farm.job(job_id).state, JobState::done);
+}
+
+TEST(FullDisk, AJobStaysDoneAndItsFilesAreWrittenByTheNextGetOrStart) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("tessera-full-disk-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const std::string db = (dir / "tessera.db").string();
+  std::filesystem::create_directories(dir);
+  testing::FakeClock clock;
+  Disk disk;
+  CoordinatorConfig config;
+  config.db_path = db;
+  config.output_dir = dir / "outputs";
+  config.output_writer = disk.writer();
+  int64_t id = 0;
+  {
+    Coordinator farm(config, clock);
+    v1::JobRequestOptions options;
+    options.set_spp(4);
+    options.set_tile_size(8);
+    options.set_batch_spp(2);
+    id = farm.submit(tiny_bundle(), options, 0, "test").id;
+    disk.full = true;
+    complete(farm, id);
+    EXPECT_GT(disk.refused, 0);
+    const JobRecord job = farm.job(id);
+    EXPECT_EQ(job.state, JobState::done);
+    EXPECT_EQ(job.error, "");
+    EXPECT_FALSE(std::filesystem::exists(job.output_exr));
+    EXPECT_FALSE(std::filesystem::exists(job.output_exr + ".partial.exr"));
+
+    // Still full: `get` answers the final image from the store.
+    JobImage image = farm.image(id, "exr");
+    EXPECT_TRUE(image.final);
+    EXPECT_EQ(image.spp, 4u);
+    EXPECT_FALSE(image.bytes.empty());
+    EXPECT_FALSE(std::filesystem::exists(job.output_exr));
+
+    // Space is back: the next `get` writes both files.
+    disk.full = false;
+    image = farm.image(id, "png");
+    EXPECT_TRUE(image.final);
+    EXPECT_TRUE(std::filesystem::exists(job.output_exr));
+    EXPECT_TRUE(std::filesystem::exists(job.output_png));
+    std::filesystem::remove(job.output_exr);
+    std::filesystem::remove(job.output_png);
+  }
+  {
+    // A restart writes what is missing.
+    Coordinator farm(config, clock);
+    farm.resume();
+    const JobRecord job = farm.job(id);
+    EXPECT_EQ(job.state, JobState::done);
+    EXPECT_TRUE(std::filesystem::exists(job.output_exr));
+    EXPECT_TRUE(std::filesystem::exists(job.output_png));
+  }
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace tessera::server
