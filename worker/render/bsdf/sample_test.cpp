@@ -59,7 +59,9 @@ TEST(BsdfSample, MatchesMitsuba3ForTheSameRandomNumbers) {
     ++rows;
     if (weight.x == 0 && weight.y == 0 && weight.z == 0) {
       // Mitsuba's "no sample"; Tessera ends the path or returns a black weight.
-      if (ours) EXPECT_LE(std::max({ours->weight.x, ours->weight.y, ours->weight.z}), 1e-6f) << where;
+      if (ours) {
+        EXPECT_LE(std::max({ours->weight.x, ours->weight.y, ours->weight.z}), 1e-6f) << where;
+      }
       continue;
     }
     ++sampled;
