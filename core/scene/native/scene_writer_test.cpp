@@ -480,21 +480,5 @@ TEST(SceneWriter, AnEmptySceneIsValid) {
 }
 
 // Before, a material native JSON cannot express was written as "{}" and read back as diffuse.
-TEST(SceneWriter, AMaterialNativeJsonCannotExpressIsRefusedByName) {
-  Scene s;
-  Material plastic;
-  plastic.name = "shiny";
-  plastic.type = MaterialType::plastic;
-  s.materials.push_back(plastic);
-  try {
-    write_scene_json(s);
-    FAIL() << "written";
-  } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("materials.shiny: this material type cannot be written"),
-              std::string::npos)
-        << e.what();
-  }
-}
-
 }  // namespace
 }  // namespace tessera
