@@ -54,7 +54,7 @@ glm::vec3 TextureSet::lookup(int32_t texture, glm::vec2 uv) const {
 float TextureSet::lookup_1(int32_t texture, glm::vec2 uv) const {
   const Entry& e = at(texture);
   if (const auto* b = std::get_if<BitmapTexture>(&e)) return b->eval_1(uv);
-  return mitsuba_luminance(std::get<Checkerboard>(e).eval(uv));
+  return mitsuba_luminance(std::get<Checkerboard>(e).eval_scalar_order(uv));
 }
 
 glm::vec2 TextureSet::gradient(int32_t texture, glm::vec2 uv) const {
