@@ -100,6 +100,7 @@ JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobReques
   Scene scene;
   try {
     scene = wire::parse_bundle_scene(contents);
+    wire::check_scene_images(scene);
   } catch (const SceneError& e) {
     throw invalid(e.what());
   } catch (const std::exception& e) {

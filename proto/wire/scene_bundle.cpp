@@ -3,8 +3,10 @@
 #include <cstdint>
 #include <fstream>
 #include <memory>
+#include <set>
 #include <sstream>
 
+#include "scene/image_check.h"
 #include "scene/scene_error.h"
 #include "wire/sha256.h"
 
@@ -158,6 +160,25 @@ Scene parse_bundle_scene(const BundleContents& bundle) {
                          bundle_reader(bundle));
 }
 
+void check_scene_images(const Scene& scene) {
+  std::set<std::string> checked;
+  auto check = [&](const std::string& file, const std::string& origin) {
+    if (file.empty() || !checked.insert(file).second) return;
+    try {
+      if (!scene.files) throw SceneError(file + ": the scene has no file reader");
+      check_image_bytes(file, scene.files(file));
+    } catch (const SceneError& e) {
+      throw SceneError(origin + ": " + e.what());
+    }
+  };
+  for (const Texture& texture : scene.textures) {
+    if (texture.kind == TextureKind::bitmap) check(texture.file, texture.origin);
+  }
+  for (const Light& light : scene.lights) {
+    if (light.kind == LightKind::envmap) check(light.file, light.origin);
+  }
+}
+
 BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene_out,
                                 const std::optional<std::filesystem::path>& root) {
   // A bundle holds files, never links: a linked scene file could pull in anything readable.
@@ -177,6 +198,7 @@ BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* 
     if (path == out.scene_file) continue;
     out.files.emplace(path, reader(path));
   }
+  check_scene_images(loaded.scene);
   if (scene_out) *scene_out = std::move(loaded.scene);
   return out;
 }

@@ -59,6 +59,13 @@ FileReader bundle_reader(const BundleContents& bundle);
 /// Parses the bundle's scene (parse_scene_any over bundle_reader). Throws SceneError.
 Scene parse_bundle_scene(const BundleContents& bundle);
 
+/// Decodes every image the scene uses (bitmap textures, environment maps) through its reader
+/// and checks it (check_image_bytes: readable, has pixels, no NaN, infinite or negative value).
+/// Throws SceneError "<texture or light origin>: <file>: ..." naming the element that uses it.
+/// The server calls it at submit, the CLI before it uploads: a broken image is refused with
+/// its name, never met by every worker mid-render.
+void check_scene_images(const Scene& scene);
+
 /// Builds the bundle of a scene file on disk: the scene file and every file in
 /// Scene::referenced_files, at their paths below the bundle root (load_scene_bundle: `root`
 /// when given, else the scene's folder, or for a Mitsuba scene the common folder of everything

@@ -126,3 +126,30 @@ TEST(SceneBundle, ReaderServesOnlyTheBundlesOwnFiles) {
 
 }  // namespace
 }  // namespace tessera::wire
+
+namespace tessera::wire {
+namespace {
+
+/// A bundle whose bitmap texture is `image` (bytes of a file named `name`).
+Scene scene_with_texture(const std::string& name, const std::string& image) {
+  const std::string scene =
+      R"({"tessera": 1, "textures": {"wood": {"type": "bitmap", "file": ")" + name + R"("}},
+          "materials": {"w": {"type": "diffuse", "reflectance": {"texture": "wood"}}},
+          "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "w"}]})";
+  return parse_bundle_scene(bundle_from_proto(make("s.json", {{"s.json", scene}, {name, image}})));
+}
+
+TEST(SceneBundle, ImagesAreDecodedAndCheckedAtSubmitNamingTheTexture) {
+  const Scene broken = scene_with_texture("wood.png", "not a PNG at all");
+  try {
+    check_scene_images(broken);
+    FAIL() << "a broken image was accepted";
+  } catch (const SceneError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("textures.wood"), std::string::npos) << message;
+    EXPECT_NE(message.find("wood.png"), std::string::npos) << message;
+  }
+}
+
+}  // namespace
+}  // namespace tessera::wire
