@@ -358,7 +358,8 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
   ASSERT_TRUE(poll_until([&] { return std::filesystem::exists(port_file) || !server.running(); },
                          kPatience));
   ASSERT_TRUE(server.running()) << e2e::read_text(dir / "server.log");
-  const std::string address = "10.213.0.1:" + e2e::read_text(port_file);
+  // The port file holds the number and a newline.
+  const std::string address = "10.213.0.1:" + std::to_string(std::stoi(e2e::read_text(port_file)));
   // The victim is across the veth link; a second worker runs beside the server, so the job goes
   // on while the link is down.
   Process cut_worker(net.in(net.worker_ns, {TESSERA_WORKER_BIN, "--server", address, "--threads",

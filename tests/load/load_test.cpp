@@ -194,7 +194,7 @@ TEST(Load, SixtyFourWorkersTwentyJobsNothingLostNoDeadlock) {
     ASSERT_LT(Clock::now(), start_deadline) << "tessera-server did not start";
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  const std::string address = "127.0.0.1:" + e2e::read_text(port_file);
+  const std::string address = "127.0.0.1:" + std::to_string(std::stoi(e2e::read_text(port_file)));
   auto job_stub = v1::JobService::NewStub(wire::make_channel(address));
 
   Shared shared;
