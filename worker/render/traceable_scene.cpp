@@ -39,6 +39,17 @@ glm::vec3 transform_vector(const glm::mat4& m, glm::vec3 v) { return glm::mat3(m
 TraceableScene::TraceableScene(const Scene& scene, int width, int height, const std::string& isa,
                                const FileReader& reader)
     : camera_(scene.camera, width, height), hide_emitters_(scene.render.hide_emitters) {
+  // Embree's objects are plain handles: when building fails, release what was made, since the
+  // destructor does not run for an object that was never constructed.
+  try {
+    build(scene, isa, reader);
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+void TraceableScene::build(const Scene& scene, const std::string& isa, const FileReader& reader) {
   const FileReader files = reader        ? reader
                            : scene.files ? scene.files
                                          : FileReader([](const std::string& path) -> std::string {
@@ -136,11 +147,16 @@ TraceableScene::TraceableScene(const Scene& scene, int width, int height, const 
       scene_radius);
 }
 
-TraceableScene::~TraceableScene() {
+void TraceableScene::release() {
   if (scene_) rtcReleaseScene(scene_);
+  scene_ = nullptr;
   for (RTCScene gs : group_scenes_) rtcReleaseScene(gs);
+  group_scenes_.clear();
   if (device_) rtcReleaseDevice(device_);
+  device_ = nullptr;
 }
+
+TraceableScene::~TraceableScene() { release(); }
 
 void TraceableScene::attach(RTCGeometry geom, RTCScene target, size_t expected_id,
                             const std::string& origin) {

@@ -73,6 +73,9 @@ class TraceableScene {
   const std::string& isa() const { return isa_; }
 
  private:
+  void build(const Scene& scene, const std::string& isa, const FileReader& reader);
+  /// Releases the Embree scenes and device (the Geometry tables are members).
+  void release();
   /// Builds the Geometry and Embree geometry of `shape` and attaches it to `target`.
   /// `transform` places a group's sphere in the world (spheres are not instanced).
   std::unique_ptr<Geometry> add_triangles(const Shape& shape, RTCScene target);
