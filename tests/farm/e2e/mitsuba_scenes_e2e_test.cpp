@@ -1,5 +1,6 @@
 // Published Mitsuba 3 scenes (tests/data/mitsuba/, copied unchanged from mitsuba-data; see its
-// README.md) rendered by Tessera locally (`tessera-worker render SCENE.xml`) and on the farm, and
+// README.md) rendered by Tessera locally (`tessera-worker render SCENE.xml`) and on the farm (ctest label
+// `slow`: left out of the sanitizer run), and
 // compared with Mitsuba 3 references made by tests/data/mitsuba/make_references.py
 // (references/references.json holds each scene's size, spp, Mitsuba's own error at that spp and
 // the noise factor of its pixel filter). No Mitsuba runs here.
