@@ -32,13 +32,17 @@ float mis_weight(float pdf_a, float pdf_b) {
   return std::isfinite(w) ? w : 0.0f;
 }
 
-/// Where a path is at one vertex, once the material is known.
-struct Vertex {
-  SurfacePoint sp;      ///< ng turned to the side the BSDF's front is on
-  Frame frame;          ///< shading frame, n = the BSDF's front
-  const RenderMaterial* m;
-  bool flipped;         ///< seen from the back (two-sided or dielectric)
-};
+/// Traces the shadow ray of light sample `ls` from `origin` (already offset off the surface):
+/// to the light's offset point, or unbounded for lights at infinity.
+bool unoccluded(const TraceableScene& scene, glm::vec3 origin, const LightSample& ls,
+                PathCounters& counters) {
+  ++counters.shadow_rays;
+  if (std::isinf(ls.distance)) {
+    return !scene.occluded(origin, ls.wi, std::numeric_limits<float>::infinity());
+  }
+  const glm::vec3 to = offset_ray_origin(ls.point, -ls.wi);
+  return !scene.occluded(origin, to - origin, 1.0f);
+}
 
 BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm::vec2 uv) {
   BsdfParams p;
@@ -223,12 +227,7 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
         if (ls.pdf > 0) {
           const float cos_surface = glm::dot(ns, ls.wi);
           if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
-            ++counters.shadow_rays;
-            const glm::vec3 to = offset_ray_origin(ls.point, -ls.wi);
-            const bool blocked = std::isinf(ls.distance)
-                                     ? scene.occluded(origin, ls.wi, std::numeric_limits<float>::infinity())
-                                     : scene.occluded(origin, to - origin, 1.0f);
-            if (!blocked) {
+            if (unoccluded(scene, origin, ls, counters)) {
               const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, cos_surface * (opacity * kInvPi));
               // (albedo / pi) cos Le / pdf, in double so tiny, bright lights cannot overflow.
               radiance += glm::dvec3(beta) * glm::dvec3(m->albedo) * glm::dvec3(ls.radiance) *
@@ -262,13 +261,7 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
           // A reflection must leave on the side it arrived from, geometrically too.
           const bool leaks = !m->dielectric() && glm::dot(sp.ng, ls.wi) <= 0;
           if (f != glm::vec3(0.0f) && !leaks) {
-            ++counters.shadow_rays;
-            const glm::vec3 from = offset_ray_origin(sp, ls.wi);
-            const glm::vec3 to = offset_ray_origin(ls.point, -ls.wi);
-            const bool blocked = std::isinf(ls.distance)
-                                     ? scene.occluded(from, ls.wi, std::numeric_limits<float>::infinity())
-                                     : scene.occluded(from, to - from, 1.0f);
-            if (!blocked) {
+            if (unoccluded(scene, offset_ray_origin(sp, ls.wi), ls, counters)) {
               const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, bsdf.pdf(wo_local, wi_local) * opacity);
               radiance += glm::dvec3(beta) * glm::dvec3(f) * glm::dvec3(ls.radiance) *
                           (double(w) / double(ls.pdf));
