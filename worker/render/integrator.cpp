@@ -48,10 +48,10 @@ BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm:
   BsdfParams p;
   p.type = m.type;
   auto color = [&](const RenderColor& c) {
-    return c.texture < 0 ? c.value : textures.eval(TexturedColor{glm::dvec3(c.value), c.texture}, uv);
+    return c.texture < 0 ? c.value : c.value * textures.lookup(c.texture, uv);
   };
   auto scalar = [&](const RenderFloat& f) {
-    return f.texture < 0 ? f.value : textures.eval(TexturedFloat{double(f.value), f.texture}, uv);
+    return f.texture < 0 ? f.value : f.value * textures.lookup_1(f.texture, uv);
   };
   p.reflectance = color(m.reflectance);  // not clamped: Mitsuba does not clamp texels either
   p.specular_reflectance = color(m.specular_reflectance);
@@ -175,7 +175,7 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
     if (m->masked()) {
       opacity = m->opacity.texture < 0
                     ? m->opacity.value
-                    : std::clamp(textures.eval(TexturedFloat{double(m->opacity.value), m->opacity.texture}, hit.uv), 0.0f, 1.0f);
+                    : std::clamp(m->opacity.value * textures.lookup_1(m->opacity.texture, hit.uv), 0.0f, 1.0f);
       sampler.set_pair(pair + 3);
       const glm::vec2 u_mask = sampler.get2d_independent();
       if (u_mask.y >= opacity) {
