@@ -1,10 +1,15 @@
-// Renders with known answers: the white furnace and the irradiance under a square light.
+// Renders with known answers: the white furnace, the irradiance under a square light, and
+// objects inside a constant environment.
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "renderer.h"
 #include "test_scenes.h"
+#include "test_statistics.h"
+#include "texture/texture_test_images.h"
 
 namespace tessera {
 namespace {
@@ -145,6 +150,130 @@ TEST(DirectLighting, OneSidedLightIsDarkBehind) {
     const Accumulation acc = renderer.render({0, 0, 2, 2}, 0, 4);
     EXPECT_EQ(acc.rgb[0] / acc.count[0], two_sided ? 2.0 : 0.0);
   }
+}
+
+// --- Inside a constant environment ------------------------------------------------------------
+//
+// A convex object in an environment of radiance L everywhere: every point of it sees the whole
+// environment over its hemisphere (nothing else), so a diffuse surface of albedo a shows exactly
+// a * L, and a lossless specular one (a mirror, a smooth conductor of reflectance 1, a smooth or
+// thin dielectric) shows L, whichever way its paths go: it is invisible. The environment is
+// Mitsuba's constant emitter, or an environment map whose texels are all L (the same light,
+// importance-sampled through its map). Tolerances: test_statistics.h, 5 standard errors
+// estimated from the samples plus float rounding; depth unbounded (Russian roulette included).
+
+enum class Environment { constant, envmap };
+
+/// The object of material `m` (a sphere of radius 1 at the origin) in the environment, seen
+/// from 4 away through a 20-degree view, so that every pixel sees the sphere. Returns the scene
+/// and, for the envmap, the reader serving its 8 x 4 map.
+Scene environment_scene(Environment env, double le, Material m, FileReader* reader) {
+  Scene s;
+  s.camera.position = {0.3, 0.2, 4};
+  s.camera.look_at = {0, 0, 0};
+  s.camera.fov_deg = 20;
+  m.name = "object";
+  s.materials.push_back(m);
+  s.shapes.push_back(test::sphere({0, 0, 0}, 1.0, 0));
+  Light light;
+  light.origin = "lights[0]";
+  if (env == Environment::constant) {
+    light.kind = LightKind::constant;
+    light.value = {le, le, le};
+  } else {
+    light.kind = LightKind::envmap;
+    light.file = "env.exr";
+    light.value = {1, 1, 1};
+    const std::vector<float> texels(8 * 4 * 3, float(le));
+    *reader = test::memory_reader(
+        {{"env.exr", test::encode_image("env.exr", 8, 4, 3, texels, OIIO::TypeDesc::FLOAT)}});
+  }
+  s.lights.push_back(light);
+  return s;
+}
+
+struct EnvironmentCase {
+  const char* name;
+  MaterialType type;
+  double albedo;   ///< diffuse: reflectance
+  double ior;      ///< glass kinds
+  bool perfect;    ///< conductor: Fresnel reflectance 1
+  double expected; ///< what every pixel shows, over L
+};
+
+class InConstantEnvironment
+    : public ::testing::TestWithParam<std::tuple<EnvironmentCase, Environment>> {};
+
+TEST_P(InConstantEnvironment, EveryPixelShowsTheClosedForm) {
+  const auto& [c, env] = GetParam();
+  const double le = 0.8;
+  Material m;
+  m.type = c.type;
+  m.reflectance.value = {c.albedo, c.albedo, c.albedo};
+  m.ior = c.ior;
+  m.perfect = c.perfect;
+  FileReader reader;
+  const Scene s = environment_scene(env, le, m, &reader);
+  const uint32_t spp = 4096;  // a diffuse sphere's image mean to 0.1 % (1 standard error)
+  const Renderer renderer(s, test::test_job(4, 4, spp), reader);
+  const Accumulation acc = renderer.render({0, 0, 4, 4}, 0, spp);
+  EXPECT_TRUE(test::all_finite(acc));
+  const double expected = c.expected * le;
+  const test::Estimate e = test::mean_luminance(acc);
+  std::printf("%s: mean %.6f, expected %.6f, SE %.2e\n", c.name, e.mean, expected, e.se);
+  EXPECT_NEAR(e.mean, expected, test::tolerance(e, expected));
+  // Every pixel estimates the same value. A glass pixel's samples are mostly exactly L, with
+  // rare long paths weighted up by Russian roulette; at this spp one pixel may have drawn too
+  // few of those to estimate its own variance, so the pooled standard error of a pixel (the
+  // mean variance over pixels) is used when it is larger.
+  const double pooled_se = e.se * std::sqrt(double(acc.pixels()));
+  for (size_t i = 0; i < acc.pixels(); ++i) {
+    test::Estimate p = test::pixel_luminance(acc, i);
+    p.se = std::max(p.se, pooled_se);
+    EXPECT_NEAR(p.mean, expected, test::tolerance(p, expected)) << "pixel " << i;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Analytic, InConstantEnvironment,
+    ::testing::Combine(
+        ::testing::Values(
+            EnvironmentCase{"diffuse_albedo_0_3", MaterialType::diffuse, 0.3, 1.5, false, 0.3},
+            EnvironmentCase{"diffuse_albedo_0_8", MaterialType::diffuse, 0.8, 1.5, false, 0.8},
+            EnvironmentCase{"diffuse_albedo_1", MaterialType::diffuse, 1.0, 1.5, false, 1.0},
+            EnvironmentCase{"mirror", MaterialType::mirror, 0, 1.5, false, 1.0},
+            EnvironmentCase{"conductor_reflectance_1", MaterialType::conductor, 0, 1.5, true, 1.0},
+            EnvironmentCase{"dielectric_1_5", MaterialType::glass, 0, 1.5, false, 1.0},
+            EnvironmentCase{"dielectric_1_0001", MaterialType::glass, 0, 1.0001, false, 1.0},
+            EnvironmentCase{"dielectric_3", MaterialType::glass, 0, 3.0, false, 1.0},
+            EnvironmentCase{"thindielectric_1_5", MaterialType::thin_glass, 0, 1.5, false, 1.0}),
+        ::testing::Values(Environment::constant, Environment::envmap)),
+    [](const auto& info) {
+      return std::string(std::get<0>(info.param).name) +
+             (std::get<1>(info.param) == Environment::constant ? "_constant" : "_envmap");
+    });
+
+TEST(InConstantEnvironmentBackground, CameraRaysThatMissSeeTheRadiance) {
+  // Seen from farther away the sphere leaves the corners of the image: there the camera sees
+  // the environment itself, L exactly (no randomness), around a diffuse sphere showing a L.
+  Material m;
+  m.reflectance.value = {0.5, 0.5, 0.5};
+  FileReader unused;
+  Scene s = environment_scene(Environment::constant, 0.8, m, &unused);
+  s.camera.position = {0, 0, 6};
+  s.camera.fov_deg = 30;
+  const int size = 8;
+  const uint32_t spp = 64;
+  const Renderer renderer(s, test::test_job(size, size, spp));
+  const Accumulation acc = renderer.render({0, 0, size, size}, 0, spp);
+  EXPECT_TRUE(test::all_finite(acc));
+  for (int corner : {0, size - 1, size * (size - 1), size * size - 1}) {
+    const test::Estimate p = test::pixel_luminance(acc, size_t(corner));
+    EXPECT_NEAR(p.mean, 0.8, test::kFloatRounding) << "corner pixel " << corner;
+  }
+  const int centre = size / 2 * size + size / 2;
+  const test::Estimate c = test::pixel_luminance(acc, size_t(centre));
+  EXPECT_NEAR(c.mean, 0.4, test::tolerance(c, 0.4));
 }
 
 }  // namespace

@@ -34,6 +34,13 @@ SPP_CHOICES = (64, 128, 256, 512, 1024, 2048)
 REF_FACTOR = 32
 BORDER = 2
 
+# Scenes whose test spp starts higher than SPP_CHOICES[0]. Tessera's filter-importance-sampled
+# image is ~1.8x noisier than Mitsuba's splatted one (box_factor), so at the first spp where two
+# Mitsuba seeds agree its own image mean may still stray past the test's 0.5 %:
+# bsdf_thindielectric_glass at 256 spp was 0.62 % off in blue (seed 0), and 0.05 % off at 2048 spp
+# (seed 3), i.e. noise, not bias.
+MIN_SPP = {"bsdf_thindielectric_glass": 512}
+
 SCENES = [
     "bsdf_diffuse_textured",
     "bsdf_roughconductor_copper",
@@ -51,22 +58,31 @@ SCENES = [
 ]
 
 
+def small_size(scene):
+    """WIDTH x HEIGHT, or for a film of another aspect ratio WIDTH x the height that keeps it
+    (recorded per scene in references.json)."""
+    size = scene.sensors()[0].film().size()
+    if abs(size[0] / size[1] - WIDTH / HEIGHT) <= 1e-6:
+        return WIDTH, HEIGHT
+    height = WIDTH * size[1] / size[0]
+    if abs(height - round(height)) > 1e-6:
+        raise SystemExit("aspect ratio %s gives no whole height at width %d" % (size, WIDTH))
+    return WIDTH, int(round(height))
+
+
 def small_sensor(scene, spp, rfilter):
-    """The scene's camera at WIDTH x HEIGHT with `spp` and the pixel filter `rfilter`."""
+    """The scene's camera at small_size(scene) with `spp` and the pixel filter `rfilter`."""
     sensor = scene.sensors()[0]
     params = mi.traverse(sensor)
-    film = sensor.film()
-    size = film.size()
+    width, height = small_size(scene)
     fov_x = float(np.array(params["x_fov"]).ravel()[0])
-    if abs(size[0] / size[1] - WIDTH / HEIGHT) > 1e-6:
-        raise SystemExit("aspect ratio differs: %s" % (size,))
     return mi.load_dict({
         "type": "perspective",
         "fov_axis": "x",
         "fov": fov_x,
         "near_clip": float(np.array(params["near_clip"]).ravel()[0]),
         "to_world": mi.ScalarTransform4f(np.array(sensor.world_transform().matrix).reshape(4, 4)),
-        "film": {"type": "hdrfilm", "width": WIDTH, "height": HEIGHT, "pixel_format": "rgb",
+        "film": {"type": "hdrfilm", "width": width, "height": height, "pixel_format": "rgb",
                  "rfilter": rfilter},
         "sampler": {"type": "independent", "sample_count": spp},
     })
@@ -102,7 +118,7 @@ def main():
         scene = mi.load_file(os.path.join(SCENES_DIR, name + ".xml"))
         kind = filter_of(scene)
         rf = {"type": kind}
-        for spp in SPP_CHOICES:
+        for spp in (c for c in SPP_CHOICES if c >= MIN_SPP.get(name, 0)):
             test_sensor = small_sensor(scene, spp, rf)
             runs = [render(scene, test_sensor, s) for s in range(2)]
             means = [inner(r).mean(axis=(0, 1)) for r in runs]
@@ -113,10 +129,13 @@ def main():
         mi.Bitmap(ref.astype(np.float32)).write(os.path.join(OUT, name + ".exr"))
         runs += [render(scene, test_sensor, s) for s in (2, 3)]
         errors = [rmse(r, ref) for r in runs]
+        width, height = small_size(scene)
         entry = {"filter": kind, "spp": spp, "ref_spp": REF_FACTOR * spp,
                  "mitsuba_rmse": statistics.median(errors), "mitsuba_rmse_seeds": errors,
                  "seed_mean_gap": mean_gap, "mean": inner(ref).mean(axis=(0, 1)).tolist(),
                  "nan": bool(np.isnan(ref).any())}
+        if (width, height) != (WIDTH, HEIGHT):
+            entry["width"], entry["height"] = width, height
         if kind != "box":
             # Noise growth from splatting to one-pixel samples: box-filtered renders at the
             # same spp against a box-filtered reference, two seeds each way.

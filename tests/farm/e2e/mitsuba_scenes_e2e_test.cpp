@@ -13,6 +13,7 @@
 // (Mitsuba truncates a splat's footprint at the image edge; docs/renderer.md).
 #include <cmath>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -60,7 +61,10 @@ TEST_P(PublishedMitsubaScene, MatchesMitsubaLocallyAndOnTheFarm) {
   const std::string name = GetParam();
   const nlohmann::json table = references();
   const nlohmann::json& ref_info = table.at("scenes").at(name);
-  const int width = table.at("width"), height = table.at("height"), border = table.at("border");
+  // The table's size, or the scene's own where its film has another aspect ratio.
+  const int width = ref_info.value("width", table.at("width").get<int>());
+  const int height = ref_info.value("height", table.at("height").get<int>());
+  const int border = table.at("border");
   const int spp = ref_info.at("spp");
   const std::string scene = (kData / "docs" / "scenes" / (name + ".xml")).string();
   const std::vector<std::string> options = {"--width", std::to_string(width), "--height",
@@ -154,6 +158,49 @@ TEST(PublishedMitsubaSceneFarm, TextureEnvmapGaussianBitIdenticalWith1And3Worker
     ASSERT_EQ(job.state(), v1::JOB_STATE_DONE) << job.error();
     EXPECT_TRUE(same_pixels(job.output_exr(), local));
   }
+}
+
+/// Images with a NaN, infinite or negative value, sent straight to the server with SubmitJob as
+/// a client that skips the CLI's own check would (tests/xml/CMakeLists.txt checks `tessera
+/// submit` and `tessera-worker render`): each bundle is refused at submit with INVALID_ARGUMENT,
+/// one line naming the scene file, line and element, the image and its first bad pixel, and
+/// nothing is stored.
+TEST(PublishedMitsubaSceneFarm, ServerRefusesNanInfiniteAndNegativeTexelsAtSubmit) {
+  struct Case {
+    std::string scene, image, reason;
+  };
+  const std::vector<Case> cases = {
+      {"nan_envmap.xml", "nan_texel.exr",
+       R"(nan_envmap\.xml: line 6: <emitter type="envmap">: nan_texel\.exr: pixel \(2, 1\) channel B is NaN)"},
+      {"inf_envmap.xml", "inf_texel.exr",
+       R"(inf_envmap\.xml: line 6: <emitter type="envmap">: inf_texel\.exr: pixel \(3, 0\) channel R is infinite)"},
+      {"negative_texture.xml", "negative_texel.exr",
+       R"(negative_texture\.xml: line 7: <texture type="bitmap" name="reflectance">: negative_texel\.exr: pixel \(1, 1\) channel G is negative)"},
+      {"nan_texture_radiance.xml", "nan_texel.exr",
+       R"(nan_texture_radiance\.xml: line 7: <texture type="bitmap" name="radiance">: nan_texel\.exr: pixel \(2, 1\) channel B is NaN)"},
+  };
+  FarmCluster farm("mitsuba-bad-texels");
+  farm.start_server();
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.scene);
+    v1::SubmitJobRequest request;
+    request.mutable_bundle()->set_scene_file(c.scene);
+    for (const std::string& file : {c.scene, std::string("sensor.xml"), c.image}) {
+      auto* f = request.mutable_bundle()->add_files();
+      f->set_path(file);
+      f->set_data(read_text(kData / file));
+    }
+    v1::SubmitJobResponse response;
+    const grpc::Status status =
+        farm.jobs().SubmitJob(FarmCluster::context().get(), request, &response);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
+    EXPECT_TRUE(std::regex_search(status.error_message(), std::regex(c.reason)))
+        << status.error_message();
+    EXPECT_EQ(status.error_message().find('\n'), std::string::npos) << status.error_message();
+  }
+  const CommandResult list = farm.cli({"list", "--json"});
+  ASSERT_EQ(list.exit_code, 0) << list.err;
+  EXPECT_TRUE(nlohmann::json::parse(list.out).empty()) << list.out;
 }
 
 }  // namespace
