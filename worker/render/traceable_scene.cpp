@@ -124,12 +124,10 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
   std::vector<const Geometry*> area_emitters;
   for (auto& g : geometries_) {
     if (g->emission.x > 0 || g->emission.y > 0 || g->emission.z > 0) {
-      g->emitter = int32_t(emitters_.size());
-      emitters_.emplace_back(*g);
+      g->emitter = int32_t(area_emitters.size());
       area_emitters.push_back(g.get());
     }
   }
-  light_selector_ = std::make_unique<LightSelector>(emitters_);
   // Directional and environment lights are weighed by their power through the scene's
   // bounding disc: the radius of the sphere around its bounding box.
   RTCBounds bounds;
