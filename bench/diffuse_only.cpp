@@ -1,15 +1,16 @@
 // tessera-bench-diffuse SCENE --integrator full|diffuse [--width W --height H --spp N]
 //                      [--runs R] [--threads T]
 //
-// Does supporting mirrors and glass cost a scene that has neither? Glass and mirrors were in the
-// renderer from its first commit (06f554a), so there is no "before" version to check out. This
-// benchmark therefore carries `diffuse_trace_path`: the integrator exactly as it would be
-// without mirror and glass support (trace_path of worker/render/integrator.cpp with the
-// specular branches, the eta^2 bookkeeping and the material-type tests removed, nothing else
-// changed), and renders a diffuse-only scene with it or with the renderer's own trace_path,
-// single-threaded by default so that `valgrind --tool=callgrind` counts are repeatable.
-// Both must give the same bits (checked: the sum over all samples is printed with 17 digits).
-// BENCHMARKS.md, "Model only what a scene requires", has the commands and figures.
+// Does supporting mirrors, glass, textures and masks cost a scene that has none? They have been
+// in the renderer from early on, so there is no "before" version to check out. This benchmark
+// therefore carries `diffuse_trace_path`: the integrator as it would be with constant diffuse
+// materials alone (trace_path of worker/render/integrator.cpp with every other material, masks,
+// textures, environments and the eta^2 bookkeeping removed, nothing else changed: the same
+// LightSet calls, MIS weights and dimension layout), and renders a diffuse-only scene with it or
+// with the renderer's own trace_path, single-threaded by default so that
+// `valgrind --tool=callgrind` counts are repeatable. Both must give the same bits (checked: the
+// sum over all samples is printed with 17 digits). BENCHMARKS.md, "Model only what a scene
+// requires", has the commands and figures.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -37,98 +38,104 @@ using namespace tessera;
 namespace {
 
 // --- The integrator without mirror and glass (copied from integrator.cpp, specular removed) ---
+// The same light sampling (LightSet, MIS on emitters hit by bounces), the same dimension layout
+// and the same arithmetic as trace_path's diffuse branch, so both give the same bits; what is
+// left out is every material but constant diffuse, masks, textures, environments,
+// hide_emitters and the eta^2 bookkeeping of refraction.
 
-constexpr uint32_t kPairsPerVertex = 3;
+constexpr uint32_t kPairsPerVertex = 4;
 constexpr int kRouletteVertex = 3;
 constexpr float kMaxSurvival = 0.95f;
 
 float max_component(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 
-glm::vec3 emitted(const Geometry& g, glm::vec3 ng, glm::vec3 w) {
-  if (g.emitter < 0) return glm::vec3(0.0f);
-  if (glm::dot(ng, w) > 0 || g.two_sided_emission) return g.emission;
-  return glm::vec3(0.0f);
+float mis_weight(float pdf_a, float pdf_b) {
+  const float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+  const float w = a / (a + b);
+  return std::isfinite(w) ? w : 0.0f;
 }
 
-glm::dvec3 sample_direct(const TraceableScene& scene, const SurfacePoint& sp, glm::vec3 origin,
-                         glm::vec3 ns, glm::vec3 albedo, glm::vec2 u_pick, glm::vec2 u_point,
-                         PathCounters& counters) {
-  float pick_pmf = 0;
-  const uint32_t index = scene.light_selector().pick(u_pick.x, &pick_pmf);
-  const Emitter& emitter = scene.emitters()[index];
-  const EmitterSample ls = emitter.sample(u_point);
-  const glm::vec3 to_light = ls.sp.p - sp.p;
-  const float dist2 = glm::dot(to_light, to_light);
-  if (!(dist2 > 0)) return glm::dvec3(0.0);
-  const glm::vec3 wi = to_light / std::sqrt(dist2);
-  const float cos_surface = glm::dot(ns, wi);
-  if (cos_surface <= 0 || glm::dot(sp.ng, wi) <= 0) return glm::dvec3(0.0);
-  const glm::vec3 le = emitted(emitter.geometry(), ls.sp.ng, -wi);
-  const float cos_light = std::abs(glm::dot(ls.sp.ng, wi));
-  if (le == glm::vec3(0.0f) || cos_light <= 0) return glm::dvec3(0.0);
-  const glm::vec3 from = origin;
-  const glm::vec3 to = offset_ray_origin(ls.sp, -wi);
+bool unoccluded(const TraceableScene& scene, glm::vec3 origin, const LightSample& ls,
+                PathCounters& counters) {
   ++counters.shadow_rays;
-  if (scene.occluded(from, to - from, 1.0f)) return glm::dvec3(0.0);
-  const double geometry =
-      double(cos_surface) * double(cos_light) / (double(dist2) * double(ls.pdf_area) * pick_pmf);
-  return glm::dvec3(albedo) * glm::dvec3(le) * (geometry / 3.14159265358979323846);
+  if (std::isinf(ls.distance)) {
+    return !scene.occluded(origin, ls.wi, std::numeric_limits<float>::infinity());
+  }
+  const glm::vec3 to = offset_ray_origin(ls.point, -ls.wi);
+  return !scene.occluded(origin, to - origin, 1.0f);
 }
 
 glm::dvec3 diffuse_trace_path(const TraceableScene& scene, Ray ray, int max_depth,
                               PixelSampler& sampler, PathCounters& counters) {
+  const LightSet& lights = scene.lights();
+  const bool have_lights = !lights.empty();
   glm::dvec3 radiance(0.0);
   glm::vec3 beta(1.0f);
-  bool count_emission = true;  // the camera ray only: every bounce is diffuse
-  const bool have_lights = !scene.emitters().empty();
+  bool prev_delta = true;  // the camera ray
+  float prev_pdf = 0;
+  SurfacePoint prev_sp{};
   for (int vertex = 0;; ++vertex) {
     Hit hit;
     ++counters.rays;
     if (!scene.intersect(ray, &hit)) break;
     const glm::vec3 wo = -ray.d;
     const Geometry& g = *hit.geometry;
-    if (count_emission) {
-      const glm::vec3 le = emitted(g, hit.sp.ng, wo);
-      if (le != glm::vec3(0.0f)) radiance += glm::dvec3(beta) * glm::dvec3(le);
+    if (g.emitter >= 0) {
+      const glm::vec3 le = lights.emitted(g, hit.primitive, hit.uv, hit.sp.ng, wo);
+      if (le != glm::vec3(0.0f)) {
+        const float w = prev_delta ? 1.0f
+                                   : mis_weight(prev_pdf, lights.pdf_area(g, hit.primitive, prev_sp, hit.sp.p, hit.sp.ng));
+        radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
+      }
     }
     if (max_depth >= 0 && vertex + 2 > max_depth) break;
     const uint32_t pair = kCameraPairs + kPairsPerVertex * uint32_t(vertex);
     const bool roulette = vertex + 1 >= kRouletteVertex;
-    glm::vec2 u_choice(0.0f), u_light(0.0f);
+    const RenderMaterial* m = &scene.material(g.material);
+    SurfacePoint sp = hit.sp;
+    glm::vec3 ns = hit.ns;
+    if (!(glm::dot(wo, sp.ng) > 0)) {
+      if (m->back >= 0) {
+        m = &scene.material(uint32_t(m->back));
+      } else if (!m->two_sided) {
+        break;
+      }
+      sp.ng = -sp.ng;
+      ns = -ns;
+    }
+    const glm::vec3 origin = offset_ray_origin(sp, sp.ng);
+    glm::vec2 u_choice(0.0f);
     if (roulette || have_lights) {
       sampler.set_pair(pair);
       u_choice = sampler.get2d_independent();
     }
     if (have_lights) {
       sampler.set_pair(pair + 1);
-      u_light = sampler.get2d();
+      const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
+      if (ls.pdf > 0) {
+        const float cos_surface = glm::dot(ns, ls.wi);
+        if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f) &&
+            unoccluded(scene, origin, ls, counters)) {
+          const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, cos_surface * kInvPi);
+          radiance += glm::dvec3(beta) * glm::dvec3(m->albedo) * glm::dvec3(ls.radiance) *
+                      (double(cos_surface) * double(kInvPi) * double(w) / double(ls.pdf));
+        }
+      }
     }
     sampler.set_pair(pair + 2);
-    const glm::vec2 u_scatter = sampler.get2d();
-
-    const RenderMaterial& m = scene.material(g.material);
-    SurfacePoint sp = hit.sp;
-    glm::vec3 ns = hit.ns;
-    if (!(glm::dot(wo, sp.ng) > 0)) {
-      if (!m.two_sided) break;
-      sp.ng = -sp.ng;
-      ns = -ns;
-    }
-    const glm::vec3 origin = offset_ray_origin(sp, sp.ng);
-    if (have_lights) {
-      radiance += glm::dvec3(beta) *
-                  sample_direct(scene, sp, origin, ns, m.albedo, u_choice, u_light, counters);
-    }
-    const glm::vec3 wi = Frame(ns).to_world(square_to_cosine_hemisphere(u_scatter));
+    const glm::vec3 local = square_to_cosine_hemisphere(sampler.get2d());
+    const glm::vec3 wi = Frame(ns).to_world(local);
     if (glm::dot(wi, sp.ng) <= 0) break;
-    beta *= m.albedo;
-    count_emission = false;
-    if (beta == glm::vec3(0.0f)) break;
+    beta *= m->albedo;
+    if (!(max_component(beta) > 0)) break;
     if (roulette) {
       const float survival = std::min(max_component(beta), kMaxSurvival);
       if (u_choice.y >= survival) break;
       beta /= survival;
     }
+    prev_delta = false;
+    prev_pdf = local.z * kInvPi;
+    prev_sp = sp;
     ray.o = origin;
     ray.d = wi;
     ray.t_max = std::numeric_limits<float>::infinity();
@@ -196,15 +203,36 @@ int main(int argc, char** argv) {
 
   try {
     Scene scene = load_scene_file(scene_file);
-    for (const Shape& shape : scene.shapes) {
-      if (scene.materials[shape.material].type != MaterialType::diffuse) {
-        std::fprintf(stderr, "tessera-bench-diffuse: %s: %s is not diffuse; the comparison needs a diffuse-only scene\n",
-                     scene_file.c_str(), shape.origin.c_str());
+    // What diffuse_trace_path leaves out must be absent, or the two would differ.
+    for (const Material& m : scene.materials) {
+      if (m.type != MaterialType::diffuse) {
+        std::fprintf(stderr, "tessera-bench-diffuse: %s: material \"%s\" is not diffuse; the comparison needs a diffuse-only scene\n",
+                     scene_file.c_str(), m.name.c_str());
         return 1;
       }
     }
+    for (const Light& light : scene.lights) {
+      if (light.kind == LightKind::constant || light.kind == LightKind::envmap) {
+        std::fprintf(stderr, "tessera-bench-diffuse: %s: %s is an environment light, which the diffuse-only integrator leaves out\n",
+                     scene_file.c_str(), light.origin.c_str());
+        return 1;
+      }
+    }
+    if (scene.render.hide_emitters) {
+      std::fprintf(stderr, "tessera-bench-diffuse: %s: hide_emitters is set, which the diffuse-only integrator leaves out\n",
+                   scene_file.c_str());
+      return 1;
+    }
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
     const TraceableScene traceable(scene, width, height, "");
+    for (uint32_t i = 0; i < scene.materials.size(); ++i) {
+      const RenderMaterial& m = traceable.material(i);
+      if (m.textured || m.masked()) {
+        std::fprintf(stderr, "tessera-bench-diffuse: %s: material \"%s\" is textured or masked; the comparison needs constant diffuse materials\n",
+                     scene_file.c_str(), scene.materials[i].name.c_str());
+        return 1;
+      }
+    }
     std::vector<double> times;
     Totals totals;
     for (int r = 0; r < runs; ++r) {

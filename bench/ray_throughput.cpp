@@ -32,7 +32,6 @@
 #include "render/frame.h"
 #include "render/packet_tracer.h"
 #include "render/renderer.h"
-#include "render/standalone_embree_scene.h"
 #include "scene/scene_loader.h"
 #include "render/traceable_scene.h"
 #include "render/warp.h"
@@ -112,10 +111,9 @@ double median(std::vector<double> v) {
 /// load drifts on a shared machine hit every query alike; prints every round and the medians,
 /// with each width's rate divided by the same round's scalar rate. Returns the widest width's
 /// median closest-hit rays per CPU-second.
-double packet_rates(const Scene& scene, const std::string& isa, const std::vector<Ray>& pool,
+double packet_rates(const TraceableScene& traceable, const std::vector<Ray>& pool,
                   const std::vector<int>& widths, double seconds, int rounds,
                   const std::function<Rate()>& scalar) {
-  const StandaloneEmbreeScene embree(scene, isa);
   RayBatch rays;
   rays.resize(pool.size());
   for (size_t i = 0; i < pool.size(); ++i) rays.set(i, pool[i]);
@@ -123,7 +121,7 @@ double packet_rates(const Scene& scene, const std::string& isa, const std::vecto
   hits.resize(pool.size());
   std::vector<uint8_t> occluded(pool.size());
   std::printf("packet tracer (native width %d), same pool, %d rounds of %.1f s per query:\n",
-              PacketTracer::native_width(embree.device()), rounds, seconds);
+              PacketTracer::native_width(traceable.embree_device()), rounds, seconds);
   std::vector<double> scalar_rates, scalar_wall;
   std::map<int, std::vector<double>> closest, shadow, closest_ratio, closest_wall;
   for (int round = 1; round <= rounds; ++round) {
@@ -132,7 +130,7 @@ double packet_rates(const Scene& scene, const std::string& isa, const std::vecto
     scalar_wall.push_back(s.wall);
     std::printf("  round %d: scalar %.2f", round, s.cpu / 1e6);
     for (int width : widths) {
-      const PacketTracer tracer(embree.scene(), width);
+      const PacketTracer tracer(traceable.embree_scene(), width);
       const Rate c = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.intersect(rays, b, e, &hits); });
       const Rate o = rate(pool.size(), seconds, [&](size_t b, size_t e) { tracer.occluded(rays, b, e, &occluded); });
       closest[width].push_back(c.cpu);
@@ -217,7 +215,7 @@ int main(int argc, char** argv) {
   std::printf("embree raw closest-hit rays: %.2f M rays/s, %.2f M rays per CPU-second (%zu rays in the pool, "
               "%.1f %% hit)\n",
               raw_rate / 1e6, raw.cpu / 1e6, rays.size(), 100.0 * double(hits) / double(passes * rays.size()));
-  const double packet_cpu_rate = mode == "packet" ? packet_rates(scene, isa, rays, widths, seconds, rounds, scalar) : 0;
+  const double packet_cpu_rate = mode == "packet" ? packet_rates(traceable, rays, widths, seconds, rounds, scalar) : 0;
 
   const Renderer renderer(scene, options);
   RenderStats stats;

@@ -41,7 +41,7 @@ struct Geometry {
   float transform_error = 0;        ///< relative error bound of points mapped by to_world
 
   uint32_t material = 0;
-  int32_t emitter = -1;          ///< index into TraceableScene::emitters(), -1 if none
+  int32_t emitter = -1;          ///< area emitter index in TraceableScene::lights(), -1 if none
   glm::vec3 emission{0.0f};      ///< radiance of the front (and back when two-sided)
   int32_t emission_texture = -1; ///< radiance = emission * texture(uv) when >= 0
   bool two_sided_emission = false;

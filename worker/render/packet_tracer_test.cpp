@@ -11,7 +11,6 @@
 
 #include "scene/scene_loader.h"
 #include "sphere_intersector.h"
-#include "standalone_embree_scene.h"
 #include "test_scenes.h"
 #include "traceable_scene.h"
 #include "warp.h"
@@ -136,22 +135,22 @@ class PacketTracerScenes : public ::testing::TestWithParam<const char*> {};
 TEST_P(PacketTracerScenes, EveryWidthGivesTheSameBits) {
   const Scene s = load_scene_file(std::string(TESSERA_SOURCE_DIR) + "/scenes/" + GetParam());
   for (const std::string isa : {"", "avx2", "sse4.2"}) {
-    const StandaloneEmbreeScene scene(s, isa);
-    const RayBatch rays = random_rays(scene.scene(), scene_bounds(s), 20000, 3);
-    expect_same_at_every_width(scene.scene(), rays, std::string(GetParam()) + " isa '" + isa + "'",
+    const TraceableScene scene(s, 64, 64, isa);
+    const RayBatch rays = random_rays(scene.embree_scene(), scene_bounds(s), 20000, 3);
+    expect_same_at_every_width(scene.embree_scene(), rays, std::string(GetParam()) + " isa '" + isa + "'",
                                [](uint32_t, uint32_t) { return true; });
   }
 }
 
-TEST_P(PacketTracerScenes, StandaloneSceneHitsWhatTheRendererHits) {
-  // The tests and tessera-bench-rays trace a StandaloneEmbreeScene; it must be TraceableScene's.
+TEST_P(PacketTracerScenes, PacketsHitWhatTheRendererHits) {
+  // Packets of the renderer's own Embree scene find the hits of TraceableScene::intersect.
   const Scene s = load_scene_file(std::string(TESSERA_SOURCE_DIR) + "/scenes/" + GetParam());
-  const StandaloneEmbreeScene scene(s, "");
   const TraceableScene traceable(s, 64, 64, "");
-  const RayBatch rays = random_rays(scene.scene(), scene_bounds(s), 5000, 7);
+  const RayBatch rays = random_rays(traceable.embree_scene(), scene_bounds(s), 5000, 7);
   HitBatch hits;
   hits.resize(rays.size());
-  PacketTracer(scene.scene(), PacketTracer::native_width(scene.device())).intersect(rays, 0, rays.size(), &hits);
+  PacketTracer(traceable.embree_scene(), PacketTracer::native_width(traceable.embree_device()))
+      .intersect(rays, 0, rays.size(), &hits);
   int compared = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
     if (!rays.active[i]) continue;
@@ -159,7 +158,7 @@ TEST_P(PacketTracerScenes, StandaloneSceneHitsWhatTheRendererHits) {
     const bool found = traceable.intersect(rays.get(i), &hit);
     ASSERT_EQ(found, hits.geometry[i] != RTC_INVALID_GEOMETRY_ID) << GetParam() << " ray " << i;
     if (!found) continue;
-    const Geometry& g = scene.geometry(hits.geometry[i]);
+    const Geometry& g = traceable.geometry(hits.geometry[i]);
     EXPECT_EQ(hit.geometry->kind, g.kind) << GetParam() << " ray " << i;
     EXPECT_EQ(hit.primitive, hits.primitive[i]) << GetParam() << " ray " << i;
     const Ray r = rays.get(i);
@@ -182,10 +181,10 @@ TEST(PacketTracer, SpheresGiveTheSameBitsAtEveryWidth) {
   s.shapes.push_back(test::sphere({-1.2, 1.0, -0.5}, 0.4, m));
   s.shapes.push_back(test::sphere({1.0, 1.0, 1.0}, 0.05, m));
   s.shapes.push_back(test::sphere({0.0, 0.0, 0.0}, 1.9, m, true));
-  const StandaloneEmbreeScene scene(s, "");
-  const RayBatch rays = random_rays(scene.scene(), scene_bounds(s), 20000, 11);
+  const TraceableScene scene(s, 64, 64, "");
+  const RayBatch rays = random_rays(scene.embree_scene(), scene_bounds(s), 20000, 11);
   const auto is_sphere = [&](uint32_t g, uint32_t) { return scene.geometry(g).kind == Geometry::Kind::sphere; };
-  EXPECT_GT(expect_same_at_every_width(scene.scene(), rays, "spheres", is_sphere), 5000);
+  EXPECT_GT(expect_same_at_every_width(scene.embree_scene(), rays, "spheres", is_sphere), 5000);
 }
 
 TEST(PacketTracer, InstancedSpheresAndMeshesGiveTheSameBitsAtEveryWidth) {
@@ -260,13 +259,13 @@ TEST(PacketTracer, InactiveAndTailRaysAreNotTraced) {
   Scene s;
   const uint32_t m = test::add_diffuse(s, {0.5, 0.5, 0.5});
   s.shapes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, m, true));
-  const StandaloneEmbreeScene scene(s, "");
+  const TraceableScene scene(s, 64, 64, "");
   RayBatch rays;
   rays.resize(21);
   for (size_t i = 0; i < rays.size(); ++i) rays.set(i, {{0, 0, 0}, {0, 0, 1}});
   rays.active[2] = 0;
   for (int width : {1, 4, 8, 16}) {
-    const PacketTracer tracer(scene.scene(), width);
+    const PacketTracer tracer(scene.embree_scene(), width);
     HitBatch hits;
     hits.resize(rays.size());
     std::vector<uint8_t> occluded(rays.size(), 0);
@@ -287,10 +286,10 @@ TEST(PacketTracer, RefusesWidthsEmbreeHasNoQueryFor) {
   Scene s;
   const uint32_t m = test::add_diffuse(s, {0.5, 0.5, 0.5});
   s.shapes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, m, true));
-  const StandaloneEmbreeScene scene(s, "");
-  EXPECT_THROW(PacketTracer(scene.scene(), 2), std::invalid_argument);
-  EXPECT_THROW(PacketTracer(scene.scene(), 32), std::invalid_argument);
-  const int native = PacketTracer::native_width(scene.device());
+  const TraceableScene scene(s, 64, 64, "");
+  EXPECT_THROW(PacketTracer(scene.embree_scene(), 2), std::invalid_argument);
+  EXPECT_THROW(PacketTracer(scene.embree_scene(), 32), std::invalid_argument);
+  const int native = PacketTracer::native_width(scene.embree_device());
   EXPECT_TRUE(native == 4 || native == 8 || native == 16) << native;
 }
 

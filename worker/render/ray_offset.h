@@ -54,21 +54,34 @@ struct SurfacePoint {
   glm::vec3 ng;       ///< unit geometric normal (either orientation)
 };
 
+/// next_float_up(v) when offset > 0, next_float_down(v) when offset < 0, else v (a NaN offset
+/// included): the same bits as those two, without their branches (the ray origin's hot path).
+inline float next_float_away(float v, float offset) {
+  // On the bits, so that the compiler needs no branch: |x| in [1, 0x7f800000] is a nonzero
+  // number (not NaN), and a value counts as positive when v > 0 would be true.
+  const uint32_t vb = std::bit_cast<uint32_t>(v), ob = std::bit_cast<uint32_t>(offset);
+  const uint32_t va = vb & 0x7fffffffu, oa = ob & 0x7fffffffu;
+  const bool up = (ob >> 31) == 0;
+  const bool directed = oa - 1u < 0x7f800000u;  // offset > 0 or offset < 0
+  const bool positive = vb - 1u < 0x7f800000u;  // v > 0
+  const bool zero = va == 0;
+  // Only +inf going up and -inf going down stay where they are.
+  const bool moves = directed && !(va == 0x7f800000u && positive == up);
+  // A zero of either sign steps to the smallest subnormal on the side it moves to.
+  const uint32_t from = zero ? (up ? 0u : 0x80000000u) : vb;
+  const uint32_t to = from + ((zero || positive == up) ? 1u : ~0u);
+  return std::bit_cast<float>(moves ? to : vb);
+}
+
 /// The origin for a ray leaving `sp` in direction w: p pushed along the geometric normal, to
 /// the side w points to, past the error box, then rounded one more ulp away.
 inline glm::vec3 offset_ray_origin(const SurfacePoint& sp, glm::vec3 w) {
   const float d = glm::dot(glm::abs(sp.ng), sp.p_error);
   glm::vec3 offset = d * sp.ng;
   if (glm::dot(w, sp.ng) < 0) offset = -offset;
-  glm::vec3 po = sp.p + offset;
-  for (int i = 0; i < 3; ++i) {
-    if (offset[i] > 0) {
-      po[i] = next_float_up(po[i]);
-    } else if (offset[i] < 0) {
-      po[i] = next_float_down(po[i]);
-    }
-  }
-  return po;
+  const glm::vec3 po = sp.p + offset;
+  return {next_float_away(po.x, offset.x), next_float_away(po.y, offset.y),
+          next_float_away(po.z, offset.z)};
 }
 
 inline float max_abs_coordinate(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2) {

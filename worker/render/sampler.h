@@ -24,6 +24,16 @@ constexpr uint32_t reverse_bits32(uint32_t v) {
   return v;
 }
 
+/// Reverses the 64 bits of v: for v = hi << 32 | lo, reverse_bits32(lo) << 32 | reverse_bits32(hi),
+/// two 32-bit reversals for the price of one.
+constexpr uint64_t reverse_bits64(uint64_t v) {
+  v = __builtin_bswap64(v);
+  v = ((v >> 1) & 0x5555555555555555ull) | ((v & 0x5555555555555555ull) << 1);
+  v = ((v >> 2) & 0x3333333333333333ull) | ((v & 0x3333333333333333ull) << 2);
+  v = ((v >> 4) & 0x0f0f0f0f0f0f0f0full) | ((v & 0x0f0f0f0f0f0f0f0full) << 4);
+  return v;
+}
+
 /// 64-bit finaliser of MurmurHash3: a bijective mix with good avalanche.
 constexpr uint64_t mix64(uint64_t k) {
   k ^= k >> 33;
@@ -125,7 +135,10 @@ class PixelSampler {
       : PixelSampler(pixel_key(seed, x, y), sample_index) {}
 
   PixelSampler(uint64_t pixel_key, uint32_t sample_index)
-      : pixel_key_(pixel_key), index_(sample_index), index_reversed_(reverse_bits32(sample_index)) {}
+      : pixel_key_(pixel_key),
+        pair_offset_(0x9e3779b97f4a7c15ull + (pixel_key << 6) + (pixel_key >> 2)),
+        index_(sample_index),
+        index_reversed_(reverse_bits32(sample_index)) {}
 
   /// Dimension pairs from this one on are independent hashed uniforms, not Sobol points:
   /// past the first few bounces stratification no longer lowers the error measurably, and a
@@ -139,12 +152,13 @@ class PixelSampler {
   /// cancel; the index's reversal is computed once per sample).
   glm::vec2 get2d() {
     if (pair_ >= kSobolPairs) return get2d_independent();
-    const uint64_t h = hash_combine(pixel_key_, pair_++);
+    const uint64_t h = pair_hash(pair_++);
     const uint32_t shuffled = reverse_bits32(laine_karras_hash(index_reversed_, uint32_t(h)));
-    const uint32_t x = reverse_bits32(laine_karras_hash(shuffled, uint32_t(h >> 32)));
-    const uint32_t y =
-        reverse_bits32(laine_karras_hash(sobol_dim1_reversed(shuffled), uint32_t(mix64(h))));
-    return {to_unit_float(x), to_unit_float(y)};
+    const uint32_t x_reversed = laine_karras_hash(shuffled, uint32_t(h >> 32));
+    const uint32_t y_reversed = laine_karras_hash(sobol_dim1_reversed(shuffled), uint32_t(mix64(h)));
+    // Both final reversals in one 64-bit pass: y lands in the high half.
+    const uint64_t yx = reverse_bits64(uint64_t(x_reversed) << 32 | y_reversed);
+    return {to_unit_float(uint32_t(yx)), to_unit_float(uint32_t(yx >> 32))};
   }
 
   /// get2d() by its definition, without the algebra (for tests).
@@ -160,7 +174,7 @@ class PixelSampler {
   /// nothing from stratification (emitter choice, Russian roulette). Still a pure function of
   /// (seed, pixel, sample index, dimension).
   glm::vec2 get2d_independent() {
-    const uint64_t h = hash_combine(pixel_key_, pair_++);
+    const uint64_t h = pair_hash(pair_++);
     const uint64_t r = mix64(h ^ (uint64_t(index_) * 0x9e3779b97f4a7c15ull));
     return {to_unit_float(uint32_t(r)), to_unit_float(uint32_t(r >> 32))};
   }
@@ -169,7 +183,12 @@ class PixelSampler {
   void set_pair(uint32_t pair) { pair_ = pair; }
 
  private:
+  /// hash_combine(pixel_key_, pair), with the part that depends on the pixel alone computed
+  /// once per sample (wrapping sums regroup exactly).
+  uint64_t pair_hash(uint32_t pair) const { return mix64(pixel_key_ ^ (uint64_t(pair) + pair_offset_)); }
+
   uint64_t pixel_key_;
+  uint64_t pair_offset_;  ///< hash_combine's pixel-dependent addend
   uint32_t index_;
   uint32_t index_reversed_;
   uint32_t pair_ = 0;

@@ -43,6 +43,27 @@ TEST(Sampler, TabulatedSobolMatchesTheBitwiseDefinition) {
   }
   EXPECT_EQ(reverse_bits32(1u), 0x80000000u);
   EXPECT_EQ(reverse_bits32(0x12345678u), 0x1e6a2c48u);
+  for (uint32_t i = 0; i < 100000; ++i) {
+    const uint64_t v = mix64(i);
+    ASSERT_EQ(reverse_bits64(v), uint64_t(reverse_bits32(uint32_t(v))) << 32 | reverse_bits32(uint32_t(v >> 32))) << v;
+  }
+}
+
+/// The independent pairs by their definition: a hash of (pixel key, pair) mixed with the
+/// sample index (the sampler computes the pixel's part of the hash once per sample).
+TEST(Sampler, IndependentPairsEqualTheDefinition) {
+  for (uint32_t i = 0; i < 5000; ++i) {
+    const uint64_t key = PixelSampler::pixel_key(99, int(i % 37), int(i / 37));
+    const uint32_t index = i * 7919u;
+    PixelSampler s(key, index);
+    for (uint32_t pair = 0; pair < 40; ++pair) {
+      s.set_pair(pair);
+      const glm::vec2 u = s.get2d_independent();
+      const uint64_t r = mix64(hash_combine(key, pair) ^ (uint64_t(index) * 0x9e3779b97f4a7c15ull));
+      ASSERT_EQ(u.x, to_unit_float(uint32_t(r)));
+      ASSERT_EQ(u.y, to_unit_float(uint32_t(r >> 32)));
+    }
+  }
 }
 
 TEST(Sampler, FastPathEqualsTheDefinition) {

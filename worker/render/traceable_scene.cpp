@@ -124,12 +124,10 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
   std::vector<const Geometry*> area_emitters;
   for (auto& g : geometries_) {
     if (g->emission.x > 0 || g->emission.y > 0 || g->emission.z > 0) {
-      g->emitter = int32_t(emitters_.size());
-      emitters_.emplace_back(*g);
+      g->emitter = int32_t(area_emitters.size());
       area_emitters.push_back(g.get());
     }
   }
-  light_selector_ = std::make_unique<LightSelector>(emitters_);
   // Directional and environment lights are weighed by their power through the scene's
   // bounding disc: the radius of the sphere around its bounding box.
   RTCBounds bounds;
@@ -254,8 +252,9 @@ void TraceableScene::add_instance(const Shape& shape, const std::vector<RTCScene
   geometries_.push_back(std::move(g));
 }
 
-void TraceableScene::fill_triangle_hit(const Geometry& g, uint32_t primitive, float b1, float b2,
-                                       Hit* hit) const {
+// Inlined into intersect(): a call per closest hit costs more than the hit record itself.
+[[gnu::always_inline]] inline void TraceableScene::fill_triangle_hit(const Geometry& g, uint32_t primitive,
+                                                                     float b1, float b2, Hit* hit) const {
   const glm::u32vec3 tri = g.indices[primitive];
   const glm::vec3 p0 = g.positions[tri.x], p1 = g.positions[tri.y], p2 = g.positions[tri.z];
   const float b0 = 1.0f - b1 - b2;

@@ -10,7 +10,6 @@
 #include <embree3/rtcore.h>
 
 #include "camera.h"
-#include "light/emitter.h"
 #include "light/light_set.h"
 #include "geometry.h"
 #include "material.h"
@@ -64,13 +63,19 @@ class TraceableScene {
   const TextureSet& textures() const { return *textures_; }
   /// Mitsuba's hide_emitters (RenderSettings).
   bool hide_emitters() const { return hide_emitters_; }
-  /// The area emitters alone, picked by power (tessera-bench-diffuse's reference integrator).
-  const std::vector<Emitter>& emitters() const { return emitters_; }
-  const LightSelector& light_selector() const { return *light_selector_; }
   /// Whether hits carry uv, dpdu and dpdv (only when the scene uses them).
   bool has_uv() const { return need_uv_; }
   /// The instruction set Embree runs with.
   const std::string& isa() const { return isa_; }
+  /// The committed Embree scene, for queries of many rays at once (packet_tracer.h): Embree
+  /// geometry id i is the shape whose Geometry intersect() reports for it. Read-only; lives
+  /// as long as this object.
+  RTCScene embree_scene() const { return scene_; }
+  /// The Geometry of top-level Embree geometry id `embree_id` (a HitBatch's geometry when its
+  /// instance is RTC_INVALID_GEOMETRY_ID); must be < the number of top-level shapes.
+  const Geometry& geometry(uint32_t embree_id) const { return *geometries_[embree_id]; }
+  /// The Embree device, for its properties (PacketTracer::native_width).
+  RTCDevice embree_device() const { return device_; }
 
  private:
   void build(const Scene& scene, const std::string& isa, const FileReader& reader);
@@ -94,8 +99,6 @@ class TraceableScene {
   /// Per shape group: its Embree scene and its shapes' Geometry, indexed by geometry id there.
   std::vector<RTCScene> group_scenes_;
   std::vector<std::vector<std::unique_ptr<Geometry>>> group_geometries_;
-  std::vector<Emitter> emitters_;
-  std::unique_ptr<LightSelector> light_selector_;
   std::unique_ptr<TextureSet> textures_;
   std::unique_ptr<LightSet> lights_;
   bool hide_emitters_ = false;
