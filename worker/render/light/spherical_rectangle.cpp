@@ -9,13 +9,6 @@ namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
 
-/// The angle between unit vectors a and b, accurate near 0 and pi too (where acos of the dot
-/// product is not).
-double angle_between(glm::dvec3 a, glm::dvec3 b) {
-  if (glm::dot(a, b) < 0) return kPiD - 2.0 * std::asin(std::min(1.0, glm::length(a + b) / 2.0));
-  return 2.0 * std::asin(std::min(1.0, glm::length(b - a) / 2.0));
-}
-
 }  // namespace
 
 SphericalRectangle::SphericalRectangle(glm::dvec3 ref, glm::dvec3 corner, glm::dvec3 ex,
@@ -33,15 +26,18 @@ SphericalRectangle::SphericalRectangle(glm::dvec3 ref, glm::dvec3 corner, glm::d
   y1_ = y0_ + eyl;
   if (!(z0_ < 0)) return;  // in the plane: no solid angle
 
-  const glm::dvec3 v00(x0_, y0_, z0_), v01(x0_, y1_, z0_), v10(x1_, y0_, z0_), v11(x1_, y1_, z0_);
-  const glm::dvec3 n0 = glm::normalize(glm::cross(v00, v10));
-  const glm::dvec3 n1 = glm::normalize(glm::cross(v10, v11));
-  const glm::dvec3 n2 = glm::normalize(glm::cross(v11, v01));
-  const glm::dvec3 n3 = glm::normalize(glm::cross(v01, v00));
-  const double g0 = angle_between(-n0, n1), g1 = angle_between(-n1, n2);
-  const double g2 = angle_between(-n2, n3), g3 = angle_between(-n3, n0);
-  b0_ = n0.z;
-  b1_ = n2.z;
+  // The paper's normals of the planes through ref and each edge, n0 (edge y0), n1 (x1),
+  // n2 (y1), n3 (x0), have closed forms in these coordinates (n0 ~ (0, z0, -y0),
+  // n1 ~ (-z0, 0, x1), n2 ~ (0, -z0, y1), n3 ~ (z0, 0, -x0)), and so have the internal angles
+  // gamma_i between -n_i and n_(i+1): atan2(|z0| |corner|, the corner's signed x y), with no
+  // normalisation and no acos (inaccurate near 0 and pi).
+  const double z2 = z0_ * z0_, az = -z0_;
+  const double r00 = std::sqrt(x0_ * x0_ + y0_ * y0_ + z2), r01 = std::sqrt(x0_ * x0_ + y1_ * y1_ + z2);
+  const double r10 = std::sqrt(x1_ * x1_ + y0_ * y0_ + z2), r11 = std::sqrt(x1_ * x1_ + y1_ * y1_ + z2);
+  const double g0 = std::atan2(az * r10, x1_ * y0_), g1 = std::atan2(az * r11, -x1_ * y1_);
+  const double g2 = std::atan2(az * r01, x0_ * y1_), g3 = std::atan2(az * r00, -x0_ * y0_);
+  b0_ = -y0_ / std::sqrt(z2 + y0_ * y0_);
+  b1_ = y1_ / std::sqrt(z2 + y1_ * y1_);
   k_ = 2.0 * kPiD - g2 - g3;
   solid_angle_ = std::max(0.0, g0 + g1 - k_);
 }
