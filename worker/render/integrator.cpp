@@ -135,7 +135,7 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
     if (!scene.intersect(ray, &hit)) {
       if (have_environment && !(vertex == 0 && scene.hide_emitters())) {
         const glm::vec3 le = lights.environment(ray.d);
-        const float w = prev_delta ? 1.0f : mis_weight(prev_pdf, lights.pdf_environment(ray.d));
+        const float w = prev_delta ? 1.0f : mis_weight(prev_pdf, lights.pdf_environment(prev_sp, ray.d));
         radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
       }
       break;

@@ -4,12 +4,26 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
+#include <limits>
 #include <utility>
 
 #include "accum/accumulation.h"
+#include "render/ray_offset.h"
+#include "render/light/sphere_cone.h"
+#include "render/light/spherical_rectangle.h"
 #include "render/warp.h"
 
 namespace tessera {
+namespace {
+
+/// 1 / solid_angle as a float density; 0 where that overflows (a light too small to matter:
+/// it is then neither sampled nor weighed against).
+float inverse_solid_angle(double solid_angle) {
+  const float pdf = float(1.0 / solid_angle);
+  return solid_angle > 0 && std::isfinite(pdf) ? pdf : 0.0f;
+}
+
+}  // namespace
 
 glm::vec2 sphere_uv(const glm::mat3& frame, glm::vec3 dir) {
   const glm::vec3 local = glm::transpose(frame) * dir;
@@ -36,6 +50,101 @@ AreaLight::AreaLight(const Geometry& g, TextureLookup textures)
   }
   triangles_ = PiecewiseConstant1D(areas);
   area_ = float(total);
+  rectangle_ = find_rectangle(g);
+}
+
+std::optional<AreaLight::Rectangle> AreaLight::find_rectangle(const Geometry& g) {
+  if (g.kind != Geometry::Kind::triangles || g.indices.size() != 2) return std::nullopt;
+  // The two triangles must share two vertex positions (the diagonal); the other two are
+  // opposite corners.
+  const glm::u32vec3 a = g.indices[0], b = g.indices[1];
+  int shared = 0;
+  uint32_t a_only = 0, b_only = 0;
+  bool a_shared[3] = {false, false, false}, b_shared[3] = {false, false, false};
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (!b_shared[j] && g.positions[a[i]] == g.positions[b[j]]) {
+        a_shared[i] = b_shared[j] = true;
+        ++shared;
+        break;
+      }
+    }
+  }
+  if (shared != 2) return std::nullopt;
+  for (int i = 0; i < 3; ++i) {
+    if (!a_shared[i]) a_only = a[i];
+    if (!b_shared[i]) b_only = b[i];
+  }
+  uint32_t diagonal[2];
+  for (int i = 0, k = 0; i < 3; ++i) {
+    if (a_shared[i]) diagonal[k++] = a[i];
+  }
+  Rectangle r;
+  r.near = 0;
+  r.far = 1;
+  r.v_corner = a_only;
+  r.v_opposite = b_only;
+  r.v_x = diagonal[0];
+  r.v_y = diagonal[1];
+  r.corner = glm::dvec3(g.positions[a_only]);
+  r.ex = glm::dvec3(g.positions[r.v_x]) - r.corner;
+  r.ey = glm::dvec3(g.positions[r.v_y]) - r.corner;
+  const double lx = glm::length(r.ex), ly = glm::length(r.ey);
+  if (!(lx > 0) || !(ly > 0)) return std::nullopt;
+  // A rectangle to within 1e-5 of its size (float vertices of a transformed rectangle are off by
+  // about 1e-7): the density of the points it maps onto the triangles is then 1 / solid angle
+  // to within about that much.
+  constexpr double kTolerance = 1e-5;
+  const glm::dvec3 closure = r.corner + r.ex + r.ey - glm::dvec3(g.positions[b_only]);
+  if (std::abs(glm::dot(r.ex, r.ey)) > kTolerance * lx * ly ||
+      glm::length(closure) > kTolerance * (lx + ly)) {
+    return std::nullopt;
+  }
+  r.center = glm::vec3(r.corner + 0.5 * (r.ex + r.ey));
+  r.diagonal = float(glm::length(r.ex + r.ey));
+  r.normal = glm::vec3(glm::normalize(glm::cross(r.ex, r.ey)));
+  return r;
+}
+
+AreaLight::PointSample AreaLight::rectangle_point(glm::dvec2 ab) const {
+  // Barycentric weights of (a, b) on the near triangle (corner, x, y) or the far one
+  // (opposite, x, y): the interpolation sample_point uses, so the point lies on what Embree
+  // traces and carries that triangle's error bound and uvs.
+  const Geometry& g = *g_;
+  const Rectangle& r = *rectangle_;
+  const float a = float(ab.x), b = float(ab.y);
+  const bool near = a + b <= 1.0f;
+  const uint32_t tri = near ? r.near : r.far;
+  const uint32_t v0 = near ? r.v_corner : r.v_opposite;
+  const float w0 = near ? 1.0f - a - b : a + b - 1.0f;
+  const float wx = near ? a : 1.0f - b;
+  const float wy = near ? b : 1.0f - a;
+  PointSample s;
+  s.sp.p = w0 * g.positions[v0] + wx * g.positions[r.v_x] + wy * g.positions[r.v_y];
+  s.sp.p_error = glm::vec3(g.point_errors[tri]);
+  s.sp.ng = g.face_normals[tri];
+  if (!g.uvs.empty()) s.uv = w0 * g.uvs[v0] + wx * g.uvs[r.v_x] + wy * g.uvs[r.v_y];
+  return s;
+}
+
+bool AreaLight::solid_angle_sampled(glm::vec3 ref) const {
+  const Geometry& g = *g_;
+  if (g.kind == Geometry::Kind::sphere) {
+    // Clearly outside: a point on the sphere itself (the emitter's own surface, an enclosure's
+    // inside) sees the sphere's far side, not the near cap the cone covers, and rounding may
+    // put it a hair outside. Within the margin, area sampling is exact all the same.
+    const glm::dvec3 d = glm::dvec3(ref) - g.center;
+    const double c = glm::length(g.center);
+    const double margin = 1e-3 * g.radius + 1e-5 * c;
+    return glm::dot(d, d) > (g.radius + margin) * (g.radius + margin);
+  }
+  if (!rectangle_) return false;
+  const Rectangle& r = *rectangle_;
+  const glm::vec3 d = ref - r.center;
+  constexpr float kMinPlaneDistance = 1e-5f;  // of the diagonal
+  constexpr float kMinSize = 0.1f;            // diagonal / distance
+  return std::abs(glm::dot(d, r.normal)) >= kMinPlaneDistance * r.diagonal &&
+         r.diagonal * r.diagonal >= kMinSize * kMinSize * glm::dot(d, d);
 }
 
 AreaLight::PointSample AreaLight::sample_point(glm::vec2 u) const {
@@ -66,7 +175,29 @@ AreaLight::PointSample AreaLight::sample_point(glm::vec2 u) const {
 LightSample AreaLight::sample(glm::vec3 ref, glm::vec2 u) const {
   LightSample s;
   if (!(area_ > 0)) return s;
-  const PointSample ps = sample_point(u);
+  const Geometry& g = *g_;
+  PointSample ps;
+  float solid_angle_pdf = 0;  // 0: sampled by area
+  if (solid_angle_sampled(ref)) {
+    if (g.kind == Geometry::Kind::sphere) {
+      const SphereCone cone(glm::dvec3(ref), g.center, g.radius);
+      const glm::dvec3 n = cone.sample_normal(u);
+      ps.sp.p = glm::vec3(g.center + g.radius * n);
+      ps.sp.p_error = gamma_bound(5) * glm::abs(ps.sp.p);
+      ps.sp.ng = glm::vec3(g.inward ? -n : n);
+      ps.uv = sphere_uv(g.frame, glm::vec3(n));
+      solid_angle_pdf = inverse_solid_angle(cone.solid_angle());
+      if (!(solid_angle_pdf > 0)) return s;
+    } else {
+      const Rectangle& r = *rectangle_;
+      const SphericalRectangle sr(glm::dvec3(ref), r.corner, r.ex, r.ey);
+      solid_angle_pdf = inverse_solid_angle(sr.solid_angle());
+      if (!(solid_angle_pdf > 0)) return s;
+      ps = rectangle_point(sr.sample(u));
+    }
+  } else {
+    ps = sample_point(u);
+  }
   const glm::vec3 to_light = ps.sp.p - ref;
   const float dist2 = glm::dot(to_light, to_light);
   if (!(dist2 > 0)) return s;
@@ -78,7 +209,7 @@ LightSample AreaLight::sample(glm::vec3 ref, glm::vec2 u) const {
   s.wi = wi;
   s.distance = distance;
   s.radiance = le;
-  s.pdf = dist2 / (cos_light * area_);
+  s.pdf = solid_angle_pdf > 0 ? solid_angle_pdf : dist2 / (cos_light * area_);
   s.point = ps.sp;
   return s;
 }
@@ -91,12 +222,60 @@ glm::vec3 AreaLight::emitted(glm::vec2 uv, glm::vec3 ng, glm::vec3 w) const {
 }
 
 float AreaLight::pdf(glm::vec3 ref, glm::vec3 hit_p, glm::vec3 hit_ng) const {
+  if (!(area_ > 0)) return 0.0f;
+  if (solid_angle_sampled(ref)) {
+    const Geometry& g = *g_;
+    if (g.kind == Geometry::Kind::sphere) {
+      return inverse_solid_angle(SphereCone(glm::dvec3(ref), g.center, g.radius).solid_angle());
+    }
+    const Rectangle& r = *rectangle_;
+    return inverse_solid_angle(
+        SphericalRectangle(glm::dvec3(ref), r.corner, r.ex, r.ey).solid_angle());
+  }
   const glm::vec3 to_light = hit_p - ref;
   const float dist2 = glm::dot(to_light, to_light);
   if (!(dist2 > 0) || !(area_ > 0)) return 0.0f;
   const float cos_light = std::abs(glm::dot(hit_ng, to_light)) / std::sqrt(dist2);
   if (!(cos_light > 0)) return 0.0f;
   return dist2 / (cos_light * area_);
+}
+
+LightBounds AreaLight::bounds() const {
+  const Geometry& g = *g_;
+  LightBounds b;
+  b.phi = power();
+  b.two_sided = g.two_sided_emission;
+  if (g.kind == Geometry::Kind::sphere) {
+    b.center = glm::vec3(g.center);
+    b.radius = float(g.radius) * (1.0f + 1e-6f);
+    return b;  // normals in every direction
+  }
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+  glm::dvec3 normal_sum(0.0);
+  double area_sum = 0;
+  for (size_t i = 0; i < g.indices.size(); ++i) {
+    const glm::u32vec3 t = g.indices[i];
+    for (const uint32_t v : {t.x, t.y, t.z}) {
+      lo = glm::min(lo, glm::dvec3(g.positions[v]));
+      hi = glm::max(hi, glm::dvec3(g.positions[v]));
+    }
+    const double a = double(triangles_.pmf(uint32_t(i)));
+    normal_sum += a * glm::dvec3(g.face_normals[i]);
+    area_sum += a;
+  }
+  b.center = glm::vec3(0.5 * (lo + hi));
+  // Rounding the centre to float moves it by an ulp: the radius covers that too.
+  b.radius = float(0.5 * glm::length(hi - lo)) * (1.0f + 1e-5f) +
+             2.0f * gamma_bound(1) * glm::length(glm::abs(b.center));
+  const double length = glm::length(normal_sum);
+  if (!(length > 1e-3 * area_sum)) return b;  // normals all round: no cone
+  const glm::dvec3 w = normal_sum / length;
+  double cos_o = 1;
+  for (const glm::vec3& n : g.face_normals) cos_o = std::min(cos_o, glm::dot(glm::dvec3(n), w));
+  b.w = glm::vec3(w);
+  // Slack for the float normals and w.
+  b.cos_theta_o = float(std::max(-1.0, cos_o - 1e-5));
+  return b;
 }
 
 double AreaLight::power() const {

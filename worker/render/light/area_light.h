@@ -1,14 +1,18 @@
 // Mitsuba's area emitter: an emitting shape (triangles or a sphere) of constant or textured
-// radiance, sampled uniformly by area (solid-angle sampling of spheres and triangles is future
-// work, docs/renderer.md).
+// radiance. Seen from a shading point, a sphere is sampled by the cone of directions it
+// subtends and a rectangle (two triangles) by its spherical rectangle, so that the density
+// follows the solid angle; other meshes, and rectangles where that does not pay or is not
+// accurate, uniformly by area (docs/renderer.md, "Light sampling").
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <optional>
 
 #include "render/geometry.h"
+#include "render/light/light_bounds.h"
 #include "render/light/light_sample.h"
 #include "render/light/piecewise_constant.h"
 
@@ -38,26 +42,60 @@ class AreaLight {
   };
   PointSample sample_point(glm::vec2 u) const;
 
-  /// A point for ref (light-pick probability NOT included): pdf = d^2 / (|cos| area); pdf 0
+  /// A point for ref (light-pick probability NOT included) from u in [0,1)^2, with its
+  /// solid-angle density: 1 / (the solid angle) for a sphere seen from outside and for a
+  /// rectangle when solid_angle_sampled(ref); otherwise by area, d^2 / (|cos| area). pdf 0
   /// when the point sends nothing towards ref (its back, a black texel) or lies on ref.
   LightSample sample(glm::vec3 ref, glm::vec2 u) const;
+  /// Whether sample() draws points by solid angle from ref: for a sphere when ref lies outside
+  /// it by more than 1e-3 of its radius (+ 1e-5 of |centre|: points on the sphere itself see
+  /// its inside); for a rectangle when ref is at least 1e-5 of the rectangle's diagonal off its
+  /// plane (closer, the spherical-rectangle map loses accuracy in double) and the diagonal is at least
+  /// 1/10 of the distance to its centre (smaller, d^2 / cos varies by a few per cent over the
+  /// light and area sampling is as good, for less work); never for other meshes.
+  bool solid_angle_sampled(glm::vec3 ref) const;
   /// Radiance leaving the surface point with front-facing normal ng and texture coordinates
   /// uv towards w: emission * texture(uv) when w is on the front (or emission is two-sided),
   /// 0 otherwise.
   glm::vec3 emitted(glm::vec2 uv, glm::vec3 ng, glm::vec3 w) const;
-  /// The solid-angle density sample() gives the point hit_p (normal hit_ng, either
-  /// orientation) seen from ref, pick probability not included; 0 for a grazing point.
+  /// The solid-angle density sample() gives the point hit_p (a point of the light; normal
+  /// hit_ng, either orientation) seen from ref, pick probability not included: the same
+  /// figure sample() returns, bit for bit, when sampled by solid angle; by area 0 for a
+  /// grazing point.
   float pdf(glm::vec3 ref, glm::vec3 hit_p, glm::vec3 hit_ng) const;
   /// Emitted power, luminance-weighted: pi * area * L (twice for two-sided emission), L the
   /// emission times the mean of the texture over 16 x 16 points of [0,1)^2. The figure only
   /// steers light picking; when that mean is 0 the untextured emission stands in for it, so a
   /// light lit only between the probe points still gets picked.
   double power() const;
+  /// Bounds for light picking: the bounding sphere of the shape, power(), and the cone of its
+  /// face normals about their area-weighted mean (a sphere, or a mesh whose normals cancel
+  /// out: every direction).
+  LightBounds bounds() const;
   float area() const { return area_; }
   const Geometry& geometry() const { return *g_; }
+  /// Whether the light is a rectangle: two triangles that form one (sampled by solid angle).
+  bool is_rectangle() const { return rectangle_.has_value(); }
 
  private:
+  /// Two triangles forming the rectangle corner + [0,1] ex + [0,1] ey: triangle `near`
+  /// (corner, corner + ex, corner + ey) and `far` (the opposite corner, corner + ex,
+  /// corner + ey); the vertex indices of those corners, so that a point is interpolated on the
+  /// very triangle Embree traces.
+  struct Rectangle {
+    glm::dvec3 corner, ex, ey;
+    glm::vec3 center;
+    float diagonal = 0;
+    glm::vec3 normal;  ///< unit
+    uint32_t near = 0, far = 0;
+    uint32_t v_corner = 0, v_x = 0, v_y = 0, v_opposite = 0;
+  };
+  static std::optional<Rectangle> find_rectangle(const Geometry& g);
+  /// The point of the rectangle at (a, b) in [0,1]^2: corner + a ex + b ey.
+  PointSample rectangle_point(glm::dvec2 ab) const;
+
   const Geometry* g_;
+  std::optional<Rectangle> rectangle_;
   TextureLookup textures_;
   PiecewiseConstant1D triangles_;  ///< by area
   float area_ = 0;

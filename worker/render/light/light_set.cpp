@@ -29,12 +29,44 @@ std::vector<double> powers_of(const Lights& lights, double scene_radius) {
   return powers;
 }
 
+/// Each light's bounds for picking by importance at a point. Lights at infinity weigh their
+/// power through the scene's disc divided by r^2 (an irradiance, as phi / d^2 of the others
+/// is); spot lights count as point lights shining every way (a conservative bound).
+template <class Lights>
+std::vector<LightBounds> bounds_of(const Lights& lights, const std::vector<Light>& descriptions,
+                                   uint32_t area_count, double scene_radius) {
+  std::vector<LightBounds> bounds;
+  bounds.reserve(lights.size());
+  for (size_t i = 0; i < lights.size(); ++i) {
+    bounds.push_back(std::visit(
+        [&](const auto& l) -> LightBounds {
+          using T = std::decay_t<decltype(l)>;
+          LightBounds b;
+          if constexpr (std::is_same_v<T, AreaLight>) {
+            b = l.bounds();
+          } else if constexpr (std::is_same_v<T, DirectionalLight> ||
+                               std::is_same_v<T, ConstantLight> ||
+                               std::is_same_v<T, EnvmapLight>) {
+            b.infinite = true;
+            const double r2 = scene_radius * scene_radius;
+            b.phi = r2 > 0 ? l.power(scene_radius) / r2 : l.power(scene_radius);
+          } else {
+            b.center = glm::vec3(glm::dvec3(descriptions[i - area_count].to_world[3]));
+            b.phi = l.power();
+          }
+          return b;
+        },
+        lights[i]));
+  }
+  return bounds;
+}
+
 }  // namespace
 
 LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
                    const std::vector<Light>& lights, const FileReader& reader,
                    const TextureLookup& textures, float scene_radius)
-    : picker_(std::vector<double>{}) {
+    : picker_({}, std::vector<double>{}) {
   lights_.reserve(area_emitters.size() + lights.size());
   for (const Geometry* g : area_emitters) {
     // emitted() and pdf_area() find a geometry's light by Geometry::emitter.
@@ -66,7 +98,8 @@ LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
         break;
     }
   }
-  picker_ = LightPicker(powers_of(lights_, double(scene_radius)));
+  picker_ = LightPicker(bounds_of(lights_, lights, area_count_, double(scene_radius)),
+                        powers_of(lights_, double(scene_radius)));
 }
 
 LightSample LightSet::sample(const SurfacePoint& ref, float u_pick, glm::vec2 u) const {
@@ -90,7 +123,7 @@ LightSample LightSet::sample(const SurfacePoint& ref, float u_pick, glm::vec2 u)
           e.wi = wi;
           e.distance = std::numeric_limits<float>::infinity();
           e.radiance = environment(wi);
-          e.pdf = pdf_environment(wi);  // combined, pick probabilities included
+          e.pdf = pdf_environment(ref, wi);  // combined, pick probabilities included
           return e;
         }
       },
@@ -110,8 +143,8 @@ glm::vec3 LightSet::emitted(const Geometry& g, uint32_t /*primitive*/, glm::vec2
 
 float LightSet::pdf_area(const Geometry& g, uint32_t /*primitive*/, const SurfacePoint& ref,
                          glm::vec3 hit_p, glm::vec3 hit_ng) const {
-  // Uniform area sampling: the density does not depend on the primitive (solid-angle sampling
-  // of triangles will need it).
+  // Area, cone and spherical-rectangle sampling: the density does not depend on the primitive
+  // (solid-angle sampling of single triangles would need it).
   if (g.emitter < 0 || uint32_t(g.emitter) >= area_count_) return 0.0f;
   const uint32_t i = uint32_t(g.emitter);
   return picker_.pmf(i, ref) * std::get<AreaLight>(lights_[i]).pdf(ref.p, hit_p, hit_ng);
@@ -134,12 +167,9 @@ float LightSet::environment_pdf(uint32_t i, glm::vec3 d) const {
   return std::get<EnvmapLight>(lights_[i]).pdf(d);
 }
 
-float LightSet::pdf_environment(glm::vec3 d) const {
-  // The ref point does not matter to power picking; a contribution-based picker will need it
-  // here too.
-  const SurfacePoint nowhere{};
+float LightSet::pdf_environment(const SurfacePoint& ref, glm::vec3 d) const {
   float pdf = 0;
-  for (uint32_t i : environment_) pdf += picker_.pmf(i, nowhere) * environment_pdf(i, d);
+  for (uint32_t i : environment_) pdf += picker_.pmf(i, ref) * environment_pdf(i, d);
   return pdf;
 }
 

@@ -33,7 +33,8 @@ class LightSet {
   /// - lights: Scene::lights (point, spot, directional, constant, envmap). Environment maps are
   ///   decoded from the bytes `reader` returns for Light::file.
   /// - scene_radius: radius of the geometry's bounding sphere; directional and environment
-  ///   lights count with their power through a disc of that radius when lights are picked.
+  ///   lights count with their power through a disc of that radius (divided by its square,
+  ///   when lights are weighed at each point) when lights are picked.
   /// Throws SceneError naming the light's origin (and file) for a bad light: an environment map
   /// that cannot be decoded or holds NaN, infinite or negative texels, a spot light whose
   /// beam_width exceeds its cutoff_angle.
@@ -45,9 +46,9 @@ class LightSet {
   /// then carry light.
   bool has_environment() const { return !environment_.empty(); }
 
-  /// One light sample for ref (point + geometric normal for the offset): picks a light
-  /// (u_pick in [0,1)), then a point or direction on it (u in [0,1)^2). pdf == 0 means no
-  /// contribution. An environment light's sample carries the radiance of every environment
+  /// One light sample for ref (point + geometric normal, which also steers the pick): picks a
+  /// light (u_pick in [0,1); LightPicker: by importance at ref), then a point or direction on
+  /// it (u in [0,1)^2). pdf == 0 means no contribution. An environment light's sample carries the radiance of every environment
   /// light along wi and their combined density (environment(), pdf_environment()), so that
   /// the same density weighs a BSDF-sampled ray escaping along wi.
   LightSample sample(const SurfacePoint& ref, float u_pick, glm::vec2 u) const;
@@ -65,9 +66,9 @@ class LightSet {
 
   /// Radiance of every environment light (constant + envmaps) along escaping direction d (unit).
   glm::vec3 environment(glm::vec3 d) const;
-  /// The density sample() gives direction d through the environment lights (pick
-  /// probabilities included).
-  float pdf_environment(glm::vec3 d) const;
+  /// The density sample() from ref gives direction d through the environment lights (pick
+  /// probabilities at ref included): for MIS when a BSDF-sampled ray from ref escapes.
+  float pdf_environment(const SurfacePoint& ref, glm::vec3 d) const;
 
  private:
   using AnyLight =

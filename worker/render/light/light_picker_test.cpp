@@ -1,0 +1,109 @@
+// Light picking: picks follow pmf() (chi-square over the lights), the probabilities sum to 1,
+// nothing is picked where no light can reach, power picking beyond kMaxPerPoint lights.
+#include "render/light/light_picker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "render/light/light_test_support.h"
+
+namespace tessera {
+namespace {
+
+/// A one-sided square light of side 1 and power phi centred at c, facing w.
+LightBounds square(glm::vec3 c, glm::vec3 w, double phi) {
+  LightBounds b;
+  b.center = c;
+  b.radius = std::sqrt(0.5f);
+  b.phi = phi;
+  b.w = w;
+  b.cos_theta_o = 1;
+  return b;
+}
+
+LightBounds point(glm::vec3 p, double phi) {
+  LightBounds b;
+  b.center = p;
+  b.phi = phi;
+  return b;
+}
+
+TEST(LightPicker, PicksFollowThePmfChiSquare) {
+  std::vector<LightBounds> bounds = {square({0, 2, 0}, {0, -1, 0}, 10),
+                                     square({3, 1, 0}, {-1, 0, 0}, 4), point({-1, 1, 1}, 2),
+                                     point({0, 0.5f, -4}, 30)};
+  LightBounds sky;
+  sky.infinite = true;
+  sky.phi = 0.3;
+  bounds.push_back(sky);
+  const LightPicker picker(bounds, {10, 4, 2, 30, 1});
+  test::UniformFloats u(61);
+  for (const SurfacePoint ref : {SurfacePoint{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}},
+                                 SurfacePoint{{2.5f, 1, 0.2f}, {0, 0, 0}, {-1, 0, 0}},
+                                 SurfacePoint{{-1, 0.5f, 0.5f}, {0, 0, 0}, {0, 0, 1}}}) {
+    std::vector<double> expected(bounds.size());
+    double sum = 0;
+    for (uint32_t i = 0; i < bounds.size(); ++i) {
+      expected[i] = picker.pmf(i, ref);
+      sum += expected[i];
+      EXPECT_GT(expected[i], 0.0) << i;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-6);
+    const int n = 50000;
+    std::vector<double> observed(bounds.size(), 0.0);
+    for (int k = 0; k < n; ++k) {
+      float pmf = 0;
+      const uint32_t i = picker.pick(u.next(), ref, &pmf);
+      ASSERT_LT(i, bounds.size());
+      ASSERT_EQ(pmf, picker.pmf(i, ref));  // bit for bit
+      observed[i] += 1;
+    }
+    double chi2 = 0;
+    for (size_t i = 0; i < bounds.size(); ++i) {
+      const double e = expected[i] * n;
+      chi2 += (observed[i] - e) * (observed[i] - e) / e;
+    }
+    EXPECT_GT(test::chi_square_p_value(chi2, int(bounds.size()) - 1), test::kChiSquareLevel)
+        << "chi2 " << chi2;
+  }
+}
+
+TEST(LightPicker, PicksNothingWhereNoLightCanReach) {
+  // Two one-sided squares facing up, the point far below both.
+  const LightPicker picker({square({0, 0, 0}, {0, 1, 0}, 1), square({2, 0, 0}, {0, 1, 0}, 1)},
+                           {1, 1});
+  const SurfacePoint below{{1, -5, 0}, {0, 0, 0}, {0, 1, 0}};
+  float pmf = 1;
+  picker.pick(0.5f, below, &pmf);
+  EXPECT_EQ(pmf, 0.0f);
+  EXPECT_EQ(picker.pmf(0, below), 0.0f);
+  EXPECT_EQ(picker.pmf(1, below), 0.0f);
+  // Above them, in their plane and (the cosine at the point being 0) beside them edge-on.
+  for (const SurfacePoint ref : {SurfacePoint{{1, 5, 0}, {0, 0, 0}, {0, 1, 0}},
+                                 SurfacePoint{{9, 0, 0}, {0, 0, 0}, {0, 1, 0}}}) {
+    EXPECT_GT(picker.pmf(0, ref), 0.0f);
+    EXPECT_GT(picker.pmf(1, ref), 0.0f);
+  }
+}
+
+TEST(LightPicker, BeyondSixteenLightsPicksByPower) {
+  std::vector<LightBounds> bounds;
+  std::vector<double> powers;
+  for (int i = 0; i < int(LightPicker::kMaxPerPoint) + 1; ++i) {
+    bounds.push_back(point({float(i), 0, 0}, 1.0 + i));
+    powers.push_back(1.0 + i);
+  }
+  const LightPicker picker(bounds, powers);
+  const double total = 17 * 18 / 2.0;
+  for (const SurfacePoint ref : {SurfacePoint{{0, 1, 0}, {0, 0, 0}, {0, 1, 0}},
+                                 SurfacePoint{{16, 1, 0}, {0, 0, 0}, {0, 1, 0}}}) {
+    for (uint32_t i = 0; i < bounds.size(); ++i) {
+      EXPECT_NEAR(picker.pmf(i, ref), (1.0 + i) / total, 1e-6);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tessera
