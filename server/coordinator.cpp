@@ -60,6 +60,8 @@ bool Coordinator::checkpoint() {
 }
 
 int Coordinator::resume() {
+  // Start-up reads the leased units (by their partial index), one row per job and index probes:
+  // no other unit row and no tile (BENCHMARKS.md, "restart").
   std::vector<int64_t> unfinished;
   {
     std::lock_guard lock(mu_);
@@ -67,22 +69,29 @@ int Coordinator::resume() {
     unfinished = jobs_.unfinished();
   }
   for (int64_t id : unfinished) {
-    std::optional<JobRecord> job;
+    bool complete = false;
     {
       std::lock_guard lock(mu_);
-      job = jobs_.get(id);
+      complete = !units_left(db_, id);
     }
-    if (job && job->state == JobState::running && job->complete) finish_job(id);
+    // finish_job checks the job is running; a queued job has units left anyway.
+    if (complete) finish_job(id);
   }
   // Done jobs whose output could not be written (a full disk) get their files now.
-  std::vector<JobRecord> done;
+  std::vector<DoneOutput> done;
   {
     std::lock_guard lock(mu_);
-    for (JobRecord& job : jobs_.list(std::numeric_limits<uint32_t>::max())) {
-      if (job.state == JobState::done) done.push_back(std::move(job));
-    }
+    done = jobs_.done_outputs();
   }
-  for (const JobRecord& job : done) rewrite_missing_output(job);
+  for (const DoneOutput& d : done) {
+    if (std::filesystem::exists(d.exr) && std::filesystem::exists(d.png)) continue;
+    std::optional<JobRecord> record;
+    {
+      std::lock_guard lock(mu_);
+      record = jobs_.get(d.job_id);
+    }
+    if (record) rewrite_missing_output(*record);
+  }
   changes_.notify();
   return int(unfinished.size());
 }

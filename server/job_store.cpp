@@ -5,6 +5,7 @@
 #include <string>
 
 #include "farm_error.h"
+#include "store/tile_queue.h"
 
 namespace tessera::server {
 namespace {
@@ -29,7 +30,9 @@ constexpr const char* kJobColumns = R"sql(
   (SELECT MAX(t.error) FROM tiles t WHERE t.job_id = j.id),
   (SELECT AVG(t.error) FROM tiles t WHERE t.job_id = j.id),
   (SELECT COUNT(*) FROM tiles t WHERE t.job_id = j.id AND t.finished != ''),
-  NOT EXISTS (SELECT 1 FROM units u WHERE u.job_id = j.id AND u.state IN ('queued', 'leased')),
+  NOT EXISTS (SELECT 1 FROM units u WHERE u.job_id = j.id AND u.state IN ('queued', 'leased'))
+    AND NOT EXISTS (SELECT 1 FROM tile_queue q WHERE q.job_id = j.id
+                    AND q.next_lease < q.lease_end),
   j.batch_schedule
 )sql";
 
@@ -187,15 +190,8 @@ int64_t JobStore::create(const NewJob& job, int64_t now) {
         .bind(6, tiles[t].y1)
         .run();
   }
-  auto insert_unit =
-      db_.prepare("INSERT INTO units (job_id, tile, batch, state) VALUES (?1, ?2, ?3, ?4)");
-  for (uint32_t b = 0; b < plan.batch_count(); ++b) {
-    for (size_t t = 0; t < tiles.size(); ++t) {
-      insert_unit->reset();
-      insert_unit->bind(1, job_id).bind(2, int64_t(t)).bind(3, b).bind(4, s(UnitState::queued));
-      insert_unit->run();
-    }
-  }
+  // The units themselves come into being when leased (store/tile_queue.h).
+  TileQueue(db_).create(job_id, uint32_t(tiles.size()), plan.batch_count());
   tx.commit();
   return job_id;
 }
@@ -228,6 +224,14 @@ std::vector<int64_t> JobStore::unfinished() {
   auto q = db_.prepare("SELECT id FROM jobs WHERE state IN (?, ?) ORDER BY id");
   q->bind(1, s(JobState::queued)).bind(2, s(JobState::running));
   while (q->step()) out.push_back(q->int64(0));
+  return out;
+}
+
+std::vector<DoneOutput> JobStore::done_outputs() {
+  std::vector<DoneOutput> out;
+  auto q = db_.prepare("SELECT id, output_exr, output_png FROM jobs WHERE state = ? ORDER BY id");
+  q->bind(1, s(JobState::done));
+  while (q->step()) out.push_back({q->int64(0), q->text(1), q->text(2)});
   return out;
 }
 
@@ -267,10 +271,18 @@ void cancel_units(Database& db, int64_t job_id) {
         .bind(3, s(from))
         .run();
   }
+  TileQueue(db).close_job(job_id);
   db.prepare("DELETE FROM pending_results WHERE job_id = ?")->bind(1, job_id).run();
 }
 
 }  // namespace
+
+bool units_left(Database& db, int64_t job_id) {
+  auto q = db.prepare("SELECT 1 FROM units WHERE job_id = ? AND state IN (?, ?) LIMIT 1");
+  q->bind(1, job_id).bind(2, s(UnitState::queued)).bind(3, s(UnitState::leased));
+  if (q->step()) return true;
+  return TileQueue(db).any_open(job_id);
+}
 
 CancelOutcome JobStore::cancel(int64_t job_id, int64_t now) {
   Transaction tx(db_);
@@ -387,18 +399,16 @@ bool JobStore::finish(int64_t job_id, const std::string& output_exr, const std::
                       int64_t now) {
   Transaction tx(db_);
   const JobState to = *next_state(JobState::running, JobEvent::finish);
+  if (units_left(db_, job_id)) return false;
   db_.prepare(
          "UPDATE jobs SET state = ?, finished_unix_ms = ?, output_exr = ?, output_png = ?"
-         " WHERE id = ? AND state = ? AND NOT EXISTS (SELECT 1 FROM units u WHERE"
-         " u.job_id = jobs.id AND u.state IN (?, ?))")
+         " WHERE id = ? AND state = ?")
       ->bind(1, s(to))
       .bind(2, now)
       .bind(3, output_exr)
       .bind(4, output_png)
       .bind(5, job_id)
       .bind(6, s(JobState::running))
-      .bind(7, s(UnitState::queued))
-      .bind(8, s(UnitState::leased))
       .run();
   const bool finished = db_.changes() == 1;
   tx.commit();

@@ -80,6 +80,12 @@ struct JobSpec {
   std::string bundle_sha256;
 };
 
+/// Where a done job's output files are.
+struct DoneOutput {
+  int64_t job_id = 0;
+  std::string exr, png;
+};
+
 struct NewJob {
   std::string bundle_sha256;
   std::string scene_file;
@@ -87,6 +93,10 @@ struct NewJob {
   JobOptions options;
   int priority = 0;
 };
+
+/// True while some unit of the job is queued or leased, with a row in `units` or still without
+/// one (store/tile_queue.h): the job cannot finish yet.
+bool units_left(Database& db, int64_t job_id);
 
 enum class CancelOutcome { cancelled, not_found, already_final };
 enum class DeleteOutcome { deleted, not_found, not_final };
@@ -98,8 +108,9 @@ class JobStore {
 
   explicit JobStore(Database& db) : db_(db) {}
 
-  /// Stores the bundle (once per hash), the job (queued), its tiles and its units, in one
-  /// transaction. Returns the job id. Throws FarmError(invalid_argument) when the plan has more
+  /// Stores the bundle (once per hash), the job (queued) and its tiles, in one transaction:
+  /// O(tiles) rows whatever the spp, the units come into being when leased
+  /// (store/tile_queue.h). Returns the job id. Throws FarmError(invalid_argument) when the plan has more
   /// than kMaxUnitsPerJob units.
   int64_t create(const NewJob& job, int64_t now_unix_ms);
 
@@ -108,6 +119,8 @@ class JobStore {
   std::vector<JobRecord> list(uint32_t limit);
   /// Ids of jobs not final (queued or running), oldest first.
   std::vector<int64_t> unfinished();
+  /// Every done job's id and output paths (jobs rows only: cheap at start-up).
+  std::vector<DoneOutput> done_outputs();
 
   /// queued|running -> cancelled; its queued and leased units -> cancelled (leases revoked),
   /// pending results deleted. One transaction.

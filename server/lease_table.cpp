@@ -1,7 +1,10 @@
 #include "lease_table.h"
 
+#include <limits>
 #include <random>
 #include <vector>
+
+#include "store/tile_queue.h"
 
 namespace tessera::server {
 namespace {
@@ -57,6 +60,25 @@ std::optional<Lease> LeaseTable::grant_in_transaction(int64_t unit_id, int64_t w
       .bind(6, s(UnitState::queued))
       .run();
   if (db_.changes() != 1) return std::nullopt;
+  return held_by(worker_id);
+}
+
+std::optional<Lease> LeaseTable::grant_unborn_in_transaction(int64_t job_id, uint32_t tile,
+                                                             uint32_t batch, int64_t worker_id) {
+  if (!TileQueue(db_).take(job_id, tile, batch)) return std::nullopt;
+  // Born leased: the row's first state is the one the lease event leads to from queued.
+  const UnitState to = *next_state(UnitState::queued, UnitEvent::lease);
+  db_.prepare(
+         "INSERT INTO units (job_id, tile, batch, state, lease_id, worker_id,"
+         " lease_expires_unix_ms) VALUES (?, ?, ?, ?, ?, ?, ?)")
+      ->bind(1, job_id)
+      .bind(2, tile)
+      .bind(3, batch)
+      .bind(4, s(to))
+      .bind(5, new_id_())
+      .bind(6, worker_id)
+      .bind(7, clock_.now_unix_ms() + lease_ms_)
+      .run();
   return held_by(worker_id);
 }
 
@@ -172,16 +194,19 @@ bool LeaseTable::record_failure(int64_t unit_id, int64_t job_id, int64_t worker_
                                    now);
 }
 
-int LeaseTable::requeue_where(const std::string& condition, int64_t bound) {
+int LeaseTable::requeue_expiring_before(int64_t bound) {
   struct Expired {
     int64_t unit_id, job_id, worker_id;
     std::string lease_id;
   };
   std::vector<Expired> expired;
   {
-    auto q = db_.prepare("SELECT id, job_id, worker_id, lease_id FROM units WHERE state = ?1 AND " +
-                         condition);
-    q->bind(1, s(UnitState::leased)).bind(2, bound);
+    // The literal 'leased' (not a parameter) lets SQLite use the partial indexes on leased
+    // units (units_expiry): start-up and expiry read the leased rows alone, not every unit.
+    auto q = db_.prepare(
+        "SELECT id, job_id, worker_id, lease_id FROM units INDEXED BY units_expiry"
+        " WHERE state = 'leased' AND lease_expires_unix_ms < ?1");
+    q->bind(1, bound);
     while (q->step()) expired.push_back({q->int64(0), q->int64(1), q->int64(2), q->text(3)});
   }
   const UnitState to = *next_state(UnitState::leased, UnitEvent::expire);
@@ -209,14 +234,14 @@ int LeaseTable::requeue_where(const std::string& condition, int64_t bound) {
 
 int LeaseTable::expire_due() {
   Transaction tx(db_);
-  const int count = requeue_where("lease_expires_unix_ms < ?2", clock_.now_unix_ms());
+  const int count = requeue_expiring_before(clock_.now_unix_ms());
   tx.commit();
   return count;
 }
 
 int LeaseTable::revoke_all() {
   Transaction tx(db_);
-  const int count = requeue_where("?2 = ?2", 0);
+  const int count = requeue_expiring_before(std::numeric_limits<int64_t>::max());
   tx.commit();
   return count;
 }

@@ -72,6 +72,13 @@ class LeaseTable {
   /// transaction. nullopt when the unit was not queued (someone else won the compare-and-set).
   std::optional<Lease> grant_in_transaction(int64_t unit_id, int64_t worker_id);
 
+  /// The lease event on a unit without a row (store/tile_queue.h): inserts the row of batch
+  /// `batch` of `tile`, leased to `worker_id` with a fresh id, and moves the tile's next_lease
+  /// on. Call inside a transaction. nullopt when `batch` is not the tile's next unborn batch
+  /// (someone else won the compare-and-set).
+  std::optional<Lease> grant_unborn_in_transaction(int64_t job_id, uint32_t tile, uint32_t batch,
+                                                   int64_t worker_id);
+
   /// Pushes the expiry of a current lease to now + lease_ms. Call inside a transaction.
   /// nullopt when `lease_id` is not the current lease of a unit held by `worker_id`.
   std::optional<int64_t> extend_in_transaction(int64_t worker_id, const std::string& lease_id);
@@ -94,7 +101,8 @@ class LeaseTable {
   int revoke_all();
 
  private:
-  int requeue_where(const std::string& condition, int64_t bound);
+  /// Every lease expiring before `bound` -> queued, counted as expired.
+  int requeue_expiring_before(int64_t bound);
   /// Records a failure of `unit_id` by `worker_id`; true when it failed the job.
   bool record_failure(int64_t unit_id, int64_t job_id, int64_t worker_id,
                       const std::string& message);

@@ -3,6 +3,8 @@
 #include <limits>
 #include <string>
 
+#include "store/tile_queue.h"
+
 namespace tessera::server {
 namespace {
 
@@ -12,28 +14,43 @@ std::string s(JobState state) { return std::string(to_string(state)); }
 }  // namespace
 
 const char* Scheduler::first_unit_sql(bool noise) {
-  // Both walk the units_queue index (job_id, state, batch, tile) in order and stop at the first
-  // row that qualifies: no sort, no scan of the job's other queued units (EXPLAIN QUERY PLAN is
-  // checked in tests/farm/scheduler_test.cpp). The noise form looks up each candidate's tile by
-  // its primary key; CROSS JOIN keeps units as the outer loop.
+  // Units back in the queue (expired or released leases) keep their row. Both forms walk the
+  // units_queue index (job_id, state, batch, tile) in order and stop at the first row that
+  // qualifies: no sort, no scan of the job's other queued units (EXPLAIN QUERY PLAN is checked
+  // in tests/farm). The noise form looks up each candidate's tile by its primary key; CROSS
+  // JOIN keeps units as the outer loop.
   static constexpr const char* kUniform = R"sql(
-      SELECT u.id FROM units u WHERE u.job_id = ?1 AND u.state = ?2 AND u.batch < ?4
+      SELECT u.id, u.tile, u.batch FROM units u WHERE u.job_id = ?1 AND u.state = ?2 AND u.batch < ?4
       ORDER BY u.batch, u.tile LIMIT 1)sql";
   static constexpr const char* kNoise = R"sql(
-      SELECT u.id FROM units u CROSS JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile
+      SELECT u.id, u.tile, u.batch FROM units u
+      CROSS JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile
       WHERE u.job_id = ?1 AND u.state = ?2 AND u.batch < ?4 AND u.batch < t.next_batch + ?3
       ORDER BY u.batch, u.tile LIMIT 1)sql";
   return noise ? kNoise : kUniform;
 }
 
-std::optional<int64_t> Scheduler::first_unit(int64_t job_id, bool noise, bool over_budget) {
-  auto q = db_.prepare(first_unit_sql(noise));
-  q->bind(1, job_id).bind(2, s(UnitState::queued));
-  if (noise) q->bind(3, kNoiseLookahead);
+std::optional<Scheduler::Pick> Scheduler::first_unit(int64_t job_id, bool noise,
+                                                     bool over_budget) {
   // Past its budget a time job gets batch 0 only: every tile gets its first batch.
-  q->bind(4, over_budget ? int64_t(1) : std::numeric_limits<int64_t>::max());
-  if (q->step()) return q->int64(0);
-  return std::nullopt;
+  const int64_t batch_limit = over_budget ? int64_t(1) : std::numeric_limits<int64_t>::max();
+  std::optional<Pick> requeued;
+  {
+    auto q = db_.prepare(first_unit_sql(noise));
+    q->bind(1, job_id).bind(2, s(UnitState::queued));
+    if (noise) q->bind(3, kNoiseLookahead);
+    q->bind(4, batch_limit);
+    if (q->step()) requeued = Pick{q->int64(0), uint32_t(q->int64(1)), uint32_t(q->int64(2))};
+  }
+  // The first unit without a row; the earlier of the two in (batch, tile) order goes first.
+  const std::optional<UnbornUnit> unborn =
+      TileQueue(db_).first(job_id, noise ? kNoiseLookahead : 0, batch_limit);
+  if (!unborn) return requeued;
+  const Pick fresh{std::nullopt, unborn->tile, unborn->batch};
+  if (!requeued) return fresh;
+  const bool fresh_first = std::pair(fresh.batch, fresh.tile) < std::pair(requeued->batch,
+                                                                          requeued->tile);
+  return fresh_first ? fresh : requeued;
 }
 
 std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
@@ -70,13 +87,18 @@ std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
         .bind(6, leases_.forgiven_before_unix_ms());
     while (q->step()) candidates.push_back({q->int64(0), q->int64(1) != 0, q->int64(2) != 0});
   }
-  std::optional<int64_t> unit_id;
+  std::optional<Pick> pick;
+  int64_t job_id = 0;
   for (const Candidate& c : candidates) {
-    unit_id = first_unit(c.job_id, c.noise, c.over_budget);
-    if (unit_id) break;
+    pick = first_unit(c.job_id, c.noise, c.over_budget);
+    job_id = c.job_id;
+    if (pick) break;
   }
-  if (!unit_id) return std::nullopt;  // rolls back: nothing written
-  std::optional<Lease> lease = leases_.grant_in_transaction(*unit_id, worker_id);
+  if (!pick) return std::nullopt;  // rolls back: nothing written
+  std::optional<Lease> lease =
+      pick->unit_id ? leases_.grant_in_transaction(*pick->unit_id, worker_id)
+                    : leases_.grant_unborn_in_transaction(job_id, pick->tile, pick->batch,
+                                                          worker_id);
   if (lease) {
     // queued -> running on the first lease; a running job stays running (JobEvent::start).
     const JobState to = *next_state(JobState::queued, JobEvent::start);
@@ -112,7 +134,8 @@ std::vector<int64_t> Scheduler::enforce_time_budgets() {
         .bind(2, job_id)
         .bind(3, s(UnitState::queued))
         .run();
-    const int64_t n = db_.changes();
+    // ...and so are those without a row yet.
+    const int64_t n = db_.changes() + TileQueue(db_).skip_after_first_batch(job_id);
     db_.prepare(
            "UPDATE jobs SET units_skipped = units_skipped + ?, budget_reached_unix_ms ="
            " CASE WHEN budget_reached_unix_ms = 0 THEN ? ELSE budget_reached_unix_ms END"
@@ -121,9 +144,7 @@ std::vector<int64_t> Scheduler::enforce_time_budgets() {
         .bind(2, now)
         .bind(3, job_id)
         .run();
-    auto q = db_.prepare("SELECT 1 FROM units WHERE job_id = ? AND state IN (?, ?) LIMIT 1");
-    q->bind(1, job_id).bind(2, s(UnitState::queued)).bind(3, s(UnitState::leased));
-    if (!q->step()) complete.push_back(job_id);
+    if (!units_left(db_, job_id)) complete.push_back(job_id);
   }
   tx.commit();
   return complete;

@@ -1,6 +1,6 @@
 // Hands out work units. Jobs are walked by priority (higher first), then age (older first); in
-// the first job with a unit to give, one indexed query takes its first queued unit by (batch,
-// tile), so a job's tiles progress together (a preview that sharpens evenly) and each tile's
+// the first job with a unit to give, two indexed queries (units back in the queue, and units
+// not created yet: store/tile_queue.h) take its first queued unit by (batch, tile), so a job's tiles progress together (a preview that sharpens evenly) and each tile's
 // batches arrive roughly in merge order: batch b+1 of a job is leased once no batch <= b of it is
 // left unleased, without waiting for results (no barrier). The stopping rules act here too: a
 // `time` job past its budget gets only what is left of batch 0 (every tile gets its first batch,
@@ -40,13 +40,19 @@ class Scheduler {
   /// the ids of such jobs with no unit queued or leased left: ready to settle and finish.
   std::vector<int64_t> enforce_time_budgets();
 
-  /// The query that picks a job's next unit (?1 job, ?2 'queued', ?3 kNoiseLookahead for noise
-  /// jobs, ?4 the first batch not to lease), public so tests can check its plan.
+  /// The query that picks a job's next unit among those back in the queue, with a row (?1
+  /// job, ?2 'queued', ?3 kNoiseLookahead for noise jobs, ?4 the first batch not to lease),
+  /// public so tests can check its plan. Units without a row: TileQueue::first_sql.
   static const char* first_unit_sql(bool noise);
 
  private:
-  /// The first leasable unit of `job_id`, or nullopt.
-  std::optional<int64_t> first_unit(int64_t job_id, bool noise, bool over_budget);
+  /// A leasable unit: with its row (unit_id) or without one yet (store/tile_queue.h).
+  struct Pick {
+    std::optional<int64_t> unit_id;
+    uint32_t tile = 0, batch = 0;
+  };
+  /// The first leasable unit of `job_id` in (batch, tile) order, or nullopt.
+  std::optional<Pick> first_unit(int64_t job_id, bool noise, bool over_budget);
 
   Database& db_;
   LeaseTable& leases_;

@@ -8,6 +8,8 @@
 #include "job/job_plan.h"
 #include "job/stopping_rule.h"
 #include "job_state.h"
+#include "job_store.h"
+#include "store/tile_queue.h"
 
 namespace tessera::server {
 namespace {
@@ -102,6 +104,7 @@ void TileMerger::close_tile(int64_t job_id, uint32_t tile) {
         .run();
     skipped += db_.changes();
   }
+  skipped += TileQueue(db_).close_tile(job_id, tile);  // and those without a row yet
   db_.prepare("DELETE FROM pending_results WHERE job_id = ? AND tile = ?")
       ->bind(1, job_id)
       .bind(2, tile)
@@ -252,11 +255,7 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
         .run();
     outcome.merged = tally.results;
   }
-  {
-    auto q = db_.prepare("SELECT 1 FROM units WHERE job_id = ? AND state IN (?, ?) LIMIT 1");
-    q->bind(1, r.job_id).bind(2, s(UnitState::queued)).bind(3, s(UnitState::leased));
-    outcome.job_complete = !q->step();
-  }
+  outcome.job_complete = !units_left(db_, r.job_id);
   tx.commit();
   return outcome;
 }

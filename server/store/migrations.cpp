@@ -189,6 +189,28 @@ UPDATE tiles SET spp = (SELECT MIN(tiles.next_batch * j.batch_spp, j.spp) FROM j
       // Deleted jobs give their pages back (PRAGMA incremental_vacuum after a delete): switching
       // an existing database to incremental auto-vacuum takes one VACUUM.
       {5, "incremental auto-vacuum", "PRAGMA auto_vacuum = INCREMENTAL; VACUUM;", true},
+      {6, "lazy units: a tile's units come into being when leased", R"sql(
+-- Each tile's units not yet created (store/tile_queue.h): batches [next_lease, lease_end) of
+-- the tile have no row in `units` and count as queued; leasing batch next_lease inserts its
+-- row (state 'leased') and moves next_lease on. lease_end is the job's batch_count, lowered to
+-- next_lease when the tile needs no more batches (its stopping rule closed it, its job ended)
+-- and to 1 when a time job ran out of budget. A submit so writes O(tiles) rows, whatever the spp.
+CREATE TABLE tile_queue (
+  job_id     INTEGER NOT NULL,
+  tile       INTEGER NOT NULL,
+  next_lease INTEGER NOT NULL,
+  lease_end  INTEGER NOT NULL,
+  PRIMARY KEY (job_id, tile),
+  FOREIGN KEY (job_id, tile) REFERENCES tiles (job_id, tile) ON DELETE CASCADE
+) WITHOUT ROWID;
+-- The open tiles of a job in (batch, tile) order: the scheduler walks it and stops at the first.
+CREATE INDEX tile_queue_open ON tile_queue (job_id, next_lease, tile)
+  WHERE next_lease < lease_end;
+-- Jobs stored before this migration have a row for every unit already: nothing is left to
+-- create, their queued rows are leased as before.
+INSERT INTO tile_queue (job_id, tile, next_lease, lease_end)
+  SELECT t.job_id, t.tile, j.batch_count, j.batch_count FROM tiles t JOIN jobs j ON j.id = t.job_id;
+)sql"},
   };
   return kMigrations;
 }
@@ -202,7 +224,7 @@ int schema_version(Database& db) {
   return int(q->int64(0));
 }
 
-int migrate(Database& db, int64_t now_unix_ms) {
+int migrate(Database& db, int64_t now_unix_ms, int up_to) {
   int version = schema_version(db);
   const auto& all = schema_migrations();
   const int newest = all.empty() ? 0 : all.back().version;
@@ -220,6 +242,7 @@ int migrate(Database& db, int64_t now_unix_ms) {
       applied = q->step();
     }
     if (applied) continue;
+    if (m.version > up_to) break;
     if (m.outside_transaction) db.exec(m.sql);
     Transaction tx(db);
     if (!m.outside_transaction) db.exec(m.sql);

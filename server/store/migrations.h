@@ -2,6 +2,7 @@
 // transaction, and is recorded in schema_migrations. Never edit a released migration; add one.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -24,7 +25,8 @@ const std::vector<Migration>& schema_migrations();
 /// Applies the migrations `db` lacks, each in a BEGIN IMMEDIATE transaction, and returns the
 /// schema version reached. Throws SqliteError; throws std::runtime_error when the database
 /// was written by a newer Tessera (a version above every known migration).
-int migrate(Database& db, int64_t now_unix_ms);
+/// `up_to` stops after that version (tests build stores as older servers left them).
+int migrate(Database& db, int64_t now_unix_ms, int up_to = std::numeric_limits<int>::max());
 
 /// The highest migration applied to `db` (0 for a new database).
 int schema_version(Database& db);

@@ -71,7 +71,16 @@ TEST(DeleteJob, ReturnsItsSpace) {
   StoreFixture f;
   EXPECT_EQ(pragma(f.db, "auto_vacuum"), 2);  // incremental (migration 5)
   const int64_t before = pragma(f.db, "page_count");
-  const int64_t job = f.make_job(256, 256, 4, 16, 1);  // 4096 tiles x 16 batches
+  // Units and merged tiles take the space (a submit writes rows per tile only): 512 tiles of
+  // 16x16, each leased and merged once, then one unit of batch 1 each leased (a row).
+  const int64_t job = f.make_job(512, 256, 16, 2, 1);
+  const int64_t worker = f.make_worker();
+  const std::vector<TileRecord> tiles = f.jobs.tiles(job);
+  for (int i = 0; i < 512; ++i) {
+    const Lease l = *f.scheduler.lease_next(worker);
+    const Accumulation acc = StoreFixture::synthetic(tiles[l.tile].rect, l.batch, 1);
+    ASSERT_TRUE(f.merger.accept(result_for(l, acc), acc).accepted);
+  }
   const int64_t full = pragma(f.db, "page_count");
   ASSERT_GT(full - before, 500);
   f.jobs.cancel(job, 0);

@@ -60,6 +60,34 @@ TEST(Scheduler, AskingTwiceGivesTheSameLease) {
   EXPECT_EQ(q->int64(0), 2);
 }
 
+// A unit back in the queue (its lease expired) keeps its row; it goes before the units not yet
+// created when it comes first in (batch, tile) order, and none is leased twice.
+TEST(Scheduler, AUnitBackInTheQueueGoesInItsBatchOrder) {
+  StoreFixture f;
+  f.make_job(16, 8, 8, 3, 1);  // 2 tiles x 3 batches
+  const int64_t early = f.make_worker("early");
+  const Lease first = *f.scheduler.lease_next(early);  // (0, 0)
+  f.clock.advance(StoreFixture::kLeaseMs / 2);
+  std::vector<std::pair<uint32_t, uint32_t>> order;
+  std::vector<int64_t> held;
+  for (int i = 0; i < 2; ++i) {  // (0, 1), (1, 0)
+    held.push_back(f.make_worker());
+    const Lease l = *f.scheduler.lease_next(held.back());
+    order.emplace_back(l.batch, l.tile);
+  }
+  f.clock.advance(StoreFixture::kLeaseMs / 2 + 1);
+  ASSERT_EQ(f.leases.expire_due(), 1);  // first's lease only
+  while (const std::optional<Lease> l = f.scheduler.lease_next(f.make_worker())) {
+    order.emplace_back(l->batch, l->tile);
+    if (l->batch == 0 && l->tile == 0) {
+      EXPECT_EQ(l->unit_id, first.unit_id);  // the same unit, a new lease
+      EXPECT_NE(l->lease_id, first.lease_id);
+    }
+  }
+  EXPECT_EQ(order, (std::vector<std::pair<uint32_t, uint32_t>>{
+                       {0, 1}, {1, 0}, {0, 0}, {1, 1}, {2, 0}, {2, 1}}));
+}
+
 TEST(Scheduler, StartsTheJobOnItsFirstLease) {
   StoreFixture f;
   const int64_t job = f.make_job(16, 16, 8, 4, 1);

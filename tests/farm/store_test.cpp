@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "farm_error.h"
+#include "job_store.h"
 #include "store/migrations.h"
 #include "store/sqlite.h"
 #include "store_fixture.h"
@@ -93,6 +94,10 @@ TEST(Sqlite, ErrorsCarryResultCodes) {
 TEST(Sqlite, LeaseIdIsSetExactlyWhenLeased) {
   StoreFixture f;
   const int64_t job = f.make_job(8, 8, 8, 1, 1);
+  // A unit's row is born leased, with its lease id; released, it is queued without one.
+  const int64_t worker = f.make_worker();
+  const Lease lease = *f.scheduler.lease_next(worker);
+  ASSERT_TRUE(f.leases.release(worker, lease.lease_id, ReleaseReason::shutdown, "").released);
   EXPECT_THROW(f.db.prepare("UPDATE units SET state = 'leased' WHERE job_id = ?")->bind(1, job).run(),
                SqliteError);
   EXPECT_THROW(f.db.prepare("UPDATE units SET lease_id = 'x' WHERE job_id = ?")->bind(1, job).run(),
@@ -165,10 +170,120 @@ TEST(JobStore, CreatesTilesAndUnitsOfThePlan) {
   ASSERT_EQ(tiles.size(), 8u);
   EXPECT_EQ(tiles[3].rect, (TileRect{96, 0, 100, 32}));
   EXPECT_EQ(tiles[7].rect, (TileRect{96, 32, 100, 50}));
-  auto q = f.db.prepare("SELECT COUNT(*) FROM units WHERE job_id = ? AND state = 'queued'");
+  // The units come into being when leased: none has a row yet, every tile has 3 batches to go.
+  auto q = f.db.prepare(
+      "SELECT (SELECT COUNT(*) FROM units WHERE job_id = ?1), COUNT(*), MIN(next_lease),"
+      " MAX(next_lease), MIN(lease_end), MAX(lease_end) FROM tile_queue WHERE job_id = ?1");
   q->bind(1, id);
   ASSERT_TRUE(q->step());
-  EXPECT_EQ(q->int64(0), 24);
+  EXPECT_EQ(q->int64(0), 0);
+  EXPECT_EQ(q->int64(1), 8);
+  EXPECT_EQ(q->int64(2), 0);
+  EXPECT_EQ(q->int64(3), 0);
+  EXPECT_EQ(q->int64(4), 3);
+  EXPECT_EQ(q->int64(5), 3);
+  EXPECT_FALSE(job->complete);
+}
+
+int64_t rows(Database& db, const std::string& table) {
+  auto q = db.prepare("SELECT COUNT(*) FROM " + table);
+  EXPECT_TRUE(q->step());
+  return q->int64(0);
+}
+
+// Lazy units (issue 14): a submit writes O(tiles) rows whatever the spp. 2^20 batches of 1 spp
+// on 4 tiles are 4,194,304 units, the store's limit; the submit writes 1 job, 4 tiles and 4
+// queue rows, and leasing creates a unit's row only when it is leased.
+TEST(JobStore, ASubmitWritesRowsPerTileNotPerUnit) {
+  StoreFixture f;
+  const int64_t id = f.make_job(64, 64, 32, uint32_t(1) << 20, 1);
+  EXPECT_EQ(f.jobs.get(id)->units_total, 4194304u);
+  EXPECT_EQ(rows(f.db, "jobs"), 1);
+  EXPECT_EQ(rows(f.db, "tiles"), 4);
+  EXPECT_EQ(rows(f.db, "tile_queue"), 4);
+  EXPECT_EQ(rows(f.db, "units"), 0);
+  const int64_t w = f.make_worker();
+  for (uint32_t i = 0; i < 6; ++i) {
+    const Lease l = *f.scheduler.lease_next(w);
+    EXPECT_EQ(l.batch, i / 4);
+    EXPECT_EQ(l.tile, i % 4);
+    const Accumulation acc = StoreFixture::synthetic(f.jobs.tiles(id)[l.tile].rect, l.batch, 1);
+    ASSERT_TRUE(f.merger.accept(testing::result_for(l, acc), acc).accepted);
+  }
+  EXPECT_EQ(rows(f.db, "units"), 6);
+  // Cancelling ends the units without a row too: nothing is left to lease, the job is final.
+  ASSERT_EQ(f.jobs.cancel(id, 0), CancelOutcome::cancelled);
+  EXPECT_FALSE(units_left(f.db, id));
+  EXPECT_EQ(f.scheduler.lease_next(w), std::nullopt);
+}
+
+// A store written before lazy units (schema 5) has a row for every unit of its jobs. After the
+// migration those jobs lease the same units in the same order, each once, and finish.
+TEST(JobStore, JobsStoredWithEveryUnitRowKeepWorkingAfterTheMigration) {
+  testing::FakeClock clock;
+  Database db(":memory:");
+  ASSERT_EQ(migrate(db, 0, 5), 5);
+  const std::string sha(64, 'd');
+  db.exec("INSERT INTO bundles VALUES ('" + sha + "', 's.json', x'00', 1, 0)");
+  // 16x8 in 8-px tiles (2 tiles), 3 spp in fixed batches of 1, half-leased as a schema-5 server
+  // left it: (batch 0, tile 0) done and merged, (0, 1) leased, the rest queued.
+  db.exec(
+      "INSERT INTO jobs (state, priority, bundle_sha256, scene_file, width, height, spp,"
+      " max_depth, seed, tile_size, batch_spp, isa, tile_count, batch_count, units_total,"
+      " submitted_unix_ms, started_unix_ms, units_done, results_merged) VALUES ('running', 0, '" +
+      sha + "', 's.json', 16, 8, 3, -1, 0, 8, 1, '', 2, 3, 6, 0, 1, 1, 1)");
+  const Accumulation first = StoreFixture::synthetic({0, 0, 8, 8}, 0, 1);
+  {
+    auto q = db.prepare(
+        "INSERT INTO tiles (job_id, tile, x0, y0, x1, y1, next_batch, accumulation, spp)"
+        " VALUES (1, ?, ?, 0, ?, 8, ?, ?, ?)");
+    q->bind(1, 0).bind(2, 0).bind(3, 8).bind(4, 1).bind_blob(5, encode_accumulation(first));
+    q->bind(6, 1).run();
+    q->reset();
+    q->bind(1, 1).bind(2, 8).bind(3, 16).bind(4, 0).bind_null(5).bind(6, 0).run();
+  }
+  db.exec(
+      "INSERT INTO workers (name, threads, isa, version, registered_unix_ms, last_seen_unix_ms)"
+      " VALUES ('old', 1, 'avx2', '0', 0, 0)");
+  for (int batch = 0; batch < 3; ++batch) {
+    for (int tile = 0; tile < 2; ++tile) {
+      const bool done = batch == 0 && tile == 0, leased = batch == 0 && tile == 1;
+      db.prepare(
+            "INSERT INTO units (job_id, tile, batch, state, lease_id, worker_id,"
+            " lease_expires_unix_ms) VALUES (1, ?, ?, ?, ?, ?, ?)")
+          ->bind(1, tile)
+          .bind(2, batch)
+          .bind(3, done ? "done" : leased ? "leased" : "queued")
+          .bind(4, leased ? std::optional<std::string>("old-lease") : std::nullopt)
+          .bind(5, leased ? std::optional<int64_t>(1) : std::nullopt)
+          .bind(6, leased ? std::optional<int64_t>(5) : std::nullopt)
+          .run();
+    }
+  }
+  migrate(db, 0);
+  EXPECT_EQ(rows(db, "tile_queue"), 2);
+  JobStore jobs(db);
+  WorkerRegistry workers(db);
+  LeaseTable leases(db, jobs, clock, 10'000);
+  Scheduler scheduler(db, leases, clock);
+  TileMerger merger(db, clock);
+  EXPECT_EQ(leases.revoke_all(), 1);  // as at start-up: (0, 1) back in the queue
+  std::vector<std::pair<uint32_t, uint32_t>> order;
+  const int64_t w = workers.register_worker({"new", 1, "avx2", "1"}, 0);
+  while (const std::optional<Lease> l = scheduler.lease_next(w)) {
+    order.emplace_back(l->batch, l->tile);
+    const Accumulation acc =
+        StoreFixture::synthetic({int(l->tile) * 8, 0, int(l->tile) * 8 + 8, 8}, l->batch, 1);
+    ASSERT_TRUE(merger.accept(testing::result_for(*l, acc), acc).accepted);
+  }
+  EXPECT_EQ(order, (std::vector<std::pair<uint32_t, uint32_t>>{
+                       {0, 1}, {1, 0}, {1, 1}, {2, 0}, {2, 1}}));
+  EXPECT_EQ(rows(db, "units"), 6);  // no unit created twice
+  const JobRecord r = *jobs.get(1);
+  EXPECT_TRUE(r.complete);
+  EXPECT_EQ(r.counters.results_merged, 6u);
+  EXPECT_EQ(r.spp_merged, 3u);
+  EXPECT_TRUE(jobs.finish(1, "a.exr", "a.png", 10));
 }
 
 TEST(JobStore, StoresEachBundleOnce) {

@@ -1,7 +1,7 @@
 // Housekeeping end to end (issue 14): one server per database (a second one is refused naming
 // the holder; a SIGKILLed one's successor gets the lock back), `tessera delete` of finished and
 // cancelled jobs (outputs and space returned; a running or unknown job refused, exit 1), and the
-// --max-units refusal at submit.
+// --max-units refusal at submit, and lazy units (a submit writes rows per tile, not per unit).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -11,6 +11,7 @@
 
 #include "farm_cluster.h"
 #include "process.h"
+#include "store/sqlite.h"
 
 namespace tessera::e2e {
 namespace {
@@ -87,6 +88,36 @@ TEST(HousekeepingE2E, AJobOverTheUnitCapIsRefusedWithOneLine) {
             "limit of 1000000 (server flag --max-units): use fewer spp, a larger --tile or "
             "--batch\n");
   EXPECT_EQ(farm.cli({"list", "--json"}).out.find("\"id\""), std::string::npos);
+}
+
+// Lazy units: under a raised cap the issue's 2147483647-spp job (2,097,162 units) is accepted
+// and its submit writes one tile's rows, no unit; a `list` answers with it queued, and a cancel
+// and a delete of it succeed.
+TEST(HousekeepingE2E, AHugeJobWritesRowsPerTileNotPerUnit) {
+  FarmCluster farm("lazy-units");
+  farm.start_server({"--max-units", "4194304"});
+  const uint64_t id = farm.submit({kTiny, "--width", "32", "--height", "32", "--spp", "2147483647"});
+  ASSERT_NE(id, 0u);
+  const CommandResult list = farm.cli({"list", "--json"});
+  EXPECT_EQ(list.exit_code, 0) << list.err;
+  EXPECT_NE(list.out.find("\"id\":" + std::to_string(id)), std::string::npos) << list.out;
+  {
+    server::Database db(farm.db_path().string());
+    auto q = db.prepare(
+        "SELECT (SELECT units_total FROM jobs WHERE id = ?1),"
+        " (SELECT COUNT(*) FROM tiles WHERE job_id = ?1),"
+        " (SELECT COUNT(*) FROM tile_queue WHERE job_id = ?1),"
+        " (SELECT COUNT(*) FROM units WHERE job_id = ?1)");
+    q->bind(1, int64_t(id));
+    ASSERT_TRUE(q->step());
+    EXPECT_EQ(q->int64(0), 2097162);
+    EXPECT_EQ(q->int64(1), 1);
+    EXPECT_EQ(q->int64(2), 1);
+    EXPECT_EQ(q->int64(3), 0);
+  }
+  EXPECT_EQ(farm.cli({"cancel", std::to_string(id)}).exit_code, 0);
+  EXPECT_EQ(farm.cli({"delete", std::to_string(id)}).exit_code, 0);
+  if (HasFailure()) farm.dump_logs();
 }
 
 }  // namespace
