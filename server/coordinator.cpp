@@ -44,7 +44,7 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       workers_(db_),
       leases_(db_, jobs_, clock_, config.lease_ms),
       scheduler_(db_, leases_, clock_),
-      merger_(db_, clock_),
+      merger_(db_, clock_, config.merge_cache_bytes),
       output_(config.output_dir, config.output_writer),
       limits_(config.limits),
       nan_report_fraction_(config.nan_report_fraction),
@@ -213,6 +213,7 @@ void Coordinator::remove(int64_t job_id) {
                             std::string(to_string(record->state)) + ": cancel it first");
       case DeleteOutcome::deleted: break;
     }
+    merger_.forget_job(job_id);
   }
   // The job is gone from the store: its files are nobody's now.
   for (const std::string& file : {record->output_exr, record->output_png}) {
@@ -274,6 +275,7 @@ JobImage Coordinator::image(int64_t job_id, const std::string& format) {
   }
   {
     std::lock_guard lock(mu_);
+    merger_.checkpoint_job(job_id);  // the merged sums, not just the last checkpoints
     tiles = jobs_.tiles(job_id);
   }
   ImageWriteOptions options;
@@ -458,6 +460,7 @@ void Coordinator::finish_job(int64_t job_id) {
     if (jobs_.settle(job_id) == StopReason::none) return;
     finishing_.insert(job_id);
     record = std::move(*jobs_.get(job_id));
+    merger_.checkpoint_job(job_id);  // the merged sums, not just the last checkpoints
     tiles = jobs_.tiles(job_id);
   }
   const int64_t now = clock_.now_unix_ms();
@@ -489,6 +492,7 @@ void Coordinator::rewrite_missing_output(const JobRecord& record) {
   std::vector<TileRecord> tiles;
   {
     std::lock_guard lock(mu_);
+    merger_.checkpoint_job(record.id);
     tiles = jobs_.tiles(record.id);
   }
   try {

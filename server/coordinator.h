@@ -39,6 +39,9 @@ struct CoordinatorConfig {
   double nan_report_fraction = 1e-3;
   /// Final jobs older than this many days are deleted (--retention-days); 0 = keep them.
   double retention_days = 0;
+  /// Decoded tiles kept in memory between merges, at most this many bytes (--merge-cache-mb;
+  /// server/merge_cache.h).
+  size_t merge_cache_bytes = MergeCache::kDefaultBudgetBytes;
   /// Writes the output files (empty: write_image); tests inject a full disk here.
   ImageFileWriter output_writer;
 };
@@ -89,7 +92,7 @@ struct JobImage {
 
 class Coordinator {
  public:
-  /// Opens (creating) the database, checks it (PRAGMA integrity_check) and applies migrations.
+  /// Opens (creating) the database, checks it (PRAGMA quick_check) and applies migrations.
   /// Throws StoreCorrupt for a damaged database, SqliteError for other store errors.
   Coordinator(const CoordinatorConfig& config, const Clock& clock);
 

@@ -30,6 +30,7 @@ TileMap Coordinator::tile_map(int64_t job_id) {
     std::optional<JobRecord> found = jobs_.get(job_id);
     if (!found) throw FarmError(ErrorCode::not_found, "no job " + std::to_string(job_id));
     job = std::move(*found);
+    merger_.checkpoint_job(job_id);
     tiles = jobs_.tiles(job_id);
   }
   const JobPlan plan = job.options.plan();

@@ -48,6 +48,7 @@ struct Flags {
   double forgive_seconds = 600;
   double nan_report_fraction = 1e-3;
   double retention_days = 0;  ///< --retention-days (0: keep finished jobs)
+  uint64_t merge_cache_mb = 1024;  ///< --merge-cache-mb
   std::string http_port_file;
 };
 
@@ -127,6 +128,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   config.health.forgive_ms = int64_t(flags.forgive_seconds * 1000.0);
   config.nan_report_fraction = flags.nan_report_fraction;
   config.retention_days = flags.retention_days;
+  config.merge_cache_bytes = size_t(flags.merge_cache_mb) << 20;
   ts::Coordinator coordinator(config, clock);
   const int resumed = coordinator.resume();
 
@@ -339,6 +341,10 @@ int main(int argc, char** argv) {
                "TESSERA_NAN_REPORT_FRACTION",
                "report a worker whose NaN/Inf samples exceed this fraction of its samples")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--merge-cache-mb", flags.merge_cache_mb,
+                 "memory for decoded tiles kept between merges, MiB (36 bytes per pixel)")
+      ->envname("TESSERA_MERGE_CACHE_MB")
+      ->capture_default_str();
   app.add_option("--retention-days", flags.retention_days,
                  "delete finished, failed and cancelled jobs this many days after they ended"
                  " (0: keep them)")

@@ -21,7 +21,6 @@ struct UnitContext {
   TileRect rect;
   JobPlan plan;
   uint32_t next_batch = 0;
-  std::optional<std::string> tile_accumulation;  ///< nullopt: nothing merged yet
   StopRule rule = StopRule::spp;
   double noise_target = 0;
   bool cancelled = false;  ///< the unit was cancelled (its job ended, or the rule skipped it)
@@ -29,7 +28,7 @@ struct UnitContext {
 
 std::optional<UnitContext> load_unit(Database& db, const UnitResult& r) {
   auto q = db.prepare(R"sql(
-      SELECT u.id, t.x0, t.y0, t.x1, t.y1, t.next_batch, t.accumulation,
+      SELECT u.id, t.x0, t.y0, t.x1, t.y1, t.next_batch, 0,
              j.width, j.height, j.tile_size, j.spp, j.batch_spp, j.stop_rule, j.noise_target,
              j.batch_schedule, u.state
       FROM units u
@@ -42,7 +41,6 @@ std::optional<UnitContext> load_unit(Database& db, const UnitResult& r) {
   c.unit_id = q->int64(0);
   c.rect = {int(q->int64(1)), int(q->int64(2)), int(q->int64(3)), int(q->int64(4))};
   c.next_batch = uint32_t(q->int64(5));
-  if (!q->is_null(6)) c.tile_accumulation = q->blob(6);
   c.plan.width = int(q->int64(7));
   c.plan.height = int(q->int64(8));
   c.plan.tile_size = int(q->int64(9));
@@ -121,6 +119,7 @@ void TileMerger::close_tile(int64_t job_id, uint32_t tile) {
 
 AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decoded) {
   AcceptOutcome outcome;
+  std::optional<MergeCache::Tile> cached;  // the tile's sum while this call merges into it
   Transaction tx(db_);
   const std::optional<UnitContext> c = load_unit(db_, r);
   if (!c) {
@@ -195,14 +194,16 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
   } else {
     // Merge this batch, then every waiting successor, strictly in batch order, judging the
     // tile by the job's stopping rule after each (determinism contract rule 4): once it is
-    // finished nothing more merges into it, whatever else has arrived.
-    Accumulation tile = c->tile_accumulation ? decode_accumulation(*c->tile_accumulation)
-                                             : Accumulation(c->rect);
+    // finished nothing more merges into it, whatever else has arrived. The sum comes from the
+    // merge cache, or is rebuilt from the checkpoint and merged_results.
+    cached = load_sum(r.job_id, r.tile, c->rect, c->next_batch);
+    Accumulation& tile = cached->sum;
     MergeTally tally;
     uint32_t next = c->next_batch;
     const Accumulation* batch = &decoded;
     Accumulation successor;
     TileVerdict verdict;
+    std::vector<uint32_t> from_pending;  // merged batches whose bytes are in pending_results
     for (;;) {
       tile.merge(*batch);
       tally.add(*batch, c->plan.batch_end(next) - c->plan.batch_begin(next));
@@ -220,24 +221,46 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
       if (!waiting) break;
       successor = decode_accumulation(*waiting);
       batch = &successor;
-      db_.prepare("DELETE FROM pending_results WHERE job_id = ? AND tile = ? AND batch = ?")
+      from_pending.push_back(next);
+    }
+    cached->next_batch = next;
+    const uint32_t first_unchecked = oldest_unchecked(r.job_id, r.tile, c->next_batch);
+    if (verdict.finished || next - first_unchecked >= checkpoint_every_) {
+      // Checkpoint: the sum becomes the stored tile; the rows it covers go.
+      for (uint32_t b : from_pending) delete_pending(r.job_id, r.tile, b);
+      write_checkpoint(r.job_id, r.tile, tile);
+    } else {
+      // Append: the uploaded bytes as they came, and the successors' rows moved, not re-encoded.
+      db_.prepare(
+             "INSERT INTO merged_results (job_id, tile, batch, accumulation) VALUES (?, ?, ?, ?)")
           ->bind(1, r.job_id)
           .bind(2, r.tile)
-          .bind(3, next)
+          .bind(3, r.batch)
+          .bind_blob(4, r.encoded)
           .run();
+      for (uint32_t b : from_pending) {
+        db_.prepare(
+               "INSERT INTO merged_results (job_id, tile, batch, accumulation) SELECT job_id,"
+               " tile, batch, accumulation FROM pending_results WHERE job_id = ? AND tile = ?"
+               " AND batch = ?")
+            ->bind(1, r.job_id)
+            .bind(2, r.tile)
+            .bind(3, b)
+            .run();
+        delete_pending(r.job_id, r.tile, b);
+      }
     }
     if (verdict.finished) close_tile(r.job_id, r.tile);
     db_.prepare(
-           "UPDATE tiles SET next_batch = ?, accumulation = ?, error = ?, finished = ?, spp = ?"
+           "UPDATE tiles SET next_batch = ?, error = ?, finished = ?, spp = ?"
            " WHERE job_id = ? AND tile = ? AND next_batch = ?")
         ->bind(1, next)
-        .bind_blob(2, encode_accumulation(tile))
-        .bind(3, verdict.relative_error)
-        .bind(4, std::string(to_string(verdict.reason)))
-        .bind(5, c->plan.schedule().spp_after(next))
-        .bind(6, r.job_id)
-        .bind(7, r.tile)
-        .bind(8, c->next_batch)
+        .bind(2, verdict.relative_error)
+        .bind(3, std::string(to_string(verdict.reason)))
+        .bind(4, c->plan.schedule().spp_after(next))
+        .bind(5, r.job_id)
+        .bind(6, r.tile)
+        .bind(7, c->next_batch)
         .run();
     if (db_.changes() != 1) {
       throw FarmError(ErrorCode::internal, "tile " + std::to_string(r.tile) + " of job " +
@@ -257,7 +280,98 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
   }
   outcome.job_complete = !units_left(db_, r.job_id);
   tx.commit();
+  // Only a committed sum goes back to the cache (an exception above leaves the entry out: it is
+  // rebuilt from the store next time).
+  if (cached) cache_.put(r.job_id, r.tile, std::move(*cached));
   return outcome;
+}
+
+uint32_t TileMerger::oldest_unchecked(int64_t job_id, uint32_t tile, uint32_t next_batch) {
+  auto q = db_.prepare("SELECT MIN(batch) FROM merged_results WHERE job_id = ? AND tile = ?");
+  q->bind(1, job_id).bind(2, tile);
+  if (q->step() && !q->is_null(0)) return uint32_t(q->int64(0));
+  return next_batch;
+}
+
+void TileMerger::delete_pending(int64_t job_id, uint32_t tile, uint32_t batch) {
+  db_.prepare("DELETE FROM pending_results WHERE job_id = ? AND tile = ? AND batch = ?")
+      ->bind(1, job_id)
+      .bind(2, tile)
+      .bind(3, batch)
+      .run();
+}
+
+void TileMerger::write_checkpoint(int64_t job_id, uint32_t tile, const Accumulation& sum) {
+  db_.prepare("UPDATE tiles SET accumulation = ? WHERE job_id = ? AND tile = ?")
+      ->bind_blob(1, encode_accumulation(sum))
+      .bind(2, job_id)
+      .bind(3, tile)
+      .run();
+  db_.prepare("DELETE FROM merged_results WHERE job_id = ? AND tile = ?")
+      ->bind(1, job_id)
+      .bind(2, tile)
+      .run();
+}
+
+MergeCache::Tile TileMerger::load_sum(int64_t job_id, uint32_t tile, const TileRect& rect,
+                                      uint32_t next_batch) {
+  if (std::optional<MergeCache::Tile> hit = cache_.take(job_id, tile, next_batch)) {
+    return std::move(*hit);
+  }
+  MergeCache::Tile t{Accumulation(rect), next_batch};
+  {
+    auto q = db_.prepare("SELECT accumulation FROM tiles WHERE job_id = ? AND tile = ?");
+    q->bind(1, job_id).bind(2, tile);
+    if (q->step() && !q->is_null(0)) t.sum = decode_accumulation(q->blob(0));
+  }
+  // The checkpoint holds batches [0, first); merged_results holds [first, next_batch), in order.
+  uint32_t expected = oldest_unchecked(job_id, tile, next_batch);
+  auto q = db_.prepare(
+      "SELECT batch, accumulation FROM merged_results WHERE job_id = ? AND tile = ?"
+      " ORDER BY batch");
+  q->bind(1, job_id).bind(2, tile);
+  while (q->step()) {
+    if (uint32_t(q->int64(0)) != expected || expected >= next_batch) {
+      throw FarmError(ErrorCode::internal,
+                      "tile " + std::to_string(tile) + " of job " + std::to_string(job_id) +
+                          ": merged results do not continue its checkpoint in batch order");
+    }
+    t.sum.merge(decode_accumulation(q->blob(1)));
+    ++expected;
+  }
+  if (expected != next_batch) {
+    throw FarmError(ErrorCode::internal, "tile " + std::to_string(tile) + " of job " +
+                                             std::to_string(job_id) + ": merged results end at "
+                                             "batch " + std::to_string(expected) + ", not " +
+                                             std::to_string(next_batch));
+  }
+  return t;
+}
+
+void TileMerger::checkpoint_job(int64_t job_id) {
+  std::vector<std::pair<uint32_t, MergeCache::Tile>> written;
+  Transaction tx(db_);
+  std::vector<std::pair<uint32_t, TileRect>> dirty;
+  std::vector<uint32_t> next_batches;
+  {
+    auto q = db_.prepare(
+        "SELECT t.tile, t.x0, t.y0, t.x1, t.y1, t.next_batch FROM tiles t WHERE t.job_id = ?1"
+        " AND t.tile IN (SELECT DISTINCT tile FROM merged_results WHERE job_id = ?1)"
+        " ORDER BY t.tile");
+    q->bind(1, job_id);
+    while (q->step()) {
+      dirty.emplace_back(uint32_t(q->int64(0)), TileRect{int(q->int64(1)), int(q->int64(2)),
+                                                         int(q->int64(3)), int(q->int64(4))});
+      next_batches.push_back(uint32_t(q->int64(5)));
+    }
+  }
+  for (size_t i = 0; i < dirty.size(); ++i) {
+    MergeCache::Tile t = load_sum(job_id, dirty[i].first, dirty[i].second, next_batches[i]);
+    write_checkpoint(job_id, dirty[i].first, t.sum);
+    written.emplace_back(dirty[i].first, std::move(t));
+  }
+  tx.commit();
+  for (auto& [tile, t] : written) cache_.put(job_id, tile, std::move(t));
 }
 
 }  // namespace tessera::server

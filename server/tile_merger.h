@@ -1,9 +1,14 @@
 // Accepting work-unit results and merging them per tile in batch order (the determinism
 // contract's rule 3). Accepting is one transaction: compare-and-set the unit leased -> done on
 // its current lease id, then either merge the result (and any waiting successors) into the
-// tile's accumulation, or, when earlier batches of the tile are still missing, store it in
-// pending_results until they arrive. A tile's accumulation starts at zeros and adds batches
-// 0, 1, 2, ... exactly as `tessera-worker render` does, so the pixels are bit-identical.
+// tile's sum, or, when earlier batches of the tile are still missing, store it in
+// pending_results until they arrive. The sum is kept decoded in memory (MergeCache) and stored
+// as a checkpoint plus the merged results since, as uploaded (migration 7): a merge appends the
+// result's bytes, and only every kCheckpointEvery batches (and when the tile finishes) is the
+// sum encoded and written. Replaying the checkpoint and the rows in batch order gives the same
+// bits, so nothing accepted is lost or merged twice across a crash. A tile's sum starts at
+// zeros and adds batches 0, 1, 2, ... exactly as `tessera-worker render` does, so the pixels are
+// bit-identical.
 // After each merged batch the job's stopping rule judges the tile (judge_tile, shared with the
 // local renderer); a finished tile merges nothing more: its later units are skipped and results
 // that arrived for them (speculative leases, kNoiseLookahead) are counted as wasted. Which
@@ -16,6 +21,7 @@
 #include "accum/accumulation.h"
 #include "clock.h"
 #include "job/stopping_rule.h"
+#include "merge_cache.h"
 #include "store/sqlite.h"
 
 namespace tessera::server {
@@ -40,7 +46,14 @@ struct AcceptOutcome {
 
 class TileMerger {
  public:
-  TileMerger(Database& db, const Clock& clock) : db_(db), clock_(clock) {}
+  /// A tile's sum is written back (checkpointed) after at most this many merged batches.
+  static constexpr uint32_t kCheckpointEvery = 8;
+
+  /// `cache_bytes` bounds the decoded tiles kept between merges (MergeCache).
+  TileMerger(Database& db, const Clock& clock,
+             size_t cache_bytes = MergeCache::kDefaultBudgetBytes,
+             uint32_t checkpoint_every = kCheckpointEvery)
+      : db_(db), clock_(clock), cache_(cache_bytes), checkpoint_every_(checkpoint_every) {}
 
   /// Accepts `result` whose decoded accumulation is `decoded` (decoded by the caller, outside
   /// any lock). Throws FarmError: not_found for an unknown unit, invalid_argument when `decoded`
@@ -48,12 +61,35 @@ class TileMerger {
   /// lease stays current: the worker may retry with a good result).
   AcceptOutcome accept(const UnitResult& result, const Accumulation& decoded);
 
+  /// Writes every tile of the job whose sum is not all in tiles.accumulation (merged results
+  /// appended since its last checkpoint) as its checkpoint, in one transaction. Call before
+  /// reading tiles.accumulation (JobStore::tiles): output, previews, tile maps.
+  void checkpoint_job(int64_t job_id);
+
+  /// Drops the job's tiles from memory (it was deleted).
+  void forget_job(int64_t job_id) { cache_.forget_job(job_id); }
+
+  const MergeCache& cache() const { return cache_; }
+
  private:
+  /// The tile's sum of batches [0, next_batch): from the cache, else its checkpoint plus its
+  /// merged results in batch order. Throws FarmError(internal) when the store's rows do not
+  /// continue the checkpoint exactly.
+  MergeCache::Tile load_sum(int64_t job_id, uint32_t tile, const TileRect& rect,
+                            uint32_t next_batch);
+  /// The first batch of the tile not in its checkpoint (next_batch when all are).
+  uint32_t oldest_unchecked(int64_t job_id, uint32_t tile, uint32_t next_batch);
+  /// Stores `sum` as the tile's checkpoint and deletes its merged results.
+  void write_checkpoint(int64_t job_id, uint32_t tile, const Accumulation& sum);
+  void delete_pending(int64_t job_id, uint32_t tile, uint32_t batch);
+
   /// The tile met its stopping rule: skip its remaining units, drop its waiting results.
   void close_tile(int64_t job_id, uint32_t tile);
 
   Database& db_;
   const Clock& clock_;
+  MergeCache cache_;
+  uint32_t checkpoint_every_;
 };
 
 }  // namespace tessera::server

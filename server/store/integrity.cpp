@@ -16,7 +16,7 @@ bool is_corruption(const SqliteError& e) {
 void check_integrity(Database& db, const std::string& path) {
   std::vector<std::string> problems;
   try {
-    auto q = db.prepare("PRAGMA integrity_check(10)");
+    auto q = db.prepare("PRAGMA quick_check(10)");
     while (q->step()) {
       std::string row = q->text(0);
       if (row != "ok") problems.push_back(std::move(row));
@@ -26,7 +26,7 @@ void check_integrity(Database& db, const std::string& path) {
     throw;
   }
   if (problems.empty()) return;
-  std::string detail = "PRAGMA integrity_check: " + problems.front();
+  std::string detail = "PRAGMA quick_check: " + problems.front();
   if (problems.size() > 1) detail += " (and " + std::to_string(problems.size() - 1) + " more)";
   for (char& c : detail) c = c == '\n' ? ' ' : c;
   throw StoreCorrupt(corrupt_store_message(path, detail));

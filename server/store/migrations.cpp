@@ -211,6 +211,21 @@ CREATE INDEX tile_queue_open ON tile_queue (job_id, next_lease, tile)
 INSERT INTO tile_queue (job_id, tile, next_lease, lease_end)
   SELECT t.job_id, t.tile, j.batch_count, j.batch_count FROM tiles t JOIN jobs j ON j.id = t.job_id;
 )sql"},
+      {7, "merged results kept as uploaded until their tile's checkpoint", R"sql(
+-- A tile's merged sum is its checkpoint (tiles.accumulation: batches [0, c)) plus these rows,
+-- batches [c, next_batch), as uploaded (server/merge_cache.h): accepting a result appends it
+-- here instead of decoding, adding and re-encoding the stored tile. Every few batches, when
+-- the tile finishes, and before anything reads tiles.accumulation, the merger writes the sum
+-- as the new checkpoint and deletes the rows it covers.
+CREATE TABLE merged_results (
+  job_id       INTEGER NOT NULL,
+  tile         INTEGER NOT NULL,
+  batch        INTEGER NOT NULL,
+  accumulation BLOB NOT NULL,             -- encode_accumulation, as uploaded
+  PRIMARY KEY (job_id, tile, batch),
+  FOREIGN KEY (job_id, tile) REFERENCES tiles (job_id, tile) ON DELETE CASCADE
+) WITHOUT ROWID;
+)sql"},
   };
   return kMigrations;
 }

@@ -75,7 +75,7 @@ TEST(DeleteJob, ReturnsItsSpace) {
   // 16x16, each leased and merged once, then one unit of batch 1 each leased (a row).
   const int64_t job = f.make_job(512, 256, 16, 2, 1);
   const int64_t worker = f.make_worker();
-  const std::vector<TileRecord> tiles = f.jobs.tiles(job);
+  const std::vector<TileRecord> tiles = f.tiles(job);
   for (int i = 0; i < 512; ++i) {
     const Lease l = *f.scheduler.lease_next(worker);
     const Accumulation acc = StoreFixture::synthetic(tiles[l.tile].rect, l.batch, 1);

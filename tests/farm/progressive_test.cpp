@@ -30,7 +30,7 @@ int64_t make_default_job(StoreFixture& f) {
 
 std::vector<uint32_t> tile_spp(StoreFixture& f, int64_t job) {
   std::vector<uint32_t> out;
-  for (const TileRecord& t : f.jobs.tiles(job)) out.push_back(t.spp);
+  for (const TileRecord& t : f.tiles(job)) out.push_back(t.spp);
   return out;
 }
 

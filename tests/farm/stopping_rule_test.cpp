@@ -197,8 +197,8 @@ TEST(NoiseRule, ATileMeetingItsTargetStopsAndWastesOnlySpeculation) {
   EXPECT_EQ(r.counters.results_wasted, 1u);
   EXPECT_EQ(r.counters.units_skipped, 2u);  // tile 0's batches 2 and 3
   EXPECT_EQ(r.tiles_finished, 1u);
-  EXPECT_EQ(f.jobs.tiles(job)[0].next_batch, 1u);
-  EXPECT_EQ(f.jobs.tiles(job)[0].finished, StopReason::noise_target);
+  EXPECT_EQ(f.tiles(job)[0].next_batch, 1u);
+  EXPECT_EQ(f.tiles(job)[0].finished, StopReason::noise_target);
   // Tile 1 stays noisy and runs to the cap.
   const Accumulation n1 = noisy(rect_of(1));
   EXPECT_TRUE(f.merger.accept(result_for(held[1], n1), n1).accepted);
@@ -251,7 +251,7 @@ TEST(NoiseRule, MergedBatchesDoNotDependOnArrivalOrder) {
       f.merger.accept(result_for(held[0], n), n);
       f.merger.accept(result_for(held[1], n), n);
     }
-    const TileRecord t = f.jobs.tiles(job)[0];
+    const TileRecord t = f.tiles(job)[0];
     EXPECT_EQ(t.next_batch, 1u);
     merged.push_back(t.accumulation);
   }

@@ -60,6 +60,12 @@ struct StoreFixture {
     return jobs.create(job, clock.now_unix_ms());
   }
 
+  /// The job's tiles with their merged sums (checkpointed first: TileMerger::checkpoint_job).
+  std::vector<TileRecord> tiles(int64_t job_id) {
+    merger.checkpoint_job(job_id);
+    return jobs.tiles(job_id);
+  }
+
   int64_t make_worker(const std::string& name = "w") {
     return workers.register_worker({name, 4, "avx2", "0.1.0"}, clock.now_unix_ms());
   }

@@ -166,7 +166,7 @@ TEST(JobStore, CreatesTilesAndUnitsOfThePlan) {
   EXPECT_EQ(job->options.batch_spp, 4u);
   EXPECT_EQ(job->spp_merged, 0u);
   EXPECT_EQ(job->progress(), 0.0);
-  const std::vector<TileRecord> tiles = f.jobs.tiles(id);
+  const std::vector<TileRecord> tiles = f.tiles(id);
   ASSERT_EQ(tiles.size(), 8u);
   EXPECT_EQ(tiles[3].rect, (TileRect{96, 0, 100, 32}));
   EXPECT_EQ(tiles[7].rect, (TileRect{96, 32, 100, 50}));
@@ -207,7 +207,7 @@ TEST(JobStore, ASubmitWritesRowsPerTileNotPerUnit) {
     const Lease l = *f.scheduler.lease_next(w);
     EXPECT_EQ(l.batch, i / 4);
     EXPECT_EQ(l.tile, i % 4);
-    const Accumulation acc = StoreFixture::synthetic(f.jobs.tiles(id)[l.tile].rect, l.batch, 1);
+    const Accumulation acc = StoreFixture::synthetic(f.tiles(id)[l.tile].rect, l.batch, 1);
     ASSERT_TRUE(f.merger.accept(testing::result_for(l, acc), acc).accepted);
   }
   EXPECT_EQ(rows(f.db, "units"), 6);

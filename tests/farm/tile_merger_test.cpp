@@ -40,7 +40,7 @@ Lease lease_unit(StoreFixture& f, int64_t worker, uint32_t tile, uint32_t batch)
 }
 
 Accumulation tile_sum(StoreFixture& f, int64_t job, uint32_t tile) {
-  const std::vector<TileRecord> tiles = f.jobs.tiles(job);
+  const std::vector<TileRecord> tiles = f.tiles(job);
   return decode_accumulation(tiles.at(tile).accumulation);
 }
 
@@ -57,14 +57,14 @@ TEST(TileMerger, ResultsArriving201MergeAs012) {
   AcceptOutcome o = f.merger.accept(result_for(l2, batch[2]), batch[2]);
   EXPECT_TRUE(o.accepted);
   EXPECT_EQ(o.merged, 0u);  // waits for 0 and 1
-  EXPECT_EQ(f.jobs.tiles(job)[0].next_batch, 0u);
+  EXPECT_EQ(f.tiles(job)[0].next_batch, 0u);
   EXPECT_EQ(f.jobs.get(job)->counters.units_done, 1u);
   EXPECT_EQ(f.jobs.get(job)->counters.results_merged, 0u);
 
   const Lease l0 = lease_unit(f, w, 0, 0);
   o = f.merger.accept(result_for(l0, batch[0]), batch[0]);
   EXPECT_EQ(o.merged, 1u);  // 0 only: 1 is missing
-  EXPECT_EQ(f.jobs.tiles(job)[0].next_batch, 1u);
+  EXPECT_EQ(f.tiles(job)[0].next_batch, 1u);
   EXPECT_EQ(f.jobs.get(job)->spp_merged, 1u);
 
   const Lease l1 = lease_unit(f, w, 0, 1);
@@ -109,7 +109,7 @@ TEST(TileMerger, StaleLeaseResultIsDroppedAndCounted) {
   EXPECT_NE(late.reason.find("not the current lease"), std::string::npos);
   EXPECT_EQ(f.jobs.get(job)->counters.results_dropped, 1u);
   EXPECT_EQ(f.jobs.get(job)->counters.units_done, 0u);
-  EXPECT_EQ(f.jobs.tiles(job)[0].next_batch, 0u);
+  EXPECT_EQ(f.tiles(job)[0].next_batch, 0u);
 
   EXPECT_TRUE(f.merger.accept(result_for(current, acc), acc).accepted);
   // A duplicate delivery of the accepted result is dropped too.

@@ -295,6 +295,9 @@ TEST(Load, SixtyFourWorkersTwentyJobsNothingLostNoDeadlock) {
     auto pending = store.prepare("SELECT COUNT(*) FROM pending_results");
     ASSERT_TRUE(pending->step());
     EXPECT_EQ(pending->int64(0), 0);
+    auto unchecked = store.prepare("SELECT COUNT(*) FROM merged_results");
+    ASSERT_TRUE(unchecked->step());
+    EXPECT_EQ(unchecked->int64(0), 0);  // every done job's sums are in their checkpoints
   }
 
   std::cout << "[load] " << workers << " simulated workers, " << jobs << " jobs x " << units_per_job

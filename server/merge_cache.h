@@ -1,0 +1,71 @@
+// Decoded tiles kept in memory between merges, so that accepting a result does not decode the
+// stored tile, add the batch and encode it again each time (issue 14, "capacity"). A pure cache
+// of what the store holds: a tile's merged sum is always its checkpoint (tiles.accumulation,
+// batches [0, c)) plus the results in merged_results (batches [c, next_batch)), replayed in batch
+// order; an entry is that sum decoded, valid while its next_batch matches the store's. So an
+// entry may be dropped at any time (eviction, an exception in a transaction, a restart) and is
+// rebuilt bit for bit from the store (the codec is lossless).
+//
+// Memory: at most `budget_bytes` of decoded tiles (36 bytes per pixel: four double sums and a
+// count) plus the tiles being merged at the moment (one per upload in progress: one, since the
+// coordinator serialises merges). Least recently used entries go first.
+#pragma once
+
+#include <cstdint>
+#include <list>
+#include <map>
+#include <optional>
+#include <utility>
+
+#include "accum/accumulation.h"
+
+namespace tessera::server {
+
+class MergeCache {
+ public:
+  /// A tile's merged sum of batches [0, next_batch).
+  struct Tile {
+    Accumulation sum;
+    uint32_t next_batch = 0;
+  };
+
+  /// The coordinator's default bound (CoordinatorConfig::merge_cache_bytes, --merge-cache-mb).
+  static constexpr size_t kDefaultBudgetBytes = size_t(1) << 30;
+
+  explicit MergeCache(size_t budget_bytes = kDefaultBudgetBytes) : budget_(budget_bytes) {}
+
+  /// Removes the entry of (job, tile) and returns it when it holds batches [0, next_batch);
+  /// nullopt otherwise (a stale entry is dropped). The caller puts it back with put() once its
+  /// transaction has committed.
+  std::optional<Tile> take(int64_t job_id, uint32_t tile, uint32_t next_batch);
+
+  /// Stores `t` as the most recently used entry, evicting the least recently used ones while
+  /// the bytes exceed the budget (`t` itself too when it alone exceeds it).
+  void put(int64_t job_id, uint32_t tile, Tile t);
+
+  /// Drops every entry of the job (deleted).
+  void forget_job(int64_t job_id);
+
+  size_t bytes() const { return bytes_; }
+  size_t entries() const { return index_.size(); }
+  size_t budget_bytes() const { return budget_; }
+
+  /// Bytes an entry of this sum counts against the budget.
+  static size_t bytes_of(const Accumulation& sum);
+
+ private:
+  using Key = std::pair<int64_t, uint32_t>;
+  struct Entry {
+    Key key;
+    Tile tile;
+    size_t bytes;
+  };
+  void erase(std::list<Entry>::iterator it);
+
+  size_t budget_;
+  size_t bytes_ = 0;
+  std::list<Entry> lru_;  ///< most recently used first
+  std::map<Key, std::list<Entry>::iterator> index_;
+};
+
+}  // namespace tessera::server
