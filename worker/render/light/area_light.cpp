@@ -142,7 +142,7 @@ bool AreaLight::solid_angle_sampled(glm::vec3 ref) const {
   const Rectangle& r = *rectangle_;
   const glm::vec3 d = ref - r.center;
   constexpr float kMinPlaneDistance = 1e-5f;  // of the diagonal
-  constexpr float kMinSize = 0.1f;            // diagonal / distance
+  constexpr float kMinSize = 1.0f;            // diagonal / distance (BENCHMARKS.md, issue 13)
   return std::abs(glm::dot(d, r.normal)) >= kMinPlaneDistance * r.diagonal &&
          r.diagonal * r.diagonal >= kMinSize * kMinSize * glm::dot(d, d);
 }

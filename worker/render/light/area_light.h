@@ -50,9 +50,10 @@ class AreaLight {
   /// Whether sample() draws points by solid angle from ref: for a sphere when ref lies outside
   /// it by more than 1e-3 of its radius (+ 1e-5 of |centre|: points on the sphere itself see
   /// its inside); for a rectangle when ref is at least 1e-5 of the rectangle's diagonal off its
-  /// plane (closer, the spherical-rectangle map loses accuracy in double) and the diagonal is at least
-  /// 1/10 of the distance to its centre (smaller, d^2 / cos varies by a few per cent over the
-  /// light and area sampling is as good, for less work); never for other meshes.
+  /// plane (closer, the spherical-rectangle map loses accuracy in double) and the diagonal is at
+  /// least the distance to its centre (smaller, d^2 / cos varies too little over the light
+  /// for the spherical rectangle's cost to pay: measured on the Cornell box and hexroom,
+  /// BENCHMARKS.md); never for other meshes.
   bool solid_angle_sampled(glm::vec3 ref) const;
   /// Radiance leaving the surface point with front-facing normal ng and texture coordinates
   /// uv towards w: emission * texture(uv) when w is on the front (or emission is two-sided),

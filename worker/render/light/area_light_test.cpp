@@ -153,9 +153,9 @@ TEST(AreaLight, RectanglesAreFoundAndOtherMeshesAreNot) {
 }
 
 TEST(AreaLight, RectangleSamplesMatchPdfChiSquare) {
-  // A rotated rectangle, seen from afar (small solid angle), from nearby (about 1.5 sr), from
-  // close (about 5 sr, most directions grazing the light) and from a hair off its plane
-  // (nearly 2 pi), each by solid angle.
+  // A rotated rectangle, seen from about its diagonal away (the farthest it is sampled by
+  // solid angle), from nearby (about 1.5 sr), from close (about 5 sr, most directions grazing
+  // the light) and from a hair off its plane (nearly 2 pi).
   const glm::vec3 corner(-0.5f, -0.3f, 1.0f), ex(1.2f, 0.3f, 0.1f), ey(-0.3f, 0.9f, 0.9f);
   const glm::vec3 ey_orthogonal = ey - ex * (glm::dot(ex, ey) / glm::dot(ex, ex));
   const Geometry g = emitting_rectangle(corner, ey_orthogonal, ex);  // front towards the refs
@@ -164,7 +164,7 @@ TEST(AreaLight, RectangleSamplesMatchPdfChiSquare) {
   const glm::vec3 center = corner + 0.5f * (ex + ey_orthogonal);
   const glm::vec3 n = glm::normalize(glm::cross(ey_orthogonal, ex));
   uint64_t seed = 30;
-  for (const float distance : {6.0f, 0.8f, 0.05f, 1e-4f}) {
+  for (const float distance : {1.6f, 0.8f, 0.05f, 1e-4f}) {
     // Off-centre, except a hair off the plane, where bins about a grazing axis would cut the
     // light's silhouette too finely for the test's integration.
     const glm::vec3 ref = center + n * distance + (distance > 0.01f ? 0.2f : 0.0f) * ex;
@@ -201,10 +201,11 @@ TEST(AreaLight, RectanglePdfAgreesWithSampleBitForBit) {
       EXPECT_NEAR(glm::length(s.point.p - ref), s.distance, 1e-5f);
     }
   }
-  // Far off and small: by area; in the plane: by area (no solid angle there).
+  // Farther than its diagonal (2.83): by area; in the plane: by area (no solid angle there).
   EXPECT_FALSE(light.solid_angle_sampled({0, 0, -40}));
-  EXPECT_FALSE(light.solid_angle_sampled({5, 0, 1}));
-  EXPECT_TRUE(light.solid_angle_sampled({0, 0, -10}));
+  EXPECT_FALSE(light.solid_angle_sampled({0, 0, -1.9f}));
+  EXPECT_FALSE(light.solid_angle_sampled({1, 0, 1}));
+  EXPECT_TRUE(light.solid_angle_sampled({0, 0, -1.5f}));
 }
 
 TEST(AreaLight, RectangleEstimatesLambertsIrradiance) {

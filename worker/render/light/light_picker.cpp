@@ -28,8 +28,7 @@ double LightPicker::importances(const SurfacePoint& ref, double* importance) con
   return total;
 }
 
-uint32_t LightPicker::pick(float u, const SurfacePoint& ref, float* pmf) const {
-  if (!per_point()) return distribution_.sample_discrete(u, pmf);
+uint32_t LightPicker::pick_per_point(float u, const SurfacePoint& ref, float* pmf) const {
   std::array<double, kMaxPerPoint> importance;
   const double total = importances(ref, importance.data());
   *pmf = 0;
@@ -49,8 +48,7 @@ uint32_t LightPicker::pick(float u, const SurfacePoint& ref, float* pmf) const {
   return chosen;
 }
 
-float LightPicker::pmf(uint32_t i, const SurfacePoint& ref) const {
-  if (!per_point()) return distribution_.pmf(i);
+float LightPicker::pmf_per_point(uint32_t i, const SurfacePoint& ref) const {
   std::array<double, kMaxPerPoint> importance;
   const double total = importances(ref, importance.data());
   if (!(total > 0)) return 0;

@@ -28,11 +28,20 @@ class LightPicker {
   /// Index of the chosen light from u in [0, 1), its probability in `pmf` (> 0). When no
   /// light can reach ref (every importance 0), returns 0 with *pmf = 0. Must not be called
   /// without lights.
-  uint32_t pick(float u, const SurfacePoint& ref, float* pmf) const;
+  uint32_t pick(float u, const SurfacePoint& ref, float* pmf) const {
+    // By power inline: a scene of one light pays nothing for picking per point.
+    if (!per_point()) return distribution_.sample_discrete(u, pmf);
+    return pick_per_point(u, ref, pmf);
+  }
   /// The probability pick() gives light i at ref (bit for bit the pmf pick() reports).
-  float pmf(uint32_t i, const SurfacePoint& ref) const;
+  float pmf(uint32_t i, const SurfacePoint& ref) const {
+    if (!per_point()) return distribution_.pmf(i);
+    return pmf_per_point(i, ref);
+  }
 
  private:
+  uint32_t pick_per_point(float u, const SurfacePoint& ref, float* pmf) const;
+  float pmf_per_point(uint32_t i, const SurfacePoint& ref) const;
   /// Whether lights are weighed at each point (else by power).
   bool per_point() const { return !bounds_.empty(); }
   /// Every light's importance at ref into `importance`; returns their sum.

@@ -2,12 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <glm/geometric.hpp>
 
 namespace tessera {
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
+
+/// a b, written out: std::complex's operator* checks for infinities and NaN through a libgcc
+/// call.
+std::complex<double> multiply(std::complex<double> a, std::complex<double> b) {
+  return {a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real()};
+}
 
 }  // namespace
 
@@ -29,24 +36,40 @@ SphericalRectangle::SphericalRectangle(glm::dvec3 ref, glm::dvec3 corner, glm::d
   // The paper's normals of the planes through ref and each edge, n0 (edge y0), n1 (x1),
   // n2 (y1), n3 (x0), have closed forms in these coordinates (n0 ~ (0, z0, -y0),
   // n1 ~ (-z0, 0, x1), n2 ~ (0, -z0, y1), n3 ~ (z0, 0, -x0)), and so have the internal angles
-  // gamma_i between -n_i and n_(i+1): atan2(|z0| |corner|, the corner's signed x y), with no
-  // normalisation and no acos (inaccurate near 0 and pi).
+  // gamma_i between -n_i and n_(i+1): the angle of the complex number (signed x y of a corner,
+  // |z0| times its distance). Their sum is multiplied out as complex numbers, so that one
+  // atan2 gives the solid angle sum - 2 pi and no angle needs acos (inaccurate near 0 and pi).
   const double z2 = z0_ * z0_, az = -z0_;
-  const double r00 = std::sqrt(x0_ * x0_ + y0_ * y0_ + z2), r01 = std::sqrt(x0_ * x0_ + y1_ * y1_ + z2);
-  const double r10 = std::sqrt(x1_ * x1_ + y0_ * y0_ + z2), r11 = std::sqrt(x1_ * x1_ + y1_ * y1_ + z2);
-  const double g0 = std::atan2(az * r10, x1_ * y0_), g1 = std::atan2(az * r11, -x1_ * y1_);
-  const double g2 = std::atan2(az * r01, x0_ * y1_), g3 = std::atan2(az * r00, -x0_ * y0_);
+  const auto unit = [](double re, double im) {
+    const double norm = std::sqrt(re * re + im * im);
+    return std::complex<double>(re / norm, im / norm);
+  };
+  const std::complex<double> e0 = unit(x1_ * y0_, az * std::sqrt(x1_ * x1_ + y0_ * y0_ + z2));
+  const std::complex<double> e1 = unit(-x1_ * y1_, az * std::sqrt(x1_ * x1_ + y1_ * y1_ + z2));
+  const std::complex<double> e2 = unit(x0_ * y1_, az * std::sqrt(x0_ * x0_ + y1_ * y1_ + z2));
+  const std::complex<double> e3 = unit(-x0_ * y0_, az * std::sqrt(x0_ * x0_ + y0_ * y0_ + z2));
+  // Each gamma is in (0, pi) and the solid angle in [0, 2 pi]: the product's angle is the
+  // solid angle up to 2 pi, negative only when the solid angle exceeds pi.
+  double angle = std::arg(multiply(multiply(e0, e1), multiply(e2, e3)));
+  if (angle < 0) angle += 2.0 * kPiD;
+  solid_angle_ = angle;
+  // e^(i k) = e^(-i gamma_2) e^(-i gamma_3) (2 pi drops out).
+  const std::complex<double> ek = std::conj(multiply(e2, e3));
+  cos_k_ = ek.real();
+  sin_k_ = ek.imag();
   b0_ = -y0_ / std::sqrt(z2 + y0_ * y0_);
   b1_ = y1_ / std::sqrt(z2 + y1_ * y1_);
-  k_ = 2.0 * kPiD - g2 - g3;
-  solid_angle_ = std::max(0.0, g0 + g1 - k_);
 }
 
 glm::dvec2 SphericalRectangle::sample(glm::vec2 u) const {
   // u.x picks the x coordinate xu by the solid angle left of it (the paper's equations 8-9),
   // u.y the y coordinate along the segment at xu, uniform in the sine of its elevation.
-  const double au = double(u.x) * solid_angle_ + k_;
-  const double fu = (std::cos(au) * b0_ - b1_) / std::sin(au);
+  // au = u S + k, through its cosine and sine: cos(u S) and sin(u S) turned by k.
+  const double us = double(u.x) * solid_angle_;
+  const double cos_us = std::cos(us), sin_us = std::sin(us);
+  const double cos_au = cos_us * cos_k_ - sin_us * sin_k_;
+  const double sin_au = sin_us * cos_k_ + cos_us * sin_k_;
+  const double fu = (cos_au * b0_ - b1_) / sin_au;
   double cu = std::copysign(1.0, fu) / std::sqrt(fu * fu + b0_ * b0_);
   cu = std::clamp(cu, -1.0 + 1e-15, 1.0 - 1e-15);
   double xu = -(cu * z0_) / std::sqrt(1.0 - cu * cu);
