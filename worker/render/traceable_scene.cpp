@@ -256,7 +256,8 @@ void TraceableScene::add_instance(const Shape& shape, const std::vector<RTCScene
 [[gnu::always_inline]] inline void TraceableScene::fill_triangle_hit(const Geometry& g, uint32_t primitive,
                                                                      float b1, float b2, Hit* hit) const {
   const glm::u32vec3 tri = g.indices[primitive];
-  const glm::vec3 p0 = g.positions[tri.x], p1 = g.positions[tri.y], p2 = g.positions[tri.z];
+  // References, not copies: GCC otherwise moves each vertex through the stack.
+  const glm::vec3 &p0 = g.positions[tri.x], &p1 = g.positions[tri.y], &p2 = g.positions[tri.z];
   const float b0 = 1.0f - b1 - b2;
   hit->sp.p = b0 * p0 + b1 * p1 + b2 * p2;
   hit->sp.p_error = glm::vec3(g.point_errors[primitive]);
