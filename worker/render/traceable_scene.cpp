@@ -256,7 +256,8 @@ void TraceableScene::add_instance(const Shape& shape, const std::vector<RTCScene
 [[gnu::always_inline]] inline void TraceableScene::fill_triangle_hit(const Geometry& g, uint32_t primitive,
                                                                      float b1, float b2, Hit* hit) const {
   const glm::u32vec3 tri = g.indices[primitive];
-  const glm::vec3 p0 = g.positions[tri.x], p1 = g.positions[tri.y], p2 = g.positions[tri.z];
+  // References, not copies: GCC otherwise moves each vertex through the stack.
+  const glm::vec3 &p0 = g.positions[tri.x], &p1 = g.positions[tri.y], &p2 = g.positions[tri.z];
   const float b0 = 1.0f - b1 - b2;
   hit->sp.p = b0 * p0 + b1 * p1 + b2 * p2;
   hit->sp.p_error = glm::vec3(g.point_errors[primitive]);
@@ -337,19 +338,24 @@ bool TraceableScene::intersect(const Ray& ray, Hit* hit) const {
   rtcIntersect1(scene_, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
 
-  if (rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID) {
-    const Geometry& g = *geometries_[rh.hit.geomID];
-    hit->geometry = &g;
-    hit->primitive = rh.hit.primID;
-    hit->geometry_id = rh.hit.geomID;
-    if (g.kind == Geometry::Kind::sphere) {
-      fill_sphere_hit(g, ray.o, ray.d, rh.ray.tfar, hit);
-    } else {
-      fill_triangle_hit(g, rh.hit.primID, rh.hit.u, rh.hit.v, hit);
-    }
+  if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+    fill_instance_hit(ray, rh, hit);
     return true;
   }
+  const Geometry& g = *geometries_[rh.hit.geomID];
+  hit->geometry = &g;
+  hit->primitive = rh.hit.primID;
+  hit->geometry_id = rh.hit.geomID;
+  if (g.kind == Geometry::Kind::sphere) {
+    fill_sphere_hit(g, ray.o, ray.d, rh.ray.tfar, hit);
+  } else {
+    fill_triangle_hit(g, rh.hit.primID, rh.hit.u, rh.hit.v, hit);
+  }
+  return true;
+}
 
+// Out of line: scenes without instances keep intersect() short (fewer registers to save).
+[[gnu::noinline]] void TraceableScene::fill_instance_hit(const Ray& ray, const RTCRayHit& rh, Hit* hit) const {
   // A shape of a group, placed by an instance: find the hit in the group's space, then map the
   // point, its error bound, the normals and the tangents to the world.
   const Geometry& inst = *geometries_[rh.hit.instID[0]];
@@ -376,7 +382,6 @@ bool TraceableScene::intersect(const Ray& ray, Hit* hit) const {
   hit->ns = glm::dot(ns, hit->sp.ng) < 0 ? -ns : ns;
   hit->dpdu = transform_vector(inst.to_world, hit->dpdu);
   hit->dpdv = transform_vector(inst.to_world, hit->dpdv);
-  return true;
 }
 
 bool TraceableScene::occluded(glm::vec3 o, glm::vec3 d, float t_max) const {

@@ -89,6 +89,8 @@ class TraceableScene {
   void attach(RTCGeometry geom, RTCScene target, size_t expected_id, const std::string& origin);
   void fill_triangle_hit(const Geometry& g, uint32_t primitive, float b1, float b2, Hit* hit) const;
   void fill_sphere_hit(const Geometry& g, const glm::vec3& o, const glm::vec3& d, float t, Hit* hit) const;
+  /// The hit of a shape reached through an instance, mapped to the world.
+  void fill_instance_hit(const Ray& ray, const RTCRayHit& rh, Hit* hit) const;
 
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
