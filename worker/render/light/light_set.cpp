@@ -51,7 +51,7 @@ LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
         lights_.emplace_back(PointLight(light));
         break;
       case LightKind::spot:
-        lights_.emplace_back(SpotLight(light));
+        lights_.emplace_back(SpotLight(light, textures));
         break;
       case LightKind::directional:
         lights_.emplace_back(DirectionalLight(light));
@@ -63,6 +63,9 @@ LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
       case LightKind::envmap:
         environment_.push_back(uint32_t(lights_.size()));
         lights_.emplace_back(EnvmapLight::from_file(light, reader));
+        break;
+      case LightKind::projector:
+        lights_.emplace_back(ProjectorLight(light, textures));
         break;
     }
   }
@@ -78,7 +81,8 @@ LightSample LightSet::sample(const SurfacePoint& ref, float u_pick, glm::vec2 u)
         using T = std::decay_t<decltype(l)>;
         if constexpr (std::is_same_v<T, AreaLight>) {
           return l.sample(ref.p, u);
-        } else if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight>) {
+        } else if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight> ||
+                             std::is_same_v<T, ProjectorLight>) {
           return l.sample(ref.p);
         } else if constexpr (std::is_same_v<T, DirectionalLight>) {
           return l.sample();
