@@ -138,7 +138,8 @@ int submit(const GlobalOptions& g, const SubmitOptions& s) {
     Scene scene;
     const wire::BundleContents bundle = wire::bundle_from_disk(
         s.scene, &scene,
-        s.root.empty() ? std::nullopt : std::optional<std::filesystem::path>(s.root));
+        s.root.empty() ? std::nullopt : std::optional<std::filesystem::path>(s.root),
+        parse_mitsuba_defines(s.defines));
     resolve_job_options(scene, s.overrides);
     v1::SubmitJobRequest request;
     *request.mutable_bundle() = wire::bundle_to_proto(bundle);

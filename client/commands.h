@@ -5,6 +5,7 @@
 #include <chrono>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "job/job_options.h"
 #include "wire/transport_security.h"
@@ -23,6 +24,7 @@ struct GlobalOptions {
 struct SubmitOptions {
   std::string scene;
   std::string root;  ///< --root: the bundle root ("" = the scene's own, docs/mitsuba.md)
+  std::vector<std::string> defines;  ///< -D name=value: Mitsuba parameters (docs/mitsuba.md)
   JobOverrides overrides;
   int priority = 0;
   bool wait = false;

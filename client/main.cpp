@@ -42,6 +42,9 @@ int main(int argc, char** argv) {
   submit_cmd->add_option("scene", submit.scene, "Scene file: Tessera JSON (.json) or Mitsuba 3 XML (.xml)")
       ->required();
   submit_cmd->add_option("--root", submit.root, "Bundle root: the folder every file the scene names must be in (default: the common folder of them all)");
+  submit_cmd->add_option("-D", submit.defines,
+                         "name=value: the Mitsuba scene's parameter $name, overriding its "
+                         "<default> (repeatable)");
   tessera::add_job_override_flags(submit_cmd, submit.overrides);
   submit_cmd->add_option("--priority", submit.priority, "Higher runs first (default 0)");
   submit_cmd->add_flag("--wait", submit.wait, "Follow the job until it ends (progress on stderr)");

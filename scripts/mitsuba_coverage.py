@@ -13,12 +13,17 @@ Files that are no scene are left out of the figure: an XML file whose root eleme
 <scene> (a fragment meant for <include>), and files under a folder named `include`,
 `includes` or `fragments`, which Mitsuba's test data keeps for inclusion.
 
+With -D name=value (repeatable), every scene is read with that parameter, as Mitsuba's command
+line gives it (`tessera-worker convert -D`, and `mi.load_file(..., name=value)`): public scenes
+use `$spp` without declaring it.
+
 With --mitsuba PYTHON, each scene is also loaded by Mitsuba 3 (`PYTHON -c "mi.load_file(...)"`
 with the scalar_rgb variant) and the table shows which refused scenes Mitsuba itself loads.
 
 Usage:
   scripts/mitsuba_coverage.py [--worker build/worker/tessera-worker] [--root DIR]
-                              [--mitsuba /path/to/python] [--jobs N] FOLDER...
+                              [-D name=value ...] [--mitsuba /path/to/python] [--jobs N]
+                              FOLDER...
 """
 
 import argparse
@@ -76,11 +81,13 @@ def reason_key(reason):
     return key[:200]
 
 
-def convert(worker, root, scene):
+def convert(worker, root, defines, scene):
     with tempfile.TemporaryDirectory() as out:
         command = [worker, "convert", scene, "-o", os.path.join(out, "scene.json")]
         if root:
             command += ["--root", root]
+        for define in defines:
+            command += ["-D", define]
         result = subprocess.run(command, capture_output=True, text=True, timeout=600)
     if result.returncode == 0:
         return None
@@ -91,14 +98,14 @@ MITSUBA_LOAD = """
 import sys
 import mitsuba as mi
 mi.set_variant('scalar_rgb')
-mi.load_file(sys.argv[1])
+mi.load_file(sys.argv[1], **dict(d.split('=', 1) for d in sys.argv[2:]))
 """
 
 
-def mitsuba_loads(python, scene):
+def mitsuba_loads(python, defines, scene):
     try:
-        result = subprocess.run([python, "-c", MITSUBA_LOAD, scene], capture_output=True,
-                                text=True, timeout=600)
+        result = subprocess.run([python, "-c", MITSUBA_LOAD, scene, *defines],
+                                capture_output=True, text=True, timeout=600)
     except subprocess.TimeoutExpired:
         return False
     return result.returncode == 0
@@ -109,6 +116,8 @@ def main():
     parser.add_argument("folders", nargs="+", metavar="FOLDER")
     parser.add_argument("--worker", default="build/worker/tessera-worker")
     parser.add_argument("--root", help="passed to convert as --root DIR")
+    parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE",
+                        help="a scene parameter, as Mitsuba's -D (repeatable)")
     parser.add_argument("--mitsuba", metavar="PYTHON", help="also load each scene in Mitsuba 3")
     parser.add_argument("--jobs", type=int, default=2)
     args = parser.parse_args()
@@ -117,8 +126,9 @@ def main():
     if not scenes:
         sys.exit("no Mitsuba scene under " + ", ".join(args.folders))
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-        reasons = list(pool.map(lambda s: convert(args.worker, args.root, s), scenes))
-        loads = list(pool.map(lambda s: mitsuba_loads(args.mitsuba, s), scenes)) \
+        reasons = list(pool.map(lambda s: convert(args.worker, args.root, args.defines, s),
+                                scenes))
+        loads = list(pool.map(lambda s: mitsuba_loads(args.mitsuba, args.defines, s), scenes)) \
             if args.mitsuba else [None] * len(scenes)
 
     by_key = collections.Counter()

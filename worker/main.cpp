@@ -37,6 +37,7 @@ namespace {
 struct RenderArgs {
   std::string scene;
   std::string root;  ///< --root: the bundle root ("" = the scene's own, docs/mitsuba.md)
+  std::vector<std::string> defines;  ///< -D name=value: Mitsuba parameters
   std::vector<std::string> outputs;
   tessera::JobOverrides overrides;
   int threads = 0;
@@ -52,7 +53,8 @@ std::optional<std::filesystem::path> bundle_root(const std::string& root) {
 int run_render(const RenderArgs& args) {
   // Every output is checked before the scene is read: a render never runs to be thrown away.
   for (const std::string& out : args.outputs) tessera::cli::check_output_path(out, {".exr", ".png"});
-  const tessera::Scene scene = tessera::load_scene_file(args.scene, bundle_root(args.root));
+  const tessera::Scene scene = tessera::load_scene_file(args.scene, bundle_root(args.root),
+                                                        tessera::parse_mitsuba_defines(args.defines));
   const tessera::JobOptions options = tessera::resolve_job_options(scene, args.overrides);
 
   std::optional<tbb::global_control> thread_limit;
@@ -143,6 +145,7 @@ int run_render(const RenderArgs& args) {
 struct ConvertArgs {
   std::string scene;
   std::string root;  ///< --root: the bundle root ("" = the scene's own)
+  std::vector<std::string> defines;  ///< -D name=value: Mitsuba parameters
   std::string output;
 };
 
@@ -173,7 +176,8 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 /// native JSON) as native JSON that reads back to the same Scene (scene_writer.h).
 int run_convert(const ConvertArgs& args) {
   tessera::cli::check_output_path(args.output, {".json"});
-  const tessera::Scene scene = tessera::load_scene_file(args.scene, bundle_root(args.root));
+  const tessera::Scene scene = tessera::load_scene_file(args.scene, bundle_root(args.root),
+                                                        tessera::parse_mitsuba_defines(args.defines));
   const std::string source = std::filesystem::path(args.scene).filename().string();
   write_file_atomically(
       args.output, tessera::write_scene_json(
@@ -186,6 +190,9 @@ int run_convert(const ConvertArgs& args) {
   return 0;
 }
 
+constexpr const char* kDefineHelp =
+    "name=value: the Mitsuba scene's parameter $name, overriding its <default> (repeatable)";
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -197,6 +204,7 @@ int main(int argc, char** argv) {
       "render", "Render a scene locally through the farm's tile/batch/merge path");
   render_cmd->add_option("scene", render.scene, "Scene file: Tessera JSON (.json) or Mitsuba 3 XML (.xml)")->required();
   render_cmd->add_option("--root", render.root, "Bundle root: the folder every file the scene names must be in (default: the common folder of them all)");
+  render_cmd->add_option("-D", render.defines, kDefineHelp);
   render_cmd->add_option("-o,--output", render.outputs, "Output image(s): .exr (linear float) or .png (sRGB)")
       ->required();
   tessera::add_job_override_flags(render_cmd, render.overrides);
@@ -210,6 +218,7 @@ int main(int argc, char** argv) {
       "convert", "Convert a scene (Mitsuba 3 .xml, or .json) to Tessera's native JSON");
   convert_cmd->add_option("scene", convert.scene, "Scene file (.xml or .json)")->required();
   convert_cmd->add_option("--root", convert.root, "Bundle root: the folder every file the scene names must be in (default: the common folder of them all)");
+  convert_cmd->add_option("-D", convert.defines, kDefineHelp);
   convert_cmd->add_option("-o,--output", convert.output, "Output scene (.json)")->required();
 
   tessera::ConvergeCommand converge;

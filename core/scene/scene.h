@@ -173,6 +173,7 @@ enum class LightKind {
   directional,  ///< direction (to_world's +z), irradiance (W/m^2)
   constant,     ///< uniform environment: radiance
   envmap,       ///< lat-long environment map (Mitsuba's layout): file, scale, to_world
+  projector,    ///< a pinhole projecting an image along to_world's +z: value, texture, fov_x_deg, aspect
 };
 
 struct Light {
@@ -182,11 +183,25 @@ struct Light {
   /// light travels; envmap: the map's orientation. Rigid (rotation + translation).
   glm::dmat4 to_world{1.0};
   /// point / spot: intensity; directional: irradiance; constant: radiance; envmap: scale per
-  /// channel (Mitsuba's `scale`, the same on all three).
+  /// channel (Mitsuba's `scale`, the same on all three); projector: irradiance times Mitsuba's
+  /// `scale` (with a texture: the scale alone).
   glm::dvec3 value{1, 1, 1};
   double cutoff_angle_deg = 20;  ///< spot: no light beyond it
   double beam_width_deg = 15;    ///< spot: full intensity inside it (Mitsuba's smooth falloff between)
   std::string file;              ///< envmap: bundle path of the EXR/HDR lat-long map
+  /// spot: Mitsuba's `texture`, projected over the cone and multiplying `value`: the direction
+  /// (x, y, z) in the light's frame looks up (u, v) = (0.5 + 0.5 x / (z tan cutoff),
+  /// 0.5 + 0.5 y / (z tan cutoff)), so the cutoff cone touches the edges of [0, 1]^2.
+  /// projector: the irradiance image (Mitsuba's `irradiance` texture) over the image plane.
+  /// Index into Scene::textures; -1 = none (value alone).
+  int32_t texture = -1;
+  /// projector: Mitsuba's perspective frustum. The horizontal field of view (degrees, in
+  /// (0, 180)) and the image's width / height (> 0; Mitsuba takes it from the irradiance
+  /// texture's resolution, 1 for a constant). A point (x, y, z) of the light's frame (z > 0)
+  /// falls on uv = (0.5 - 0.5 x / (z t), 0.5 - 0.5 aspect y / (z t)), t = tan(fov_x / 2), and
+  /// is lit when uv is in [0, 1]^2; it receives pi * value * texture(uv) / (z^2 cos theta).
+  double fov_x_deg = 0;
+  double aspect = 1;
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -54,18 +54,28 @@ Scene parse_scene(std::string_view json_text, const FileReader& reader) {
 }
 
 Scene load_scene_file(const std::filesystem::path& scene_file,
-                      const std::optional<std::filesystem::path>& root) {
-  return load_scene_bundle(scene_file, root).scene;
+                      const std::optional<std::filesystem::path>& root,
+                      const MitsubaParameters& parameters) {
+  return load_scene_bundle(scene_file, root, parameters).scene;
 }
 
 SceneOnDisk load_scene_bundle(const std::filesystem::path& scene_file,
-                              const std::optional<std::filesystem::path>& root) {
+                              const std::optional<std::filesystem::path>& root,
+                              const MitsubaParameters& parameters) {
   namespace fs = std::filesystem;
   std::string text = read_scene_file(scene_file);
+  if (!parameters.empty()) {
+    if (!is_mitsuba_xml(scene_file.string())) {
+      throw SceneError(scene_file.string() + ": -D " + parameters.front().name +
+                       ": -D sets parameters of Mitsuba 3 XML scenes; this is a native scene");
+    }
+    text = with_mitsuba_parameters(text, scene_file.filename().string(), parameters);
+  }
   std::error_code error;
   const fs::path scene = fs::weakly_canonical(fs::absolute(scene_file), error);
   if (error) throw SceneError(scene_file.string() + ": " + error.message());
   SceneOnDisk result;
+  result.scene_text = text;
   if (root) {
     result.root = fs::weakly_canonical(fs::absolute(*root), error);
     if (error || !fs::is_directory(result.root)) {

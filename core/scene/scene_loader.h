@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "scene/mitsuba/mitsuba_parameters.h"
 #include "scene/scene.h"
 #include "scene/scene_error.h"
 
@@ -41,6 +42,9 @@ struct SceneOnDisk {
   Scene scene;                 ///< Scene::referenced_files are bundle paths below `root`
   std::filesystem::path root;  ///< the bundle root: absolute, canonical
   std::string scene_path;      ///< the scene file's bundle path below `root`
+  /// The text that was parsed: the scene file's bytes, with the `-D` parameters written in
+  /// (with_mitsuba_parameters) when there are any. A bundle carries this text as the scene file.
+  std::string scene_text;
 };
 
 /// Loads a scene file from disk with its bundle. The bundle root is `root` when given (the
@@ -50,12 +54,17 @@ struct SceneOnDisk {
 /// and symbolic links below it are refused, naming the file, line and root. A file whose name
 /// ends in ".xml" (any case) is read as a Mitsuba 3 scene (docs/mitsuba.md), any other as scene
 /// format v1 (whose paths are relative to the scene's folder, without "..").
+/// `parameters` (`-D name=value`) override the Mitsuba scene's <default>s
+/// (with_mitsuba_parameters); a native scene given any is refused ("-D sets parameters of
+/// Mitsuba 3 XML scenes").
 SceneOnDisk load_scene_bundle(const std::filesystem::path& scene_file,
-                              const std::optional<std::filesystem::path>& root = std::nullopt);
+                              const std::optional<std::filesystem::path>& root = std::nullopt,
+                              const MitsubaParameters& parameters = {});
 
-/// load_scene_bundle(scene_file, root).scene.
+/// load_scene_bundle(scene_file, root, parameters).scene.
 Scene load_scene_file(const std::filesystem::path& scene_file,
-                      const std::optional<std::filesystem::path>& root = std::nullopt);
+                      const std::optional<std::filesystem::path>& root = std::nullopt,
+                      const MitsubaParameters& parameters = {});
 
 /// Parses the text of a scene file at bundle path `file_name` (the root of its bundle, or a
 /// folder below it): a Mitsuba 3 XML scene when the name ends in ".xml" (any case), scene format

@@ -67,15 +67,6 @@ class Reader {
   size_t pos_ = 0;
 };
 
-std::string read_file_bytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path.string() + ": cannot open");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (!in && !in.eof()) throw SceneError(path.string() + ": read failed");
-  return std::move(ss).str();
-}
-
 }  // namespace
 
 BundleContents bundle_from_proto(const v1::SceneBundle& bundle) {
@@ -180,7 +171,8 @@ void check_scene_images(const Scene& scene) {
 }
 
 BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene_out,
-                                const std::optional<std::filesystem::path>& root) {
+                                const std::optional<std::filesystem::path>& root,
+                                const MitsubaParameters& parameters) {
   // A bundle holds files, never links: a linked scene file could pull in anything readable.
   std::error_code error;
   if (std::filesystem::is_symlink(std::filesystem::symlink_status(scene_file, error))) {
@@ -188,10 +180,10 @@ BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* 
                      ": is a symbolic link; bundles take regular files only (submit the file it"
                      " points to)");
   }
-  SceneOnDisk loaded = load_scene_bundle(scene_file, root);
+  SceneOnDisk loaded = load_scene_bundle(scene_file, root, parameters);
   BundleContents out;
   out.scene_file = loaded.scene_path;
-  out.files.emplace(out.scene_file, read_file_bytes(scene_file));
+  out.files.emplace(out.scene_file, std::move(loaded.scene_text));
   const FileReader reader = folder_reader(loaded.root);
   for (const std::string& rel : loaded.scene.referenced_files) {
     const std::string path = check_bundle_path(rel, "referenced file");

@@ -72,8 +72,10 @@ void check_scene_images(const Scene& scene);
 /// it names), read through folder_reader (which refuses files outside the root, and symbolic
 /// links anywhere below it); the scene file itself must not be a symbolic link either.
 /// Validates with load_scene_bundle first (the parsed scene goes to `scene` when not null);
-/// throws SceneError on a bad scene.
+/// throws SceneError on a bad scene. The bundle's scene file is the text load_scene_bundle
+/// parsed: with `parameters` (`-D`) written in as <default>s, so the farm reads the same scene.
 BundleContents bundle_from_disk(const std::filesystem::path& scene_file, Scene* scene = nullptr,
-                                const std::optional<std::filesystem::path>& root = std::nullopt);
+                                const std::optional<std::filesystem::path>& root = std::nullopt,
+                                const MitsubaParameters& parameters = {});
 
 }  // namespace tessera::wire

@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
 #include "scene/scene_error.h"
 #include "wire/sha256.h"
 
@@ -137,6 +141,30 @@ Scene scene_with_texture(const std::string& name, const std::string& image) {
           "materials": {"w": {"type": "diffuse", "reflectance": {"texture": "wood"}}},
           "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "w"}]})";
   return parse_bundle_scene(bundle_from_proto(make("s.json", {{"s.json", scene}, {name, image}})));
+}
+
+TEST(SceneBundle, DefineParametersTravelInTheSceneFile) {
+  // `tessera submit -D spp=3`: the server and the workers parse the bundle alone, so the
+  // parameter must be in the bundle's scene file (as a <default> on the root tag's line).
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("tessera_bundle_define_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "scene.xml")
+      << "<scene version=\"3.0.0\">\n  <sensor type=\"perspective\"><sampler type=\"independent\">"
+         "<integer name=\"sample_count\" value=\"$spp\"/></sampler></sensor>\n</scene>\n";
+  EXPECT_THROW(bundle_from_disk(dir / "scene.xml"), SceneError);  // $spp undefined
+  Scene local;
+  const BundleContents bundle =
+      bundle_from_disk(dir / "scene.xml", &local, std::nullopt, {{"spp", "3"}});
+  EXPECT_EQ(local.render.spp, 3);
+  EXPECT_EQ(parse_bundle_scene(bundle).render.spp, 3);
+  EXPECT_NE(bundle.files.at(bundle.scene_file)
+                .find("<scene version=\"3.0.0\"><default name=\"spp\" value=\"3\"/>\n"),
+            std::string::npos);
+  // Other parameters, another bundle.
+  EXPECT_NE(bundle_sha256(bundle),
+            bundle_sha256(bundle_from_disk(dir / "scene.xml", nullptr, std::nullopt, {{"spp", "4"}})));
+  fs::remove_all(dir);
 }
 
 TEST(SceneBundle, ImagesAreDecodedAndCheckedAtSubmitNamingTheTexture) {

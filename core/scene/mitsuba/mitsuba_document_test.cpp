@@ -125,7 +125,7 @@ TEST(MitsubaDocument, UndefinedParametersAreErrors) {
   // A <default> applies to what follows it, as in Mitsuba.
   EXPECT_EQ(read_error(xml),
             "main.xml: line 2: <integer name=\"spp\">: undefined parameter $spp "
-            "(declare it with <default name=\"spp\" value=\"...\"/>)");
+            "(declare it with <default name=\"spp\" value=\"...\"/>, or give -D spp=VALUE)");
 }
 
 TEST(MitsubaDocument, DefaultNeedsNameAndValue) {
@@ -249,7 +249,7 @@ TEST(MitsubaDocument, ErrorsInIncludedFilesNameThatFile) {
                          "<scene version=\"3.0.0\">\n<float name=\"a\" value=\"$q\"/>"
                          "</scene>"}}),
             "bad.xml: line 2: <float name=\"a\">: undefined parameter $q (declare it with "
-            "<default name=\"q\" value=\"...\"/>)");
+            "<default name=\"q\" value=\"...\"/>, or give -D q=VALUE)");
   EXPECT_EQ(read_error("<scene version=\"3.0.0\"><include filename=\"bad.xml\"/></scene>",
                        {{"bad.xml", "<scene version=\"3.0.0\">\n\n<float></scene>"}}),
             "bad.xml: line 3: malformed XML: Start-end tags mismatch");

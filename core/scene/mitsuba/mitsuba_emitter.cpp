@@ -4,7 +4,9 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
+#include "scene/image_check.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
+#include "scene/mitsuba/mitsuba_sensor.h"
 #include "scene/mitsuba/mitsuba_transform.h"
 #include "scene/native/json_value.h"
 
@@ -62,10 +64,17 @@ void read_point(MitsubaPlugin& plugin, Light& light) {
   light.value = non_negative(plugin, "intensity");
 }
 
-void read_spot(MitsubaPlugin& plugin, Light& light) {
+void read_spot(MitsubaPlugin& plugin, Light& light, MitsubaTextures& textures) {
   light.kind = LightKind::spot;
   light.to_world = rigid_to_world(plugin);
   light.value = non_negative(plugin, "intensity");
+  if (std::optional<MitsubaObject> texture = plugin.take_named_object("texture")) {
+    light.texture = textures.of(*texture->element);
+  } else if (const MitsubaElement* constant = plugin.property("texture")) {
+    // Mitsuba refuses it too ("must be spatially varying"): a constant belongs in intensity.
+    fail_at(*constant, "a spot's texture must be a <texture> (bitmap or checkerboard); give a "
+                       "constant colour as intensity");
+  }
   light.cutoff_angle_deg = plugin.take_float("cutoff_angle").value_or(20.0);
   light.beam_width_deg = plugin.take_float("beam_width").value_or(light.cutoff_angle_deg * 0.75);
   if (!(light.cutoff_angle_deg > 0 && light.cutoff_angle_deg <= 180)) {
@@ -75,6 +84,39 @@ void read_spot(MitsubaPlugin& plugin, Light& light) {
     fail_at(plugin.property("beam_width") ? *plugin.property("beam_width") : plugin.element(),
             "beam_width must be in (0, cutoff_angle]");
   }
+}
+
+/// The width / height of what a projector shows, as Mitsuba's Texture::resolution gives it: a
+/// bitmap's pixel size (its file decoded and checked here), 1 for anything else.
+double projector_aspect(const MitsubaElement& where, const Texture& texture,
+                        MitsubaFileResolver& files) {
+  if (texture.kind != TextureKind::bitmap) return 1;
+  try {
+    const ImageCheck image = check_image_bytes(texture.file, files.read(texture.file));
+    return double(image.width) / image.height;
+  } catch (const SceneError& e) {
+    fail_at(where, e.what());
+  }
+}
+
+void read_projector(MitsubaPlugin& plugin, Light& light, MitsubaTextures& textures,
+                    MitsubaFileResolver& files) {
+  light.kind = LightKind::projector;
+  light.to_world = rigid_to_world(plugin);
+  const double scale = plugin.take_float("scale").value_or(1.0);
+  if (!(scale >= 0)) {
+    fail_at(*plugin.property("scale"), "must be >= 0 (got " + format_number(scale) + ")");
+  }
+  std::optional<MitsubaObject> texture = plugin.take_named_object("irradiance");
+  if (texture) {
+    light.texture = textures.of(*texture->element);
+    light.value = glm::dvec3(scale);
+    light.aspect = projector_aspect(*texture->element, textures.at(light.texture), files);
+  } else {
+    light.value = scale * non_negative(plugin, "irradiance");
+    light.aspect = 1;
+  }
+  light.fov_x_deg = read_mitsuba_fov_x(plugin, light.aspect);
 }
 
 void read_directional(MitsubaPlugin& plugin, Light& light) {
@@ -128,7 +170,8 @@ MitsubaAreaEmission read_mitsuba_area_emitter(const MitsubaElement& element, con
 }
 
 Light read_mitsuba_light(const MitsubaElement& element, const MitsubaIds& ids,
-                         MitsubaFileResolver& files, std::vector<std::string>& referenced_files) {
+                         MitsubaFileResolver& files, std::vector<std::string>& referenced_files,
+                         MitsubaTextures& textures) {
   MitsubaPlugin plugin(element, ids);
   Light light;
   light.origin = element.where();
@@ -136,7 +179,7 @@ Light read_mitsuba_light(const MitsubaElement& element, const MitsubaIds& ids,
   if (type == "point") {
     read_point(plugin, light);
   } else if (type == "spot") {
-    read_spot(plugin, light);
+    read_spot(plugin, light, textures);
   } else if (type == "directional") {
     read_directional(plugin, light);
   } else if (type == "constant") {
@@ -144,12 +187,14 @@ Light read_mitsuba_light(const MitsubaElement& element, const MitsubaIds& ids,
     light.value = non_negative(plugin, "radiance");
   } else if (type == "envmap") {
     read_envmap(plugin, light, files, referenced_files);
+  } else if (type == "projector") {
+    read_projector(plugin, light, textures, files);
   } else if (type == "area") {
     fail_at(element, "an area emitter belongs inside a <shape> (or is named by one with <ref>)");
   } else {
     fail_at(element,
-            "unsupported emitter (Tessera has area, point, spot, directional, constant and "
-            "envmap)");
+            "unsupported emitter (Tessera has area, point, spot, directional, constant, envmap "
+            "and projector)");
   }
   plugin.ignore("sampling_weight");  // how often it is sampled: noise only
   plugin.finish();

@@ -2,6 +2,9 @@
 // that are not shapes.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "image/image_output.h"
 #include "scene/mitsuba/mitsuba_test_support.h"
 
 namespace tessera {
@@ -82,6 +85,75 @@ TEST(MitsubaEmitter, PointSpotAndDirectional) {
             std::string::npos);
 }
 
+TEST(MitsubaEmitter, SpotWithATextureProjectedOverItsCone) {
+  const std::string xml = mitsuba_scene(R"(<texture type="checkerboard" id="checks"/>
+      <emitter type="spot"><rgb name="intensity" value="2"/>
+        <texture type="bitmap" name="texture"><string name="filename" value="slide.png"/>
+        </texture></emitter>
+      <emitter type="spot"><ref name="texture" id="checks"/></emitter>)");
+  const Scene s = parse_xml(xml, {{"slide.png", "png bytes are read by the renderer"}});
+  ASSERT_EQ(s.lights.size(), 2u);
+  ASSERT_EQ(s.textures.size(), 2u);
+  ASSERT_GE(s.lights[0].texture, 0);
+  ASSERT_GE(s.lights[1].texture, 0);
+  EXPECT_EQ(s.textures.at(size_t(s.lights[0].texture)).file, "slide.png");
+  EXPECT_EQ(s.lights[0].value, glm::dvec3(2));  // the texture multiplies the intensity
+  EXPECT_EQ(s.textures.at(size_t(s.lights[1].texture)).kind, TextureKind::checkerboard);
+  EXPECT_NE(std::find(s.referenced_files.begin(), s.referenced_files.end(), "slide.png"),
+            s.referenced_files.end());
+  // A constant is no texture, for Mitsuba either.
+  const std::string constant =
+      mitsuba_scene(R"(<emitter type="spot"><rgb name="texture" value="0.5"/></emitter>)");
+  EXPECT_NE(xml_error(constant).find(
+                "line " + std::to_string(line_of(constant, "<rgb name=\"texture\"")) +
+                ": <rgb name=\"texture\">: a spot's texture must be a <texture>"),
+            std::string::npos)
+      << xml_error(constant);
+}
+
+TEST(MitsubaEmitter, ProjectorFramesItsImageLikeMitsuba) {
+  // Mitsuba's defaults: irradiance 1, scale 1, focal_length 50mm (a diagonal fov) on a 1 x 1
+  // image: x fov = 2 atan(43.27 / (2 * 50) / sqrt(2)) = 33.40 degrees.
+  const Light plain = light_of(R"(<emitter type="projector"/>)");
+  EXPECT_EQ(plain.kind, LightKind::projector);
+  EXPECT_EQ(plain.value, glm::dvec3(1));
+  EXPECT_EQ(plain.texture, -1);
+  EXPECT_EQ(plain.aspect, 1);
+  EXPECT_NEAR(plain.fov_x_deg,
+              2 * std::atan(std::sqrt(36.0 * 36 + 24 * 24) / 100 / std::sqrt(2.0)) * 180 / M_PI,
+              1e-12);
+  const Light constant = light_of(R"(<emitter type="projector"><rgb name="irradiance"
+      value="0.5, 1, 2"/><float name="scale" value="3"/><float name="fov" value="45"/>
+      <transform name="to_world"><lookat origin="1, 1, 1" target="1, 2, 1" up="0, 0, 1"/>
+      </transform></emitter>)");
+  EXPECT_EQ(constant.value, glm::dvec3(1.5, 3, 6));  // irradiance times scale
+  EXPECT_EQ(constant.fov_x_deg, 45);
+  testing::expect_near(glm::dvec3(constant.to_world[2]), glm::dvec3(0, 1, 0));  // along +z
+  // A bitmap's aspect comes from its pixels: 4 x 2 here, so a y fov of 30 is an x fov of
+  // 2 atan(2 tan 15).
+  const std::string png = encode_image(RgbImage{4, 2, std::vector<float>(4 * 2 * 3, 0.5f)}, "png");
+  const Light textured = light_of(R"(<emitter type="projector"><texture type="bitmap"
+      name="irradiance"><string name="filename" value="slide.png"/></texture>
+      <float name="scale" value="2"/><float name="fov" value="30"/>
+      <string name="fov_axis" value="y"/></emitter>)",
+                                  {{"slide.png", png}});
+  EXPECT_EQ(textured.texture, 0);
+  EXPECT_EQ(textured.value, glm::dvec3(2));
+  EXPECT_EQ(textured.aspect, 2);
+  EXPECT_NEAR(textured.fov_x_deg, 2 * std::atan(2 * std::tan(M_PI / 12)) * 180 / M_PI, 1e-12);
+  // An image that does not decode is refused at the texture, naming the file.
+  const std::string broken = mitsuba_scene(R"(<emitter type="projector"><texture type="bitmap"
+      name="irradiance"><string name="filename" value="slide.png"/></texture></emitter>)");
+  EXPECT_NE(xml_error(broken, {{"slide.png", "not a png"}})
+                .find("<texture type=\"bitmap\" name=\"irradiance\">: slide.png: "),
+            std::string::npos)
+      << xml_error(broken, {{"slide.png", "not a png"}});
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<emitter type="projector"><float name="fov"
+      value="180"/></emitter>)"))
+                .find("the field of view must be in (0, 180) degrees"),
+            std::string::npos);
+}
+
 TEST(MitsubaEmitter, ConstantAndEnvironmentMaps) {
   Light sky = light_of(R"(<emitter type="constant"><rgb name="radiance" value="0.5, 0.6, 0.7"/>
       </emitter>)");
@@ -108,9 +180,9 @@ TEST(MitsubaEmitter, ConstantAndEnvironmentMaps) {
                       {{"sky.exr", "x"}})
                 .find("this emitter's to_world must be a rotation and a translation"),
             std::string::npos);
-  EXPECT_NE(xml_error(mitsuba_scene(R"(<emitter type="projector"/>)"))
-                .find("unsupported emitter (Tessera has area, point, spot, directional, constant "
-                      "and envmap)"),
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<emitter type="sunsky"/>)"))
+                .find("unsupported emitter (Tessera has area, point, spot, directional, constant, "
+                      "envmap and projector)"),
             std::string::npos);
 }
 

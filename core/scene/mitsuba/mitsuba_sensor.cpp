@@ -116,6 +116,18 @@ Film read_film(MitsubaPlugin& sensor, const MitsubaIds& ids) {
   // Samples outside the image that would splat into border pixels: Tessera's filter importance
   // sampling gives every sample to its own pixel, so there is nothing to widen.
   film.ignore("sample_border");
+  // Read and ignored by Mitsuba 3's hdrfilm too: its images carry no banner, and `compensate`
+  // (Kahan summation) was removed; Tessera sums in double.
+  film.take_boolean("banner");
+  film.take_boolean("compensate");
+  // Mitsuba 0.6's name for sample_border. It changes border pixels there, and Mitsuba 3 refuses
+  // it as an unreferenced property, so a scene that has it was never rendered by Mitsuba 3.
+  if (const MitsubaElement* edges = film.property("high_quality_edges")) {
+    fail_at(*edges,
+            "Mitsuba 0.6's parameter, which Mitsuba 3 refuses too: remove it (Mitsuba 3 names it "
+            "sample_border, which Tessera accepts and needs not: every sample counts in its own "
+            "pixel)");
+  }
   check_crop(film, size);
   size.filter = read_rfilter(film, ids);
   film.finish();
@@ -154,9 +166,9 @@ double diagonal_to_x(double fov_deg, double aspect) {
   return 2 * std::atan(width * 0.5) * 180 / std::numbers::pi;
 }
 
-/// fov with fov_axis, or focal_length (Mitsuba's default "50mm", a 35 mm film's diagonal).
-void read_fov(MitsubaPlugin& sensor, Camera& camera, const Film& film) {
-  const double aspect = double(film.width) / film.height;
+/// fov with fov_axis, or focal_length (Mitsuba's default "50mm", a 35 mm film's diagonal), for
+/// an image of width / height `aspect`.
+void read_fov(MitsubaPlugin& sensor, Camera& camera, double aspect) {
   if (sensor.property("focal_length") && sensor.property("fov")) {
     fail_at(*sensor.property("focal_length"), "give fov or focal_length, not both");
   }
@@ -292,7 +304,7 @@ MitsubaSensor read_mitsuba_sensor(const MitsubaElement& element, const MitsubaId
   result.camera.up = glm::dvec3(0, 1, 0);
   read_frame(sensor, result);
   result.film = read_film(sensor, ids);
-  read_fov(sensor, result.camera, result.film);
+  read_fov(sensor, result.camera, double(result.film.width) / result.film.height);
   read_lens(sensor, result);
   read_principal_point(sensor);
   sensor.ignore("shutter_open");  // motion blur needs moving geometry, which the subset lacks
@@ -300,6 +312,17 @@ MitsubaSensor read_mitsuba_sensor(const MitsubaElement& element, const MitsubaId
   read_sampler(sensor, ids, result);
   sensor.finish();
   return result;
+}
+
+double read_mitsuba_fov_x(MitsubaPlugin& plugin, double aspect) {
+  Camera camera;
+  read_fov(plugin, camera, aspect);
+  FovAxis axis = camera.fov_axis;
+  if (axis == FovAxis::smaller) axis = aspect > 1 ? FovAxis::y : FovAxis::x;
+  if (axis == FovAxis::larger) axis = aspect > 1 ? FovAxis::x : FovAxis::y;
+  if (axis == FovAxis::x) return camera.fov_deg;
+  const double half = std::tan(0.5 * camera.fov_deg * std::numbers::pi / 180) * aspect;
+  return 2 * std::atan(half) * 180 / std::numbers::pi;
 }
 
 }  // namespace tessera

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "scene/mitsuba/mitsuba_ids.h"
+#include "scene/mitsuba/mitsuba_plugin.h"
 #include "scene/mitsuba/mitsuba_xml_document.h"
 #include "scene/scene.h"
 #include "scene/transform.h"
@@ -42,5 +43,12 @@ struct MitsubaSensor {
 ///   uses its own sequence): sample_count, seed; jitter and strength ignored.
 /// Throws SceneError naming the element for anything else.
 MitsubaSensor read_mitsuba_sensor(const MitsubaElement& sensor, const MitsubaIds& ids);
+
+/// Mitsuba's parse_fov for an image of width / height `aspect`: fov with fov_axis (x, y,
+/// smaller, larger, diagonal), or focal_length (default "50mm", a 35 mm film's diagonal), as
+/// the horizontal field of view in degrees, in (0, 180). Takes those properties from `plugin`
+/// (a sensor, or the projector emitter, which frames its image the same way). Throws
+/// SceneError naming the property otherwise.
+double read_mitsuba_fov_x(MitsubaPlugin& plugin, double aspect);
 
 }  // namespace tessera

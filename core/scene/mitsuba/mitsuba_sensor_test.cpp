@@ -220,6 +220,31 @@ TEST(MitsubaFilm, SizeAndAcceptedFormats) {
   EXPECT_EQ(defaults.film.height, 576);
 }
 
+TEST(MitsubaFilm, BooleansMitsubaIgnoresAreAccepted) {
+  auto film_of = [](const std::string& inside) {
+    return sensor(R"(<float name="fov" value="30"/>)", "perspective",
+                  "<film type=\"hdrfilm\"><integer name=\"width\" value=\"32\"/>" + inside +
+                      "<rfilter type=\"box\"/></film>");
+  };
+  const Scene plain = with_sensor(film_of(""));
+  for (const char* value : {"true", "false"}) {
+    const Scene s = with_sensor(film_of(std::string("<boolean name=\"banner\" value=\"") + value +
+                                        "\"/><boolean name=\"compensate\" value=\"" + value +
+                                        "\"/>"));
+    EXPECT_EQ(s.film.width, plain.film.width);
+    EXPECT_EQ(s.film.height, plain.film.height);
+    EXPECT_EQ(s.film.filter.kind, plain.film.filter.kind);
+  }
+  // Still booleans: anything else is refused.
+  EXPECT_NE(sensor_error(film_of(R"(<boolean name="banner" value="maybe"/>)")).find("banner"),
+            std::string::npos);
+  // Mitsuba 0.6's high_quality_edges, which Mitsuba 3 refuses as well.
+  EXPECT_NE(sensor_error(film_of(R"(<boolean name="high_quality_edges" value="true"/>)"))
+                .find("<boolean name=\"high_quality_edges\">: Mitsuba 0.6's parameter, which "
+                      "Mitsuba 3 refuses too"),
+            std::string::npos);
+}
+
 TEST(MitsubaFilm, ReconstructionFilters) {
   auto filter_of = [](const std::string& film) {
     return with_sensor(sensor(R"(<float name="fov" value="30"/>)", "perspective", film))

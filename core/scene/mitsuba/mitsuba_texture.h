@@ -35,6 +35,9 @@ class MitsubaTextures {
   /// Throws SceneError naming the element for another kind or parameter.
   int32_t of(const MitsubaElement& texture);
 
+  /// The texture of index `index` (a value `of` returned), until take().
+  const Texture& at(int32_t index) const { return textures_.at(size_t(index)); }
+
   /// The textures in index order; the table is empty afterwards.
   std::vector<Texture> take();
 

@@ -194,7 +194,8 @@ class DocumentReader {
       if (!undefined.empty()) {
         fail_at(element, "undefined parameter $" + printable(undefined) +
                              " (declare it with <default name=\"" + printable(undefined) +
-                             "\" value=\"...\"/>)");
+                             "\" value=\"...\"/>, or give -D " +
+                             printable(undefined) + "=VALUE)");
       }
     }
     return element;

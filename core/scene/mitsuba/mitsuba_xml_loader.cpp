@@ -138,7 +138,7 @@ class SceneBuilder {
       }
       return;
     }
-    lights_.push_back(read_mitsuba_light(element, ids_, files_, referenced_));
+    lights_.push_back(read_mitsuba_light(element, ids_, files_, referenced_, textures_));
   }
 
   /// Reads an unused BSDF into scratch tables, so that an unsupported one is still refused.

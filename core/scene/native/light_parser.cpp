@@ -32,8 +32,9 @@ LightKind parse_kind(const JsonValue& value) {
   if (type == "directional") return LightKind::directional;
   if (type == "constant") return LightKind::constant;
   if (type == "envmap") return LightKind::envmap;
+  if (type == "projector") return LightKind::projector;
   value.fail("unknown light type \"" + printable(type) +
-             "\" (expected point, spot, directional, constant or envmap)");
+             "\" (expected point, spot, directional, constant, envmap or projector)");
 }
 
 std::vector<std::string_view> keys_of(LightKind kind) {
@@ -41,13 +42,15 @@ std::vector<std::string_view> keys_of(LightKind kind) {
     case LightKind::point:
       return {"type", "transform", "intensity"};
     case LightKind::spot:
-      return {"type", "transform", "intensity", "cutoff_angle", "beam_width"};
+      return {"type", "transform", "intensity", "cutoff_angle", "beam_width", "texture"};
     case LightKind::directional:
       return {"type", "transform", "irradiance"};
     case LightKind::constant:
       return {"type", "radiance"};
     case LightKind::envmap:
       return {"type", "transform", "file", "scale"};
+    case LightKind::projector:
+      return {"type", "transform", "irradiance", "texture", "fov", "aspect"};
   }
   return {};
 }
@@ -72,14 +75,17 @@ double angle(const JsonValue& light, const char* key, double fallback, double ma
   return degrees;
 }
 
-Light parse_light_object(const JsonValue& value, std::vector<std::string>& referenced_files) {
+Light parse_light_object(const JsonValue& value, const TextureNames& textures,
+                         std::vector<std::string>& referenced_files) {
   if (!value.json().is_object()) value.expect_object({}, "a light");
   Light light;
   light.origin = value.path();
   light.kind = parse_kind(value.at("type"));
   value.expect_object(keys_of(light.kind), "a \"" + value.at("type").string() + "\" light");
   if (auto t = value.find("transform")) light.to_world = rigid_transform(*t);
-  const char* value_key = light.kind == LightKind::directional ? "irradiance"
+  const char* value_key = light.kind == LightKind::directional ||
+                                  light.kind == LightKind::projector
+                              ? "irradiance"
                           : light.kind == LightKind::constant  ? "radiance"
                           : light.kind == LightKind::envmap    ? "scale"
                                                                : "intensity";
@@ -88,9 +94,22 @@ Light parse_light_object(const JsonValue& value, std::vector<std::string>& refer
     light.value = non_negative_color(*v);
   }
   if (light.kind == LightKind::spot) {
-    light.cutoff_angle_deg = angle(value, "cutoff_angle", 20, 90);
+    light.cutoff_angle_deg = angle(value, "cutoff_angle", 20, 180);  // as Mitsuba
     light.beam_width_deg = angle(value, "beam_width", light.cutoff_angle_deg * 0.75,
                                  light.cutoff_angle_deg);
+    if (auto t = value.find("texture")) light.texture = texture_index(*t, textures);
+  }
+  if (light.kind == LightKind::projector) {
+    if (auto t = value.find("texture")) light.texture = texture_index(*t, textures);
+    JsonValue fov = value.at("fov");
+    light.fov_x_deg = fov.number();
+    if (!(light.fov_x_deg > 0 && light.fov_x_deg < 180)) {
+      fov.fail("must be in (0, 180) degrees (got " + format_number(light.fov_x_deg) + ")");
+    }
+    if (auto a = value.find("aspect")) {
+      light.aspect = a->number();
+      if (!(light.aspect > 0)) a->fail("must be > 0 (got " + format_number(light.aspect) + ")");
+    }
   }
   if (light.kind == LightKind::envmap) {
     JsonValue file = value.at("file");
@@ -105,11 +124,11 @@ Light parse_light_object(const JsonValue& value, std::vector<std::string>& refer
 
 }  // namespace
 
-std::vector<Light> parse_lights(const JsonValue& value,
+std::vector<Light> parse_lights(const JsonValue& value, const TextureNames& textures,
                                std::vector<std::string>& referenced_files) {
   std::vector<Light> lights;
   for (const JsonValue& light : value.elements()) {
-    lights.push_back(parse_light_object(light, referenced_files));
+    lights.push_back(parse_light_object(light, textures, referenced_files));
   }
   return lights;
 }

@@ -159,7 +159,7 @@ TEST(SceneModelParse, LightsFilterAndHideEmitters) {
             "lights[0].scale: must be a number");
   EXPECT_EQ(error_of(with(R"("lights": [{"type": "area"}])")),
             "lights[0].type: unknown light type \"area\" (expected point, spot, directional, "
-            "constant or envmap)");
+            "constant, envmap or projector)");
 }
 
 TEST(SceneModelParse, UvsFramesGroupsInstancesAndTexturedEmission) {

@@ -72,7 +72,7 @@ Scene parse_native_scene(const JsonValue& root, const FileReader& reader) {
     for (const JsonValue& shape : shapes->elements()) parse_shape(shape, context, scene.shapes);
   }
   if (std::optional<JsonValue> lights = root.find("lights")) {
-    scene.lights = parse_lights(*lights, scene.referenced_files);
+    scene.lights = parse_lights(*lights, textures, scene.referenced_files);
   }
   scene.materials = materials.take();
   return scene;

@@ -278,9 +278,10 @@ std::string texture_json(const Texture& t, size_t index, const Names& names) {
   return out + "}";
 }
 
-std::string light_json(const Light& l, size_t index) {
+std::string light_json(const Light& l, size_t index, const Names& names) {
   std::string what = "lights[" + std::to_string(index) + "] (" + printable(l.origin) + ")";
-  static const char* kTypes[] = {"point", "spot", "directional", "constant", "envmap"};
+  static const char* kTypes[] = {"point", "spot", "directional", "constant", "envmap",
+                                 "projector"};
   std::string out = std::string("    {\"type\": \"") + kTypes[int(l.kind)] + "\"";
   switch (l.kind) {
     case LightKind::point:
@@ -290,6 +291,7 @@ std::string light_json(const Light& l, size_t index) {
       out += ", \"intensity\": " + vec3(l.value, what) +
              ", \"cutoff_angle\": " + number(l.cutoff_angle_deg, what) +
              ", \"beam_width\": " + number(l.beam_width_deg, what);
+      if (l.texture >= 0) out += ", \"texture\": " + texture_name(l.texture, names, what);
       break;
     case LightKind::directional:
       out += ", \"irradiance\": " + vec3(l.value, what);
@@ -303,6 +305,11 @@ std::string light_json(const Light& l, size_t index) {
       }
       out += ", \"file\": " + json_string(valid_utf8(l.file)) +
              ", \"scale\": " + number(l.value.x, what);
+      break;
+    case LightKind::projector:
+      out += ", \"irradiance\": " + vec3(l.value, what) +
+             ", \"fov\": " + number(l.fov_x_deg, what) + ", \"aspect\": " + number(l.aspect, what);
+      if (l.texture >= 0) out += ", \"texture\": " + texture_name(l.texture, names, what);
       break;
   }
   if (l.kind != LightKind::constant && l.to_world != glm::dmat4(1.0)) {
@@ -455,7 +462,7 @@ std::string write_scene_json(const Scene& scene, const std::string& comment) {
                       scene.materials, names);
   }) + ",\n";
   out += "  \"lights\": " + block(scene.lights.size(), '[', ']', [&](size_t i) {
-    return light_json(scene.lights[i], i);
+    return light_json(scene.lights[i], i, names);
   }) + "\n}\n";
   return out;
 }

@@ -174,6 +174,9 @@ void expect_same_scene(const Scene& a, const Scene& b) {
     EXPECT_TRUE(same_bits(x.cutoff_angle_deg, y.cutoff_angle_deg));
     EXPECT_TRUE(same_bits(x.beam_width_deg, y.beam_width_deg));
     EXPECT_EQ(x.file, y.file);
+    EXPECT_EQ(x.texture, y.texture);
+    EXPECT_TRUE(same_bits(x.fov_x_deg, y.fov_x_deg));
+    EXPECT_TRUE(same_bits(x.aspect, y.aspect));
   }
 }
 
@@ -430,6 +433,7 @@ Scene full_model_scene() {
   spot.to_world = glm::dmat4(glm::dmat3(c, 0, -sn, 0, 1, 0, sn, 0, c));
   spot.cutoff_angle_deg = 30;
   spot.beam_width_deg = 12.5;
+  spot.texture = 2;  // projected over the cone
   Light sun;
   sun.kind = LightKind::directional;
   sun.value = {3, 3, 3};
@@ -441,7 +445,18 @@ Scene full_model_scene() {
   env.file = "sky.exr";
   env.value = glm::dvec3(0.75);
   env.to_world = spot.to_world;
-  s.lights = {point, spot, sun, sky, env};
+  Light slide;  // a projector has no cone: the spot's fields keep their defaults
+  slide.kind = LightKind::projector;
+  slide.origin = "lights[5]";
+  slide.to_world = spot.to_world;
+  slide.value = {0.5, 1.25, 2};
+  slide.texture = 0;
+  slide.fov_x_deg = 33.398488467987896;
+  slide.aspect = 4.0 / 3.0;
+  Light lamp = slide;  // a constant image
+  lamp.texture = -1;
+  lamp.aspect = 1;
+  s.lights = {point, spot, sun, sky, env, slide, lamp};
   return s;
 }
 

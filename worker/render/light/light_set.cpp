@@ -31,7 +31,8 @@ std::vector<double> powers_of(const Lights& lights, double scene_radius) {
 
 /// Each light's bounds for picking by importance at a point. Lights at infinity weigh their
 /// power through the scene's disc divided by r^2 (an irradiance, as phi / d^2 of the others
-/// is); spot lights count as point lights shining every way (a conservative bound).
+/// is); spot and projector lights are placed like point lights with their own power, with no
+/// bound on their direction (positive wherever they may shine).
 template <class Lights>
 std::vector<LightBounds> bounds_of(const Lights& lights, const std::vector<Light>& descriptions,
                                    uint32_t area_count, double scene_radius) {
@@ -83,7 +84,7 @@ LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
         lights_.emplace_back(PointLight(light));
         break;
       case LightKind::spot:
-        lights_.emplace_back(SpotLight(light));
+        lights_.emplace_back(SpotLight(light, textures));
         break;
       case LightKind::directional:
         lights_.emplace_back(DirectionalLight(light));
@@ -95,6 +96,9 @@ LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
       case LightKind::envmap:
         environment_.push_back(uint32_t(lights_.size()));
         lights_.emplace_back(EnvmapLight::from_file(light, reader));
+        break;
+      case LightKind::projector:
+        lights_.emplace_back(ProjectorLight(light, textures));
         break;
     }
   }
@@ -111,7 +115,8 @@ LightSample LightSet::sample(const SurfacePoint& ref, float u_pick, glm::vec2 u)
         using T = std::decay_t<decltype(l)>;
         if constexpr (std::is_same_v<T, AreaLight>) {
           return l.sample(ref.p, u);
-        } else if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight>) {
+        } else if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight> ||
+                             std::is_same_v<T, ProjectorLight>) {
           return l.sample(ref.p);
         } else if constexpr (std::is_same_v<T, DirectionalLight>) {
           return l.sample();

@@ -16,6 +16,7 @@
 #include "render/light/light_picker.h"
 #include "render/light/light_sample.h"
 #include "render/light/point_light.h"
+#include "render/light/projector_light.h"
 #include "render/light/spot_light.h"
 #include "render/ray_offset.h"
 #include "scene/scene.h"
@@ -30,7 +31,7 @@ class LightSet {
   ///   area_emitters[i]->emitter == i (as traceable_scene.cpp numbers them; std::invalid_argument
   ///   otherwise); each must outlive the set. Textured radiance (Geometry::emission_texture) is
   ///   looked up through `textures`, which must be safe to call from many threads.
-  /// - lights: Scene::lights (point, spot, directional, constant, envmap). Environment maps are
+  /// - lights: Scene::lights (point, spot, directional, constant, envmap, projector). Environment maps are
   ///   decoded from the bytes `reader` returns for Light::file.
   /// - scene_radius: radius of the geometry's bounding sphere; directional and environment
   ///   lights count with their power through a disc of that radius (divided by its square,
@@ -72,7 +73,8 @@ class LightSet {
 
  private:
   using AnyLight =
-      std::variant<AreaLight, PointLight, SpotLight, DirectionalLight, ConstantLight, EnvmapLight>;
+      std::variant<AreaLight, PointLight, SpotLight, DirectionalLight, ConstantLight, EnvmapLight,
+                   ProjectorLight>;
 
   /// Solid-angle density of environment light i (constant or envmap) for direction d.
   float environment_pdf(uint32_t i, glm::vec3 d) const;

@@ -1,0 +1,98 @@
+// The spot light's texture, projected over its cone, against Mitsuba 3's spot emitter
+// (reference values from mitsuba_spot_reference.py, in mitsuba_spot_reference.inc).
+#include "render/light/spot_light.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <vector>
+
+#include "render/texture/texture_set.h"
+#include "render/texture/texture_test_images.h"
+
+namespace tessera {
+namespace {
+
+struct Reference {
+  glm::vec3 p;         ///< world point
+  glm::vec3 radiance;  ///< what Mitsuba's spot sends to it
+};
+
+const Reference kMitsuba[] = {
+#include "render/light/mitsuba_spot_reference.inc"
+};
+
+/// The texture of mitsuba_spot_reference.py: 4 x 3 linear float texels (1 + x + 4 y,
+/// 0.5 (x + 1), 0.25 (y + 1)), bilinear, repeat.
+TextureSet reference_texture() {
+  std::vector<float> texels;
+  for (int y = 0; y < 3; ++y) {
+    for (int x = 0; x < 4; ++x) {
+      texels.insert(texels.end(), {1.0f + x + 4 * y, 0.5f * (x + 1), 0.25f * (y + 1)});
+    }
+  }
+  Texture t;
+  t.name = "spot";
+  t.origin = "textures[0]";
+  t.file = "spot.exr";
+  t.color_space = TextureColorSpace::linear;
+  return TextureSet({t}, test::memory_reader({{"spot.exr", test::encode_image(
+                                                               "spot.exr", 4, 3, 3, texels,
+                                                               OIIO::TypeDesc::FLOAT)}}));
+}
+
+Light reference_spot() {
+  Light l;
+  l.kind = LightKind::spot;
+  l.origin = "lights[0]";
+  l.to_world = glm::translate(glm::dmat4(1.0), {1, 2, 3}) *
+               glm::rotate(glm::dmat4(1.0), glm::radians(30.0), {0, 1, 0}) *
+               glm::rotate(glm::dmat4(1.0), glm::radians(-50.0), {1, 0, 0});
+  l.value = {2, 3, 4};
+  l.cutoff_angle_deg = 30;
+  l.beam_width_deg = 20;
+  l.texture = 0;
+  return l;
+}
+
+TEST(SpotLight, TextureOverTheConeMatchesMitsuba) {
+  const TextureSet textures = reference_texture();
+  const SpotLight spot(reference_spot(),
+                       [&](int32_t texture, glm::vec2 uv) { return textures.lookup(texture, uv); });
+  for (const Reference& r : kMitsuba) {
+    const LightSample s = spot.sample(r.p);
+    for (int c = 0; c < 3; ++c) {
+      // float32 in both; the falloff's acos and the frame's rotation round differently.
+      EXPECT_NEAR(s.radiance[c], r.radiance[c], 2e-4f * r.radiance[c] + 1e-6f)
+          << "point (" << r.p.x << ", " << r.p.y << ", " << r.p.z << "), channel " << c;
+    }
+    EXPECT_EQ(s.pdf, r.radiance.x > 0 ? 1.0f : 0.0f);
+  }
+}
+
+TEST(SpotLight, UvSpansTheConeAcrossTheTexture) {
+  const TextureSet textures = reference_texture();
+  Light l = reference_spot();
+  l.to_world = glm::dmat4(1.0);
+  const SpotLight spot(l, [&](int32_t texture, glm::vec2 uv) { return textures.lookup(texture, uv); });
+  const float t = std::tan(glm::radians(30.0f));
+  EXPECT_EQ(spot.uv_of({0, 0, 1}), glm::vec2(0.5f, 0.5f));
+  // The cutoff cone touches the square's edges: +x at u = 1, +y at v = 1.
+  EXPECT_NEAR(spot.uv_of({t, 0, 1}).x, 1.0f, 1e-6f);
+  EXPECT_NEAR(spot.uv_of({0, -t, 1}).y, 0.0f, 1e-6f);
+  EXPECT_NEAR(spot.uv_of({2 * t, 0, 2}).x, 1.0f, 1e-6f);  // any length
+  // The texture scales the light picker's power by its mean over the disc, never to 0 here.
+  Light plain = l;
+  plain.texture = -1;
+  const double ratio = spot.power() / SpotLight(plain).power();
+  EXPECT_GT(ratio, 1.0);  // texels above 1 in red weigh most in luminance
+  EXPECT_LT(ratio, 12.0);
+}
+
+TEST(SpotLight, ATextureNeedsALookup) {
+  EXPECT_THROW(SpotLight{reference_spot()}, SceneError);
+}
+
+}  // namespace
+}  // namespace tessera
