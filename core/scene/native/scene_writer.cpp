@@ -163,8 +163,33 @@ const char* material_type_name(MaterialType type) {
     case MaterialType::thin_glass: return "thin_glass";
     case MaterialType::plastic: return "plastic";
     case MaterialType::rough_plastic: return "rough_plastic";
+    case MaterialType::principled: return "principled";
   }
   return "diffuse";
+}
+
+/// The keys of a principled material, every one written.
+std::string principled_keys(const Material& m, const Names& names, const std::string& what) {
+  const PrincipledParameters& p = m.principled;
+  const std::pair<const char*, const TexturedFloat*> weights[] = {
+      {"roughness", &p.roughness},   {"anisotropic", &p.anisotropic},
+      {"metallic", &p.metallic},     {"spec_trans", &p.spec_trans},
+      {"spec_tint", &p.spec_tint},   {"sheen", &p.sheen},
+      {"sheen_tint", &p.sheen_tint}, {"flatness", &p.flatness},
+      {"clearcoat", &p.clearcoat},   {"clearcoat_gloss", &p.clearcoat_gloss},
+  };
+  std::string out = ", \"base_color\": " + textured_color(m.reflectance, names, what + ".base_color");
+  for (const auto& [key, value] : weights) {
+    out += std::string(", \"") + key + "\": " + textured_float(*value, names, what + "." + key);
+  }
+  out += ", \"ior\": " + number(m.ior, what + ".ior");
+  out += ", \"main_specular_sampling_rate\": " +
+         number(p.main_specular_sampling_rate, what + ".main_specular_sampling_rate");
+  out += ", \"clearcoat_sampling_rate\": " +
+         number(p.clearcoat_sampling_rate, what + ".clearcoat_sampling_rate");
+  out += ", \"diffuse_reflectance_sampling_rate\": " +
+         number(p.diffuse_reflectance_sampling_rate, what + ".diffuse_reflectance_sampling_rate");
+  return out;
 }
 
 /// The keys of `m`'s type, every one written.
@@ -184,6 +209,7 @@ std::string material_type_keys(const Material& m, const Names& names, const std:
            textured_color(m.reflectance, names, what + ".diffuse_reflectance") +
            ", \"nonlinear\": " + bool_text(m.nonlinear);
   }
+  if (t == MaterialType::principled) return out + principled_keys(m, names, what);
   if (t != MaterialType::diffuse && t != MaterialType::mirror) {
     out += ", \"specular_reflectance\": " +
            textured_color(m.specular_reflectance, names, what + ".specular_reflectance");

@@ -1,12 +1,14 @@
 // The BSDF of one material at one shading point: Mitsuba 3's diffuse, conductor, roughconductor,
-// dielectric, roughdielectric, thindielectric, plastic and roughplastic behind one interface
+// dielectric, roughdielectric, thindielectric, plastic, roughplastic and principled behind one
+// interface
 // (docs/renderer.md, "BSDFs").
 //
 // All directions are unit vectors in the local shading frame (+z = the material's front, i.e.
 // the shading normal of the front side), pointing away from the surface. wo (towards the
 // camera) may lie on either side: one-sided materials (diffuse, conductors, plastics) are black
 // when wo or wi is below the surface (cos <= 0), as in Mitsuba; the integrator makes a
-// two-sided material by flipping the frame before calling. Dielectrics handle both sides.
+// two-sided material by flipping the frame before calling. Dielectrics, and principled
+// materials that transmit, handle both sides.
 // No method returns NaN or infinity for finite unit inputs.
 #pragma once
 
@@ -21,6 +23,7 @@
 #include "render/bsdf/dielectric.h"
 #include "render/bsdf/diffuse.h"
 #include "render/bsdf/plastic.h"
+#include "render/bsdf/principled.h"
 #include "render/bsdf/rough_conductor.h"
 #include "render/bsdf/rough_dielectric.h"
 #include "render/bsdf/rough_plastic.h"
@@ -47,7 +50,7 @@ class Bsdf {
 
  private:
   std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf, RoughDielectricBsdf,
-               ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf>
+               ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf, PrincipledBsdf>
       impl_;
 };
 

@@ -98,6 +98,10 @@ TEST(BsdfFurnace, NoBsdfCreatesEnergy) {
   const BsdfCases cases;
   uint64_t seed = 100;
   for (BsdfCase c : cases.all()) {
+    // Mitsuba's principled adds retro-reflection, sheen and a clear coat on top of the rest and
+    // so exceeds 1 at grazing angles: principled_test.cpp checks its albedo against Mitsuba's
+    // and the furnace of its energy-conserving lobes.
+    if (c.params.type == MaterialType::principled) continue;
     // White parameters make the bound tight: 1 is reached only by lossless materials.
     c.params.reflectance = c.params.specular_reflectance = glm::vec3(1.0f);
     c.params.specular_transmittance = glm::vec3(1.0f);

@@ -32,6 +32,7 @@ TEST(BsdfChiSquare, RoughConductor) { run_chi_square(MaterialType::rough_conduct
 TEST(BsdfChiSquare, RoughDielectric) { run_chi_square(MaterialType::rough_glass); }
 TEST(BsdfChiSquare, Plastic) { run_chi_square(MaterialType::plastic); }
 TEST(BsdfChiSquare, RoughPlastic) { run_chi_square(MaterialType::rough_plastic); }
+TEST(BsdfChiSquare, Principled) { run_chi_square(MaterialType::principled); }
 
 }  // namespace
 }  // namespace tessera::test
