@@ -123,6 +123,8 @@ enum class MaterialType {
   /// Mitsuba's `principled` (Disney's BSDF as Mitsuba 3 writes it): reflectance = base_color,
   /// ior = eta, the other parameters in Material::principled.
   principled,
+  /// Mitsuba's `blendbsdf`: (1 - blend_weight) * blend[0] + blend_weight * blend[1].
+  blend,
 };
 
 enum class MicrofacetDistribution { ggx, beckmann };
@@ -199,6 +201,26 @@ struct Material {
   double bump_scale = 1;
   /// principled only: its parameters besides base_color and eta.
   PrincipledParameters principled;
+  /// blend only: Mitsuba's `weight` of the second BSDF, in [0, 1] (textures clamped there).
+  TexturedFloat blend_weight{0.5, -1};
+  /// blend only: the two nested BSDFs (Mitsuba's first and second), any kind but without
+  /// sidedness, mask, bump or normal map of their own (the blend carries those).
+  std::vector<Material> blend;
+  /// Whether the material transmits light (glass kinds, principled with spec_trans, a blend of
+  /// one): then two-sided by nature.
+  bool transmits() const {
+    if (type == MaterialType::glass || type == MaterialType::rough_glass ||
+        type == MaterialType::thin_glass) {
+      return true;
+    }
+    if (type == MaterialType::principled) return principled.transmits();
+    if (type == MaterialType::blend) {
+      for (const Material& m : blend) {
+        if (m.transmits()) return true;
+      }
+    }
+    return false;
+  }
 };
 
 // ---------------------------------------------------------------------------------------------

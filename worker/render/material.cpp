@@ -1,5 +1,7 @@
 #include "material.h"
 
+#include "bsdf/rough_plastic.h"
+#include "scene/scene_error.h"
 #include "texture/texture_set.h"
 
 namespace tessera {
@@ -48,10 +50,25 @@ RenderMaterial make_render_material(const Material& m) {
   rp.clearcoat_sampling_rate = float(pp.clearcoat_sampling_rate);
   rp.diffuse_reflectance_sampling_rate = float(pp.diffuse_reflectance_sampling_rate);
   rp.transmits = m.type == MaterialType::principled && pp.transmits();
-  r.textured = m.reflectance.texture >= 0 || m.specular_reflectance.texture >= 0 ||
+  r.blend_weight = scalar(m.blend_weight);
+  for (const Material& nested : m.blend) {
+    r.blend.push_back(make_render_material(nested));
+    RenderMaterial& n = r.blend.back();
+    r.textured = r.textured || n.textured;
+    if (nested.type != MaterialType::rough_plastic) continue;
+    if (!nested.alpha_u.is_constant() || nested.alpha_u.value != nested.alpha_v.value) {
+      throw SceneError("material \"" + m.name + "\": a rough plastic's alpha is one constant " +
+                       "(Mitsuba's roughplastic is isotropic and untextured)");
+    }
+    n.owned_table = std::make_shared<const RoughPlasticTable>(make_rough_plastic_table(
+        nested.distribution, float(nested.alpha_u.value), float(nested.ior)));
+    n.rough_plastic = n.owned_table.get();
+  }
+  r.textured = r.textured || m.reflectance.texture >= 0 || m.specular_reflectance.texture >= 0 ||
                m.specular_transmittance.texture >= 0 || m.alpha_u.texture >= 0 ||
                m.alpha_v.texture >= 0 || m.opacity.texture >= 0 || m.normal_map >= 0 ||
-               m.bump_map >= 0 || (m.type == MaterialType::principled && pp.textured());
+               m.bump_map >= 0 || (m.type == MaterialType::principled && pp.textured()) ||
+               m.blend_weight.texture >= 0;
   return r;
 }
 
@@ -94,6 +111,10 @@ BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm:
     in.clearcoat_sampling_rate = rp.clearcoat_sampling_rate;
     in.diffuse_reflectance_sampling_rate = rp.diffuse_reflectance_sampling_rate;
     in.transmits = rp.transmits;
+  }
+  if (m.type == MaterialType::blend) {
+    p.blend_weight = scalar(m.blend_weight);
+    for (const RenderMaterial& nested : m.blend) p.blend.push_back(bsdf_params(nested, textures, uv));
   }
   return p;
 }

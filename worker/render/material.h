@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -59,6 +61,11 @@ struct RenderMaterial {
   /// rough_plastic: the material's precomputed Fresnel integrals (owned by TraceableScene).
   const RoughPlasticTable* rough_plastic = nullptr;
   RenderPrincipled principled;  ///< principled only
+  RenderFloat blend_weight{0.5f, -1};  ///< blend only
+  std::vector<RenderMaterial> blend;   ///< blend only: the two nested materials
+  /// A nested rough plastic's table, which this material owns (TraceableScene makes the
+  /// top-level materials' tables).
+  std::shared_ptr<const RoughPlasticTable> owned_table;
 
   /// Whether any parameter is a texture (the hit then needs its uv).
   bool textured = false;
@@ -67,12 +74,20 @@ struct RenderMaterial {
   bool dielectric() const {
     return type == MaterialType::glass || type == MaterialType::rough_glass ||
            type == MaterialType::thin_glass ||
-           (type == MaterialType::principled && principled.transmits);
+           (type == MaterialType::principled && principled.transmits) ||
+           (type == MaterialType::blend && blend_transmits());
+  }
+  bool blend_transmits() const {
+    for (const RenderMaterial& m : blend) {
+      if (m.dielectric()) return true;
+    }
+    return false;
   }
   bool masked() const { return opacity.texture >= 0 || opacity.value < 1; }
 };
 
-/// The render form of `m`.
+/// The render form of `m`. The nested materials of a blend get their rough plastic tables
+/// here; throws SceneError when a nested rough plastic's alpha is not one constant.
 RenderMaterial make_render_material(const Material& m);
 
 /// The BSDF parameters of `m` at a point of texture coordinates `uv`: constants as they are,

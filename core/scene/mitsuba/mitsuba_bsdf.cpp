@@ -1,5 +1,6 @@
 #include "scene/mitsuba/mitsuba_bsdf.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "scene/mitsuba/mitsuba_ior.h"
@@ -12,14 +13,11 @@ namespace {
 
 constexpr const char* kSupported =
     "Tessera supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
-    "thindielectric, plastic, roughplastic, principled, twosided, mask, bumpmap and normalmap";
+    "thindielectric, plastic, roughplastic, principled, blendbsdf, twosided, mask, bumpmap and "
+    "normalmap";
 
 constexpr MitsubaColorRole kReflectance = MitsubaColorRole::reflectance;
 
-bool is_glass(MaterialType type) {
-  return type == MaterialType::glass || type == MaterialType::rough_glass ||
-         type == MaterialType::thin_glass;
-}
 
 /// int_ior or ext_ior: a positive number, or a name from Mitsuba's table.
 double read_ior(MitsubaPlugin& plugin, const std::string& name, std::string_view fallback) {
@@ -241,7 +239,7 @@ Material MitsubaMaterials::read_twosided(MitsubaPlugin& plugin) {
     const std::string* type = side.element->attribute("type");
     if (type && *type == "twosided") fail_at(*side.written, "twosided may not nest twosided");
     Material m = read(*side.element);
-    if (is_glass(m.type) || (m.type == MaterialType::principled && m.principled.transmits())) {
+    if (m.transmits()) {
       fail_at(*side.written,
               "twosided takes only BSDFs that do not transmit light (as in Mitsuba); a "
               "dielectric (or a principled BSDF with spec_trans) is two-sided already");
@@ -253,6 +251,32 @@ Material MitsubaMaterials::read_twosided(MitsubaPlugin& plugin) {
     sides[0].back = int32_t(add(std::move(sides[1]), *nested[1].element));
   }
   return sides[0];
+}
+
+Material MitsubaMaterials::read_blend(MitsubaPlugin& plugin) {
+  if (!plugin.has("weight")) fail_at(plugin.element(), "needs a weight (float or texture), as in Mitsuba");
+  Material m;
+  m.type = MaterialType::blend;
+  m.blend_weight = read_textured_float(plugin, "weight", 0.5, textures_);
+  if (m.blend_weight.is_constant()) {
+    m.blend_weight.value = std::clamp(m.blend_weight.value, 0.0, 1.0);  // Mitsuba clamps it
+  }
+  std::vector<MitsubaObject> nested = plugin.take_objects("bsdf");
+  if (nested.size() != 2) {
+    fail_at(nested.size() > 2 ? *nested[2].written : plugin.element(),
+            "takes two nested BSDFs, as in Mitsuba");
+  }
+  for (const MitsubaObject& n : nested) {
+    Material inner = read(*n.element);
+    if (inner.two_sided || inner.back >= 0 || !inner.opacity.is_constant() ||
+        inner.opacity.value != 1 || inner.normal_map >= 0 || inner.bump_map >= 0) {
+      fail_at(*n.written,
+              "Tessera blends BSDFs without twosided, mask, bumpmap or normalmap inside; put "
+              "those around the blendbsdf");
+    }
+    m.blend.push_back(std::move(inner));
+  }
+  return m;
 }
 
 Material MitsubaMaterials::read_wrapper(MitsubaPlugin& plugin) {
@@ -312,6 +336,8 @@ Material MitsubaMaterials::read(const MitsubaElement& bsdf) {
     m = read_plastic(plugin, textures_, type == "roughplastic");
   } else if (type == "principled") {
     m = read_principled(plugin, textures_);
+  } else if (type == "blendbsdf") {
+    m = read_blend(plugin);
   } else if (type == "twosided") {
     m = read_twosided(plugin);
   } else if (type == "mask" || type == "bumpmap" || type == "normalmap") {

@@ -288,9 +288,9 @@ TEST(MitsubaBsdf, UnsupportedBsdfsNameTheirLine) {
             "test.xml: line " + std::to_string(line_of(xml, "hair")) +
                 ": <bsdf type=\"hair\" id=\"p\">: unsupported BSDF (Tessera "
                 "supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
-                "thindielectric, plastic, roughplastic, principled, twosided, mask, bumpmap and "
-                "normalmap)");
-  EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"/>)").find("unsupported BSDF"), std::string::npos);
+                "thindielectric, plastic, roughplastic, principled, blendbsdf, twosided, mask, "
+                "bumpmap and normalmap)");
+  EXPECT_NE(bsdf_error(R"(<bsdf type="pplastic"/>)").find("unsupported BSDF"), std::string::npos);
 }
 
 TEST(MitsubaBsdf, PrincipledDefaultsAreMitsubas) {
@@ -377,6 +377,41 @@ TEST(MitsubaBsdf, PrincipledRefusalsNameTheParameter) {
                 .find("twosided takes only BSDFs that do not transmit light"),
             std::string::npos);
   EXPECT_TRUE(material_of(R"(<bsdf type="twosided"><bsdf type="principled"/></bsdf>)").two_sided);
+}
+
+TEST(MitsubaBsdf, BlendbsdfNestsTwoBsdfs) {
+  Material m = material_of(R"(<bsdf type="blendbsdf">
+      <texture name="weight" type="checkerboard"/>
+      <bsdf type="roughplastic"><string name="distribution" value="ggx"/>
+        <float name="alpha" value="0.3"/><rgb name="diffuse_reflectance" value="0"/></bsdf>
+      <bsdf type="blendbsdf"><float name="weight" value="1.5"/>
+        <bsdf type="conductor"/><bsdf type="diffuse"/></bsdf></bsdf>)");
+  EXPECT_EQ(m.type, MaterialType::blend);
+  EXPECT_GE(m.blend_weight.texture, 0);
+  ASSERT_EQ(m.blend.size(), 2u);
+  EXPECT_EQ(m.blend[0].type, MaterialType::rough_plastic);
+  EXPECT_EQ(m.blend[0].distribution, MicrofacetDistribution::ggx);
+  EXPECT_EQ(m.blend[1].type, MaterialType::blend);
+  EXPECT_EQ(m.blend[1].blend_weight.value, 1.0);  // clamped, as Mitsuba does
+  EXPECT_EQ(m.blend[1].blend[0].type, MaterialType::mirror);
+  EXPECT_TRUE(material_of(R"(<bsdf type="twosided"><bsdf type="blendbsdf">
+      <float name="weight" value="0.5"/><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf>
+      </bsdf>)").two_sided);
+
+  EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"><bsdf type="diffuse"/><bsdf type="diffuse"/>
+      </bsdf>)").find("needs a weight"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/>
+      <bsdf type="diffuse"/></bsdf>)").find("takes two nested BSDFs"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/>
+      <bsdf type="twosided"><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf>)")
+                .find("without twosided, mask, bumpmap or normalmap inside"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="twosided"><bsdf type="blendbsdf">
+      <float name="weight" value="0.5"/><bsdf type="dielectric"/><bsdf type="diffuse"/></bsdf>
+      </bsdf>)").find("twosided takes only BSDFs that do not transmit light"),
+            std::string::npos);
 }
 
 TEST(MitsubaRef, ABsdfNamedTwiceIsOneMaterial) {

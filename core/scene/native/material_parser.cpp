@@ -20,6 +20,7 @@ constexpr std::pair<const char*, MaterialType> kTypes[] = {
     {"plastic", MaterialType::plastic},
     {"rough_plastic", MaterialType::rough_plastic},
     {"principled", MaterialType::principled},
+    {"blend", MaterialType::blend},
 };
 
 /// The principled material's weights (each in [0, 1], constant or textured), in the order the
@@ -55,7 +56,7 @@ MaterialType parse_type(const JsonValue& value) {
   }
   type->fail("unknown material type \"" + printable(name) +
              "\" (expected diffuse, mirror, glass, conductor, rough_conductor, rough_glass, "
-             "thin_glass, plastic, rough_plastic or principled)");
+             "thin_glass, plastic, rough_plastic, principled or blend)");
 }
 
 bool is_rough(MaterialType t) {
@@ -74,6 +75,8 @@ std::vector<std::string_view> keys_of(MaterialType type) {
   std::vector<std::string_view> keys = {"type"};
   if (type == MaterialType::diffuse) keys.push_back("reflectance");
   if (is_plastic(type)) keys.insert(keys.end(), {"diffuse_reflectance", "nonlinear"});
+  if (type == MaterialType::blend) return {"type", "weight", "materials", "two_sided", "opacity",
+                                           "normal_map", "bump_map", "bump_scale", "back"};
   if (type != MaterialType::diffuse && type != MaterialType::mirror) {
     keys.push_back("specular_reflectance");
   }
@@ -178,6 +181,35 @@ void parse_principled(const JsonValue& value, const TextureNames& textures, Mate
   }
 }
 
+void parse_type_keys(const JsonValue& value, const TextureNames& textures, Material& m);
+void parse_common_keys(const JsonValue& value, const TextureNames& textures, Material& m);
+
+/// A blend's weight (required, as in Mitsuba) and its two nested materials, which carry no
+/// sidedness, mask or maps of their own.
+void parse_blend(const JsonValue& value, const TextureNames& textures, Material& m) {
+  std::optional<JsonValue> weight = value.find("weight");
+  if (!weight) value.fail("a blend needs a \"weight\" (number in [0, 1] or texture)");
+  m.blend_weight = parse_textured_float(*weight, textures, 0, 1, false);
+  std::optional<JsonValue> materials = value.find("materials");
+  if (!materials) value.fail("a blend needs \"materials\": [first, second]");
+  std::vector<JsonValue> nested = materials->elements(2);
+  for (size_t i = 0; i < nested.size(); ++i) {
+    const JsonValue& n = nested[i];
+    if (!n.json().is_object()) n.expect_object({}, "a material");
+    for (const char* key : {"two_sided", "back", "opacity", "normal_map", "bump_map", "bump_scale"}) {
+      if (std::optional<JsonValue> v = n.find(key)) {
+        v->fail("a blend's nested material has no " + std::string(key) +
+                " of its own (give it to the blend)");
+      }
+    }
+    m.blend.push_back(parse_material(m.name + "[" + std::to_string(i) + "]", n, textures));
+  }
+  if (m.transmits() && m.two_sided) {
+    value.find("two_sided")->fail(
+        "a blend of a material that transmits light is two-sided by nature (remove this key)");
+  }
+}
+
 void parse_type_keys(const JsonValue& value, const TextureNames& textures, Material& m) {
   MaterialType type = m.type;
   if (type == MaterialType::diffuse) {
@@ -208,6 +240,7 @@ void parse_type_keys(const JsonValue& value, const TextureNames& textures, Mater
   }
   if (is_rough(type)) parse_roughness(value, textures, m);
   if (type == MaterialType::principled) parse_principled(value, textures, m);
+  if (type == MaterialType::blend) parse_blend(value, textures, m);
 }
 
 void parse_common_keys(const JsonValue& value, const TextureNames& textures, Material& m) {

@@ -164,6 +164,52 @@ TEST(SceneModelParse, PrincipledTakesMitsubasParametersAndTextures) {
             0u);
 }
 
+TEST(SceneModelParse, BlendNestsTwoMaterials) {
+  Scene s = parse(with(R"("materials": {
+      "mix": {"type": "blend", "weight": {"texture": "h"}, "two_sided": true,
+              "materials": [{"reflectance": [0.1, 0.2, 0.3]},
+                            {"type": "blend", "weight": 0.25,
+                             "materials": [{"type": "rough_conductor", "alpha": 0.2},
+                                           {"type": "principled", "metallic": 1}]}]},
+      "frosted mix": {"type": "blend", "weight": 0.5,
+                      "materials": [{"type": "rough_glass"}, {}]}},
+      "textures": {"h": {"type": "bitmap", "file": "h.png"}})"));
+  ASSERT_EQ(s.materials.size(), 2u);
+  const Material& m = s.materials[0];
+  EXPECT_EQ(m.type, MaterialType::blend);
+  EXPECT_EQ(m.blend_weight.texture, 0);
+  ASSERT_EQ(m.blend.size(), 2u);
+  EXPECT_EQ(m.blend[0].reflectance.value, glm::dvec3(0.1, 0.2, 0.3));
+  ASSERT_EQ(m.blend[1].blend.size(), 2u);
+  EXPECT_EQ(m.blend[1].blend_weight.value, 0.25);
+  EXPECT_EQ(m.blend[1].blend[1].principled.metallic.value, 1.0);
+  EXPECT_FALSE(m.transmits());
+  EXPECT_TRUE(s.materials[1].transmits());
+
+  auto material_error = [](const std::string& m) {
+    return error_of(with(R"("materials": {"m": )" + m + "}"));
+  };
+  EXPECT_EQ(material_error(R"({"type": "blend", "materials": [{}, {}]})"),
+            "materials.m: a blend needs a \"weight\" (number in [0, 1] or texture)");
+  EXPECT_EQ(material_error(R"({"type": "blend", "weight": 2, "materials": [{}, {}]})"),
+            "materials.m.weight: must be in [0, 1] (got 2)");
+  EXPECT_NE(material_error(R"({"type": "blend", "weight": 0.5, "materials": [{}]})")
+                .find("materials.m.materials"),
+            std::string::npos);
+  EXPECT_EQ(material_error(R"({"type": "blend", "weight": 0.5,
+                              "materials": [{"two_sided": true}, {}]})"),
+            "materials.m.materials[0].two_sided: a blend's nested material has no two_sided of its "
+            "own (give it to the blend)");
+  EXPECT_EQ(material_error(R"({"type": "blend", "weight": 0.5, "two_sided": true,
+                              "materials": [{"type": "glass"}, {}]})"),
+            "materials.m.two_sided: a blend of a material that transmits light is two-sided by "
+            "nature (remove this key)");
+  EXPECT_EQ(material_error(R"({"type": "blend", "weight": 0.5,
+                              "materials": [{"type": "velvet"}, {}]})")
+                .rfind("materials.m.materials[0].type: unknown material type", 0),
+            0u);
+}
+
 TEST(SceneModelParse, LightsFilterAndHideEmitters) {
   Scene s = parse(with(R"(
     "film": {"width": 4, "height": 4, "filter": {"type": "gaussian", "stddev": 0.25}},

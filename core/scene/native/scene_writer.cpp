@@ -164,6 +164,7 @@ const char* material_type_name(MaterialType type) {
     case MaterialType::plastic: return "plastic";
     case MaterialType::rough_plastic: return "rough_plastic";
     case MaterialType::principled: return "principled";
+    case MaterialType::blend: return "blend";
   }
   return "diffuse";
 }
@@ -240,12 +241,39 @@ std::string material_type_keys(const Material& m, const Names& names, const std:
   return out;
 }
 
+std::string material_body(const Material& m, const Names& names, const std::string& what);
+
+/// A blend's weight and nested materials.
+std::string blend_keys(const Material& m, const Names& names, const std::string& what) {
+  if (m.blend.size() != 2) throw SceneError(what + ": a blend has two nested materials");
+  std::string out = ", \"weight\": " + textured_float(m.blend_weight, names, what + ".weight");
+  out += ", \"materials\": [";
+  for (size_t i = 0; i < 2; ++i) {
+    const Material& n = m.blend[i];
+    const std::string where = what + ".materials[" + std::to_string(i) + "]";
+    if (n.two_sided || n.back >= 0 || !n.opacity.is_constant() || n.opacity.value != 1 ||
+        n.normal_map >= 0 || n.bump_map >= 0) {
+      throw SceneError(where + ": a blend's nested material has no sidedness, mask or map of its own");
+    }
+    out += (i ? ", {" : "{") + material_body(n, names, where) + "}";
+  }
+  return out + "]";
+}
+
+/// "type" and the keys of m's type.
+std::string material_body(const Material& m, const Names& names, const std::string& what) {
+  std::string body = std::string("\"type\": \"") + material_type_name(m.type) + "\"";
+  if (m.type == MaterialType::blend) return body + blend_keys(m, names, what);
+  return body + material_type_keys(m, names, what);
+}
+
 std::string material_json(const Material& m, size_t index, const Names& names) {
   const std::string& name = names.materials[index];
   std::string what = "materials." + printable(name);
-  std::string body = std::string("\"type\": \"") + material_type_name(m.type) + "\"";
-  body += material_type_keys(m, names, what);
-  if (!is_glass_kind(m.type)) body += std::string(", \"two_sided\": ") + bool_text(m.two_sided);
+  std::string body = material_body(m, names, what);
+  if (!is_glass_kind(m.type) && !(m.two_sided && m.transmits())) {
+    body += std::string(", \"two_sided\": ") + bool_text(m.two_sided);
+  }
   if (!m.opacity.is_constant() || m.opacity.value != 1) {
     body += ", \"opacity\": " + textured_float(m.opacity, names, what + ".opacity");
   }

@@ -93,6 +93,13 @@ void expect_same_material(const Material& x, const Material& y) {
   EXPECT_TRUE(same_bits(p.main_specular_sampling_rate, q.main_specular_sampling_rate));
   EXPECT_TRUE(same_bits(p.clearcoat_sampling_rate, q.clearcoat_sampling_rate));
   EXPECT_TRUE(same_bits(p.diffuse_reflectance_sampling_rate, q.diffuse_reflectance_sampling_rate));
+  expect_same(x.blend_weight, y.blend_weight);
+  ASSERT_EQ(x.blend.size(), y.blend.size());
+  for (size_t i = 0; i < x.blend.size(); ++i) {
+    Material a = x.blend[i], b = y.blend[i];
+    a.name = b.name = "";  // nested materials have no names of their own in JSON
+    expect_same_material(a, b);
+  }
 }
 
 void expect_same_shape(const Shape& x, const Shape& y) {
@@ -424,6 +431,16 @@ Scene full_model_scene() {
   transmissive.ior = 0.8;
   s.materials = {diffuse, mirror, glass, conductor, rough_conductor, rough_glass, thin,
                  plastic, rough_plastic, back, principled, transmissive};
+  Material blend = material("blend", MaterialType::blend);
+  blend.blend_weight = {0.8, 2};
+  Material inner = material("", MaterialType::blend);
+  inner.blend_weight = {0.125, -1};
+  inner.blend = {rough_glass, plastic};
+  blend.blend = {inner, rough_conductor};
+  for (Material& n : blend.blend) n.name = "";
+  for (Material& n : blend.blend[0].blend) n.name = "";
+  blend.two_sided = false;
+  s.materials.push_back(blend);
 
   Shape tri;
   tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

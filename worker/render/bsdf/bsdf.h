@@ -1,6 +1,6 @@
 // The BSDF of one material at one shading point: Mitsuba 3's diffuse, conductor, roughconductor,
-// dielectric, roughdielectric, thindielectric, plastic, roughplastic and principled behind one
-// interface
+// dielectric, roughdielectric, thindielectric, plastic, roughplastic, principled and blendbsdf
+// behind one interface
 // (docs/renderer.md, "BSDFs").
 //
 // All directions are unit vectors in the local shading frame (+z = the material's front, i.e.
@@ -18,6 +18,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "render/bsdf/blend.h"
 #include "render/bsdf/bsdf_sample.h"
 #include "render/bsdf/conductor.h"
 #include "render/bsdf/dielectric.h"
@@ -33,7 +34,8 @@ namespace tessera {
 
 class Bsdf {
  public:
-  /// Cheap: no allocation. rough_plastic needs p.rough_plastic (see rough_plastic.h).
+  /// Cheap: no allocation except for a blend (its two nested BSDFs). rough_plastic needs
+  /// p.rough_plastic (see rough_plastic.h).
   explicit Bsdf(const BsdfParams& p);
 
   /// f(wo, wi) |cos wi| of the non-delta lobes (radiance transport); 0 where undefined.
@@ -50,7 +52,7 @@ class Bsdf {
 
  private:
   std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf, RoughDielectricBsdf,
-               ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf, PrincipledBsdf>
+               ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf, PrincipledBsdf, BlendBsdf>
       impl_;
 };
 

@@ -2,6 +2,8 @@
 // one shading point (textures already looked up) and one sampled direction.
 #pragma once
 
+#include <vector>
+
 #include <glm/vec3.hpp>
 
 #include "scene/scene.h"
@@ -40,6 +42,8 @@ struct BsdfParams {
   /// (make_rough_plastic_table, once per material: they cost ~0.1 s). Not owned.
   const RoughPlasticTable* rough_plastic = nullptr;
   PrincipledInputs principled;  ///< principled only
+  float blend_weight = 0.5f;    ///< blend only: the second BSDF's weight, in [0, 1]
+  std::vector<BsdfParams> blend;  ///< blend only: the two nested BSDFs
 };
 
 /// One direction drawn by a BSDF.

@@ -105,6 +105,7 @@ TEST(BsdfFurnace, NoBsdfCreatesEnergy) {
     // White parameters make the bound tight: 1 is reached only by lossless materials.
     c.params.reflectance = c.params.specular_reflectance = glm::vec3(1.0f);
     c.params.specular_transmittance = glm::vec3(1.0f);
+    for (BsdfParams& nested : c.params.blend) nested.reflectance = glm::vec3(1.0f);
     const Bsdf bsdf(c.params);  // a rough plastic's table does not depend on the colours
     for (glm::vec3 wo : test_wos(c.two_sided_wo)) {
       const Mean m = furnace(bsdf, wo, seed++, 20000);

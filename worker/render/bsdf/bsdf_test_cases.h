@@ -101,6 +101,7 @@ class BsdfCases {
       add(std::string("plastic") + (nonlinear ? " nonlinear" : ""), p);
     }
     add_principled();
+    add_blends();
   }
 
   const std::vector<BsdfCase>& all() const { return cases_; }
@@ -129,6 +130,36 @@ class BsdfCases {
   }
 
  private:
+  /// Mitsuba's blendbsdf: smooth lobes of different kinds, a transmitting one, a nested blend.
+  void add_blends() {
+    BsdfParams diffuse;
+    diffuse.reflectance = {0.7f, 0.5f, 0.3f};
+    BsdfParams metal;
+    metal.type = MaterialType::rough_conductor;
+    metal.distribution = MicrofacetDistribution::ggx;
+    metal.alpha_u = metal.alpha_v = 0.2f;
+    metal.conductor_eta = {0.2f, 0.9f, 1.1f};
+    metal.conductor_k = {3.9f, 2.4f, 2.2f};
+    BsdfParams glass;
+    glass.type = MaterialType::rough_glass;
+    glass.alpha_u = glass.alpha_v = 0.3f;
+    glass.eta = 1.5f;
+    BsdfParams p;
+    p.type = MaterialType::blend;
+    p.blend_weight = 0.3f;
+    p.blend = {diffuse, metal};
+    add("blend diffuse and rough conductor 0.3", p);
+    p.blend_weight = 0.6f;
+    p.eta = 1.5f;  // the reciprocity test reads the interface's index here
+    p.blend = {glass, diffuse};
+    add("blend rough glass and diffuse 0.6", p, true);
+    BsdfParams inner = p;
+    inner.blend_weight = 0.5f;
+    p.blend = {inner, metal};
+    p.blend_weight = 0.25f;
+    add("blend of a blend and a rough conductor", p, true);
+  }
+
   /// Mitsuba's principled: each lobe alone and together, transmission from both sides.
   void add_principled() {
     BsdfParams p;

@@ -33,6 +33,7 @@ TEST(BsdfChiSquare, RoughDielectric) { run_chi_square(MaterialType::rough_glass)
 TEST(BsdfChiSquare, Plastic) { run_chi_square(MaterialType::plastic); }
 TEST(BsdfChiSquare, RoughPlastic) { run_chi_square(MaterialType::rough_plastic); }
 TEST(BsdfChiSquare, Principled) { run_chi_square(MaterialType::principled); }
+TEST(BsdfChiSquare, Blend) { run_chi_square(MaterialType::blend); }
 
 }  // namespace
 }  // namespace tessera::test
