@@ -120,21 +120,58 @@ enum class MaterialType {
   thin_glass,       ///< thin dielectric sheet: reflection and straight transmission
   plastic,          ///< smooth dielectric coating over a diffuse base: reflectance = diffuse_reflectance
   rough_plastic,    ///< microfacet coating over a diffuse base
+  /// Mitsuba's `principled` (Disney's BSDF as Mitsuba 3 writes it): reflectance = base_color,
+  /// ior = eta, the other parameters in Material::principled.
+  principled,
+  /// Mitsuba's `blendbsdf`: (1 - blend_weight) * blend[0] + blend_weight * blend[1].
+  blend,
 };
 
 enum class MicrofacetDistribution { ggx, beckmann };
 
+/// The parameters of a `principled` material besides base_color (Material::reflectance) and eta
+/// (Material::ior), with Mitsuba's names, defaults and meaning: each a weight in [0, 1] (constant
+/// or textured), except the three sampling rates (>= 0, constants), which steer which lobe
+/// sample() draws without changing the BSDF's value.
+struct PrincipledParameters {
+  TexturedFloat roughness{0.5, -1};    ///< GGX alpha = roughness^2 (at least 0.001)
+  TexturedFloat anisotropic{0, -1};    ///< alpha_u / alpha_v = 1 / (1 - 0.9 anisotropic)
+  TexturedFloat metallic{0, -1};       ///< blend towards a Schlick conductor of base_color
+  TexturedFloat spec_trans{0, -1};     ///< weight of the rough dielectric transmission
+  TexturedFloat spec_tint{0, -1};      ///< tints the dielectric reflection towards base_color
+  TexturedFloat sheen{0, -1};          ///< grazing retro-reflection for cloth
+  TexturedFloat sheen_tint{0, -1};     ///< tints the sheen towards base_color
+  TexturedFloat flatness{0, -1};       ///< blends the diffuse lobe towards a fake subsurface one
+  TexturedFloat clearcoat{0, -1};      ///< weight of the GTR1 clear coat lobe
+  TexturedFloat clearcoat_gloss{0, -1};  ///< coat alpha = lerp(0.1, 0.001, clearcoat_gloss)
+  double main_specular_sampling_rate = 1;
+  double clearcoat_sampling_rate = 1;
+  double diffuse_reflectance_sampling_rate = 1;
+  /// Whether the material transmits light: spec_trans textured or non-zero (Mitsuba's
+  /// m_has_spec_trans). It then is two-sided by nature, as a dielectric.
+  bool transmits() const { return !spec_trans.is_constant() || spec_trans.value != 0; }
+  /// Any parameter textured.
+  bool textured() const {
+    for (const TexturedFloat* f : {&roughness, &anisotropic, &metallic, &spec_trans, &spec_tint,
+                                   &sheen, &sheen_tint, &flatness, &clearcoat, &clearcoat_gloss}) {
+      if (!f->is_constant()) return true;
+    }
+    return false;
+  }
+};
+
 struct Material {
   std::string name;
   MaterialType type = MaterialType::diffuse;
-  /// diffuse: albedo; plastic / rough_plastic: diffuse_reflectance. Linear RGB; constants in
-  /// [0, 1] (textures are clamped there at lookup).
+  /// diffuse: albedo; plastic / rough_plastic: diffuse_reflectance; principled: base_color.
+  /// Linear RGB; constants in [0, 1] (textures are clamped there at lookup).
   TexturedColor reflectance{{0.5, 0.5, 0.5}, -1};
   /// conductors, glass, plastics: Mitsuba's specular_reflectance (default 1).
   TexturedColor specular_reflectance{{1, 1, 1}, -1};
   /// glass kinds: Mitsuba's specular_transmittance (default 1).
   TexturedColor specular_transmittance{{1, 1, 1}, -1};
-  /// glass kinds, plastics: interior over exterior index, > 0.
+  /// glass kinds, plastics, principled (Mitsuba's eta, or its `specular` converted): interior
+  /// over exterior index, > 0.
   double ior = 1.5;
   /// conductors: complex index of refraction relative to the exterior, per RGB channel.
   /// `perfect` = true is Mitsuba's material="none": Fresnel reflectance 1 whatever eta and k.
@@ -162,6 +199,28 @@ struct Material {
   /// Mitsuba's bumpmap: texture index of a height field and its scale, -1 = none.
   int32_t bump_map = -1;
   double bump_scale = 1;
+  /// principled only: its parameters besides base_color and eta.
+  PrincipledParameters principled;
+  /// blend only: Mitsuba's `weight` of the second BSDF, in [0, 1] (textures clamped there).
+  TexturedFloat blend_weight{0.5, -1};
+  /// blend only: the two nested BSDFs (Mitsuba's first and second), any kind but without
+  /// sidedness, mask, bump or normal map of their own (the blend carries those).
+  std::vector<Material> blend;
+  /// Whether the material transmits light (glass kinds, principled with spec_trans, a blend of
+  /// one): then two-sided by nature.
+  bool transmits() const {
+    if (type == MaterialType::glass || type == MaterialType::rough_glass ||
+        type == MaterialType::thin_glass) {
+      return true;
+    }
+    if (type == MaterialType::principled) return principled.transmits();
+    if (type == MaterialType::blend) {
+      for (const Material& m : blend) {
+        if (m.transmits()) return true;
+      }
+    }
+    return false;
+  }
 };
 
 // ---------------------------------------------------------------------------------------------

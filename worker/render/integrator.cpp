@@ -44,31 +44,6 @@ bool unoccluded(const TraceableScene& scene, glm::vec3 origin, const LightSample
   return !scene.occluded(origin, to - origin, 1.0f);
 }
 
-BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm::vec2 uv) {
-  BsdfParams p;
-  p.type = m.type;
-  auto color = [&](const RenderColor& c) {
-    return c.texture < 0 ? c.value : c.value * textures.lookup(c.texture, uv);
-  };
-  auto scalar = [&](const RenderFloat& f) {
-    return f.texture < 0 ? f.value : f.value * textures.lookup_1(f.texture, uv);
-  };
-  p.reflectance = color(m.reflectance);  // not clamped: Mitsuba does not clamp texels either
-  p.specular_reflectance = color(m.specular_reflectance);
-  p.specular_transmittance = color(m.specular_transmittance);
-  p.eta = m.ior;
-  p.conductor_eta = m.conductor_eta;
-  p.conductor_k = m.conductor_k;
-  p.perfect = m.perfect;
-  p.distribution = m.distribution;
-  p.alpha_u = scalar(m.alpha_u);
-  p.alpha_v = scalar(m.alpha_v);
-  p.sample_visible = m.sample_visible;
-  p.nonlinear = m.nonlinear;
-  p.rough_plastic = m.rough_plastic;
-  return p;
-}
-
 /// The shading frame at a hit: the interpolated normal, perturbed by a normal or bump map as
 /// Mitsuba's adapters do (texture/shading_normal.h), with its tangent along dpdu when the scene
 /// has uvs (anisotropic roughness is measured there). `wo` points to the previous vertex.

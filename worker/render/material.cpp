@@ -1,5 +1,9 @@
 #include "material.h"
 
+#include "bsdf/rough_plastic.h"
+#include "scene/scene_error.h"
+#include "texture/texture_set.h"
+
 namespace tessera {
 namespace {
 
@@ -30,11 +34,89 @@ RenderMaterial make_render_material(const Material& m) {
   r.normal_map = m.normal_map;
   r.bump_map = m.bump_map;
   r.bump_scale = float(m.bump_scale);
-  r.textured = m.reflectance.texture >= 0 || m.specular_reflectance.texture >= 0 ||
+  const PrincipledParameters& pp = m.principled;
+  RenderPrincipled& rp = r.principled;
+  rp.roughness = scalar(pp.roughness);
+  rp.anisotropic = scalar(pp.anisotropic);
+  rp.metallic = scalar(pp.metallic);
+  rp.spec_trans = scalar(pp.spec_trans);
+  rp.spec_tint = scalar(pp.spec_tint);
+  rp.sheen = scalar(pp.sheen);
+  rp.sheen_tint = scalar(pp.sheen_tint);
+  rp.flatness = scalar(pp.flatness);
+  rp.clearcoat = scalar(pp.clearcoat);
+  rp.clearcoat_gloss = scalar(pp.clearcoat_gloss);
+  rp.main_specular_sampling_rate = float(pp.main_specular_sampling_rate);
+  rp.clearcoat_sampling_rate = float(pp.clearcoat_sampling_rate);
+  rp.diffuse_reflectance_sampling_rate = float(pp.diffuse_reflectance_sampling_rate);
+  rp.transmits = m.type == MaterialType::principled && pp.transmits();
+  r.blend_weight = scalar(m.blend_weight);
+  for (const Material& nested : m.blend) {
+    r.blend.push_back(make_render_material(nested));
+    RenderMaterial& n = r.blend.back();
+    r.textured = r.textured || n.textured;
+    if (nested.type != MaterialType::rough_plastic) continue;
+    if (!nested.alpha_u.is_constant() || nested.alpha_u.value != nested.alpha_v.value) {
+      throw SceneError("material \"" + m.name + "\": a rough plastic's alpha is one constant " +
+                       "(Mitsuba's roughplastic is isotropic and untextured)");
+    }
+    n.owned_table = std::make_shared<const RoughPlasticTable>(make_rough_plastic_table(
+        nested.distribution, float(nested.alpha_u.value), float(nested.ior)));
+    n.rough_plastic = n.owned_table.get();
+  }
+  r.textured = r.textured || m.reflectance.texture >= 0 || m.specular_reflectance.texture >= 0 ||
                m.specular_transmittance.texture >= 0 || m.alpha_u.texture >= 0 ||
                m.alpha_v.texture >= 0 || m.opacity.texture >= 0 || m.normal_map >= 0 ||
-               m.bump_map >= 0;
+               m.bump_map >= 0 || (m.type == MaterialType::principled && pp.textured()) ||
+               m.blend_weight.texture >= 0;
   return r;
+}
+
+BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm::vec2 uv) {
+  BsdfParams p;
+  p.type = m.type;
+  auto color = [&](const RenderColor& c) {
+    return c.texture < 0 ? c.value : c.value * textures.lookup(c.texture, uv);
+  };
+  auto scalar = [&](const RenderFloat& f) {
+    return f.texture < 0 ? f.value : f.value * textures.lookup_1(f.texture, uv);
+  };
+  p.reflectance = color(m.reflectance);  // not clamped: Mitsuba does not clamp texels either
+  p.specular_reflectance = color(m.specular_reflectance);
+  p.specular_transmittance = color(m.specular_transmittance);
+  p.eta = m.ior;
+  p.conductor_eta = m.conductor_eta;
+  p.conductor_k = m.conductor_k;
+  p.perfect = m.perfect;
+  p.distribution = m.distribution;
+  p.alpha_u = scalar(m.alpha_u);
+  p.alpha_v = scalar(m.alpha_v);
+  p.sample_visible = m.sample_visible;
+  p.nonlinear = m.nonlinear;
+  p.rough_plastic = m.rough_plastic;
+  if (m.type == MaterialType::principled) {
+    const RenderPrincipled& rp = m.principled;
+    PrincipledInputs& in = p.principled;
+    in.roughness = scalar(rp.roughness);
+    in.anisotropic = scalar(rp.anisotropic);
+    in.metallic = scalar(rp.metallic);
+    in.spec_trans = scalar(rp.spec_trans);
+    in.spec_tint = scalar(rp.spec_tint);
+    in.sheen = scalar(rp.sheen);
+    in.sheen_tint = scalar(rp.sheen_tint);
+    in.flatness = scalar(rp.flatness);
+    in.clearcoat = scalar(rp.clearcoat);
+    in.clearcoat_gloss = scalar(rp.clearcoat_gloss);
+    in.main_specular_sampling_rate = rp.main_specular_sampling_rate;
+    in.clearcoat_sampling_rate = rp.clearcoat_sampling_rate;
+    in.diffuse_reflectance_sampling_rate = rp.diffuse_reflectance_sampling_rate;
+    in.transmits = rp.transmits;
+  }
+  if (m.type == MaterialType::blend) {
+    p.blend_weight = scalar(m.blend_weight);
+    for (const RenderMaterial& nested : m.blend) p.blend.push_back(bsdf_params(nested, textures, uv));
+  }
+  return p;
 }
 
 }  // namespace tessera

@@ -3,14 +3,20 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
+#include <glm/vec2.hpp>
+
+#include "bsdf/bsdf_sample.h"
 #include "scene/scene.h"
 
 namespace tessera {
 
 struct RoughPlasticTable;  // bsdf/rough_plastic.h
+class TextureSet;          // texture/texture_set.h
 
 /// A colour parameter: constant * texture(uv) when texture >= 0, the constant otherwise.
 struct RenderColor {
@@ -22,13 +28,22 @@ struct RenderFloat {
   int32_t texture = -1;
 };
 
+/// A principled material's parameters besides base_color and eta (PrincipledParameters).
+struct RenderPrincipled {
+  RenderFloat roughness{0.5f, -1}, anisotropic, metallic, spec_trans, spec_tint, sheen, sheen_tint,
+      flatness, clearcoat, clearcoat_gloss;
+  float main_specular_sampling_rate = 1, clearcoat_sampling_rate = 1;
+  float diffuse_reflectance_sampling_rate = 1;
+  bool transmits = false;  ///< spec_trans textured or non-zero
+};
+
 struct RenderMaterial {
   MaterialType type = MaterialType::diffuse;
   glm::vec3 albedo{0.0f};  ///< diffuse reflectance when constant (the diffuse fast path's)
-  float ior = 1.5f;        ///< glass kinds, plastics: interior over exterior
+  float ior = 1.5f;        ///< glass kinds, plastics, principled: interior over exterior
   bool two_sided = false;  ///< reflecting kinds: both sides reflect
 
-  RenderColor reflectance;            ///< diffuse albedo, plastics' diffuse_reflectance
+  RenderColor reflectance;  ///< diffuse albedo, plastics' diffuse_reflectance, base_color
   RenderColor specular_reflectance;
   RenderColor specular_transmittance;
   glm::vec3 conductor_eta{0.0f}, conductor_k{1.0f};
@@ -45,18 +60,38 @@ struct RenderMaterial {
 
   /// rough_plastic: the material's precomputed Fresnel integrals (owned by TraceableScene).
   const RoughPlasticTable* rough_plastic = nullptr;
+  RenderPrincipled principled;  ///< principled only
+  RenderFloat blend_weight{0.5f, -1};  ///< blend only
+  std::vector<RenderMaterial> blend;   ///< blend only: the two nested materials
+  /// A nested rough plastic's table, which this material owns (TraceableScene makes the
+  /// top-level materials' tables).
+  std::shared_ptr<const RoughPlasticTable> owned_table;
 
   /// Whether any parameter is a texture (the hit then needs its uv).
   bool textured = false;
-  /// Glass kinds: both sides are the surface, with the index inverted from the back.
+  /// Glass kinds and principled materials that transmit: both sides are the surface, with the
+  /// index inverted from the back (the BSDF handles wo below the surface).
   bool dielectric() const {
     return type == MaterialType::glass || type == MaterialType::rough_glass ||
-           type == MaterialType::thin_glass;
+           type == MaterialType::thin_glass ||
+           (type == MaterialType::principled && principled.transmits) ||
+           (type == MaterialType::blend && blend_transmits());
+  }
+  bool blend_transmits() const {
+    for (const RenderMaterial& m : blend) {
+      if (m.dielectric()) return true;
+    }
+    return false;
   }
   bool masked() const { return opacity.texture >= 0 || opacity.value < 1; }
 };
 
-/// The render form of `m`.
+/// The render form of `m`. The nested materials of a blend get their rough plastic tables
+/// here; throws SceneError when a nested rough plastic's alpha is not one constant.
 RenderMaterial make_render_material(const Material& m);
+
+/// The BSDF parameters of `m` at a point of texture coordinates `uv`: constants as they are,
+/// textured parameters looked up (only those of m's type).
+BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm::vec2 uv);
 
 }  // namespace tessera

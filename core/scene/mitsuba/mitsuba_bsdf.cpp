@@ -1,5 +1,6 @@
 #include "scene/mitsuba/mitsuba_bsdf.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "scene/mitsuba/mitsuba_ior.h"
@@ -12,14 +13,11 @@ namespace {
 
 constexpr const char* kSupported =
     "Tessera supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
-    "thindielectric, plastic, roughplastic, twosided, mask, bumpmap and normalmap";
+    "thindielectric, plastic, roughplastic, principled, blendbsdf, twosided, mask, bumpmap and "
+    "normalmap";
 
 constexpr MitsubaColorRole kReflectance = MitsubaColorRole::reflectance;
 
-bool is_glass(MaterialType type) {
-  return type == MaterialType::glass || type == MaterialType::rough_glass ||
-         type == MaterialType::thin_glass;
-}
 
 /// int_ior or ext_ior: a positive number, or a name from Mitsuba's table.
 double read_ior(MitsubaPlugin& plugin, const std::string& name, std::string_view fallback) {
@@ -160,6 +158,64 @@ Material read_plastic(MitsubaPlugin& plugin, MitsubaTextures& textures, bool rou
   return m;
 }
 
+/// A principled weight: a <float> in [0, 1] or a texture.
+TexturedFloat read_weight(MitsubaPlugin& plugin, std::string_view name, double fallback,
+                          MitsubaTextures& textures) {
+  TexturedFloat w = read_textured_float(plugin, name, fallback, textures);
+  if (w.is_constant() && !(w.value >= 0 && w.value <= 1)) {
+    fail_at(*plugin.property(name), "must be in [0, 1] (got " + format_number(w.value) + ")");
+  }
+  return w;
+}
+
+/// Mitsuba's principled: eta or specular (not both), the weights, the sampling rates.
+Material read_principled(MitsubaPlugin& plugin, MitsubaTextures& textures) {
+  Material m;
+  m.type = MaterialType::principled;
+  PrincipledParameters& p = m.principled;
+  m.reflectance = read_textured_color(plugin, "base_color", glm::dvec3(0.5), kReflectance, textures);
+  p.roughness = read_weight(plugin, "roughness", 0.5, textures);
+  p.anisotropic = read_weight(plugin, "anisotropic", 0, textures);
+  p.metallic = read_weight(plugin, "metallic", 0, textures);
+  p.spec_trans = read_weight(plugin, "spec_trans", 0, textures);
+  p.spec_tint = read_weight(plugin, "spec_tint", 0, textures);
+  p.sheen = read_weight(plugin, "sheen", 0, textures);
+  p.sheen_tint = read_weight(plugin, "sheen_tint", 0, textures);
+  p.flatness = read_weight(plugin, "flatness", 0, textures);
+  p.clearcoat = read_weight(plugin, "clearcoat", 0, textures);
+  p.clearcoat_gloss = read_weight(plugin, "clearcoat_gloss", 0, textures);
+  const std::pair<const char*, double*> rates[] = {
+      {"main_specular_sampling_rate", &p.main_specular_sampling_rate},
+      {"clearcoat_sampling_rate", &p.clearcoat_sampling_rate},
+      {"diffuse_reflectance_sampling_rate", &p.diffuse_reflectance_sampling_rate},
+  };
+  for (const auto& [name, rate] : rates) {
+    *rate = plugin.take_float(name).value_or(1.0);
+    if (!(*rate >= 0)) {
+      fail_at(*plugin.property(name), "must be >= 0 (got " + format_number(*rate) + ")");
+    }
+  }
+  if (plugin.has("eta") && plugin.has("specular")) {
+    fail_at(plugin.element(), "give eta or specular, not both (as Mitsuba requires)");
+  }
+  // Mitsuba moves eta = 1 (and specular = 0) off the values transmission cannot use.
+  if (std::optional<double> eta = plugin.take_float("eta")) {
+    if (!(*eta > 0)) fail_at(*plugin.property("eta"), "must be > 0 (got " + format_number(*eta) + ")");
+    m.ior = p.transmits() && *eta == 1 ? 1.001 : *eta;
+  } else {
+    double specular = plugin.take_float("specular").value_or(0.5);
+    if (!(specular >= 0 && specular < 12.5)) {
+      fail_at(*plugin.property("specular"),
+              "must be in [0, 12.5) (got " + format_number(specular) + ")");
+    }
+    if (p.transmits() && specular == 0) specular = 1e-3;
+    // Mitsuba's conversion, in float as there: eta = 2 / (1 - sqrt(0.08 specular)) - 1.
+    const float s = float(specular);
+    m.ior = double(2.0f / (1.0f - std::sqrt(0.08f * s)) - 1.0f);
+  }
+  return m;
+}
+
 /// The one BSDF nested in a wrapper (twosided, mask, bumpmap, normalmap).
 const MitsubaElement& single_nested(MitsubaPlugin& plugin) {
   std::vector<MitsubaObject> nested = plugin.take_objects("bsdf");
@@ -183,10 +239,10 @@ Material MitsubaMaterials::read_twosided(MitsubaPlugin& plugin) {
     const std::string* type = side.element->attribute("type");
     if (type && *type == "twosided") fail_at(*side.written, "twosided may not nest twosided");
     Material m = read(*side.element);
-    if (is_glass(m.type)) {
+    if (m.transmits()) {
       fail_at(*side.written,
               "twosided takes only BSDFs that do not transmit light (as in Mitsuba); a "
-              "dielectric is two-sided already");
+              "dielectric (or a principled BSDF with spec_trans) is two-sided already");
     }
     m.two_sided = true;
     sides.push_back(std::move(m));
@@ -195,6 +251,32 @@ Material MitsubaMaterials::read_twosided(MitsubaPlugin& plugin) {
     sides[0].back = int32_t(add(std::move(sides[1]), *nested[1].element));
   }
   return sides[0];
+}
+
+Material MitsubaMaterials::read_blend(MitsubaPlugin& plugin) {
+  if (!plugin.has("weight")) fail_at(plugin.element(), "needs a weight (float or texture), as in Mitsuba");
+  Material m;
+  m.type = MaterialType::blend;
+  m.blend_weight = read_textured_float(plugin, "weight", 0.5, textures_);
+  if (m.blend_weight.is_constant()) {
+    m.blend_weight.value = std::clamp(m.blend_weight.value, 0.0, 1.0);  // Mitsuba clamps it
+  }
+  std::vector<MitsubaObject> nested = plugin.take_objects("bsdf");
+  if (nested.size() != 2) {
+    fail_at(nested.size() > 2 ? *nested[2].written : plugin.element(),
+            "takes two nested BSDFs, as in Mitsuba");
+  }
+  for (const MitsubaObject& n : nested) {
+    Material inner = read(*n.element);
+    if (inner.two_sided || inner.back >= 0 || !inner.opacity.is_constant() ||
+        inner.opacity.value != 1 || inner.normal_map >= 0 || inner.bump_map >= 0) {
+      fail_at(*n.written,
+              "Tessera blends BSDFs without twosided, mask, bumpmap or normalmap inside; put "
+              "those around the blendbsdf");
+    }
+    m.blend.push_back(std::move(inner));
+  }
+  return m;
 }
 
 Material MitsubaMaterials::read_wrapper(MitsubaPlugin& plugin) {
@@ -252,6 +334,10 @@ Material MitsubaMaterials::read(const MitsubaElement& bsdf) {
     m = read_dielectric(plugin, textures_, MaterialType::thin_glass);
   } else if (type == "plastic" || type == "roughplastic") {
     m = read_plastic(plugin, textures_, type == "roughplastic");
+  } else if (type == "principled") {
+    m = read_principled(plugin, textures_);
+  } else if (type == "blendbsdf") {
+    m = read_blend(plugin);
   } else if (type == "twosided") {
     m = read_twosided(plugin);
   } else if (type == "mask" || type == "bumpmap" || type == "normalmap") {

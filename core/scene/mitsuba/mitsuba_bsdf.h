@@ -33,6 +33,15 @@ namespace tessera {
 /// - `plastic`, `roughplastic`: diffuse_reflectance (0.5), specular_reflectance (1), int_ior
 ///   (polypropylene), ext_ior (air), nonlinear (false); rough: distribution (beckmann), alpha
 ///   (0.1, textured), sample_visible;
+/// - `principled`: base_color (0.5), roughness (0.5), anisotropic, metallic, spec_trans,
+///   spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss (0; each a float in
+///   [0, 1] or a texture), eta or specular (0.5; not both; Mitsuba's conversion
+///   eta = 2 / (1 - sqrt(0.08 specular)) - 1), main_specular_sampling_rate,
+///   clearcoat_sampling_rate, diffuse_reflectance_sampling_rate (1). With spec_trans it
+///   transmits light and is two-sided by nature;
+/// - `blendbsdf`: weight (required; a float, clamped to [0, 1] as Mitsuba does, or a texture)
+///   and two nested BSDFs, which may be blends but have no twosided, mask, bumpmap or normalmap
+///   inside (those go around the blend);
 /// - `twosided` around one BSDF (the same on both sides) or two (front, back); the nested BSDFs
 ///   must not transmit light, as in Mitsuba;
 /// - `mask` around one BSDF: opacity (0.5, textured);
@@ -57,6 +66,7 @@ class MitsubaMaterials {
   uint32_t add_named(Material material, const std::string& name);
   Material read(const MitsubaElement& bsdf);
   Material read_twosided(MitsubaPlugin& plugin);
+  Material read_blend(MitsubaPlugin& plugin);
   Material read_wrapper(MitsubaPlugin& plugin);
 
   const MitsubaIds& ids_;

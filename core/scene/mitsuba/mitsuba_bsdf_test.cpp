@@ -1,4 +1,6 @@
 // Mitsuba BSDFs as materials, named IORs, <ref> resolution and Mitsuba's default material.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "scene/mitsuba/mitsuba_ior.h"
@@ -278,16 +280,138 @@ TEST(MitsubaBsdf, TwosidedLimits) {
 
 TEST(MitsubaBsdf, UnsupportedBsdfsNameTheirLine) {
   std::string body =
-      "<bsdf type=\"diffuse\" id=\"ok\"/>\n<bsdf type=\"principled\" id=\"p\">\n"
+      "<bsdf type=\"diffuse\" id=\"ok\"/>\n<bsdf type=\"hair\" id=\"p\">\n"
       "  <float name=\"roughness\" value=\"0.1\"/>\n</bsdf>";
   std::string xml = mitsuba_scene(body);
   // Refused even when no shape uses it.
   EXPECT_EQ(xml_error(xml),
-            "test.xml: line " + std::to_string(line_of(xml, "principled")) +
-                ": <bsdf type=\"principled\" id=\"p\">: unsupported BSDF (Tessera "
+            "test.xml: line " + std::to_string(line_of(xml, "hair")) +
+                ": <bsdf type=\"hair\" id=\"p\">: unsupported BSDF (Tessera "
                 "supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
-                "thindielectric, plastic, roughplastic, twosided, mask, bumpmap and normalmap)");
-  EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"/>)").find("unsupported BSDF"), std::string::npos);
+                "thindielectric, plastic, roughplastic, principled, blendbsdf, twosided, mask, "
+                "bumpmap and normalmap)");
+  EXPECT_NE(bsdf_error(R"(<bsdf type="pplastic"/>)").find("unsupported BSDF"), std::string::npos);
+}
+
+TEST(MitsubaBsdf, PrincipledDefaultsAreMitsubas) {
+  Material m = material_of(R"(<bsdf type="principled"/>)");
+  EXPECT_EQ(m.type, MaterialType::principled);
+  EXPECT_EQ(m.reflectance.value, glm::dvec3(0.5));
+  EXPECT_EQ(m.principled.roughness.value, 0.5);
+  EXPECT_EQ(m.principled.metallic.value, 0.0);
+  EXPECT_EQ(m.principled.clearcoat_gloss.value, 0.0);
+  EXPECT_FALSE(m.principled.transmits());
+  EXPECT_FALSE(m.two_sided);
+  // specular 0.5 is eta = 2 / (1 - sqrt(0.04)) - 1 = 1.5.
+  EXPECT_NEAR(m.ior, 1.5, 1e-6);
+  EXPECT_EQ(m.principled.main_specular_sampling_rate, 1.0);
+}
+
+TEST(MitsubaBsdf, PrincipledReadsEveryParameterAndTextures) {
+  Material m = material_of(R"(<bsdf type="principled">
+      <rgb name="base_color" value="0.2, 0.8, 0.1"/>
+      <float name="roughness" value="0.15"/>
+      <texture name="anisotropic" type="checkerboard"><float name="color0" value="0.05"/>
+        <float name="color1" value="0.8"/></texture>
+      <float name="metallic" value="0.3"/> <float name="spec_trans" value="0.4"/>
+      <float name="spec_tint" value="0.5"/> <float name="sheen" value="0.6"/>
+      <float name="sheen_tint" value="0.7"/> <float name="flatness" value="0.8"/>
+      <float name="clearcoat" value="0.9"/> <float name="clearcoat_gloss" value="0.25"/>
+      <float name="eta" value="1.33"/>
+      <float name="main_specular_sampling_rate" value="2"/>
+      <float name="clearcoat_sampling_rate" value="0.5"/>
+      <float name="diffuse_reflectance_sampling_rate" value="3"/></bsdf>)");
+  const PrincipledParameters& p = m.principled;
+  EXPECT_EQ(m.reflectance.value, glm::dvec3(0.2, 0.8, 0.1));
+  EXPECT_EQ(p.roughness.value, 0.15);
+  EXPECT_GE(p.anisotropic.texture, 0);
+  EXPECT_EQ(p.metallic.value, 0.3);
+  EXPECT_EQ(p.spec_trans.value, 0.4);
+  EXPECT_EQ(p.spec_tint.value, 0.5);
+  EXPECT_EQ(p.sheen.value, 0.6);
+  EXPECT_EQ(p.sheen_tint.value, 0.7);
+  EXPECT_EQ(p.flatness.value, 0.8);
+  EXPECT_EQ(p.clearcoat.value, 0.9);
+  EXPECT_EQ(p.clearcoat_gloss.value, 0.25);
+  EXPECT_EQ(m.ior, 1.33);
+  EXPECT_EQ(p.main_specular_sampling_rate, 2.0);
+  EXPECT_EQ(p.clearcoat_sampling_rate, 0.5);
+  EXPECT_EQ(p.diffuse_reflectance_sampling_rate, 3.0);
+  EXPECT_TRUE(p.transmits());
+  EXPECT_TRUE(p.textured());
+}
+
+TEST(MitsubaBsdf, PrincipledEtaAsMitsubaAdjustsIt) {
+  // eta = 1 (or specular = 0) cannot transmit: Mitsuba moves it when spec_trans is given.
+  EXPECT_EQ(material_of(R"(<bsdf type="principled"><float name="spec_trans" value="0.5"/>
+      <float name="eta" value="1"/></bsdf>)").ior, 1.001);
+  EXPECT_EQ(material_of(R"(<bsdf type="principled"><float name="eta" value="1"/></bsdf>)").ior, 1.0);
+  EXPECT_EQ(material_of(R"(<bsdf type="principled"><float name="spec_trans" value="0"/>
+      <float name="specular" value="0"/></bsdf>)").ior, 1.0);
+  const double eta = material_of(R"(<bsdf type="principled"><float name="spec_trans" value="1"/>
+      <float name="specular" value="0"/></bsdf>)").ior;
+  EXPECT_NEAR(eta, 2 / (1 - std::sqrt(0.08 * 1e-3)) - 1, 1e-6);
+  EXPECT_NEAR(material_of(R"(<bsdf type="principled"><float name="specular" value="0.7"/></bsdf>)").ior,
+              2 / (1 - std::sqrt(0.08 * 0.7)) - 1, 1e-6);
+}
+
+TEST(MitsubaBsdf, PrincipledRefusalsNameTheParameter) {
+  EXPECT_NE(bsdf_error(R"(<bsdf type="principled"><float name="eta" value="1.5"/>
+      <float name="specular" value="0.5"/></bsdf>)").find("give eta or specular, not both"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="principled"><float name="metallic" value="1.5"/></bsdf>)")
+                .find("<float name=\"metallic\">: must be in [0, 1] (got 1.5)"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="principled"><float name="eta" value="-2"/></bsdf>)")
+                .find("must be > 0"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="principled"><float name="clearcoat_sampling_rate"
+      value="-1"/></bsdf>)").find("must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="principled"><float name="subsurface" value="0.5"/></bsdf>)")
+                .find("subsurface"),
+            std::string::npos);
+  // With transmission it is two-sided by nature; Mitsuba's twosided refuses it too.
+  EXPECT_NE(bsdf_error(R"(<bsdf type="twosided"><bsdf type="principled">
+      <float name="spec_trans" value="0.5"/></bsdf></bsdf>)")
+                .find("twosided takes only BSDFs that do not transmit light"),
+            std::string::npos);
+  EXPECT_TRUE(material_of(R"(<bsdf type="twosided"><bsdf type="principled"/></bsdf>)").two_sided);
+}
+
+TEST(MitsubaBsdf, BlendbsdfNestsTwoBsdfs) {
+  Material m = material_of(R"(<bsdf type="blendbsdf">
+      <texture name="weight" type="checkerboard"/>
+      <bsdf type="roughplastic"><string name="distribution" value="ggx"/>
+        <float name="alpha" value="0.3"/><rgb name="diffuse_reflectance" value="0"/></bsdf>
+      <bsdf type="blendbsdf"><float name="weight" value="1.5"/>
+        <bsdf type="conductor"/><bsdf type="diffuse"/></bsdf></bsdf>)");
+  EXPECT_EQ(m.type, MaterialType::blend);
+  EXPECT_GE(m.blend_weight.texture, 0);
+  ASSERT_EQ(m.blend.size(), 2u);
+  EXPECT_EQ(m.blend[0].type, MaterialType::rough_plastic);
+  EXPECT_EQ(m.blend[0].distribution, MicrofacetDistribution::ggx);
+  EXPECT_EQ(m.blend[1].type, MaterialType::blend);
+  EXPECT_EQ(m.blend[1].blend_weight.value, 1.0);  // clamped, as Mitsuba does
+  EXPECT_EQ(m.blend[1].blend[0].type, MaterialType::mirror);
+  EXPECT_TRUE(material_of(R"(<bsdf type="twosided"><bsdf type="blendbsdf">
+      <float name="weight" value="0.5"/><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf>
+      </bsdf>)").two_sided);
+
+  EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"><bsdf type="diffuse"/><bsdf type="diffuse"/>
+      </bsdf>)").find("needs a weight"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/>
+      <bsdf type="diffuse"/></bsdf>)").find("takes two nested BSDFs"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/>
+      <bsdf type="twosided"><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf>)")
+                .find("without twosided, mask, bumpmap or normalmap inside"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="twosided"><bsdf type="blendbsdf">
+      <float name="weight" value="0.5"/><bsdf type="dielectric"/><bsdf type="diffuse"/></bsdf>
+      </bsdf>)").find("twosided takes only BSDFs that do not transmit light"),
+            std::string::npos);
 }
 
 TEST(MitsubaRef, ABsdfNamedTwiceIsOneMaterial) {

@@ -1,5 +1,7 @@
 #include "scene/native/material_parser.h"
 
+#include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "scene/scene_error.h"
@@ -17,6 +19,32 @@ constexpr std::pair<const char*, MaterialType> kTypes[] = {
     {"thin_glass", MaterialType::thin_glass},
     {"plastic", MaterialType::plastic},
     {"rough_plastic", MaterialType::rough_plastic},
+    {"principled", MaterialType::principled},
+    {"blend", MaterialType::blend},
+};
+
+/// The principled material's weights (each in [0, 1], constant or textured), in the order the
+/// writer writes them.
+struct PrincipledKey {
+  const char* key;
+  TexturedFloat PrincipledParameters::*member;
+};
+constexpr PrincipledKey kPrincipledWeights[] = {
+    {"roughness", &PrincipledParameters::roughness},
+    {"anisotropic", &PrincipledParameters::anisotropic},
+    {"metallic", &PrincipledParameters::metallic},
+    {"spec_trans", &PrincipledParameters::spec_trans},
+    {"spec_tint", &PrincipledParameters::spec_tint},
+    {"sheen", &PrincipledParameters::sheen},
+    {"sheen_tint", &PrincipledParameters::sheen_tint},
+    {"flatness", &PrincipledParameters::flatness},
+    {"clearcoat", &PrincipledParameters::clearcoat},
+    {"clearcoat_gloss", &PrincipledParameters::clearcoat_gloss},
+};
+constexpr std::pair<const char*, double PrincipledParameters::*> kPrincipledRates[] = {
+    {"main_specular_sampling_rate", &PrincipledParameters::main_specular_sampling_rate},
+    {"clearcoat_sampling_rate", &PrincipledParameters::clearcoat_sampling_rate},
+    {"diffuse_reflectance_sampling_rate", &PrincipledParameters::diffuse_reflectance_sampling_rate},
 };
 
 MaterialType parse_type(const JsonValue& value) {
@@ -28,7 +56,7 @@ MaterialType parse_type(const JsonValue& value) {
   }
   type->fail("unknown material type \"" + printable(name) +
              "\" (expected diffuse, mirror, glass, conductor, rough_conductor, rough_glass, "
-             "thin_glass, plastic or rough_plastic)");
+             "thin_glass, plastic, rough_plastic, principled or blend)");
 }
 
 bool is_rough(MaterialType t) {
@@ -47,11 +75,21 @@ std::vector<std::string_view> keys_of(MaterialType type) {
   std::vector<std::string_view> keys = {"type"};
   if (type == MaterialType::diffuse) keys.push_back("reflectance");
   if (is_plastic(type)) keys.insert(keys.end(), {"diffuse_reflectance", "nonlinear"});
+  if (type == MaterialType::blend) return {"type", "weight", "materials", "two_sided", "opacity",
+                                           "normal_map", "bump_map", "bump_scale", "back"};
   if (type != MaterialType::diffuse && type != MaterialType::mirror) {
     keys.push_back("specular_reflectance");
   }
   if (is_glass_kind(type)) keys.push_back("specular_transmittance");
-  if (is_glass_kind(type) || is_plastic(type)) keys.push_back("ior");
+  if (is_glass_kind(type) || is_plastic(type) || type == MaterialType::principled) {
+    keys.push_back("ior");
+  }
+  if (type == MaterialType::principled) {
+    keys.erase(std::find(keys.begin(), keys.end(), "specular_reflectance"));
+    keys.push_back("base_color");
+    for (const PrincipledKey& k : kPrincipledWeights) keys.push_back(k.key);
+    for (const auto& [key, member] : kPrincipledRates) keys.push_back(key);
+  }
   if (is_conductor(type)) keys.insert(keys.end(), {"eta", "k", "perfect"});
   if (is_rough(type)) {
     keys.insert(keys.end(), {"distribution", "alpha", "sample_visible"});
@@ -67,12 +105,16 @@ void refuse_foreign_keys(const JsonValue& value, MaterialType type) {
   auto refuse = [&](const char* key, const char* message) {
     if (std::optional<JsonValue> v = value.find(key)) v->fail(message);
   };
-  if (!is_glass_kind(type) && !is_plastic(type)) {
-    refuse("ior", "only glass kinds and plastics have an ior");
+  if (!is_glass_kind(type) && !is_plastic(type) && type != MaterialType::principled) {
+    refuse("ior", "only glass kinds, plastics and principled materials have an ior");
+  }
+  if (type != MaterialType::principled) {
+    refuse("base_color", "only principled materials have a base_color");
   }
   if (type != MaterialType::diffuse) {
-    refuse("reflectance", is_plastic(type) ? "plastics call it diffuse_reflectance"
-                                           : "only diffuse materials have a reflectance");
+    refuse("reflectance", is_plastic(type)                     ? "plastics call it diffuse_reflectance"
+                          : type == MaterialType::principled ? "principled materials call it base_color"
+                                                             : "only diffuse materials have a reflectance");
   }
   if (is_glass_kind(type)) refuse("two_sided", "glass is always two-sided (remove this key)");
   if (!is_rough(type)) refuse("alpha", "only rough kinds have an alpha");
@@ -116,6 +158,58 @@ void parse_roughness(const JsonValue& value, const TextureNames& textures, Mater
   }
 }
 
+void parse_principled(const JsonValue& value, const TextureNames& textures, Material& m) {
+  if (auto c = value.find("base_color")) m.reflectance = parse_textured_color(*c, textures, {0, 1});
+  for (const PrincipledKey& k : kPrincipledWeights) {
+    if (auto v = value.find(k.key)) {
+      m.principled.*k.member = parse_textured_float(*v, textures, 0, 1, false);
+    }
+  }
+  for (const auto& [key, member] : kPrincipledRates) {
+    if (auto v = value.find(key)) {
+      const double rate = v->number();
+      if (!(rate >= 0) || !std::isfinite(rate)) {
+        v->fail("must be a finite number >= 0 (got " + format_number(rate) + ")");
+      }
+      m.principled.*member = rate;
+    }
+  }
+  if (m.principled.transmits() && m.two_sided) {
+    value.find("two_sided")->fail(
+        "a principled material with spec_trans transmits light and is two-sided by nature "
+        "(remove this key, or set spec_trans to 0)");
+  }
+}
+
+void parse_type_keys(const JsonValue& value, const TextureNames& textures, Material& m);
+void parse_common_keys(const JsonValue& value, const TextureNames& textures, Material& m);
+
+/// A blend's weight (required, as in Mitsuba) and its two nested materials, which carry no
+/// sidedness, mask or maps of their own.
+void parse_blend(const JsonValue& value, const TextureNames& textures, Material& m) {
+  std::optional<JsonValue> weight = value.find("weight");
+  if (!weight) value.fail("a blend needs a \"weight\" (number in [0, 1] or texture)");
+  m.blend_weight = parse_textured_float(*weight, textures, 0, 1, false);
+  std::optional<JsonValue> materials = value.find("materials");
+  if (!materials) value.fail("a blend needs \"materials\": [first, second]");
+  std::vector<JsonValue> nested = materials->elements(2);
+  for (size_t i = 0; i < nested.size(); ++i) {
+    const JsonValue& n = nested[i];
+    if (!n.json().is_object()) n.expect_object({}, "a material");
+    for (const char* key : {"two_sided", "back", "opacity", "normal_map", "bump_map", "bump_scale"}) {
+      if (std::optional<JsonValue> v = n.find(key)) {
+        v->fail("a blend's nested material has no " + std::string(key) +
+                " of its own (give it to the blend)");
+      }
+    }
+    m.blend.push_back(parse_material(m.name + "[" + std::to_string(i) + "]", n, textures));
+  }
+  if (m.transmits() && m.two_sided) {
+    value.find("two_sided")->fail(
+        "a blend of a material that transmits light is two-sided by nature (remove this key)");
+  }
+}
+
 void parse_type_keys(const JsonValue& value, const TextureNames& textures, Material& m) {
   MaterialType type = m.type;
   if (type == MaterialType::diffuse) {
@@ -145,6 +239,8 @@ void parse_type_keys(const JsonValue& value, const TextureNames& textures, Mater
     m.perfect = value.boolean_or("perfect", false);
   }
   if (is_rough(type)) parse_roughness(value, textures, m);
+  if (type == MaterialType::principled) parse_principled(value, textures, m);
+  if (type == MaterialType::blend) parse_blend(value, textures, m);
 }
 
 void parse_common_keys(const JsonValue& value, const TextureNames& textures, Material& m) {
@@ -174,8 +270,8 @@ Material parse_material(const std::string& name, const JsonValue& value,
     if (kind == material.type) type_name = text;
   }
   value.expect_object(keys_of(material.type), std::string("a ") + type_name + " material");
-  parse_type_keys(value, textures, material);
   parse_common_keys(value, textures, material);
+  parse_type_keys(value, textures, material);
   return material;
 }
 

@@ -42,7 +42,7 @@ uint32_t MaterialTable::derive(const Material& material) {
 
 uint32_t MaterialTable::two_sided(uint32_t index) {
   const Material& original = materials_[index];
-  if (original.two_sided || is_glass_kind(original.type)) return index;
+  if (original.two_sided || original.transmits()) return index;
   auto it = two_sided_copies_.find(index);
   if (it != two_sided_copies_.end()) return it->second;
   Material copy = original;

@@ -27,8 +27,9 @@ class MaterialTable {
   /// Adds a derived material (e.g. "CornellBox-Sphere.obj:leftSphere") unless one of that name
   /// was derived before, in which case that one's index is returned.
   uint32_t derive(const Material& material);
-  /// A material reflecting alike on both sides: `index` itself when it already does (two-sided
-  /// or glass), else its copy "<name> (two-sided)", made once per material.
+  /// A material reflecting alike on both sides: `index` itself when it already does (two-sided,
+  /// glass, or a principled material that transmits), else its copy "<name> (two-sided)", made
+  /// once per material.
   uint32_t two_sided(uint32_t index);
 
   const Material& operator[](uint32_t index) const { return materials_[index]; }

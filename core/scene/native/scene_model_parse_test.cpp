@@ -117,6 +117,99 @@ TEST(SceneModelParse, MaterialKindsTakeMitsubasParameters) {
             "materials.m.back: material \"n\" must be two-sided (it is shaded with its own front)");
 }
 
+TEST(SceneModelParse, PrincipledTakesMitsubasParametersAndTextures) {
+  Scene s = parse(with(R"("materials": {
+      "car paint": {"type": "principled", "base_color": [0.2, 0.8, 0.1], "roughness": 0.15,
+                    "anisotropic": {"texture": "h", "scale": 0.5}, "metallic": 0.3,
+                    "spec_tint": 0.5, "sheen": 0.6, "sheen_tint": 0.7, "flatness": 0.8,
+                    "clearcoat": 0.9, "clearcoat_gloss": 0.25, "ior": 1.33,
+                    "main_specular_sampling_rate": 2, "clearcoat_sampling_rate": 0.5,
+                    "diffuse_reflectance_sampling_rate": 0, "two_sided": true},
+      "default": {"type": "principled"},
+      "glassy": {"type": "principled", "spec_trans": 1}},
+      "textures": {"h": {"type": "bitmap", "file": "h.png"}})"));
+  ASSERT_EQ(s.materials.size(), 3u);
+  const Material& m = s.materials[0];
+  EXPECT_EQ(m.type, MaterialType::principled);
+  EXPECT_EQ(m.reflectance.value, glm::dvec3(0.2, 0.8, 0.1));
+  EXPECT_EQ(m.principled.roughness.value, 0.15);
+  EXPECT_EQ(m.principled.anisotropic.texture, 0);
+  EXPECT_EQ(m.principled.anisotropic.value, 0.5);
+  EXPECT_EQ(m.principled.clearcoat_gloss.value, 0.25);
+  EXPECT_EQ(m.principled.diffuse_reflectance_sampling_rate, 0.0);
+  EXPECT_EQ(m.ior, 1.33);
+  EXPECT_TRUE(m.two_sided);
+  EXPECT_FALSE(m.principled.transmits());
+  EXPECT_EQ(s.materials[1].principled.roughness.value, 0.5);  // Mitsuba's defaults
+  EXPECT_EQ(s.materials[1].reflectance.value, glm::dvec3(0.5));
+  EXPECT_EQ(s.materials[1].ior, 1.5);
+  EXPECT_TRUE(s.materials[2].principled.transmits());
+
+  auto material_error = [](const std::string& m) {
+    return error_of(with(R"("materials": {"m": )" + m + "}"));
+  };
+  EXPECT_EQ(material_error(R"({"type": "principled", "metallic": 1.5})"),
+            "materials.m.metallic: must be in [0, 1] (got 1.5)");
+  EXPECT_EQ(material_error(R"({"type": "principled", "reflectance": [1, 1, 1]})"),
+            "materials.m.reflectance: principled materials call it base_color");
+  EXPECT_EQ(material_error(R"({"base_color": [1, 1, 1]})"),
+            "materials.m.base_color: only principled materials have a base_color");
+  EXPECT_EQ(material_error(R"({"type": "principled", "clearcoat_sampling_rate": -1})"),
+            "materials.m.clearcoat_sampling_rate: must be a finite number >= 0 (got -1)");
+  EXPECT_EQ(material_error(R"({"type": "principled", "spec_trans": 0.5, "two_sided": true})"),
+            "materials.m.two_sided: a principled material with spec_trans transmits light and is "
+            "two-sided by nature (remove this key, or set spec_trans to 0)");
+  EXPECT_EQ(material_error(R"({"type": "principled", "specular_reflectance": [1, 1, 1]})").rfind(
+                "materials.m.specular_reflectance: unknown key", 0),
+            0u);
+}
+
+TEST(SceneModelParse, BlendNestsTwoMaterials) {
+  Scene s = parse(with(R"("materials": {
+      "mix": {"type": "blend", "weight": {"texture": "h"}, "two_sided": true,
+              "materials": [{"reflectance": [0.1, 0.2, 0.3]},
+                            {"type": "blend", "weight": 0.25,
+                             "materials": [{"type": "rough_conductor", "alpha": 0.2},
+                                           {"type": "principled", "metallic": 1}]}]},
+      "frosted mix": {"type": "blend", "weight": 0.5,
+                      "materials": [{"type": "rough_glass"}, {}]}},
+      "textures": {"h": {"type": "bitmap", "file": "h.png"}})"));
+  ASSERT_EQ(s.materials.size(), 2u);
+  const Material& m = s.materials[0];
+  EXPECT_EQ(m.type, MaterialType::blend);
+  EXPECT_EQ(m.blend_weight.texture, 0);
+  ASSERT_EQ(m.blend.size(), 2u);
+  EXPECT_EQ(m.blend[0].reflectance.value, glm::dvec3(0.1, 0.2, 0.3));
+  ASSERT_EQ(m.blend[1].blend.size(), 2u);
+  EXPECT_EQ(m.blend[1].blend_weight.value, 0.25);
+  EXPECT_EQ(m.blend[1].blend[1].principled.metallic.value, 1.0);
+  EXPECT_FALSE(m.transmits());
+  EXPECT_TRUE(s.materials[1].transmits());
+
+  auto material_error = [](const std::string& m) {
+    return error_of(with(R"("materials": {"m": )" + m + "}"));
+  };
+  EXPECT_EQ(material_error(R"({"type": "blend", "materials": [{}, {}]})"),
+            "materials.m: a blend needs a \"weight\" (number in [0, 1] or texture)");
+  EXPECT_EQ(material_error(R"({"type": "blend", "weight": 2, "materials": [{}, {}]})"),
+            "materials.m.weight: must be in [0, 1] (got 2)");
+  EXPECT_NE(material_error(R"({"type": "blend", "weight": 0.5, "materials": [{}]})")
+                .find("materials.m.materials"),
+            std::string::npos);
+  EXPECT_EQ(material_error(R"({"type": "blend", "weight": 0.5,
+                              "materials": [{"two_sided": true}, {}]})"),
+            "materials.m.materials[0].two_sided: a blend's nested material has no two_sided of its "
+            "own (give it to the blend)");
+  EXPECT_EQ(material_error(R"({"type": "blend", "weight": 0.5, "two_sided": true,
+                              "materials": [{"type": "glass"}, {}]})"),
+            "materials.m.two_sided: a blend of a material that transmits light is two-sided by "
+            "nature (remove this key)");
+  EXPECT_EQ(material_error(R"({"type": "blend", "weight": 0.5,
+                              "materials": [{"type": "velvet"}, {}]})")
+                .rfind("materials.m.materials[0].type: unknown material type", 0),
+            0u);
+}
+
 TEST(SceneModelParse, LightsFilterAndHideEmitters) {
   Scene s = parse(with(R"(
     "film": {"width": 4, "height": 4, "filter": {"type": "gaussian", "stddev": 0.25}},

@@ -163,8 +163,34 @@ const char* material_type_name(MaterialType type) {
     case MaterialType::thin_glass: return "thin_glass";
     case MaterialType::plastic: return "plastic";
     case MaterialType::rough_plastic: return "rough_plastic";
+    case MaterialType::principled: return "principled";
+    case MaterialType::blend: return "blend";
   }
   return "diffuse";
+}
+
+/// The keys of a principled material, every one written.
+std::string principled_keys(const Material& m, const Names& names, const std::string& what) {
+  const PrincipledParameters& p = m.principled;
+  const std::pair<const char*, const TexturedFloat*> weights[] = {
+      {"roughness", &p.roughness},   {"anisotropic", &p.anisotropic},
+      {"metallic", &p.metallic},     {"spec_trans", &p.spec_trans},
+      {"spec_tint", &p.spec_tint},   {"sheen", &p.sheen},
+      {"sheen_tint", &p.sheen_tint}, {"flatness", &p.flatness},
+      {"clearcoat", &p.clearcoat},   {"clearcoat_gloss", &p.clearcoat_gloss},
+  };
+  std::string out = ", \"base_color\": " + textured_color(m.reflectance, names, what + ".base_color");
+  for (const auto& [key, value] : weights) {
+    out += std::string(", \"") + key + "\": " + textured_float(*value, names, what + "." + key);
+  }
+  out += ", \"ior\": " + number(m.ior, what + ".ior");
+  out += ", \"main_specular_sampling_rate\": " +
+         number(p.main_specular_sampling_rate, what + ".main_specular_sampling_rate");
+  out += ", \"clearcoat_sampling_rate\": " +
+         number(p.clearcoat_sampling_rate, what + ".clearcoat_sampling_rate");
+  out += ", \"diffuse_reflectance_sampling_rate\": " +
+         number(p.diffuse_reflectance_sampling_rate, what + ".diffuse_reflectance_sampling_rate");
+  return out;
 }
 
 /// The keys of `m`'s type, every one written.
@@ -184,6 +210,7 @@ std::string material_type_keys(const Material& m, const Names& names, const std:
            textured_color(m.reflectance, names, what + ".diffuse_reflectance") +
            ", \"nonlinear\": " + bool_text(m.nonlinear);
   }
+  if (t == MaterialType::principled) return out + principled_keys(m, names, what);
   if (t != MaterialType::diffuse && t != MaterialType::mirror) {
     out += ", \"specular_reflectance\": " +
            textured_color(m.specular_reflectance, names, what + ".specular_reflectance");
@@ -214,12 +241,39 @@ std::string material_type_keys(const Material& m, const Names& names, const std:
   return out;
 }
 
+std::string material_body(const Material& m, const Names& names, const std::string& what);
+
+/// A blend's weight and nested materials.
+std::string blend_keys(const Material& m, const Names& names, const std::string& what) {
+  if (m.blend.size() != 2) throw SceneError(what + ": a blend has two nested materials");
+  std::string out = ", \"weight\": " + textured_float(m.blend_weight, names, what + ".weight");
+  out += ", \"materials\": [";
+  for (size_t i = 0; i < 2; ++i) {
+    const Material& n = m.blend[i];
+    const std::string where = what + ".materials[" + std::to_string(i) + "]";
+    if (n.two_sided || n.back >= 0 || !n.opacity.is_constant() || n.opacity.value != 1 ||
+        n.normal_map >= 0 || n.bump_map >= 0) {
+      throw SceneError(where + ": a blend's nested material has no sidedness, mask or map of its own");
+    }
+    out += (i ? ", {" : "{") + material_body(n, names, where) + "}";
+  }
+  return out + "]";
+}
+
+/// "type" and the keys of m's type.
+std::string material_body(const Material& m, const Names& names, const std::string& what) {
+  std::string body = std::string("\"type\": \"") + material_type_name(m.type) + "\"";
+  if (m.type == MaterialType::blend) return body + blend_keys(m, names, what);
+  return body + material_type_keys(m, names, what);
+}
+
 std::string material_json(const Material& m, size_t index, const Names& names) {
   const std::string& name = names.materials[index];
   std::string what = "materials." + printable(name);
-  std::string body = std::string("\"type\": \"") + material_type_name(m.type) + "\"";
-  body += material_type_keys(m, names, what);
-  if (!is_glass_kind(m.type)) body += std::string(", \"two_sided\": ") + bool_text(m.two_sided);
+  std::string body = material_body(m, names, what);
+  if (!is_glass_kind(m.type) && !(m.two_sided && m.transmits())) {
+    body += std::string(", \"two_sided\": ") + bool_text(m.two_sided);
+  }
   if (!m.opacity.is_constant() || m.opacity.value != 1) {
     body += ", \"opacity\": " + textured_float(m.opacity, names, what + ".opacity");
   }

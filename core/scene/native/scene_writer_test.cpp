@@ -64,7 +64,8 @@ void expect_same_material(const Material& x, const Material& y) {
   expect_same(x.reflectance, y.reflectance);
   EXPECT_TRUE(same_bits(x.ior, y.ior));
   EXPECT_EQ(x.two_sided, y.two_sided);
-  if (x.type != MaterialType::diffuse && x.type != MaterialType::mirror) {
+  if (x.type != MaterialType::diffuse && x.type != MaterialType::mirror &&
+      x.type != MaterialType::principled) {
     expect_same(x.specular_reflectance, y.specular_reflectance);
   }
   expect_same(x.specular_transmittance, y.specular_transmittance);
@@ -81,6 +82,24 @@ void expect_same_material(const Material& x, const Material& y) {
   EXPECT_EQ(x.normal_map, y.normal_map);
   EXPECT_EQ(x.bump_map, y.bump_map);
   EXPECT_TRUE(same_bits(x.bump_scale, y.bump_scale));
+  const PrincipledParameters &p = x.principled, &q = y.principled;
+  for (auto member : {&PrincipledParameters::roughness, &PrincipledParameters::anisotropic,
+                      &PrincipledParameters::metallic, &PrincipledParameters::spec_trans,
+                      &PrincipledParameters::spec_tint, &PrincipledParameters::sheen,
+                      &PrincipledParameters::sheen_tint, &PrincipledParameters::flatness,
+                      &PrincipledParameters::clearcoat, &PrincipledParameters::clearcoat_gloss}) {
+    expect_same(p.*member, q.*member);
+  }
+  EXPECT_TRUE(same_bits(p.main_specular_sampling_rate, q.main_specular_sampling_rate));
+  EXPECT_TRUE(same_bits(p.clearcoat_sampling_rate, q.clearcoat_sampling_rate));
+  EXPECT_TRUE(same_bits(p.diffuse_reflectance_sampling_rate, q.diffuse_reflectance_sampling_rate));
+  expect_same(x.blend_weight, y.blend_weight);
+  ASSERT_EQ(x.blend.size(), y.blend.size());
+  for (size_t i = 0; i < x.blend.size(); ++i) {
+    Material a = x.blend[i], b = y.blend[i];
+    a.name = b.name = "";  // nested materials have no names of their own in JSON
+    expect_same_material(a, b);
+  }
 }
 
 void expect_same_shape(const Shape& x, const Shape& y) {
@@ -393,8 +412,38 @@ Scene full_model_scene() {
   rough_plastic.alpha_u = rough_plastic.alpha_v = {0.4, -1};
   Material back = material("back", MaterialType::diffuse);
   back.two_sided = true;
+  Material principled = material("principled", MaterialType::principled);
+  principled.reflectance = {{0.2, 0.8, 0.1}, 0};
+  principled.ior = 1.4142135623730951;
+  principled.two_sided = true;
+  PrincipledParameters& pp = principled.principled;
+  pp.roughness = {0.15, -1};
+  pp.anisotropic = {1, 2};
+  pp.metallic = {0.3, -1};
+  pp.spec_tint = {0.5, 0};
+  pp.sheen = {0.6, -1};
+  pp.sheen_tint = {0.7, -1};
+  pp.flatness = {0.8, -1};
+  pp.clearcoat = {0.9, 2};
+  pp.clearcoat_gloss = {0.25, -1};
+  pp.main_specular_sampling_rate = 2;
+  pp.clearcoat_sampling_rate = 0.5;
+  pp.diffuse_reflectance_sampling_rate = 0;
+  Material transmissive = material("principled glass", MaterialType::principled);
+  transmissive.principled.spec_trans = {0.75, -1};
+  transmissive.ior = 0.8;
   s.materials = {diffuse, mirror, glass, conductor, rough_conductor, rough_glass, thin,
-                 plastic, rough_plastic, back};
+                 plastic, rough_plastic, back, principled, transmissive};
+  Material blend = material("blend", MaterialType::blend);
+  blend.blend_weight = {0.8, 2};
+  Material inner = material("", MaterialType::blend);
+  inner.blend_weight = {0.125, -1};
+  inner.blend = {rough_glass, plastic};
+  blend.blend = {inner, rough_conductor};
+  for (Material& n : blend.blend) n.name = "";
+  for (Material& n : blend.blend[0].blend) n.name = "";
+  blend.two_sided = false;
+  s.materials.push_back(blend);
 
   Shape tri;
   tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

@@ -6,7 +6,7 @@ namespace tessera {
 namespace {
 
 using Impl = std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf,
-                          RoughDielectricBsdf, ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf>;
+                          RoughDielectricBsdf, ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf, PrincipledBsdf, BlendBsdf>;
 
 Impl make_impl(const BsdfParams& p) {
   switch (p.type) {
@@ -19,6 +19,8 @@ Impl make_impl(const BsdfParams& p) {
     case MaterialType::thin_glass: return ThinDielectricBsdf(p);
     case MaterialType::plastic: return PlasticBsdf(p);
     case MaterialType::rough_plastic: return RoughPlasticBsdf(p);
+    case MaterialType::principled: return PrincipledBsdf(p);
+    case MaterialType::blend: return BlendBsdf(p);
   }
   return DiffuseBsdf(p);  // unreachable: every MaterialType is handled above
 }

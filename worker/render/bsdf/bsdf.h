@@ -1,12 +1,14 @@
 // The BSDF of one material at one shading point: Mitsuba 3's diffuse, conductor, roughconductor,
-// dielectric, roughdielectric, thindielectric, plastic and roughplastic behind one interface
+// dielectric, roughdielectric, thindielectric, plastic, roughplastic, principled and blendbsdf
+// behind one interface
 // (docs/renderer.md, "BSDFs").
 //
 // All directions are unit vectors in the local shading frame (+z = the material's front, i.e.
 // the shading normal of the front side), pointing away from the surface. wo (towards the
 // camera) may lie on either side: one-sided materials (diffuse, conductors, plastics) are black
 // when wo or wi is below the surface (cos <= 0), as in Mitsuba; the integrator makes a
-// two-sided material by flipping the frame before calling. Dielectrics handle both sides.
+// two-sided material by flipping the frame before calling. Dielectrics, and principled
+// materials that transmit, handle both sides.
 // No method returns NaN or infinity for finite unit inputs.
 #pragma once
 
@@ -16,11 +18,13 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "render/bsdf/blend.h"
 #include "render/bsdf/bsdf_sample.h"
 #include "render/bsdf/conductor.h"
 #include "render/bsdf/dielectric.h"
 #include "render/bsdf/diffuse.h"
 #include "render/bsdf/plastic.h"
+#include "render/bsdf/principled.h"
 #include "render/bsdf/rough_conductor.h"
 #include "render/bsdf/rough_dielectric.h"
 #include "render/bsdf/rough_plastic.h"
@@ -30,7 +34,8 @@ namespace tessera {
 
 class Bsdf {
  public:
-  /// Cheap: no allocation. rough_plastic needs p.rough_plastic (see rough_plastic.h).
+  /// Cheap: no allocation except for a blend (its two nested BSDFs). rough_plastic needs
+  /// p.rough_plastic (see rough_plastic.h).
   explicit Bsdf(const BsdfParams& p);
 
   /// f(wo, wi) |cos wi| of the non-delta lobes (radiance transport); 0 where undefined.
@@ -47,7 +52,7 @@ class Bsdf {
 
  private:
   std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf, RoughDielectricBsdf,
-               ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf>
+               ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf, PrincipledBsdf, BlendBsdf>
       impl_;
 };
 

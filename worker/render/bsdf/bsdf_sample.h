@@ -2,6 +2,8 @@
 // one shading point (textures already looked up) and one sampled direction.
 #pragma once
 
+#include <vector>
+
 #include <glm/vec3.hpp>
 
 #include "scene/scene.h"
@@ -10,14 +12,26 @@ namespace tessera {
 
 struct RoughPlasticTable;  // rough_plastic.h
 
+/// A principled material's parameters besides base_color and eta, looked up at one shading
+/// point (core/scene/scene.h, PrincipledParameters, says what each means).
+struct PrincipledInputs {
+  float roughness = 0.5f, anisotropic = 0, metallic = 0, spec_trans = 0, spec_tint = 0;
+  float sheen = 0, sheen_tint = 0, flatness = 0, clearcoat = 0, clearcoat_gloss = 0;
+  float main_specular_sampling_rate = 1, clearcoat_sampling_rate = 1;
+  float diffuse_reflectance_sampling_rate = 1;
+  /// Mitsuba's m_has_spec_trans: the material transmits (spec_trans textured or non-zero).
+  /// It changes the lobe probabilities seen from inside even where spec_trans is 0.
+  bool transmits = false;
+};
+
 /// One material's BSDF parameters at one shading point, textures already looked up. The names
 /// and meanings are Mitsuba 3's (core/scene/scene.h, docs/scenes.md).
 struct BsdfParams {
   MaterialType type = MaterialType::diffuse;  ///< mirror = a perfect conductor
-  glm::vec3 reflectance{0.5f};                ///< diffuse albedo; plastics' diffuse_reflectance
+  glm::vec3 reflectance{0.5f};  ///< diffuse albedo; plastics' diffuse_reflectance; base_color
   glm::vec3 specular_reflectance{1.0f};
   glm::vec3 specular_transmittance{1.0f};
-  float eta = 1.5f;  ///< dielectrics, plastics: interior / exterior index, > 0
+  float eta = 1.5f;  ///< dielectrics, plastics, principled: interior / exterior index, > 0
   glm::vec3 conductor_eta{0.0f}, conductor_k{1.0f};
   bool perfect = false;  ///< conductor material="none": Fresnel = 1
   MicrofacetDistribution distribution = MicrofacetDistribution::beckmann;
@@ -27,6 +41,9 @@ struct BsdfParams {
   /// rough_plastic only, required there: the material's precomputed Fresnel integrals
   /// (make_rough_plastic_table, once per material: they cost ~0.1 s). Not owned.
   const RoughPlasticTable* rough_plastic = nullptr;
+  PrincipledInputs principled;  ///< principled only
+  float blend_weight = 0.5f;    ///< blend only: the second BSDF's weight, in [0, 1]
+  std::vector<BsdfParams> blend;  ///< blend only: the two nested BSDFs
 };
 
 /// One direction drawn by a BSDF.

@@ -98,9 +98,14 @@ TEST(BsdfFurnace, NoBsdfCreatesEnergy) {
   const BsdfCases cases;
   uint64_t seed = 100;
   for (BsdfCase c : cases.all()) {
+    // Mitsuba's principled adds retro-reflection, sheen and a clear coat on top of the rest and
+    // so exceeds 1 at grazing angles: principled_test.cpp checks its albedo against Mitsuba's
+    // and the furnace of its energy-conserving lobes.
+    if (c.params.type == MaterialType::principled) continue;
     // White parameters make the bound tight: 1 is reached only by lossless materials.
     c.params.reflectance = c.params.specular_reflectance = glm::vec3(1.0f);
     c.params.specular_transmittance = glm::vec3(1.0f);
+    for (BsdfParams& nested : c.params.blend) nested.reflectance = glm::vec3(1.0f);
     const Bsdf bsdf(c.params);  // a rough plastic's table does not depend on the colours
     for (glm::vec3 wo : test_wos(c.two_sided_wo)) {
       const Mean m = furnace(bsdf, wo, seed++, 20000);

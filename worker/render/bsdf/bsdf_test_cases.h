@@ -100,6 +100,8 @@ class BsdfCases {
       p.nonlinear = nonlinear;
       add(std::string("plastic") + (nonlinear ? " nonlinear" : ""), p);
     }
+    add_principled();
+    add_blends();
   }
 
   const std::vector<BsdfCase>& all() const { return cases_; }
@@ -128,6 +130,74 @@ class BsdfCases {
   }
 
  private:
+  /// Mitsuba's blendbsdf: smooth lobes of different kinds, a transmitting one, a nested blend.
+  void add_blends() {
+    BsdfParams diffuse;
+    diffuse.reflectance = {0.7f, 0.5f, 0.3f};
+    BsdfParams metal;
+    metal.type = MaterialType::rough_conductor;
+    metal.distribution = MicrofacetDistribution::ggx;
+    metal.alpha_u = metal.alpha_v = 0.2f;
+    metal.conductor_eta = {0.2f, 0.9f, 1.1f};
+    metal.conductor_k = {3.9f, 2.4f, 2.2f};
+    BsdfParams glass;
+    glass.type = MaterialType::rough_glass;
+    glass.alpha_u = glass.alpha_v = 0.3f;
+    glass.eta = 1.5f;
+    BsdfParams p;
+    p.type = MaterialType::blend;
+    p.blend_weight = 0.3f;
+    p.blend = {diffuse, metal};
+    add("blend diffuse and rough conductor 0.3", p);
+    p.blend_weight = 0.6f;
+    p.eta = 1.5f;  // the reciprocity test reads the interface's index here
+    p.blend = {glass, diffuse};
+    add("blend rough glass and diffuse 0.6", p, true);
+    BsdfParams inner = p;
+    inner.blend_weight = 0.5f;
+    p.blend = {inner, metal};
+    p.blend_weight = 0.25f;
+    add("blend of a blend and a rough conductor", p, true);
+  }
+
+  /// Mitsuba's principled: each lobe alone and together, transmission from both sides.
+  void add_principled() {
+    BsdfParams p;
+    p.type = MaterialType::principled;
+    p.reflectance = {0.8f, 0.5f, 0.2f};
+    p.eta = 1.5f;
+    add("principled defaults", p);
+    PrincipledInputs& in = p.principled;
+    in.roughness = 0.3f;
+    in.anisotropic = 0.6f;
+    in.metallic = 0.7f;
+    in.spec_tint = 0.4f;
+    add("principled metallic anisotropic", p);
+    in = PrincipledInputs{};
+    in.roughness = 0.7f;
+    in.sheen = 0.8f;
+    in.sheen_tint = 0.5f;
+    in.flatness = 0.6f;
+    in.clearcoat = 0.7f;
+    in.clearcoat_gloss = 0.4f;
+    add("principled sheen flatness clearcoat", p);
+    in = PrincipledInputs{};
+    // Lobes sharper than alpha ~ 0.05 are too narrow for the chi-square test's integration
+    // grid at grazing angles; principled_test.cpp evaluates sharper ones against Mitsuba.
+    in.roughness = 0.45f;
+    in.spec_trans = 0.8f;
+    in.transmits = true;
+    add("principled transmission eta 1.5", p, true);
+    in.roughness = 0.35f;
+    in.spec_trans = 1.0f;
+    p.eta = 0.75f;
+    add("principled transmission eta 0.75", p, true);
+    p.eta = 1.33f;
+    in = PrincipledInputs{0.4f, 0.4f, 0.3f, 0.5f, 0.6f, 0.4f, 0.0f, 0.3f, 1.0f, 0.5f,
+                          0.5f, 2.0f, 1.5f, true};
+    add("principled every lobe, sampling rates", p, true);
+  }
+
   void add(std::string name, const BsdfParams& p, bool two_sided = false) {
     cases_.push_back({std::move(name), p, two_sided});
   }

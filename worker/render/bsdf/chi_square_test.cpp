@@ -32,6 +32,8 @@ TEST(BsdfChiSquare, RoughConductor) { run_chi_square(MaterialType::rough_conduct
 TEST(BsdfChiSquare, RoughDielectric) { run_chi_square(MaterialType::rough_glass); }
 TEST(BsdfChiSquare, Plastic) { run_chi_square(MaterialType::plastic); }
 TEST(BsdfChiSquare, RoughPlastic) { run_chi_square(MaterialType::rough_plastic); }
+TEST(BsdfChiSquare, Principled) { run_chi_square(MaterialType::principled); }
+TEST(BsdfChiSquare, Blend) { run_chi_square(MaterialType::blend); }
 
 }  // namespace
 }  // namespace tessera::test
