@@ -13,6 +13,23 @@
 namespace tessera {
 namespace {
 
+/// Whether a material's roughness differs along dpdu and dpdv anywhere (rough kinds with
+/// alpha_u != alpha_v or textured alphas, principled with a non-zero or textured
+/// `anisotropic`, a blend holding either): its shading frame then follows dpdu.
+bool is_anisotropic(const Material& m) {
+  if (m.alpha_u.value != m.alpha_v.value || !m.alpha_u.is_constant() || !m.alpha_v.is_constant()) {
+    return true;
+  }
+  if (m.type == MaterialType::principled &&
+      (m.principled.anisotropic.value != 0 || !m.principled.anisotropic.is_constant())) {
+    return true;
+  }
+  for (const Material& nested : m.blend) {
+    if (is_anisotropic(nested)) return true;
+  }
+  return false;
+}
+
 constexpr float kPi = 3.14159265358979323846f;
 
 void on_device_error(void* user, RTCError code, const char* message) {
@@ -78,9 +95,7 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
       materials_.back().rough_plastic = rough_plastic_tables_.back().get();
     }
     // Anisotropic roughness is measured along dpdu: the shading frame then needs it.
-    if (m.alpha_u.value != m.alpha_v.value || !m.alpha_u.is_constant() || !m.alpha_v.is_constant()) {
-      need_uv_ = true;
-    }
+    if (is_anisotropic(m)) need_uv_ = true;
   }
   // uvs and their tangents cost an atan2 and an acos per sphere hit: only where used.
   if (!scene.textures.empty()) need_uv_ = true;
