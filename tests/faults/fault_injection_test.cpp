@@ -405,12 +405,15 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
     // Cut while the worker across the link holds a lease. Cut first, then ask the server:
     // with the link down the worker can no longer deliver, so what the server says holds. If it
     // holds nothing, restore the link and try again a little later.
+    // The count of expired leases is read before each cut: the worker's 1 s lease may expire
+    // while the status after the cut is still on its way, and that expiry is the cut's too.
     nlohmann::json at_cut, during;
-    uint64_t expired = 0;
+    uint64_t expired = 0, expired_before = 0;
     int down_ms = 0, attempts = 0;
     bool caught = false;
     while (!caught && attempts < 100 && merged(id) < total) {
       ++attempts;
+      expired_before = cli_status(cli, id).at("counters").at("leases_expired").get<uint64_t>();
       ASSERT_TRUE(net.set_worker_link(false));
       caught = across_holds_lease();
       if (!caught) {
@@ -421,7 +424,6 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
     const auto cut_at = std::chrono::steady_clock::now();
     if (caught) {
       at_cut = cli_status(cli, id);
-      const uint64_t expired_before = at_cut.at("counters").at("leases_expired").get<uint64_t>();
       // Down for 3 to 5 s (longer than the 1 s lease), then up again.
       const int planned_ms = 3000 + std::uniform_int_distribution<int>(0, 2000)(rng);
       std::this_thread::sleep_until(cut_at + std::chrono::milliseconds(planned_ms));
