@@ -5,11 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <glm/gtc/matrix_transform.hpp>
 #include <vector>
 
-#include "render/texture/texture_set.h"
-#include "render/texture/texture_test_images.h"
+#include "render/light/light_reference_setup.h"
 
 namespace tessera {
 namespace {
@@ -28,31 +26,12 @@ const Reference kConstant[] = {
 #include "render/light/mitsuba_projector_reference.inc"
 };
 
-/// The irradiance texture of mitsuba_projector_reference.py: 4 x 3 linear float texels.
-TextureSet reference_texture() {
-  std::vector<float> texels;
-  for (int y = 0; y < 3; ++y) {
-    for (int x = 0; x < 4; ++x) {
-      texels.insert(texels.end(), {1.0f + x + 4 * y, 0.5f * (x + 1), 0.25f * (y + 1)});
-    }
-  }
-  Texture t;
-  t.name = "slide";
-  t.origin = "textures[0]";
-  t.file = "slide.exr";
-  t.color_space = TextureColorSpace::linear;
-  return TextureSet({t}, test::memory_reader({{"slide.exr", test::encode_image(
-                                                                "slide.exr", 4, 3, 3, texels,
-                                                                OIIO::TypeDesc::FLOAT)}}));
-}
 
 Light textured_projector() {
   Light l;
   l.kind = LightKind::projector;
   l.origin = "lights[0]";
-  l.to_world = glm::translate(glm::dmat4(1.0), {1, 2, 3}) *
-               glm::rotate(glm::dmat4(1.0), glm::radians(30.0), {0, 1, 0}) *
-               glm::rotate(glm::dmat4(1.0), glm::radians(-50.0), {1, 0, 0});
+  l.to_world = test::reference_light_frame();
   l.value = glm::dvec3(1.5);  // Mitsuba's scale
   l.texture = 0;
   l.fov_x_deg = 40;
@@ -74,7 +53,7 @@ void expect_matches(const ProjectorLight& light, const Reference& r) {
 }
 
 TEST(ProjectorLight, TexturedImageMatchesMitsuba) {
-  const TextureSet textures = reference_texture();
+  const TextureSet textures = test::reference_light_texture("slide", "slide.exr");
   const ProjectorLight light(textured_projector(), [&](int32_t texture, glm::vec2 uv) {
     return textures.lookup(texture, uv);
   });
@@ -112,7 +91,7 @@ TEST(ProjectorLight, ConstantIrradianceMatchesMitsuba) {
 TEST(ProjectorLight, UvFollowsMitsubasProjection) {
   Light l = textured_projector();
   l.to_world = glm::dmat4(1.0);
-  const TextureSet textures = reference_texture();
+  const TextureSet textures = test::reference_light_texture("slide", "slide.exr");
   const ProjectorLight light(l, [&](int32_t t, glm::vec2 uv) { return textures.lookup(t, uv); });
   const float t = std::tan(glm::radians(20.0f));
   EXPECT_EQ(light.uv_of({0, 0, 2}), glm::vec2(0.5f, 0.5f));

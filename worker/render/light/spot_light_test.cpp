@@ -5,11 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <glm/gtc/matrix_transform.hpp>
 #include <vector>
 
-#include "render/texture/texture_set.h"
-#include "render/texture/texture_test_images.h"
+#include "render/light/light_reference_setup.h"
 
 namespace tessera {
 namespace {
@@ -23,32 +21,12 @@ const Reference kMitsuba[] = {
 #include "render/light/mitsuba_spot_reference.inc"
 };
 
-/// The texture of mitsuba_spot_reference.py: 4 x 3 linear float texels (1 + x + 4 y,
-/// 0.5 (x + 1), 0.25 (y + 1)), bilinear, repeat.
-TextureSet reference_texture() {
-  std::vector<float> texels;
-  for (int y = 0; y < 3; ++y) {
-    for (int x = 0; x < 4; ++x) {
-      texels.insert(texels.end(), {1.0f + x + 4 * y, 0.5f * (x + 1), 0.25f * (y + 1)});
-    }
-  }
-  Texture t;
-  t.name = "spot";
-  t.origin = "textures[0]";
-  t.file = "spot.exr";
-  t.color_space = TextureColorSpace::linear;
-  return TextureSet({t}, test::memory_reader({{"spot.exr", test::encode_image(
-                                                               "spot.exr", 4, 3, 3, texels,
-                                                               OIIO::TypeDesc::FLOAT)}}));
-}
 
 Light reference_spot() {
   Light l;
   l.kind = LightKind::spot;
   l.origin = "lights[0]";
-  l.to_world = glm::translate(glm::dmat4(1.0), {1, 2, 3}) *
-               glm::rotate(glm::dmat4(1.0), glm::radians(30.0), {0, 1, 0}) *
-               glm::rotate(glm::dmat4(1.0), glm::radians(-50.0), {1, 0, 0});
+  l.to_world = test::reference_light_frame();
   l.value = {2, 3, 4};
   l.cutoff_angle_deg = 30;
   l.beam_width_deg = 20;
@@ -57,7 +35,7 @@ Light reference_spot() {
 }
 
 TEST(SpotLight, TextureOverTheConeMatchesMitsuba) {
-  const TextureSet textures = reference_texture();
+  const TextureSet textures = test::reference_light_texture("spot", "spot.exr");
   const SpotLight spot(reference_spot(),
                        [&](int32_t texture, glm::vec2 uv) { return textures.lookup(texture, uv); });
   for (const Reference& r : kMitsuba) {
@@ -72,7 +50,7 @@ TEST(SpotLight, TextureOverTheConeMatchesMitsuba) {
 }
 
 TEST(SpotLight, UvSpansTheConeAcrossTheTexture) {
-  const TextureSet textures = reference_texture();
+  const TextureSet textures = test::reference_light_texture("spot", "spot.exr");
   Light l = reference_spot();
   l.to_world = glm::dmat4(1.0);
   const SpotLight spot(l, [&](int32_t texture, glm::vec2 uv) { return textures.lookup(texture, uv); });
