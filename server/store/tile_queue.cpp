@@ -49,56 +49,37 @@ bool TileQueue::take(int64_t job_id, uint32_t tile, uint32_t batch) {
   return db_.changes() == 1;
 }
 
-int64_t TileQueue::close_tile(int64_t job_id, uint32_t tile) {
-  int64_t open = 0;
+int64_t TileQueue::lower_lease_end(int64_t job_id, std::optional<uint32_t> tile,
+                                   const std::string& new_end) {
+  // `next_lease < lease_end` keeps the statements on the partial index of open rows.
+  const std::string where = std::string(" WHERE job_id = ?1") + (tile ? " AND tile = ?2" : "") +
+                            " AND next_lease < lease_end AND lease_end > " + new_end;
+  int64_t closed = 0;
   {
-    auto q = db_.prepare(
-        "SELECT lease_end - next_lease FROM tile_queue"
-        " WHERE job_id = ? AND tile = ? AND next_lease < lease_end");
-    q->bind(1, job_id).bind(2, tile);
-    if (q->step()) open = q->int64(0);
+    auto q = db_.prepare("SELECT COALESCE(SUM(lease_end - " + new_end + "), 0) FROM tile_queue" +
+                         where);
+    q->bind(1, job_id);
+    if (tile) q->bind(2, *tile);
+    if (q->step()) closed = q->int64(0);
   }
-  db_.prepare(
-         "UPDATE tile_queue SET lease_end = next_lease"
-         " WHERE job_id = ? AND tile = ? AND next_lease < lease_end")
-      ->bind(1, job_id)
-      .bind(2, tile)
-      .run();
-  return open;
+  auto u = db_.prepare("UPDATE tile_queue SET lease_end = " + new_end + where);
+  u->bind(1, job_id);
+  if (tile) u->bind(2, *tile);
+  u->run();
+  return closed;
+}
+
+int64_t TileQueue::close_tile(int64_t job_id, uint32_t tile) {
+  return lower_lease_end(job_id, tile, "next_lease");
 }
 
 int64_t TileQueue::close_job(int64_t job_id) {
-  int64_t open = 0;
-  {
-    auto q = db_.prepare(
-        "SELECT COALESCE(SUM(lease_end - next_lease), 0) FROM tile_queue"
-        " WHERE job_id = ? AND next_lease < lease_end");
-    q->bind(1, job_id);
-    if (q->step()) open = q->int64(0);
-  }
-  db_.prepare(
-         "UPDATE tile_queue SET lease_end = next_lease WHERE job_id = ? AND next_lease < lease_end")
-      ->bind(1, job_id)
-      .run();
-  return open;
+  return lower_lease_end(job_id, std::nullopt, "next_lease");
 }
 
 int64_t TileQueue::skip_after_first_batch(int64_t job_id) {
-  // Past its budget a tile keeps batch 0 if it is still unborn: lease_end = max(next_lease, 1).
-  int64_t skipped = 0;
-  {
-    auto q = db_.prepare(
-        "SELECT COALESCE(SUM(lease_end - MAX(next_lease, 1)), 0) FROM tile_queue"
-        " WHERE job_id = ? AND next_lease < lease_end AND lease_end > MAX(next_lease, 1)");
-    q->bind(1, job_id);
-    if (q->step()) skipped = q->int64(0);
-  }
-  db_.prepare(
-         "UPDATE tile_queue SET lease_end = MAX(next_lease, 1)"
-         " WHERE job_id = ? AND next_lease < lease_end AND lease_end > MAX(next_lease, 1)")
-      ->bind(1, job_id)
-      .run();
-  return skipped;
+  // Past its budget a tile keeps batch 0 if it is still unborn.
+  return lower_lease_end(job_id, std::nullopt, "MAX(next_lease, 1)");
 }
 
 bool TileQueue::any_open(int64_t job_id) {

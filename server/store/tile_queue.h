@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include "store/sqlite.h"
 
@@ -60,6 +61,11 @@ class TileQueue {
   static const char* first_sql(bool noise);
 
  private:
+  /// Lowers lease_end to `new_end` (an SQL expression of the row, at least next_lease) in the
+  /// job's open rows (one tile's, when given) where it is above it: those unborn units will
+  /// never be leased. Returns how many units that closed.
+  int64_t lower_lease_end(int64_t job_id, std::optional<uint32_t> tile, const std::string& new_end);
+
   Database& db_;
 };
 
