@@ -134,7 +134,8 @@ std::pair<double, double> irradiance_estimate(const AreaLight& light, glm::vec3 
 }
 
 TEST(AreaLight, RectanglesAreFoundAndOtherMeshesAreNot) {
-  EXPECT_TRUE(AreaLight(emitting_rectangle({0, 0, 1}, {2, 0, 0}, {0, 1, 0}), nullptr).is_rectangle());
+  EXPECT_TRUE(
+      AreaLight(emitting_rectangle({0, 0, 1}, {2, 0, 0}, {0, 1, 0}), nullptr).is_rectangle());
   // Rotated, and with the triangles' vertices stored apart (no shared indices).
   Geometry rotated = emitting_rectangle({0.3f, -0.2f, 2}, {1, 1, 0.5f}, {-1, 1, 0});
   rotated.positions = {rotated.positions[0], rotated.positions[1], rotated.positions[2],
@@ -143,7 +144,8 @@ TEST(AreaLight, RectanglesAreFoundAndOtherMeshesAreNot) {
   rotated.indices = {{0, 1, 2}, {3, 4, 5}};
   EXPECT_TRUE(AreaLight(rotated, nullptr).is_rectangle());
   // A parallelogram that is not a rectangle, a trapezoid, three triangles.
-  EXPECT_FALSE(AreaLight(emitting_rectangle({0, 0, 1}, {2, 0, 0}, {0.5f, 1, 0}), nullptr).is_rectangle());
+  EXPECT_FALSE(
+      AreaLight(emitting_rectangle({0, 0, 1}, {2, 0, 0}, {0.5f, 1, 0}), nullptr).is_rectangle());
   Geometry trapezoid = emitting_rectangle({0, 0, 1}, {2, 0, 0}, {0, 1, 0});
   trapezoid.positions[2].x = 1.5f;
   EXPECT_FALSE(AreaLight(trapezoid, nullptr).is_rectangle());
@@ -210,9 +212,9 @@ TEST(AreaLight, RectanglePdfAgreesWithSampleBitForBit) {
 
 TEST(AreaLight, RectangleEstimatesLambertsIrradiance) {
   // The estimator's mean is the irradiance (every case sees the whole light above its
-  // horizon: Lambert's formula counts the part below it negative), by solid angle (down to a hair off the plane, where
-  // the light fills nearly the hemisphere) and in the fall-backs to area sampling (far off;
-  // close to the plane beside the light).
+  // horizon: Lambert's formula counts the part below it negative), by solid angle (down to a
+  // hair off the plane, where the light fills nearly the hemisphere) and in the fall-backs to
+  // area sampling (far off; close to the plane beside the light).
   const Geometry g = emitting_rectangle({-1, -0.5f, 1}, {0, 1, 0}, {2, 0, 0}, 3.0f);  // faces -z
   const AreaLight light(g, nullptr);
   struct Case {
@@ -228,7 +230,8 @@ TEST(AreaLight, RectangleEstimatesLambertsIrradiance) {
   EXPECT_FALSE(light.solid_angle_sampled(cases[4].ref));
   uint64_t seed = 40;
   for (const Case& c : cases) {
-    const double expected = polygon_irradiance(g.positions, glm::dvec3(c.ref), glm::dvec3(c.n), 3.0);
+    const double expected =
+        polygon_irradiance(g.positions, glm::dvec3(c.ref), glm::dvec3(c.n), 3.0);
     const auto [mean, se] = irradiance_estimate(light, c.ref, c.n, 40000, seed++);
     EXPECT_NEAR(mean, expected, 5 * se + 1e-4 * expected) << c.ref.x << " " << c.ref.z;
   }

@@ -49,9 +49,10 @@ class LightSet {
 
   /// One light sample for ref (point + geometric normal, which also steers the pick): picks a
   /// light (u_pick in [0,1); LightPicker: by importance at ref), then a point or direction on
-  /// it (u in [0,1)^2). pdf == 0 means no contribution. An environment light's sample carries the radiance of every environment
-  /// light along wi and their combined density (environment(), pdf_environment()), so that
-  /// the same density weighs a BSDF-sampled ray escaping along wi.
+  /// it (u in [0,1)^2). pdf == 0 means no contribution. An environment light's sample carries
+  /// the radiance of every environment light along wi and their combined density
+  /// (environment(), pdf_environment()), so that the same density weighs a BSDF-sampled ray
+  /// escaping along wi.
   LightSample sample(const SurfacePoint& ref, float u_pick, glm::vec2 u) const;
 
   /// Radiance leaving an emitting surface point of geometry g (primitive, uv; ng its

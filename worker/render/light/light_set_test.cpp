@@ -187,7 +187,8 @@ TEST(LightSet, EveryLightThatCanReachAPointKeepsAPickProbability) {
     for (size_t k = 0; k < lights.size(); ++k) {
       // A point of the light facing p, if any, among 64 spread over it.
       for (int j = 0; j < 64; ++j) {
-        const AreaLight::PointSample ps = lights[k].sample_point({(j % 8 + 0.5f) / 8, (j / 8 + 0.5f) / 8});
+        const AreaLight::PointSample ps =
+            lights[k].sample_point({(j % 8 + 0.5f) / 8, (j / 8 + 0.5f) / 8});
         const glm::vec3 to_p = p - ps.sp.p;
         const bool faces = shapes[k].two_sided_emission || glm::dot(ps.sp.ng, to_p) > 0;
         if (!faces || glm::dot(to_p, to_p) == 0) continue;
@@ -242,7 +243,9 @@ TEST(LightSet, EnvironmentMixtureMatchesPdfChiSquare) {
   };
   const test::ChiSquareResult r =
       test::chi_square_directions(test::envmap_cell_bins(8, 5, 2), 100000, sample,
-                                  [&](glm::vec3 d) { return double(set.pdf_environment(kRef, d)); });
+                                  [&](glm::vec3 d) {
+                                    return double(set.pdf_environment(kRef, d));
+                                  });
   EXPECT_GT(r.p_value, test::kChiSquareLevel) << r.detail;
 }
 

@@ -16,7 +16,8 @@ TEST(SphericalRectangle, SolidAngleMatchesClosedForms) {
     const double a = 2.0, b = 0.5;
     const SphericalRectangle r({0.3, -0.2, d + 1.0}, {0.3 - a / 2, -0.2 - b / 2, 1.0},
                                {a, 0, 0}, {0, b, 0});
-    const double expected = 4 * std::asin(a * b / std::sqrt((a * a + 4 * d * d) * (b * b + 4 * d * d)));
+    const double expected =
+        4 * std::asin(a * b / std::sqrt((a * a + 4 * d * d) * (b * b + 4 * d * d)));
     EXPECT_NEAR(r.solid_angle(), expected, 1e-12 * expected + 1e-15) << d;
     EXPECT_NEAR(r.plane_distance(), d, 1e-12);
   }
@@ -32,8 +33,9 @@ TEST(SphericalRectangle, SolidAngleMatchesClosedForms) {
 
 TEST(SphericalRectangle, SamplesStayOnTheRectangle) {
   const SphericalRectangle r({0.2, 0.1, -0.7}, {-1, -1, 0}, {2, 0, 0}, {0, 1.5, 0});
-  for (const glm::vec2 u : {glm::vec2(0, 0), glm::vec2(0.99999994f, 0.99999994f), glm::vec2(0, 0.99999994f),
-                            glm::vec2(0.99999994f, 0), glm::vec2(0.5f, 0.5f)}) {
+  const float one = 0.99999994f;  // the largest float below 1
+  for (const glm::vec2 u : {glm::vec2(0, 0), glm::vec2(one, one), glm::vec2(0, one),
+                            glm::vec2(one, 0), glm::vec2(0.5f, 0.5f)}) {
     const glm::dvec2 ab = r.sample(u);
     EXPECT_TRUE(ab.x >= 0 && ab.x <= 1 && ab.y >= 0 && ab.y <= 1) << ab.x << " " << ab.y;
   }
