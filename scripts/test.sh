@@ -17,17 +17,17 @@ echo "== release tests"
 
 if [ "${TESSERA_SKIP_SANITIZERS:-0}" != "1" ]; then
   echo "== sanitizer build (ASan + UBSan)"
-  BUILD_DIR="$ROOT/build-asan" "$ROOT/scripts/build.sh" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTESSERA_SANITIZE=ON
+  BUILD_DIR="$ROOT/build-asan" "$ROOT/scripts/build.sh" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTESSERA_SANITIZE=ON -DTESSERA_BUILD_BENCH=OFF -DTESSERA_BUILD_LONG_SUITES=OFF
   echo "== sanitizer tests"
   (cd "$ROOT/build-asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
      LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizers/lsan.supp:print_suppressions=0" \
      UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
      ctest --output-on-failure -j "$JOBS" --timeout 1200 -LE 'slow|faults|load')
 fi
-# Fuzzing (docs/reliability.md): every libFuzzer target for FUZZ_SECONDS (default 60) each.
+# Fuzzing (docs/reliability.md): every libFuzzer target for FUZZ_SECONDS (default 30) each.
 if [ "${TESSERA_SKIP_FUZZ:-0}" != "1" ] && [ -x "$ROOT/fuzz/run.sh" ]; then
   echo "== fuzzing"
-  "$ROOT/fuzz/run.sh" "${FUZZ_SECONDS:-60}"
+  "$ROOT/fuzz/run.sh" "${FUZZ_SECONDS:-30}"
 fi
 if [ "${TESSERA_SKIP_CONTAINERS:-0}" != "1" ]; then echo "== containers (deploy/test.sh)"; "$ROOT/deploy/test.sh"; else echo "== containers skipped (TESSERA_SKIP_CONTAINERS=1)"; fi
 echo "== all tests passed"

@@ -29,9 +29,14 @@ RgbImage render(const Scene& scene, uint32_t spp, int max_depth, uint64_t seed =
   return resolve_image(options.width, options.height, r.tiles);
 }
 
+/// One depth of the box against Mitsuba's reference at that depth. At 256 spp the image's mean
+/// strays at most 0.034 % from the reference (so 0.2 % tests bias, not noise), and the RMSE
+/// against the reference was 0.00598 (unbounded), 0.00543 (depth 8) and 0.00232 (depth 2) on the
+/// merged renderer of 2026-12-02; each bound is 1.2x that, so 44 % more variance fails.
 struct ReferenceCase {
   int max_depth;
   const char* reference;
+  double rmse_bound;
 };
 
 class CornellReference : public ::testing::TestWithParam<ReferenceCase> {};
@@ -39,7 +44,7 @@ class CornellReference : public ::testing::TestWithParam<ReferenceCase> {};
 TEST_P(CornellReference, MeanAndRmseMatchMitsuba) {
   const ReferenceCase c = GetParam();
   const RgbImage ref = read_image(kSource + "/tests/data/reference/cbox/" + c.reference);
-  const RgbImage img = render(cornell(), 1024, c.max_depth);
+  const RgbImage img = render(cornell(), 256, c.max_depth);
   ASSERT_EQ(img.width, ref.width);
   ASSERT_EQ(img.height, ref.height);
   const glm::dvec3 got = test::channel_means(img), want = test::channel_means(ref);
@@ -49,13 +54,13 @@ TEST_P(CornellReference, MeanAndRmseMatchMitsuba) {
   for (int ch = 0; ch < 3; ++ch) {
     EXPECT_NEAR(got[ch], want[ch], 0.002 * want[ch]) << "channel " << ch;
   }
-  EXPECT_LE(error, 0.0065);
+  EXPECT_LE(error, c.rmse_bound);
 }
 
 INSTANTIATE_TEST_SUITE_P(Depths, CornellReference,
-                         ::testing::Values(ReferenceCase{-1, "ref_unbounded.exr"},
-                                           ReferenceCase{8, "ref_depth8.exr"},
-                                           ReferenceCase{2, "ref_depth2.exr"}),
+                         ::testing::Values(ReferenceCase{-1, "ref_unbounded.exr", 0.0072},
+                                           ReferenceCase{8, "ref_depth8.exr", 0.0065},
+                                           ReferenceCase{2, "ref_depth2.exr", 0.0028}),
                          [](const auto& info) {
                            return info.param.max_depth < 0 ? std::string("unbounded")
                                                            : "depth" + std::to_string(info.param.max_depth);
