@@ -17,6 +17,7 @@ RenderMaterial make_render_material(const Material& m) {
   r.type = m.type;
   r.albedo = glm::vec3(m.reflectance.value);
   r.ior = float(m.ior);
+  r.ior_texture = m.ior_texture;
   r.two_sided = m.two_sided;
   r.reflectance = color(m.reflectance);
   r.specular_reflectance = color(m.specular_reflectance);
@@ -46,6 +47,10 @@ RenderMaterial make_render_material(const Material& m) {
   rp.flatness = scalar(pp.flatness);
   rp.clearcoat = scalar(pp.clearcoat);
   rp.clearcoat_gloss = scalar(pp.clearcoat_gloss);
+  rp.diff_trans = scalar(pp.diff_trans);
+  rp.specular_reflectance_sampling_rate = float(pp.specular_reflectance_sampling_rate);
+  rp.specular_transmittance_sampling_rate = float(pp.specular_transmittance_sampling_rate);
+  rp.diffuse_transmittance_sampling_rate = float(pp.diffuse_transmittance_sampling_rate);
   rp.main_specular_sampling_rate = float(pp.main_specular_sampling_rate);
   rp.clearcoat_sampling_rate = float(pp.clearcoat_sampling_rate);
   rp.diffuse_reflectance_sampling_rate = float(pp.diffuse_reflectance_sampling_rate);
@@ -67,8 +72,9 @@ RenderMaterial make_render_material(const Material& m) {
   r.textured = r.textured || m.reflectance.texture >= 0 || m.specular_reflectance.texture >= 0 ||
                m.specular_transmittance.texture >= 0 || m.alpha_u.texture >= 0 ||
                m.alpha_v.texture >= 0 || m.opacity.texture >= 0 || m.normal_map >= 0 ||
-               m.bump_map >= 0 || (m.type == MaterialType::principled && pp.textured()) ||
-               m.blend_weight.texture >= 0;
+               m.bump_map >= 0 || m.ior_texture >= 0 || m.blend_weight.texture >= 0 ||
+               ((m.type == MaterialType::principled || m.type == MaterialType::principled_thin) &&
+                pp.textured());
   return r;
 }
 
@@ -84,7 +90,7 @@ BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm:
   p.reflectance = color(m.reflectance);  // not clamped: Mitsuba does not clamp texels either
   p.specular_reflectance = color(m.specular_reflectance);
   p.specular_transmittance = color(m.specular_transmittance);
-  p.eta = m.ior;
+  p.eta = m.ior_texture < 0 ? m.ior : m.ior * textures.lookup_1(m.ior_texture, uv);
   p.conductor_eta = m.conductor_eta;
   p.conductor_k = m.conductor_k;
   p.perfect = m.perfect;
@@ -94,7 +100,7 @@ BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm:
   p.sample_visible = m.sample_visible;
   p.nonlinear = m.nonlinear;
   p.rough_plastic = m.rough_plastic;
-  if (m.type == MaterialType::principled) {
+  if (m.type == MaterialType::principled || m.type == MaterialType::principled_thin) {
     const RenderPrincipled& rp = m.principled;
     PrincipledInputs& in = p.principled;
     in.roughness = scalar(rp.roughness);
@@ -111,6 +117,10 @@ BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm:
     in.clearcoat_sampling_rate = rp.clearcoat_sampling_rate;
     in.diffuse_reflectance_sampling_rate = rp.diffuse_reflectance_sampling_rate;
     in.transmits = rp.transmits;
+    in.diff_trans = scalar(rp.diff_trans);
+    in.specular_reflectance_sampling_rate = rp.specular_reflectance_sampling_rate;
+    in.specular_transmittance_sampling_rate = rp.specular_transmittance_sampling_rate;
+    in.diffuse_transmittance_sampling_rate = rp.diffuse_transmittance_sampling_rate;
   }
   if (m.type == MaterialType::blend) {
     p.blend_weight = scalar(m.blend_weight);

@@ -28,12 +28,15 @@ struct RenderFloat {
   int32_t texture = -1;
 };
 
-/// A principled material's parameters besides base_color and eta (PrincipledParameters).
+/// A principled (or principled_thin) material's parameters besides base_color and eta
+/// (PrincipledParameters).
 struct RenderPrincipled {
   RenderFloat roughness{0.5f, -1}, anisotropic, metallic, spec_trans, spec_tint, sheen, sheen_tint,
-      flatness, clearcoat, clearcoat_gloss;
+      flatness, clearcoat, clearcoat_gloss, diff_trans;
   float main_specular_sampling_rate = 1, clearcoat_sampling_rate = 1;
   float diffuse_reflectance_sampling_rate = 1;
+  float specular_reflectance_sampling_rate = 1, specular_transmittance_sampling_rate = 1;
+  float diffuse_transmittance_sampling_rate = 1;
   bool transmits = false;  ///< spec_trans textured or non-zero
 };
 
@@ -41,6 +44,7 @@ struct RenderMaterial {
   MaterialType type = MaterialType::diffuse;
   glm::vec3 albedo{0.0f};  ///< diffuse reflectance when constant (the diffuse fast path's)
   float ior = 1.5f;        ///< glass kinds, plastics, principled: interior over exterior
+  int32_t ior_texture = -1;  ///< principled_thin, pplastic: index = ior * texture(uv)
   bool two_sided = false;  ///< reflecting kinds: both sides reflect
 
   RenderColor reflectance;  ///< diffuse albedo, plastics' diffuse_reflectance, base_color
@@ -69,11 +73,12 @@ struct RenderMaterial {
 
   /// Whether any parameter is a texture (the hit then needs its uv).
   bool textured = false;
-  /// Glass kinds and principled materials that transmit: both sides are the surface, with the
-  /// index inverted from the back (the BSDF handles wo below the surface).
+  /// Glass kinds, principled materials that transmit and thin principled ones: both sides are
+  /// the surface, with the index inverted from the back (the BSDF handles wo below the
+  /// surface).
   bool dielectric() const {
     return type == MaterialType::glass || type == MaterialType::rough_glass ||
-           type == MaterialType::thin_glass ||
+           type == MaterialType::thin_glass || type == MaterialType::principled_thin ||
            (type == MaterialType::principled && principled.transmits) ||
            (type == MaterialType::blend && blend_transmits());
   }

@@ -14,13 +14,13 @@ namespace tessera {
 namespace {
 
 /// Whether a material's roughness differs along dpdu and dpdv anywhere (rough kinds with
-/// alpha_u != alpha_v or textured alphas, principled with a non-zero or textured
+/// alpha_u != alpha_v or textured alphas, principled kinds with a non-zero or textured
 /// `anisotropic`, a blend holding either): its shading frame then follows dpdu.
 bool is_anisotropic(const Material& m) {
   if (m.alpha_u.value != m.alpha_v.value || !m.alpha_u.is_constant() || !m.alpha_v.is_constant()) {
     return true;
   }
-  if (m.type == MaterialType::principled &&
+  if ((m.type == MaterialType::principled || m.type == MaterialType::principled_thin) &&
       (m.principled.anisotropic.value != 0 || !m.principled.anisotropic.is_constant())) {
     return true;
   }
