@@ -1,6 +1,6 @@
 #include "material.h"
 
-#include "bsdf/rough_plastic.h"
+#include "bsdf/rough_plastic_tables.h"
 #include "scene/scene_error.h"
 #include "texture/texture_set.h"
 
@@ -12,7 +12,7 @@ RenderFloat scalar(const TexturedFloat& f) { return {float(f.value), f.texture};
 
 }  // namespace
 
-RenderMaterial make_render_material(const Material& m) {
+RenderMaterial make_render_material(const Material& m, RoughPlasticTables& tables) {
   RenderMaterial r;
   r.type = m.type;
   r.albedo = glm::vec3(m.reflectance.value);
@@ -57,17 +57,15 @@ RenderMaterial make_render_material(const Material& m) {
   rp.transmits = m.type == MaterialType::principled && pp.transmits();
   r.blend_weight = scalar(m.blend_weight);
   for (const Material& nested : m.blend) {
-    r.blend.push_back(make_render_material(nested));
-    RenderMaterial& n = r.blend.back();
-    r.textured = r.textured || n.textured;
-    if (nested.type != MaterialType::rough_plastic) continue;
-    if (!nested.alpha_u.is_constant() || nested.alpha_u.value != nested.alpha_v.value) {
+    r.blend.push_back(make_render_material(nested, tables));
+    r.textured = r.textured || r.blend.back().textured;
+  }
+  if (m.type == MaterialType::rough_plastic) {
+    if (!m.alpha_u.is_constant() || m.alpha_u.value != m.alpha_v.value) {
       throw SceneError("material \"" + m.name + "\": a rough plastic's alpha is one constant " +
                        "(Mitsuba's roughplastic is isotropic and untextured)");
     }
-    n.owned_table = std::make_shared<const RoughPlasticTable>(make_rough_plastic_table(
-        nested.distribution, float(nested.alpha_u.value), float(nested.ior)));
-    n.rough_plastic = n.owned_table.get();
+    r.rough_plastic = tables.get(m.distribution, float(m.alpha_u.value), float(m.ior));
   }
   r.textured = r.textured || m.reflectance.texture >= 0 || m.specular_reflectance.texture >= 0 ||
                m.specular_transmittance.texture >= 0 || m.alpha_u.texture >= 0 ||

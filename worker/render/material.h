@@ -3,7 +3,6 @@
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -15,7 +14,8 @@
 
 namespace tessera {
 
-struct RoughPlasticTable;  // bsdf/rough_plastic.h
+struct RoughPlasticTable;   // bsdf/rough_plastic.h
+class RoughPlasticTables;  // bsdf/rough_plastic_tables.h
 class TextureSet;          // texture/texture_set.h
 
 /// A colour parameter: constant * texture(uv) when texture >= 0, the constant otherwise.
@@ -62,14 +62,12 @@ struct RenderMaterial {
   int32_t bump_map = -1;
   float bump_scale = 1;
 
-  /// rough_plastic: the material's precomputed Fresnel integrals (owned by TraceableScene).
+  /// rough_plastic: the material's precomputed Fresnel integrals (owned by the scene's
+  /// RoughPlasticTables).
   const RoughPlasticTable* rough_plastic = nullptr;
   RenderPrincipled principled;  ///< principled only
   RenderFloat blend_weight{0.5f, -1};  ///< blend only
   std::vector<RenderMaterial> blend;   ///< blend only: the two nested materials
-  /// A nested rough plastic's table, which this material owns (TraceableScene makes the
-  /// top-level materials' tables).
-  std::shared_ptr<const RoughPlasticTable> owned_table;
 
   /// Whether any parameter is a texture (the hit then needs its uv).
   bool textured = false;
@@ -91,9 +89,10 @@ struct RenderMaterial {
   bool masked() const { return opacity.texture >= 0 || opacity.value < 1; }
 };
 
-/// The render form of `m`. The nested materials of a blend get their rough plastic tables
-/// here; throws SceneError when a nested rough plastic's alpha is not one constant.
-RenderMaterial make_render_material(const Material& m);
+/// The render form of `m`. Its rough plastics (nested in blends too) get their tables from
+/// `tables`, which must outlive the result; throws SceneError when a rough plastic's alpha is
+/// not one constant.
+RenderMaterial make_render_material(const Material& m, RoughPlasticTables& tables);
 
 /// The BSDF parameters of `m` at a point of texture coordinates `uv`: constants as they are,
 /// textured parameters looked up (only those of m's type).

@@ -84,16 +84,7 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
   isa_ = isa.empty() ? isa_name(device_) : isa;
 
   for (const Material& m : scene.materials) {
-    materials_.push_back(make_render_material(m));
-    if (m.type == MaterialType::rough_plastic) {
-      if (!m.alpha_u.is_constant() || m.alpha_u.value != m.alpha_v.value) {
-        throw SceneError("material \"" + m.name + "\": a rough plastic's alpha is one constant " +
-                         "(Mitsuba's roughplastic is isotropic and untextured)");
-      }
-      rough_plastic_tables_.push_back(std::make_unique<RoughPlasticTable>(
-          make_rough_plastic_table(m.distribution, float(m.alpha_u.value), float(m.ior))));
-      materials_.back().rough_plastic = rough_plastic_tables_.back().get();
-    }
+    materials_.push_back(make_render_material(m, rough_plastic_tables_));
     // Anisotropic roughness is measured along dpdu: the shading frame then needs it.
     if (is_anisotropic(m)) need_uv_ = true;
   }
