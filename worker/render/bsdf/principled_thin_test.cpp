@@ -1,7 +1,9 @@
-// Mitsuba's principledthin BSDF: point values of eval() and pdf() and the directional albedo
-// against Mitsuba 3's (the tables mitsuba_principled_thin.py made), the furnace of its lobes
+// Mitsuba's principledthin BSDF: point values of eval() and pdf(), sample() for given random
+// numbers and the directional albedo against Mitsuba 3's (the tables
+// mitsuba_principled_thin.py made), the furnace of its lobes
 // that conserve energy, and finite values at the extremes of every parameter. The chi-square,
 // sampling-consistency and reciprocity tests over bsdf_test_cases.h cover it too.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -100,6 +102,47 @@ TEST(PrincipledThinAlbedo, MatchesMitsuba3WithinOnePercent) {
   EXPECT_GE(rows, 60);
   EXPECT_GE(below, 12);
   std::cout << rows << " rows, largest relative difference " << worst << "\n";
+}
+
+TEST(PrincipledThinSample, MatchesMitsuba3ForTheSameRandomNumbers) {
+  // Lobes no sharper than GGX alpha 0.04 (mitsuba_principled_thin.py, SAMPLE_CASES).
+  std::ifstream in = open_table("mitsuba_principled_thin_sample.txt");
+  ASSERT_TRUE(in) << "cannot read mitsuba_principled_thin_sample.txt";
+  std::string text;
+  int rows = 0, sampled = 0, transmitted = 0;
+  for (int line = 1; std::getline(in, text); ++line) {
+    if (text.empty() || text[0] == '#') continue;
+    std::istringstream s(text);
+    BsdfParams p;
+    glm::vec3 wo, wi, weight;
+    float u_lobe, u_x, u_y, pdf;
+    ASSERT_TRUE(read_params(s, &p)) << "line " << line;
+    s >> wo.x >> wo.y >> wo.z >> u_lobe >> u_x >> u_y >> wi.x >> wi.y >> wi.z >> weight.x >>
+        weight.y >> weight.z >> pdf;
+    ASSERT_TRUE(s) << "mitsuba_principled_thin_sample.txt line " << line << ": expected 29 columns";
+    const auto ours = Bsdf(p).sample(wo, u_lobe, {u_x, u_y});
+    const std::string where = "mitsuba_principled_thin_sample.txt line " + std::to_string(line);
+    ++rows;
+    if (weight.x == 0 && weight.y == 0 && weight.z == 0) {
+      // Mitsuba's "no sample" (or a black one); Tessera ends the path or returns black.
+      if (ours) {
+        EXPECT_LE(std::max({ours->weight.x, ours->weight.y, ours->weight.z}), 1e-6f) << where;
+      }
+      continue;
+    }
+    ++sampled;
+    transmitted += wo.z * wi.z < 0;
+    ASSERT_TRUE(ours) << where << ": Mitsuba samples, Tessera does not";
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(ours->wi[c], wi[c], 1e-4f) << where << " wi";
+    EXPECT_NEAR(ours->pdf, pdf, 5e-4f * pdf + 1e-6f) << where << " pdf";
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(ours->weight[c], weight[c], 1e-4f * weight[c] + 1e-6f) << where << " weight";
+    }
+  }
+  EXPECT_EQ(rows, 80);
+  EXPECT_GE(sampled, 60);
+  EXPECT_GE(transmitted, 15);
+  std::cout << rows << " rows, " << sampled << " sampled, " << transmitted << " through\n";
 }
 
 double mean_weight(const Bsdf& bsdf, glm::vec3 wo, int channel, uint64_t seed, int n, double* se) {
