@@ -125,6 +125,14 @@ enum class MaterialType {
   principled,
   /// Mitsuba's `blendbsdf`: (1 - blend_weight) * blend[0] + blend_weight * blend[1].
   blend,
+  /// Mitsuba's `principledthin`: a thin sheet with Burley's lobes, reflecting and transmitting
+  /// alike from both sides. reflectance = base_color, ior (or ior_texture) = the sheet's eta,
+  /// the other parameters in Material::principled (those principled_thin reads, and diff_trans).
+  principled_thin,
+  /// Mitsuba's `pplastic` as its RGB variants render it (without polarization): a microfacet
+  /// reflection of Fresnel F over a diffuse base attenuated by (1 - F) on the way in and out.
+  /// reflectance = diffuse_reflectance, ior (or ior_texture), the microfacet keys (anisotropic).
+  pplastic,
 };
 
 enum class MicrofacetDistribution { ggx, beckmann };
@@ -147,13 +155,22 @@ struct PrincipledParameters {
   double main_specular_sampling_rate = 1;
   double clearcoat_sampling_rate = 1;
   double diffuse_reflectance_sampling_rate = 1;
+  /// principled_thin only: the share of the diffuse light that goes through the sheet, in
+  /// [0, 2] (Mitsuba's range: 0 reflects all of it, 1 half, 2 transmits all).
+  TexturedFloat diff_trans{0, -1};
+  /// principled_thin only: sampling rates of its specular reflection and transmission and of
+  /// its diffuse transmission (>= 0, constants; diffuse_reflectance_sampling_rate as above).
+  double specular_reflectance_sampling_rate = 1;
+  double specular_transmittance_sampling_rate = 1;
+  double diffuse_transmittance_sampling_rate = 1;
   /// Whether the material transmits light: spec_trans textured or non-zero (Mitsuba's
   /// m_has_spec_trans). It then is two-sided by nature, as a dielectric.
   bool transmits() const { return !spec_trans.is_constant() || spec_trans.value != 0; }
   /// Any parameter textured.
   bool textured() const {
     for (const TexturedFloat* f : {&roughness, &anisotropic, &metallic, &spec_trans, &spec_tint,
-                                   &sheen, &sheen_tint, &flatness, &clearcoat, &clearcoat_gloss}) {
+                                   &sheen, &sheen_tint, &flatness, &clearcoat, &clearcoat_gloss,
+                                   &diff_trans}) {
       if (!f->is_constant()) return true;
     }
     return false;
@@ -163,7 +180,8 @@ struct PrincipledParameters {
 struct Material {
   std::string name;
   MaterialType type = MaterialType::diffuse;
-  /// diffuse: albedo; plastic / rough_plastic: diffuse_reflectance; principled: base_color.
+  /// diffuse: albedo; plastic / rough_plastic / pplastic: diffuse_reflectance; principled and
+  /// principled_thin: base_color.
   /// Linear RGB; constants in [0, 1] (textures are clamped there at lookup).
   TexturedColor reflectance{{0.5, 0.5, 0.5}, -1};
   /// conductors, glass, plastics: Mitsuba's specular_reflectance (default 1).
@@ -173,6 +191,9 @@ struct Material {
   /// glass kinds, plastics, principled (Mitsuba's eta, or its `specular` converted): interior
   /// over exterior index, > 0.
   double ior = 1.5;
+  /// principled_thin and pplastic, whose index Mitsuba lets a texture give: the index is then
+  /// ior * texture(uv) (ior the scale). -1 = the constant ior.
+  int32_t ior_texture = -1;
   /// conductors: complex index of refraction relative to the exterior, per RGB channel.
   /// `perfect` = true is Mitsuba's material="none": Fresnel reflectance 1 whatever eta and k.
   glm::dvec3 eta{0, 0, 0};
@@ -206,14 +227,16 @@ struct Material {
   /// blend only: the two nested BSDFs (Mitsuba's first and second), any kind but without
   /// sidedness, mask, bump or normal map of their own (the blend carries those).
   std::vector<Material> blend;
-  /// Whether the material transmits light (glass kinds, principled with spec_trans, a blend of
-  /// one): then two-sided by nature.
+  /// Whether the material transmits light (glass kinds, principled with spec_trans,
+  /// principled_thin, a blend of one): then two-sided by nature.
   bool transmits() const {
     if (type == MaterialType::glass || type == MaterialType::rough_glass ||
         type == MaterialType::thin_glass) {
       return true;
     }
     if (type == MaterialType::principled) return principled.transmits();
+    // Mitsuba's principledthin always has a transmission lobe and treats both sides alike.
+    if (type == MaterialType::principled_thin) return true;
     if (type == MaterialType::blend) {
       for (const Material& m : blend) {
         if (m.transmits()) return true;

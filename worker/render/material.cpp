@@ -1,6 +1,6 @@
 #include "material.h"
 
-#include "bsdf/rough_plastic.h"
+#include "bsdf/rough_plastic_tables.h"
 #include "scene/scene_error.h"
 #include "texture/texture_set.h"
 
@@ -12,11 +12,12 @@ RenderFloat scalar(const TexturedFloat& f) { return {float(f.value), f.texture};
 
 }  // namespace
 
-RenderMaterial make_render_material(const Material& m) {
+RenderMaterial make_render_material(const Material& m, RoughPlasticTables& tables) {
   RenderMaterial r;
   r.type = m.type;
   r.albedo = glm::vec3(m.reflectance.value);
   r.ior = float(m.ior);
+  r.ior_texture = m.ior_texture;
   r.two_sided = m.two_sided;
   r.reflectance = color(m.reflectance);
   r.specular_reflectance = color(m.specular_reflectance);
@@ -46,29 +47,32 @@ RenderMaterial make_render_material(const Material& m) {
   rp.flatness = scalar(pp.flatness);
   rp.clearcoat = scalar(pp.clearcoat);
   rp.clearcoat_gloss = scalar(pp.clearcoat_gloss);
+  rp.diff_trans = scalar(pp.diff_trans);
+  rp.specular_reflectance_sampling_rate = float(pp.specular_reflectance_sampling_rate);
+  rp.specular_transmittance_sampling_rate = float(pp.specular_transmittance_sampling_rate);
+  rp.diffuse_transmittance_sampling_rate = float(pp.diffuse_transmittance_sampling_rate);
   rp.main_specular_sampling_rate = float(pp.main_specular_sampling_rate);
   rp.clearcoat_sampling_rate = float(pp.clearcoat_sampling_rate);
   rp.diffuse_reflectance_sampling_rate = float(pp.diffuse_reflectance_sampling_rate);
   rp.transmits = m.type == MaterialType::principled && pp.transmits();
   r.blend_weight = scalar(m.blend_weight);
   for (const Material& nested : m.blend) {
-    r.blend.push_back(make_render_material(nested));
-    RenderMaterial& n = r.blend.back();
-    r.textured = r.textured || n.textured;
-    if (nested.type != MaterialType::rough_plastic) continue;
-    if (!nested.alpha_u.is_constant() || nested.alpha_u.value != nested.alpha_v.value) {
+    r.blend.push_back(make_render_material(nested, tables));
+    r.textured = r.textured || r.blend.back().textured;
+  }
+  if (m.type == MaterialType::rough_plastic) {
+    if (!m.alpha_u.is_constant() || m.alpha_u.value != m.alpha_v.value) {
       throw SceneError("material \"" + m.name + "\": a rough plastic's alpha is one constant " +
                        "(Mitsuba's roughplastic is isotropic and untextured)");
     }
-    n.owned_table = std::make_shared<const RoughPlasticTable>(make_rough_plastic_table(
-        nested.distribution, float(nested.alpha_u.value), float(nested.ior)));
-    n.rough_plastic = n.owned_table.get();
+    r.rough_plastic = tables.get(m.distribution, float(m.alpha_u.value), float(m.ior));
   }
   r.textured = r.textured || m.reflectance.texture >= 0 || m.specular_reflectance.texture >= 0 ||
                m.specular_transmittance.texture >= 0 || m.alpha_u.texture >= 0 ||
                m.alpha_v.texture >= 0 || m.opacity.texture >= 0 || m.normal_map >= 0 ||
-               m.bump_map >= 0 || (m.type == MaterialType::principled && pp.textured()) ||
-               m.blend_weight.texture >= 0;
+               m.bump_map >= 0 || m.ior_texture >= 0 || m.blend_weight.texture >= 0 ||
+               ((m.type == MaterialType::principled || m.type == MaterialType::principled_thin) &&
+                pp.textured());
   return r;
 }
 
@@ -84,7 +88,7 @@ BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm:
   p.reflectance = color(m.reflectance);  // not clamped: Mitsuba does not clamp texels either
   p.specular_reflectance = color(m.specular_reflectance);
   p.specular_transmittance = color(m.specular_transmittance);
-  p.eta = m.ior;
+  p.eta = m.ior_texture < 0 ? m.ior : m.ior * textures.lookup_1(m.ior_texture, uv);
   p.conductor_eta = m.conductor_eta;
   p.conductor_k = m.conductor_k;
   p.perfect = m.perfect;
@@ -94,7 +98,7 @@ BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm:
   p.sample_visible = m.sample_visible;
   p.nonlinear = m.nonlinear;
   p.rough_plastic = m.rough_plastic;
-  if (m.type == MaterialType::principled) {
+  if (m.type == MaterialType::principled || m.type == MaterialType::principled_thin) {
     const RenderPrincipled& rp = m.principled;
     PrincipledInputs& in = p.principled;
     in.roughness = scalar(rp.roughness);
@@ -111,6 +115,10 @@ BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm:
     in.clearcoat_sampling_rate = rp.clearcoat_sampling_rate;
     in.diffuse_reflectance_sampling_rate = rp.diffuse_reflectance_sampling_rate;
     in.transmits = rp.transmits;
+    in.diff_trans = scalar(rp.diff_trans);
+    in.specular_reflectance_sampling_rate = rp.specular_reflectance_sampling_rate;
+    in.specular_transmittance_sampling_rate = rp.specular_transmittance_sampling_rate;
+    in.diffuse_transmittance_sampling_rate = rp.diffuse_transmittance_sampling_rate;
   }
   if (m.type == MaterialType::blend) {
     p.blend_weight = scalar(m.blend_weight);

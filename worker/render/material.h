@@ -3,7 +3,6 @@
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -15,7 +14,8 @@
 
 namespace tessera {
 
-struct RoughPlasticTable;  // bsdf/rough_plastic.h
+struct RoughPlasticTable;   // bsdf/rough_plastic.h
+class RoughPlasticTables;  // bsdf/rough_plastic_tables.h
 class TextureSet;          // texture/texture_set.h
 
 /// A colour parameter: constant * texture(uv) when texture >= 0, the constant otherwise.
@@ -28,12 +28,15 @@ struct RenderFloat {
   int32_t texture = -1;
 };
 
-/// A principled material's parameters besides base_color and eta (PrincipledParameters).
+/// A principled (or principled_thin) material's parameters besides base_color and eta
+/// (PrincipledParameters).
 struct RenderPrincipled {
   RenderFloat roughness{0.5f, -1}, anisotropic, metallic, spec_trans, spec_tint, sheen, sheen_tint,
-      flatness, clearcoat, clearcoat_gloss;
+      flatness, clearcoat, clearcoat_gloss, diff_trans;
   float main_specular_sampling_rate = 1, clearcoat_sampling_rate = 1;
   float diffuse_reflectance_sampling_rate = 1;
+  float specular_reflectance_sampling_rate = 1, specular_transmittance_sampling_rate = 1;
+  float diffuse_transmittance_sampling_rate = 1;
   bool transmits = false;  ///< spec_trans textured or non-zero
 };
 
@@ -41,6 +44,7 @@ struct RenderMaterial {
   MaterialType type = MaterialType::diffuse;
   glm::vec3 albedo{0.0f};  ///< diffuse reflectance when constant (the diffuse fast path's)
   float ior = 1.5f;        ///< glass kinds, plastics, principled: interior over exterior
+  int32_t ior_texture = -1;  ///< principled_thin, pplastic: index = ior * texture(uv)
   bool two_sided = false;  ///< reflecting kinds: both sides reflect
 
   RenderColor reflectance;  ///< diffuse albedo, plastics' diffuse_reflectance, base_color
@@ -58,22 +62,21 @@ struct RenderMaterial {
   int32_t bump_map = -1;
   float bump_scale = 1;
 
-  /// rough_plastic: the material's precomputed Fresnel integrals (owned by TraceableScene).
+  /// rough_plastic: the material's precomputed Fresnel integrals (owned by the scene's
+  /// RoughPlasticTables).
   const RoughPlasticTable* rough_plastic = nullptr;
   RenderPrincipled principled;  ///< principled only
   RenderFloat blend_weight{0.5f, -1};  ///< blend only
   std::vector<RenderMaterial> blend;   ///< blend only: the two nested materials
-  /// A nested rough plastic's table, which this material owns (TraceableScene makes the
-  /// top-level materials' tables).
-  std::shared_ptr<const RoughPlasticTable> owned_table;
 
   /// Whether any parameter is a texture (the hit then needs its uv).
   bool textured = false;
-  /// Glass kinds and principled materials that transmit: both sides are the surface, with the
-  /// index inverted from the back (the BSDF handles wo below the surface).
+  /// Glass kinds, principled materials that transmit and thin principled ones: both sides are
+  /// the surface, with the index inverted from the back (the BSDF handles wo below the
+  /// surface).
   bool dielectric() const {
     return type == MaterialType::glass || type == MaterialType::rough_glass ||
-           type == MaterialType::thin_glass ||
+           type == MaterialType::thin_glass || type == MaterialType::principled_thin ||
            (type == MaterialType::principled && principled.transmits) ||
            (type == MaterialType::blend && blend_transmits());
   }
@@ -86,9 +89,10 @@ struct RenderMaterial {
   bool masked() const { return opacity.texture >= 0 || opacity.value < 1; }
 };
 
-/// The render form of `m`. The nested materials of a blend get their rough plastic tables
-/// here; throws SceneError when a nested rough plastic's alpha is not one constant.
-RenderMaterial make_render_material(const Material& m);
+/// The render form of `m`. Its rough plastics (nested in blends too) get their tables from
+/// `tables`, which must outlive the result; throws SceneError when a rough plastic's alpha is
+/// not one constant.
+RenderMaterial make_render_material(const Material& m, RoughPlasticTables& tables);
 
 /// The BSDF parameters of `m` at a point of texture coordinates `uv`: constants as they are,
 /// textured parameters looked up (only those of m's type).

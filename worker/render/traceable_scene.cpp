@@ -14,13 +14,13 @@ namespace tessera {
 namespace {
 
 /// Whether a material's roughness differs along dpdu and dpdv anywhere (rough kinds with
-/// alpha_u != alpha_v or textured alphas, principled with a non-zero or textured
+/// alpha_u != alpha_v or textured alphas, principled kinds with a non-zero or textured
 /// `anisotropic`, a blend holding either): its shading frame then follows dpdu.
 bool is_anisotropic(const Material& m) {
   if (m.alpha_u.value != m.alpha_v.value || !m.alpha_u.is_constant() || !m.alpha_v.is_constant()) {
     return true;
   }
-  if (m.type == MaterialType::principled &&
+  if ((m.type == MaterialType::principled || m.type == MaterialType::principled_thin) &&
       (m.principled.anisotropic.value != 0 || !m.principled.anisotropic.is_constant())) {
     return true;
   }
@@ -84,16 +84,7 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
   isa_ = isa.empty() ? isa_name(device_) : isa;
 
   for (const Material& m : scene.materials) {
-    materials_.push_back(make_render_material(m));
-    if (m.type == MaterialType::rough_plastic) {
-      if (!m.alpha_u.is_constant() || m.alpha_u.value != m.alpha_v.value) {
-        throw SceneError("material \"" + m.name + "\": a rough plastic's alpha is one constant " +
-                         "(Mitsuba's roughplastic is isotropic and untextured)");
-      }
-      rough_plastic_tables_.push_back(std::make_unique<RoughPlasticTable>(
-          make_rough_plastic_table(m.distribution, float(m.alpha_u.value), float(m.ior))));
-      materials_.back().rough_plastic = rough_plastic_tables_.back().get();
-    }
+    materials_.push_back(make_render_material(m, rough_plastic_tables_));
     // Anisotropic roughness is measured along dpdu: the shading frame then needs it.
     if (is_anisotropic(m)) need_uv_ = true;
   }

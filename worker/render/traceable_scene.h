@@ -17,7 +17,7 @@
 #include "ray_offset.h"
 #include "scene/scene.h"
 #include "scene/scene_loader.h"
-#include "bsdf/rough_plastic.h"
+#include "bsdf/rough_plastic_tables.h"
 #include "texture/texture_set.h"
 
 namespace tessera {
@@ -96,7 +96,7 @@ class TraceableScene {
   RTCScene scene_ = nullptr;
   PerspectiveCamera camera_;
   std::vector<RenderMaterial> materials_;
-  std::vector<std::unique_ptr<RoughPlasticTable>> rough_plastic_tables_;
+  RoughPlasticTables rough_plastic_tables_;  ///< one per distinct coating of the scene
   std::vector<std::unique_ptr<Geometry>> geometries_;  ///< indexed by Embree geometry id
   /// Per shape group: its Embree scene and its shapes' Geometry, indexed by geometry id there.
   std::vector<RTCScene> group_scenes_;

@@ -13,8 +13,8 @@ namespace {
 
 constexpr const char* kSupported =
     "Tessera supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
-    "thindielectric, plastic, roughplastic, principled, blendbsdf, twosided, mask, bumpmap and "
-    "normalmap";
+    "thindielectric, plastic, roughplastic, pplastic, principled, principledthin, blendbsdf, "
+    "twosided, mask, bumpmap and normalmap";
 
 constexpr MitsubaColorRole kReflectance = MitsubaColorRole::reflectance;
 
@@ -216,6 +216,76 @@ Material read_principled(MitsubaPlugin& plugin, MitsubaTextures& textures) {
   return m;
 }
 
+/// The index of principledthin and pplastic: eta as a <float> or a texture (Mitsuba reads it
+/// as an unbounded texture), or int_ior / ext_ior (pplastic only; not with eta).
+void read_textured_eta(MitsubaPlugin& plugin, MitsubaTextures& textures, Material& m,
+                       bool ior_names) {
+  if (ior_names && plugin.has("eta") && (plugin.has("int_ior") || plugin.has("ext_ior"))) {
+    fail_at(plugin.element(), "give eta or int_ior and ext_ior, not both (as Mitsuba requires)");
+  }
+  if (!plugin.has("eta") && ior_names) {
+    m.ior = read_relative_ior(plugin, "polypropylene");
+    if (m.ior == 1) {
+      fail_at(plugin.element(),
+              "int_ior and ext_ior must differ (as Mitsuba requires)");
+    }
+    return;
+  }
+  const TexturedFloat eta = read_textured_float(plugin, "eta", 1.5, textures);
+  if (eta.is_constant() && !(eta.value > 0)) {
+    fail_at(*plugin.property("eta"), "must be > 0 (got " + format_number(eta.value) + ")");
+  }
+  m.ior = eta.value;
+  m.ior_texture = eta.texture;
+}
+
+/// Mitsuba's principledthin: the weights, diff_trans, eta, the four sampling rates.
+Material read_principled_thin(MitsubaPlugin& plugin, MitsubaTextures& textures) {
+  Material m;
+  m.type = MaterialType::principled_thin;
+  PrincipledParameters& p = m.principled;
+  m.reflectance = read_textured_color(plugin, "base_color", glm::dvec3(0.5), kReflectance, textures);
+  p.roughness = read_weight(plugin, "roughness", 0.5, textures);
+  p.anisotropic = read_weight(plugin, "anisotropic", 0, textures);
+  p.spec_trans = read_weight(plugin, "spec_trans", 0, textures);
+  p.spec_tint = read_weight(plugin, "spec_tint", 0, textures);
+  p.sheen = read_weight(plugin, "sheen", 0, textures);
+  p.sheen_tint = read_weight(plugin, "sheen_tint", 0, textures);
+  p.flatness = read_weight(plugin, "flatness", 0, textures);
+  p.diff_trans = read_textured_float(plugin, "diff_trans", 0, textures);
+  if (p.diff_trans.is_constant() && !(p.diff_trans.value >= 0 && p.diff_trans.value <= 2)) {
+    fail_at(*plugin.property("diff_trans"),
+            "must be in [0, 2] (got " + format_number(p.diff_trans.value) + ")");
+  }
+  const std::pair<const char*, double*> rates[] = {
+      {"diffuse_reflectance_sampling_rate", &p.diffuse_reflectance_sampling_rate},
+      {"specular_reflectance_sampling_rate", &p.specular_reflectance_sampling_rate},
+      {"specular_transmittance_sampling_rate", &p.specular_transmittance_sampling_rate},
+      {"diffuse_transmittance_sampling_rate", &p.diffuse_transmittance_sampling_rate},
+  };
+  for (const auto& [name, rate] : rates) {
+    *rate = plugin.take_float(name).value_or(1.0);
+    if (!(*rate >= 0)) {
+      fail_at(*plugin.property(name), "must be >= 0 (got " + format_number(*rate) + ")");
+    }
+  }
+  read_textured_eta(plugin, textures, m, /*ior_names=*/false);
+  return m;
+}
+
+/// Mitsuba's pplastic, as its RGB variants render it.
+Material read_pplastic(MitsubaPlugin& plugin, MitsubaTextures& textures) {
+  Material m;
+  m.type = MaterialType::pplastic;
+  m.reflectance = read_textured_color(plugin, "diffuse_reflectance", glm::dvec3(0.5),
+                                      kReflectance, textures);
+  m.specular_reflectance = read_textured_color(plugin, "specular_reflectance", glm::dvec3(1),
+                                               kReflectance, textures);
+  read_textured_eta(plugin, textures, m, /*ior_names=*/true);
+  read_microfacets(plugin, m, textures, /*anisotropic=*/true);
+  return m;
+}
+
 /// The one BSDF nested in a wrapper (twosided, mask, bumpmap, normalmap).
 const MitsubaElement& single_nested(MitsubaPlugin& plugin) {
   std::vector<MitsubaObject> nested = plugin.take_objects("bsdf");
@@ -336,6 +406,10 @@ Material MitsubaMaterials::read(const MitsubaElement& bsdf) {
     m = read_plastic(plugin, textures_, type == "roughplastic");
   } else if (type == "principled") {
     m = read_principled(plugin, textures_);
+  } else if (type == "principledthin") {
+    m = read_principled_thin(plugin, textures_);
+  } else if (type == "pplastic") {
+    m = read_pplastic(plugin, textures_);
   } else if (type == "blendbsdf") {
     m = read_blend(plugin);
   } else if (type == "twosided") {

@@ -39,6 +39,15 @@ namespace tessera {
 ///   eta = 2 / (1 - sqrt(0.08 specular)) - 1), main_specular_sampling_rate,
 ///   clearcoat_sampling_rate, diffuse_reflectance_sampling_rate (1). With spec_trans it
 ///   transmits light and is two-sided by nature;
+/// - `pplastic` (as Mitsuba's RGB variants render it, without polarization):
+///   diffuse_reflectance (0.5), specular_reflectance (1), eta (a float or texture) or int_ior
+///   (polypropylene) / ext_ior (air), not both; distribution (beckmann), alpha or alpha_u /
+///   alpha_v (0.1, textured), sample_visible;
+/// - `principledthin`: base_color (0.5), roughness (0.5), anisotropic, spec_trans, spec_tint,
+///   sheen, sheen_tint, flatness (0; each a float in [0, 1] or a texture), diff_trans (0; a
+///   float in [0, 2] or a texture), eta (1.5; a float or a texture), and the sampling rates
+///   diffuse_reflectance_, specular_reflectance_, specular_transmittance_ and
+///   diffuse_transmittance_sampling_rate (1). Two-sided by nature, as a dielectric;
 /// - `blendbsdf`: weight (required; a float, clamped to [0, 1] as Mitsuba does, or a texture)
 ///   and two nested BSDFs, which may be blends but have no twosided, mask, bumpmap or normalmap
 ///   inside (those go around the blend);

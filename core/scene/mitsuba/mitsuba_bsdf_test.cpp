@@ -288,9 +288,8 @@ TEST(MitsubaBsdf, UnsupportedBsdfsNameTheirLine) {
             "test.xml: line " + std::to_string(line_of(xml, "hair")) +
                 ": <bsdf type=\"hair\" id=\"p\">: unsupported BSDF (Tessera "
                 "supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
-                "thindielectric, plastic, roughplastic, principled, blendbsdf, twosided, mask, "
-                "bumpmap and normalmap)");
-  EXPECT_NE(bsdf_error(R"(<bsdf type="pplastic"/>)").find("unsupported BSDF"), std::string::npos);
+                "thindielectric, plastic, roughplastic, pplastic, principled, principledthin, "
+                "blendbsdf, twosided, mask, bumpmap and normalmap)");
 }
 
 TEST(MitsubaBsdf, PrincipledDefaultsAreMitsubas) {
@@ -377,6 +376,100 @@ TEST(MitsubaBsdf, PrincipledRefusalsNameTheParameter) {
                 .find("twosided takes only BSDFs that do not transmit light"),
             std::string::npos);
   EXPECT_TRUE(material_of(R"(<bsdf type="twosided"><bsdf type="principled"/></bsdf>)").two_sided);
+}
+
+TEST(MitsubaBsdf, PrincipledThinReadsEveryParameterAndTextures) {
+  Material d = material_of(R"(<bsdf type="principledthin"/>)");
+  EXPECT_EQ(d.type, MaterialType::principled_thin);
+  EXPECT_EQ(d.reflectance.value, glm::dvec3(0.5));
+  EXPECT_EQ(d.principled.roughness.value, 0.5);
+  EXPECT_EQ(d.principled.diff_trans.value, 0.0);
+  EXPECT_EQ(d.ior, 1.5);
+  EXPECT_EQ(d.ior_texture, -1);
+  EXPECT_TRUE(d.transmits());  // two-sided by nature
+
+  Material m = material_of(R"(<bsdf type="principledthin">
+      <rgb name="base_color" value="0.7, 0.1, 0.1"/>
+      <float name="roughness" value="0.15"/>
+      <texture name="anisotropic" type="checkerboard"><float name="color0" value="0.05"/>
+        <float name="color1" value="0.8"/></texture>
+      <float name="spec_trans" value="0.8"/> <float name="spec_tint" value="0.1"/>
+      <float name="sheen" value="0.6"/> <float name="sheen_tint" value="0.7"/>
+      <float name="flatness" value="0.4"/>
+      <texture name="diff_trans" type="checkerboard"><float name="color0" value="0.4"/>
+        <float name="color1" value="1.4"/></texture>
+      <texture name="eta" type="checkerboard"><float name="color0" value="1.2"/>
+        <float name="color1" value="1.5"/></texture>
+      <float name="diffuse_reflectance_sampling_rate" value="0.5"/>
+      <float name="specular_reflectance_sampling_rate" value="2"/>
+      <float name="specular_transmittance_sampling_rate" value="3"/>
+      <float name="diffuse_transmittance_sampling_rate" value="4"/></bsdf>)");
+  const PrincipledParameters& p = m.principled;
+  EXPECT_EQ(m.reflectance.value, glm::dvec3(0.7, 0.1, 0.1));
+  EXPECT_EQ(p.roughness.value, 0.15);
+  EXPECT_GE(p.anisotropic.texture, 0);
+  EXPECT_EQ(p.spec_trans.value, 0.8);
+  EXPECT_EQ(p.spec_tint.value, 0.1);
+  EXPECT_EQ(p.sheen.value, 0.6);
+  EXPECT_EQ(p.sheen_tint.value, 0.7);
+  EXPECT_EQ(p.flatness.value, 0.4);
+  EXPECT_GE(p.diff_trans.texture, 0);
+  EXPECT_GE(m.ior_texture, 0);
+  EXPECT_EQ(m.ior, 1.0);  // the texture's scale
+  EXPECT_EQ(p.diffuse_reflectance_sampling_rate, 0.5);
+  EXPECT_EQ(p.specular_reflectance_sampling_rate, 2.0);
+  EXPECT_EQ(p.specular_transmittance_sampling_rate, 3.0);
+  EXPECT_EQ(p.diffuse_transmittance_sampling_rate, 4.0);
+
+  EXPECT_NE(bsdf_error(R"(<bsdf type="principledthin"><float name="diff_trans" value="2.5"/>
+      </bsdf>)").find("<float name=\"diff_trans\">: must be in [0, 2] (got 2.5)"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="principledthin"><float name="eta" value="0"/></bsdf>)")
+                .find("must be > 0"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="principledthin"><float name="metallic" value="0.5"/>
+      </bsdf>)").find("metallic"),
+            std::string::npos);  // principled's, not the thin one's
+  EXPECT_NE(bsdf_error(R"(<bsdf type="twosided"><bsdf type="principledthin"/></bsdf>)")
+                .find("twosided takes only BSDFs that do not transmit light"),
+            std::string::npos);
+}
+
+TEST(MitsubaBsdf, PplasticReadsItsParameters) {
+  Material d = material_of(R"(<bsdf type="pplastic"/>)");
+  EXPECT_EQ(d.type, MaterialType::pplastic);
+  EXPECT_EQ(d.reflectance.value, glm::dvec3(0.5));
+  EXPECT_EQ(d.specular_reflectance.value, glm::dvec3(1.0));
+  EXPECT_NEAR(d.ior, 1.49 / 1.000277, 1e-12);  // polypropylene over air
+  EXPECT_EQ(d.distribution, MicrofacetDistribution::beckmann);
+  EXPECT_EQ(d.alpha_u.value, 0.1);
+  EXPECT_FALSE(d.transmits());
+
+  Material m = material_of(R"(<bsdf type="pplastic">
+      <rgb name="diffuse_reflectance" value="0.05, 0.03, 0.1"/>
+      <rgb name="specular_reflectance" value="0.5"/>
+      <float name="eta" value="1.33"/> <string name="distribution" value="ggx"/>
+      <float name="alpha_u" value="0.06"/> <float name="alpha_v" value="0.2"/>
+      <boolean name="sample_visible" value="false"/></bsdf>)");
+  EXPECT_EQ(m.reflectance.value, glm::dvec3(0.05, 0.03, 0.1));
+  EXPECT_EQ(m.specular_reflectance.value, glm::dvec3(0.5));
+  EXPECT_EQ(m.ior, 1.33);
+  EXPECT_EQ(m.distribution, MicrofacetDistribution::ggx);
+  EXPECT_EQ(m.alpha_u.value, 0.06);
+  EXPECT_EQ(m.alpha_v.value, 0.2);
+  EXPECT_FALSE(m.sample_visible);
+  EXPECT_NEAR(material_of(R"(<bsdf type="pplastic"><float name="int_ior" value="1.6"/>
+      <float name="ext_ior" value="1.2"/></bsdf>)").ior, 1.6 / 1.2, 1e-12);
+
+  EXPECT_NE(bsdf_error(R"(<bsdf type="pplastic"><float name="eta" value="1.5"/>
+      <float name="int_ior" value="1.5"/></bsdf>)").find("give eta or int_ior and ext_ior"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="pplastic"><float name="int_ior" value="1.2"/>
+      <float name="ext_ior" value="1.2"/></bsdf>)").find("must differ"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="pplastic"><boolean name="nonlinear" value="true"/>
+      </bsdf>)").find("nonlinear"),
+            std::string::npos);
 }
 
 TEST(MitsubaBsdf, BlendbsdfNestsTwoBsdfs) {

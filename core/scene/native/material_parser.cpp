@@ -21,6 +21,8 @@ constexpr std::pair<const char*, MaterialType> kTypes[] = {
     {"rough_plastic", MaterialType::rough_plastic},
     {"principled", MaterialType::principled},
     {"blend", MaterialType::blend},
+    {"principled_thin", MaterialType::principled_thin},
+    {"pplastic", MaterialType::pplastic},
 };
 
 /// The principled material's weights (each in [0, 1], constant or textured), in the order the
@@ -28,6 +30,24 @@ constexpr std::pair<const char*, MaterialType> kTypes[] = {
 struct PrincipledKey {
   const char* key;
   TexturedFloat PrincipledParameters::*member;
+};
+/// The weights of principled_thin in [0, 1] (diff_trans, in [0, 2], apart).
+constexpr PrincipledKey kThinWeights[] = {
+    {"roughness", &PrincipledParameters::roughness},
+    {"anisotropic", &PrincipledParameters::anisotropic},
+    {"spec_trans", &PrincipledParameters::spec_trans},
+    {"spec_tint", &PrincipledParameters::spec_tint},
+    {"sheen", &PrincipledParameters::sheen},
+    {"sheen_tint", &PrincipledParameters::sheen_tint},
+    {"flatness", &PrincipledParameters::flatness},
+};
+constexpr std::pair<const char*, double PrincipledParameters::*> kThinRates[] = {
+    {"diffuse_reflectance_sampling_rate", &PrincipledParameters::diffuse_reflectance_sampling_rate},
+    {"specular_reflectance_sampling_rate", &PrincipledParameters::specular_reflectance_sampling_rate},
+    {"specular_transmittance_sampling_rate",
+     &PrincipledParameters::specular_transmittance_sampling_rate},
+    {"diffuse_transmittance_sampling_rate",
+     &PrincipledParameters::diffuse_transmittance_sampling_rate},
 };
 constexpr PrincipledKey kPrincipledWeights[] = {
     {"roughness", &PrincipledParameters::roughness},
@@ -56,12 +76,12 @@ MaterialType parse_type(const JsonValue& value) {
   }
   type->fail("unknown material type \"" + printable(name) +
              "\" (expected diffuse, mirror, glass, conductor, rough_conductor, rough_glass, "
-             "thin_glass, plastic, rough_plastic, principled or blend)");
+             "thin_glass, plastic, rough_plastic, pplastic, principled, principled_thin or blend)");
 }
 
 bool is_rough(MaterialType t) {
   return t == MaterialType::rough_conductor || t == MaterialType::rough_glass ||
-         t == MaterialType::rough_plastic;
+         t == MaterialType::rough_plastic || t == MaterialType::pplastic;
 }
 bool is_conductor(MaterialType t) {
   return t == MaterialType::conductor || t == MaterialType::rough_conductor;
@@ -70,9 +90,26 @@ bool is_plastic(MaterialType t) {
   return t == MaterialType::plastic || t == MaterialType::rough_plastic;
 }
 
+/// Both sides alike by nature, as glass: no two_sided key.
+bool always_two_sided(MaterialType t) {
+  return is_glass_kind(t) || t == MaterialType::principled_thin;
+}
+bool has_ior(MaterialType t) {
+  return is_glass_kind(t) || is_plastic(t) || t == MaterialType::principled ||
+         t == MaterialType::principled_thin || t == MaterialType::pplastic;
+}
+
 /// The keys of each type, besides those every material has.
 std::vector<std::string_view> keys_of(MaterialType type) {
   std::vector<std::string_view> keys = {"type"};
+  if (type == MaterialType::principled_thin) {
+    keys.insert(keys.end(), {"base_color", "ior", "diff_trans"});
+    for (const PrincipledKey& k : kThinWeights) keys.push_back(k.key);
+    for (const auto& [key, member] : kThinRates) keys.push_back(key);
+    keys.insert(keys.end(), {"opacity", "normal_map", "bump_map", "bump_scale", "back"});
+    return keys;
+  }
+  if (type == MaterialType::pplastic) keys.push_back("diffuse_reflectance");
   if (type == MaterialType::diffuse) keys.push_back("reflectance");
   if (is_plastic(type)) keys.insert(keys.end(), {"diffuse_reflectance", "nonlinear"});
   if (type == MaterialType::blend) return {"type", "weight", "materials", "two_sided", "opacity",
@@ -81,9 +118,7 @@ std::vector<std::string_view> keys_of(MaterialType type) {
     keys.push_back("specular_reflectance");
   }
   if (is_glass_kind(type)) keys.push_back("specular_transmittance");
-  if (is_glass_kind(type) || is_plastic(type) || type == MaterialType::principled) {
-    keys.push_back("ior");
-  }
+  if (has_ior(type)) keys.push_back("ior");
   if (type == MaterialType::principled) {
     keys.erase(std::find(keys.begin(), keys.end(), "specular_reflectance"));
     keys.push_back("base_color");
@@ -95,7 +130,7 @@ std::vector<std::string_view> keys_of(MaterialType type) {
     keys.insert(keys.end(), {"distribution", "alpha", "sample_visible"});
     if (type != MaterialType::rough_plastic) keys.insert(keys.end(), {"alpha_u", "alpha_v"});
   }
-  if (!is_glass_kind(type)) keys.push_back("two_sided");
+  if (!always_two_sided(type)) keys.push_back("two_sided");
   keys.insert(keys.end(), {"opacity", "normal_map", "bump_map", "bump_scale", "back"});
   return keys;
 }
@@ -105,18 +140,27 @@ void refuse_foreign_keys(const JsonValue& value, MaterialType type) {
   auto refuse = [&](const char* key, const char* message) {
     if (std::optional<JsonValue> v = value.find(key)) v->fail(message);
   };
-  if (!is_glass_kind(type) && !is_plastic(type) && type != MaterialType::principled) {
+  const bool principled_kind =
+      type == MaterialType::principled || type == MaterialType::principled_thin;
+  if (!has_ior(type)) {
     refuse("ior", "only glass kinds, plastics and principled materials have an ior");
   }
-  if (type != MaterialType::principled) {
+  if (!principled_kind) {
     refuse("base_color", "only principled materials have a base_color");
   }
   if (type != MaterialType::diffuse) {
-    refuse("reflectance", is_plastic(type)                     ? "plastics call it diffuse_reflectance"
-                          : type == MaterialType::principled ? "principled materials call it base_color"
-                                                             : "only diffuse materials have a reflectance");
+    refuse("reflectance", is_plastic(type) || type == MaterialType::pplastic
+                              ? "plastics call it diffuse_reflectance"
+                          : principled_kind ? "principled materials call it base_color"
+                                            : "only diffuse materials have a reflectance");
   }
   if (is_glass_kind(type)) refuse("two_sided", "glass is always two-sided (remove this key)");
+  if (type == MaterialType::principled_thin) {
+    refuse("two_sided", "a principled_thin material is two-sided by nature (remove this key)");
+  }
+  if (type != MaterialType::principled_thin) {
+    refuse("diff_trans", "only principled_thin materials have a diff_trans");
+  }
   if (!is_rough(type)) refuse("alpha", "only rough kinds have an alpha");
   if (!is_conductor(type)) refuse("eta", "only conductors have an eta");
 }
@@ -158,6 +202,15 @@ void parse_roughness(const JsonValue& value, const TextureNames& textures, Mater
   }
 }
 
+/// A finite number >= 0 (the principled kinds' sampling rates).
+double parse_rate(const JsonValue& v) {
+  const double rate = v.number();
+  if (!(rate >= 0) || !std::isfinite(rate)) {
+    v.fail("must be a finite number >= 0 (got " + format_number(rate) + ")");
+  }
+  return rate;
+}
+
 void parse_principled(const JsonValue& value, const TextureNames& textures, Material& m) {
   if (auto c = value.find("base_color")) m.reflectance = parse_textured_color(*c, textures, {0, 1});
   for (const PrincipledKey& k : kPrincipledWeights) {
@@ -166,18 +219,27 @@ void parse_principled(const JsonValue& value, const TextureNames& textures, Mate
     }
   }
   for (const auto& [key, member] : kPrincipledRates) {
-    if (auto v = value.find(key)) {
-      const double rate = v->number();
-      if (!(rate >= 0) || !std::isfinite(rate)) {
-        v->fail("must be a finite number >= 0 (got " + format_number(rate) + ")");
-      }
-      m.principled.*member = rate;
-    }
+    if (auto v = value.find(key)) m.principled.*member = parse_rate(*v);
   }
   if (m.principled.transmits() && m.two_sided) {
     value.find("two_sided")->fail(
         "a principled material with spec_trans transmits light and is two-sided by nature "
         "(remove this key, or set spec_trans to 0)");
+  }
+}
+
+void parse_principled_thin(const JsonValue& value, const TextureNames& textures, Material& m) {
+  if (auto c = value.find("base_color")) m.reflectance = parse_textured_color(*c, textures, {0, 1});
+  for (const PrincipledKey& k : kThinWeights) {
+    if (auto v = value.find(k.key)) {
+      m.principled.*k.member = parse_textured_float(*v, textures, 0, 1, false);
+    }
+  }
+  if (auto v = value.find("diff_trans")) {
+    m.principled.diff_trans = parse_textured_float(*v, textures, 0, 2, false);
+  }
+  for (const auto& [key, member] : kThinRates) {
+    if (auto v = value.find(key)) m.principled.*member = parse_rate(*v);
   }
 }
 
@@ -229,8 +291,20 @@ void parse_type_keys(const JsonValue& value, const TextureNames& textures, Mater
   if (auto s = value.find("specular_transmittance")) {
     m.specular_transmittance = parse_textured_color(*s, textures, {0, 1e300});
   }
+  if (type == MaterialType::pplastic) {
+    if (auto r = value.find("diffuse_reflectance")) {
+      m.reflectance = parse_textured_color(*r, textures, {0, 1});
+    }
+  }
   if (auto ior = value.find("ior")) {
-    m.ior = ior->number();
+    if (type == MaterialType::principled_thin || type == MaterialType::pplastic) {
+      // Mitsuba lets a texture give these two types' index.
+      const TexturedFloat eta = parse_textured_float(*ior, textures, 0, 1e300, true);
+      m.ior = eta.value;
+      m.ior_texture = eta.texture;
+    } else {
+      m.ior = ior->number();
+    }
     if (!(m.ior > 0)) ior->fail("must be > 0 (got " + format_number(m.ior) + ")");
   }
   if (is_conductor(type)) {
@@ -240,6 +314,7 @@ void parse_type_keys(const JsonValue& value, const TextureNames& textures, Mater
   }
   if (is_rough(type)) parse_roughness(value, textures, m);
   if (type == MaterialType::principled) parse_principled(value, textures, m);
+  if (type == MaterialType::principled_thin) parse_principled_thin(value, textures, m);
   if (type == MaterialType::blend) parse_blend(value, textures, m);
 }
 

@@ -164,6 +164,65 @@ TEST(SceneModelParse, PrincipledTakesMitsubasParametersAndTextures) {
             0u);
 }
 
+TEST(SceneModelParse, PrincipledThinAndPplasticTakeMitsubasParametersAndTextures) {
+  Scene s = parse(with(R"("materials": {
+      "leaf": {"type": "principled_thin", "base_color": [0.2, 0.8, 0.1], "roughness": 0.15,
+               "anisotropic": 0.3, "spec_trans": {"texture": "h"}, "spec_tint": 0.5,
+               "sheen": 0.6, "sheen_tint": 0.7, "flatness": 0.8, "diff_trans": 1.5,
+               "ior": {"texture": "h", "scale": 1.4},
+               "diffuse_reflectance_sampling_rate": 0.5, "specular_reflectance_sampling_rate": 2,
+               "specular_transmittance_sampling_rate": 3, "diffuse_transmittance_sampling_rate": 4},
+      "thin default": {"type": "principled_thin"},
+      "pp": {"type": "pplastic", "diffuse_reflectance": [0.05, 0.03, 0.1], "ior": 1.33,
+             "distribution": "ggx", "alpha_u": 0.06, "alpha_v": {"texture": "h"},
+             "two_sided": true}},
+      "textures": {"h": {"type": "bitmap", "file": "h.png"}})"));
+  ASSERT_EQ(s.materials.size(), 3u);
+  const Material& m = s.materials[0];
+  EXPECT_EQ(m.type, MaterialType::principled_thin);
+  EXPECT_EQ(m.reflectance.value, glm::dvec3(0.2, 0.8, 0.1));
+  EXPECT_EQ(m.principled.roughness.value, 0.15);
+  EXPECT_EQ(m.principled.spec_trans.texture, 0);
+  EXPECT_EQ(m.principled.diff_trans.value, 1.5);
+  EXPECT_EQ(m.ior, 1.4);
+  EXPECT_EQ(m.ior_texture, 0);
+  EXPECT_EQ(m.principled.specular_transmittance_sampling_rate, 3.0);
+  EXPECT_EQ(m.principled.diffuse_transmittance_sampling_rate, 4.0);
+  EXPECT_TRUE(m.transmits());
+  EXPECT_EQ(s.materials[1].principled.roughness.value, 0.5);  // Mitsuba's defaults
+  EXPECT_EQ(s.materials[1].ior, 1.5);
+  EXPECT_EQ(s.materials[1].ior_texture, -1);
+  const Material& pp = s.materials[2];
+  EXPECT_EQ(pp.type, MaterialType::pplastic);
+  EXPECT_EQ(pp.reflectance.value, glm::dvec3(0.05, 0.03, 0.1));
+  EXPECT_EQ(pp.ior, 1.33);
+  EXPECT_EQ(pp.distribution, MicrofacetDistribution::ggx);
+  EXPECT_EQ(pp.alpha_u.value, 0.06);
+  EXPECT_EQ(pp.alpha_v.texture, 0);
+  EXPECT_TRUE(pp.two_sided);
+
+  auto material_error = [](const std::string& m) {
+    return error_of(with(R"("materials": {"m": )" + m + "}"));
+  };
+  EXPECT_EQ(material_error(R"({"type": "principled_thin", "diff_trans": 2.5})"),
+            "materials.m.diff_trans: must be in [0, 2] (got 2.5)");
+  EXPECT_EQ(material_error(R"({"type": "principled_thin", "two_sided": true})"),
+            "materials.m.two_sided: a principled_thin material is two-sided by nature (remove "
+            "this key)");
+  EXPECT_EQ(material_error(R"({"type": "principled", "diff_trans": 1})"),
+            "materials.m.diff_trans: only principled_thin materials have a diff_trans");
+  EXPECT_EQ(material_error(R"({"type": "principled_thin", "metallic": 1})").rfind(
+                "materials.m.metallic: unknown key", 0),
+            0u);
+  EXPECT_EQ(material_error(R"({"type": "pplastic", "reflectance": [1, 1, 1]})"),
+            "materials.m.reflectance: plastics call it diffuse_reflectance");
+  EXPECT_EQ(material_error(R"({"type": "pplastic", "ior": 0})"),
+            "materials.m.ior: must be > 0 (got 0)");
+  EXPECT_EQ(material_error(R"({"type": "pplastic", "nonlinear": true})").rfind(
+                "materials.m.nonlinear: unknown key", 0),
+            0u);
+}
+
 TEST(SceneModelParse, BlendNestsTwoMaterials) {
   Scene s = parse(with(R"("materials": {
       "mix": {"type": "blend", "weight": {"texture": "h"}, "two_sided": true,

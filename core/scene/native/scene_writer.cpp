@@ -165,6 +165,8 @@ const char* material_type_name(MaterialType type) {
     case MaterialType::rough_plastic: return "rough_plastic";
     case MaterialType::principled: return "principled";
     case MaterialType::blend: return "blend";
+    case MaterialType::principled_thin: return "principled_thin";
+    case MaterialType::pplastic: return "pplastic";
   }
   return "diffuse";
 }
@@ -193,6 +195,36 @@ std::string principled_keys(const Material& m, const Names& names, const std::st
   return out;
 }
 
+/// The index: a number, or a texture for the two types whose index Mitsuba lets one give.
+std::string ior_json(const Material& m, const Names& names, const std::string& what) {
+  return textured_float(TexturedFloat{m.ior, m.ior_texture}, names, what + ".ior");
+}
+
+/// The keys of a principled_thin material, every one written.
+std::string principled_thin_keys(const Material& m, const Names& names, const std::string& what) {
+  const PrincipledParameters& p = m.principled;
+  const std::pair<const char*, const TexturedFloat*> weights[] = {
+      {"roughness", &p.roughness}, {"anisotropic", &p.anisotropic}, {"spec_trans", &p.spec_trans},
+      {"spec_tint", &p.spec_tint}, {"sheen", &p.sheen},             {"sheen_tint", &p.sheen_tint},
+      {"flatness", &p.flatness},   {"diff_trans", &p.diff_trans},
+  };
+  const std::pair<const char*, double> rates[] = {
+      {"diffuse_reflectance_sampling_rate", p.diffuse_reflectance_sampling_rate},
+      {"specular_reflectance_sampling_rate", p.specular_reflectance_sampling_rate},
+      {"specular_transmittance_sampling_rate", p.specular_transmittance_sampling_rate},
+      {"diffuse_transmittance_sampling_rate", p.diffuse_transmittance_sampling_rate},
+  };
+  std::string out = ", \"base_color\": " + textured_color(m.reflectance, names, what + ".base_color");
+  for (const auto& [key, value] : weights) {
+    out += std::string(", \"") + key + "\": " + textured_float(*value, names, what + "." + key);
+  }
+  out += ", \"ior\": " + ior_json(m, names, what);
+  for (const auto& [key, rate] : rates) {
+    out += std::string(", \"") + key + "\": " + number(rate, what + "." + key);
+  }
+  return out;
+}
+
 /// The keys of `m`'s type, every one written.
 std::string material_type_keys(const Material& m, const Names& names, const std::string& what) {
   MaterialType t = m.type;
@@ -200,8 +232,14 @@ std::string material_type_keys(const Material& m, const Names& names, const std:
   bool plastic = t == MaterialType::plastic || t == MaterialType::rough_plastic;
   bool conductor = t == MaterialType::conductor || t == MaterialType::rough_conductor;
   bool rough = t == MaterialType::rough_conductor || t == MaterialType::rough_glass ||
-               t == MaterialType::rough_plastic;
+               t == MaterialType::rough_plastic || t == MaterialType::pplastic;
   std::string out;
+  if (t == MaterialType::principled_thin) return principled_thin_keys(m, names, what);
+  if (t == MaterialType::pplastic) {
+    out += ", \"diffuse_reflectance\": " +
+           textured_color(m.reflectance, names, what + ".diffuse_reflectance") +
+           ", \"ior\": " + ior_json(m, names, what);
+  }
   if (t == MaterialType::diffuse) {
     out += ", \"reflectance\": " + textured_color(m.reflectance, names, what + ".reflectance");
   }
@@ -271,7 +309,8 @@ std::string material_json(const Material& m, size_t index, const Names& names) {
   const std::string& name = names.materials[index];
   std::string what = "materials." + printable(name);
   std::string body = material_body(m, names, what);
-  if (!is_glass_kind(m.type) && !(m.two_sided && m.transmits())) {
+  if (!is_glass_kind(m.type) && m.type != MaterialType::principled_thin &&
+      !(m.two_sided && m.transmits())) {
     body += std::string(", \"two_sided\": ") + bool_text(m.two_sided);
   }
   if (!m.opacity.is_constant() || m.opacity.value != 1) {

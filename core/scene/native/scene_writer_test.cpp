@@ -64,8 +64,9 @@ void expect_same_material(const Material& x, const Material& y) {
   expect_same(x.reflectance, y.reflectance);
   EXPECT_TRUE(same_bits(x.ior, y.ior));
   EXPECT_EQ(x.two_sided, y.two_sided);
+  EXPECT_EQ(x.ior_texture, y.ior_texture);
   if (x.type != MaterialType::diffuse && x.type != MaterialType::mirror &&
-      x.type != MaterialType::principled) {
+      x.type != MaterialType::principled && x.type != MaterialType::principled_thin) {
     expect_same(x.specular_reflectance, y.specular_reflectance);
   }
   expect_same(x.specular_transmittance, y.specular_transmittance);
@@ -87,9 +88,15 @@ void expect_same_material(const Material& x, const Material& y) {
                       &PrincipledParameters::metallic, &PrincipledParameters::spec_trans,
                       &PrincipledParameters::spec_tint, &PrincipledParameters::sheen,
                       &PrincipledParameters::sheen_tint, &PrincipledParameters::flatness,
-                      &PrincipledParameters::clearcoat, &PrincipledParameters::clearcoat_gloss}) {
+                      &PrincipledParameters::clearcoat, &PrincipledParameters::clearcoat_gloss,
+                      &PrincipledParameters::diff_trans}) {
     expect_same(p.*member, q.*member);
   }
+  EXPECT_TRUE(same_bits(p.specular_reflectance_sampling_rate, q.specular_reflectance_sampling_rate));
+  EXPECT_TRUE(
+      same_bits(p.specular_transmittance_sampling_rate, q.specular_transmittance_sampling_rate));
+  EXPECT_TRUE(
+      same_bits(p.diffuse_transmittance_sampling_rate, q.diffuse_transmittance_sampling_rate));
   EXPECT_TRUE(same_bits(p.main_specular_sampling_rate, q.main_specular_sampling_rate));
   EXPECT_TRUE(same_bits(p.clearcoat_sampling_rate, q.clearcoat_sampling_rate));
   EXPECT_TRUE(same_bits(p.diffuse_reflectance_sampling_rate, q.diffuse_reflectance_sampling_rate));
@@ -432,8 +439,33 @@ Scene full_model_scene() {
   Material transmissive = material("principled glass", MaterialType::principled);
   transmissive.principled.spec_trans = {0.75, -1};
   transmissive.ior = 0.8;
+  Material leaf = material("leaf", MaterialType::principled_thin);
+  leaf.reflectance = {{0.3, 0.7, 0.2}, -1};
+  leaf.ior = 1.25;
+  leaf.ior_texture = 2;
+  PrincipledParameters& lp = leaf.principled;
+  lp.roughness = {0.35, 0};
+  lp.anisotropic = {0.5, -1};
+  lp.spec_trans = {0.6, 2};
+  lp.spec_tint = {0.1, -1};
+  lp.sheen = {0.2, -1};
+  lp.sheen_tint = {0.3, -1};
+  lp.flatness = {0.4, -1};
+  lp.diff_trans = {1.75, -1};
+  lp.diffuse_reflectance_sampling_rate = 0.5;
+  lp.specular_reflectance_sampling_rate = 1.5;
+  lp.specular_transmittance_sampling_rate = 0;
+  lp.diffuse_transmittance_sampling_rate = 3;
+  Material pplastic = material("pplastic", MaterialType::pplastic);
+  pplastic.reflectance = {{0.05, 0.03, 0.1}, -1};
+  pplastic.specular_reflectance = {{0.5, 0.5, 0.5}, 0};
+  pplastic.ior = 1.49;
+  pplastic.distribution = MicrofacetDistribution::ggx;
+  pplastic.alpha_u = {0.06, -1};
+  pplastic.alpha_v = {0.2, 1};
+  pplastic.two_sided = true;
   s.materials = {diffuse, mirror, glass, conductor, rough_conductor, rough_glass, thin,
-                 plastic, rough_plastic, back, principled, transmissive};
+                 plastic, rough_plastic, back, principled, transmissive, leaf, pplastic};
   Material blend = material("blend", MaterialType::blend);
   blend.blend_weight = {0.8, 2};
   Material inner = material("", MaterialType::blend);

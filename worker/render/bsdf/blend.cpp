@@ -39,10 +39,8 @@ std::optional<BsdfSample> BlendBsdf::sample(glm::vec3 wo, float u_lobe, glm::vec
   std::optional<BsdfSample> s =
       chosen.sample(wo, std::clamp(u_next, 0.0f, std::nextafter(1.0f, 0.0f)), u);
   if (!s) return std::nullopt;
-  if (s->delta) {
-    s->pdf *= p_chosen;
-    return s;
-  }
+  // Mitsuba's weighting, for smooth and perfectly specular samples alike (a delta sample's pdf
+  // is the probability of its lobe, which this adds to the other BSDF's density there).
   const glm::vec3 f_chosen = s->weight * s->pdf;
   const float pdf = p_chosen * s->pdf + (1.0f - p_chosen) * other.pdf(wo, s->wi);
   if (!(pdf > 0.0f)) return std::nullopt;

@@ -24,10 +24,13 @@ class BlendBsdf {
 
   glm::vec3 eval(glm::vec3 wo, glm::vec3 wi) const;
   float pdf(glm::vec3 wo, glm::vec3 wi) const;
-  /// Chooses the second BSDF when u_lobe <= weight (u_lobe rescaled for it), as Mitsuba. A
-  /// smooth sample gets Mitsuba's mixture weight: (blended eval) / (blended pdf). A delta sample
-  /// keeps its component's weight, with the probability of choosing that component in its pdf
-  /// (the other component's density has no meaning on a delta direction).
+  /// Chooses the second BSDF when u_lobe <= weight (u_lobe rescaled for it), as Mitsuba. Every
+  /// sample gets Mitsuba's mixture weight (p f_chosen + (1 - p) f_other) / (p pdf_chosen +
+  /// (1 - p) pdf_other), p the probability of the chosen BSDF. For a perfectly specular sample
+  /// pdf_chosen is its lobe's probability and f_chosen = weight * that probability: Mitsuba
+  /// mixes a probability with the other BSDF's density there, so a blend of a delta lobe with
+  /// a smooth one reflects less than (1 - w) first + w second would; Tessera renders Mitsuba's
+  /// images (docs/scenes.md, materials).
   std::optional<BsdfSample> sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const;
   bool has_smooth_lobe() const;
 

@@ -1,6 +1,8 @@
 // Mitsuba's blendbsdf: point values of eval() and pdf() against Mitsuba 3's (the table
-// mitsuba_blend.txt that mitsuba_blend.py made), a nested blend included. The chi-square,
-// sampling-consistency, reciprocity and furnace tests over bsdf_test_cases.h cover it too.
+// mitsuba_blend.txt that mitsuba_blend.py made), a nested blend included, and the albedo of
+// blends of a perfectly specular lobe with a smooth one against Mitsuba's sample()
+// (mitsuba_blend_albedo.txt). The chi-square, sampling-consistency, reciprocity and furnace
+// tests over bsdf_test_cases.h cover its smooth blends too.
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -10,42 +12,52 @@
 
 #include <gtest/gtest.h>
 
+#include "render/bsdf/albedo_estimate.h"
 #include "render/bsdf/bsdf.h"
+#include "render/bsdf/bsdf_test_cases.h"
 
 namespace tessera::test {
 namespace {
 
-/// The blends of mitsuba_blend.py's CASES, in order.
-std::vector<BsdfParams> mitsuba_blend_cases() {
+/// mitsuba_blend.py's ALBEDO_CASES: the two BSDFs of case `name` (a blend of a perfectly
+/// specular lobe with a smooth one, or of two smooth ones), at `weight`; `tables` owns the
+/// rough plastic's table.
+BsdfParams albedo_case(const std::string& name, float weight, BsdfCases& tables) {
   BsdfParams diffuse;
   diffuse.reflectance = {0.7f, 0.5f, 0.3f};
-  BsdfParams metal;
-  metal.type = MaterialType::rough_conductor;
-  metal.distribution = MicrofacetDistribution::ggx;
-  metal.alpha_u = metal.alpha_v = 0.2f;
-  metal.conductor_eta = {0.2f, 0.9f, 1.1f};
-  metal.conductor_k = {3.9f, 2.4f, 2.2f};
-  BsdfParams glass;
-  glass.type = MaterialType::rough_glass;
-  glass.distribution = MicrofacetDistribution::beckmann;
-  glass.alpha_u = glass.alpha_v = 0.3f;
-  glass.eta = 1.5f;
-  BsdfParams principled_metal;
-  principled_metal.type = MaterialType::principled;
-  principled_metal.reflectance = {0.9f, 0.6f, 0.3f};
-  principled_metal.eta = 1.5f;
-  principled_metal.principled.metallic = 1.0f;
-  principled_metal.principled.roughness = 0.4f;
-  auto blend = [](float weight, const BsdfParams& a, const BsdfParams& b) {
-    BsdfParams p;
-    p.type = MaterialType::blend;
+  BsdfParams black_plastic;  // bsdf_blendbsdf.xml's
+  black_plastic.type = MaterialType::rough_plastic;
+  black_plastic.distribution = MicrofacetDistribution::ggx;
+  black_plastic.alpha_u = black_plastic.alpha_v = 0.3f;
+  black_plastic.reflectance = glm::vec3(0.0f);
+  black_plastic.eta = 1.49f / 1.000277f;  // polypropylene / air, Mitsuba's defaults
+  BsdfParams smooth_metal;
+  smooth_metal.type = MaterialType::conductor;
+  smooth_metal.conductor_eta = {0.2f, 0.9f, 1.1f};
+  smooth_metal.conductor_k = {3.9f, 2.4f, 2.2f};
+  BsdfParams smooth_glass;
+  smooth_glass.type = MaterialType::glass;
+  smooth_glass.eta = 1.5f;
+  BsdfParams plastic;
+  plastic.type = MaterialType::plastic;
+  plastic.eta = 1.5f;
+  plastic.reflectance = {0.8f, 0.5f, 0.2f};
+  BsdfParams p;
+  p.type = MaterialType::blend;
+  p.blend_weight = weight;
+  if (name == "plastic+conductor") {
+    p.blend = {tables.with_table(black_plastic), smooth_metal};
+  } else if (name == "diffuse+glass") {
+    p.blend = {diffuse, smooth_glass};
+  } else if (name == "diffuse+plastic") {
+    p.blend = {diffuse, plastic};
+  } else if (name == "metal+diffuse") {
+    p = mitsuba_blend_cases()[0];
     p.blend_weight = weight;
-    p.blend = {a, b};
-    return p;
-  };
-  const BsdfParams glass_and_diffuse = blend(0.6f, glass, diffuse);
-  return {blend(0.3f, metal, diffuse), glass_and_diffuse,
-          blend(0.25f, glass_and_diffuse, principled_metal)};
+  } else {
+    ADD_FAILURE() << "unknown case " << name;
+  }
+  return p;
 }
 
 TEST(BlendEval, MatchesMitsuba3PointValues) {
@@ -76,6 +88,38 @@ TEST(BlendEval, MatchesMitsuba3PointValues) {
   }
   EXPECT_EQ(rows, 36);
   EXPECT_GE(nonzero, 20);
+}
+
+TEST(BlendAlbedo, MatchesMitsuba3WithPerfectlySpecularLobesToo) {
+  // A specular sample gets Mitsuba's weight, (w F + (1 - w) f_other) / (w + (1 - w) pdf_other):
+  // at w = 0.5 bsdf_blendbsdf.xml's blend reflects ~0.27 where (1 - w) first + w second would
+  // be ~0.49. Tessera's blend was that much brighter before it weighted as Mitsuba.
+  const std::string path =
+      std::string(TESSERA_SOURCE_DIR) + "/worker/render/bsdf/mitsuba_blend_albedo.txt";
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << "cannot read " << path;
+  BsdfCases tables(/*rough_plastic=*/false);
+  std::string text;
+  int rows = 0;
+  double worst = 0;
+  for (int line = 1; std::getline(in, text); ++line) {
+    if (text.empty() || text[0] == '#') continue;
+    std::istringstream s(text);
+    std::string name;
+    float weight = 0, cos_theta_o = 0;
+    glm::dvec3 expected, expected_se;
+    s >> name >> weight >> cos_theta_o >> expected.x >> expected.y >> expected.z >>
+        expected_se.x >> expected_se.y >> expected_se.z;
+    ASSERT_TRUE(s) << path << ": line " << line << ": expected 9 columns";
+    const Bsdf bsdf(albedo_case(name, weight, tables));
+    const AlbedoEstimate ours = grid_albedo(bsdf, albedo_wo(cos_theta_o), line, true);
+    worst = std::max(worst, expect_albedo_near(ours, expected, expected_se,
+                                               "mitsuba_blend_albedo.txt line " +
+                                                   std::to_string(line) + " (" + name + ")"));
+    ++rows;
+  }
+  EXPECT_EQ(rows, 18);
+  std::cout << rows << " rows, largest relative difference " << worst << "\n";
 }
 
 TEST(BlendSample, WeightsAtTheEndsPickOneBsdf) {

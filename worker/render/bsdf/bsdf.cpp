@@ -6,7 +6,8 @@ namespace tessera {
 namespace {
 
 using Impl = std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf,
-                          RoughDielectricBsdf, ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf, PrincipledBsdf, BlendBsdf>;
+                          RoughDielectricBsdf, ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf,
+                          PrincipledBsdf, BlendBsdf, PrincipledThinBsdf, PPlasticBsdf>;
 
 Impl make_impl(const BsdfParams& p) {
   switch (p.type) {
@@ -21,6 +22,8 @@ Impl make_impl(const BsdfParams& p) {
     case MaterialType::rough_plastic: return RoughPlasticBsdf(p);
     case MaterialType::principled: return PrincipledBsdf(p);
     case MaterialType::blend: return BlendBsdf(p);
+    case MaterialType::principled_thin: return PrincipledThinBsdf(p);
+    case MaterialType::pplastic: return PPlasticBsdf(p);
   }
   return DiffuseBsdf(p);  // unreachable: every MaterialType is handled above
 }

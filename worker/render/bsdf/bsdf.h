@@ -1,14 +1,14 @@
 // The BSDF of one material at one shading point: Mitsuba 3's diffuse, conductor, roughconductor,
-// dielectric, roughdielectric, thindielectric, plastic, roughplastic, principled and blendbsdf
-// behind one interface
+// dielectric, roughdielectric, thindielectric, plastic, roughplastic, pplastic, principled,
+// principledthin and blendbsdf behind one interface
 // (docs/renderer.md, "BSDFs").
 //
 // All directions are unit vectors in the local shading frame (+z = the material's front, i.e.
 // the shading normal of the front side), pointing away from the surface. wo (towards the
 // camera) may lie on either side: one-sided materials (diffuse, conductors, plastics) are black
 // when wo or wi is below the surface (cos <= 0), as in Mitsuba; the integrator makes a
-// two-sided material by flipping the frame before calling. Dielectrics, and principled
-// materials that transmit, handle both sides.
+// two-sided material by flipping the frame before calling. Dielectrics, principled materials
+// that transmit and thin principled ones handle both sides.
 // No method returns NaN or infinity for finite unit inputs.
 #pragma once
 
@@ -24,7 +24,9 @@
 #include "render/bsdf/dielectric.h"
 #include "render/bsdf/diffuse.h"
 #include "render/bsdf/plastic.h"
+#include "render/bsdf/pplastic.h"
 #include "render/bsdf/principled.h"
+#include "render/bsdf/principled_thin.h"
 #include "render/bsdf/rough_conductor.h"
 #include "render/bsdf/rough_dielectric.h"
 #include "render/bsdf/rough_plastic.h"
@@ -52,7 +54,8 @@ class Bsdf {
 
  private:
   std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf, RoughDielectricBsdf,
-               ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf, PrincipledBsdf, BlendBsdf>
+               ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf, PrincipledBsdf, BlendBsdf,
+               PrincipledThinBsdf, PPlasticBsdf>
       impl_;
 };
 

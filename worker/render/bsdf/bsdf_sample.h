@@ -12,8 +12,8 @@ namespace tessera {
 
 struct RoughPlasticTable;  // rough_plastic.h
 
-/// A principled material's parameters besides base_color and eta, looked up at one shading
-/// point (core/scene/scene.h, PrincipledParameters, says what each means).
+/// A principled (or principled_thin) material's parameters besides base_color and eta, looked
+/// up at one shading point (core/scene/scene.h, PrincipledParameters, says what each means).
 struct PrincipledInputs {
   float roughness = 0.5f, anisotropic = 0, metallic = 0, spec_trans = 0, spec_tint = 0;
   float sheen = 0, sheen_tint = 0, flatness = 0, clearcoat = 0, clearcoat_gloss = 0;
@@ -22,6 +22,10 @@ struct PrincipledInputs {
   /// Mitsuba's m_has_spec_trans: the material transmits (spec_trans textured or non-zero).
   /// It changes the lobe probabilities seen from inside even where spec_trans is 0.
   bool transmits = false;
+  /// principled_thin only: diff_trans in [0, 2] and the sampling rates of its other lobes.
+  float diff_trans = 0;
+  float specular_reflectance_sampling_rate = 1, specular_transmittance_sampling_rate = 1;
+  float diffuse_transmittance_sampling_rate = 1;
 };
 
 /// One material's BSDF parameters at one shading point, textures already looked up. The names
@@ -31,17 +35,19 @@ struct BsdfParams {
   glm::vec3 reflectance{0.5f};  ///< diffuse albedo; plastics' diffuse_reflectance; base_color
   glm::vec3 specular_reflectance{1.0f};
   glm::vec3 specular_transmittance{1.0f};
-  float eta = 1.5f;  ///< dielectrics, plastics, principled: interior / exterior index, > 0
+  /// dielectrics, plastics, principled: interior / exterior index, > 0; principled_thin: the
+  /// sheet's index (light leaves it on the side it entered from: the path's index stays 1)
+  float eta = 1.5f;
   glm::vec3 conductor_eta{0.0f}, conductor_k{1.0f};
   bool perfect = false;  ///< conductor material="none": Fresnel = 1
   MicrofacetDistribution distribution = MicrofacetDistribution::beckmann;
-  float alpha_u = 0.1f, alpha_v = 0.1f;  ///< rough kinds (rough_plastic: isotropic, alpha_u)
+  float alpha_u = 0.1f, alpha_v = 0.1f;  ///< rough kinds, pplastic (rough_plastic: alpha_u)
   bool sample_visible = true;
   bool nonlinear = false;  ///< plastics
   /// rough_plastic only, required there: the material's precomputed Fresnel integrals
   /// (make_rough_plastic_table, once per material: they cost ~0.1 s). Not owned.
   const RoughPlasticTable* rough_plastic = nullptr;
-  PrincipledInputs principled;  ///< principled only
+  PrincipledInputs principled;  ///< principled and principled_thin only
   float blend_weight = 0.5f;    ///< blend only: the second BSDF's weight, in [0, 1]
   std::vector<BsdfParams> blend;  ///< blend only: the two nested BSDFs
 };

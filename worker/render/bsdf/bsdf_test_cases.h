@@ -12,6 +12,42 @@
 
 namespace tessera::test {
 
+/// mitsuba_blend.py's CASES, in its order: a rough conductor and a diffuse BSDF (0.3), a rough
+/// dielectric and a diffuse BSDF (0.6, eta on the blend for the reciprocity test), and a blend
+/// of the second with a principled metal (0.25).
+inline std::vector<BsdfParams> mitsuba_blend_cases() {
+  BsdfParams diffuse;
+  diffuse.reflectance = {0.7f, 0.5f, 0.3f};
+  BsdfParams metal;
+  metal.type = MaterialType::rough_conductor;
+  metal.distribution = MicrofacetDistribution::ggx;
+  metal.alpha_u = metal.alpha_v = 0.2f;
+  metal.conductor_eta = {0.2f, 0.9f, 1.1f};
+  metal.conductor_k = {3.9f, 2.4f, 2.2f};
+  BsdfParams glass;
+  glass.type = MaterialType::rough_glass;
+  glass.distribution = MicrofacetDistribution::beckmann;
+  glass.alpha_u = glass.alpha_v = 0.3f;
+  glass.eta = 1.5f;
+  BsdfParams principled_metal;
+  principled_metal.type = MaterialType::principled;
+  principled_metal.reflectance = {0.9f, 0.6f, 0.3f};
+  principled_metal.eta = 1.5f;
+  principled_metal.principled.metallic = 1.0f;
+  principled_metal.principled.roughness = 0.4f;
+  auto blend = [](float weight, const BsdfParams& a, const BsdfParams& b) {
+    BsdfParams p;
+    p.type = MaterialType::blend;
+    p.blend_weight = weight;
+    p.blend = {a, b};
+    return p;
+  };
+  BsdfParams glass_and_diffuse = blend(0.6f, glass, diffuse);
+  glass_and_diffuse.eta = 1.5f;  // the reciprocity test reads the interface's index here
+  return {blend(0.3f, metal, diffuse), glass_and_diffuse,
+          blend(0.25f, glass_and_diffuse, principled_metal)};
+}
+
 struct BsdfCase {
   std::string name;
   BsdfParams params;
@@ -101,6 +137,8 @@ class BsdfCases {
       add(std::string("plastic") + (nonlinear ? " nonlinear" : ""), p);
     }
     add_principled();
+    add_principled_thin();
+    add_pplastic();
     add_blends();
   }
 
@@ -130,33 +168,16 @@ class BsdfCases {
   }
 
  private:
-  /// Mitsuba's blendbsdf: smooth lobes of different kinds, a transmitting one, a nested blend.
+  /// Mitsuba's blendbsdf: mitsuba_blend_cases() 0 and 1 (smooth lobes of different kinds, a
+  /// transmitting one) and a nested blend whose second BSDF is a rough conductor (the third of
+  /// mitsuba_blend_cases() holds a principled metal, whose pdf() from below is Mitsuba's but
+  /// which samples nothing there, so that a chi-square test of it from below cannot pass).
   void add_blends() {
-    BsdfParams diffuse;
-    diffuse.reflectance = {0.7f, 0.5f, 0.3f};
-    BsdfParams metal;
-    metal.type = MaterialType::rough_conductor;
-    metal.distribution = MicrofacetDistribution::ggx;
-    metal.alpha_u = metal.alpha_v = 0.2f;
-    metal.conductor_eta = {0.2f, 0.9f, 1.1f};
-    metal.conductor_k = {3.9f, 2.4f, 2.2f};
-    BsdfParams glass;
-    glass.type = MaterialType::rough_glass;
-    glass.alpha_u = glass.alpha_v = 0.3f;
-    glass.eta = 1.5f;
-    BsdfParams p;
-    p.type = MaterialType::blend;
-    p.blend_weight = 0.3f;
-    p.blend = {diffuse, metal};
-    add("blend diffuse and rough conductor 0.3", p);
-    p.blend_weight = 0.6f;
-    p.eta = 1.5f;  // the reciprocity test reads the interface's index here
-    p.blend = {glass, diffuse};
-    add("blend rough glass and diffuse 0.6", p, true);
-    BsdfParams inner = p;
-    inner.blend_weight = 0.5f;
-    p.blend = {inner, metal};
-    p.blend_weight = 0.25f;
+    const std::vector<BsdfParams> mitsuba = mitsuba_blend_cases();
+    add("blend rough conductor and diffuse 0.3", mitsuba[0]);
+    add("blend rough glass and diffuse 0.6", mitsuba[1], true);
+    BsdfParams p = mitsuba[2];
+    p.blend[1] = mitsuba[0].blend[0];
     add("blend of a blend and a rough conductor", p, true);
   }
 
@@ -196,6 +217,58 @@ class BsdfCases {
     in = PrincipledInputs{0.4f, 0.4f, 0.3f, 0.5f, 0.6f, 0.4f, 0.0f, 0.3f, 1.0f, 0.5f,
                           0.5f, 2.0f, 1.5f, true};
     add("principled every lobe, sampling rates", p, true);
+  }
+
+  /// Mitsuba's principledthin: each lobe alone and together, from both sides of the sheet.
+  void add_principled_thin() {
+    BsdfParams p;
+    p.type = MaterialType::principled_thin;
+    p.reflectance = {0.8f, 0.5f, 0.2f};
+    p.eta = 1.5f;
+    add("principled thin defaults", p, true);
+    PrincipledInputs& in = p.principled;
+    // The transmission's alpha is ((0.65 eta - 0.35) roughness)^2: rough enough here for the
+    // chi-square test's integration grid (principled_thin_test.cpp evaluates sharper ones
+    // against Mitsuba).
+    in.roughness = 0.7f;
+    in.anisotropic = 0.5f;
+    in.spec_trans = 0.8f;
+    in.spec_tint = 0.4f;
+    p.eta = 1.33f;
+    add("principled thin specular anisotropic", p, true);
+    in = PrincipledInputs{};
+    in.roughness = 0.7f;
+    in.spec_trans = 0.3f;
+    in.sheen = 0.6f;
+    in.sheen_tint = 0.5f;
+    in.flatness = 0.5f;
+    in.diff_trans = 1.4f;
+    in.diffuse_reflectance_sampling_rate = 0.5f;
+    in.specular_reflectance_sampling_rate = 2.0f;
+    in.specular_transmittance_sampling_rate = 1.5f;
+    in.diffuse_transmittance_sampling_rate = 0.7f;
+    add("principled thin every lobe, sampling rates", p, true);
+    in = PrincipledInputs{};
+    in.roughness = 0.6f;
+    in.spec_trans = 1.0f;
+    p.eta = 1.5f;
+    add("principled thin specular only", p, true);
+  }
+
+  /// Mitsuba's pplastic (RGB variants): isotropic and anisotropic, both samplers.
+  void add_pplastic() {
+    BsdfParams p;
+    p.type = MaterialType::pplastic;
+    p.reflectance = {0.8f, 0.5f, 0.2f};
+    p.distribution = MicrofacetDistribution::ggx;
+    p.alpha_u = p.alpha_v = 0.2f;
+    add("pplastic ggx 0.2", p);
+    p.distribution = MicrofacetDistribution::beckmann;
+    p.alpha_u = 0.1f;
+    p.alpha_v = 0.4f;
+    p.sample_visible = false;
+    p.eta = 1.33f;
+    add("pplastic beckmann 0.1/0.4 all normals", p);
   }
 
   void add(std::string name, const BsdfParams& p, bool two_sided = false) {

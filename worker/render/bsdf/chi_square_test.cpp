@@ -33,6 +33,8 @@ TEST(BsdfChiSquare, RoughDielectric) { run_chi_square(MaterialType::rough_glass)
 TEST(BsdfChiSquare, Plastic) { run_chi_square(MaterialType::plastic); }
 TEST(BsdfChiSquare, RoughPlastic) { run_chi_square(MaterialType::rough_plastic); }
 TEST(BsdfChiSquare, Principled) { run_chi_square(MaterialType::principled); }
+TEST(BsdfChiSquare, PrincipledThin) { run_chi_square(MaterialType::principled_thin); }
+TEST(BsdfChiSquare, PPlastic) { run_chi_square(MaterialType::pplastic); }
 TEST(BsdfChiSquare, Blend) { run_chi_square(MaterialType::blend); }
 
 }  // namespace

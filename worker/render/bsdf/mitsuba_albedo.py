@@ -10,39 +10,15 @@ too (below 5e-4), far below the 1 % the test allows.
 Usage: /work/venv-mitsuba/bin/python worker/render/bsdf/mitsuba_albedo.py > worker/render/bsdf/mitsuba_albedo.txt
 (Mitsuba 3.9.1.)
 """
-import math
-
-import drjit as dr
 import mitsuba as mi
 
 mi.set_variant("llvm_ad_rgb")
 
-SAMPLES = 1 << 20
+import mitsuba_points  # noqa: E402 (after the variant)
+from mitsuba_points import rgb  # noqa: E402
 CONDUCTOR_ETA = [0.2, 0.9, 1.1]  # a gold-like complex index, different per channel
 CONDUCTOR_K = [3.9, 2.4, 2.2]
 PLASTIC_DIFFUSE = [0.8, 0.5, 0.2]
-
-
-def albedo(bsdf_dict, cos_theta_o, seed):
-    bsdf = mi.load_dict(bsdf_dict)
-    sampler = mi.load_dict({"type": "independent"})
-    sampler.seed(seed, SAMPLES)
-    si = dr.zeros(mi.SurfaceInteraction3f)
-    sin_theta = math.sqrt(max(0.0, 1.0 - cos_theta_o * cos_theta_o))
-    # phi = 30 degrees, so that anisotropic rows depend on both alphas.
-    si.wi = mi.Vector3f(sin_theta * math.cos(math.pi / 6), sin_theta * math.sin(math.pi / 6), cos_theta_o)
-    _, weight = bsdf.sample(mi.BSDFContext(), si, sampler.next_1d(), sampler.next_2d())
-    out = []
-    for c in range(3):
-        w = weight[c]
-        mean = float(dr.mean(w)[0])
-        var = float(dr.mean(dr.square(w - mean))[0])
-        out.append((mean, math.sqrt(var / SAMPLES)))
-    return out
-
-
-def rgb(v):
-    return {"type": "rgb", "value": v}
 
 
 def rows():
@@ -81,7 +57,7 @@ def main():
     print("# wo = (sin t cos 30deg, sin t sin 30deg, cos t). Columns: type distribution alpha_u alpha_v eta")
     print("# nonlinear sample_visible cos_theta_o albedo_r albedo_g albedo_b se_r se_g se_b")
     for i, (kind, dist, au, av, eta, nl, sv, c, d) in enumerate(rows()):
-        res = albedo(d, c, seed=i)
+        res = mitsuba_points.albedo(d, c, seed=i, energy=False)
         vals = " ".join(f"{m:.6f}" for m, _ in res)
         ses = " ".join(f"{s:.1e}" for _, s in res)
         print(f"{kind} {dist} {au} {av} {eta} {nl} {sv} {c} {vals} {ses}", flush=True)

@@ -10,11 +10,11 @@ Usage: /work/venv-mitsuba/bin/python worker/render/bsdf/mitsuba_principled.py \
            > worker/render/bsdf/mitsuba_principled.txt
 (Mitsuba 3.9.1.)
 """
-import math
-
 import mitsuba as mi
 
 mi.set_variant("scalar_rgb")
+
+import mitsuba_points  # noqa: E402 (after the variant)
 
 WEIGHTS = ["roughness", "anisotropic", "metallic", "spec_trans", "spec_tint", "sheen",
            "sheen_tint", "flatness", "clearcoat", "clearcoat_gloss"]
@@ -43,52 +43,20 @@ CASES = [
 DEFAULTS = {"roughness": 0.5}
 
 
-def direction(theta, phi):
-    return [math.sin(theta) * math.cos(phi), math.sin(theta) * math.sin(phi), math.cos(theta)]
-
-
-# (theta_o, phi_o, theta_i, phi_i) in radians: reflections near and far from the mirror
-# direction, grazing ones, and pairs across the surface, from both sides.
-PAIRS = [
-    (0.3, 0.2, 0.35, 0.2 + math.pi),
-    (0.7, 0.5, 0.6, 0.5 + math.pi + 0.3),
-    (1.2, 1.0, 0.2, 2.0),
-    (1.45, 0.1, 1.4, math.pi + 0.2),
-    (0.0, 0.0, 0.9, 0.7),
-    (0.5, 0.3, math.pi - 0.3, 0.3 + math.pi),
-    (1.0, 2.0, math.pi - 0.6, 2.0 + math.pi + 0.2),
-    (0.4, 0.1, math.pi - 0.2, 0.1),
-    (math.pi - 0.4, 0.5, math.pi - 0.5, 0.5 + math.pi),
-    (math.pi - 0.3, 1.0, 0.5, 1.0 + math.pi),
-    (math.pi - 0.2, 1.5, 1.1, 1.5 + math.pi + 0.1),
-    (math.pi - 1.3, 0.4, 0.3, 0.4 + math.pi + 0.2),
-]
-
-
 def main():
     print("# Point values of Mitsuba 3.9.1's principled BSDF (scalar_rgb), written by")
     print("# mitsuba_principled.py. Columns: base_r base_g base_b " + " ".join(WEIGHTS) +
           " eta " + " ".join(RATES))
     print("# wo_x wo_y wo_z wi_x wi_y wi_z eval_r eval_g eval_b pdf")
-    ctx = mi.BSDFContext()
     for base, weights, eta, rates in CASES:
         d = {"type": "principled", "base_color": {"type": "rgb", "value": base}, "eta": eta}
         d.update(weights)
         d.update(rates)
-        bsdf = mi.load_dict(d)
         values = [weights.get(w, DEFAULTS.get(w, 0.0)) for w in WEIGHTS]
         params = " ".join(f"{x:.9g}" for x in base + values + [eta] +
                           [rates.get(r, 1.0) for r in RATES])
-        for to, po, ti, pi in PAIRS:
-            wo, wi = direction(to, po), direction(ti, pi)
-            si = mi.SurfaceInteraction3f()
-            si.wi = mi.Vector3f(wo)
-            value = bsdf.eval(ctx, si, mi.Vector3f(wi))
-            pdf = bsdf.pdf(ctx, si, mi.Vector3f(wi))
-            dirs = " ".join(f"{x:.9g}" for x in wo + wi)
-            vals = " ".join(f"{float(value[c]):.9g}" for c in range(3))
-            print(f"{params} {dirs} {vals} {float(pdf):.9g}")
-
+        for row in mitsuba_points.point_rows(d):
+            print(f"{params} {row}")
 
 if __name__ == "__main__":
     main()

@@ -12,34 +12,12 @@ Usage: /work/venv-mitsuba/bin/python worker/render/bsdf/mitsuba_principled_albed
            > worker/render/bsdf/mitsuba_principled_albedo.txt
 (Mitsuba 3.9.1.)
 """
-import math
-
-import drjit as dr
 import mitsuba as mi
 
+from mitsuba_points import albedo
 from mitsuba_principled import CASES, DEFAULTS, RATES, WEIGHTS
 
 mi.set_variant("llvm_ad_rgb")  # after the import, which selects scalar_rgb
-
-SAMPLES = 1 << 20
-
-
-def albedo(bsdf_dict, cos_theta_o, seed):
-    bsdf = mi.load_dict(bsdf_dict)
-    sampler = mi.load_dict({"type": "independent"})
-    sampler.seed(seed, SAMPLES)
-    si = dr.zeros(mi.SurfaceInteraction3f)
-    sin_theta = math.sqrt(max(0.0, 1.0 - cos_theta_o * cos_theta_o))
-    si.wi = mi.Vector3f(sin_theta * math.cos(math.pi / 6), sin_theta * math.sin(math.pi / 6),
-                        cos_theta_o)
-    bs, weight = bsdf.sample(mi.BSDFContext(), si, sampler.next_1d(), sampler.next_2d())
-    out = []
-    for c in range(3):
-        w = weight[c] * dr.square(bs.eta)
-        mean = float(dr.mean(w)[0])
-        var = float(dr.mean(dr.square(w - mean))[0])
-        out.append((mean, math.sqrt(var / SAMPLES)))
-    return out
 
 
 def main():

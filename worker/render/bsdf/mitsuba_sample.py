@@ -45,6 +45,12 @@ def bsdfs():
            {"type": "conductor", "eta": rgb(CONDUCTOR_ETA), "k": rgb(CONDUCTOR_K)})
     yield ("glass", "none", 0.0, 0.0, 1.5, 0, 1, {"type": "dielectric", "int_ior": 1.5, "ext_ior": 1.0})
     yield ("thin_glass", "none", 0.0, 0.0, 1.5, 0, 1, {"type": "thindielectric", "int_ior": 1.5, "ext_ior": 1.0})
+    # pplastic as the RGB variants render it.
+    for dist, au, av, sv in [("ggx", 0.1, 0.5, True), ("beckmann", 0.3, 0.3, False)]:
+        yield ("pplastic", dist, au, av, 1.5, 0, int(sv),
+               {"type": "pplastic", "distribution": dist, "alpha_u": au, "alpha_v": av,
+                "sample_visible": sv, "int_ior": 1.5, "ext_ior": 1.0,
+                "diffuse_reflectance": rgb(PLASTIC_DIFFUSE)})
 
 
 def main():

@@ -16,13 +16,7 @@ using principled::facet_compatible;
 using principled::lerp;
 using principled::schlick;
 using principled::schlick_weight;
-
-/// Mitsuba's calc_dist_params: GGX alphas from roughness and anisotropic (at least 0.001).
-glm::vec2 specular_alphas(float roughness, float anisotropic) {
-  const float r2 = roughness * roughness;
-  const float aspect = std::sqrt(1.0f - 0.9f * anisotropic);
-  return {std::max(0.001f, r2 / aspect), std::max(0.001f, r2 * aspect)};
-}
+using principled::specular_alphas;
 
 /// The coat's shadowing alpha, fixed by Mitsuba.
 constexpr float kClearcoatShadowingAlpha = 0.25f;

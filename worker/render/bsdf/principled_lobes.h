@@ -25,6 +25,20 @@ T lerp(T a, T b, float t) {
   return a * (1.0f - t) + b * t;
 }
 
+/// Mitsuba's calc_dist_params: GGX alphas (u, v) from roughness and anisotropic, each at
+/// least 0.001.
+inline glm::vec2 specular_alphas(float roughness, float anisotropic) {
+  const float r2 = roughness * roughness;
+  const float aspect = std::sqrt(1.0f - 0.9f * anisotropic);
+  return {std::max(0.001f, r2 / aspect), std::max(0.001f, r2 * aspect)};
+}
+
+/// The tint of Burley's tinted lobes: base_color over its luminance (white when black).
+inline glm::vec3 tint_color(glm::vec3 base_color) {
+  const float lum = luminance(base_color);
+  return lum > 0.0f ? base_color / lum : glm::vec3(1.0f);
+}
+
 /// Burley's GTR1 ("generalised Trowbridge-Reitz", exponent 1) distribution of microfacet
 /// normals of the clear coat; isotropic, alpha in (0, 1). No visible-normal sampling, as Mitsuba.
 class Gtr1 {

@@ -1,6 +1,7 @@
-// Principled materials through the whole renderer: spheres of every lobe (opaque, metallic,
-// transmissive, two-sided) inside a constant environment render without NaN or Inf, and the
-// energy-conserving ones show at most the environment's radiance.
+// Principled (and thin principled, pplastic, blend) materials through the whole renderer:
+// spheres of every lobe (opaque, metallic, transmissive, two-sided) inside a constant
+// environment render without NaN or Inf, and the energy-conserving ones show at most the
+// environment's radiance (a lossless one exactly it).
 #include <gtest/gtest.h>
 
 #include "accum/film.h"
@@ -70,6 +71,47 @@ TEST(PrincipledRender, WhiteMetalAndGlassInAFurnaceStayBelowTheEnvironment) {
     EXPECT_LE(e.mean, le + test::kSigmas * e.se + test::kFloatRounding);
     EXPECT_GT(e.mean, 0.8 * le);
   }
+}
+
+TEST(PrincipledThinRender, AWhiteDiffuseTransmitterShowsTheEnvironment) {
+  // diff_trans 2, spec_trans 0, base_color 1: every hit sends all light on through the sheet,
+  // from whichever side it arrives (inside the sphere too), so the image is the environment's
+  // radiance. Then every lobe together renders finite.
+  Scene s = principled_sphere({}, {1, 1, 1}, 0.7);
+  s.materials[0].type = MaterialType::principled_thin;
+  s.materials[0].principled.diff_trans = {2, -1};
+  const Renderer white(s, test::test_job(16, 16, 64));
+  const Accumulation acc = white.render({0, 0, 16, 16}, 0, 64, nullptr);
+  ASSERT_TRUE(test::all_finite(acc));
+  const test::Estimate e = test::mean_luminance(acc);
+  EXPECT_NEAR(e.mean, 0.7, test::kSigmas * e.se + test::kFloatRounding);
+
+  PrincipledParameters& p = s.materials[0].principled;
+  p.diff_trans = {1.4, -1};
+  p.spec_trans = {0.5, -1};
+  p.anisotropic = {0.5, -1};
+  p.sheen = p.sheen_tint = p.flatness = p.spec_tint = {0.5, -1};
+  s.materials[0].reflectance.value = {0.8, 0.5, 0.2};
+  s.materials[0].ior = 1.33;
+  const Renderer every(s, test::test_job(24, 24, 8));
+  const Accumulation all = every.render({0, 0, 24, 24}, 0, 8, nullptr);
+  EXPECT_TRUE(test::all_finite(all)) << all.nan_dropped << " NaN, " << all.inf_dropped << " Inf";
+  EXPECT_GT(test::mean_luminance(all).mean, 0.0);
+}
+
+TEST(PPlasticRender, RendersFiniteAndBelowTheEnvironment) {
+  // Its coating reflects F and passes 1 - F twice to a white base: at most the environment.
+  Scene s = principled_sphere({}, {1, 1, 1}, 0.7);
+  s.materials[0].type = MaterialType::pplastic;
+  s.materials[0].distribution = MicrofacetDistribution::ggx;
+  s.materials[0].alpha_u = {0.1, -1};
+  s.materials[0].alpha_v = {0.4, -1};
+  const Renderer renderer(s, test::test_job(16, 16, 64));
+  const Accumulation acc = renderer.render({0, 0, 16, 16}, 0, 64, nullptr);
+  ASSERT_TRUE(test::all_finite(acc));
+  const test::Estimate e = test::mean_luminance(acc);
+  EXPECT_LE(e.mean, 0.7 + test::kSigmas * e.se + test::kFloatRounding);
+  EXPECT_GT(e.mean, 0.5);
 }
 
 TEST(BlendRender, NestedKindsRenderFinite) {

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "render/bsdf/albedo_estimate.h"
 #include "render/bsdf/bsdf.h"
 #include "render/bsdf/bsdf_test_cases.h"
 #include "render/bsdf/chi_square.h"
@@ -75,27 +76,6 @@ bool read_params(std::istream& s, BsdfParams* p) {
   return bool(s);
 }
 
-/// The mean energy (weight times eta^2) over a jittered 256 x 256 grid of direction samples,
-/// lobe choice random, and its standard error (ignoring the stratification: an upper bound).
-glm::dvec3 grid_albedo(const Bsdf& bsdf, glm::vec3 wo, uint64_t seed, glm::dvec3* se) {
-  constexpr int kGrid = 256;
-  std::mt19937_64 rng(seed);
-  glm::dvec3 sum(0.0), sum2(0.0);
-  for (int i = 0; i < kGrid; ++i) {
-    for (int j = 0; j < kGrid; ++j) {
-      const glm::vec2 u((i + u01(rng)) / kGrid, (j + u01(rng)) / kGrid);
-      const auto s = bsdf.sample(wo, u01(rng), u);
-      const glm::dvec3 w = s ? glm::dvec3(s->weight) * double(s->eta * s->eta) : glm::dvec3(0.0);
-      sum += w;
-      sum2 += w * w;
-    }
-  }
-  const double n = double(kGrid) * kGrid;
-  const glm::dvec3 mean = sum / n;
-  *se = glm::sqrt(glm::max(sum2 / n - mean * mean, 0.0) / n);
-  return mean;
-}
-
 TEST(PrincipledAlbedo, MatchesMitsuba3WithinOnePercent) {
   // Mitsuba's principled is not energy conserving everywhere (retro-reflection, sheen and the
   // clear coat are added on top): the rows above 1 check that Tessera gains exactly as much.
@@ -116,18 +96,10 @@ TEST(PrincipledAlbedo, MatchesMitsuba3WithinOnePercent) {
     s >> cos_theta_o >> expected.x >> expected.y >> expected.z >> expected_se.x >> expected_se.y >>
         expected_se.z;
     ASSERT_TRUE(s) << path << ": line " << line << ": expected 24 columns";
-    const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta_o * cos_theta_o));
-    const glm::vec3 wo(sin_theta * std::cos(kPi / 6), sin_theta * std::sin(kPi / 6), cos_theta_o);
-    glm::dvec3 se;
-    const glm::dvec3 ours = grid_albedo(Bsdf(p), wo, uint64_t(line), &se);
-    for (int c = 0; c < 3; ++c) {
-      worst = std::max(worst, std::abs(ours[c] - expected[c]) / std::max(expected[c], 1e-2));
-      // 1 %, widened by the noise of both estimates where that is larger (4 standard errors).
-      const double allowed = std::max(0.01 * expected[c], 4 * (se[c] + expected_se[c])) + 1e-4;
-      EXPECT_NEAR(ours[c], expected[c], allowed)
-          << "mitsuba_principled_albedo.txt line " << line << " channel " << c << ": ours +- "
-          << se[c] << ", Mitsuba's +- " << expected_se[c];
-    }
+    const AlbedoEstimate ours = grid_albedo(Bsdf(p), albedo_wo(cos_theta_o), line, true);
+    worst = std::max(worst, expect_albedo_near(ours, expected, expected_se,
+                                               "mitsuba_principled_albedo.txt line " +
+                                                   std::to_string(line)));
     ++rows;
     above_one += expected.x > 1.0;
   }
