@@ -1,5 +1,5 @@
 // tessera-bench-rays SCENE [--seconds S] [--threads N] [--mode scalar|packet] [--widths 1,8,16]
-// [--rounds 3] [--isa ISA] [--spp N]:
+// [--rounds 3] [--isa ISA] [--spp N] [--integrator scalar|wavefront]:
 // Embree's raw ray throughput on a scene (the limit the renderer can approach) beside the
 // renderer's own rays/s on the same scene, in the same run.
 //
@@ -11,7 +11,7 @@
 // t_max) queries, packets cut in pool order, 4096-ray chunks spread over the threads; every
 // query runs once per round, rounds interleaved with the scalar query, medians printed.
 // The renderer: one 64x64-tile batch after another through Renderer::render, counting its
-// closest-hit and shadow rays.
+// closest-hit and shadow rays, with the integrator --integrator names (renderer.h).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -184,6 +184,9 @@ int main(int argc, char** argv) {
   app.add_option("--rounds", rounds, "--mode packet: rounds of every query, interleaved; medians printed")
       ->check(CLI::PositiveNumber);
   app.add_option("--isa", isa, "Pin Embree's instruction set (avx512, avx2, sse4.2)");
+  std::string integrator = "scalar";
+  app.add_option("--integrator", integrator, "The renderer's integrator (renderer.h)")
+      ->check(CLI::IsMember({"scalar", "wavefront"}));
   CLI11_PARSE(app, argc, argv);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each figure shows as soon as it is measured
   std::optional<tbb::global_control> limit;
@@ -217,7 +220,8 @@ int main(int argc, char** argv) {
               raw_rate / 1e6, raw.cpu / 1e6, rays.size(), 100.0 * double(hits) / double(passes * rays.size()));
   const double packet_cpu_rate = mode == "packet" ? packet_rates(traceable, rays, widths, seconds, rounds, scalar) : 0;
 
-  const Renderer renderer(scene, options);
+  const Renderer renderer(scene, options, {}, integrator_kind_from_name(integrator));
+  std::printf("renderer integrator: %s\n", integrator_kind_name(renderer.integrator()));
   RenderStats stats;
   timespec cpu0, cpu1;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu0);
