@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 #include <tbb/blocked_range.h>
@@ -186,6 +187,7 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
     std::vector<PathState> paths;
     std::vector<PixelSampler> samplers;
     std::vector<PixelSum> sums;
+    WavefrontIntegrator::Workspace workspace;
     for (size_t group = range.begin(); group != range.end(); ++group) {
       const size_t p0 = group * group_pixels, p1 = std::min(pixels, p0 + group_pixels);
       const size_t group_paths = (p1 - p0) * spp;
@@ -194,13 +196,19 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
         const size_t last = std::min(group_paths, first + kWavefrontPaths);
         paths.clear();
         samplers.clear();
+        size_t key_pixel = SIZE_MAX;
+        uint64_t pixel_key = 0;
         for (size_t k = first; k < last; ++k) {
           const size_t p = p0 + k / spp;
           const int x = tile.x0 + int(p % width), y = tile.y0 + int(p / width);
-          samplers.emplace_back(PixelSampler::pixel_key(seed, x, y), sample_begin + uint32_t(k % spp));
+          if (p != key_pixel) {
+            key_pixel = p;
+            pixel_key = PixelSampler::pixel_key(seed, x, y);
+          }
+          samplers.emplace_back(pixel_key, sample_begin + uint32_t(k % spp));
           paths.push_back(PathState{camera_ray(x, y, samplers.back())});
         }
-        wavefront_->trace(paths, samplers, local.counters);
+        wavefront_->trace(paths, samplers, local.counters, workspace);
         local.samples += last - first;
         for (size_t k = first; k < last; ++k) {
           const size_t p = p0 + k / spp;

@@ -10,21 +10,22 @@ WavefrontIntegrator::WavefrontIntegrator(const TraceableScene& scene, int max_de
     : scene_(scene), max_depth_(max_depth), tracer_(scene.embree_scene(), packet_width) {}
 
 void WavefrontIntegrator::trace(std::vector<PathState>& paths, std::vector<PixelSampler>& samplers,
-                                PathCounters& counters) const {
+                                PathCounters& counters, Workspace& workspace) const {
   if (samplers.size() != paths.size()) {
     throw std::invalid_argument("WavefrontIntegrator::trace: " + std::to_string(paths.size()) + " paths but " +
                                 std::to_string(samplers.size()) + " samplers");
   }
   const size_t n = paths.size();
-  RayBatch rays, shadow_rays;
-  HitBatch hits;
-  std::vector<uint8_t> occluded;
-  std::vector<uint32_t> live(n), next, shadow_path;
-  std::vector<glm::dvec3> shadow_contribution;
+  RayBatch& rays = workspace.rays;
+  RayBatch& shadow_rays = workspace.shadow_rays;
+  HitBatch& hits = workspace.hits;
+  std::vector<uint8_t>& occluded = workspace.occluded;
+  std::vector<uint32_t>& live = workspace.live;
+  std::vector<uint32_t>& next = workspace.next;
+  std::vector<uint32_t>& shadow_path = workspace.shadow_path;
+  std::vector<glm::dvec3>& shadow_contribution = workspace.shadow_contribution;
+  live.resize(n);
   for (size_t i = 0; i < n; ++i) live[i] = uint32_t(i);
-  next.reserve(n);
-  shadow_path.reserve(n);
-  shadow_contribution.reserve(n);
 
   while (!live.empty()) {
     const size_t count = live.size();

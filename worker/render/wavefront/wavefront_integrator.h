@@ -25,9 +25,19 @@ namespace tessera {
 /// per path. Live paths are packed in path order at each bounce, so which paths share a packet
 /// depends only on the group.
 ///
-/// Thread-safe for const use: each trace() call has its own buffers.
+/// Thread-safe for const use: each trace() call works in its caller's Workspace.
 class WavefrontIntegrator {
  public:
+  /// The buffers of one trace() call, kept by the caller between calls (one per thread) so
+  /// that each group does not allocate them again. Contents are scratch.
+  struct Workspace {
+    RayBatch rays, shadow_rays;
+    HitBatch hits;
+    std::vector<uint8_t> occluded;
+    std::vector<uint32_t> live, next, shadow_path;
+    std::vector<glm::dvec3> shadow_contribution;
+  };
+
   /// `scene` must outlive the integrator; `packet_width` as PacketTracer's (1, 4, 8 or 16).
   WavefrontIntegrator(const TraceableScene& scene, int max_depth, int packet_width);
 
@@ -35,7 +45,8 @@ class WavefrontIntegrator {
   /// samplers[i] (past its camera pairs, as trace_path's); its estimate ends in
   /// paths[i].radiance. `paths` and `samplers` have the same size. Adds the closest-hit and
   /// shadow rays traced to `counters`.
-  void trace(std::vector<PathState>& paths, std::vector<PixelSampler>& samplers, PathCounters& counters) const;
+  void trace(std::vector<PathState>& paths, std::vector<PixelSampler>& samplers, PathCounters& counters,
+             Workspace& workspace) const;
 
  private:
   const TraceableScene& scene_;

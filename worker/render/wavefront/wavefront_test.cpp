@@ -99,7 +99,8 @@ TEST(Wavefront, EveryPacketWidthGivesEachPathTheScalarBits) {
       std::vector<PathState> paths = start;
       std::vector<PixelSampler> own = samplers;
       PathCounters counters;
-      integrator.trace(paths, own, counters);
+      WavefrontIntegrator::Workspace workspace;
+      integrator.trace(paths, own, counters, workspace);
       EXPECT_EQ(counters.rays, scalar_counters.rays) << "width " << width << ", depth " << max_depth;
       EXPECT_EQ(counters.shadow_rays, scalar_counters.shadow_rays) << "width " << width << ", depth " << max_depth;
       int differences = 0;
@@ -121,7 +122,8 @@ TEST(Wavefront, RefusesPathsWithoutSamplers) {
   std::vector<PathState> paths(3);
   std::vector<PixelSampler> samplers;
   PathCounters counters;
-  EXPECT_THROW(integrator.trace(paths, samplers, counters), std::invalid_argument);
+  WavefrontIntegrator::Workspace workspace;
+  EXPECT_THROW(integrator.trace(paths, samplers, counters, workspace), std::invalid_argument);
 }
 
 TEST(Wavefront, IntegratorNames) {
