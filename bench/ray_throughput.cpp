@@ -248,7 +248,7 @@ int main(int argc, char** argv) {
   app.add_option("--rounds", rounds, "--mode packet: rounds of every query, interleaved; medians printed")
       ->check(CLI::PositiveNumber);
   app.add_option("--isa", isa, "Pin Embree's instruction set (avx512, avx2, sse4.2)");
-  std::string integrator = "scalar";
+  std::string integrator = "wavefront";
   app.add_option("--integrator", integrator, "The renderer's integrator (renderer.h)")
       ->check(CLI::IsMember({"scalar", "wavefront", "both"}));
   CLI11_PARSE(app, argc, argv);

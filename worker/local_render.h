@@ -34,6 +34,6 @@ struct LocalRenderResult {
 /// never concurrently. `integrator` chooses the renderer's path order (the same bits either way).
 LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
                              const std::function<void(uint64_t)>& on_progress = {},
-                             IntegratorKind integrator = IntegratorKind::scalar);
+                             IntegratorKind integrator = IntegratorKind::wavefront);
 
 }  // namespace tessera

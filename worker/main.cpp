@@ -41,7 +41,7 @@ struct RenderArgs {
   std::vector<std::string> outputs;
   tessera::JobOverrides overrides;
   int threads = 0;
-  std::string integrator = "scalar";  ///< --integrator (renderer.h's IntegratorKind)
+  std::string integrator = "wavefront";  ///< --integrator (renderer.h's IntegratorKind)
   bool half = false;
   bool quiet = false;
 };
@@ -214,7 +214,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1024));
   render_cmd->add_option("--integrator", render.integrator,
                          "scalar (one path at a time) or wavefront (a bounce of many paths at a time, rays in "
-                         "Embree packets); the same bits either way (default scalar)")
+                         "Embree packets); the same bits either way (default wavefront)")
       ->check(CLI::IsMember({"scalar", "wavefront"}));
   render_cmd->add_flag("--half", render.half, "Write EXR as half floats (clamped to half's range)");
   render_cmd->add_flag("-q,--quiet", render.quiet, "No progress bar");
