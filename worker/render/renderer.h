@@ -23,7 +23,7 @@ enum class IntegratorKind {
   /// trace_path (integrator.h): one path after another, one ray at a time.
   scalar,
   /// WavefrontIntegrator (wavefront/wavefront_integrator.h): groups of paths, one bounce at a
-  /// time, their rays in Embree packets of the device's native width. The default: 3-13 %
+  /// time, their rays in Embree packets of the device's native width. The default: 5-10 %
   /// more samples per CPU-second than scalar on the benchmark scenes (BENCHMARKS.md).
   wavefront,
 };
