@@ -1,5 +1,5 @@
 // tessera-bench-rays SCENE [--seconds S] [--threads N] [--mode scalar|packet] [--widths 1,8,16]
-// [--rounds 3] [--isa ISA] [--spp N]:
+// [--rounds 3] [--isa ISA] [--spp N] [--integrator scalar|wavefront|both]:
 // Embree's raw ray throughput on a scene (the limit the renderer can approach) beside the
 // renderer's own rays/s on the same scene, in the same run.
 //
@@ -11,7 +11,11 @@
 // t_max) queries, packets cut in pool order, 4096-ray chunks spread over the threads; every
 // query runs once per round, rounds interleaved with the scalar query, medians printed.
 // The renderer: one 64x64-tile batch after another through Renderer::render, counting its
-// closest-hit and shadow rays.
+// closest-hit and shadow rays, with the integrator --integrator names (renderer.h). With
+// `--integrator both`, a scalar and a wavefront renderer take turns on the same units, tile by
+// tile, for --seconds each, and the process CPU time of every render() call is kept: the median
+// of the per-tile ratios wavefront / scalar of CPU seconds per sample compares the two under the
+// same load (on a shared machine, wall-clock rates of separate runs mostly measure the load).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -106,6 +110,11 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[size_t(q * double(v.size() - 1) + 0.5)];
+}
+
 /// The packet tracer at each width on `pool`, closest-hit and occlusion, interleaved with
 /// `scalar` (TraceableScene::intersect's rate on the same rays) in each of `rounds` rounds, so
 /// load drifts on a shared machine hit every query alike; prints every round and the medians,
@@ -159,6 +168,61 @@ double packet_rates(const TraceableScene& traceable, const std::vector<Ray>& poo
   return median(closest[*std::max_element(widths.begin(), widths.end())]);
 }
 
+double process_cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+/// --integrator both: scalar and wavefront renderers alternating tile by tile on the same units
+/// (each tile rendered by both, in alternating order), until each has rendered for `seconds` of
+/// wall time; prints each one's samples per CPU-second (median over tiles) and the median of the
+/// per-tile ratios.
+void compare_integrators(const Scene& scene, const JobOptions& options, uint32_t spp, double seconds) {
+  const Renderer scalar(scene, options, {}, IntegratorKind::scalar);
+  const Renderer wavefront(scene, options, {}, IntegratorKind::wavefront);
+  const std::vector<TileRect> tiles = options.plan().tiles();
+  std::vector<double> scalar_rate, wavefront_rate, ratio;
+  double scalar_wall = 0, wavefront_wall = 0;
+  uint64_t scalar_samples = 0, wavefront_samples = 0;
+  const auto timed = [](const Renderer& r, const TileRect& tile, uint32_t b, uint32_t e, double* wall,
+                        uint64_t* samples) {
+    RenderStats stats;
+    const double c0 = process_cpu_seconds();
+    const auto t0 = std::chrono::steady_clock::now();
+    r.render(tile, b, e, &stats);
+    *wall += seconds_since(t0);
+    *samples += stats.samples;
+    return double(stats.samples) / (process_cpu_seconds() - c0);
+  };
+  uint32_t batch = 0;
+  size_t turn = 0;
+  while (scalar_wall < seconds || wavefront_wall < seconds) {
+    for (const TileRect& tile : tiles) {
+      const uint32_t b = batch * spp, e = (batch + 1) * spp;
+      double s, w;
+      if (turn++ % 2 == 0) {
+        s = timed(scalar, tile, b, e, &scalar_wall, &scalar_samples);
+        w = timed(wavefront, tile, b, e, &wavefront_wall, &wavefront_samples);
+      } else {
+        w = timed(wavefront, tile, b, e, &wavefront_wall, &wavefront_samples);
+        s = timed(scalar, tile, b, e, &scalar_wall, &scalar_samples);
+      }
+      scalar_rate.push_back(s);
+      wavefront_rate.push_back(w);
+      ratio.push_back(w / s);
+      if (scalar_wall >= seconds && wavefront_wall >= seconds) break;
+    }
+    ++batch;
+  }
+  std::printf("integrators alternating on %zu tiles of %u spp: scalar %.3f M samples per CPU-second (%.3f M/s "
+              "wall), wavefront %.3f M samples per CPU-second (%.3f M/s wall) (medians over tiles); "
+              "wavefront / scalar per tile: median %.3f, quartiles %.3f-%.3f\n",
+              ratio.size(), spp, median(scalar_rate) / 1e6, double(scalar_samples) / scalar_wall / 1e6,
+              median(wavefront_rate) / 1e6, double(wavefront_samples) / wavefront_wall / 1e6, median(ratio),
+              quantile(ratio, 0.25), quantile(ratio, 0.75));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -184,6 +248,9 @@ int main(int argc, char** argv) {
   app.add_option("--rounds", rounds, "--mode packet: rounds of every query, interleaved; medians printed")
       ->check(CLI::PositiveNumber);
   app.add_option("--isa", isa, "Pin Embree's instruction set (avx512, avx2, sse4.2)");
+  std::string integrator = "wavefront";
+  app.add_option("--integrator", integrator, "The renderer's integrator (renderer.h)")
+      ->check(CLI::IsMember({"scalar", "wavefront", "both"}));
   CLI11_PARSE(app, argc, argv);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each figure shows as soon as it is measured
   std::optional<tbb::global_control> limit;
@@ -217,7 +284,12 @@ int main(int argc, char** argv) {
               raw_rate / 1e6, raw.cpu / 1e6, rays.size(), 100.0 * double(hits) / double(passes * rays.size()));
   const double packet_cpu_rate = mode == "packet" ? packet_rates(traceable, rays, widths, seconds, rounds, scalar) : 0;
 
-  const Renderer renderer(scene, options);
+  if (integrator == "both") {
+    compare_integrators(scene, options, spp, seconds);
+    return 0;
+  }
+  const Renderer renderer(scene, options, {}, integrator_kind_from_name(integrator));
+  std::printf("renderer integrator: %s\n", integrator_kind_name(renderer.integrator()));
   RenderStats stats;
   timespec cpu0, cpu1;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu0);

@@ -8,11 +8,11 @@
 namespace tessera {
 
 LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
-                             const std::function<void(uint64_t)>& on_progress) {
+                             const std::function<void(uint64_t)>& on_progress, IntegratorKind integrator) {
   const auto start = std::chrono::steady_clock::now();
   LocalRenderResult result;
   result.options = options;
-  const Renderer renderer(scene, options);
+  const Renderer renderer(scene, options, {}, integrator);
   result.isa = renderer.isa();
   const JobPlan plan = options.plan();
   const std::vector<TileRect> tiles = plan.tiles();

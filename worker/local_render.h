@@ -31,8 +31,9 @@ struct LocalRenderResult {
 /// (judge_tile) — exactly what the farm's server does, so `spp` and `noise` jobs give the farm's
 /// bits. A `time` job starts no batch after its budget (steady clock) and keeps what is merged.
 /// `on_progress(samples_done_total)` is called after each unit, from rendering threads but
-/// never concurrently.
+/// never concurrently. `integrator` chooses the renderer's path order (the same bits either way).
 LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
-                             const std::function<void(uint64_t)>& on_progress = {});
+                             const std::function<void(uint64_t)>& on_progress = {},
+                             IntegratorKind integrator = IntegratorKind::wavefront);
 
 }  // namespace tessera

@@ -41,6 +41,7 @@ struct RenderArgs {
   std::vector<std::string> outputs;
   tessera::JobOverrides overrides;
   int threads = 0;
+  std::string integrator = "wavefront";  ///< --integrator (renderer.h's IntegratorKind)
   bool half = false;
   bool quiet = false;
 };
@@ -64,7 +65,8 @@ int run_render(const RenderArgs& args) {
   const uint64_t total = uint64_t(options.width) * uint64_t(options.height) * options.spp;
   tessera::ProgressBar bar(args.quiet ? nullptr : stderr, total);
   const tessera::LocalRenderResult result =
-      tessera::render_job(scene, options, [&](uint64_t done) { bar.update(done); });
+      tessera::render_job(scene, options, [&](uint64_t done) { bar.update(done); },
+                          tessera::integrator_kind_from_name(args.integrator));
   bar.finish(total);
 
   const tessera::RgbImage image = tessera::resolve_image(options.width, options.height, result.tiles);
@@ -210,6 +212,10 @@ int main(int argc, char** argv) {
   tessera::add_job_override_flags(render_cmd, render.overrides);
   render_cmd->add_option("--threads", render.threads, "Threads, 0 to 1024 (default 0: all cores)")
       ->check(CLI::Range(0, 1024));
+  render_cmd->add_option("--integrator", render.integrator,
+                         "scalar (one path at a time) or wavefront (a bounce of many paths at a time, rays in "
+                         "Embree packets); the same bits either way (default wavefront)")
+      ->check(CLI::IsMember({"scalar", "wavefront"}));
   render_cmd->add_flag("--half", render.half, "Write EXR as half floats (clamped to half's range)");
   render_cmd->add_flag("-q,--quiet", render.quiet, "No progress bar");
 

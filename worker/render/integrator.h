@@ -1,9 +1,15 @@
 // The path tracer: the Monte Carlo estimator of the report, with next-event estimation.
+//
+// One path vertex is one call of path_vertex(): both the scalar trace_path() (one path, one ray
+// at a time) and the wavefront integrator (wavefront/wavefront_integrator.h: many paths, their
+// rays traced in packets) call it, so a path's arithmetic and sampler calls are the same in
+// both and so are its bits.
 #pragma once
 
 #include <glm/vec3.hpp>
 
 #include "ray.h"
+#include "ray_offset.h"
 #include "sampler.h"
 #include "traceable_scene.h"
 
@@ -14,19 +20,55 @@ struct PathCounters {
   uint64_t shadow_rays = 0;
 };
 
-/// Estimates the radiance arriving along the camera ray `ray`.
-///
-/// Lambertian surfaces get next-event estimation (one emitter chosen by power, one point on it
-/// by area, one shadow ray) plus a cosine-weighted bounce that does not count the emission it
-/// hits; emission is counted when seen directly or after a perfect mirror or glass bounce.
-/// Russian roulette from the third bounce on, survival min(max(beta * eta^2), 0.95): unbiased,
-/// and a path trapped by total internal reflection still ends. `max_depth` follows Mitsuba
-/// (path segments including the camera ray; -1 = unbounded). Returns the estimate in double so
-/// that very bright emitters cannot overflow; NaN/Inf are left for the caller to count.
-glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, PixelSampler& sampler,
-                      PathCounters& counters);
-
 /// Dimension pairs the integrator takes before the first vertex (film jitter, lens).
 inline constexpr uint32_t kCameraPairs = 2;
+
+/// One path between two vertices: the ray to trace next and what the vertices so far left.
+/// Start a path with `PathState{camera_ray}`.
+struct PathState {
+  Ray ray;                    ///< the ray to trace next (unit direction)
+  glm::dvec3 radiance{0.0};   ///< the estimate so far
+  glm::vec3 beta{1.0f};       ///< throughput
+  float eta_scale = 1.0f;     ///< product of eta^2 over refractions, undone for roulette
+  float prev_pdf = 0;         ///< solid-angle pdf of the BSDF sample that made `ray`
+  SurfacePoint prev_sp{};     ///< where `ray` started
+  int vertex = 0;             ///< the vertex `ray` will find (0 = the camera ray's hit)
+  bool prev_delta = true;     ///< `ray` is the camera ray, or perfectly specular / null scattering
+};
+
+/// A shadow ray a vertex asks for: when nothing blocks o + t d for t in [0, t_max]
+/// (TraceableScene::occluded), `contribution` is added to the path's radiance, before the
+/// next vertex is shaded.
+/// Left uninitialised until a vertex fills it (it is made at every vertex of every path).
+struct ShadowQuery {
+  glm::vec3 o, d;
+  float t_max;
+  glm::dvec3 contribution;
+};
+
+/// Shades the vertex of `path` that its ray found: `hit` is the closest hit of path.ray
+/// (TraceableScene::intersect, or the same Hit built from a packet query), nullptr when the ray
+/// escaped; it may be changed (a back face flips its normals).
+///
+/// Adds what the vertex sees directly to path.radiance; asks for at most one shadow ray, in
+/// `*shadow`, returning `*has_shadow` (the caller traces it and adds its contribution when
+/// unblocked); then either samples the next direction, leaving the next ray in path.ray, and
+/// returns true, or returns false when the path ends (escaped, absorbed, roulette, depth).
+/// `sampler` is the path's own (pixel, sample index) stream; every dimension is set by pair
+/// index, so a vertex draws the same numbers whatever ran before it.
+///
+/// Lambertian surfaces get next-event estimation (one emitter chosen by power, one point on it
+/// by area, one shadow ray) plus a cosine-weighted bounce; other BSDFs combine both strategies
+/// by multiple importance sampling. Russian roulette from the third bounce on, survival
+/// min(max(beta * eta^2), 0.95): unbiased, and a path trapped by total internal reflection still
+/// ends. `max_depth` follows Mitsuba (path segments including the camera ray; -1 = unbounded).
+bool path_vertex(const TraceableScene& scene, int max_depth, PixelSampler& sampler, PathState& path,
+                 Hit* hit, ShadowQuery* shadow, bool* has_shadow);
+
+/// Estimates the radiance arriving along the camera ray `ray`: path_vertex() after each
+/// closest-hit query, each shadow ray traced at once. Returns the estimate in double so that
+/// very bright emitters cannot overflow; NaN/Inf are left for the caller to count.
+glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, PixelSampler& sampler,
+                      PathCounters& counters);
 
 }  // namespace tessera

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 #include <tbb/blocked_range.h>
@@ -10,6 +11,7 @@
 
 #include "integrator.h"
 #include "traceable_scene.h"
+#include "wavefront/wavefront_integrator.h"
 
 namespace tessera {
 namespace {
@@ -19,19 +21,105 @@ struct RowResult {
   uint64_t samples = 0;
 };
 
+/// A group of the wavefront integrator traces at most this many paths at once: enough for full
+/// packets after a few bounces, few enough that their state stays in the core's L2 cache.
+constexpr uint32_t kWavefrontPaths = 1024;
+
+/// One pixel's sums over its samples, added in sample-index order.
+struct PixelSum {
+  double r = 0, g = 0, b = 0, l2 = 0;
+  uint32_t n = 0;
+};
+
+/// The NaN/Inf samples dropped in one part of a tile, in pixel then sample order.
+struct DropLog {
+  std::vector<DroppedSample> examples;
+  uint64_t nan = 0, inf = 0;
+};
+
+/// Adds sample `s` of pixel (x, y), of estimate `l`, to `sum`, or counts it in `dropped` when
+/// it is NaN or infinite.
+[[gnu::always_inline]] inline void add_sample(const glm::dvec3& l, int x, int y, uint32_t s, PixelSum& sum, DropLog& dropped) {
+  const bool is_nan = std::isnan(l.x) || std::isnan(l.y) || std::isnan(l.z);
+  const bool is_inf = !is_nan && (std::isinf(l.x) || std::isinf(l.y) || std::isinf(l.z));
+  if (is_nan || is_inf) {
+    (is_nan ? dropped.nan : dropped.inf) += 1;
+    if (dropped.examples.size() < Accumulation::kMaxDroppedExamples) dropped.examples.push_back({x, y, s});
+    return;
+  }
+  sum.r += l.x;
+  sum.g += l.y;
+  sum.b += l.z;
+  const double lum = luminance(l.x, l.y, l.z);
+  sum.l2 += lum * lum;
+  ++sum.n;
+}
+
+[[gnu::always_inline]] inline void store(const PixelSum& sum, size_t i, Accumulation& acc) {
+  acc.rgb[i * 3 + 0] = sum.r;
+  acc.rgb[i * 3 + 1] = sum.g;
+  acc.rgb[i * 3 + 2] = sum.b;
+  acc.lum2[i] = sum.l2;
+  acc.count[i] = sum.n;
+}
+
+/// Concatenates the parts' drop logs in part order (the tile's pixel order), so the examples
+/// kept do not depend on thread scheduling.
+void merge_drops(const std::vector<DropLog>& parts, Accumulation& acc) {
+  for (const DropLog& part : parts) {
+    acc.nan_dropped += part.nan;
+    acc.inf_dropped += part.inf;
+    for (const DroppedSample& d : part.examples) {
+      if (acc.dropped_examples.size() < Accumulation::kMaxDroppedExamples) acc.dropped_examples.push_back(d);
+    }
+  }
+}
+
+void add_stats(tbb::combinable<RowResult>& work, RenderStats* stats) {
+  if (!stats) return;
+  work.combine_each([&](const RowResult& r) {
+    stats->samples += r.samples;
+    stats->rays += r.counters.rays;
+    stats->shadow_rays += r.counters.shadow_rays;
+  });
+}
+
 }  // namespace
 
-Renderer::Renderer(const Scene& scene, const JobOptions& options, const FileReader& reader)
+IntegratorKind integrator_kind_from_name(const std::string& name) {
+  if (name == "scalar") return IntegratorKind::scalar;
+  if (name == "wavefront") return IntegratorKind::wavefront;
+  throw std::invalid_argument("unknown integrator \"" + name + "\" (expected scalar or wavefront)");
+}
+
+const char* integrator_kind_name(IntegratorKind kind) {
+  return kind == IntegratorKind::wavefront ? "wavefront" : "scalar";
+}
+
+Renderer::Renderer(const Scene& scene, const JobOptions& options, const FileReader& reader,
+                   IntegratorKind integrator)
     : scene_(std::make_unique<TraceableScene>(scene, options.width, options.height, options.isa,
                                               reader)),
+      integrator_(integrator),
       options_(options),
-      filter_(scene.film.filter) {}
+      filter_(scene.film.filter) {
+  if (integrator_ == IntegratorKind::wavefront) {
+    wavefront_ = std::make_unique<WavefrontIntegrator>(*scene_, options_.max_depth,
+                                                       PacketTracer::native_width(scene_->embree_device()));
+  }
+}
 
 Renderer::~Renderer() = default;
 
 const JobOptions& Renderer::options() const { return options_; }
 
 std::string Renderer::isa() const { return scene_->isa(); }
+
+Ray Renderer::camera_ray(int x, int y, PixelSampler& sampler) const {
+  const glm::vec2 u_film = sampler.get2d();
+  const glm::vec2 u_lens = sampler.get2d();
+  return scene_->camera().generate_ray(filter_.film_position(x, y, u_film), u_lens);
+}
 
 Accumulation Renderer::render(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
                               RenderStats* stats) const {
@@ -40,12 +128,14 @@ Accumulation Renderer::render(const TileRect& tile, uint32_t sample_begin, uint3
     throw std::invalid_argument("Renderer::render: tile outside the image");
   }
   if (sample_end <= sample_begin) throw std::invalid_argument("Renderer::render: empty sample range");
+  return integrator_ == IntegratorKind::wavefront ? render_wavefront(tile, sample_begin, sample_end, stats)
+                                                  : render_scalar(tile, sample_begin, sample_end, stats);
+}
 
+Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
+                                     RenderStats* stats) const {
   Accumulation acc(tile);
-  // Dropped samples are collected per row and concatenated in row order afterwards, so the
-  // examples kept do not depend on thread scheduling.
-  std::vector<std::vector<DroppedSample>> dropped_by_row(size_t(tile.height()));
-  std::vector<uint64_t> nan_by_row(size_t(tile.height()), 0), inf_by_row(size_t(tile.height()), 0);
+  std::vector<DropLog> dropped_by_row(size_t(tile.height()));
   tbb::combinable<RowResult> work;
 
   const TraceableScene& scene = *scene_;
@@ -57,58 +147,81 @@ Accumulation Renderer::render(const TileRect& tile, uint32_t sample_begin, uint3
     for (int y = rows.begin(); y != rows.end(); ++y) {
       const size_t row = size_t(y - tile.y0);
       for (int x = tile.x0; x < tile.x1; ++x) {
-        const size_t i = row * size_t(tile.width()) + size_t(x - tile.x0);
-        double sum_r = 0, sum_g = 0, sum_b = 0, sum_l2 = 0;
-        uint32_t n = 0;
+        PixelSum sum;
         const uint64_t pixel_key = PixelSampler::pixel_key(seed, x, y);
         for (uint32_t s = sample_begin; s < sample_end; ++s) {
           PixelSampler sampler(pixel_key, s);
-          const glm::vec2 u_film = sampler.get2d();
-          const glm::vec2 u_lens = sampler.get2d();
-          const Ray ray = scene.camera().generate_ray(filter_.film_position(x, y, u_film), u_lens);
+          const Ray ray = camera_ray(x, y, sampler);
           const glm::dvec3 l = trace_path(scene, ray, max_depth, sampler, local.counters);
           ++local.samples;
-          const bool is_nan = std::isnan(l.x) || std::isnan(l.y) || std::isnan(l.z);
-          const bool is_inf = !is_nan && (std::isinf(l.x) || std::isinf(l.y) || std::isinf(l.z));
-          if (is_nan || is_inf) {
-            (is_nan ? nan_by_row : inf_by_row)[row] += 1;
-            if (dropped_by_row[row].size() < Accumulation::kMaxDroppedExamples) {
-              dropped_by_row[row].push_back({x, y, s});
-            }
-            continue;
-          }
-          sum_r += l.x;
-          sum_g += l.y;
-          sum_b += l.z;
-          const double lum = luminance(l.x, l.y, l.z);
-          sum_l2 += lum * lum;
-          ++n;
+          add_sample(l, x, y, s, sum, dropped_by_row[row]);
         }
-        acc.rgb[i * 3 + 0] = sum_r;
-        acc.rgb[i * 3 + 1] = sum_g;
-        acc.rgb[i * 3 + 2] = sum_b;
-        acc.lum2[i] = sum_l2;
-        acc.count[i] = n;
+        store(sum, row * size_t(tile.width()) + size_t(x - tile.x0), acc);
       }
     }
   });
+  merge_drops(dropped_by_row, acc);
+  add_stats(work, stats);
+  return acc;
+}
 
-  for (size_t row = 0; row < dropped_by_row.size(); ++row) {
-    acc.nan_dropped += nan_by_row[row];
-    acc.inf_dropped += inf_by_row[row];
-    for (const DroppedSample& d : dropped_by_row[row]) {
-      if (acc.dropped_examples.size() < Accumulation::kMaxDroppedExamples) {
-        acc.dropped_examples.push_back(d);
+// The tile's pixels, in row-major order, are cut into groups of whole pixels, each traced by
+// one task: about kWavefrontPaths paths per group, at least one pixel. A group's paths (pixel,
+// then sample index) go through the wavefront integrator kWavefrontPaths at a time, and are
+// summed per pixel in sample order as they come back, as render_scalar sums them. The groups
+// depend only on the tile and the sample range, and no path's bits depend on its group.
+Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
+                                        RenderStats* stats) const {
+  Accumulation acc(tile);
+  const size_t width = size_t(tile.width());
+  const size_t pixels = width * size_t(tile.height());
+  const uint32_t spp = sample_end - sample_begin;
+  const size_t group_pixels = std::max<size_t>(1, kWavefrontPaths / spp);
+  const size_t groups = (pixels + group_pixels - 1) / group_pixels;
+  std::vector<DropLog> dropped_by_group(groups);
+  tbb::combinable<RowResult> work;
+  const uint64_t seed = options_.seed;
+
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, 1), [&](const tbb::blocked_range<size_t>& range) {
+    RowResult& local = work.local();
+    std::vector<PathState> paths;
+    std::vector<PixelSampler> samplers;
+    std::vector<PixelSum> sums;
+    WavefrontIntegrator::Workspace workspace;
+    for (size_t group = range.begin(); group != range.end(); ++group) {
+      const size_t p0 = group * group_pixels, p1 = std::min(pixels, p0 + group_pixels);
+      const size_t group_paths = (p1 - p0) * spp;
+      sums.assign(p1 - p0, PixelSum{});
+      for (size_t first = 0; first < group_paths; first += kWavefrontPaths) {
+        const size_t last = std::min(group_paths, first + kWavefrontPaths);
+        paths.clear();
+        samplers.clear();
+        size_t key_pixel = SIZE_MAX;
+        uint64_t pixel_key = 0;
+        for (size_t k = first; k < last; ++k) {
+          const size_t p = p0 + k / spp;
+          const int x = tile.x0 + int(p % width), y = tile.y0 + int(p / width);
+          if (p != key_pixel) {
+            key_pixel = p;
+            pixel_key = PixelSampler::pixel_key(seed, x, y);
+          }
+          samplers.emplace_back(pixel_key, sample_begin + uint32_t(k % spp));
+          paths.push_back(PathState{camera_ray(x, y, samplers.back())});
+        }
+        wavefront_->trace(paths, samplers, local.counters, workspace);
+        local.samples += last - first;
+        for (size_t k = first; k < last; ++k) {
+          const size_t p = p0 + k / spp;
+          const int x = tile.x0 + int(p % width), y = tile.y0 + int(p / width);
+          add_sample(paths[k - first].radiance, x, y, sample_begin + uint32_t(k % spp), sums[p - p0],
+                     dropped_by_group[group]);
+        }
       }
+      for (size_t p = p0; p < p1; ++p) store(sums[p - p0], p, acc);
     }
-  }
-  if (stats) {
-    work.combine_each([&](const RowResult& r) {
-      stats->samples += r.samples;
-      stats->rays += r.counters.rays;
-      stats->shadow_rays += r.counters.shadow_rays;
-    });
-  }
+  });
+  merge_drops(dropped_by_group, acc);
+  add_stats(work, stats);
   return acc;
 }
 

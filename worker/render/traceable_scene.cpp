@@ -322,6 +322,25 @@ void TraceableScene::fill_sphere_hit(const Geometry& g, const glm::vec3& o, cons
                      : g.frame * glm::vec3(1, 0, 0) * (kPi * r);
 }
 
+// Inlined into intersect() and make_hit(), as the triangle fill is.
+[[gnu::always_inline]] inline void TraceableScene::fill_hit(const Ray& ray, uint32_t geometry_id,
+                                                            uint32_t instance_id, uint32_t primitive,
+                                                            float t, float b1, float b2, Hit* hit) const {
+  if (instance_id != RTC_INVALID_GEOMETRY_ID) {
+    fill_instance_hit(ray, instance_id, geometry_id, primitive, t, b1, b2, hit);
+    return;
+  }
+  const Geometry& g = *geometries_[geometry_id];
+  hit->geometry = &g;
+  hit->primitive = primitive;
+  hit->geometry_id = geometry_id;
+  if (g.kind == Geometry::Kind::sphere) {
+    fill_sphere_hit(g, ray.o, ray.d, t, hit);
+  } else {
+    fill_triangle_hit(g, primitive, b1, b2, hit);
+  }
+}
+
 bool TraceableScene::intersect(const Ray& ray, Hit* hit) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
@@ -343,37 +362,30 @@ bool TraceableScene::intersect(const Ray& ray, Hit* hit) const {
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-
-  if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
-    fill_instance_hit(ray, rh, hit);
-    return true;
-  }
-  const Geometry& g = *geometries_[rh.hit.geomID];
-  hit->geometry = &g;
-  hit->primitive = rh.hit.primID;
-  hit->geometry_id = rh.hit.geomID;
-  if (g.kind == Geometry::Kind::sphere) {
-    fill_sphere_hit(g, ray.o, ray.d, rh.ray.tfar, hit);
-  } else {
-    fill_triangle_hit(g, rh.hit.primID, rh.hit.u, rh.hit.v, hit);
-  }
+  fill_hit(ray, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID, rh.ray.tfar, rh.hit.u, rh.hit.v, hit);
   return true;
 }
 
+void TraceableScene::make_hit(const Ray& ray, uint32_t geometry_id, uint32_t instance_id, uint32_t primitive,
+                              float t, float b1, float b2, Hit* hit) const {
+  fill_hit(ray, geometry_id, instance_id, primitive, t, b1, b2, hit);
+}
+
 // Out of line: scenes without instances keep intersect() short (fewer registers to save).
-[[gnu::noinline]] void TraceableScene::fill_instance_hit(const Ray& ray, const RTCRayHit& rh, Hit* hit) const {
+[[gnu::noinline]] void TraceableScene::fill_instance_hit(const Ray& ray, uint32_t instance_id,
+                                                         uint32_t geometry_id, uint32_t primitive, float t,
+                                                         float b1, float b2, Hit* hit) const {
   // A shape of a group, placed by an instance: find the hit in the group's space, then map the
   // point, its error bound, the normals and the tangents to the world.
-  const Geometry& inst = *geometries_[rh.hit.instID[0]];
-  const Geometry& g = *group_geometries_[inst.group][rh.hit.geomID];
+  const Geometry& inst = *geometries_[instance_id];
+  const Geometry& g = *group_geometries_[inst.group][geometry_id];
   hit->geometry = &g;
-  hit->primitive = rh.hit.primID;
-  hit->geometry_id = rh.hit.instID[0];
+  hit->primitive = primitive;
+  hit->geometry_id = instance_id;
   if (g.kind == Geometry::Kind::sphere) {
-    fill_sphere_hit(g, transform_point(inst.to_object, ray.o), transform_vector(inst.to_object, ray.d),
-                    rh.ray.tfar, hit);
+    fill_sphere_hit(g, transform_point(inst.to_object, ray.o), transform_vector(inst.to_object, ray.d), t, hit);
   } else {
-    fill_triangle_hit(g, rh.hit.primID, rh.hit.u, rh.hit.v, hit);
+    fill_triangle_hit(g, primitive, b1, b2, hit);
   }
   const glm::vec3 p_object = hit->sp.p;
   hit->sp.p = transform_point(inst.to_world, p_object);

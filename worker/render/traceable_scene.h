@@ -53,6 +53,13 @@ class TraceableScene {
 
   /// Closest hit along `ray` for t in [0, ray.t_max]; false when the ray escapes.
   bool intersect(const Ray& ray, Hit* hit) const;
+  /// The Hit that intersect() builds, from Embree's record of a closest hit of `ray` found
+  /// elsewhere (a packet query, packet_tracer.h): `geometry_id`, `instance_id` (geomID and
+  /// instID[0]; RTC_INVALID_GEOMETRY_ID when not instanced), `primitive`, `t` (tfar) and the
+  /// barycentrics `b1`, `b2` (hit u, v). The same fields give the same bits as intersect().
+  /// `geometry_id` must not be RTC_INVALID_GEOMETRY_ID.
+  void make_hit(const Ray& ray, uint32_t geometry_id, uint32_t instance_id, uint32_t primitive, float t,
+                float b1, float b2, Hit* hit) const;
   /// True when something blocks o + t d for t in [0, t_max].
   bool occluded(glm::vec3 o, glm::vec3 d, float t_max) const;
 
@@ -89,8 +96,12 @@ class TraceableScene {
   void attach(RTCGeometry geom, RTCScene target, size_t expected_id, const std::string& origin);
   void fill_triangle_hit(const Geometry& g, uint32_t primitive, float b1, float b2, Hit* hit) const;
   void fill_sphere_hit(const Geometry& g, const glm::vec3& o, const glm::vec3& d, float t, Hit* hit) const;
+  /// make_hit(), inlined into intersect().
+  void fill_hit(const Ray& ray, uint32_t geometry_id, uint32_t instance_id, uint32_t primitive, float t,
+                float b1, float b2, Hit* hit) const;
   /// The hit of a shape reached through an instance, mapped to the world.
-  void fill_instance_hit(const Ray& ray, const RTCRayHit& rh, Hit* hit) const;
+  void fill_instance_hit(const Ray& ray, uint32_t instance_id, uint32_t geometry_id, uint32_t primitive,
+                         float t, float b1, float b2, Hit* hit) const;
 
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;

@@ -1,0 +1,207 @@
+// The wavefront integrator gives the scalar integrator's bits: path by path at every packet
+// width, and through the Renderer on every scene of the repository and the Mitsuba test scenes
+// (materials, textures, masks, bump maps, instances, environment, spot and projector lights),
+// with 1 and 2 threads.
+#include <cctype>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include "job/job_options.h"
+#include "render/integrator.h"
+#include "render/renderer.h"
+#include "render/test_scenes.h"
+#include "render/traceable_scene.h"
+#include "render/wavefront/wavefront_integrator.h"
+#include "scene/scene_loader.h"
+
+namespace tessera {
+namespace {
+
+const std::string kSource = TESSERA_SOURCE_DIR;
+
+/// A small room with every material kind of the test helpers and both shape kinds: diffuse
+/// walls, a quad light, glass and mirror spheres, a two-sided quad.
+Scene mixed_scene() {
+  Scene s;
+  const uint32_t white = test::add_diffuse(s, {0.7, 0.7, 0.7});
+  const uint32_t red = test::add_diffuse(s, {0.7, 0.1, 0.1}, /*two_sided=*/true);
+  const uint32_t glass = test::add_material(s, MaterialType::glass, 1.5);
+  const uint32_t mirror = test::add_material(s, MaterialType::mirror);
+  s.shapes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, white, /*inward=*/true));
+  Shape light = test::quad({-0.3, 0.99, -0.3}, {0.3, 0.99, -0.3}, {0.3, 0.99, 0.3}, {-0.3, 0.99, 0.3}, white);
+  light.emission = {10, 9, 8};
+  s.shapes.push_back(light);
+  s.shapes.push_back(test::sphere({-0.4, -0.6, 0.0}, 0.35, glass));
+  s.shapes.push_back(test::sphere({0.45, -0.65, -0.3}, 0.3, mirror));
+  s.shapes.push_back(test::quad({-0.9, -0.2, -0.9}, {-0.5, -0.2, -0.9}, {-0.5, 0.3, -0.6}, {-0.9, 0.3, -0.6}, red));
+  s.camera.position = {0, 0, 0.95};
+  s.camera.look_at = {0, -0.2, 0};
+  s.camera.fov_deg = 80;
+  return s;
+}
+
+bool same_bits(const glm::dvec3& a, const glm::dvec3& b) { return std::memcmp(&a, &b, sizeof(a)) == 0; }
+
+template <typename T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+/// Every field of two accumulations, bit for bit; failures name `what` and the first pixel
+/// that differs.
+void expect_same(const Accumulation& a, const Accumulation& b, const std::string& what) {
+  EXPECT_EQ(a.nan_dropped, b.nan_dropped) << what;
+  EXPECT_EQ(a.inf_dropped, b.inf_dropped) << what;
+  EXPECT_TRUE(a.dropped_examples == b.dropped_examples) << what;
+  EXPECT_TRUE(same_bits(a.count, b.count)) << what;
+  EXPECT_TRUE(same_bits(a.lum2, b.lum2)) << what;
+  ASSERT_EQ(a.rgb.size(), b.rgb.size()) << what;
+  for (size_t i = 0; i < a.rgb.size(); ++i) {
+    if (std::memcmp(&a.rgb[i], &b.rgb[i], sizeof(double)) != 0) {
+      const int w = a.rect.width();
+      ADD_FAILURE() << what << ": pixel (" << a.rect.x0 + int(i / 3) % w << ", " << a.rect.y0 + int(i / 3) / w
+                    << ") channel " << i % 3 << ": " << a.rgb[i] << " against " << b.rgb[i];
+      return;
+    }
+  }
+}
+
+TEST(Wavefront, EveryPacketWidthGivesEachPathTheScalarBits) {
+  const Scene s = mixed_scene();
+  const TraceableScene scene(s, 24, 18, "");
+  constexpr uint64_t kSeed = 3;
+  for (const int max_depth : {-1, 3}) {
+    std::vector<PathState> start;
+    std::vector<PixelSampler> samplers;
+    std::vector<glm::dvec3> expected;
+    PathCounters scalar_counters;
+    for (int y = 0; y < 18; ++y) {
+      for (int x = 0; x < 24; ++x) {
+        for (uint32_t sample = 0; sample < 4; ++sample) {
+          PixelSampler sampler(kSeed, x, y, sample);
+          const glm::vec2 u_film = sampler.get2d();
+          const glm::vec2 u_lens = sampler.get2d();
+          const Ray ray = scene.camera().generate_ray({float(x) + u_film.x, float(y) + u_film.y}, u_lens);
+          start.push_back(PathState{ray});
+          samplers.push_back(sampler);
+          PixelSampler own = sampler;
+          expected.push_back(trace_path(scene, ray, max_depth, own, scalar_counters));
+        }
+      }
+    }
+    for (const int width : {1, 4, 8, 16}) {
+      const WavefrontIntegrator integrator(scene, max_depth, width);
+      std::vector<PathState> paths = start;
+      std::vector<PixelSampler> own = samplers;
+      PathCounters counters;
+      WavefrontIntegrator::Workspace workspace;
+      integrator.trace(paths, own, counters, workspace);
+      EXPECT_EQ(counters.rays, scalar_counters.rays) << "width " << width << ", depth " << max_depth;
+      EXPECT_EQ(counters.shadow_rays, scalar_counters.shadow_rays) << "width " << width << ", depth " << max_depth;
+      int differences = 0;
+      for (size_t i = 0; i < paths.size() && differences < 5; ++i) {
+        if (!same_bits(paths[i].radiance, expected[i])) {
+          ++differences;
+          ADD_FAILURE() << "width " << width << ", depth " << max_depth << ", path " << i << ": "
+                        << paths[i].radiance.x << " against " << expected[i].x;
+        }
+      }
+    }
+  }
+}
+
+TEST(Wavefront, RefusesPathsWithoutSamplers) {
+  const Scene s = mixed_scene();
+  const TraceableScene scene(s, 8, 8, "");
+  const WavefrontIntegrator integrator(scene, -1, 8);
+  std::vector<PathState> paths(3);
+  std::vector<PixelSampler> samplers;
+  PathCounters counters;
+  WavefrontIntegrator::Workspace workspace;
+  EXPECT_THROW(integrator.trace(paths, samplers, counters, workspace), std::invalid_argument);
+}
+
+TEST(Wavefront, IntegratorNames) {
+  EXPECT_EQ(integrator_kind_from_name("scalar"), IntegratorKind::scalar);
+  EXPECT_EQ(integrator_kind_from_name("wavefront"), IntegratorKind::wavefront);
+  EXPECT_STREQ(integrator_kind_name(IntegratorKind::wavefront), "wavefront");
+  try {
+    integrator_kind_from_name("packets");
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("packets"), std::string::npos) << e.what();
+  }
+}
+
+/// Renders a unit of `scene` with both integrators (the wavefront one with 1 and 2 threads) and
+/// expects the same bits: a whole 24x18 image at samples [0, spp), and a tile away from the
+/// origin at samples [spp, 2 spp).
+void expect_wavefront_equals_scalar(const Scene& scene, const std::string& name, uint32_t spp) {
+  JobOverrides overrides;
+  overrides.width = 24;
+  overrides.height = 18;
+  overrides.spp = int64_t(2 * spp);
+  overrides.seed = 11;
+  const JobOptions options = resolve_job_options(scene, overrides);
+  const Renderer scalar(scene, options, {}, IntegratorKind::scalar);
+  const Renderer wavefront(scene, options, {}, IntegratorKind::wavefront);
+  ASSERT_EQ(wavefront.integrator(), IntegratorKind::wavefront);
+  for (const auto& [tile, begin] : {std::pair{TileRect{0, 0, 24, 18}, 0u}, std::pair{TileRect{5, 3, 21, 17}, spp}}) {
+    RenderStats scalar_stats, wavefront_stats;
+    const Accumulation expected = scalar.render(tile, begin, begin + spp, &scalar_stats);
+    Accumulation one_thread, two_threads;
+    tbb::task_arena(1).execute([&] { one_thread = wavefront.render(tile, begin, begin + spp, &wavefront_stats); });
+    tbb::task_arena(2).execute([&] { two_threads = wavefront.render(tile, begin, begin + spp); });
+    const std::string what = name + ", samples from " + std::to_string(begin);
+    expect_same(expected, one_thread, what + ", 1 thread");
+    expect_same(expected, two_threads, what + ", 2 threads");
+    EXPECT_EQ(scalar_stats.samples, wavefront_stats.samples) << what;
+    EXPECT_EQ(scalar_stats.rays, wavefront_stats.rays) << what;
+    EXPECT_EQ(scalar_stats.shadow_rays, wavefront_stats.shadow_rays) << what;
+  }
+}
+
+TEST(Wavefront, MixedSceneGivesTheScalarBits) { expect_wavefront_equals_scalar(mixed_scene(), "mixed scene", 4); }
+
+class WavefrontScenes : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(WavefrontScenes, GiveTheScalarBits) {
+  const Scene scene = load_scene_file(kSource + "/" + GetParam());
+  expect_wavefront_equals_scalar(scene, GetParam(), 4);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    RepositoryAndMitsubaScenes, WavefrontScenes,
+    ::testing::Values("scenes/cornell.json", "scenes/cornell-sphere.json", "scenes/hexroom.json",
+                      "scenes/bunny.json", "scenes/cornell-original.xml", "scenes/cornell-sphere.xml",
+                      "tests/data/mitsuba/bitmap_texture.xml", "tests/data/mitsuba/envmap.xml",
+                      "tests/data/mitsuba/hide_emitters.xml", "tests/data/mitsuba/roughplastic.xml",
+                      "tests/data/mitsuba/shapegroup.xml", "tests/data/mitsuba/gaussian_filter.xml",
+                      "tests/data/mitsuba/point_spot_constant.xml", "tests/data/mitsuba/projector.xml",
+                      "tests/data/mitsuba/spot_texture.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_bumpmap_with.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_conductor_gold.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_dielectric_glass.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_diffuse_textured.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_mask_after.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_plastic_shiny.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_roughconductor_textured_carbon.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_roughdielectric_rough.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_thindielectric_glass.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_twosided_cbox.xml"),
+    [](const ::testing::TestParamInfo<const char*>& info) {
+      std::string name = info.param;
+      name = name.substr(name.rfind('/') + 1);
+      for (char& c : name) {
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      }
+      return name;
+    });
+
+}  // namespace
+}  // namespace tessera
