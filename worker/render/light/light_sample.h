@@ -23,6 +23,10 @@ struct LightSample {
   /// shadow ray can end at offset_ray_origin(point, -wi). Point and spot lights: the light's
   /// position with a zero error bound (ng = -wi). Unused for environment and directional lights.
   SurfacePoint point{};
+  /// LightSet::sample: the sum of the light picker's importances at ref (LightPicker::pick),
+  /// for LightSet::pdf_area and pdf_environment from the same ref; negative when not known
+  /// (picking by power, or no sample).
+  float pick_sum = -1.0f;
 };
 
 }  // namespace tessera
