@@ -74,7 +74,6 @@ glm::dvec3 diffuse_trace_path(const TraceableScene& scene, Ray ray, int max_dept
   bool prev_delta = true;  // the camera ray
   float prev_pdf = 0;
   SurfacePoint prev_sp{};
-  float prev_pick_sum = LightPicker::kUnknownSum;  // the light pick's importance sum there
   for (int vertex = 0;; ++vertex) {
     Hit hit;
     ++counters.rays;
@@ -85,7 +84,7 @@ glm::dvec3 diffuse_trace_path(const TraceableScene& scene, Ray ray, int max_dept
       const glm::vec3 le = lights.emitted(g, hit.primitive, hit.uv, hit.sp.ng, wo);
       if (le != glm::vec3(0.0f)) {
         const float w = prev_delta ? 1.0f
-                                   : mis_weight(prev_pdf, lights.pdf_area(g, hit.primitive, prev_sp, hit.sp.p, hit.sp.ng, prev_pick_sum));
+                                   : mis_weight(prev_pdf, lights.pdf_area(g, hit.primitive, prev_sp, hit.sp.p, hit.sp.ng));
         radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
       }
     }
@@ -106,7 +105,6 @@ glm::dvec3 diffuse_trace_path(const TraceableScene& scene, Ray ray, int max_dept
     }
     const glm::vec3 origin = offset_ray_origin(sp, sp.ng);
     glm::vec2 u_choice(0.0f);
-    float pick_sum = LightPicker::kUnknownSum;
     if (roulette || have_lights) {
       sampler.set_pair(pair);
       u_choice = sampler.get2d_independent();
@@ -114,7 +112,6 @@ glm::dvec3 diffuse_trace_path(const TraceableScene& scene, Ray ray, int max_dept
     if (have_lights) {
       sampler.set_pair(pair + 1);
       const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
-      pick_sum = ls.pick_sum;
       if (ls.pdf > 0) {
         const float cos_surface = glm::dot(ns, ls.wi);
         if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f) &&
@@ -139,7 +136,6 @@ glm::dvec3 diffuse_trace_path(const TraceableScene& scene, Ray ray, int max_dept
     prev_delta = false;
     prev_pdf = local.z * kInvPi;
     prev_sp = sp;
-    prev_pick_sum = pick_sum;
     ray.o = origin;
     ray.d = wi;
     ray.t_max = std::numeric_limits<float>::infinity();

@@ -103,7 +103,6 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
   bool prev_delta = true;     // the camera ray, or a perfectly specular / null scattering
   float prev_pdf = 0;         // solid-angle pdf of the BSDF sample that made this ray
   SurfacePoint prev_sp{};     // where that ray started
-  float prev_pick_sum = LightPicker::kUnknownSum;  // the light pick's importance sum there
 
   for (int vertex = 0;; ++vertex) {
     Hit hit;
@@ -111,7 +110,7 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
     if (!scene.intersect(ray, &hit)) {
       if (have_environment && !(vertex == 0 && scene.hide_emitters())) {
         const glm::vec3 le = lights.environment(ray.d);
-        const float w = prev_delta ? 1.0f : mis_weight(prev_pdf, lights.pdf_environment(prev_sp, ray.d, prev_pick_sum));
+        const float w = prev_delta ? 1.0f : mis_weight(prev_pdf, lights.pdf_environment(prev_sp, ray.d));
         radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
       }
       break;
@@ -131,7 +130,7 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
       if (le != glm::vec3(0.0f)) {
         const float w = prev_delta
                             ? 1.0f
-                            : mis_weight(prev_pdf, lights.pdf_area(g, hit.primitive, prev_sp, hit.sp.p, hit.sp.ng, prev_pick_sum));
+                            : mis_weight(prev_pdf, lights.pdf_area(g, hit.primitive, prev_sp, hit.sp.p, hit.sp.ng));
         radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
       }
     }
@@ -164,7 +163,6 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
         }
         prev_delta = true;
         prev_sp = hit.sp;
-        prev_pick_sum = LightPicker::kUnknownSum;
         ray.o = offset_ray_origin(hit.sp, ray.d);
         ray.t_max = std::numeric_limits<float>::infinity();
         continue;
@@ -188,7 +186,6 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
     float bsdf_pdf = 0;
     bool sampled_delta = false;
     float sampled_eta = 1;
-    float pick_sum = LightPicker::kUnknownSum;
 
     if (m->type == MaterialType::diffuse && !m->textured) {
       // The common case, with nothing of the other materials in its way: Lambertian, constant
@@ -202,7 +199,6 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
       if (have_lights) {
         sampler.set_pair(pair + 1);
         const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
-        pick_sum = ls.pick_sum;
         if (ls.pdf > 0) {
           const float cos_surface = glm::dot(ns, ls.wi);
           if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
@@ -234,7 +230,6 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
       if (have_lights && bsdf.has_smooth_lobe()) {
         sampler.set_pair(pair + 1);
         const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
-        pick_sum = ls.pick_sum;
         if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
           const glm::vec3 wi_local = frame.to_local(ls.wi);
           const glm::vec3 f = bsdf.eval(wo_local, wi_local) * (opacity * perturbation_factor(shading, ls.wi));
@@ -278,7 +273,6 @@ glm::dvec3 trace_path(const TraceableScene& scene, Ray ray, int max_depth, Pixel
     prev_delta = sampled_delta;
     prev_pdf = bsdf_pdf;
     prev_sp = sp;
-    prev_pick_sum = pick_sum;
     ray.d = wi;
     ray.t_max = std::numeric_limits<float>::infinity();
   }
