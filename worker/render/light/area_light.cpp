@@ -208,11 +208,16 @@ LightSample AreaLight::sample(glm::vec3 ref, glm::vec2 u) const {
   if (!(area_ > 0)) return {};
   if (sampling_ == Sampling::rectangle) {
     // solid_angle_sampled and behind, on one difference vector.
+    // Most points lie in front of the light and more than its diagonal off its plane: by area,
+    // from dn alone.
     const Rectangle& r = *rectangle_;
     const glm::vec3 d = ref - r.center;
-    const float d2 = glm::dot(d, d), dn = glm::dot(d, r.normal);
-    if (r.behind(d2, dn)) return {};
-    if (r.by_solid_angle(d2, dn)) return sample_solid_angle(ref, u);
+    const float dn = glm::dot(d, r.normal);
+    if (dn < 0 || !r.beyond_diagonal_of_plane(dn)) {
+      const float d2 = glm::dot(d, d);
+      if (r.behind(d2, dn)) return {};
+      if (r.by_solid_angle(d2, dn)) return sample_solid_angle(ref, u);
+    }
   } else if (sampling_ == Sampling::sphere_cone && outside_sphere(ref)) {
     return sample_solid_angle(ref, u);
   }

@@ -114,6 +114,9 @@ class AreaLight {
     bool by_solid_angle(float d2, float dn) const {
       return diagonal2 >= d2 && std::abs(dn) >= min_plane_distance;
     }
+    /// by_solid_angle(|d|^2, dn) when false is already known from dn alone: farther than the
+    /// diagonal off the plane (diagonal2 < dn^2 <= d2).
+    bool beyond_diagonal_of_plane(float dn) const { return dn * dn > diagonal2; }
     bool behind(float d2, float dn) const {
       return one_sided && dn < 0 && -dn > 1e-3f * (diagonal + std::sqrt(d2)) + center_slack;
     }
