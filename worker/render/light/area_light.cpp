@@ -38,6 +38,7 @@ AreaLight::AreaLight(const Geometry& g, TextureLookup textures)
     : g_(&g), textures_(std::move(textures)) {
   if (g.kind == Geometry::Kind::sphere) {
     area_ = float(4.0 * 3.14159265358979323846 * g.radius * g.radius);
+    sampling_ = Sampling::sphere_cone;
     return;
   }
   std::vector<double> areas;
@@ -51,6 +52,7 @@ AreaLight::AreaLight(const Geometry& g, TextureLookup textures)
   triangles_ = PiecewiseConstant1D(areas);
   area_ = float(total);
   rectangle_ = find_rectangle(g);
+  if (rectangle_) sampling_ = Sampling::rectangle;
 }
 
 std::optional<AreaLight::Rectangle> AreaLight::find_rectangle(const Geometry& g) {
@@ -101,8 +103,21 @@ std::optional<AreaLight::Rectangle> AreaLight::find_rectangle(const Geometry& g)
     return std::nullopt;
   }
   r.center = glm::vec3(r.corner + 0.5 * (r.ex + r.ey));
-  r.diagonal = float(glm::length(r.ex + r.ey));
+  // Rectangles are sampled by solid angle where the diagonal is at least the distance to the
+  // centre (smaller, d^2 / cos varies too little over the light for the spherical rectangle's
+  // cost to pay: measured on the Cornell box and hexroom, BENCHMARKS.md) and the point lies at
+  // least 1e-5 diagonals off the plane (closer, the spherical-rectangle map loses accuracy in
+  // double).
+  const float diagonal_length = float(glm::length(r.ex + r.ey));
+  r.diagonal = diagonal_length;
+  r.diagonal2 = diagonal_length * diagonal_length;
+  r.min_plane_distance = 1e-5f * diagonal_length;
+  r.center_slack = 1e-6f * glm::length(r.center);
+  // Both triangles facing the same side (else neither side is dark).
+  r.one_sided = !g.two_sided_emission && glm::dot(g.face_normals[0], g.face_normals[1]) > 0;
+  // On the emitting side: that of the face normals (which emitted() tests against).
   r.normal = glm::vec3(glm::normalize(glm::cross(r.ex, r.ey)));
+  if (glm::dot(r.normal, g.face_normals[r.near]) < 0) r.normal = -r.normal;
   return r;
 }
 
@@ -127,24 +142,15 @@ AreaLight::PointSample AreaLight::rectangle_point(glm::dvec2 ab) const {
   return s;
 }
 
-bool AreaLight::solid_angle_sampled(glm::vec3 ref) const {
+bool AreaLight::outside_sphere(glm::vec3 ref) const {
+  // Clearly outside: a point on the sphere itself (the emitter's own surface, an enclosure's
+  // inside) sees the sphere's far side, not the near cap the cone covers, and rounding may put
+  // it a hair outside. Within the margin, area sampling is exact all the same.
   const Geometry& g = *g_;
-  if (g.kind == Geometry::Kind::sphere) {
-    // Clearly outside: a point on the sphere itself (the emitter's own surface, an enclosure's
-    // inside) sees the sphere's far side, not the near cap the cone covers, and rounding may
-    // put it a hair outside. Within the margin, area sampling is exact all the same.
-    const glm::dvec3 d = glm::dvec3(ref) - g.center;
-    const double c = glm::length(g.center);
-    const double margin = 1e-3 * g.radius + 1e-5 * c;
-    return glm::dot(d, d) > (g.radius + margin) * (g.radius + margin);
-  }
-  if (!rectangle_) return false;
-  const Rectangle& r = *rectangle_;
-  const glm::vec3 d = ref - r.center;
-  constexpr float kMinPlaneDistance = 1e-5f;  // of the diagonal
-  constexpr float kMinSize = 1.0f;            // diagonal / distance (BENCHMARKS.md, issue 13)
-  return std::abs(glm::dot(d, r.normal)) >= kMinPlaneDistance * r.diagonal &&
-         r.diagonal * r.diagonal >= kMinSize * kMinSize * glm::dot(d, d);
+  const glm::dvec3 d = glm::dvec3(ref) - g.center;
+  const double c = glm::length(g.center);
+  const double margin = 1e-3 * g.radius + 1e-5 * c;
+  return glm::dot(d, d) > (g.radius + margin) * (g.radius + margin);
 }
 
 AreaLight::PointSample AreaLight::sample_point(glm::vec2 u) const {
@@ -172,46 +178,72 @@ AreaLight::PointSample AreaLight::sample_point(glm::vec2 u) const {
   return s;
 }
 
-LightSample AreaLight::sample(glm::vec3 ref, glm::vec2 u) const {
+namespace {
+
+/// The light sample towards ps from ref: by solid angle with density solid_angle_pdf (> 0),
+/// or by area (solid_angle_pdf == 0).
+[[gnu::always_inline]] inline LightSample towards(const AreaLight& light, glm::vec3 ref,
+                                                  const AreaLight::PointSample& ps,
+                                                  float solid_angle_pdf) {
   LightSample s;
-  if (!(area_ > 0)) return s;
-  const Geometry& g = *g_;
-  PointSample ps;
-  float solid_angle_pdf = 0;  // 0: sampled by area
-  if (solid_angle_sampled(ref)) {
-    if (g.kind == Geometry::Kind::sphere) {
-      const SphereCone cone(glm::dvec3(ref), g.center, g.radius);
-      const glm::dvec3 n = cone.sample_normal(u);
-      ps.sp.p = glm::vec3(g.center + g.radius * n);
-      ps.sp.p_error = gamma_bound(5) * glm::abs(ps.sp.p);
-      ps.sp.ng = glm::vec3(g.inward ? -n : n);
-      ps.uv = sphere_uv(g.frame, glm::vec3(n));
-      solid_angle_pdf = inverse_solid_angle(cone.solid_angle());
-      if (!(solid_angle_pdf > 0)) return s;
-    } else {
-      const Rectangle& r = *rectangle_;
-      const SphericalRectangle sr(glm::dvec3(ref), r.corner, r.ex, r.ey);
-      solid_angle_pdf = inverse_solid_angle(sr.solid_angle());
-      if (!(solid_angle_pdf > 0)) return s;
-      ps = rectangle_point(sr.sample(u));
-    }
-  } else {
-    ps = sample_point(u);
-  }
   const glm::vec3 to_light = ps.sp.p - ref;
   const float dist2 = glm::dot(to_light, to_light);
   if (!(dist2 > 0)) return s;
   const float distance = std::sqrt(dist2);
   const glm::vec3 wi = to_light / distance;
   const float cos_light = std::abs(glm::dot(ps.sp.ng, wi));
-  const glm::vec3 le = emitted(ps.uv, ps.sp.ng, -wi);
+  const glm::vec3 le = light.emitted(ps.uv, ps.sp.ng, -wi);
   if (!(cos_light > 0) || le == glm::vec3(0.0f)) return s;
   s.wi = wi;
   s.distance = distance;
   s.radiance = le;
-  s.pdf = solid_angle_pdf > 0 ? solid_angle_pdf : dist2 / (cos_light * area_);
+  s.pdf = solid_angle_pdf > 0 ? solid_angle_pdf : dist2 / (cos_light * light.area());
   s.point = ps.sp;
   return s;
+}
+
+}  // namespace
+
+LightSample AreaLight::sample(glm::vec3 ref, glm::vec2 u) const {
+  if (!(area_ > 0)) return {};
+  if (sampling_ == Sampling::rectangle) {
+    // solid_angle_sampled and behind, on one difference vector.
+    // Most points lie in front of the light and more than its diagonal off its plane: by area,
+    // from dn alone.
+    const Rectangle& r = *rectangle_;
+    const glm::vec3 d = ref - r.center;
+    const float dn = glm::dot(d, r.normal);
+    if (dn < 0 || !r.beyond_diagonal_of_plane(dn)) {
+      const float d2 = glm::dot(d, d);
+      if (r.behind(d2, dn)) return {};
+      if (r.by_solid_angle(d2, dn)) return sample_solid_angle(ref, u);
+    }
+  } else if (sampling_ == Sampling::sphere_cone && outside_sphere(ref)) {
+    return sample_solid_angle(ref, u);
+  }
+  return towards(*this, ref, sample_point(u), 0.0f);
+}
+
+LightSample AreaLight::sample_solid_angle(glm::vec3 ref, glm::vec2 u) const {
+  const Geometry& g = *g_;
+  PointSample ps;
+  float solid_angle_pdf = 0;
+  if (sampling_ == Sampling::sphere_cone) {
+    const SphereCone cone(glm::dvec3(ref), g.center, g.radius);
+    const glm::dvec3 n = cone.sample_normal(u);
+    ps.sp.p = glm::vec3(g.center + g.radius * n);
+    ps.sp.p_error = gamma_bound(5) * glm::abs(ps.sp.p);
+    ps.sp.ng = glm::vec3(g.inward ? -n : n);
+    ps.uv = sphere_uv(g.frame, glm::vec3(n));
+    solid_angle_pdf = inverse_solid_angle(cone.solid_angle());
+  } else {
+    const Rectangle& r = *rectangle_;
+    const SphericalRectangle sr(glm::dvec3(ref), r.corner, r.ex, r.ey);
+    solid_angle_pdf = inverse_solid_angle(sr.solid_angle());
+    if (solid_angle_pdf > 0) ps = rectangle_point(sr.sample(u));
+  }
+  if (!(solid_angle_pdf > 0)) return {};
+  return towards(*this, ref, ps, solid_angle_pdf);
 }
 
 glm::vec3 AreaLight::emitted(glm::vec2 uv, glm::vec3 ng, glm::vec3 w) const {
@@ -222,10 +254,10 @@ glm::vec3 AreaLight::emitted(glm::vec2 uv, glm::vec3 ng, glm::vec3 w) const {
 }
 
 float AreaLight::pdf(glm::vec3 ref, glm::vec3 hit_p, glm::vec3 hit_ng) const {
-  if (!(area_ > 0)) return 0.0f;
+  if (!(area_ > 0) || behind(ref)) return 0.0f;
   if (solid_angle_sampled(ref)) {
     const Geometry& g = *g_;
-    if (g.kind == Geometry::Kind::sphere) {
+    if (sampling_ == Sampling::sphere_cone) {
       return inverse_solid_angle(SphereCone(glm::dvec3(ref), g.center, g.radius).solid_angle());
     }
     const Rectangle& r = *rectangle_;

@@ -5,7 +5,9 @@
 // accurate, uniformly by area (docs/renderer.md, "Light sampling").
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <glm/geometric.hpp>
 #include <functional>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -45,7 +47,8 @@ class AreaLight {
   /// A point for ref (light-pick probability NOT included) from u in [0,1)^2, with its
   /// solid-angle density: 1 / (the solid angle) for a sphere seen from outside and for a
   /// rectangle when solid_angle_sampled(ref); otherwise by area, d^2 / (|cos| area). pdf 0
-  /// when the point sends nothing towards ref (its back, a black texel) or lies on ref.
+  /// when the point sends nothing towards ref (its back, a black texel) or lies on ref, and
+  /// at once, with nothing drawn, where ref is behind() the light.
   LightSample sample(glm::vec3 ref, glm::vec2 u) const;
   /// Whether sample() draws points by solid angle from ref: for a sphere when ref lies outside
   /// it by more than 1e-3 of its radius (+ 1e-5 of |centre|: points on the sphere itself see
@@ -54,7 +57,21 @@ class AreaLight {
   /// least the distance to its centre (smaller, d^2 / cos varies too little over the light
   /// for the spherical rectangle's cost to pay: measured on the Cornell box and hexroom,
   /// BENCHMARKS.md); never for other meshes.
-  bool solid_angle_sampled(glm::vec3 ref) const;
+  bool solid_angle_sampled(glm::vec3 ref) const {
+    if (sampling_ == Sampling::by_area) return false;
+    if (sampling_ == Sampling::sphere_cone) return outside_sphere(ref);
+    const glm::vec3 d = ref - rectangle_->center;
+    return rectangle_->by_solid_angle(glm::dot(d, d), glm::dot(d, rectangle_->normal));
+  }
+  /// Whether ref lies clearly behind a one-sided rectangle light (by more than 1e-3 of its
+  /// diagonal plus its distance to the centre, far more than the rectangle's 1e-5 tolerance and
+  /// float rounding): no point of the light sends anything there, so sample() returns nothing
+  /// at once and pdf() is 0. False for every other light.
+  bool behind(glm::vec3 ref) const {
+    if (sampling_ != Sampling::rectangle) return false;
+    const glm::vec3 d = ref - rectangle_->center;
+    return rectangle_->behind(glm::dot(d, d), glm::dot(d, rectangle_->normal));
+  }
   /// Radiance leaving the surface point with front-facing normal ng and texture coordinates
   /// uv towards w: emission * texture(uv) when w is on the front (or emission is two-sided),
   /// 0 otherwise.
@@ -87,16 +104,38 @@ class AreaLight {
     glm::dvec3 corner, ex, ey;
     glm::vec3 center;
     float diagonal = 0;
+    float diagonal2 = 0;  ///< diagonal^2: by solid angle within one diagonal of the centre
+    float min_plane_distance = 0;  ///< 1e-5 diagonal: closer to the plane, by area
+    float center_slack = 0;        ///< 1e-6 |center|: float rounding of the vertices
+    bool one_sided = true;         ///< emits on the side of `normal` only
     glm::vec3 normal;  ///< unit
+
+    /// From d2 = |ref - center|^2 and dn = (ref - center) . normal.
+    bool by_solid_angle(float d2, float dn) const {
+      return diagonal2 >= d2 && std::abs(dn) >= min_plane_distance;
+    }
+    /// by_solid_angle(|d|^2, dn) when false is already known from dn alone: farther than the
+    /// diagonal off the plane (diagonal2 < dn^2 <= d2).
+    bool beyond_diagonal_of_plane(float dn) const { return dn * dn > diagonal2; }
+    bool behind(float d2, float dn) const {
+      return one_sided && dn < 0 && -dn > 1e-3f * (diagonal + std::sqrt(d2)) + center_slack;
+    }
     uint32_t near = 0, far = 0;
     uint32_t v_corner = 0, v_x = 0, v_y = 0, v_opposite = 0;
   };
+  enum class Sampling : uint8_t { by_area, sphere_cone, rectangle };
+
   static std::optional<Rectangle> find_rectangle(const Geometry& g);
+  /// solid_angle_sampled for a sphere.
+  bool outside_sphere(glm::vec3 ref) const;
+  /// sample() by solid angle (solid_angle_sampled(ref)).
+  LightSample sample_solid_angle(glm::vec3 ref, glm::vec2 u) const;
   /// The point of the rectangle at (a, b) in [0,1]^2: corner + a ex + b ey.
   PointSample rectangle_point(glm::dvec2 ab) const;
 
   const Geometry* g_;
   std::optional<Rectangle> rectangle_;
+  Sampling sampling_ = Sampling::by_area;
   TextureLookup textures_;
   PiecewiseConstant1D triangles_;  ///< by area
   float area_ = 0;

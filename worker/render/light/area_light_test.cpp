@@ -210,6 +210,49 @@ TEST(AreaLight, RectanglePdfAgreesWithSampleBitForBit) {
   EXPECT_TRUE(light.solid_angle_sampled({0, 0, -1.5f}));
 }
 
+TEST(AreaLight, NothingIsDrawnBehindAOneSidedRectangleAndNothingIsLostThere) {
+  // behind() only where no point of the light emits towards ref: at points around the light
+  // (near its plane on both sides, far off, and far from the origin), whenever behind(ref),
+  // no area sample sends radiance to ref; and points clearly behind are behind().
+  test::UniformFloats u(33);
+  // Edges and offsets of few bits, so that the vertices far from the origin are exact.
+  for (const glm::vec3 offset : {glm::vec3(0.0f), glm::vec3(1024, -512, 2048)}) {
+    const glm::vec3 corner = offset + glm::vec3(-0.5f, -0.25f, 1.0f);
+    const glm::vec3 ex(0.25f, 1.125f, 0.125f), ey(1.125f, -0.25f, 0.0f);
+    const Geometry g = emitting_rectangle(corner, ex, ey);
+    const AreaLight light(g, nullptr);
+    ASSERT_TRUE(light.is_rectangle());
+    const glm::vec3 center = corner + 0.5f * (ex + ey);
+    const glm::vec3 n = g.face_normals[0];
+    int behind = 0;
+    for (int k = 0; k < 4000; ++k) {
+      // Distances to the plane from 1e-6 to 10 on either side, spread along it up to 50.
+      const float side = k % 2 ? 1.0f : -1.0f;
+      const float height = side * std::pow(10.0f, -6.0f + 7.0f * u.next());
+      const float spread = std::pow(10.0f, -2.0f + 3.7f * u.next());
+      const glm::vec3 ref = center + height * n +
+                            spread * glm::vec3(u.next() - 0.5f, u.next() - 0.5f, u.next() - 0.5f);
+      if (!light.behind(ref)) continue;
+      ++behind;
+      EXPECT_EQ(light.sample(ref, u.next2()).pdf, 0.0f);
+      EXPECT_EQ(light.pdf(ref, center, n), 0.0f);
+      for (int i = 0; i < 50; ++i) {
+        const AreaLight::PointSample ps = light.sample_point(u.next2());
+        ASSERT_EQ(light.emitted(ps.uv, ps.sp.ng, ref - ps.sp.p), glm::vec3(0.0f))
+            << "height " << height << " spread " << spread;
+      }
+    }
+    EXPECT_GT(behind, 1000);
+    EXPECT_TRUE(light.behind(center - 0.01f * n));
+    EXPECT_FALSE(light.behind(center + 0.01f * n));
+  }
+  // Two-sided emission: never behind.
+  Geometry two = emitting_rectangle({-1, -1, 1}, {0, 2, 0}, {2, 0, 0});
+  two.two_sided_emission = true;
+  EXPECT_FALSE(AreaLight(two, nullptr).behind({0, 0, 5}));
+  EXPECT_FALSE(AreaLight(two, nullptr).behind({0, 0, -5}));
+}
+
 TEST(AreaLight, RectangleEstimatesLambertsIrradiance) {
   // The estimator's mean is the irradiance (every case sees the whole light above its
   // horizon: Lambert's formula counts the part below it negative), by solid angle (down to a

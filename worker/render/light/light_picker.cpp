@@ -16,43 +16,45 @@ std::vector<double> uniform_if_all_zero(std::vector<double> powers) {
 
 LightPicker::LightPicker(std::vector<LightBounds> bounds, const std::vector<double>& powers)
     : distribution_(uniform_if_all_zero(powers)) {
-  if (bounds.size() >= 2 && bounds.size() <= kMaxPerPoint) bounds_ = std::move(bounds);
+  if (bounds.size() >= 2 && bounds.size() <= kMaxPerPoint) importance_ = LightImportance(bounds);
 }
 
-double LightPicker::importances(const SurfacePoint& ref, double* importance) const {
-  double total = 0;
-  for (size_t i = 0; i < bounds_.size(); ++i) {
-    importance[i] = bounds_[i].importance(ref.p, ref.ng);
-    total += importance[i];
-  }
-  return total;
-}
-
-uint32_t LightPicker::pick_per_point(float u, const SurfacePoint& ref, float* pmf) const {
-  std::array<double, kMaxPerPoint> importance;
-  const double total = importances(ref, importance.data());
+uint32_t LightPicker::pick_per_point(float u, const SurfacePoint& ref, float* pmf,
+                                     float* sum) const {
+  std::array<float, kMaxPerPoint> importance;
+  const float total = importance_.evaluate_all(ref.p, ref.ng, importance.data());
+  if (sum) *sum = total;
   *pmf = 0;
   if (!(total > 0)) return 0;
   // The first light whose cumulative importance exceeds u * total; lights of importance 0 are
   // never chosen (if rounding carries u * total past the sum, the last light with any).
-  const double target = double(u) * total;
-  double cumulative = 0;
+  const float target = u * total;
+  float cumulative = 0;
   uint32_t chosen = 0;
-  for (uint32_t i = 0; i < bounds_.size(); ++i) {
+  for (uint32_t i = 0; i < importance_.size(); ++i) {
     if (!(importance[i] > 0)) continue;
     chosen = i;
     cumulative += importance[i];
     if (target < cumulative) break;
   }
-  *pmf = float(importance[chosen] / total);
+  *pmf = importance[chosen] / total;
   return chosen;
 }
 
-float LightPicker::pmf_per_point(uint32_t i, const SurfacePoint& ref) const {
-  std::array<double, kMaxPerPoint> importance;
-  const double total = importances(ref, importance.data());
-  if (!(total > 0)) return 0;
-  return float(importance[i] / total);
+float LightPicker::importance_sum(const SurfacePoint& ref) const {
+  if (!per_point()) return kUnknownSum;
+  std::array<float, kMaxPerPoint> importance;
+  return importance_.evaluate_all(ref.p, ref.ng, importance.data());
+}
+
+float LightPicker::pmf_per_point(uint32_t i, const SurfacePoint& ref, float sum) const {
+  if (sum < 0) {
+    std::array<float, kMaxPerPoint> importance;
+    const float total = importance_.evaluate_all(ref.p, ref.ng, importance.data());
+    return total > 0 ? importance[i] / total : 0.0f;
+  }
+  if (!(sum > 0)) return 0;
+  return importance_.evaluate(i, ref.p, ref.ng) / sum;
 }
 
 }  // namespace tessera

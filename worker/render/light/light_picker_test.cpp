@@ -70,6 +70,37 @@ TEST(LightPicker, PicksFollowThePmfChiSquare) {
   }
 }
 
+TEST(LightPicker, TheSumOfAPickGivesThePmfBitForBit) {
+  // pmf(i, ref, sum) with the sum pick() reported at ref weighs one light; it must give the
+  // very bits of pmf(i, ref), which weighs all of them, and of the pick's own pmf.
+  std::vector<LightBounds> bounds;
+  for (int i = 0; i < 7; ++i) {
+    bounds.push_back(i % 2 ? square({float(i) - 3, 2, 0.5f * float(i)}, {0, -1, 0}, 1.0 + i)
+                           : point({float(i) - 3, 1, -1}, 2.0 + i));
+  }
+  const LightPicker picker(bounds, {1, 2, 3, 4, 5, 6, 7});
+  test::UniformFloats u(62);
+  for (int k = 0; k < 2000; ++k) {
+    const SurfacePoint ref{{6 * u.next() - 3, 3 * u.next() - 1, 6 * u.next() - 3},
+                           {0, 0, 0},
+                           {0, 1, 0}};
+    float pmf = 0, sum = LightPicker::kUnknownSum;
+    const uint32_t i = picker.pick(u.next(), ref, &pmf, &sum);
+    ASSERT_EQ(sum, picker.importance_sum(ref));
+    if (!(pmf > 0)) continue;
+    ASSERT_EQ(pmf, picker.pmf(i, ref, sum));
+    for (uint32_t j = 0; j < bounds.size(); ++j) {
+      ASSERT_EQ(picker.pmf(j, ref, sum), picker.pmf(j, ref)) << j;
+    }
+  }
+  // Picking by power: no sum, the same pmf either way.
+  const LightPicker by_power({bounds[0]}, {1});
+  float pmf = 0, sum = 0;
+  by_power.pick(0.5f, SurfacePoint{}, &pmf, &sum);
+  EXPECT_EQ(sum, LightPicker::kUnknownSum);
+  EXPECT_EQ(by_power.pmf(0, SurfacePoint{}, sum), 1.0f);
+}
+
 TEST(LightPicker, PicksNothingWhereNoLightCanReach) {
   // Two one-sided squares facing up, the point far below both.
   const LightPicker picker({square({0, 0, 0}, {0, 1, 0}, 1), square({2, 0, 0}, {0, 1, 0}, 1)},

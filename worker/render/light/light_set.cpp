@@ -108,8 +108,8 @@ LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
 
 LightSample LightSet::sample(const SurfacePoint& ref, float u_pick, glm::vec2 u) const {
   if (lights_.empty()) return {};
-  float pick_pmf = 0;
-  const uint32_t index = picker_.pick(u_pick, ref, &pick_pmf);
+  float pick_pmf = 0, pick_sum = LightPicker::kUnknownSum;
+  const uint32_t index = picker_.pick(u_pick, ref, &pick_pmf, &pick_sum);
   LightSample s = std::visit(
       [&](const auto& l) -> LightSample {
         using T = std::decay_t<decltype(l)>;
@@ -128,7 +128,7 @@ LightSample LightSet::sample(const SurfacePoint& ref, float u_pick, glm::vec2 u)
           e.wi = wi;
           e.distance = std::numeric_limits<float>::infinity();
           e.radiance = environment(wi);
-          e.pdf = pdf_environment(ref, wi);  // combined, pick probabilities included
+          e.pdf = pdf_environment(ref, wi, pick_sum);  // combined, pick probabilities included
           return e;
         }
       },
@@ -137,6 +137,7 @@ LightSample LightSet::sample(const SurfacePoint& ref, float u_pick, glm::vec2 u)
                                  std::holds_alternative<EnvmapLight>(lights_[index]);
   if (!environment_light) s.pdf *= pick_pmf;
   if (!(s.pdf > 0)) return {};
+  s.pick_sum = pick_sum;
   return s;
 }
 
@@ -147,12 +148,12 @@ glm::vec3 LightSet::emitted(const Geometry& g, uint32_t /*primitive*/, glm::vec2
 }
 
 float LightSet::pdf_area(const Geometry& g, uint32_t /*primitive*/, const SurfacePoint& ref,
-                         glm::vec3 hit_p, glm::vec3 hit_ng) const {
+                         glm::vec3 hit_p, glm::vec3 hit_ng, float pick_sum) const {
   // Area, cone and spherical-rectangle sampling: the density does not depend on the primitive
   // (solid-angle sampling of single triangles would need it).
   if (g.emitter < 0 || uint32_t(g.emitter) >= area_count_) return 0.0f;
   const uint32_t i = uint32_t(g.emitter);
-  return picker_.pmf(i, ref) * std::get<AreaLight>(lights_[i]).pdf(ref.p, hit_p, hit_ng);
+  return picker_.pmf(i, ref, pick_sum) * std::get<AreaLight>(lights_[i]).pdf(ref.p, hit_p, hit_ng);
 }
 
 glm::vec3 LightSet::environment(glm::vec3 d) const {
@@ -172,9 +173,11 @@ float LightSet::environment_pdf(uint32_t i, glm::vec3 d) const {
   return std::get<EnvmapLight>(lights_[i]).pdf(d);
 }
 
-float LightSet::pdf_environment(const SurfacePoint& ref, glm::vec3 d) const {
+float LightSet::pdf_environment(const SurfacePoint& ref, glm::vec3 d, float pick_sum) const {
+  // With several environment lights, the sum once for all of them.
+  if (pick_sum < 0 && environment_.size() > 1) pick_sum = picker_.importance_sum(ref);
   float pdf = 0;
-  for (uint32_t i : environment_) pdf += picker_.pmf(i, ref) * environment_pdf(i, d);
+  for (uint32_t i : environment_) pdf += picker_.pmf(i, ref, pick_sum) * environment_pdf(i, d);
   return pdf;
 }
 

@@ -52,7 +52,8 @@ class LightSet {
   /// it (u in [0,1)^2). pdf == 0 means no contribution. An environment light's sample carries
   /// the radiance of every environment light along wi and their combined density
   /// (environment(), pdf_environment()), so that the same density weighs a BSDF-sampled ray
-  /// escaping along wi.
+  /// escaping along wi. LightSample::pick_sum carries the picker's work at ref to pdf_area and
+  /// pdf_environment.
   LightSample sample(const SurfacePoint& ref, float u_pick, glm::vec2 u) const;
 
   /// Radiance leaving an emitting surface point of geometry g (primitive, uv; ng its
@@ -62,15 +63,19 @@ class LightSet {
 
   /// Solid-angle pdf with which sample() from ref would have produced the point hit_p (normal
   /// hit_ng, either orientation) on area emitter g, pick probability included: for MIS when a
-  /// BSDF-sampled ray hits it. 0 for a geometry that does not emit.
+  /// BSDF-sampled ray hits it. 0 for a geometry that does not emit. `pick_sum`: the
+  /// LightSample::pick_sum of a sample() from this very ref, so that the pick probability
+  /// weighs one light instead of all (the same bits); negative (the default): not known.
   float pdf_area(const Geometry& g, uint32_t primitive, const SurfacePoint& ref, glm::vec3 hit_p,
-                 glm::vec3 hit_ng) const;
+                 glm::vec3 hit_ng, float pick_sum = LightPicker::kUnknownSum) const;
 
   /// Radiance of every environment light (constant + envmaps) along escaping direction d (unit).
   glm::vec3 environment(glm::vec3 d) const;
   /// The density sample() from ref gives direction d through the environment lights (pick
   /// probabilities at ref included): for MIS when a BSDF-sampled ray from ref escapes.
-  float pdf_environment(const SurfacePoint& ref, glm::vec3 d) const;
+  /// `pick_sum` as for pdf_area.
+  float pdf_environment(const SurfacePoint& ref, glm::vec3 d,
+                        float pick_sum = LightPicker::kUnknownSum) const;
 
  private:
   using AnyLight =

@@ -217,6 +217,9 @@ TEST(LightSet, AreaAndEnvironmentPdfsAgreeWithSample) {
     if (std::isinf(s.distance)) {
       ++environment;
       EXPECT_NEAR(set.pdf_environment(kRef, s.wi), s.pdf, 1e-4f * s.pdf);
+      // The pick's sum gives the same bits as evaluating every light again.
+      ASSERT_GE(s.pick_sum, 0.0f);
+      EXPECT_EQ(set.pdf_environment(kRef, s.wi, s.pick_sum), set.pdf_environment(kRef, s.wi));
       EXPECT_EQ(set.environment(s.wi), s.radiance);
       continue;
     }
@@ -224,6 +227,8 @@ TEST(LightSet, AreaAndEnvironmentPdfsAgreeWithSample) {
     const bool on_ball = std::abs(glm::length(s.point.p - glm::vec3(ball.center)) - 0.5f) < 1e-4f;
     const Geometry& g = on_ball ? ball : quad;
     EXPECT_NEAR(set.pdf_area(g, 0, kRef, s.point.p, s.point.ng), s.pdf, 1e-4f * s.pdf);
+    EXPECT_EQ(set.pdf_area(g, 0, kRef, s.point.p, s.point.ng, s.pick_sum),
+              set.pdf_area(g, 0, kRef, s.point.p, s.point.ng));
     EXPECT_EQ(set.emitted(g, 0, {0, 0}, s.point.ng, -s.wi), s.radiance);
   }
   EXPECT_GT(area, 150);
