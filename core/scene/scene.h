@@ -20,7 +20,14 @@ namespace tessera {
 /// Which image axis the camera's field of view spans.
 enum class FovAxis { x, y, smaller, larger };
 
+/// How the camera maps the scene onto the image.
+enum class Projection {
+  perspective,   ///< a pinhole (or thin lens) at `position`: fov, fov_axis, aperture_radius
+  orthographic,  ///< parallel rays from a rectangle centred on `position`: view_size
+};
+
 struct Camera {
+  Projection projection = Projection::perspective;
   glm::dvec3 position{0, 0, 1};
   glm::dvec3 look_at{0, 0, 0};
   glm::dvec3 up{0, 1, 0};
@@ -28,6 +35,12 @@ struct Camera {
   FovAxis fov_axis = FovAxis::x;
   double aperture_radius = 0;   ///< thin lens radius in scene units; 0 = pinhole
   double focus_distance = 1;    ///< distance to the plane in focus, scene units, > 0
+  /// orthographic only: full width and height (scene units, each > 0) of the rectangle centred
+  /// on `position`, perpendicular to the view direction, from which the camera rays start,
+  /// all along the view direction. Image x runs along cross(view, up), image y against up.
+  /// Nothing behind the rectangle is seen (it is Mitsuba's near clip plane). The image's
+  /// pixels need not be square: view_size may have another aspect than the film.
+  glm::dvec2 view_size{2, 2};
 };
 
 /// The pixel reconstruction filter. Tessera samples it by filter importance sampling: each
@@ -63,7 +76,12 @@ struct RenderSettings {
 // Textures. A texture is looked up by a surface point's (u, v); every colour (and roughness,
 // opacity) parameter of a material or emitter is a constant or a texture.
 
-enum class TextureKind { bitmap, checkerboard };
+enum class TextureKind {
+  bitmap,
+  checkerboard,
+  /// Mitsuba's `rawconstant`: `value` everywhere, with no colour conversion or range check.
+  rawconstant,
+};
 
 /// How a bitmap's texel values map to the renderer's linear RGB.
 enum class TextureColorSpace {
@@ -87,6 +105,12 @@ struct Texture {
   // TextureKind::checkerboard (Mitsuba: color0 where floor(2u) + floor(2v) is even)
   glm::dvec3 color0{0.4, 0.4, 0.4};
   glm::dvec3 color1{0.2, 0.2, 0.2};
+
+  // TextureKind::rawconstant: `value` (any finite numbers); `channels` 1 when Mitsuba's value
+  // was a <float> (then value holds it three times; scalar lookups read it), 3 for a <vector>
+  // (which Mitsuba's scalar lookups refuse: a scalar parameter cannot use it).
+  glm::dvec3 value{0, 0, 0};
+  int channels = 3;
 
   /// Applied to (u, v, 1) before the lookup (Mitsuba's `to_uv`): row-major 2x3 affine map.
   glm::dmat3 to_uv{1.0};

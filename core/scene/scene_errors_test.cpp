@@ -37,8 +37,8 @@ TEST(SceneErrors, UnknownKeys) {
             "light: unknown key (a scene has: tessera, camera, film, render, textures, materials, "
             "groups, shapes, lights)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "camera": {"fov_deg": 40}})"),
-            "camera.fov_deg: unknown key (the camera has: position, look_at, up, fov, fov_axis, "
-            "aperture_radius, focus_distance)");
+            "camera.fov_deg: unknown key (the camera has: type, position, look_at, up, fov, "
+            "fov_axis, aperture_radius, focus_distance, view_size)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "render": {"spp": 4, "threads": 2}})"),
             "render.threads: unknown key (render has: spp, max_depth, seed, hide_emitters)");
   EXPECT_EQ(

@@ -9,8 +9,9 @@
 
 namespace tessera {
 
-PerspectiveCamera::PerspectiveCamera(const Camera& c, int width, int height)
-    : inv_width_(1.0f / float(width)),
+ProjectiveCamera::ProjectiveCamera(const Camera& c, int width, int height)
+    : projection_(c.projection),
+      inv_width_(1.0f / float(width)),
       inv_height_(1.0f / float(height)),
       aperture_radius_(float(c.aperture_radius)),
       focus_distance_(float(c.focus_distance)) {
@@ -22,6 +23,12 @@ PerspectiveCamera::PerspectiveCamera(const Camera& c, int width, int height)
   right_ = glm::vec3(right);
   up_ = glm::vec3(up);
 
+  if (c.projection == Projection::orthographic) {
+    half_x_ = float(0.5 * c.view_size.x);
+    half_y_ = float(0.5 * c.view_size.y);
+    aperture_radius_ = 0;
+    return;
+  }
   const double aspect = double(width) / double(height);
   const double tan_half = std::tan(c.fov_deg * 0.5 * 3.14159265358979323846 / 180.0);
   bool along_x = true;
@@ -31,13 +38,19 @@ PerspectiveCamera::PerspectiveCamera(const Camera& c, int width, int height)
     case FovAxis::smaller: along_x = width <= height; break;
     case FovAxis::larger: along_x = width >= height; break;
   }
-  tan_half_x_ = float(along_x ? tan_half : tan_half * aspect);
-  tan_half_y_ = float(along_x ? tan_half / aspect : tan_half);
+  half_x_ = float(along_x ? tan_half : tan_half * aspect);
+  half_y_ = float(along_x ? tan_half / aspect : tan_half);
 }
 
-Ray PerspectiveCamera::generate_ray(glm::vec2 film, glm::vec2 u_lens) const {
-  const float sx = (2.0f * film.x * inv_width_ - 1.0f) * tan_half_x_;
-  const float sy = (1.0f - 2.0f * film.y * inv_height_) * tan_half_y_;
+Ray ProjectiveCamera::generate_ray(glm::vec2 film, glm::vec2 u_lens) const {
+  const float sx = (2.0f * film.x * inv_width_ - 1.0f) * half_x_;
+  const float sy = (1.0f - 2.0f * film.y * inv_height_) * half_y_;
+  Ray ray;
+  if (projection_ == Projection::orthographic) {
+    ray.o = position_ + sx * right_ + sy * up_;
+    ray.d = forward_;
+    return ray;
+  }
   // Direction in camera space with forward at distance 1.
   glm::vec3 d_cam(sx, sy, 1.0f);
   glm::vec3 o_cam(0.0f);
@@ -47,7 +60,6 @@ Ray PerspectiveCamera::generate_ray(glm::vec2 film, glm::vec2 u_lens) const {
     o_cam = glm::vec3(lens.x, lens.y, 0.0f);
     d_cam = focus - o_cam;
   }
-  Ray ray;
   ray.o = position_ + o_cam.x * right_ + o_cam.y * up_;
   ray.d = glm::normalize(d_cam.x * right_ + d_cam.y * up_ + d_cam.z * forward_);
   return ray;

@@ -63,7 +63,7 @@ class TraceableScene {
   /// True when something blocks o + t d for t in [0, t_max].
   bool occluded(glm::vec3 o, glm::vec3 d, float t_max) const;
 
-  const PerspectiveCamera& camera() const { return camera_; }
+  const ProjectiveCamera& camera() const { return camera_; }
   const RenderMaterial& material(uint32_t index) const { return materials_[index]; }
   /// Every light: area emitters, point, spot, directional and environment lights.
   const LightSet& lights() const { return *lights_; }
@@ -105,7 +105,7 @@ class TraceableScene {
 
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
-  PerspectiveCamera camera_;
+  ProjectiveCamera camera_;
   std::vector<RenderMaterial> materials_;
   RoughPlasticTables rough_plastic_tables_;  ///< one per distinct coating of the scene
   std::vector<std::unique_ptr<Geometry>> geometries_;  ///< indexed by Embree geometry id

@@ -57,14 +57,20 @@ struct Region {
   }
 };
 
-/// Camera rays at local depth z reach |x| <= offset + z * slope.x (and so for y).
+/// Camera rays at local depth z reach |x| <= offset.x + z * slope.x (and so for y).
 struct Cone {
   glm::dvec2 slope;
-  double offset;  ///< the aperture radius: a thin lens sees from a disk, not a point
+  /// The aperture radius (a thin lens sees from a disk, not a point); for an orthographic
+  /// camera, whose slope is 0, the half extents of its view.
+  glm::dvec2 offset;
 };
 
 Cone cone_of(const MitsubaSensor& sensor) {
   const Camera& c = sensor.camera;
+  if (c.projection == Projection::orthographic) {  // local x in [-1, 1], y in [-1, 1] / aspect
+    double aspect = double(sensor.film.width) / double(sensor.film.height);
+    return Cone{glm::dvec2(0), glm::dvec2(1, 1 / aspect) * (1 + 1e-9)};
+  }
   double tan_half = std::tan(c.fov_deg * 0.5 * std::numbers::pi / 180.0);
   double aspect = double(sensor.film.width) / double(sensor.film.height);
   bool along_x = true;
@@ -86,7 +92,7 @@ Cone cone_of(const MitsubaSensor& sensor) {
   // A lens ray runs from a point of the aperture to a point of the focus plane.
   double a = c.aperture_radius;
   if (a > 0) slope += glm::dvec2(a / c.focus_distance);
-  return Cone{slope * (1 + 1e-9), a};  // a hair wider: rounding must not hide a clipped point
+  return Cone{slope * (1 + 1e-9), glm::dvec2(a)};  // a hair wider: rounding must not hide a clipped point
 }
 
 /// The four sides of the cone: |x| <= offset + z slope.x, |y| <= offset + z slope.y.
@@ -98,7 +104,7 @@ std::vector<HalfSpace> sides(const Cone& cone) {
       n[axis] = -sign;
       n.z = cone.slope[axis];
       double length = glm::length(n);
-      planes.push_back(HalfSpace{n / length, cone.offset / length});
+      planes.push_back(HalfSpace{n / length, cone.offset[axis] / length});
     }
   }
   return planes;
@@ -110,7 +116,7 @@ Region near_region(const Cone& cone, double near) {
   r.planes.push_back(HalfSpace{{0, 0, 1}, 0});      // z >= 0
   r.planes.push_back(HalfSpace{{0, 0, -1}, near});  // z <= near
   for (double z : {0.0, near}) {
-    glm::dvec2 half = glm::dvec2(cone.offset) + z * cone.slope;
+    glm::dvec2 half = cone.offset + z * cone.slope;
     for (double sx : {-1.0, 1.0}) {
       for (double sy : {-1.0, 1.0}) r.corners.emplace_back(sx * half.x, sy * half.y, z);
     }
@@ -131,8 +137,23 @@ void check_mitsuba_clip_planes(const MitsubaSensor& sensor, const std::vector<Sh
   const glm::dmat4 world_to_camera = glm::inverse(sensor.camera_to_world.matrix());
   auto local = [&](const glm::dvec3& p) { return glm::dvec3(world_to_camera * glm::dvec4(p, 1)); };
   const Cone cone = cone_of(sensor);
+  // An orthographic camera's rays start at local z = near_clip, as Tessera's do (its position
+  // is there): only the far plane can differ. They end after far_clip - near_clip scene units,
+  // at a local depth that the scale along the view axis shrinks.
+  const bool orthographic = sensor.camera.projection == Projection::orthographic;
+  const double view_scale = glm::length(glm::dvec3(sensor.camera_to_world.matrix()[2]));
+  const double far_z = orthographic
+                           ? sensor.near_clip + (sensor.far_clip - sensor.near_clip) / view_scale
+                           : sensor.far_clip;
+  double min_scale = 1;  // rigid for the other cameras
+  if (orthographic) {
+    min_scale = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; ++i) {
+      min_scale = std::min(min_scale, glm::length(glm::dvec3(sensor.camera_to_world.matrix()[i])));
+    }
+  }
   const Region near = near_region(cone, sensor.near_clip);
-  const Region far = far_region(cone, sensor.far_clip);
+  const Region far = far_region(cone, far_z);
   auto refuse = [&](const Shape& shape, bool is_near) {
     fail_at(*sensor.element,
             std::string(is_near ? "near_clip " : "far_clip ") +
@@ -143,15 +164,17 @@ void check_mitsuba_clip_planes(const MitsubaSensor& sensor, const std::vector<Sh
   for (const Shape& shape : shapes) {
     if (shape.kind == Shape::Kind::sphere) {
       glm::dvec3 c = local(shape.center);
-      if (near.may_meet_sphere(c, shape.radius)) refuse(shape, true);
-      if (far.may_meet_sphere(c, shape.radius)) refuse(shape, false);
+      // Camera space is scaled for an orthographic camera: a ball that holds the sphere there.
+      const double r = shape.radius / min_scale;
+      if (!orthographic && near.may_meet_sphere(c, r)) refuse(shape, true);
+      if (far.may_meet_sphere(c, r)) refuse(shape, false);
       continue;
     }
     std::vector<glm::dvec3> p;
     p.reserve(shape.positions.size());
     for (const glm::dvec3& q : shape.positions) p.push_back(local(q));
     for (const glm::u32vec3& t : shape.indices) {
-      if (near.meets_triangle(p[t.x], p[t.y], p[t.z])) refuse(shape, true);
+      if (!orthographic && near.meets_triangle(p[t.x], p[t.y], p[t.z])) refuse(shape, true);
       if (far.meets_triangle(p[t.x], p[t.y], p[t.z])) refuse(shape, false);
     }
   }

@@ -70,6 +70,10 @@ void read_spot(MitsubaPlugin& plugin, Light& light, MitsubaTextures& textures) {
   light.value = non_negative(plugin, "intensity");
   if (std::optional<MitsubaObject> texture = plugin.take_named_object("texture")) {
     light.texture = textures.of(*texture->element);
+    if (textures.at(light.texture).kind == TextureKind::rawconstant) {
+      fail_at(*texture->written, "a spot's texture must vary over the cone, as Mitsuba demands "
+                                 "(bitmap or checkerboard); give a constant as intensity");
+    }
   } else if (const MitsubaElement* constant = plugin.property("texture")) {
     // Mitsuba refuses it too ("must be spatially varying"): a constant belongs in intensity.
     fail_at(*constant, "a spot's texture must be a <texture> (bitmap or checkerboard); give a "

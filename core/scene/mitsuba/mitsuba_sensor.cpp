@@ -253,6 +253,47 @@ void read_frame(MitsubaPlugin& sensor, MitsubaSensor& result) {
   }
 }
 
+/// An orthographic sensor's frame and view: to_world = rotation * scale (Mitsuba's lookat after
+/// a scale) plus a translation. The image covers local x in [-1, 1] and y in [-1, 1] / aspect
+/// and rays start at local z = near_clip (Mitsuba's orthographic_projection), so Tessera's
+/// camera sits at the centre of that rectangle and sees nothing behind it, as Mitsuba does.
+void read_orthographic_frame(MitsubaPlugin& sensor, MitsubaSensor& result, double aspect) {
+  const Transform to_world = sensor.take_transform("to_world").value_or(Transform());
+  const glm::dmat4& m = to_world.matrix();
+  const glm::dvec3 axes[3] = {glm::dvec3(m[0]), glm::dvec3(m[1]), glm::dvec3(m[2])};
+  const double scale[3] = {glm::length(axes[0]), glm::length(axes[1]), glm::length(axes[2])};
+  const MitsubaElement& where =
+      sensor.property("to_world") ? *sensor.property("to_world") : sensor.element();
+  for (int i = 0; i < 3; ++i) {
+    if (!(scale[i] > 0) || !std::isfinite(scale[i])) {
+      fail_at(where, "an orthographic camera's to_world must keep every axis (it collapses one)");
+    }
+    for (int j = i + 1; j < 3; ++j) {
+      if (!(std::abs(glm::dot(axes[i], axes[j])) <= 1e-3 * scale[i] * scale[j])) {
+        fail_at(where,
+                "an orthographic camera's to_world must be a rotation of a scale (put <scale> "
+                "before <lookat>): this one shears the view");
+      }
+    }
+  }
+  if (to_world.flips_orientation()) {
+    fail_at(where,
+            "this to_world mirrors the image (its determinant is negative), which Tessera's "
+            "camera cannot do: give the scale positive factors");
+  }
+  result.camera_to_world = to_world;
+  Camera& camera = result.camera;
+  camera.projection = Projection::orthographic;
+  camera.position = to_world.point(glm::dvec3(0, 0, result.near_clip));
+  camera.look_at = camera.position + axes[2] / scale[2];
+  camera.up = axes[1] / scale[1];
+  camera.view_size = glm::dvec2(2 * scale[0], 2 * scale[1] / aspect);
+  if (!std::isfinite(glm::length(camera.position)) ||
+      !(glm::length(camera.look_at - camera.position) > 0.5)) {
+    fail_at(where, "the camera is too far from the origin to place");
+  }
+}
+
 double positive(MitsubaPlugin& sensor, const std::string& name, double fallback) {
   std::optional<double> value = sensor.take_float(name);
   if (value && !(*value > 0)) {
@@ -261,12 +302,15 @@ double positive(MitsubaPlugin& sensor, const std::string& name, double fallback)
   return value.value_or(fallback);
 }
 
-void read_lens(MitsubaPlugin& sensor, MitsubaSensor& result) {
+void read_clip(MitsubaPlugin& sensor, MitsubaSensor& result) {
   result.near_clip = positive(sensor, "near_clip", 1e-2);
   result.far_clip = positive(sensor, "far_clip", 1e4);
   if (!(result.near_clip < result.far_clip)) {
     fail_at(sensor.element(), "near_clip must be smaller than far_clip");
   }
+}
+
+void read_lens(MitsubaPlugin& sensor, MitsubaSensor& result) {
   if (sensor.type() == "perspective") {
     sensor.ignore("focus_distance");  // a pinhole is in focus everywhere
     return;
@@ -294,19 +338,27 @@ void read_principal_point(MitsubaPlugin& sensor) {
 
 MitsubaSensor read_mitsuba_sensor(const MitsubaElement& element, const MitsubaIds& ids) {
   MitsubaPlugin sensor(element, ids);
-  if (sensor.type() != "perspective" && sensor.type() != "thinlens") {
-    fail_at(element, "unsupported sensor (Tessera has perspective and thinlens cameras)");
+  if (sensor.type() != "perspective" && sensor.type() != "thinlens" &&
+      sensor.type() != "orthographic") {
+    fail_at(element,
+            "unsupported sensor (Tessera has perspective, thinlens and orthographic cameras)");
   }
   MitsubaSensor result;
   result.element = &element;
   result.camera.position = glm::dvec3(0);
   result.camera.look_at = glm::dvec3(0, 0, 1);
   result.camera.up = glm::dvec3(0, 1, 0);
-  read_frame(sensor, result);
+  read_clip(sensor, result);
   result.film = read_film(sensor, ids);
-  read_fov(sensor, result.camera, double(result.film.width) / result.film.height);
-  read_lens(sensor, result);
-  read_principal_point(sensor);
+  const double aspect = double(result.film.width) / result.film.height;
+  if (sensor.type() == "orthographic") {
+    read_orthographic_frame(sensor, result, aspect);
+  } else {
+    read_frame(sensor, result);
+    read_fov(sensor, result.camera, aspect);
+    read_lens(sensor, result);
+    read_principal_point(sensor);
+  }
   sensor.ignore("shutter_open");  // motion blur needs moving geometry, which the subset lacks
   sensor.ignore("shutter_close");
   read_sampler(sensor, ids, result);

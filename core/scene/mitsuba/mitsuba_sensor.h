@@ -19,11 +19,13 @@ struct MitsubaSensor {
   uint64_t seed = 0;        ///< the sampler's seed
   double near_clip = 1e-2;  ///< scene units along the view axis (Mitsuba's defaults)
   double far_clip = 1e4;
-  Transform camera_to_world;                ///< rigid, orientation-preserving
+  /// The sensor's to_world: rigid for perspective and thinlens; for orthographic a rotation of
+  /// a positive scale (the scale sets the view size) and a translation.
+  Transform camera_to_world;
   const MitsubaElement* element = nullptr;  ///< the <sensor>, for messages
 };
 
-/// Reads a `perspective` or `thinlens` sensor. Its to_world is the camera frame: Mitsuba's
+/// Reads a `perspective`, `thinlens` or `orthographic` sensor. Its to_world is the camera frame: Mitsuba's
 /// camera looks down its local +z with +y up and image x running along local -x, so the
 /// camera's position, look_at and up are the images of the local origin, of (0, 0, 1) and of
 /// +y; to_world must be a rotation and translation (Mitsuba refuses scale, and a mirror would
@@ -34,6 +36,10 @@ struct MitsubaSensor {
 /// - thinlens: aperture_radius (required, >= 0) and focus_distance (> 0; default far_clip, as
 ///   in Mitsuba); perspective: focus_distance is accepted and ignored (a pinhole has no focus);
 /// - near_clip and far_clip are kept for check_mitsuba_clip_planes;
+/// - orthographic: to_world = lookat * scale (no shear, no mirror); the view covers local
+///   x in [-1, 1] and y in [-1, 1] / aspect, so view_size = (2 sx, 2 sy / aspect); rays start
+///   at local z = near_clip, where the camera's position is put (an exact near clip); fov, lens
+///   and principal point parameters are not Mitsuba's for this sensor (unknown, so refused);
 /// - principal_point_offset_x/y accepted only at 0; shutter_open/close ignored (nothing moves);
 /// - one <film type="hdrfilm">: width, height (in [1, 32768]), pixel_format rgb or rgba,
 ///   component_format and file_format (the output's format is chosen by `-o`), sample_border

@@ -193,9 +193,9 @@ TEST(MitsubaCamera, ThinLens) {
 }
 
 TEST(MitsubaCamera, OtherSensorsAreRefused) {
-  std::string s = sensor(R"(<float name="fov" value="30"/>)", "orthographic");
-  EXPECT_NE(sensor_error(s).find("<sensor type=\"orthographic\">: unsupported sensor (Tessera "
-                                 "has perspective and thinlens cameras)"),
+  std::string s = sensor("", "radiancemeter");
+  EXPECT_NE(sensor_error(s).find("<sensor type=\"radiancemeter\">: unsupported sensor (Tessera "
+                                 "has perspective, thinlens and orthographic cameras)"),
             std::string::npos);
   EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="30"/>
       <float name="principal_point_offset_x" value="0.1"/>)"))
@@ -451,6 +451,61 @@ TEST(MitsubaClipPlanes, RefusedWhenTheyCouldHideGeometry) {
       <float name="far_clip" value="1"/>)"))
                 .find("near_clip must be smaller than far_clip"),
             std::string::npos);
+}
+
+TEST(MitsubaCamera, OrthographicViewComesFromTheScale) {
+  // Mitsuba's documented form: the scale first, then lookat. The view covers local x in
+  // [-1, 1] and y in [-1, 1] / aspect; rays start at near_clip, scaled by z.
+  Scene s = with_sensor(sensor(R"(<float name="near_clip" value="0.5"/>
+      <transform name="to_world"><scale x="10" y="4" z="2"/>
+        <lookat origin="1, 1, 1" target="1, 2, 1" up="0, 0, 1"/></transform>)",
+                               "orthographic",
+                               R"(<film type="hdrfilm"><integer name="width" value="40"/>
+        <integer name="height" value="20"/><rfilter type="box"/></film>)"));
+  EXPECT_EQ(s.camera.projection, Projection::orthographic);
+  expect_near(s.camera.position, {1, 2, 1}, 1e-12);
+  expect_near(glm::normalize(s.camera.look_at - s.camera.position), {0, 1, 0}, 1e-12);
+  expect_near(s.camera.up, {0, 0, 1}, 1e-12);
+  EXPECT_DOUBLE_EQ(s.camera.view_size.x, 20);
+  EXPECT_DOUBLE_EQ(s.camera.view_size.y, 4);
+  // Without to_world: camera space, the default near_clip 0.01.
+  Scene plain = with_sensor(sensor("", "orthographic"));
+  expect_near(plain.camera.position, {0, 0, 0.01}, 1e-15);
+  EXPECT_DOUBLE_EQ(plain.camera.view_size.x, 2);
+  EXPECT_DOUBLE_EQ(plain.camera.view_size.y, 2 * 576.0 / 768.0);
+}
+
+TEST(MitsubaCamera, OrthographicRefusals) {
+  // lookat then scale scales the world's axes: the view is sheared.
+  std::string sheared = sensor(R"(<transform name="to_world">
+        <lookat origin="0, 0, 0" target="1, 0, 1" up="0, 1, 0"/><scale x="3"/></transform>)",
+                               "orthographic");
+  EXPECT_NE(sensor_error(sheared).find("<transform name=\"to_world\">: an orthographic camera's "
+                                       "to_world must be a rotation of a scale"),
+            std::string::npos)
+      << sensor_error(sheared);
+  EXPECT_NE(sensor_error(sensor(R"(<transform name="to_world"><scale x="-1"/></transform>)",
+                                "orthographic"))
+                .find("mirrors the image"),
+            std::string::npos);
+  EXPECT_NE(sensor_error(sensor(R"(<float name="fov" value="30"/>)", "orthographic"))
+                .find("<float name=\"fov\">: is not supported in <sensor type=\"orthographic\">"),
+            std::string::npos);
+  // far_clip hides a wall that Tessera's camera would see.
+  std::string far = sensor(R"(<float name="far_clip" value="5"/>
+      <transform name="to_world"><scale x="2" y="2" z="4"/></transform>)",
+                           "orthographic");
+  std::string wall = R"(<shape type="rectangle"><transform name="to_world">
+        <translate z="5"/></transform></shape>)";
+  EXPECT_NO_THROW(with_sensor(far, wall));  // rays end at z = 0.01 * 4 + (5 - 0.01) = 5.03
+  std::string beyond = R"(<shape type="rectangle"><transform name="to_world">
+        <translate x="2.5" z="5.1"/></transform></shape>)";
+  EXPECT_NE(sensor_error(far, beyond).find("far_clip 5 could hide part of"), std::string::npos)
+      << sensor_error(far, beyond);
+  // Beside the view (x beyond 2 + 1) it is not seen at all.
+  std::string beside = R"(<shape type="rectangle"><transform name="to_world">
+        <translate x="3.5" z="5.1"/></transform></shape>)";
+  EXPECT_NO_THROW(with_sensor(far, beside));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #include "scene/native/json_value.h"
 
@@ -41,6 +42,26 @@ void check_range(const MitsubaElement* where, const glm::dvec3& value, MitsubaCo
                           (role == MitsubaColorRole::reflectance ? "in [0, 1]" : ">= 0") +
                           " (got " + format_number(value[c]) + ")");
     }
+  }
+}
+
+/// rawconstant's `value`: a <float> (one channel) or a <vector> (three), used as written.
+void read_raw_value(MitsubaPlugin& plugin, Texture& texture) {
+  const MitsubaElement* value = plugin.property("value");
+  if (!value) {
+    fail_at(plugin.element(), "missing \"value\" (a <float> or a <vector>)");
+  }
+  if (value->tag == "float" || value->tag == "integer") {
+    texture.value = glm::dvec3(*plugin.take_float("value"));
+    texture.channels = 1;
+  } else if (value->tag == "vector" || value->tag == "point") {
+    texture.value = *plugin.take_point("value");
+    texture.channels = 3;
+  } else {
+    fail_at(*value, "rawconstant's value is a <float> or a <vector>");
+  }
+  for (int c = 0; c < 3; ++c) {
+    if (!std::isfinite(texture.value[c])) fail_at(*value, "must be finite");
   }
 }
 
@@ -85,10 +106,15 @@ Texture MitsubaTextures::read(const MitsubaElement& element) {
     texture.kind = TextureKind::checkerboard;
     texture.color0 = plugin.take_color("color0").value_or(glm::dvec3(0.4));
     texture.color1 = plugin.take_color("color1").value_or(glm::dvec3(0.2));
+  } else if (plugin.type() == "rawconstant") {
+    texture.kind = TextureKind::rawconstant;
+    read_raw_value(plugin, texture);
+    plugin.finish();  // no to_uv: the value is the same everywhere
+    return texture;
   } else {
     fail_at(element,
-            "unsupported texture (Tessera has bitmap and checkerboard; bake others into a "
-            "bitmap)");
+            "unsupported texture (Tessera has bitmap, checkerboard and rawconstant; bake others "
+            "into a bitmap)");
   }
   texture.to_uv = read_mitsuba_to_uv(plugin);
   plugin.finish();
@@ -146,6 +172,12 @@ TexturedFloat read_textured_float(MitsubaPlugin& plugin, std::string_view name, 
   if (std::optional<MitsubaObject> texture = plugin.take_named_object(name)) {
     result.value = 1;
     result.texture = textures.of(*texture->element);
+    const Texture& t = textures.at(result.texture);
+    if (t.kind == TextureKind::rawconstant && t.channels != 1) {
+      fail_at(*texture->written,
+              "a rawconstant <vector> has no scalar value (Mitsuba's eval_1 refuses it): give "
+              "\"" + std::string(name) + "\" a <float> value");
+    }
     return result;
   }
   result.value = plugin.take_float(name).value_or(fallback);

@@ -62,7 +62,8 @@ class SceneBuilder {
     for (const MitsubaElement& child : root_.children) add(child);
     if (!sensor_) {
       fail_at(root_,
-              "the scene has no <sensor> (Tessera needs a perspective or thinlens sensor)");
+              "the scene has no <sensor> (Tessera needs a perspective, thinlens or orthographic "
+              "sensor)");
     }
     check_mitsuba_clip_planes(*sensor_, shapes_);
     Scene result;

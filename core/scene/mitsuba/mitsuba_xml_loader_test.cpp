@@ -132,8 +132,8 @@ TEST(MitsubaScene, LoadSceneFileAndParseSceneAnyChooseByExtension) {
 
 TEST(MitsubaScene, TheSceneNeedsOneSensor) {
   EXPECT_EQ(xml_error("<scene version=\"3.0.0\">\n<shape type=\"cube\"/>\n</scene>"),
-            "test.xml: line 1: <scene>: the scene has no <sensor> (Tessera needs a perspective or "
-            "thinlens sensor)");
+            "test.xml: line 1: <scene>: the scene has no <sensor> (Tessera needs a perspective, "
+            "thinlens or orthographic sensor)");
   std::string two = mitsuba_scene(testing::mitsuba_sensor());
   EXPECT_NE(xml_error(two).find("a second sensor (Tessera renders one camera; first at line 2)"),
             std::string::npos);

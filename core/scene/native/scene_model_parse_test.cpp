@@ -15,6 +15,47 @@ using testing::scene_with_shapes;
 
 std::string with(const std::string& sections) { return R"({"tessera": 1, )" + sections + "}"; }
 
+TEST(SceneModelParse, OrthographicCamera) {
+  Scene s = parse(with(R"("camera": {"type": "orthographic", "position": [1, 2, 3],
+      "look_at": [1, 2, 0], "view_size": [4, 0.5]})"));
+  EXPECT_EQ(s.camera.projection, Projection::orthographic);
+  EXPECT_EQ(s.camera.view_size, glm::dvec2(4, 0.5));
+  EXPECT_EQ(parse(with(R"("camera": {"type": "perspective"})")).camera.projection,
+            Projection::perspective);
+  EXPECT_EQ(error_of(with(R"("camera": {"type": "orthographic"})")),
+            "camera.view_size: required");
+  EXPECT_EQ(error_of(with(R"("camera": {"type": "orthographic", "view_size": [1, 0]})")),
+            "camera.view_size[1]: must be > 0 (got 0)");
+  EXPECT_EQ(error_of(with(R"("camera": {"type": "orthographic", "view_size": [1, 1],
+      "fov": 30})")),
+            "camera.fov: an orthographic camera has no lens (its image covers view_size)");
+  EXPECT_EQ(error_of(with(R"("camera": {"view_size": [1, 1]})")),
+            "camera.view_size: only an orthographic camera has a view_size (set \"type\": "
+            "\"orthographic\")");
+  EXPECT_EQ(error_of(with(R"("camera": {"type": "fisheye"})")),
+            "camera.type: must be \"perspective\" or \"orthographic\" (got \"fisheye\")");
+}
+
+TEST(SceneModelParse, RawConstantTextures) {
+  Scene s = parse(with(R"(
+    "textures": {"one": {"type": "rawconstant", "value": -2.5},
+                 "three": {"type": "rawconstant", "value": [0.5, 0.5, 1]}},
+    "materials": {"a": {"reflectance": {"texture": "one"}}})"));
+  ASSERT_EQ(s.textures.size(), 2u);
+  EXPECT_EQ(s.textures[0].kind, TextureKind::rawconstant);
+  EXPECT_EQ(s.textures[0].value, glm::dvec3(-2.5));
+  EXPECT_EQ(s.textures[0].channels, 1);
+  EXPECT_EQ(s.textures[1].value, glm::dvec3(0.5, 0.5, 1));
+  EXPECT_EQ(s.textures[1].channels, 3);
+  EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "rawconstant"}})")),
+            "textures.t.value: required");
+  EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "rawconstant", "value": [1, 2]}})")),
+            "textures.t.value: must have 3 elements (got 2)");
+  EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "rawconstant", "value": 1,
+      "to_uv": [[1, 0, 0], [0, 1, 0]]}})")),
+            "textures.t.to_uv: unknown key (a rawconstant has: type, value)");
+}
+
 TEST(SceneModelParse, TexturesAndTexturedParameters) {
   Scene s = parse(with(R"(
     "textures": {
@@ -50,7 +91,8 @@ TEST(SceneModelParse, TexturesAndTexturedParameters) {
                 .rfind("textures.t.file: ", 0),
             0u);
   EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "noise"}})")),
-            "textures.t.type: unknown texture type \"noise\" (expected bitmap or checkerboard)");
+            "textures.t.type: unknown texture type \"noise\" (expected bitmap, checkerboard or "
+            "rawconstant)");
   EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "bitmap", "file": "a.png",
                                                  "wrap": "tile"}})")),
             "textures.t.wrap: must be \"repeat\", \"mirror\" or \"clamp\" (got \"tile\")");

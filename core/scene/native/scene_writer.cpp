@@ -101,6 +101,14 @@ const char* fov_axis_name(FovAxis axis) {
 }
 
 std::string camera_json(const Camera& c) {
+  if (c.projection == Projection::orthographic) {
+    return "  \"camera\": {\n    \"type\": \"orthographic\", \"position\": " +
+           vec3(c.position, "camera.position") +
+           ",\n    \"look_at\": " + vec3(c.look_at, "camera.look_at") +
+           ",\n    \"up\": " + vec3(c.up, "camera.up") + ",\n    \"view_size\": [" +
+           number(c.view_size.x, "camera.view_size") + ", " +
+           number(c.view_size.y, "camera.view_size") + "]\n  },\n";
+  }
   return "  \"camera\": {\n    \"position\": " + vec3(c.position, "camera.position") +
          ",\n    \"look_at\": " + vec3(c.look_at, "camera.look_at") +
          ",\n    \"up\": " + vec3(c.up, "camera.up") +
@@ -352,6 +360,13 @@ std::string texture_json(const Texture& t, size_t index, const Names& names) {
             : t.wrap == TextureWrap::mirror ? "mirror"
                                             : "clamp") +
            "\"";
+  } else if (t.kind == TextureKind::rawconstant) {
+    if (t.channels == 1 && (t.value.y != t.value.x || t.value.z != t.value.x)) {
+      throw SceneError(what + ": a one-channel rawconstant holds one value");
+    }
+    if (t.to_uv != glm::dmat3(1.0)) throw SceneError(what + ": a rawconstant has no to_uv");
+    return out + "\"type\": \"rawconstant\", \"value\": " +
+           (t.channels == 1 ? number(t.value.x, what) : vec3(t.value, what)) + "}";
   } else {
     out += "\"type\": \"checkerboard\", \"color0\": " + vec3(t.color0, what) +
            ", \"color1\": " + vec3(t.color1, what);

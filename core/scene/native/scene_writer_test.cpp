@@ -155,6 +155,11 @@ void expect_same_scene(const Scene& a, const Scene& b) {
   EXPECT_EQ(a.camera.fov_axis, b.camera.fov_axis);
   EXPECT_TRUE(same_bits(a.camera.aperture_radius, b.camera.aperture_radius));
   EXPECT_TRUE(same_bits(a.camera.focus_distance, b.camera.focus_distance));
+  EXPECT_EQ(a.camera.projection, b.camera.projection);
+  if (a.camera.projection == Projection::orthographic) {
+    EXPECT_TRUE(same_bits(a.camera.view_size.x, b.camera.view_size.x));
+    EXPECT_TRUE(same_bits(a.camera.view_size.y, b.camera.view_size.y));
+  }
   EXPECT_EQ(a.film.width, b.film.width);
   EXPECT_EQ(a.film.height, b.film.height);
   EXPECT_EQ(a.render.spp, b.render.spp);
@@ -176,6 +181,10 @@ void expect_same_scene(const Scene& a, const Scene& b) {
     EXPECT_TRUE(same_bits(x.color0, y.color0));
     EXPECT_TRUE(same_bits(x.color1, y.color1));
     EXPECT_TRUE(same_bits(x.to_uv, y.to_uv)) << x.name;
+    if (x.kind == TextureKind::rawconstant) {
+      EXPECT_TRUE(same_bits(x.value, y.value)) << x.name;
+      EXPECT_EQ(x.channels, y.channels) << x.name;
+    }
   }
   ASSERT_EQ(a.materials.size(), b.materials.size());
   for (size_t i = 0; i < a.materials.size(); ++i) {
@@ -374,7 +383,16 @@ Scene full_model_scene() {
   checks.kind = TextureKind::checkerboard;
   checks.color0 = {0.1, 0.2, 0.30000000000000004};
   checks.color1 = {1, 0, 0.5};
-  s.textures = {wood, height, checks};
+  Texture raw1;
+  raw1.name = "raw1";
+  raw1.kind = TextureKind::rawconstant;
+  raw1.value = glm::dvec3(-0.30000000000000004);
+  raw1.channels = 1;
+  Texture raw3 = raw1;
+  raw3.name = "raw3";
+  raw3.value = {0.5, 1e-300, 7};
+  raw3.channels = 3;
+  s.textures = {wood, height, checks, raw1, raw3};
 
   auto material = [](const char* name, MaterialType type) {
     Material m;
@@ -553,6 +571,14 @@ TEST(SceneWriter, EveryFieldOfTheModelRoundTripsExactly) {
     s.film.filter = {kind, kind == FilterKind::box ? 0.5 : 1.25, 0.5};
     expect_same_scene(s, round_trip(s));
   }
+  // The orthographic camera has no lens: the writer leaves the lens keys out.
+  s.camera.projection = Projection::orthographic;
+  s.camera.view_size = {0.1 + 0.2, 1e-300};
+  s.camera.fov_deg = 39.3;
+  s.camera.fov_axis = FovAxis::x;
+  s.camera.aperture_radius = 0;
+  s.camera.focus_distance = 1;
+  expect_same_scene(s, round_trip(s));
 }
 
 TEST(SceneWriter, RefusesModelFieldsJsonCannotSay) {

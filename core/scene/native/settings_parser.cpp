@@ -38,17 +38,50 @@ void check_camera_frame(const JsonValue& value, const Camera& camera) {
   }
 }
 
+Projection parse_projection(const JsonValue& value) {
+  const std::string& type = value.string();
+  if (type == "perspective") return Projection::perspective;
+  if (type == "orthographic") return Projection::orthographic;
+  value.fail("must be \"perspective\" or \"orthographic\" (got \"" + printable(type) + "\")");
+}
+
+/// An orthographic camera's view_size: two numbers, each > 0; the lens keys of a perspective
+/// camera are refused by name.
+glm::dvec2 parse_view_size(const JsonValue& camera) {
+  for (const char* lens : {"fov", "fov_axis", "aperture_radius", "focus_distance"}) {
+    if (std::optional<JsonValue> key = camera.find(lens)) {
+      key->fail("an orthographic camera has no lens (its image covers view_size)");
+    }
+  }
+  std::vector<JsonValue> size = camera.at("view_size").elements(2);
+  glm::dvec2 result(size[0].number(), size[1].number());
+  for (int i = 0; i < 2; ++i) {
+    if (!(result[i] > 0)) size[i].fail("must be > 0 (got " + format_number(result[i]) + ")");
+  }
+  return result;
+}
+
 }  // namespace
 
 Camera parse_camera(const JsonValue& value) {
-  value.expect_object(
-      {"position", "look_at", "up", "fov", "fov_axis", "aperture_radius", "focus_distance"},
-      "the camera");
+  value.expect_object({"type", "position", "look_at", "up", "fov", "fov_axis", "aperture_radius",
+                       "focus_distance", "view_size"},
+                      "the camera");
   Camera camera;
+  if (std::optional<JsonValue> type = value.find("type")) {
+    camera.projection = parse_projection(*type);
+  }
   camera.position = value.vec3_or("position", camera.position);
   camera.look_at = value.vec3_or("look_at", camera.look_at);
   camera.up = value.vec3_or("up", camera.up);
   check_camera_frame(value, camera);
+  if (camera.projection == Projection::orthographic) {
+    camera.view_size = parse_view_size(value);
+    return camera;
+  }
+  if (std::optional<JsonValue> size = value.find("view_size")) {
+    size->fail("only an orthographic camera has a view_size (set \"type\": \"orthographic\")");
+  }
   if (std::optional<JsonValue> fov = value.find("fov")) {
     camera.fov_deg = fov->number();
     if (!(camera.fov_deg > 0 && camera.fov_deg < 180)) {

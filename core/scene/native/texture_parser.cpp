@@ -89,9 +89,21 @@ Texture parse_texture(const std::string& name, const JsonValue& value,
     value.expect_object({"type", "color0", "color1", "to_uv"}, "a checkerboard");
     if (auto c = value.find("color0")) texture.color0 = ranged_rgb(*c, {0, 1});
     if (auto c = value.find("color1")) texture.color1 = ranged_rgb(*c, {0, 1});
+  } else if (type == "rawconstant") {
+    texture.kind = TextureKind::rawconstant;
+    value.expect_object({"type", "value"}, "a rawconstant");
+    JsonValue raw = value.at("value");
+    if (raw.json().is_number()) {
+      texture.value = glm::dvec3(raw.number());
+      texture.channels = 1;
+    } else {
+      texture.value = raw.vec3();
+      texture.channels = 3;
+    }
+    return texture;
   } else {
     value.at("type").fail("unknown texture type \"" + printable(type) +
-                          "\" (expected bitmap or checkerboard)");
+                          "\" (expected bitmap, checkerboard or rawconstant)");
   }
   if (auto t = value.find("to_uv")) texture.to_uv = parse_to_uv(*t);
   return texture;

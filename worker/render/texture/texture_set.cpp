@@ -35,6 +35,9 @@ TextureSet::TextureSet(const std::vector<Texture>& textures, const FileReader& r
         textures_.emplace_back(
             Checkerboard(to_float(t.color0), to_float(t.color1), UvTransform::from(t.to_uv)));
         break;
+      case TextureKind::rawconstant:
+        textures_.emplace_back(RawConstant(to_float(t.value), t.channels == 1));
+        break;
     }
   }
 }
@@ -54,6 +57,7 @@ glm::vec3 TextureSet::lookup(int32_t texture, glm::vec2 uv) const {
 float TextureSet::lookup_1(int32_t texture, glm::vec2 uv) const {
   const Entry& e = at(texture);
   if (const auto* b = std::get_if<BitmapTexture>(&e)) return b->eval_1(uv);
+  if (const auto* r = std::get_if<RawConstant>(&e)) return r->eval_1(uv);
   return mitsuba_luminance(std::get<Checkerboard>(e).eval_scalar_order(uv));
 }
 

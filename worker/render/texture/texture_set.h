@@ -10,6 +10,7 @@
 
 #include "bitmap_texture.h"
 #include "checkerboard.h"
+#include "raw_constant.h"
 #include "scene/scene.h"
 #include "scene/scene_loader.h"
 
@@ -46,14 +47,14 @@ class TextureSet {
   /// The scalar lookup alone (see eval(TexturedFloat)).
   float lookup_1(int32_t texture, glm::vec2 uv) const;
   /// d/du and d/dv of the scalar lookup, for bump mapping (Mitsuba's eval_1_grad). Zero for
-  /// checkerboards and nearest-filtered bitmaps (piecewise constant; Mitsuba refuses them).
+  /// raw constants, checkerboards and nearest-filtered bitmaps (piecewise constant; Mitsuba refuses them).
   glm::vec2 gradient(int32_t texture, glm::vec2 uv) const;
 
   bool empty() const { return textures_.empty(); }
   size_t size() const { return textures_.size(); }
 
  private:
-  using Entry = std::variant<BitmapTexture, Checkerboard>;
+  using Entry = std::variant<BitmapTexture, Checkerboard, RawConstant>;
   const Entry& at(int32_t texture) const;
 
   std::vector<Entry> textures_;

@@ -198,6 +198,24 @@ TEST(TextureSet, CheckerboardFollowsMitsubasPattern) {
   EXPECT_FLOAT_EQ(set.lookup_1(0, {0.6f, 0.1f}), 0.212671f);
 }
 
+TEST(TextureSet, RawConstantsAreTheSameEverywhereAndUnconverted) {
+  Texture one;
+  one.kind = TextureKind::rawconstant;
+  one.value = glm::dvec3(1.5);
+  one.channels = 1;
+  Texture three = one;
+  three.value = {0.5, -0.25, 1};
+  three.channels = 3;
+  const TextureSet set({one, three}, memory_reader({}));
+  for (glm::vec2 uv : {glm::vec2(0, 0), glm::vec2(0.3f, 7.5f), glm::vec2(-2, 0.5f)}) {
+    EXPECT_EQ(set.lookup(0, uv), glm::vec3(1.5f));
+    EXPECT_EQ(set.lookup_1(0, uv), 1.5f);
+    EXPECT_EQ(set.lookup(1, uv), glm::vec3(0.5f, -0.25f, 1));
+    EXPECT_FLOAT_EQ(set.lookup_1(1, uv), 0.212671f * 0.5f - 0.715160f * 0.25f + 0.072169f);
+    EXPECT_EQ(set.gradient(0, uv), glm::vec2(0.0f));
+  }
+}
+
 TEST(TextureSet, TexturedParametersScaleTheLookup) {
   const TextureSet set({bitmap("rgb8.png")}, memory_reader(test_files()));
   const TexturedColor constant{{0.25, 0.5, 0.75}, -1};
