@@ -59,6 +59,11 @@ bool Coordinator::checkpoint() {
   return checkpoint_wal(db_);
 }
 
+StoreCounters Coordinator::store_counters() {
+  std::lock_guard lock(mu_);
+  return db_.counters();
+}
+
 int Coordinator::resume() {
   // Start-up reads the leased units (by their partial index), one row per job and index probes:
   // no other unit row and no tile (BENCHMARKS.md, "restart").
@@ -331,11 +336,17 @@ void Coordinator::touch_or_throw(int64_t worker_id) {
     std::lock_guard lock(departed_mu_);
     departed_.erase(worker_id);  // it calls again: online again
   }
-  if (!workers_.touch(worker_id, clock_.now_unix_ms())) {
+  const int64_t now = clock_.now_unix_ms();
+  if (const auto it = touched_unix_ms_.find(worker_id);
+      it != touched_unix_ms_.end() && now - it->second < touch_interval_ms()) {
+    return;  // seen less than touch_interval_ms() ago: last_seen is recent enough
+  }
+  if (!workers_.touch(worker_id, now)) {
     // FAILED_PRECONDITION, not NOT_FOUND: the worker tells "register again" by the code alone.
     throw FarmError(ErrorCode::failed_precondition,
                     "no worker " + std::to_string(worker_id) + ": register again");
   }
+  touched_unix_ms_[worker_id] = now;
 }
 
 std::optional<LeasedUnit> Coordinator::lease(int64_t worker_id, std::chrono::milliseconds wait,
@@ -414,7 +425,10 @@ AcceptOutcome Coordinator::upload(const UnitResult& result) {
     // The worker was checked (and its last call recorded) above; workers are never removed.
     std::lock_guard lock(mu_);
     outcome = merger_.accept(result, decoded);
-    if (outcome.accepted) report_health(result.worker_id);
+    // Only NaN/Inf samples can move a worker over the report threshold.
+    if (outcome.accepted && decoded.nan_dropped + decoded.inf_dropped > 0) {
+      report_health(result.worker_id);
+    }
   }
   metrics_.record_result(
       result.worker_id, result.job_id, outcome.accepted, outcome.samples,

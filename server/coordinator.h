@@ -172,6 +172,10 @@ class Coordinator {
   const FarmMetrics& metrics() const { return metrics_; }
   // ---- end of dashboard views ---------------------------------------------------------------
 
+  /// What the store has executed since the server started (StoreCounters): the statements a
+  /// lease or an accepted result costs (tests/farm/store_cost_test.cpp, BENCHMARKS.md).
+  StoreCounters store_counters();
+
   ChangeNotifier& changes() { return changes_; }
   int64_t lease_ms() const { return leases_.lease_ms(); }
   const Clock& clock() const { return clock_; }
@@ -201,6 +205,12 @@ class Coordinator {
   FarmLimits limits_;
   double nan_report_fraction_;
   std::set<int64_t> reported_workers_;  ///< NaN/Inf warning logged (guarded by mu_)
+  /// When each worker's last_seen was last written (guarded by mu_): a call within
+  /// touch_interval_ms() of it writes nothing (workers are never removed, so the worker exists).
+  std::map<int64_t, int64_t> touched_unix_ms_;
+  /// last_seen's granularity: an eighth of a lease, at most a second (online() allows three
+  /// lease periods).
+  int64_t touch_interval_ms() const { return std::min<int64_t>(1000, leases_.lease_ms() / 8); }
   double retention_days_;
   int64_t last_retention_unix_ms_ = 0;  ///< guarded by mu_
   ChangeNotifier changes_;

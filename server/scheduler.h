@@ -40,11 +40,6 @@ class Scheduler {
   /// the ids of such jobs with no unit queued or leased left: ready to settle and finish.
   std::vector<int64_t> enforce_time_budgets();
 
-  /// The query that picks a job's next unit among those back in the queue, with a row (?1
-  /// job, ?2 'queued', ?3 kNoiseLookahead for noise jobs, ?4 the first batch not to lease),
-  /// public so tests can check its plan. Units without a row: TileQueue::first_sql.
-  static const char* first_unit_sql(bool noise);
-
  private:
   /// A leasable unit: with its row (unit_id) or without one yet (store/tile_queue.h).
   struct Pick {
@@ -55,6 +50,7 @@ class Scheduler {
   std::optional<Pick> first_unit(int64_t job_id, bool noise, bool over_budget);
 
   Database& db_;
+  UnitsTable units_{db_};
   LeaseTable& leases_;
   const Clock& clock_;
 };

@@ -15,7 +15,9 @@
 // batches a tile merges is thus a function of the job alone, whatever arrives when.
 #pragma once
 
+#include <compare>
 #include <cstdint>
+#include <set>
 #include <string>
 
 #include "accum/accumulation.h"
@@ -67,7 +69,10 @@ class TileMerger {
   void checkpoint_job(int64_t job_id);
 
   /// Drops the job's tiles from memory (it was deleted).
-  void forget_job(int64_t job_id) { cache_.forget_job(job_id); }
+  void forget_job(int64_t job_id) {
+    cache_.forget_job(job_id);
+    std::erase_if(contributors_, [job_id](const Contributor& c) { return c.job_id == job_id; });
+  }
 
   const MergeCache& cache() const { return cache_; }
 
@@ -86,9 +91,19 @@ class TileMerger {
   /// The tile met its stopping rule: skip its remaining units, drop its waiting results.
   void close_tile(int64_t job_id, uint32_t tile);
 
+  /// A (job, worker, ISA) whose job_contributors row is committed: later results of the same
+  /// worker and ISA skip the INSERT OR IGNORE.
+  struct Contributor {
+    int64_t job_id = 0;
+    int64_t worker_id = 0;
+    std::string isa;
+    auto operator<=>(const Contributor&) const = default;
+  };
+
   Database& db_;
   const Clock& clock_;
   MergeCache cache_;
+  std::set<Contributor> contributors_;
   uint32_t checkpoint_every_;
 };
 

@@ -11,7 +11,7 @@ constexpr const char* kSelect = R"sql(
   SELECT w.id, w.name, w.threads, w.isa, w.version, w.registered_unix_ms, w.last_seen_unix_ms,
          w.units_done, w.units_lost, u.job_id, u.tile, u.batch, w.samples_returned,
          w.nan_dropped, w.inf_dropped
-  FROM workers w LEFT JOIN units u ON u.worker_id = w.id AND u.state = ?1
+  FROM workers w LEFT JOIN units u ON u.worker_id = w.id AND u.state = 'leased'
 )sql";
 
 WorkerRecord read_worker(const Statement& q) {
@@ -83,8 +83,8 @@ bool WorkerRegistry::touch(int64_t worker_id, int64_t now) {
 }
 
 std::optional<WorkerRecord> WorkerRegistry::get(int64_t worker_id) {
-  auto q = db_.prepare(std::string(kSelect) + " WHERE w.id = ?2");
-  q->bind(1, std::string(to_string(UnitState::leased))).bind(2, worker_id);
+  auto q = db_.prepare(std::string(kSelect) + " WHERE w.id = ?1");
+  q->bind(1, worker_id);
   if (!q->step()) return std::nullopt;
   return read_worker(*q);
 }
@@ -92,7 +92,6 @@ std::optional<WorkerRecord> WorkerRegistry::get(int64_t worker_id) {
 std::vector<WorkerRecord> WorkerRegistry::list() {
   std::vector<WorkerRecord> out;
   auto q = db_.prepare(std::string(kSelect) + " ORDER BY w.last_seen_unix_ms DESC, w.id DESC");
-  q->bind(1, std::string(to_string(UnitState::leased)));
   while (q->step()) out.push_back(read_worker(*q));
   return out;
 }

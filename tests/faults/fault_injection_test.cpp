@@ -392,7 +392,9 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
   };
   int cuts = 0, cuts_with_expiry = 0;
   for (int round = 0; round < rounds && !::testing::Test::HasFailure(); ++round) {
-    // 2,048 units: the job outlasts the cut even with the worker beside the server alone.
+    // 2,048 units; a unit of this job costs the farm about a millisecond, so the worker beside
+    // the server is stopped (SIGSTOP) while the cut is tried: otherwise it could merge the
+    // whole job between two status reads of a loaded machine, leaving no lease to cut.
     const auto options = tiny_job(rng() % 1000, 1024, 2);
     std::vector<std::string> submit = {"submit", cornell_scene().string(), "--json"};
     submit.insert(submit.end(), options.begin(), options.end());
@@ -402,6 +404,7 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
     const uint64_t total = cli_status(cli, id).at("counters").at("units_total").get<uint64_t>();
     const uint64_t point = fault_points(rng, uint32_t(total / 4), 1).front();
     ASSERT_TRUE(poll_until([&] { return merged(id) >= point; }, kPatience));
+    near_worker.signal(SIGSTOP);
     // Cut while the worker across the link holds a lease. Cut first, then ask the server:
     // with the link down the worker can no longer deliver, so what the server says holds. If it
     // holds nothing, restore the link and try again a little later.
@@ -437,6 +440,7 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
     } else {
       at_cut = during = cli_status(cli, id);
     }
+    near_worker.signal(SIGCONT);
     cuts += caught;
     cuts_with_expiry += expired > 0;
     ASSERT_TRUE(poll_until(
