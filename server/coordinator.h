@@ -137,6 +137,11 @@ class Coordinator {
   /// FarmError(failed_precondition) for an unknown worker id (register again).
   std::optional<LeasedUnit> lease(int64_t worker_id, std::chrono::milliseconds wait,
                                   const std::function<bool()>& cancelled);
+  /// Several units in one call (Scheduler::lease_up_to): every lease the worker holds and new
+  /// ones up to `max_units`, waiting as lease() does while there are none. Empty: no work.
+  std::vector<LeasedUnit> lease_units(int64_t worker_id, uint32_t max_units,
+                                      std::chrono::milliseconds wait,
+                                      const std::function<bool()>& cancelled);
   /// The new expiry, or nullopt when the lease is not current.
   std::optional<int64_t> heartbeat(int64_t worker_id, const std::string& lease_id);
   /// The canonical bundle bytes. Throws FarmError(not_found).
@@ -144,6 +149,10 @@ class Coordinator {
   /// Decodes and accepts a result; writes the job's output when it completes the job. Throws
   /// FarmError(invalid_argument) on bytes that do not decode or do not fit the unit.
   AcceptOutcome upload(const UnitResult& result);
+  /// Several results of one worker in one transaction (TileMerger::accept_all); outcome i
+  /// answers results[i]. All or nothing: FarmError(invalid_argument) naming the first result
+  /// that does not decode or fit its unit, and nothing is stored.
+  std::vector<AcceptOutcome> upload_all(const std::vector<UnitResult>& results);
   ReleaseOutcome release(int64_t worker_id, const std::string& lease_id, ReleaseReason reason,
                          const std::string& message);
   /// Returns expired leases' units to the queue and applies the time rule (jobs past their

@@ -33,13 +33,25 @@ std::optional<Scheduler::Pick> Scheduler::first_unit(int64_t job_id, bool noise,
 }
 
 std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
+  std::vector<Lease> leases = lease_up_to(worker_id, 1);
+  if (leases.empty()) return std::nullopt;
+  return leases.front();
+}
+
+std::vector<Lease> Scheduler::lease_up_to(int64_t worker_id, uint32_t max_units) {
   Transaction tx(db_);
-  if (std::optional<Lease> held = leases_.held_by(worker_id)) {
-    if (const auto expires = leases_.extend_in_transaction(worker_id, held->lease_id)) {
-      held->expires_unix_ms = *expires;
+  std::vector<Lease> out;
+  for (const LeasedRow& row : units_.leased_to(worker_id)) {
+    Lease held{row.lease_id, row.unit_id, row.job_id, row.tile, row.batch, row.worker_id,
+               row.expires_unix_ms};
+    if (const auto expires = leases_.extend_in_transaction(worker_id, held.lease_id)) {
+      held.expires_unix_ms = *expires;
     }
+    out.push_back(held);
+  }
+  if (out.size() >= max_units) {
     tx.commit();
-    return held;
+    return out;
   }
   // The jobs that may lease, in scheduling order (the jobs_schedule index); few at a time.
   struct Candidate {
@@ -69,34 +81,35 @@ std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
       candidates.push_back({q->int64(0), q->int64(1) != 0, q->int64(2) != 0, q->int64(3) != 0});
     }
   }
-  std::optional<Pick> pick;
-  int64_t job_id = 0;
-  bool job_queued = false;
-  for (const Candidate& c : candidates) {
-    pick = first_unit(c.job_id, c.noise, c.over_budget);
-    job_id = c.job_id;
-    job_queued = c.queued;
-    if (pick) break;
+  bool changed = false;
+  for (Candidate& c : candidates) {
+    while (out.size() < max_units) {
+      const std::optional<Pick> pick = first_unit(c.job_id, c.noise, c.over_budget);
+      if (!pick) break;
+      std::optional<Lease> lease =
+          pick->unit_id
+              ? leases_.grant_in_transaction(c.job_id, {*pick->unit_id, pick->tile, pick->batch},
+                                             worker_id)
+              : leases_.grant_unborn_in_transaction(c.job_id, pick->tile, pick->batch, worker_id);
+      if (!lease) break;  // lost the compare-and-set: cannot happen under the coordinator's lock
+      changed = true;
+      out.push_back(*lease);
+      if (c.queued) {
+        // queued -> running on the first lease; a running job stays running (JobEvent::start).
+        const JobState to = *next_state(JobState::queued, JobEvent::start);
+        db_.prepare("UPDATE jobs SET state = ?, started_unix_ms = ? WHERE id = ? AND state = ?")
+            ->bind(1, s(to))
+            .bind(2, clock_.now_unix_ms())
+            .bind(3, c.job_id)
+            .bind(4, s(JobState::queued))
+            .run();
+        c.queued = false;
+      }
+    }
+    if (out.size() >= max_units) break;
   }
-  if (!pick) return std::nullopt;  // rolls back: nothing written
-  std::optional<Lease> lease =
-      pick->unit_id
-          ? leases_.grant_in_transaction(job_id, {*pick->unit_id, pick->tile, pick->batch},
-                                         worker_id)
-                    : leases_.grant_unborn_in_transaction(job_id, pick->tile, pick->batch,
-                                                          worker_id);
-  if (lease && job_queued) {
-    // queued -> running on the first lease; a running job stays running (JobEvent::start).
-    const JobState to = *next_state(JobState::queued, JobEvent::start);
-    db_.prepare("UPDATE jobs SET state = ?, started_unix_ms = ? WHERE id = ? AND state = ?")
-        ->bind(1, s(to))
-        .bind(2, clock_.now_unix_ms())
-        .bind(3, lease->job_id)
-        .bind(4, s(JobState::queued))
-        .run();
-  }
-  tx.commit();
-  return lease;
+  if (changed || !out.empty()) tx.commit();  // else rolls back: nothing written
+  return out;
 }
 
 std::vector<int64_t> Scheduler::enforce_time_budgets() {

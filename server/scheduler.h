@@ -33,6 +33,11 @@ class Scheduler {
   /// starts the job (queued -> running). nullopt when there is no work: a normal answer.
   std::optional<Lease> lease_next(int64_t worker_id);
 
+  /// Several leases in one transaction: every lease the worker holds (expiry extended: a
+  /// retried call after a lost reply leases nothing twice) and new ones, picked as lease_next
+  /// picks, until it holds `max_units`. Empty when it holds none and there is no work.
+  std::vector<Lease> lease_up_to(int64_t worker_id, uint32_t max_units);
+
   /// The time rule's bookkeeping, called periodically (and before answering a lease): every
   /// running `time` job past its budget is marked (budget_reached_unix_ms) and its queued units
   /// of batches > 0 skipped (UnitEvent::skip; units back from an expired lease are skipped on

@@ -108,9 +108,29 @@ void TileMerger::close_tile(int64_t job_id, uint32_t tile) {
 }
 
 AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decoded) {
+  return accept_all({Upload{&r, &decoded}}).front();
+}
+
+std::vector<AcceptOutcome> TileMerger::accept_all(const std::vector<Upload>& uploads) {
+  Staged staged;
+  std::vector<AcceptOutcome> outcomes;
+  outcomes.reserve(uploads.size());
+  Transaction tx(db_);
+  for (const Upload& u : uploads) {
+    outcomes.push_back(accept_in_transaction(*u.result, *u.decoded, staged));
+  }
+  tx.commit();
+  // Only committed sums go to the cache (an exception above leaves them out: they are rebuilt
+  // from the store next time).
+  for (auto& [key, tile] : staged.tiles) cache_.put(key.first, key.second, std::move(tile));
+  contributors_.insert(staged.contributors.begin(), staged.contributors.end());
+  return outcomes;
+}
+
+AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accumulation& decoded,
+                                                Staged& staged) {
   AcceptOutcome outcome;
   std::optional<MergeCache::Tile> cached;  // the tile's sum while this call merges into it
-  Transaction tx(db_);
   const std::optional<UnitContext> c = load_unit(db_, r);
   if (!c) {
     throw FarmError(ErrorCode::not_found, "no unit job " + std::to_string(r.job_id) + " tile " +
@@ -131,7 +151,6 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
           ->bind(1, r.worker_id)
           .run();
     }
-    tx.commit();
     outcome.reason =
         "lease " + r.lease_id + " is not the current lease of the unit (expired and re-leased, "
         "already delivered, or the job ended)";
@@ -153,7 +172,7 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
         .run();
   }
   const Contributor contributor{r.job_id, r.worker_id, r.isa};
-  if (!contributors_.contains(contributor)) {
+  if (!contributors_.contains(contributor) && !staged.contributors.contains(contributor)) {
     db_.prepare(
            "INSERT OR IGNORE INTO job_contributors (job_id, isa, version)"
            " SELECT ?, ?, version FROM workers WHERE id = ?")
@@ -179,7 +198,7 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
     // tile by the job's stopping rule after each (determinism contract rule 4): once it is
     // finished nothing more merges into it, whatever else has arrived. The sum comes from the
     // merge cache, or is rebuilt from the checkpoint and merged_results.
-    cached = load_sum(r.job_id, r.tile, c->rect, c->next_batch);
+    cached = load_sum(r.job_id, r.tile, c->rect, c->next_batch, &staged);
     Accumulation& tile = cached->sum;
     uint32_t next = c->next_batch;
     const Accumulation* batch = &decoded;
@@ -262,11 +281,8 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
       .bind(5, r.job_id)
       .run();
   outcome.job_complete = !units_left(db_, r.job_id);
-  tx.commit();
-  // Only a committed sum goes back to the cache (an exception above leaves the entry out: it is
-  // rebuilt from the store next time).
-  if (cached) cache_.put(r.job_id, r.tile, std::move(*cached));
-  contributors_.insert(contributor);
+  if (cached) staged.tiles.insert_or_assign({r.job_id, r.tile}, std::move(*cached));
+  staged.contributors.insert(contributor);
   return outcome;
 }
 
@@ -298,7 +314,15 @@ void TileMerger::write_checkpoint(int64_t job_id, uint32_t tile, const Accumulat
 }
 
 MergeCache::Tile TileMerger::load_sum(int64_t job_id, uint32_t tile, const TileRect& rect,
-                                      uint32_t next_batch) {
+                                      uint32_t next_batch, Staged* staged) {
+  if (staged) {
+    const auto it = staged->tiles.find({job_id, tile});
+    if (it != staged->tiles.end()) {
+      MergeCache::Tile t = std::move(it->second);
+      staged->tiles.erase(it);
+      if (t.next_batch == next_batch) return t;
+    }
+  }
   if (std::optional<MergeCache::Tile> hit = cache_.take(job_id, tile, next_batch)) {
     return std::move(*hit);
   }

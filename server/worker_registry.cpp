@@ -11,7 +11,8 @@ constexpr const char* kSelect = R"sql(
   SELECT w.id, w.name, w.threads, w.isa, w.version, w.registered_unix_ms, w.last_seen_unix_ms,
          w.units_done, w.units_lost, u.job_id, u.tile, u.batch, w.samples_returned,
          w.nan_dropped, w.inf_dropped
-  FROM workers w LEFT JOIN units u ON u.worker_id = w.id AND u.state = 'leased'
+  FROM workers w LEFT JOIN units u ON u.id = (
+    SELECT l.id FROM units l WHERE l.worker_id = w.id AND l.state = 'leased' ORDER BY l.id LIMIT 1)
 )sql";
 
 WorkerRecord read_worker(const Statement& q) {

@@ -28,7 +28,7 @@ struct WorkerRecord {
   uint64_t nan_dropped = 0, inf_dropped = 0;
   /// Filled by the coordinator from its policy: empty when healthy (see health_warning()).
   std::string health_warning;
-  /// The unit it holds a lease on, if any.
+  /// The unit it holds a lease on, if any (the oldest of its leases when it holds several).
   std::optional<int64_t> job_id;
   uint32_t tile = 0, batch = 0;
 };

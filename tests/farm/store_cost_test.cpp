@@ -100,6 +100,42 @@ TEST_F(StoreCost, LeaseAndAcceptUseFewStatementsAndNoneIsCompiledAgain) {
   EXPECT_LE(per_upload, 13.5);
 }
 
+// Batched calls: 16 leases in one call, 16 results in one transaction (BEGIN and COMMIT once,
+// the job's spec read once per call).
+TEST_F(StoreCost, BatchedCallsCostFewerStatementsPerResult) {
+  submit(16);
+  const int64_t worker = farm_->register_worker({"w", 4, "avx2", "test"});
+  uint64_t lease_statements = 0, upload_statements = 0, results = 0;
+  for (int call = 0; call < 32; ++call) {
+    clock_.advance(1);
+    const StoreCounters c0 = farm_->store_counters();
+    const std::vector<LeasedUnit> units =
+        farm_->lease_units(worker, 16, std::chrono::milliseconds(0), [] { return false; });
+    const StoreCounters c1 = farm_->store_counters();
+    ASSERT_EQ(units.size(), 16u);
+    std::vector<UnitResult> uploads;
+    for (const LeasedUnit& u : units) {
+      uploads.push_back(testing::result_for(
+          u.lease, testing::StoreFixture::synthetic(u.rect, u.lease.batch,
+                                                    u.sample_end - u.sample_begin)));
+    }
+    for (const AcceptOutcome& o : farm_->upload_all(uploads)) EXPECT_TRUE(o.accepted);
+    const StoreCounters c2 = farm_->store_counters();
+    lease_statements += c1.statements - c0.statements;
+    upload_statements += c2.statements - c1.statements;
+    results += units.size();
+    if (call >= 2) {
+      EXPECT_EQ(c2.reprepares - c0.reprepares, 0u);
+    }
+  }
+  const double per_lease = double(lease_statements) / double(results);
+  const double per_upload = double(upload_statements) / double(results);
+  std::printf("batches of 16: statements per leased unit %.2f, per accepted result %.2f\n",
+              per_lease, per_upload);
+  EXPECT_LE(per_lease, 6.0);
+  EXPECT_LE(per_upload, 11.5);
+}
+
 TEST_F(StoreCost, RowsVisitedPerCycleDoNotGrowWithTheUnitsDone) {
   // 64 tiles x 40 batches: cycles 20-70 see about 50 unit rows, cycles 1,950-2,000 about 2,000.
   submit(40);
