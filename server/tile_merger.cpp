@@ -116,8 +116,15 @@ std::vector<AcceptOutcome> TileMerger::accept_all(const std::vector<Upload>& upl
   std::vector<AcceptOutcome> outcomes;
   outcomes.reserve(uploads.size());
   Transaction tx(db_);
+  std::map<int64_t, bool> complete;  // per job of the call: no unit queued or leased
   for (const Upload& u : uploads) {
     outcomes.push_back(accept_in_transaction(*u.result, *u.decoded, staged));
+    complete.try_emplace(u.result->job_id, false);
+  }
+  // Asked once per job after the call's last result, not after each.
+  for (auto& [job_id, done] : complete) done = !units_left(db_, job_id);
+  for (size_t i = 0; i < uploads.size(); ++i) {
+    outcomes[i].job_complete = complete.at(uploads[i].result->job_id);
   }
   tx.commit();
   // Only committed sums go to the cache (an exception above leaves them out: they are rebuilt
@@ -280,7 +287,6 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
       .bind(4, int64_t(tally.inf))
       .bind(5, r.job_id)
       .run();
-  outcome.job_complete = !units_left(db_, r.job_id);
   if (cached) staged.tiles.insert_or_assign({r.job_id, r.tile}, std::move(*cached));
   staged.contributors.insert(contributor);
   return outcome;

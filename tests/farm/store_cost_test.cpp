@@ -133,7 +133,7 @@ TEST_F(StoreCost, BatchedCallsCostFewerStatementsPerResult) {
   std::printf("batches of 16: statements per leased unit %.2f, per accepted result %.2f\n",
               per_lease, per_upload);
   EXPECT_LE(per_lease, 6.0);
-  EXPECT_LE(per_upload, 11.5);
+  EXPECT_LE(per_upload, 9.0);
 }
 
 TEST_F(StoreCost, RowsVisitedPerCycleDoNotGrowWithTheUnitsDone) {
