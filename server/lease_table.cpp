@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "store/tile_queue.h"
+#include "store/workers_table.h"
 
 namespace tessera::server {
 std::string random_lease_id() {
@@ -142,9 +143,7 @@ int LeaseTable::requeue_expiring_before(int64_t bound) {
     db_.prepare("UPDATE jobs SET leases_expired = leases_expired + 1 WHERE id = ?")
         ->bind(1, e.job_id)
         .run();
-    db_.prepare("UPDATE workers SET units_lost = units_lost + 1 WHERE id = ?")
-        ->bind(1, e.worker_id)
-        .run();
+    WorkersTable(db_).count_lost(e.worker_id);
   }
   return count;
 }

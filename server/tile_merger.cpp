@@ -11,6 +11,7 @@
 #include "job_store.h"
 #include "store/tile_queue.h"
 #include "store/units_table.h"
+#include "store/workers_table.h"
 
 namespace tessera::server {
 namespace {
@@ -154,9 +155,7 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
     // A unit cancelled under the worker (its job was cancelled or failed, or the stopping rule
     // no longer needs it) is not the worker's failure: only a lost lease counts against it.
     if (!c->cancelled) {
-      db_.prepare("UPDATE workers SET units_lost = units_lost + 1 WHERE id = ?")
-          ->bind(1, r.worker_id)
-          .run();
+      WorkersTable(db_).count_lost(r.worker_id);
     }
     outcome.reason =
         "lease " + r.lease_id + " is not the current lease of the unit (expired and re-leased, "
@@ -168,15 +167,8 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
   {
     for (uint32_t n : decoded.count) outcome.samples += n;
     const uint64_t samples = outcome.samples + decoded.nan_dropped + decoded.inf_dropped;
-    db_.prepare(
-           "UPDATE workers SET units_done = units_done + 1, samples_returned = samples_returned + "
-           "?,"
-           " nan_dropped = nan_dropped + ?, inf_dropped = inf_dropped + ? WHERE id = ?")
-        ->bind(1, int64_t(samples))
-        .bind(2, int64_t(decoded.nan_dropped))
-        .bind(3, int64_t(decoded.inf_dropped))
-        .bind(4, r.worker_id)
-        .run();
+    WorkersTable(db_).count_delivered(r.worker_id, samples, decoded.nan_dropped,
+                                      decoded.inf_dropped);
   }
   const Contributor contributor{r.job_id, r.worker_id, r.isa};
   if (!contributors_.contains(contributor) && !staged.contributors.contains(contributor)) {
