@@ -353,6 +353,7 @@ struct Options {
   double max_seconds = 30;
   uint32_t wait_ms = 1000;
   double lease_seconds = 30;
+  uint32_t per_call = 1;  ///< units per LeaseUnit (max_units) and results per UploadResults
   bool keep = false;
 };
 
@@ -362,6 +363,7 @@ struct WorkerTally {
   uint64_t accepted = 0, dropped = 0, no_work = 0, released = 0;
   uint64_t early = 0;        ///< uploads sent before the tile's previous batch was acknowledged
   uint64_t proto_bytes = 0;  ///< protobuf payloads of the four messages of each result
+  uint64_t results = 0;      ///< results uploaded (several per call with --per-call)
   Clock::time_point last_accept{};
   double last_accept_upload_ms = 0;  ///< latency of that upload
 };
@@ -425,10 +427,12 @@ void simulated_worker(int index, std::shared_ptr<grpc::Channel> channel, const O
     registered.count_down();
     counted = true;
     go.wait();
+    const bool batched = options.per_call > 1;
     while (!shared.stop) {
       v1::LeaseUnitRequest lease_req;
       lease_req.set_worker_id(reg_reply.worker_id());
       lease_req.set_wait_ms(options.wait_ms);
+      if (batched) lease_req.set_max_units(options.per_call);
       v1::LeaseUnitResponse lease;
       const auto t0 = Clock::now();
       {
@@ -443,55 +447,82 @@ void simulated_worker(int index, std::shared_ptr<grpc::Channel> channel, const O
         continue;
       }
       tally.lease_ms.push_back(ms_between(t0, t1));
-      const v1::WorkUnit& unit = lease.unit();
-      if (shared.stop) {  // bounded run: hand the unit back rather than leave a lease behind
-        v1::ReleaseUnitRequest release;
-        release.set_worker_id(reg_reply.worker_id());
-        release.set_lease_id(lease.lease_id());
-        release.set_reason(v1::ReleaseUnitRequest::REASON_SHUTDOWN);
-        v1::ReleaseUnitResponse released;
-        grpc::ClientContext ctx;
-        wire::prepare_context(ctx, "", kCallTimeout);
-        check_status(stub->ReleaseUnit(&ctx, release, &released), "ReleaseUnit");
-        ++tally.released;
+      // The leases of this call: one in the single-unit fields, or several in `leases`.
+      std::vector<std::pair<std::string, v1::WorkUnit>> held;
+      if (batched) {
+        for (const v1::UnitLease& l : lease.leases()) held.emplace_back(l.lease_id(), l.unit());
+      } else {
+        held.emplace_back(lease.lease_id(), lease.unit());
+      }
+      if (shared.stop) {  // bounded run: hand the units back rather than leave leases behind
+        for (const auto& [lease_id, unit] : held) {
+          v1::ReleaseUnitRequest release;
+          release.set_worker_id(reg_reply.worker_id());
+          release.set_lease_id(lease_id);
+          release.set_reason(v1::ReleaseUnitRequest::REASON_SHUTDOWN);
+          v1::ReleaseUnitResponse released;
+          grpc::ClientContext ctx;
+          wire::prepare_context(ctx, "", kCallTimeout);
+          check_status(stub->ReleaseUnit(&ctx, release, &released), "ReleaseUnit");
+          ++tally.released;
+        }
         break;
       }
-      v1::UploadResultRequest upload;
-      upload.set_worker_id(reg_reply.worker_id());
-      upload.set_lease_id(lease.lease_id());
-      upload.set_job_id(unit.job_id());
-      upload.set_tile(unit.tile());
-      upload.set_batch(unit.batch());
-      upload.set_accumulation(bank.get(unit.tile(), unit.sample_end() - unit.sample_begin()));
-      upload.set_isa("bench");
-      upload.set_render_ms(0);
-      const size_t slot = size_t(unit.tile()) * shared.batch_count + unit.batch();
-      if (slot >= shared.acked.size()) {
-        throw BenchError("leased unit tile " + std::to_string(unit.tile()) + " batch " +
-                         std::to_string(unit.batch()) + " is outside the job's plan");
+      v1::UploadResultsRequest uploads;
+      uploads.set_worker_id(reg_reply.worker_id());
+      std::vector<size_t> slots;
+      for (const auto& [lease_id, unit] : held) {
+        v1::UploadResultRequest* upload = uploads.add_results();
+        upload->set_worker_id(reg_reply.worker_id());
+        upload->set_lease_id(lease_id);
+        upload->set_job_id(unit.job_id());
+        upload->set_tile(unit.tile());
+        upload->set_batch(unit.batch());
+        upload->set_accumulation(bank.get(unit.tile(), unit.sample_end() - unit.sample_begin()));
+        upload->set_isa("bench");
+        upload->set_render_ms(0);
+        const size_t slot = size_t(unit.tile()) * shared.batch_count + unit.batch();
+        if (slot >= shared.acked.size()) {
+          throw BenchError("leased unit tile " + std::to_string(unit.tile()) + " batch " +
+                           std::to_string(unit.batch()) + " is outside the job's plan");
+        }
+        if (unit.batch() > 0 && shared.acked[slot - 1] == 0) ++tally.early;
+        slots.push_back(slot);
       }
-      if (unit.batch() > 0 && shared.acked[slot - 1] == 0) ++tally.early;
-      v1::UploadResultResponse result;
+      v1::UploadResultsResponse results;
       const auto t2 = Clock::now();
-      {
+      if (batched) {
         grpc::ClientContext ctx;
         wire::prepare_context(ctx, "", kUploadTimeout);
-        check_status(stub->UploadResult(&ctx, upload, &result), "UploadResult");
+        check_status(stub->UploadResults(&ctx, uploads, &results), "UploadResults");
+      } else {
+        grpc::ClientContext ctx;
+        wire::prepare_context(ctx, "", kUploadTimeout);
+        check_status(stub->UploadResult(&ctx, uploads.results(0), results.add_results()),
+                     "UploadResult");
       }
       const auto t3 = Clock::now();
+      if (results.results_size() != int(slots.size())) {
+        throw BenchError("UploadResults answered " + std::to_string(results.results_size()) +
+                         " results for " + std::to_string(slots.size()));
+      }
       tally.upload_ms.push_back(ms_between(t2, t3));
-      tally.proto_bytes += lease_req.ByteSizeLong() + lease.ByteSizeLong() + upload.ByteSizeLong() +
-                           result.ByteSizeLong();
-      if (result.accepted()) {
-        ++tally.accepted;
-        tally.last_accept = t3;
-        tally.last_accept_upload_ms = tally.upload_ms.back();
-        if (shared.acked[slot].fetch_add(1) != 0) {
-          throw BenchError("unit tile " + std::to_string(unit.tile()) + " batch " +
-                           std::to_string(unit.batch()) + " was accepted twice");
+      tally.proto_bytes += lease_req.ByteSizeLong() + lease.ByteSizeLong() +
+                           (batched ? uploads.ByteSizeLong() + results.ByteSizeLong()
+                                    : uploads.results(0).ByteSizeLong() +
+                                          results.results(0).ByteSizeLong());
+      tally.results += slots.size();
+      for (size_t i = 0; i < slots.size(); ++i) {
+        if (results.results(int(i)).accepted()) {
+          ++tally.accepted;
+          tally.last_accept = t3;
+          tally.last_accept_upload_ms = tally.upload_ms.back();
+          if (shared.acked[slots[i]].fetch_add(1) != 0) {
+            throw BenchError("unit " + std::to_string(slots[i]) + " was accepted twice");
+          }
+        } else {
+          ++tally.dropped;
         }
-      } else {
-        ++tally.dropped;
       }
     }
   } catch (const std::exception& e) {
@@ -673,7 +704,7 @@ RunResult run_once(const Options& options, const RunConfig& config, const fs::pa
 
   // Figures.
   std::vector<double> lease_ms, upload_ms;
-  uint64_t accepted = 0, dropped = 0, early = 0, proto_bytes = 0;
+  uint64_t accepted = 0, dropped = 0, early = 0, proto_bytes = 0, results = 0;
   Clock::time_point last = start;
   for (const WorkerTally& t : tallies) {
     lease_ms.insert(lease_ms.end(), t.lease_ms.begin(), t.lease_ms.end());
@@ -682,6 +713,7 @@ RunResult run_once(const Options& options, const RunConfig& config, const fs::pa
     dropped += t.dropped;
     early += t.early;
     proto_bytes += t.proto_bytes;
+    results += t.results;
     if (t.accepted > 0 && t.last_accept >= last) {
       last = t.last_accept;
       r.final_upload_ms = t.last_accept_upload_ms;
@@ -701,11 +733,10 @@ RunResult run_once(const Options& options, const RunConfig& config, const fs::pa
   r.upload_p99 = percentile(upload_ms, 99);
   r.upload_max = upload_ms.empty() ? 0 : *std::max_element(upload_ms.begin(), upload_ms.end());
   r.accum_bytes = bank.mean_bytes();
-  const uint64_t calls = upload_ms.size();
-  r.proto_bytes = calls ? double(proto_bytes) / double(calls) : 0;
+  r.proto_bytes = results ? double(proto_bytes) / double(results) : 0;
   r.server_cpu_ms = accepted ? (server_cpu1 - server_cpu0) * 1000.0 / double(accepted) : 0;
   r.client_cpu_ms = accepted ? (client_cpu1 - client_cpu0) * 1000.0 / double(accepted) : 0;
-  r.early_fraction = calls ? double(early) / double(calls) : 0;
+  r.early_fraction = results ? double(early) / double(results) : 0;
   check_final(job, shared, accepted, dropped, r);
 
   std::istringstream log(server.log_text());
@@ -834,6 +865,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--lease-seconds", options.lease_seconds, "the server's --lease-seconds")
       ->capture_default_str();
+  app.add_option("--per-call", options.per_call,
+                 "units leased per LeaseUnit call (max_units) and results per UploadResults call;"
+                 " 1: LeaseUnit and UploadResult as workers before batched calls")
+      ->check(CLI::Range(1u, 64u))
+      ->capture_default_str();
   app.add_option("--reps", reps, "repetitions of each configuration (medians printed)")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
@@ -849,8 +885,11 @@ int main(int argc, char** argv) {
     const auto batches = parse_list<uint32_t>(batches_text, "--batch");
     const auto workers = parse_list<int>(workers_text, "--workers");
     TempDir temp(options.keep);
-    std::printf("tessera-bench-merge: %dx%d, ~%u units per job, %d rep(s), server %s\n",
-                options.size, options.size, options.units, reps, options.server_bin.c_str());
+    std::printf(
+        "tessera-bench-merge: %dx%d, ~%u units per job, %u unit(s) per call, %d rep(s), server "
+        "%s\n",
+        options.size, options.size, options.units, options.per_call, reps,
+        options.server_bin.c_str());
     std::printf("load average at start: %s (%u CPUs)\n", load_average().c_str(),
                 std::thread::hardware_concurrency());
     print_header();

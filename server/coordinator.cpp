@@ -59,6 +59,11 @@ bool Coordinator::checkpoint() {
   return checkpoint_wal(db_);
 }
 
+StoreCounters Coordinator::store_counters() {
+  std::lock_guard lock(mu_);
+  return db_.counters();
+}
+
 int Coordinator::resume() {
   // Start-up reads the leased units (by their partial index), one row per job and index probes:
   // no other unit row and no tile (BENCHMARKS.md, "restart").
@@ -331,39 +336,54 @@ void Coordinator::touch_or_throw(int64_t worker_id) {
     std::lock_guard lock(departed_mu_);
     departed_.erase(worker_id);  // it calls again: online again
   }
-  if (!workers_.touch(worker_id, clock_.now_unix_ms())) {
+  const int64_t now = clock_.now_unix_ms();
+  if (const auto it = touched_unix_ms_.find(worker_id);
+      it != touched_unix_ms_.end() && now - it->second < touch_interval_ms()) {
+    return;  // seen less than touch_interval_ms() ago: last_seen is recent enough
+  }
+  if (!workers_.touch(worker_id, now)) {
     // FAILED_PRECONDITION, not NOT_FOUND: the worker tells "register again" by the code alone.
     throw FarmError(ErrorCode::failed_precondition,
                     "no worker " + std::to_string(worker_id) + ": register again");
   }
+  touched_unix_ms_[worker_id] = now;
 }
 
 std::optional<LeasedUnit> Coordinator::lease(int64_t worker_id, std::chrono::milliseconds wait,
                                              const std::function<bool()>& cancelled) {
+  std::vector<LeasedUnit> units = lease_units(worker_id, 1, wait, cancelled);
+  if (units.empty()) return std::nullopt;
+  return std::move(units.front());
+}
+
+std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max_units,
+                                                 std::chrono::milliseconds wait,
+                                                 const std::function<bool()>& cancelled) {
   const auto deadline = std::chrono::steady_clock::now() + wait;
   for (;;) {
-    if (changes_.stopped()) return std::nullopt;  // shutting down: no new leases
+    if (changes_.stopped()) return {};  // shutting down: no new leases
     // Read the version before looking, so a change made while we look wakes the wait below.
     const uint64_t seen = changes_.version();
-    std::optional<LeasedUnit> unit;
+    std::vector<LeasedUnit> units;
     {
       std::lock_guard lock(mu_);
       touch_or_throw(worker_id);
-      if (std::optional<Lease> lease = scheduler_.lease_next(worker_id)) {
-        // The spec, not the whole record: no aggregate over the job's tiles per lease.
-        const JobSpec job = *jobs_.spec(lease->job_id);
-        const JobPlan plan = job.options.plan();
-        unit = LeasedUnit{*lease, *jobs_.tile_rect(lease->job_id, lease->tile),
-                          plan.batch_begin(lease->batch), plan.batch_end(lease->batch),
-                          job.options, job.bundle_sha256};
+      std::map<int64_t, JobSpec> specs;  // one read per job, not per unit
+      for (const Lease& lease : scheduler_.lease_up_to(worker_id, std::max(1u, max_units))) {
+        auto spec = specs.find(lease.job_id);
+        if (spec == specs.end()) spec = specs.emplace(lease.job_id, *jobs_.spec(lease.job_id)).first;
+        const JobPlan plan = spec->second.options.plan();
+        units.push_back(LeasedUnit{lease, *jobs_.tile_rect(lease.job_id, lease.tile),
+                                   plan.batch_begin(lease.batch), plan.batch_end(lease.batch),
+                                   spec->second.options, spec->second.bundle_sha256});
       }
     }
-    if (unit) {
+    if (!units.empty()) {
       changes_.notify();
-      return unit;
+      return units;
     }
     const auto now = std::chrono::steady_clock::now();
-    if (now >= deadline || changes_.stopped() || (cancelled && cancelled())) return std::nullopt;
+    if (now >= deadline || changes_.stopped() || (cancelled && cancelled())) return {};
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now);
     changes_.wait(seen, std::min(left, std::chrono::milliseconds(250)));
   }
@@ -386,42 +406,74 @@ std::string Coordinator::bundle(const std::string& sha256) {
 }
 
 AcceptOutcome Coordinator::upload(const UnitResult& result) {
+  return upload_all({result}).front();
+}
+
+std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>& results) {
+  if (results.empty()) return {};
+  // Names result i in errors when the call carries several.
+  const auto which = [&](size_t i) {
+    return results.size() > 1 ? "result " + std::to_string(i) + ": " : std::string();
+  };
   // The unit's tile bounds what decoding may allocate: the codec sizes its buffers from the
   // result's header, and a few kilobytes of zstd can declare gigabytes (docs/reliability.md,
-  // "Known problems"). So the worker and the tile are looked up first, and a header declaring
+  // "Known problems"). So the worker and the tiles are looked up first, and a header declaring
   // more pixels than the tile is refused before anything is decompressed.
-  int64_t tile_pixels = 0;
+  std::vector<int64_t> tile_pixels;
   {
     std::lock_guard lock(mu_);
-    touch_or_throw(result.worker_id);
-    const std::optional<TileRect> rect = jobs_.tile_rect(result.job_id, result.tile);
-    if (!rect) {
-      throw FarmError(ErrorCode::not_found, "no unit job " + std::to_string(result.job_id) +
-                                                " tile " + std::to_string(result.tile) +
-                                                " batch " + std::to_string(result.batch));
+    touch_or_throw(results.front().worker_id);
+    for (size_t i = 0; i < results.size(); ++i) {
+      const UnitResult& r = results[i];
+      const std::optional<TileRect> rect = jobs_.tile_rect(r.job_id, r.tile);
+      if (!rect) {
+        throw FarmError(ErrorCode::not_found, which(i) + "no unit job " + std::to_string(r.job_id) +
+                                                  " tile " + std::to_string(r.tile) + " batch " +
+                                                  std::to_string(r.batch));
+      }
+      tile_pixels.push_back(rect->pixel_count());
     }
-    tile_pixels = rect->pixel_count();
   }
   const auto received = std::chrono::steady_clock::now();
-  Accumulation decoded;
-  try {
-    decoded = decode_accumulation(result.encoded, tile_pixels);
-  } catch (const CodecError& e) {
-    throw invalid(std::string("result does not decode: ") + e.what());
+  std::vector<Accumulation> decoded(results.size());
+  std::vector<TileMerger::Upload> uploads;
+  for (size_t i = 0; i < results.size(); ++i) {
+    try {
+      decoded[i] = decode_accumulation(results[i].encoded, tile_pixels[i]);
+    } catch (const CodecError& e) {
+      throw invalid(which(i) + "result does not decode: " + e.what());
+    }
+    uploads.push_back({&results[i], &decoded[i]});
   }
-  AcceptOutcome outcome;
+  std::vector<AcceptOutcome> outcomes;
   {
     // The worker was checked (and its last call recorded) above; workers are never removed.
     std::lock_guard lock(mu_);
-    outcome = merger_.accept(result, decoded);
-    if (outcome.accepted) report_health(result.worker_id);
+    try {
+      outcomes = merger_.accept_all(uploads);
+    } catch (const FarmError& e) {
+      if (results.size() == 1) throw;
+      throw FarmError(e.code(), "one result of the call was refused, none stored: " +
+                                    std::string(e.what()));
+    }
+    for (size_t i = 0; i < results.size(); ++i) {
+      // Only NaN/Inf samples can move a worker over the report threshold.
+      if (outcomes[i].accepted && decoded[i].nan_dropped + decoded[i].inf_dropped > 0) {
+        report_health(results[i].worker_id);
+      }
+    }
   }
-  metrics_.record_result(
-      result.worker_id, result.job_id, outcome.accepted, outcome.samples,
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - received).count());
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - received).count();
+  std::set<int64_t> complete;
+  for (size_t i = 0; i < results.size(); ++i) {
+    metrics_.record_result(results[i].worker_id, results[i].job_id, outcomes[i].accepted,
+                           outcomes[i].samples, seconds);
+    if (outcomes[i].job_complete) complete.insert(results[i].job_id);
+  }
   changes_.notify();
-  if (outcome.job_complete) finish_job(result.job_id);
-  return outcome;
+  for (int64_t id : complete) finish_job(id);
+  return outcomes;
 }
 
 ReleaseOutcome Coordinator::release(int64_t worker_id, const std::string& lease_id,

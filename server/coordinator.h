@@ -137,6 +137,11 @@ class Coordinator {
   /// FarmError(failed_precondition) for an unknown worker id (register again).
   std::optional<LeasedUnit> lease(int64_t worker_id, std::chrono::milliseconds wait,
                                   const std::function<bool()>& cancelled);
+  /// Several units in one call (Scheduler::lease_up_to): every lease the worker holds and new
+  /// ones up to `max_units`, waiting as lease() does while there are none. Empty: no work.
+  std::vector<LeasedUnit> lease_units(int64_t worker_id, uint32_t max_units,
+                                      std::chrono::milliseconds wait,
+                                      const std::function<bool()>& cancelled);
   /// The new expiry, or nullopt when the lease is not current.
   std::optional<int64_t> heartbeat(int64_t worker_id, const std::string& lease_id);
   /// The canonical bundle bytes. Throws FarmError(not_found).
@@ -144,6 +149,10 @@ class Coordinator {
   /// Decodes and accepts a result; writes the job's output when it completes the job. Throws
   /// FarmError(invalid_argument) on bytes that do not decode or do not fit the unit.
   AcceptOutcome upload(const UnitResult& result);
+  /// Several results of one worker in one transaction (TileMerger::accept_all); outcome i
+  /// answers results[i]. All or nothing: FarmError(invalid_argument) naming the first result
+  /// that does not decode or fit its unit, and nothing is stored.
+  std::vector<AcceptOutcome> upload_all(const std::vector<UnitResult>& results);
   ReleaseOutcome release(int64_t worker_id, const std::string& lease_id, ReleaseReason reason,
                          const std::string& message);
   /// Returns expired leases' units to the queue and applies the time rule (jobs past their
@@ -171,6 +180,10 @@ class Coordinator {
   /// Results, rates and merge latency recorded by upload().
   const FarmMetrics& metrics() const { return metrics_; }
   // ---- end of dashboard views ---------------------------------------------------------------
+
+  /// What the store has executed since the server started (StoreCounters): the statements a
+  /// lease or an accepted result costs (tests/farm/store_cost_test.cpp, BENCHMARKS.md).
+  StoreCounters store_counters();
 
   ChangeNotifier& changes() { return changes_; }
   int64_t lease_ms() const { return leases_.lease_ms(); }
@@ -201,6 +214,12 @@ class Coordinator {
   FarmLimits limits_;
   double nan_report_fraction_;
   std::set<int64_t> reported_workers_;  ///< NaN/Inf warning logged (guarded by mu_)
+  /// When each worker's last_seen was last written (guarded by mu_): a call within
+  /// touch_interval_ms() of it writes nothing (workers are never removed, so the worker exists).
+  std::map<int64_t, int64_t> touched_unix_ms_;
+  /// last_seen's granularity: an eighth of a lease, at most a second (online() allows three
+  /// lease periods).
+  int64_t touch_interval_ms() const { return std::min<int64_t>(1000, leases_.lease_ms() / 8); }
   double retention_days_;
   int64_t last_retention_unix_ms_ = 0;  ///< guarded by mu_
   ChangeNotifier changes_;

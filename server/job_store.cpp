@@ -6,6 +6,7 @@
 
 #include "farm_error.h"
 #include "store/tile_queue.h"
+#include "store/units_table.h"
 
 namespace tessera::server {
 namespace {
@@ -261,16 +262,7 @@ std::optional<JobState> apply_job_event(Database& db, int64_t job_id, JobEvent e
 
 /// Every unit of the job that could still run -> cancelled (leases revoked).
 void cancel_units(Database& db, int64_t job_id) {
-  for (UnitState from : {UnitState::queued, UnitState::leased}) {
-    const UnitState to = *next_state(from, UnitEvent::cancel);
-    db.prepare(
-          "UPDATE units SET state = ?, lease_id = NULL, worker_id = NULL,"
-          " lease_expires_unix_ms = NULL WHERE job_id = ? AND state = ?")
-        ->bind(1, s(to))
-        .bind(2, job_id)
-        .bind(3, s(from))
-        .run();
-  }
+  UnitsTable(db).cancel_job(job_id);
   TileQueue(db).close_job(job_id);
   db.prepare("DELETE FROM pending_results WHERE job_id = ?")->bind(1, job_id).run();
 }
@@ -278,10 +270,7 @@ void cancel_units(Database& db, int64_t job_id) {
 }  // namespace
 
 bool units_left(Database& db, int64_t job_id) {
-  auto q = db.prepare("SELECT 1 FROM units WHERE job_id = ? AND state IN (?, ?) LIMIT 1");
-  q->bind(1, job_id).bind(2, s(UnitState::queued)).bind(3, s(UnitState::leased));
-  if (q->step()) return true;
-  return TileQueue(db).any_open(job_id);
+  return UnitsTable(db).any_queued_or_leased(job_id) || TileQueue(db).any_open(job_id);
 }
 
 CancelOutcome JobStore::cancel(int64_t job_id, int64_t now) {

@@ -5,14 +5,9 @@
 #include <vector>
 
 #include "store/tile_queue.h"
+#include "store/workers_table.h"
 
 namespace tessera::server {
-namespace {
-
-std::string s(UnitState state) { return std::string(to_string(state)); }
-
-}  // namespace
-
 std::string random_lease_id() {
   std::random_device rd;
   static constexpr char kHex[] = "0123456789abcdef";
@@ -26,74 +21,44 @@ std::string random_lease_id() {
 
 LeaseTable::LeaseTable(Database& db, JobStore& jobs, const Clock& clock, int64_t lease_ms,
                        IdSource new_id)
-    : db_(db), jobs_(jobs), clock_(clock), lease_ms_(lease_ms), new_id_(std::move(new_id)) {}
+    : db_(db), units_(db), jobs_(jobs), clock_(clock), lease_ms_(lease_ms), new_id_(std::move(new_id)) {}
 
-std::optional<Lease> LeaseTable::held_by(int64_t worker_id) {
-  auto q = db_.prepare(
-      "SELECT lease_id, id, job_id, tile, batch, lease_expires_unix_ms FROM units"
-      " WHERE worker_id = ? AND state = ? ORDER BY id LIMIT 1");
-  q->bind(1, worker_id).bind(2, s(UnitState::leased));
-  if (!q->step()) return std::nullopt;
-  Lease l;
-  l.lease_id = q->text(0);
-  l.unit_id = q->int64(1);
-  l.job_id = q->int64(2);
-  l.tile = uint32_t(q->int64(3));
-  l.batch = uint32_t(q->int64(4));
-  l.worker_id = worker_id;
-  l.expires_unix_ms = q->int64(5);
-  return l;
+namespace {
+
+Lease lease_of(const LeasedRow& row) {
+  return Lease{row.lease_id, row.unit_id, row.job_id, row.tile, row.batch, row.worker_id,
+               row.expires_unix_ms};
 }
 
-std::optional<Lease> LeaseTable::grant_in_transaction(int64_t unit_id, int64_t worker_id) {
-  const UnitState to = *next_state(UnitState::queued, UnitEvent::lease);
+}  // namespace
+
+std::optional<Lease> LeaseTable::held_by(int64_t worker_id) {
+  const std::vector<LeasedRow> held = units_.leased_to(worker_id);
+  if (held.empty()) return std::nullopt;
+  return lease_of(held.front());
+}
+
+std::optional<Lease> LeaseTable::grant_in_transaction(int64_t job_id, const RequeuedUnit& unit,
+                                                      int64_t worker_id) {
   const std::string lease_id = new_id_();
   const int64_t expires = clock_.now_unix_ms() + lease_ms_;
-  db_.prepare(
-         "UPDATE units SET state = ?, lease_id = ?, worker_id = ?, lease_expires_unix_ms = ?"
-         " WHERE id = ? AND state = ?")
-      ->bind(1, s(to))
-      .bind(2, lease_id)
-      .bind(3, worker_id)
-      .bind(4, expires)
-      .bind(5, unit_id)
-      .bind(6, s(UnitState::queued))
-      .run();
-  if (db_.changes() != 1) return std::nullopt;
-  return held_by(worker_id);
+  if (units_.lease_requeued(unit.unit_id, worker_id, lease_id, expires) != 1) return std::nullopt;
+  return Lease{lease_id, unit.unit_id, job_id, unit.tile, unit.batch, worker_id, expires};
 }
 
 std::optional<Lease> LeaseTable::grant_unborn_in_transaction(int64_t job_id, uint32_t tile,
                                                              uint32_t batch, int64_t worker_id) {
   if (!TileQueue(db_).take(job_id, tile, batch)) return std::nullopt;
-  // Born leased: the row's first state is the one the lease event leads to from queued.
-  const UnitState to = *next_state(UnitState::queued, UnitEvent::lease);
-  db_.prepare(
-         "INSERT INTO units (job_id, tile, batch, state, lease_id, worker_id,"
-         " lease_expires_unix_ms) VALUES (?, ?, ?, ?, ?, ?, ?)")
-      ->bind(1, job_id)
-      .bind(2, tile)
-      .bind(3, batch)
-      .bind(4, s(to))
-      .bind(5, new_id_())
-      .bind(6, worker_id)
-      .bind(7, clock_.now_unix_ms() + lease_ms_)
-      .run();
-  return held_by(worker_id);
+  const std::string lease_id = new_id_();
+  const int64_t expires = clock_.now_unix_ms() + lease_ms_;
+  units_.insert_leased(job_id, tile, batch, worker_id, lease_id, expires);
+  return Lease{lease_id, db_.last_insert_rowid(), job_id, tile, batch, worker_id, expires};
 }
 
 std::optional<int64_t> LeaseTable::extend_in_transaction(int64_t worker_id,
                                                          const std::string& lease_id) {
   const int64_t expires = clock_.now_unix_ms() + lease_ms_;
-  db_.prepare(
-         "UPDATE units SET lease_expires_unix_ms = MAX(lease_expires_unix_ms, ?)"
-         " WHERE lease_id = ? AND worker_id = ? AND state = ?")
-      ->bind(1, expires)
-      .bind(2, lease_id)
-      .bind(3, worker_id)
-      .bind(4, s(UnitState::leased))
-      .run();
-  if (db_.changes() != 1) return std::nullopt;
+  if (units_.extend(worker_id, lease_id, expires) != 1) return std::nullopt;
   return expires;
 }
 
@@ -108,27 +73,11 @@ ReleaseOutcome LeaseTable::release(int64_t worker_id, const std::string& lease_i
                                    ReleaseReason reason, const std::string& message) {
   ReleaseOutcome outcome;
   Transaction tx(db_);
-  int64_t unit_id = 0, job_id = 0;
-  {
-    auto q = db_.prepare("SELECT id, job_id FROM units WHERE lease_id = ? AND worker_id = ? AND state = ?");
-    q->bind(1, lease_id).bind(2, worker_id).bind(3, s(UnitState::leased));
-    if (!q->step()) return outcome;
-    unit_id = q->int64(0);
-    job_id = q->int64(1);
-  }
+  const std::optional<LeasedRow> held = units_.lease(worker_id, lease_id);
+  if (!held) return outcome;
+  const int64_t unit_id = held->unit_id, job_id = held->job_id;
   const bool failed = reason == ReleaseReason::failed;
-  const UnitState to = *next_state(UnitState::leased, UnitEvent::release);
-  db_.prepare(
-         "UPDATE units SET state = ?, lease_id = NULL, worker_id = NULL,"
-         " lease_expires_unix_ms = NULL, failures = failures + ? WHERE id = ? AND lease_id = ?"
-         " AND state = ?")
-      ->bind(1, s(to))
-      .bind(2, failed ? 1 : 0)
-      .bind(3, unit_id)
-      .bind(4, lease_id)
-      .bind(5, s(UnitState::leased))
-      .run();
-  outcome.released = db_.changes() == 1;
+  outcome.released = units_.requeue(unit_id, lease_id, UnitEvent::release, failed) == 1;
   db_.prepare("UPDATE jobs SET units_released = units_released + 1 WHERE id = ?")
       ->bind(1, job_id)
       .run();
@@ -177,15 +126,7 @@ bool LeaseTable::record_failure(int64_t unit_id, int64_t job_id, int64_t worker_
   }
   const int64_t max_attempts = int64_t(policy_.workers_to_fail_unit) * policy_.failures_to_block;
   if (workers < policy_.workers_to_fail_unit && attempts < max_attempts) return false;
-  uint32_t tile = 0, batch = 0;
-  {
-    auto q = db_.prepare("SELECT tile, batch FROM units WHERE id = ?");
-    q->bind(1, unit_id);
-    if (q->step()) {
-      tile = uint32_t(q->int64(0));
-      batch = uint32_t(q->int64(1));
-    }
-  }
+  const auto [tile, batch] = units_.tile_batch(unit_id).value_or(std::pair(0u, 0u));
   return jobs_.fail_in_transaction(job_id,
                                    "unit (tile " + std::to_string(tile) + ", batch " +
                                        std::to_string(batch) + ") failed " +
@@ -195,39 +136,14 @@ bool LeaseTable::record_failure(int64_t unit_id, int64_t job_id, int64_t worker_
 }
 
 int LeaseTable::requeue_expiring_before(int64_t bound) {
-  struct Expired {
-    int64_t unit_id, job_id, worker_id;
-    std::string lease_id;
-  };
-  std::vector<Expired> expired;
-  {
-    // The literal 'leased' (not a parameter) lets SQLite use the partial indexes on leased
-    // units (units_expiry): start-up and expiry read the leased rows alone, not every unit.
-    auto q = db_.prepare(
-        "SELECT id, job_id, worker_id, lease_id FROM units INDEXED BY units_expiry"
-        " WHERE state = 'leased' AND lease_expires_unix_ms < ?1");
-    q->bind(1, bound);
-    while (q->step()) expired.push_back({q->int64(0), q->int64(1), q->int64(2), q->text(3)});
-  }
-  const UnitState to = *next_state(UnitState::leased, UnitEvent::expire);
   int count = 0;
-  for (const Expired& e : expired) {
-    db_.prepare(
-           "UPDATE units SET state = ?, lease_id = NULL, worker_id = NULL,"
-           " lease_expires_unix_ms = NULL WHERE id = ? AND lease_id = ? AND state = ?")
-        ->bind(1, s(to))
-        .bind(2, e.unit_id)
-        .bind(3, e.lease_id)
-        .bind(4, s(UnitState::leased))
-        .run();
-    if (db_.changes() != 1) continue;
+  for (const LeasedRow& e : units_.leases_expiring_before(bound)) {
+    if (units_.requeue(e.unit_id, e.lease_id, UnitEvent::expire, false) != 1) continue;
     ++count;
     db_.prepare("UPDATE jobs SET leases_expired = leases_expired + 1 WHERE id = ?")
         ->bind(1, e.job_id)
         .run();
-    db_.prepare("UPDATE workers SET units_lost = units_lost + 1 WHERE id = ?")
-        ->bind(1, e.worker_id)
-        .run();
+    WorkersTable(db_).count_lost(e.worker_id);
   }
   return count;
 }

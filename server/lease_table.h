@@ -11,6 +11,7 @@
 #include "clock.h"
 #include "job_store.h"
 #include "store/sqlite.h"
+#include "store/units_table.h"
 
 namespace tessera::server {
 
@@ -68,9 +69,11 @@ class LeaseTable {
   /// The lease `worker_id` holds, if any (a worker holds at most one).
   std::optional<Lease> held_by(int64_t worker_id);
 
-  /// queued -> leased for `worker_id` with a fresh id, expiring at now + lease_ms. Call inside a
-  /// transaction. nullopt when the unit was not queued (someone else won the compare-and-set).
-  std::optional<Lease> grant_in_transaction(int64_t unit_id, int64_t worker_id);
+  /// queued -> leased for `worker_id` with a fresh id, expiring at now + lease_ms, of the
+  /// requeued unit `unit` of `job_id`. Call inside a transaction. nullopt when the unit was not
+  /// queued (someone else won the compare-and-set).
+  std::optional<Lease> grant_in_transaction(int64_t job_id, const RequeuedUnit& unit,
+                                            int64_t worker_id);
 
   /// The lease event on a unit without a row (store/tile_queue.h): inserts the row of batch
   /// `batch` of `tile`, leased to `worker_id` with a fresh id, and moves the tile's next_lease
@@ -108,6 +111,7 @@ class LeaseTable {
                       const std::string& message);
 
   Database& db_;
+  UnitsTable units_;
   JobStore& jobs_;
   const Clock& clock_;
   int64_t lease_ms_;

@@ -27,6 +27,9 @@ class MergeCache {
   struct Tile {
     Accumulation sum;
     uint32_t next_batch = 0;
+    /// Batches [0, checkpointed) are in the stored checkpoint, [checkpointed, next_batch) in
+    /// merged_results.
+    uint32_t checkpointed = 0;
   };
 
   /// The coordinator's default bound (CoordinatorConfig::merge_cache_bytes, --merge-cache-mb).

@@ -33,17 +33,17 @@ class Scheduler {
   /// starts the job (queued -> running). nullopt when there is no work: a normal answer.
   std::optional<Lease> lease_next(int64_t worker_id);
 
+  /// Several leases in one transaction: every lease the worker holds (expiry extended: a
+  /// retried call after a lost reply leases nothing twice) and new ones, picked as lease_next
+  /// picks, until it holds `max_units`. Empty when it holds none and there is no work.
+  std::vector<Lease> lease_up_to(int64_t worker_id, uint32_t max_units);
+
   /// The time rule's bookkeeping, called periodically (and before answering a lease): every
   /// running `time` job past its budget is marked (budget_reached_unix_ms) and its queued units
   /// of batches > 0 skipped (UnitEvent::skip; units back from an expired lease are skipped on
   /// the next call; batch 0 is leased again, whatever the time). Leased units are awaited: their results merge if their batch prefix is complete. Returns
   /// the ids of such jobs with no unit queued or leased left: ready to settle and finish.
   std::vector<int64_t> enforce_time_budgets();
-
-  /// The query that picks a job's next unit among those back in the queue, with a row (?1
-  /// job, ?2 'queued', ?3 kNoiseLookahead for noise jobs, ?4 the first batch not to lease),
-  /// public so tests can check its plan. Units without a row: TileQueue::first_sql.
-  static const char* first_unit_sql(bool noise);
 
  private:
   /// A leasable unit: with its row (unit_id) or without one yet (store/tile_queue.h).
@@ -55,6 +55,7 @@ class Scheduler {
   std::optional<Pick> first_unit(int64_t job_id, bool noise, bool over_budget);
 
   Database& db_;
+  UnitsTable units_{db_};
   LeaseTable& leases_;
   const Clock& clock_;
 };

@@ -10,6 +10,8 @@
 #include "job_state.h"
 #include "job_store.h"
 #include "store/tile_queue.h"
+#include "store/units_table.h"
+#include "store/workers_table.h"
 
 namespace tessera::server {
 namespace {
@@ -90,18 +92,7 @@ struct MergeTally {
 void TileMerger::close_tile(int64_t job_id, uint32_t tile) {
   // The tile's later units are not needed: queued or leased, they are skipped (a leased one's
   // result will be stale and dropped); results already accepted for later batches are wasted.
-  int64_t skipped = 0;
-  for (UnitState from : {UnitState::queued, UnitState::leased}) {
-    db_.prepare(
-           "UPDATE units SET state = ?, lease_id = NULL, lease_expires_unix_ms = NULL"
-           " WHERE job_id = ? AND tile = ? AND state = ?")
-        ->bind(1, s(*next_state(from, UnitEvent::skip)))
-        .bind(2, job_id)
-        .bind(3, tile)
-        .bind(4, s(from))
-        .run();
-    skipped += db_.changes();
-  }
+  int64_t skipped = UnitsTable(db_).skip_tile(job_id, tile);
   skipped += TileQueue(db_).close_tile(job_id, tile);  // and those without a row yet
   db_.prepare("DELETE FROM pending_results WHERE job_id = ? AND tile = ?")
       ->bind(1, job_id)
@@ -118,9 +109,36 @@ void TileMerger::close_tile(int64_t job_id, uint32_t tile) {
 }
 
 AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decoded) {
+  return accept_all({Upload{&r, &decoded}}).front();
+}
+
+std::vector<AcceptOutcome> TileMerger::accept_all(const std::vector<Upload>& uploads) {
+  Staged staged;
+  std::vector<AcceptOutcome> outcomes;
+  outcomes.reserve(uploads.size());
+  Transaction tx(db_);
+  std::map<int64_t, bool> complete;  // per job of the call: no unit queued or leased
+  for (const Upload& u : uploads) {
+    outcomes.push_back(accept_in_transaction(*u.result, *u.decoded, staged));
+    complete.try_emplace(u.result->job_id, false);
+  }
+  // Asked once per job after the call's last result, not after each.
+  for (auto& [job_id, done] : complete) done = !units_left(db_, job_id);
+  for (size_t i = 0; i < uploads.size(); ++i) {
+    outcomes[i].job_complete = complete.at(uploads[i].result->job_id);
+  }
+  tx.commit();
+  // Only committed sums go to the cache (an exception above leaves them out: they are rebuilt
+  // from the store next time).
+  for (auto& [key, tile] : staged.tiles) cache_.put(key.first, key.second, std::move(tile));
+  contributors_.insert(staged.contributors.begin(), staged.contributors.end());
+  return outcomes;
+}
+
+AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accumulation& decoded,
+                                                Staged& staged) {
   AcceptOutcome outcome;
   std::optional<MergeCache::Tile> cached;  // the tile's sum while this call merges into it
-  Transaction tx(db_);
   const std::optional<UnitContext> c = load_unit(db_, r);
   if (!c) {
     throw FarmError(ErrorCode::not_found, "no unit job " + std::to_string(r.job_id) + " tile " +
@@ -130,55 +148,38 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
   validate(r, *c, decoded);
 
   // The compare-and-set: only the current lease of this unit, held by this worker, completes it.
-  const UnitState done = *next_state(UnitState::leased, UnitEvent::accept);
-  db_.prepare(
-         "UPDATE units SET state = ?, lease_id = NULL, lease_expires_unix_ms = NULL"
-         " WHERE id = ? AND lease_id = ? AND worker_id = ? AND state = ?")
-      ->bind(1, s(done))
-      .bind(2, c->unit_id)
-      .bind(3, r.lease_id)
-      .bind(4, r.worker_id)
-      .bind(5, s(UnitState::leased))
-      .run();
-  if (db_.changes() != 1) {
+  if (UnitsTable(db_).accept(c->unit_id, r.worker_id, r.lease_id) != 1) {
     db_.prepare("UPDATE jobs SET results_dropped = results_dropped + 1 WHERE id = ?")
         ->bind(1, r.job_id)
         .run();
     // A unit cancelled under the worker (its job was cancelled or failed, or the stopping rule
     // no longer needs it) is not the worker's failure: only a lost lease counts against it.
     if (!c->cancelled) {
-      db_.prepare("UPDATE workers SET units_lost = units_lost + 1 WHERE id = ?")
-          ->bind(1, r.worker_id)
-          .run();
+      WorkersTable(db_).count_lost(r.worker_id);
     }
-    tx.commit();
     outcome.reason =
         "lease " + r.lease_id + " is not the current lease of the unit (expired and re-leased, "
         "already delivered, or the job ended)";
     return outcome;
   }
   outcome.accepted = true;
-  db_.prepare("UPDATE jobs SET units_done = units_done + 1 WHERE id = ?")->bind(1, r.job_id).run();
+  MergeTally tally;  // what this call merged, added to the job's counters with units_done
   {
     for (uint32_t n : decoded.count) outcome.samples += n;
     const uint64_t samples = outcome.samples + decoded.nan_dropped + decoded.inf_dropped;
+    WorkersTable(db_).count_delivered(r.worker_id, samples, decoded.nan_dropped,
+                                      decoded.inf_dropped);
+  }
+  const Contributor contributor{r.job_id, r.worker_id, r.isa};
+  if (!contributors_.contains(contributor) && !staged.contributors.contains(contributor)) {
     db_.prepare(
-           "UPDATE workers SET units_done = units_done + 1, samples_returned = samples_returned + "
-           "?,"
-           " nan_dropped = nan_dropped + ?, inf_dropped = inf_dropped + ? WHERE id = ?")
-        ->bind(1, int64_t(samples))
-        .bind(2, int64_t(decoded.nan_dropped))
-        .bind(3, int64_t(decoded.inf_dropped))
-        .bind(4, r.worker_id)
+           "INSERT OR IGNORE INTO job_contributors (job_id, isa, version)"
+           " SELECT ?, ?, version FROM workers WHERE id = ?")
+        ->bind(1, r.job_id)
+        .bind(2, r.isa)
+        .bind(3, r.worker_id)
         .run();
   }
-  db_.prepare(
-         "INSERT OR IGNORE INTO job_contributors (job_id, isa, version)"
-         " SELECT ?, ?, version FROM workers WHERE id = ?")
-      ->bind(1, r.job_id)
-      .bind(2, r.isa)
-      .bind(3, r.worker_id)
-      .run();
 
   if (r.batch != c->next_batch) {
     // Earlier batches of this tile are missing: keep the result, durably, until they come.
@@ -196,9 +197,8 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
     // tile by the job's stopping rule after each (determinism contract rule 4): once it is
     // finished nothing more merges into it, whatever else has arrived. The sum comes from the
     // merge cache, or is rebuilt from the checkpoint and merged_results.
-    cached = load_sum(r.job_id, r.tile, c->rect, c->next_batch);
+    cached = load_sum(r.job_id, r.tile, c->rect, c->next_batch, &staged);
     Accumulation& tile = cached->sum;
-    MergeTally tally;
     uint32_t next = c->next_batch;
     const Accumulation* batch = &decoded;
     Accumulation successor;
@@ -224,11 +224,11 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
       from_pending.push_back(next);
     }
     cached->next_batch = next;
-    const uint32_t first_unchecked = oldest_unchecked(r.job_id, r.tile, c->next_batch);
-    if (verdict.finished || next - first_unchecked >= checkpoint_every_) {
+    if (verdict.finished || next - cached->checkpointed >= checkpoint_every_) {
       // Checkpoint: the sum becomes the stored tile; the rows it covers go.
       for (uint32_t b : from_pending) delete_pending(r.job_id, r.tile, b);
       write_checkpoint(r.job_id, r.tile, tile);
+      cached->checkpointed = next;
     } else {
       // Append: the uploaded bytes as they came, and the successors' rows moved, not re-encoded.
       db_.prepare(
@@ -267,22 +267,20 @@ AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decode
                                                std::to_string(r.job_id) +
                                                " changed during its merge");
     }
-    db_.prepare(
-           "UPDATE jobs SET results_merged = results_merged + ?, samples_merged = samples_merged"
-           " + ?, nan_dropped = nan_dropped + ?, inf_dropped = inf_dropped + ? WHERE id = ?")
-        ->bind(1, tally.results)
-        .bind(2, int64_t(tally.pixel_samples))
-        .bind(3, int64_t(tally.nan))
-        .bind(4, int64_t(tally.inf))
-        .bind(5, r.job_id)
-        .run();
     outcome.merged = tally.results;
   }
-  outcome.job_complete = !units_left(db_, r.job_id);
-  tx.commit();
-  // Only a committed sum goes back to the cache (an exception above leaves the entry out: it is
-  // rebuilt from the store next time).
-  if (cached) cache_.put(r.job_id, r.tile, std::move(*cached));
+  db_.prepare(
+         "UPDATE jobs SET units_done = units_done + 1, results_merged = results_merged + ?,"
+         " samples_merged = samples_merged + ?, nan_dropped = nan_dropped + ?,"
+         " inf_dropped = inf_dropped + ? WHERE id = ?")
+      ->bind(1, tally.results)
+      .bind(2, int64_t(tally.pixel_samples))
+      .bind(3, int64_t(tally.nan))
+      .bind(4, int64_t(tally.inf))
+      .bind(5, r.job_id)
+      .run();
+  if (cached) staged.tiles.insert_or_assign({r.job_id, r.tile}, std::move(*cached));
+  staged.contributors.insert(contributor);
   return outcome;
 }
 
@@ -314,7 +312,15 @@ void TileMerger::write_checkpoint(int64_t job_id, uint32_t tile, const Accumulat
 }
 
 MergeCache::Tile TileMerger::load_sum(int64_t job_id, uint32_t tile, const TileRect& rect,
-                                      uint32_t next_batch) {
+                                      uint32_t next_batch, Staged* staged) {
+  if (staged) {
+    const auto it = staged->tiles.find({job_id, tile});
+    if (it != staged->tiles.end()) {
+      MergeCache::Tile t = std::move(it->second);
+      staged->tiles.erase(it);
+      if (t.next_batch == next_batch) return t;
+    }
+  }
   if (std::optional<MergeCache::Tile> hit = cache_.take(job_id, tile, next_batch)) {
     return std::move(*hit);
   }
@@ -326,6 +332,7 @@ MergeCache::Tile TileMerger::load_sum(int64_t job_id, uint32_t tile, const TileR
   }
   // The checkpoint holds batches [0, first); merged_results holds [first, next_batch), in order.
   uint32_t expected = oldest_unchecked(job_id, tile, next_batch);
+  t.checkpointed = expected;
   auto q = db_.prepare(
       "SELECT batch, accumulation FROM merged_results WHERE job_id = ? AND tile = ?"
       " ORDER BY batch");
@@ -368,6 +375,7 @@ void TileMerger::checkpoint_job(int64_t job_id) {
   for (size_t i = 0; i < dirty.size(); ++i) {
     MergeCache::Tile t = load_sum(job_id, dirty[i].first, dirty[i].second, next_batches[i]);
     write_checkpoint(job_id, dirty[i].first, t.sum);
+    t.checkpointed = t.next_batch;
     written.emplace_back(dirty[i].first, std::move(t));
   }
   tx.commit();

@@ -15,7 +15,11 @@
 // batches a tile merges is thus a function of the job alone, whatever arrives when.
 #pragma once
 
+#include <compare>
 #include <cstdint>
+#include <map>
+#include <set>
+#include <vector>
 #include <string>
 
 #include "accum/accumulation.h"
@@ -61,22 +65,54 @@ class TileMerger {
   /// lease stays current: the worker may retry with a good result).
   AcceptOutcome accept(const UnitResult& result, const Accumulation& decoded);
 
+  /// A result and its decoded accumulation, for accept_all.
+  struct Upload {
+    const UnitResult* result;
+    const Accumulation* decoded;
+  };
+  /// Accepts several results in one transaction (group commit), each exactly as accept() would
+  /// in that order; outcome i answers uploads[i]. All or nothing on errors: a FarmError from one
+  /// result rolls back the whole call.
+  std::vector<AcceptOutcome> accept_all(const std::vector<Upload>& uploads);
+
   /// Writes every tile of the job whose sum is not all in tiles.accumulation (merged results
   /// appended since its last checkpoint) as its checkpoint, in one transaction. Call before
   /// reading tiles.accumulation (JobStore::tiles): output, previews, tile maps.
   void checkpoint_job(int64_t job_id);
 
   /// Drops the job's tiles from memory (it was deleted).
-  void forget_job(int64_t job_id) { cache_.forget_job(job_id); }
+  void forget_job(int64_t job_id) {
+    cache_.forget_job(job_id);
+    std::erase_if(contributors_, [job_id](const Contributor& c) { return c.job_id == job_id; });
+  }
 
   const MergeCache& cache() const { return cache_; }
 
  private:
-  /// The tile's sum of batches [0, next_batch): from the cache, else its checkpoint plus its
-  /// merged results in batch order. Throws FarmError(internal) when the store's rows do not
-  /// continue the checkpoint exactly.
+  /// A (job, worker, ISA) whose job_contributors row is committed: later results of the same
+  /// worker and ISA skip the INSERT OR IGNORE.
+  struct Contributor {
+    int64_t job_id = 0;
+    int64_t worker_id = 0;
+    std::string isa;
+    auto operator<=>(const Contributor&) const = default;
+  };
+  /// What a transaction in progress merged: tiles and contributors that go to the cache and
+  /// contributors_ once it commits.
+  struct Staged {
+    std::map<std::pair<int64_t, uint32_t>, MergeCache::Tile> tiles;
+    std::set<Contributor> contributors;
+  };
+
+  /// accept() inside the caller's transaction; what it merged goes to `staged`.
+  AcceptOutcome accept_in_transaction(const UnitResult& result, const Accumulation& decoded,
+                                      Staged& staged);
+
+  /// The tile's sum of batches [0, next_batch): from `staged` (merged earlier in this
+  /// transaction), the cache, else its checkpoint plus its merged results in batch order.
+  /// Throws FarmError(internal) when the store's rows do not continue the checkpoint exactly.
   MergeCache::Tile load_sum(int64_t job_id, uint32_t tile, const TileRect& rect,
-                            uint32_t next_batch);
+                            uint32_t next_batch, Staged* staged = nullptr);
   /// The first batch of the tile not in its checkpoint (next_batch when all are).
   uint32_t oldest_unchecked(int64_t job_id, uint32_t tile, uint32_t next_batch);
   /// Stores `sum` as the tile's checkpoint and deletes its merged results.
@@ -89,6 +125,7 @@ class TileMerger {
   Database& db_;
   const Clock& clock_;
   MergeCache cache_;
+  std::set<Contributor> contributors_;
   uint32_t checkpoint_every_;
 };
 

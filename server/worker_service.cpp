@@ -30,33 +30,49 @@ grpc::Status WorkerServiceImpl::Register(grpc::ServerContext* context,
   });
 }
 
+namespace {
+
+void fill_unit(const LeasedUnit& unit, v1::WorkUnit* u) {
+  u->set_job_id(uint64_t(unit.lease.job_id));
+  u->set_tile(unit.lease.tile);
+  u->set_x0(unit.rect.x0);
+  u->set_y0(unit.rect.y0);
+  u->set_x1(unit.rect.x1);
+  u->set_y1(unit.rect.y1);
+  u->set_batch(unit.lease.batch);
+  u->set_sample_begin(unit.sample_begin);
+  u->set_sample_end(unit.sample_end);
+  *u->mutable_options() = wire::options_to_proto(unit.options);
+  u->set_bundle_sha256(unit.bundle_sha256);
+}
+
+}  // namespace
+
 grpc::Status WorkerServiceImpl::LeaseUnit(grpc::ServerContext* context,
                                           const v1::LeaseUnitRequest* request,
                                           v1::LeaseUnitResponse* response) {
   return guarded(auth_, *context, "LeaseUnit", [&] {
     const auto wait = std::chrono::milliseconds(std::min(request->wait_ms(), kMaxLeaseWaitMs));
-    const std::optional<LeasedUnit> unit = coordinator_.lease(
-        worker_id_of(request->worker_id()), wait, [context] { return context->IsCancelled(); });
+    // max_units 0: a worker from before batched leases, answered in the single-unit fields.
+    const uint32_t max_units = std::min(request->max_units(), kMaxUnitsPerCall);
+    const std::vector<LeasedUnit> units =
+        coordinator_.lease_units(worker_id_of(request->worker_id()), std::max(1u, max_units),
+                                 wait, [context] { return context->IsCancelled(); });
     response->set_heartbeat_interval_ms(uint32_t(std::max<int64_t>(50, coordinator_.lease_ms() / 3)));
-    if (!unit) {
-      response->set_leased(false);
+    response->set_leased(!units.empty());
+    if (units.empty()) return grpc::Status::OK;
+    if (max_units == 0) {
+      response->set_lease_id(units.front().lease.lease_id);
+      response->set_expires_unix_ms(units.front().lease.expires_unix_ms);
+      fill_unit(units.front(), response->mutable_unit());
       return grpc::Status::OK;
     }
-    response->set_leased(true);
-    response->set_lease_id(unit->lease.lease_id);
-    response->set_expires_unix_ms(unit->lease.expires_unix_ms);
-    v1::WorkUnit* u = response->mutable_unit();
-    u->set_job_id(uint64_t(unit->lease.job_id));
-    u->set_tile(unit->lease.tile);
-    u->set_x0(unit->rect.x0);
-    u->set_y0(unit->rect.y0);
-    u->set_x1(unit->rect.x1);
-    u->set_y1(unit->rect.y1);
-    u->set_batch(unit->lease.batch);
-    u->set_sample_begin(unit->sample_begin);
-    u->set_sample_end(unit->sample_end);
-    *u->mutable_options() = wire::options_to_proto(unit->options);
-    u->set_bundle_sha256(unit->bundle_sha256);
+    for (const LeasedUnit& unit : units) {
+      v1::UnitLease* l = response->add_leases();
+      l->set_lease_id(unit.lease.lease_id);
+      l->set_expires_unix_ms(unit.lease.expires_unix_ms);
+      fill_unit(unit, l->mutable_unit());
+    }
     return grpc::Status::OK;
   });
 }
@@ -84,24 +100,65 @@ grpc::Status WorkerServiceImpl::FetchBundle(grpc::ServerContext* context,
   });
 }
 
+namespace {
+
+UnitResult result_of(const v1::UploadResultRequest& request, uint64_t worker_id) {
+  if (request.job_id() == 0 || request.job_id() > uint64_t(INT64_MAX)) {
+    throw FarmError(ErrorCode::invalid_argument, "job id must be >= 1");
+  }
+  UnitResult result;
+  result.worker_id = worker_id_of(worker_id);
+  result.lease_id = request.lease_id();
+  result.job_id = int64_t(request.job_id());
+  result.tile = request.tile();
+  result.batch = request.batch();
+  result.encoded = request.accumulation();
+  result.isa = request.isa();
+  return result;
+}
+
+}  // namespace
+
 grpc::Status WorkerServiceImpl::UploadResult(grpc::ServerContext* context,
                                              const v1::UploadResultRequest* request,
                                              v1::UploadResultResponse* response) {
   return guarded(auth_, *context, "UploadResult", [&] {
-    if (request->job_id() == 0 || request->job_id() > uint64_t(INT64_MAX)) {
-      throw FarmError(ErrorCode::invalid_argument, "job id must be >= 1");
-    }
-    UnitResult result;
-    result.worker_id = worker_id_of(request->worker_id());
-    result.lease_id = request->lease_id();
-    result.job_id = int64_t(request->job_id());
-    result.tile = request->tile();
-    result.batch = request->batch();
-    result.encoded = request->accumulation();
-    result.isa = request->isa();
-    const AcceptOutcome outcome = coordinator_.upload(result);
+    const AcceptOutcome outcome =
+        coordinator_.upload(result_of(*request, request->worker_id()));
     response->set_accepted(outcome.accepted);
     response->set_reason(outcome.reason);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status WorkerServiceImpl::UploadResults(grpc::ServerContext* context,
+                                              const v1::UploadResultsRequest* request,
+                                              v1::UploadResultsResponse* response) {
+  return guarded(auth_, *context, "UploadResults", [&] {
+    if (request->results_size() == 0) {
+      throw FarmError(ErrorCode::invalid_argument, "UploadResults carries no result");
+    }
+    if (uint32_t(request->results_size()) > kMaxUnitsPerCall) {
+      throw FarmError(ErrorCode::invalid_argument,
+                      "UploadResults carries " + std::to_string(request->results_size()) +
+                          " results; at most " + std::to_string(kMaxUnitsPerCall) + " per call");
+    }
+    std::vector<UnitResult> results;
+    for (int i = 0; i < request->results_size(); ++i) {
+      const v1::UploadResultRequest& r = request->results(i);
+      if (r.worker_id() != 0 && r.worker_id() != request->worker_id()) {
+        throw FarmError(ErrorCode::invalid_argument,
+                        "result " + std::to_string(i) + " names worker " +
+                            std::to_string(r.worker_id()) + ", the call worker " +
+                            std::to_string(request->worker_id()));
+      }
+      results.push_back(result_of(r, request->worker_id()));
+    }
+    for (const AcceptOutcome& outcome : coordinator_.upload_all(results)) {
+      v1::UploadResultResponse* answer = response->add_results();
+      answer->set_accepted(outcome.accepted);
+      answer->set_reason(outcome.reason);
+    }
     return grpc::Status::OK;
   });
 }

@@ -12,6 +12,8 @@ class WorkerServiceImpl final : public v1::WorkerService::Service {
  public:
   /// Longest LeaseUnit long poll, milliseconds, whatever the worker asks.
   static constexpr uint32_t kMaxLeaseWaitMs = 5000;
+  /// Most units one LeaseUnit call leases, and most results one UploadResults call carries.
+  static constexpr uint32_t kMaxUnitsPerCall = 64;
 
   WorkerServiceImpl(Coordinator& coordinator, const wire::BearerTokenCheck& auth)
       : coordinator_(coordinator), auth_(auth) {}
@@ -26,6 +28,9 @@ class WorkerServiceImpl final : public v1::WorkerService::Service {
                            v1::FetchBundleResponse* response) override;
   grpc::Status UploadResult(grpc::ServerContext* context, const v1::UploadResultRequest* request,
                             v1::UploadResultResponse* response) override;
+  grpc::Status UploadResults(grpc::ServerContext* context,
+                             const v1::UploadResultsRequest* request,
+                             v1::UploadResultsResponse* response) override;
   grpc::Status ReleaseUnit(grpc::ServerContext* context, const v1::ReleaseUnitRequest* request,
                            v1::ReleaseUnitResponse* response) override;
   grpc::Status Deregister(grpc::ServerContext* context, const v1::DeregisterRequest* request,

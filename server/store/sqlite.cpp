@@ -14,7 +14,7 @@ void check(sqlite3* db, int code, std::string_view what) {
 
 }  // namespace
 
-Statement::Statement(sqlite3* db, std::string_view sql) : db_(db) {
+Statement::Statement(sqlite3* db, std::string_view sql, uint64_t* runs) : db_(db), runs_(runs) {
   sqlite3_stmt* raw = nullptr;
   const int rc = sqlite3_prepare_v3(db, sql.data(), int(sql.size()), SQLITE_PREPARE_PERSISTENT,
                                     &raw, nullptr);
@@ -55,6 +55,7 @@ Statement& Statement::bind_null(int index) {
 }
 
 bool Statement::step() {
+  if (runs_ && !sqlite3_stmt_busy(stmt_.get())) ++*runs_;
   const int rc = sqlite3_step(stmt_.get());
   if (rc == SQLITE_ROW) return true;
   if (rc == SQLITE_DONE) return false;
@@ -71,6 +72,8 @@ void Statement::reset() {
   sqlite3_reset(stmt_.get());
   sqlite3_clear_bindings(stmt_.get());
 }
+
+int Statement::status(int op) const { return sqlite3_stmt_status(stmt_.get(), op, 0); }
 
 int64_t Statement::int64(int column) const { return sqlite3_column_int64(stmt_.get(), column); }
 
@@ -109,6 +112,7 @@ Database::Database(const std::string& path, int busy_timeout_ms) {
 }
 
 void Database::exec(std::string_view sql) {
+  ++statements_;
   char* error = nullptr;
   const int rc = sqlite3_exec(db_.get(), std::string(sql).c_str(), nullptr, nullptr, &error);
   if (rc != SQLITE_OK) {
@@ -121,10 +125,20 @@ void Database::exec(std::string_view sql) {
 StatementUse Database::prepare(const std::string& sql) {
   auto it = cache_.find(sql);
   if (it == cache_.end()) {
-    it = cache_.emplace(sql, std::make_unique<Statement>(db_.get(), sql)).first;
+    it = cache_.emplace(sql, std::make_unique<Statement>(db_.get(), sql, &statements_)).first;
   }
   it->second->reset();
   return StatementUse(*it->second);
+}
+
+StoreCounters Database::counters() const {
+  StoreCounters c;
+  c.statements = statements_;
+  for (const auto& [sql, statement] : cache_) {
+    c.reprepares += uint64_t(statement->status(SQLITE_STMTSTATUS_REPREPARE));
+    c.vm_steps += uint64_t(statement->status(SQLITE_STMTSTATUS_VM_STEP));
+  }
+  return c;
 }
 
 int64_t Database::last_insert_rowid() const { return sqlite3_last_insert_rowid(db_.get()); }

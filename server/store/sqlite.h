@@ -32,7 +32,8 @@ class SqliteError : public std::runtime_error {
 /// Owned by a Database's statement cache (see Database::prepare) or by its creator.
 class Statement {
  public:
-  Statement(sqlite3* db, std::string_view sql);
+  /// `runs`, when given, counts each execution (the first step after a reset).
+  Statement(sqlite3* db, std::string_view sql, uint64_t* runs = nullptr);
   Statement(const Statement&) = delete;
   Statement& operator=(const Statement&) = delete;
 
@@ -64,12 +65,16 @@ class Statement {
   std::string blob(int column) const;
   bool is_null(int column) const;
 
+  /// SQLite's count of `op` (SQLITE_STMTSTATUS_REPREPARE, ..._VM_STEP) for this statement.
+  int status(int op) const;
+
  private:
   struct Finalizer {
     void operator()(sqlite3_stmt* s) const { sqlite3_finalize(s); }
   };
   sqlite3* db_;
   std::unique_ptr<sqlite3_stmt, Finalizer> stmt_;
+  uint64_t* runs_;
 };
 
 /// A borrowed cached statement, reset when it goes out of scope so that no half-stepped read
@@ -91,6 +96,19 @@ class StatementUse {
   Statement* s_;
 };
 
+/// What a connection has executed since it opened: the cost model of the store's operations
+/// (BENCHMARKS.md, "where the time goes"; tests/farm/store_cost_test.cpp).
+struct StoreCounters {
+  uint64_t statements = 0;  ///< statements executed, BEGIN and COMMIT included
+  /// Cached statements compiled again because a bound value may change their plan (a column
+  /// compared with a parameter where a partial index's WHERE names a literal): parsing and
+  /// planning each time. The hot paths must keep this at 0.
+  uint64_t reprepares = 0;
+  /// Virtual-machine steps of the cached statements: proportional to the rows visited, so a
+  /// scan shows up where an index walk would not.
+  uint64_t vm_steps = 0;
+};
+
 /// One connection. Opened in WAL mode with foreign keys on and a busy timeout. Not thread-safe:
 /// the server serialises access (server/coordinator.h).
 class Database {
@@ -107,6 +125,9 @@ class Database {
   /// uses of the same SQL text at once.
   StatementUse prepare(const std::string& sql);
 
+  /// Counters since the connection opened.
+  StoreCounters counters() const;
+
   int64_t last_insert_rowid() const;
   /// Rows changed by the last INSERT/UPDATE/DELETE.
   int changes() const;
@@ -119,6 +140,7 @@ class Database {
   };
   std::unique_ptr<sqlite3, Closer> db_;
   std::map<std::string, std::unique_ptr<Statement>, std::less<>> cache_;
+  uint64_t statements_ = 0;
 };
 
 /// A write transaction: BEGIN IMMEDIATE on construction (takes the write lock at once, so two

@@ -7,6 +7,7 @@
 
 #include "accum/accumulation_codec.h"
 #include "store/tile_queue.h"
+#include "store/units_table.h"
 #include "store_fixture.h"
 
 namespace tessera::server {
@@ -285,8 +286,9 @@ TEST(Migration2, UpgradesAVersion1StoreKeepingItsJobs) {
 TEST(SchedulerQuery, FirstUnitWalksTheIndexWithoutSorting) {
   StoreFixture f;
   for (bool noise : {false, true}) {
-    auto q = f.db.prepare(std::string("EXPLAIN QUERY PLAN ") + Scheduler::first_unit_sql(noise));
-    q->bind(1, int64_t(1)).bind(2, "queued").bind(4, int64_t(1));
+    auto q =
+        f.db.prepare(std::string("EXPLAIN QUERY PLAN ") + UnitsTable::first_requeued_sql(noise));
+    q->bind(1, int64_t(1)).bind(2, int64_t(1));
     if (noise) q->bind(3, int64_t(2));
     std::string plan;
     while (q->step()) plan += q->text(3) + "\n";

@@ -392,8 +392,14 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
   };
   int cuts = 0, cuts_with_expiry = 0;
   for (int round = 0; round < rounds && !::testing::Test::HasFailure(); ++round) {
-    // 2,048 units: the job outlasts the cut even with the worker beside the server alone.
-    const auto options = tiny_job(rng() % 1000, 1024, 2);
+    // 16,384 small units (16 tiles of 8x8, batches of 1 spp): workers lease and upload them 16
+    // per call, so a unit costs the farm well under a millisecond. The worker beside the server
+    // is stopped (SIGSTOP) while the cut is tried, and the job has many units: otherwise the
+    // whole job could be merged between two status reads of a loaded machine, leaving no lease
+    // to cut. (Its local render for the comparison is 1M samples: cheap.)
+    const std::vector<std::string> options = {"--width", "32", "--height", "32", "--tile", "8",
+                                              "--spp", "1024", "--batch", "1", "--seed",
+                                              std::to_string(rng() % 1000)};
     std::vector<std::string> submit = {"submit", cornell_scene().string(), "--json"};
     submit.insert(submit.end(), options.begin(), options.end());
     const CommandResult r = cli(submit);
@@ -402,6 +408,7 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
     const uint64_t total = cli_status(cli, id).at("counters").at("units_total").get<uint64_t>();
     const uint64_t point = fault_points(rng, uint32_t(total / 4), 1).front();
     ASSERT_TRUE(poll_until([&] { return merged(id) >= point; }, kPatience));
+    near_worker.signal(SIGSTOP);
     // Cut while the worker across the link holds a lease. Cut first, then ask the server:
     // with the link down the worker can no longer deliver, so what the server says holds. If it
     // holds nothing, restore the link and try again a little later.
@@ -437,6 +444,7 @@ void netns_rounds(NetnsPair& net, const std::filesystem::path& dir) {
     } else {
       at_cut = during = cli_status(cli, id);
     }
+    near_worker.signal(SIGCONT);
     cuts += caught;
     cuts_with_expiry += expired > 0;
     ASSERT_TRUE(poll_until(

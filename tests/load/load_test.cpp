@@ -8,7 +8,8 @@
 // units_done == units_total, no result dropped, and every pixel of every tile holding exactly the
 // job's spp in the store. The test prints the lease latencies (p50, p99, max) and the rate.
 // TESSERA_LOAD_WORKERS, TESSERA_LOAD_JOBS, TESSERA_LOAD_SPP (units per job = 16 x spp) and
-// TESSERA_LOAD_BOUND_S change the sizes.
+// TESSERA_LOAD_BOUND_S change the sizes; TESSERA_LOAD_SERVER_BIN runs another tessera-server
+// binary (to compare two builds on the same test).
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -187,8 +188,10 @@ TEST(Load, SixtyFourWorkersTwentyJobsNothingLostNoDeadlock) {
   // The server (lease 60 s: a simulated worker holds a lease for milliseconds; an expiry here
   // would mean a stall, and shows as leases_expired).
   const fs::path port_file = dir / "port";
+  const char* other_server = std::getenv("TESSERA_LOAD_SERVER_BIN");
+  const std::string server_bin = other_server && *other_server ? other_server : TESSERA_SERVER_BIN;
   auto server = std::make_unique<e2e::Process>(
-      std::vector<std::string>{TESSERA_SERVER_BIN, "--grpc", "127.0.0.1:0", "--http", "127.0.0.1:0", "--db",
+      std::vector<std::string>{server_bin, "--grpc", "127.0.0.1:0", "--http", "127.0.0.1:0", "--db",
                                (dir / "farm.db").string(), "--output-dir",
                                (dir / "outputs").string(), "--port-file", port_file.string(),
                                "--lease-seconds", "60"},

@@ -4,7 +4,10 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
+#include <functional>
+#include <optional>
 #include <cstdio>
 #include <iostream>
 #include <stdexcept>
@@ -32,6 +35,27 @@ constexpr uint32_t kLeaseWaitMs = 5000;
 /// How long to keep retrying an upload while the server is unreachable before dropping the
 /// result (its lease is revoked by then: a restarted server re-queues every lease).
 constexpr milliseconds kUploadGiveUp{120'000};
+/// Units per LeaseUnit call (docs/farm.md, "Batched calls"): small units are leased and their
+/// results uploaded several at a time, about this many samples per render thread per call (a
+/// few tens of milliseconds of work: leases stay short), at most kMaxUnitsPerCall.
+constexpr uint64_t kSamplesPerThreadPerCall = uint64_t(1) << 16;
+constexpr uint32_t kMaxUnitsPerCall = 16;
+
+/// One unit of a LeaseUnit answer.
+struct HeldUnit {
+  std::string lease_id;
+  v1::WorkUnit unit;
+};
+
+/// The units of an answer: `leases` (a server that knows max_units), or the single-unit fields
+/// (a server from before batched calls ignores max_units).
+std::vector<HeldUnit> held_units(const v1::LeaseUnitResponse& lease) {
+  std::vector<HeldUnit> held;
+  if (!lease.leased()) return held;
+  for (const v1::UnitLease& l : lease.leases()) held.push_back({l.lease_id(), l.unit()});
+  if (held.empty() && !lease.lease_id().empty()) held.push_back({lease.lease_id(), lease.unit()});
+  return held;
+}
 
 void log(const std::string& line) { std::cerr << "tessera-worker: " << line << std::endl; }
 
@@ -186,33 +210,89 @@ class FarmWorker {
     log("registered as worker " + std::to_string(worker_id_) + " (" + request.name() + ")");
   }
 
+  /// Units to ask for: as many units of the last size seen as make kSamplesPerThreadPerCall
+  /// samples per render thread (1 before any unit was seen).
+  uint32_t units_per_call() const {
+    if (last_unit_samples_ == 0) return 1;
+    const uint64_t want = uint64_t(threads()) * kSamplesPerThreadPerCall / last_unit_samples_;
+    return uint32_t(std::clamp<uint64_t>(want, 1, kMaxUnitsPerCall));
+  }
+
   void lease_and_render() {
     v1::LeaseUnitRequest request;
     request.set_worker_id(worker_id_);
     request.set_wait_ms(kLeaseWaitMs);
+    request.set_max_units(units_per_call());
     v1::LeaseUnitResponse lease;
     const grpc::Status status = client_.lease(request, &lease, stop_);
     if (stop_.requested()) {
-      // A unit leased as the signal arrived goes straight back. When the signal cancelled the
-      // long poll, the server may still have granted a lease the reply never brought: ask once
-      // more (the server answers with the lease this worker holds) and hand that back too,
-      // rather than leave the unit idle until its lease expires.
+      // Units leased as the signal arrived go straight back. When the signal cancelled the
+      // long poll, the server may still have granted leases the reply never brought: ask once
+      // more (the server answers with the leases this worker holds) and hand those back too,
+      // rather than leave the units idle until their leases expire.
       if (!status.ok()) {
         lease.Clear();
         if (!client_.lease_now(worker_id_, &lease).ok()) return;
       }
-      if (lease.leased()) release(lease.lease_id(), false, "worker stopping");
+      for (const HeldUnit& h : held_units(lease)) release(h.lease_id, false, "worker stopping");
       return;
     }
     check(status, "LeaseUnit");
-    if (!lease.leased()) return;
-    try {
-      render_and_upload(lease);
-    } catch (const UnitFailure& e) {
-      log("job " + std::to_string(lease.unit().job_id()) + ": " + e.what() +
-          "; handing the unit back");
-      release(lease.lease_id(), true, e.what());
+    const std::vector<HeldUnit> held = held_units(lease);
+    if (held.empty()) return;
+    const v1::WorkUnit& first = held.front().unit;
+    last_unit_samples_ = uint64_t(std::max(0, first.x1() - first.x0())) *
+                         uint64_t(std::max(0, first.y1() - first.y0())) *
+                         (first.sample_end() - first.sample_begin());
+    const milliseconds interval(std::max<uint32_t>(50, lease.heartbeat_interval_ms()));
+    // Every lease of the call is renewed while any unit of it renders: those waiting their turn
+    // and those rendered and waiting for the upload. gone[i]: the server said lease i is gone.
+    std::vector<char> gone(held.size(), 0);
+    std::vector<v1::UploadResultRequest> results;
+    for (size_t i = 0; i < held.size(); ++i) {
+      if (stop_.requested()) {
+        // The unit in hand was finished; the others go back.
+        release(held[i].lease_id, false, "worker stopping");
+        continue;
+      }
+      if (gone[i]) {
+        log("job " + std::to_string(held[i].unit.job_id()) +
+            ": lease gone (expired or job ended) before its turn; unit dropped");
+        continue;
+      }
+      const auto heartbeat = [&, i] {
+        LeaseCheck own = LeaseCheck::valid;
+        for (size_t j = 0; j < held.size(); ++j) {
+          if (gone[j]) continue;
+          const LeaseCheck check = heartbeat_lease(held[j].lease_id, interval);
+          if (check == LeaseCheck::gone) gone[j] = 1;
+          if (j == i) own = check;
+        }
+        return own;
+      };
+      try {
+        if (std::optional<v1::UploadResultRequest> r = render(held[i], heartbeat, interval)) {
+          results.push_back(std::move(*r));
+        }
+      } catch (const UnitFailure& e) {
+        log("job " + std::to_string(held[i].unit.job_id()) + ": " + e.what() +
+            "; handing the unit back");
+        release(held[i].lease_id, true, e.what());
+      }
     }
+    upload_all(std::move(results));
+  }
+
+  /// One heartbeat of one lease.
+  LeaseCheck heartbeat_lease(const std::string& lease_id, milliseconds interval) {
+    v1::HeartbeatRequest request;
+    request.set_worker_id(worker_id_);
+    request.set_lease_id(lease_id);
+    v1::HeartbeatResponse response;
+    const grpc::Status status =
+        client_.heartbeat(request, &response, std::max(interval, milliseconds(5000)));
+    if (!status.ok()) return LeaseCheck::unreachable;
+    return response.valid() ? LeaseCheck::valid : LeaseCheck::gone;
   }
 
   /// The job's renderer; `built` says whether it had to be made (bundle fetched or read, BVH
@@ -258,48 +338,97 @@ class FarmWorker {
     }
   }
 
-  void render_and_upload(const v1::LeaseUnitResponse& lease) {
-    const v1::WorkUnit& unit = lease.unit();
+  /// Renders one held unit; its upload, or nullopt when the unit was dropped (lease gone) or
+  /// handed back (abandoned on a second signal).
+  std::optional<v1::UploadResultRequest> render(const HeldUnit& held,
+                                                const std::function<LeaseCheck()>& heartbeat,
+                                                milliseconds interval) {
+    const v1::WorkUnit& unit = held.unit;
     bool built = false;
     const std::shared_ptr<const Renderer> renderer = renderer_for(unit, built);
     const TileRect tile{unit.x0(), unit.y0(), unit.x1(), unit.y1()};
-    const milliseconds interval(std::max<uint32_t>(50, lease.heartbeat_interval_ms()));
-    const auto heartbeat = [&] {
-      v1::HeartbeatRequest request;
-      request.set_worker_id(worker_id_);
-      request.set_lease_id(lease.lease_id());
-      v1::HeartbeatResponse response;
-      const grpc::Status status = client_.heartbeat(request, &response, std::max(interval, milliseconds(5000)));
-      if (!status.ok()) return LeaseCheck::unreachable;
-      return response.valid() ? LeaseCheck::valid : LeaseCheck::gone;
-    };
-    // Building the renderer may have taken a while: renew the lease before rendering.
+    // Building the renderer may have taken a while: renew the leases before rendering.
     if (built && heartbeat() == LeaseCheck::gone) {
       log("job " + std::to_string(unit.job_id()) + ": lease gone while preparing; unit dropped");
-      return;
+      return std::nullopt;
     }
     const UnitRenderResult rendered = render_unit(*renderer, arena_, tile, unit.sample_begin(),
                                                   unit.sample_end(), heartbeat, interval, stop_);
     switch (rendered.outcome) {
       case UnitOutcome::lease_lost:
         log("job " + std::to_string(unit.job_id()) + ": lease gone (expired or job ended); unit dropped");
-        return;
+        return std::nullopt;
       case UnitOutcome::abandoned:
-        release(lease.lease_id(), false, "worker stopping");
-        return;
+        release(held.lease_id, false, "worker stopping");
+        return std::nullopt;
       case UnitOutcome::rendered:
         break;
     }
     v1::UploadResultRequest request;
     request.set_worker_id(worker_id_);
-    request.set_lease_id(lease.lease_id());
+    request.set_lease_id(held.lease_id);
     request.set_job_id(unit.job_id());
     request.set_tile(unit.tile());
     request.set_batch(unit.batch());
     request.set_accumulation(encode_accumulation(rendered.result));
     request.set_isa(renderer->isa());
     request.set_render_ms(uint32_t(rendered.elapsed.count()));
-    upload(request);
+    return request;
+  }
+
+  /// Delivers the results of one call: one UploadResults call for several (one transaction on
+  /// the server), UploadResult for one. Retries while the server is unreachable, as upload().
+  void upload_all(std::vector<v1::UploadResultRequest> results) {
+    if (results.empty()) return;
+    if (results.size() == 1) {
+      upload(results.front());
+      return;
+    }
+    v1::UploadResultsRequest request;
+    request.set_worker_id(worker_id_);
+    for (v1::UploadResultRequest& r : results) *request.add_results() = std::move(r);
+    const auto give_up = std::chrono::steady_clock::now() + kUploadGiveUp;
+    Backoff backoff;
+    for (;;) {
+      v1::UploadResultsResponse response;
+      const grpc::Status status = client_.upload_all(request, &response);
+      if (status.ok()) {
+        for (int i = 0; i < request.results_size() && i < response.results_size(); ++i) {
+          const v1::UploadResultRequest& r = request.results(i);
+          ++units_uploaded_;
+          result_bytes_ += r.accumulation().size();
+          if (!response.results(i).accepted()) {
+            log("job " + std::to_string(r.job_id()) + ": result dropped by the server: " +
+                response.results(i).reason());
+          }
+        }
+        return;
+      }
+      if (status.error_code() == grpc::StatusCode::UNIMPLEMENTED) {
+        // A server from before batched calls: one call per result.
+        for (const v1::UploadResultRequest& r : request.results()) upload(r);
+        return;
+      }
+      if (!is_transient(status.error_code())) {
+        try {
+          check(status, "UploadResults");  // throws: fatal, unknown worker, or a unit failure
+        } catch (const UnitFailure& e) {
+          // The server refused the call (none of its results stored): hand the units back.
+          log(std::string(e.what()) + "; handing " + std::to_string(request.results_size()) +
+              " unit(s) back");
+          for (const v1::UploadResultRequest& r : request.results()) {
+            release(r.lease_id(), true, e.what());
+          }
+          return;
+        }
+      }
+      if (stop_.count() >= 2 || std::chrono::steady_clock::now() > give_up) {
+        log("giving up delivering " + std::to_string(request.results_size()) + " results: " +
+            wire::status_line(status));
+        return;
+      }
+      stop_.wait_for(backoff.next());
+    }
   }
 
   /// Delivers a result, retrying while the server is unreachable (up to kUploadGiveUp, or until
@@ -367,6 +496,7 @@ class FarmWorker {
   bool unreachable_ = false;
   uint64_t units_uploaded_ = 0;  ///< results delivered (accepted or dropped)
   uint64_t result_bytes_ = 0;    ///< their encoded accumulation bytes
+  uint64_t last_unit_samples_ = 0;  ///< pixels x samples of the last unit leased
 };
 
 }  // namespace

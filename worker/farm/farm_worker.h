@@ -1,5 +1,6 @@
 // `tessera-worker --server HOST:PORT`: a farm worker (docs/farm.md). It registers, leases work
-// units one at a time, renders each with every core it is given, uploads the compressed result,
+// units (several per call when they are small: "Batched calls"), renders each in turn with every
+// core it is given, uploads the compressed results (in one call when several),
 // heartbeats while rendering, reconnects with exponential backoff when the server goes away, and
 // on SIGTERM or SIGINT finishes (and delivers) the unit in hand, then exits 0; a second signal
 // abandons the unit, hands it back to the server, and exits 0.

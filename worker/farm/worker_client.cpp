@@ -45,6 +45,7 @@ grpc::Status WorkerClient::lease_now(int64_t worker_id, v1::LeaseUnitResponse* r
   v1::LeaseUnitRequest request;
   request.set_worker_id(worker_id);
   request.set_wait_ms(0);
+  request.set_max_units(1);
   grpc::ClientContext context;
   prepare(context, kLeaseMargin);
   return stub_->LeaseUnit(&context, request, response);
@@ -69,6 +70,13 @@ grpc::Status WorkerClient::upload(const v1::UploadResultRequest& request,
   grpc::ClientContext context;
   prepare(context, kUploadTimeout);
   return stub_->UploadResult(&context, request, response);
+}
+
+grpc::Status WorkerClient::upload_all(const v1::UploadResultsRequest& request,
+                                      v1::UploadResultsResponse* response) {
+  grpc::ClientContext context;
+  prepare(context, kUploadTimeout);
+  return stub_->UploadResults(&context, request, response);
 }
 
 grpc::Status WorkerClient::release(const v1::ReleaseUnitRequest& request,

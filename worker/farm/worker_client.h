@@ -24,14 +24,17 @@ class WorkerClient {
   grpc::Status lease(const v1::LeaseUnitRequest& request, v1::LeaseUnitResponse* response,
                      StopSignal& stop);
   /// One LeaseUnit call with wait_ms 0 that no signal cancels (a short deadline): after a long
-  /// poll was cancelled, it returns the lease the server may have granted meanwhile (leasing is
-  /// idempotent), so that the worker can hand it back instead of leaving it to expire.
+  /// poll was cancelled, it returns the leases the server may have granted meanwhile (leasing is
+  /// idempotent; max_units 1, so every lease held comes back in `leases`, or one new one when
+  /// none is held), so that the worker can hand them back instead of leaving them to expire.
   grpc::Status lease_now(int64_t worker_id, v1::LeaseUnitResponse* response);
   grpc::Status heartbeat(const v1::HeartbeatRequest& request, v1::HeartbeatResponse* response,
                          std::chrono::milliseconds timeout);
   grpc::Status fetch_bundle(const v1::FetchBundleRequest& request,
                             v1::FetchBundleResponse* response);
   grpc::Status upload(const v1::UploadResultRequest& request, v1::UploadResultResponse* response);
+  grpc::Status upload_all(const v1::UploadResultsRequest& request,
+                          v1::UploadResultsResponse* response);
   grpc::Status release(const v1::ReleaseUnitRequest& request, v1::ReleaseUnitResponse* response);
   grpc::Status deregister(const v1::DeregisterRequest& request, v1::DeregisterResponse* response);
 

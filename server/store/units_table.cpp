@@ -1,0 +1,197 @@
+#include "store/units_table.h"
+
+#include <map>
+#include <stdexcept>
+#include <utility>
+
+namespace tessera::server {
+namespace {
+
+/// A state as an SQL literal: 'leased'.
+std::string lit(UnitState state) { return "'" + std::string(to_string(state)) + "'"; }
+
+const std::string kLeasedColumns =
+    "id, job_id, tile, batch, worker_id, lease_id, lease_expires_unix_ms";
+
+LeasedRow read_leased(const Statement& q) {
+  LeasedRow r;
+  r.unit_id = q.int64(0);
+  r.job_id = q.int64(1);
+  r.tile = uint32_t(q.int64(2));
+  r.batch = uint32_t(q.int64(3));
+  r.worker_id = q.int64(4);
+  r.lease_id = q.text(5);
+  r.expires_unix_ms = q.int64(6);
+  return r;
+}
+
+}  // namespace
+
+std::vector<LeasedRow> UnitsTable::leased_to(int64_t worker_id) {
+  static const std::string sql = "SELECT " + kLeasedColumns +
+                                 " FROM units INDEXED BY units_worker WHERE worker_id = ?1"
+                                 " AND state = " + lit(UnitState::leased) + " ORDER BY id";
+  std::vector<LeasedRow> out;
+  auto q = db_.prepare(sql);
+  q->bind(1, worker_id);
+  while (q->step()) out.push_back(read_leased(*q));
+  return out;
+}
+
+std::optional<LeasedRow> UnitsTable::lease(int64_t worker_id, const std::string& lease_id) {
+  // By the unique partial index units_lease.
+  static const std::string sql = "SELECT " + kLeasedColumns +
+                                 " FROM units WHERE lease_id = ?1 AND worker_id = ?2 AND state = " +
+                                 lit(UnitState::leased);
+  auto q = db_.prepare(sql);
+  q->bind(1, lease_id).bind(2, worker_id);
+  if (!q->step()) return std::nullopt;
+  return read_leased(*q);
+}
+
+std::vector<LeasedRow> UnitsTable::leases_expiring_before(int64_t bound) {
+  static const std::string sql = "SELECT " + kLeasedColumns +
+                                 " FROM units INDEXED BY units_expiry WHERE state = " +
+                                 lit(UnitState::leased) + " AND lease_expires_unix_ms < ?1";
+  std::vector<LeasedRow> out;
+  auto q = db_.prepare(sql);
+  q->bind(1, bound);
+  while (q->step()) out.push_back(read_leased(*q));
+  return out;
+}
+
+const std::string& UnitsTable::first_requeued_sql(bool noise) {
+  // Both walk the units_queue index (job_id, state, batch, tile) in order and stop at the first
+  // row that qualifies: no sort, no scan of the job's other queued units (EXPLAIN QUERY PLAN is
+  // checked in tests/farm). The noise form looks up each candidate's tile by its primary key;
+  // CROSS JOIN keeps units as the outer loop.
+  static const std::string uniform =
+      "SELECT u.id, u.tile, u.batch FROM units u WHERE u.job_id = ?1 AND u.state = " +
+      lit(UnitState::queued) + " AND u.batch < ?2 ORDER BY u.batch, u.tile LIMIT 1";
+  static const std::string noisy =
+      "SELECT u.id, u.tile, u.batch FROM units u"
+      " CROSS JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile"
+      " WHERE u.job_id = ?1 AND u.state = " + lit(UnitState::queued) +
+      " AND u.batch < ?2 AND u.batch < t.next_batch + ?3 ORDER BY u.batch, u.tile LIMIT 1";
+  return noise ? noisy : uniform;
+}
+
+std::optional<RequeuedUnit> UnitsTable::first_requeued(int64_t job_id, uint32_t noise_lookahead,
+                                                       int64_t batch_limit) {
+  auto q = db_.prepare(first_requeued_sql(noise_lookahead > 0));
+  q->bind(1, job_id).bind(2, batch_limit);
+  if (noise_lookahead > 0) q->bind(3, noise_lookahead);
+  if (!q->step()) return std::nullopt;
+  return RequeuedUnit{q->int64(0), uint32_t(q->int64(1)), uint32_t(q->int64(2))};
+}
+
+bool UnitsTable::any_queued_or_leased(int64_t job_id) {
+  static const std::string sql = "SELECT 1 FROM units WHERE job_id = ?1 AND state IN (" +
+                                 lit(UnitState::queued) + ", " + lit(UnitState::leased) +
+                                 ") LIMIT 1";
+  auto q = db_.prepare(sql);
+  q->bind(1, job_id);
+  return q->step();
+}
+
+std::optional<std::pair<uint32_t, uint32_t>> UnitsTable::tile_batch(int64_t unit_id) {
+  auto q = db_.prepare("SELECT tile, batch FROM units WHERE id = ?1");
+  q->bind(1, unit_id);
+  if (!q->step()) return std::nullopt;
+  return std::pair(uint32_t(q->int64(0)), uint32_t(q->int64(1)));
+}
+
+int UnitsTable::lease_requeued(int64_t unit_id, int64_t worker_id, const std::string& lease_id,
+                               int64_t expires_unix_ms) {
+  static const std::string sql =
+      "UPDATE units SET state = " + lit(*next_state(UnitState::queued, UnitEvent::lease)) +
+      ", lease_id = ?1, worker_id = ?2, lease_expires_unix_ms = ?3 WHERE id = ?4 AND state = " +
+      lit(UnitState::queued);
+  db_.prepare(sql)->bind(1, lease_id).bind(2, worker_id).bind(3, expires_unix_ms).bind(4, unit_id)
+      .run();
+  return db_.changes();
+}
+
+void UnitsTable::insert_leased(int64_t job_id, uint32_t tile, uint32_t batch, int64_t worker_id,
+                               const std::string& lease_id, int64_t expires_unix_ms) {
+  // Born leased: the row's first state is the one the lease event leads to from queued.
+  static const std::string sql =
+      "INSERT INTO units (job_id, tile, batch, state, lease_id, worker_id, lease_expires_unix_ms)"
+      " VALUES (?1, ?2, ?3, " + lit(*next_state(UnitState::queued, UnitEvent::lease)) +
+      ", ?4, ?5, ?6)";
+  db_.prepare(sql)
+      ->bind(1, job_id)
+      .bind(2, tile)
+      .bind(3, batch)
+      .bind(4, lease_id)
+      .bind(5, worker_id)
+      .bind(6, expires_unix_ms)
+      .run();
+}
+
+int UnitsTable::extend(int64_t worker_id, const std::string& lease_id, int64_t expires_unix_ms) {
+  static const std::string sql =
+      "UPDATE units SET lease_expires_unix_ms = MAX(lease_expires_unix_ms, ?1)"
+      " WHERE lease_id = ?2 AND worker_id = ?3 AND state = " + lit(UnitState::leased);
+  db_.prepare(sql)->bind(1, expires_unix_ms).bind(2, lease_id).bind(3, worker_id).run();
+  return db_.changes();
+}
+
+int UnitsTable::accept(int64_t unit_id, int64_t worker_id, const std::string& lease_id) {
+  // Unlike end_leases, the row keeps its worker: who delivered the unit.
+  static const std::string sql =
+      "UPDATE units SET state = " + lit(*next_state(UnitState::leased, UnitEvent::accept)) +
+      ", lease_id = NULL, lease_expires_unix_ms = NULL WHERE id = ?1 AND lease_id = ?2"
+      " AND worker_id = ?3 AND state = " + lit(UnitState::leased);
+  db_.prepare(sql)->bind(1, unit_id).bind(2, lease_id).bind(3, worker_id).run();
+  return db_.changes();
+}
+
+int64_t UnitsTable::end_leases(UnitEvent event, UnitState from, const std::string& where,
+                               const std::function<void(Statement&)>& bind,
+                               const std::string& extra_set) {
+  const std::optional<UnitState> to = next_state(from, event);
+  if (!to) {
+    throw std::logic_error("unit event " + std::string(to_string(event)) + " is not allowed in " +
+                           std::string(to_string(from)));
+  }
+  auto q = db_.prepare("UPDATE units SET state = " + lit(*to) +
+                       ", lease_id = NULL, worker_id = NULL, lease_expires_unix_ms = NULL" +
+                       extra_set + " WHERE state = " + lit(from) + " AND " + where);
+  bind(*q);
+  q->run();
+  return db_.changes();
+}
+
+int UnitsTable::requeue(int64_t unit_id, const std::string& lease_id, UnitEvent event,
+                        bool failure) {
+  return int(end_leases(
+      event, UnitState::leased, "id = ?1 AND lease_id = ?2",
+      [&](Statement& q) { q.bind(1, unit_id).bind(2, lease_id); },
+      failure ? ", failures = failures + 1" : ""));
+}
+
+int64_t UnitsTable::skip_tile(int64_t job_id, uint32_t tile) {
+  int64_t n = 0;
+  for (UnitState from : {UnitState::queued, UnitState::leased}) {
+    n += end_leases(UnitEvent::skip, from, "job_id = ?1 AND tile = ?2",
+                    [&](Statement& q) { q.bind(1, job_id).bind(2, tile); });
+  }
+  return n;
+}
+
+int64_t UnitsTable::cancel_job(int64_t job_id) {
+  int64_t n = 0;
+  for (UnitState from : {UnitState::queued, UnitState::leased}) {
+    n += end_leases(UnitEvent::cancel, from, "job_id = ?1",
+                    [&](Statement& q) { q.bind(1, job_id); });
+  }
+  return n;
+}
+
+int64_t UnitsTable::skip_queued_after_first_batch(int64_t job_id) {
+  return end_leases(UnitEvent::skip, UnitState::queued, "job_id = ?1 AND batch > 0",
+                    [&](Statement& q) { q.bind(1, job_id); });
+}
+
+}  // namespace tessera::server

@@ -1,0 +1,59 @@
+// The workers table: every statement on `workers`, one operation per thing that happens to a
+// worker (it registers, calls, delivers a result, loses a unit). Reads join the unit it holds a
+// lease on (its oldest, by the partial index units_worker).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "store/sqlite.h"
+
+namespace tessera::server {
+
+struct WorkerRegistration {
+  std::string name;
+  uint32_t threads = 0;
+  std::string isa;
+  std::string version;
+};
+
+struct WorkerRecord {
+  int64_t id = 0;
+  WorkerRegistration info;
+  int64_t registered_unix_ms = 0;
+  int64_t last_seen_unix_ms = 0;
+  uint64_t units_done = 0;
+  uint64_t units_lost = 0;
+  uint64_t samples_returned = 0;  ///< pixel samples in its accepted results, dropped ones included
+  uint64_t nan_dropped = 0, inf_dropped = 0;
+  /// Filled by the coordinator from its policy: empty when healthy (see health_warning()).
+  std::string health_warning;
+  /// The unit it holds a lease on, if any (the oldest of its leases when it holds several).
+  std::optional<int64_t> job_id;
+  uint32_t tile = 0, batch = 0;
+};
+
+class WorkersTable {
+ public:
+  explicit WorkersTable(Database& db) : db_(db) {}
+
+  /// A new row; returns the worker's id (1, 2, ...).
+  int64_t insert(const WorkerRegistration& info, int64_t now_unix_ms);
+  /// last_seen moves to at least `now_unix_ms`. False when the id is unknown.
+  bool touch(int64_t worker_id, int64_t now_unix_ms);
+  /// An accepted result: units_done + 1, and its samples (NaN/Inf included) and NaN/Inf counts.
+  void count_delivered(int64_t worker_id, uint64_t samples, uint64_t nan, uint64_t inf);
+  /// A unit the worker lost: its lease expired, or its result came under a superseded lease.
+  void count_lost(int64_t worker_id);
+
+  std::optional<WorkerRecord> get(int64_t worker_id);
+  /// Most recently seen first.
+  std::vector<WorkerRecord> list();
+
+ private:
+  Database& db_;
+};
+
+}  // namespace tessera::server

@@ -1,0 +1,161 @@
+// What the store costs per lease and per accepted result (issue 14, "where the time goes"):
+// statements executed, statements compiled again, and rows visited (SQLite's VM steps), counted
+// by the connection (StoreCounters) through the coordinator's real calls. Counts, not times: a
+// bound fails when a change adds statements to the hot paths, re-prepares a statement on every
+// call, or makes a lease or an accept visit rows in proportion to the units already done.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "accum/accumulation_codec.h"
+#include "coordinator.h"
+#include "fake_clock.h"
+#include "store_fixture.h"
+
+namespace tessera::server {
+namespace {
+
+v1::SceneBundle tiny_bundle() {
+  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/tiny.json");
+  std::ostringstream scene;
+  scene << in.rdbuf();
+  v1::SceneBundle bundle;
+  bundle.set_scene_file("scene.json");
+  auto* file = bundle.add_files();
+  file->set_path("scene.json");
+  file->set_data(scene.str());
+  return bundle;
+}
+
+/// Store counters over one lease and one upload, as a worker would do them.
+struct CycleCost {
+  StoreCounters lease, upload;
+};
+
+StoreCounters minus(const StoreCounters& a, const StoreCounters& b) {
+  return {a.statements - b.statements, a.reprepares - b.reprepares, a.vm_steps - b.vm_steps};
+}
+
+class StoreCost : public ::testing::Test {
+ protected:
+  StoreCost() {
+    config_.db_path = ":memory:";
+    config_.output_dir = std::filesystem::temp_directory_path() / "tessera-store-cost-test";
+    farm_.emplace(config_, clock_);
+  }
+
+  /// A 64x64 job in 8x8 tiles (64 tiles) of `spp` batches of 1 spp.
+  int64_t submit(int64_t spp) {
+    v1::JobRequestOptions options;
+    options.set_width(64);
+    options.set_height(64);
+    options.set_tile_size(8);
+    options.set_spp(spp);
+    options.set_batch_spp(1);
+    return farm_->submit(tiny_bundle(), options, 0, "c").id;
+  }
+
+  CycleCost cycle(int64_t worker) {
+    CycleCost cost;
+    const StoreCounters c0 = farm_->store_counters();
+    const std::optional<LeasedUnit> unit =
+        farm_->lease(worker, std::chrono::milliseconds(0), [] { return false; });
+    const StoreCounters c1 = farm_->store_counters();
+    EXPECT_TRUE(unit.has_value());
+    if (!unit) return cost;
+    const uint32_t samples = unit->sample_end - unit->sample_begin;
+    UnitResult r = testing::result_for(
+        unit->lease, testing::StoreFixture::synthetic(unit->rect, unit->lease.batch, samples));
+    EXPECT_TRUE(farm_->upload(r).accepted);
+    const StoreCounters c2 = farm_->store_counters();
+    cost.lease = minus(c1, c0);
+    cost.upload = minus(c2, c1);
+    return cost;
+  }
+
+  testing::FakeClock clock_;
+  CoordinatorConfig config_;
+  std::optional<Coordinator> farm_;
+};
+
+TEST_F(StoreCost, LeaseAndAcceptUseFewStatementsAndNoneIsCompiledAgain) {
+  submit(16);
+  const int64_t worker = farm_->register_worker({"w", 4, "avx2", "test"});
+  uint64_t lease_statements = 0, upload_statements = 0, reprepares = 0;
+  constexpr int kCycles = 200;
+  for (int i = 0; i < kCycles; ++i) {
+    clock_.advance(1);
+    const CycleCost c = cycle(worker);
+    lease_statements += c.lease.statements;
+    upload_statements += c.upload.statements;
+    // The first calls compile the statements; after that none may be compiled again.
+    if (i >= 2) reprepares += c.lease.reprepares + c.upload.reprepares;
+  }
+  const double per_lease = double(lease_statements) / kCycles;
+  const double per_upload = double(upload_statements) / kCycles;
+  std::printf("statements per lease %.2f, per accepted result %.2f\n", per_lease, per_upload);
+  EXPECT_EQ(reprepares, 0u);
+  EXPECT_LE(per_lease, 10.5);
+  EXPECT_LE(per_upload, 13.5);
+}
+
+// Batched calls: 16 leases in one call, 16 results in one transaction (BEGIN and COMMIT once,
+// the job's spec read once per call).
+TEST_F(StoreCost, BatchedCallsCostFewerStatementsPerResult) {
+  submit(16);
+  const int64_t worker = farm_->register_worker({"w", 4, "avx2", "test"});
+  uint64_t lease_statements = 0, upload_statements = 0, results = 0;
+  for (int call = 0; call < 32; ++call) {
+    clock_.advance(1);
+    const StoreCounters c0 = farm_->store_counters();
+    const std::vector<LeasedUnit> units =
+        farm_->lease_units(worker, 16, std::chrono::milliseconds(0), [] { return false; });
+    const StoreCounters c1 = farm_->store_counters();
+    ASSERT_EQ(units.size(), 16u);
+    std::vector<UnitResult> uploads;
+    for (const LeasedUnit& u : units) {
+      uploads.push_back(testing::result_for(
+          u.lease, testing::StoreFixture::synthetic(u.rect, u.lease.batch,
+                                                    u.sample_end - u.sample_begin)));
+    }
+    for (const AcceptOutcome& o : farm_->upload_all(uploads)) EXPECT_TRUE(o.accepted);
+    const StoreCounters c2 = farm_->store_counters();
+    lease_statements += c1.statements - c0.statements;
+    upload_statements += c2.statements - c1.statements;
+    results += units.size();
+    if (call >= 2) {
+      EXPECT_EQ(c2.reprepares - c0.reprepares, 0u);
+    }
+  }
+  const double per_lease = double(lease_statements) / double(results);
+  const double per_upload = double(upload_statements) / double(results);
+  std::printf("batches of 16: statements per leased unit %.2f, per accepted result %.2f\n",
+              per_lease, per_upload);
+  EXPECT_LE(per_lease, 6.0);
+  EXPECT_LE(per_upload, 9.0);
+}
+
+TEST_F(StoreCost, RowsVisitedPerCycleDoNotGrowWithTheUnitsDone) {
+  // 64 tiles x 40 batches: cycles 20-70 see about 50 unit rows, cycles 1,950-2,000 about 2,000.
+  submit(40);
+  const int64_t worker = farm_->register_worker({"w", 4, "avx2", "test"});
+  auto steps = [&](int from, int to) {
+    uint64_t total = 0;
+    for (int i = from; i < to; ++i) {
+      const CycleCost c = cycle(worker);
+      total += c.lease.vm_steps + c.upload.vm_steps;
+    }
+    return double(total) / double(to - from);
+  };
+  steps(0, 20);
+  const double early = steps(20, 70);
+  steps(70, 1950);
+  const double late = steps(1950, 2000);
+  std::printf("VM steps per lease + upload: %.0f early, %.0f late\n", early, late);
+  // A scan of the job's unit rows would make `late` about 40 times `early`.
+  EXPECT_LT(late, 1.5 * early);
+}
+
+}  // namespace
+}  // namespace tessera::server
