@@ -37,6 +37,7 @@ import concurrent.futures
 import hashlib
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -91,6 +92,24 @@ def cache_path(cache, scene, tag):
     return os.path.join(cache, f"{name}-{digest}-{tag}")
 
 
+def uses_spp(scene):
+    """Whether the scene or a file it includes names `$spp` (a shallow look: includes are
+    looked up beside the including file)."""
+    seen, todo = set(), [os.path.abspath(scene)]
+    while todo:
+        path = todo.pop()
+        if path in seen or not os.path.exists(path):
+            continue
+        seen.add(path)
+        with open(path, errors="replace") as f:
+            text = f.read()
+        if "$spp" in text:
+            return True
+        for name in re.findall(r'<include[^>]*filename="([^"]+)"', text):
+            todo.append(os.path.join(os.path.dirname(path), name))
+    return False
+
+
 def render_mitsuba(args, scene, seed):
     """(image path, info dict) or (None, reason); cached."""
     base = cache_path(args.cache, scene, f"mi-w{args.width}-s{args.spp}-seed{seed}")
@@ -99,17 +118,20 @@ def render_mitsuba(args, scene, seed):
         with open(info_file) as f:
             info = json.load(f)
         return (exr if "error" not in info else None), info
+    # `$spp` as Tessera gets it (`-D spp=N`); Mitsuba refuses a parameter the scene never uses.
+    defines = [*args.defines] + ([f"spp={args.spp}"] if uses_spp(scene) else [])
     command = ["nice", "-n", str(args.nice), args.mitsuba, "-c", MITSUBA_RENDER, scene, exr,
-               str(args.width), str(args.spp), str(seed), f"spp={args.spp}", *args.defines]
+               str(args.width), str(args.spp), str(seed), *defines]
     t0 = time.time()
     try:
         result = subprocess.run(command, capture_output=True, text=True,
                                 timeout=args.mitsuba_wall_limit)
-        if result.returncode != 0:
-            lines = [l for l in result.stderr.splitlines() if l.strip()]
+        results = [l for l in result.stdout.splitlines() if l.startswith('{"height"')]
+        if result.returncode != 0 or not results:
+            lines = [l for l in (result.stderr + result.stdout).splitlines() if l.strip()]
             info = {"error": "Mitsuba failed: " + (lines[-1] if lines else "(no message)")[:200]}
         else:
-            info = json.loads(result.stdout.strip().splitlines()[-1])
+            info = json.loads(results[-1])
             if info["seconds"] > args.mitsuba_limit:
                 info = {"error": f"Mitsuba took {info['seconds']:.0f} s of CPU > {args.mitsuba_limit:.0f} s"}
     except subprocess.TimeoutExpired:
@@ -148,9 +170,7 @@ def render_tessera(args, scene, height, seed):
 
 
 def read_exr(path):
-    import mitsuba as mi
-    if not mi.variant():
-        mi.set_variant("scalar_rgb")
+    import mitsuba as mi  # its variant is set once in main(), before any thread
     a = np.array(mi.Bitmap(path), dtype=np.float64)
     if a.ndim == 2:
         a = a[:, :, None]
@@ -213,6 +233,14 @@ def compare(args, scene):
     return row
 
 
+def safe_compare(args, scene):
+    try:
+        return compare(args, scene)
+    except Exception as error:  # one broken scene must not stop the sweep
+        return {"scene": os.path.relpath(scene, args.relative_to) if args.relative_to else scene,
+                "verdict": f"skipped: {type(error).__name__}: {error}"[:200]}
+
+
 def rgb(v):
     return " ".join(f"{x:.4g}" for x in v)
 
@@ -265,6 +293,8 @@ def main():
     parser.add_argument("--markdown", help="also write the table to this file")
     args = parser.parse_args()
     os.makedirs(args.cache, exist_ok=True)
+    import mitsuba as mi  # to read EXRs (read_exr); setting a variant is not thread-safe
+    mi.set_variant("scalar_rgb")
 
     if args.accepted:
         with open(args.accepted) as f:
@@ -287,7 +317,7 @@ def main():
 
     rows = []
     with concurrent.futures.ThreadPoolExecutor(max(1, args.jobs)) as pool:
-        for row in pool.map(lambda s: compare(args, s), accepted):
+        for row in pool.map(lambda s: safe_compare(args, s), accepted):
             extra = f" {row['sigmas']:.1f} sigma" if "sigmas" in row else ""
             print(f"{row['verdict']:>9}{extra}  {row['scene']}", file=sys.stderr, flush=True)
             rows.append(row)
