@@ -126,7 +126,9 @@ def render_mitsuba(args, scene, seed):
     try:
         result = subprocess.run(command, capture_output=True, text=True,
                                 timeout=args.mitsuba_wall_limit)
-        results = [l for l in result.stdout.splitlines() if l.startswith('{"height"')]
+        # Mitsuba's log may put a colour escape before the line.
+        results = [l[l.index('{"height"'):] for l in result.stdout.splitlines()
+                   if '{"height"' in l]
         if result.returncode != 0 or not results:
             lines = [l for l in (result.stderr + result.stdout).splitlines() if l.strip()]
             info = {"error": "Mitsuba failed: " + (lines[-1] if lines else "(no message)")[:200]}
