@@ -65,6 +65,7 @@ class SceneBuilder {
               "the scene has no <sensor> (Tessera needs a perspective or thinlens sensor)");
     }
     check_mitsuba_clip_planes(*sensor_, shapes_);
+    refuse_overweighted_delta_lights();
     Scene result;
     result.camera = sensor_->camera;
     result.film = sensor_->film;
@@ -86,6 +87,26 @@ class SceneBuilder {
   }
 
  private:
+  /// Mitsuba 3.9.1's `direct` integrator weighs each of its emitter_samples samples of a delta
+  /// light (point, spot, directional, projector) by 1, not 1 / emitter_samples, so its image of
+  /// such a light is emitter_samples times too bright (mitsuba-data's scenes/hello.xml: 4x).
+  /// Tessera renders the converged image, which would differ from Mitsuba's: refused.
+  void refuse_overweighted_delta_lights() const {
+    if (integrator_.emitter_samples <= 1) return;
+    for (const Light& light : lights_) {
+      if (light.kind == LightKind::point || light.kind == LightKind::spot ||
+          light.kind == LightKind::directional || light.kind == LightKind::projector) {
+        fail_at(*integrator_element_,
+                "the direct integrator with " + std::to_string(integrator_.emitter_samples) +
+                    " emitter samples and a point, spot, directional or projector light (" +
+                    light.origin + "): Mitsuba 3 counts each sample of such a light at full "
+                    "weight, so its image is " + std::to_string(integrator_.emitter_samples) +
+                    " times too bright there, which Tessera does not reproduce (write "
+                    "emitter_samples 1, or the path integrator with max_depth 2)");
+      }
+    }
+  }
+
   void add(const MitsubaElement& element) {
     const std::string& tag = element.tag;
     if (tag == "sensor") {
