@@ -87,9 +87,9 @@ class SceneBuilder {
   }
 
  private:
-  /// Mitsuba 3.9.1's `direct` integrator weighs each of its emitter_samples samples of a delta
-  /// light (point, spot, directional, projector) by 1, not 1 / emitter_samples, so its image of
-  /// such a light is emitter_samples times too bright (mitsuba-data's scenes/hello.xml: 4x).
+  /// With emitter_samples N > 1, Mitsuba 3.9.1's `direct` integrator renders a delta light
+  /// (point, spot, directional, projector) N times too bright (measured on mitsuba-data's
+  /// scenes/hello.xml, point lights, N = 2, 3, 4; as if each sample had full weight, not 1 / N).
   /// Tessera renders the converged image, which would differ from Mitsuba's: refused.
   void refuse_overweighted_delta_lights() const {
     if (integrator_.emitter_samples <= 1) return;
@@ -99,9 +99,9 @@ class SceneBuilder {
         fail_at(*integrator_element_,
                 "the direct integrator with " + std::to_string(integrator_.emitter_samples) +
                     " emitter samples and a point, spot, directional or projector light (" +
-                    light.origin + "): Mitsuba 3 counts each sample of such a light at full "
-                    "weight, so its image is " + std::to_string(integrator_.emitter_samples) +
-                    " times too bright there, which Tessera does not reproduce (write "
+                    light.origin + "): Mitsuba 3 renders such a light " +
+                    std::to_string(integrator_.emitter_samples) +
+                    " times too bright then, which Tessera does not reproduce (write "
                     "emitter_samples 1, or the path integrator with max_depth 2)");
       }
     }
