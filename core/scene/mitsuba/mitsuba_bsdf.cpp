@@ -454,14 +454,16 @@ uint32_t MitsubaMaterials::of(const MitsubaElement& bsdf) {
   return index;
 }
 
-uint32_t MitsubaMaterials::default_material() {
-  if (!default_) {
+uint32_t MitsubaMaterials::default_material(bool emitter) {
+  std::optional<uint32_t>& index = emitter ? default_emitter_ : default_;
+  if (!index) {
     Material diffuse;
     diffuse.type = MaterialType::diffuse;
-    diffuse.reflectance.value = glm::dvec3(0.5);
-    default_ = add_named(std::move(diffuse), "(Mitsuba default diffuse)");
+    diffuse.reflectance.value = glm::dvec3(emitter ? 0.0 : 0.5);
+    index = add_named(std::move(diffuse), emitter ? "(Mitsuba default for a light: black diffuse)"
+                                                  : "(Mitsuba default diffuse)");
   }
-  return *default_;
+  return *index;
 }
 
 std::vector<Material> MitsubaMaterials::take() {
@@ -470,6 +472,7 @@ std::vector<Material> MitsubaMaterials::take() {
   index_of_.clear();
   names_.clear();
   default_.reset();
+  default_emitter_.reset();
   return result;
 }
 

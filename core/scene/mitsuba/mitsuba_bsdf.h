@@ -65,8 +65,10 @@ class MitsubaMaterials {
 
   /// The index of the material of BSDF element `bsdf`, read on first use.
   uint32_t of(const MitsubaElement& bsdf);
-  /// Mitsuba's material for a shape without a BSDF: diffuse, reflectance 0.5, one-sided.
-  uint32_t default_material();
+  /// Mitsuba's material for a shape without a BSDF: diffuse, reflectance 0.5, one-sided; for
+  /// a shape with an area emitter (`emitter` true) diffuse with reflectance 0, as Mitsuba 3's
+  /// Shape gives it: such a light reflects nothing, on either side.
+  uint32_t default_material(bool emitter = false);
   /// The materials in index order; the table is empty afterwards.
   std::vector<Material> take();
 
@@ -84,6 +86,7 @@ class MitsubaMaterials {
   std::map<const MitsubaElement*, uint32_t> index_of_;
   std::set<std::string> names_;
   std::optional<uint32_t> default_;
+  std::optional<uint32_t> default_emitter_;
 };
 
 }  // namespace tessera

@@ -551,12 +551,32 @@ TEST(MitsubaBsdf, ShapesWithoutBsdfGetMitsubasDefault) {
   Scene s = parse_xml(mitsuba_scene(R"(
     <shape type="rectangle"/>
     <shape type="cube"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)"));
-  ASSERT_EQ(s.materials.size(), 1u);
+  ASSERT_EQ(s.materials.size(), 2u);
   EXPECT_EQ(s.shapes[0].material, 0u);
-  EXPECT_EQ(s.shapes[1].material, 0u);  // an emitter without a BSDF reflects too, as in Mitsuba
   EXPECT_EQ(s.materials[0].type, MaterialType::diffuse);
   EXPECT_EQ(s.materials[0].reflectance.value, glm::dvec3(0.5));
   EXPECT_FALSE(s.materials[0].two_sided);
+  // A light without a BSDF reflects nothing: Mitsuba 3's Shape gives it a diffuse BSDF of
+  // reflectance 0. Mitsuba 3.9.1 renders an emitting sphere (radiance 1, no BSDF) inside a
+  // constant environment of radiance 1 as exactly 1, and as 1.4997 with <bsdf type="diffuse"/>
+  // (scalar_rgb, 64 spp); shape_sphere_light_analytic.xml was 0.4 % (8 sigma) too bright
+  // before (docs/mitsuba_sweep.md).
+  EXPECT_EQ(s.shapes[1].material, 1u);
+  EXPECT_EQ(s.materials[1].type, MaterialType::diffuse);
+  EXPECT_EQ(s.materials[1].reflectance.value, glm::dvec3(0.0));
+  EXPECT_TRUE(s.materials[1].reflectance.is_constant());
+}
+
+TEST(MitsubaBsdf, LightsWithoutBsdfShareOneBlackDefault) {
+  Scene s = parse_xml(mitsuba_scene(R"(
+    <shape type="sphere"><emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>
+    <shape type="rectangle"><emitter type="area"/></shape>
+    <shape type="cube"><bsdf type="diffuse"/><emitter type="area"/></shape>)"));
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.shapes[0].material, s.shapes[1].material);
+  EXPECT_EQ(s.materials[s.shapes[0].material].reflectance.value, glm::dvec3(0.0));
+  // A light with its own BSDF keeps it (diffuse's default reflectance 0.5).
+  EXPECT_EQ(s.materials[s.shapes[2].material].reflectance.value, glm::dvec3(0.5));
 }
 
 TEST(MitsubaBsdf, MaterialNamesAreUnique) {

@@ -37,7 +37,8 @@ MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& element, const M
     }
   } else if (type == "direct") {
     result.max_depth = 2;
-    for (const char* samples : {"emitter_samples", "bsdf_samples", "shading_samples"}) {
+    result.emitter_samples = integrator.take_integer("emitter_samples").value_or(1);
+    for (const char* samples : {"bsdf_samples", "shading_samples"}) {
       integrator.ignore(samples);  // how many samples of each strategy: noise only
     }
     result.note = "the direct integrator is rendered as Tessera's path tracer with max_depth 2 "

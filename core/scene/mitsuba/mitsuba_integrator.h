@@ -1,6 +1,7 @@
 // Mitsuba's <integrator> (docs/mitsuba.md, "Integrator").
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "scene/mitsuba/mitsuba_ids.h"
@@ -14,6 +15,12 @@ struct MitsubaIntegrator {
   /// camera ray, -1 unbounded (the default).
   int max_depth = -1;
   bool hide_emitters = false;
+  /// `direct`: its `emitter_samples` as written (1 when absent, and for the others). With
+  /// emitter_samples N > 1 Mitsuba 3.9.1's image of a delta light (point, spot, directional,
+  /// projector) is N times too bright, whatever bsdf_samples (measured: N = 2, 3, 4 with
+  /// bsdf_samples 0...4); `shading_samples` alone does not do it (3: 1x). The loader refuses
+  /// that pair (docs/mitsuba.md, "Integrator").
+  int64_t emitter_samples = 1;
   /// For an integrator Tessera renders as `path`: a line saying so ("" for path itself).
   std::string note;
 };
@@ -25,7 +32,8 @@ struct MitsubaIntegrator {
 /// - `volpath` (the same as path without media, which Tessera refuses anyway): max_depth,
 ///   rr_depth, hide_emitters;
 /// - `direct` (direct illumination only: path with max_depth 2): hide_emitters;
-///   emitter_samples, bsdf_samples and shading_samples change noise only.
+///   emitter_samples, bsdf_samples and shading_samples change noise only (but see
+///   MitsubaIntegrator::emitter_samples).
 /// rr_depth is accepted and ignored: Tessera's Russian roulette is unbiased too, so where it
 /// starts changes the noise, not the image. Integrators that make another kind of image (aov,
 /// moment, stokes, depth, ...) or need media are refused, as are max_depth 0 or < -1, with

@@ -134,22 +134,24 @@ Transform cylinder_placement(MitsubaPlugin& plugin) {
   return Transform(m);
 }
 
-uint32_t read_material(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
+/// `emitter`: the shape has an area emitter (then Mitsuba's default BSDF is black).
+uint32_t read_material(MitsubaPlugin& plugin, MitsubaShapeContext& context, bool emitter) {
   std::vector<MitsubaObject> bsdfs = plugin.take_objects("bsdf");
   if (bsdfs.size() > 1) fail_at(*bsdfs[1].written, "a shape has at most one BSDF");
-  if (bsdfs.empty()) return context.materials.default_material();
+  if (bsdfs.empty()) return context.materials.default_material(emitter);
   return context.materials.of(*bsdfs.front().element);
 }
 
-/// The shape's area emitter, if any.
-void read_emitter(MitsubaPlugin& plugin, MitsubaShapeContext& context, Shape& shape) {
+/// The shape's area emitter, if any; whether it has one.
+bool read_emitter(MitsubaPlugin& plugin, MitsubaShapeContext& context, Shape& shape) {
   std::vector<MitsubaObject> emitters = plugin.take_objects("emitter");
-  if (emitters.empty()) return;
+  if (emitters.empty()) return false;
   if (emitters.size() > 1) fail_at(*emitters[1].written, "a shape has at most one emitter");
   MitsubaAreaEmission emission =
       read_mitsuba_area_emitter(*emitters.front().element, context.ids, context.textures);
   shape.emission = emission.radiance;
   shape.emission_texture = emission.texture;
+  return true;
 }
 
 /// Media on either side of a shape: refused, naming what Tessera does instead.
@@ -239,8 +241,8 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
     shape.indices = std::move(mesh.indices);
     shape.dropped_triangles = dropped;
   }
-  shape.material = read_material(plugin, context);
-  read_emitter(plugin, context, shape);
+  bool emitter = read_emitter(plugin, context, shape);
+  shape.material = read_material(plugin, context, emitter);
   refuse_media(plugin);
   if (shape.is_emitter()) {
     double area = area_of(shape);
