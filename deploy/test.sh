@@ -254,8 +254,10 @@ wait_for 60 three_online || die "three workers did not register within 60 s"
 pod healthcheck run "$RUN-w1" >/dev/null || die "a worker's HEALTHCHECK reports unhealthy"
 say "three workers online"
 
-# Small pixels, many units (16 tiles x 256 batches): long enough to scale down mid-job.
-JOB_ARGS=(--width 64 --height 64 --spp 1024 --batch 4 --tile 16)
+# Small pixels, many units (16 tiles x 256 batches of 8,192 samples): long enough to scale down
+# mid-job. (At 1,024 samples per unit, workers that lease and upload 16 units per call finished
+# the job before the scale-down.)
+JOB_ARGS=(--width 64 --height 64 --spp 8192 --batch 32 --tile 16)
 JOB="$(cli submit "$ROOT/scenes/cornell.json" "${JOB_ARGS[@]}" --json | json 'd["id"]')"
 units_total="$(cli status "$JOB" --json | json 'd["counters"]["units_total"]')"
 say "job $JOB submitted (${JOB_ARGS[*]}): $units_total units"
