@@ -20,17 +20,7 @@
 namespace tessera::server {
 namespace {
 
-v1::SceneBundle tiny_bundle() {
-  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/tiny.json");
-  std::ostringstream scene;
-  scene << in.rdbuf();
-  v1::SceneBundle bundle;
-  bundle.set_scene_file("scene.json");
-  auto* file = bundle.add_files();
-  file->set_path("scene.json");
-  file->set_data(scene.str());
-  return bundle;
-}
+using testing::tiny_bundle;
 
 /// A 32x32 job in 8x8 tiles (16 tiles) of 4 batches of 1 spp: 64 units.
 v1::JobRequestOptions small_units() {

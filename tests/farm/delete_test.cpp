@@ -109,14 +109,7 @@ TEST(DeleteJob, RetentionDeletesOnlyOldFinalJobs) {
   config.output_dir = std::filesystem::temp_directory_path() / "tessera-retention-test";
   config.retention_days = 1;
   Coordinator coordinator(config, clock);
-  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/tiny.json");
-  std::ostringstream scene;
-  scene << in.rdbuf();
-  v1::SceneBundle bundle;
-  bundle.set_scene_file("scene.json");
-  auto* file = bundle.add_files();
-  file->set_path("scene.json");
-  file->set_data(scene.str());
+  const v1::SceneBundle bundle = testing::tiny_bundle();
   const int64_t old_job = coordinator.submit(bundle, {}, 0, "c").id;
   coordinator.cancel(old_job);
   clock.advance(3'600'000);

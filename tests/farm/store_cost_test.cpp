@@ -16,17 +16,7 @@
 namespace tessera::server {
 namespace {
 
-v1::SceneBundle tiny_bundle() {
-  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/tiny.json");
-  std::ostringstream scene;
-  scene << in.rdbuf();
-  v1::SceneBundle bundle;
-  bundle.set_scene_file("scene.json");
-  auto* file = bundle.add_files();
-  file->set_path("scene.json");
-  file->set_data(scene.str());
-  return bundle;
-}
+using testing::tiny_bundle;
 
 /// Store counters over one lease and one upload, as a worker would do them.
 struct CycleCost {

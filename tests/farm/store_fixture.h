@@ -2,6 +2,8 @@
 // jobs, workers and results without scenes or a renderer.
 #pragma once
 
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "accum/accumulation.h"
@@ -12,10 +14,22 @@
 #include "scheduler.h"
 #include "store/migrations.h"
 #include "store/sqlite.h"
+#include "tessera/v1/job.pb.h"
 #include "tile_merger.h"
 #include "worker_registry.h"
 
 namespace tessera::server::testing {
+
+/// The farm tests' small scene (data/tiny.json) as a bundle whose scene file is "scene.json".
+inline v1::SceneBundle tiny_bundle() {
+  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/tiny.json");
+  v1::SceneBundle bundle;
+  bundle.set_scene_file("scene.json");
+  auto* file = bundle.add_files();
+  file->set_path("scene.json");
+  file->set_data(std::string(std::istreambuf_iterator<char>(in), {}));
+  return bundle;
+}
 
 /// The upload of `acc` under `lease`, as the lease's worker would send it.
 inline UnitResult result_for(const Lease& lease, const Accumulation& acc) {
