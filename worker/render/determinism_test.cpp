@@ -14,27 +14,6 @@
 namespace tessera {
 namespace {
 
-/// A small room with every material and both shape kinds: diffuse walls, a quad light, a
-/// glass sphere, a mirror sphere and a two-sided diffuse quad.
-Scene mixed_scene() {
-  Scene s;
-  const uint32_t white = test::add_diffuse(s, {0.7, 0.7, 0.7});
-  const uint32_t red = test::add_diffuse(s, {0.7, 0.1, 0.1}, /*two_sided=*/true);
-  const uint32_t glass = test::add_material(s, MaterialType::glass, 1.5);
-  const uint32_t mirror = test::add_material(s, MaterialType::mirror);
-  s.shapes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, white, /*inward=*/true));
-  Shape light = test::quad({-0.3, 0.99, -0.3}, {0.3, 0.99, -0.3}, {0.3, 0.99, 0.3}, {-0.3, 0.99, 0.3}, white);
-  light.emission = {10, 9, 8};
-  s.shapes.push_back(light);
-  s.shapes.push_back(test::sphere({-0.4, -0.6, 0.0}, 0.35, glass));
-  s.shapes.push_back(test::sphere({0.45, -0.65, -0.3}, 0.3, mirror));
-  s.shapes.push_back(test::quad({-0.9, -0.2, -0.9}, {-0.5, -0.2, -0.9}, {-0.5, 0.3, -0.6}, {-0.9, 0.3, -0.6}, red));
-  s.camera.position = {0, 0, 0.95};
-  s.camera.look_at = {0, -0.2, 0};
-  s.camera.fov_deg = 80;
-  return s;
-}
-
 JobOptions job(uint64_t seed, uint32_t spp, uint32_t batch) {
   JobOptions o;
   o.width = 40;
@@ -51,7 +30,7 @@ bool bit_identical(const std::vector<double>& a, const std::vector<double>& b) {
 }
 
 TEST(Determinism, OneThreadAndAllThreadsGiveTheSameBits) {
-  const Scene s = mixed_scene();
+  const Scene s = test::mixed_room();
   const Renderer renderer(s, job(5, 64, 16));
   const TileRect tile{8, 4, 40, 30};
   Accumulation single, many;
@@ -64,7 +43,7 @@ TEST(Determinism, OneThreadAndAllThreadsGiveTheSameBits) {
 }
 
 TEST(Determinism, BatchesRenderedInAnyOrderMergeToTheSameBits) {
-  const Scene s = mixed_scene();
+  const Scene s = test::mixed_room();
   const JobOptions options = job(9, 64, 8);
   const LocalRenderResult reference = render_job(s, options);
 
@@ -93,7 +72,7 @@ TEST(Determinism, BatchesRenderedInAnyOrderMergeToTheSameBits) {
 }
 
 TEST(Determinism, ADifferentSeedGivesADifferentImage) {
-  const Scene s = mixed_scene();
+  const Scene s = test::mixed_room();
   const LocalRenderResult a = render_job(s, job(1, 16, 16));
   const LocalRenderResult b = render_job(s, job(2, 16, 16));
   size_t differing = 0;
@@ -104,7 +83,7 @@ TEST(Determinism, ADifferentSeedGivesADifferentImage) {
 }
 
 TEST(Determinism, MixedSceneStaysFinite) {
-  const Scene s = mixed_scene();
+  const Scene s = test::mixed_room();
   const LocalRenderResult r = render_job(s, job(3, 32, 32));
   for (const Accumulation& t : r.tiles) {
     EXPECT_EQ(t.nan_dropped + t.inf_dropped, 0u);

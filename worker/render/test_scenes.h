@@ -82,4 +82,26 @@ inline void scale_scene(Scene& s, double k) {
   }
 }
 
+/// A small room with every material kind of these helpers and both shape kinds: diffuse walls,
+/// a quad light, a glass sphere, a mirror sphere and a two-sided diffuse quad (the determinism
+/// and wavefront tests' scene).
+inline Scene mixed_room() {
+  Scene s;
+  const uint32_t white = add_diffuse(s, {0.7, 0.7, 0.7});
+  const uint32_t red = add_diffuse(s, {0.7, 0.1, 0.1}, /*two_sided=*/true);
+  const uint32_t glass = add_material(s, MaterialType::glass, 1.5);
+  const uint32_t mirror = add_material(s, MaterialType::mirror);
+  s.shapes.push_back(box({-1, -1, -1}, {1, 1, 1}, white, /*inward=*/true));
+  Shape light = quad({-0.3, 0.99, -0.3}, {0.3, 0.99, -0.3}, {0.3, 0.99, 0.3}, {-0.3, 0.99, 0.3}, white);
+  light.emission = {10, 9, 8};
+  s.shapes.push_back(light);
+  s.shapes.push_back(sphere({-0.4, -0.6, 0.0}, 0.35, glass));
+  s.shapes.push_back(sphere({0.45, -0.65, -0.3}, 0.3, mirror));
+  s.shapes.push_back(quad({-0.9, -0.2, -0.9}, {-0.5, -0.2, -0.9}, {-0.5, 0.3, -0.6}, {-0.9, 0.3, -0.6}, red));
+  s.camera.position = {0, 0, 0.95};
+  s.camera.look_at = {0, -0.2, 0};
+  s.camera.fov_deg = 80;
+  return s;
+}
+
 }  // namespace tessera::test

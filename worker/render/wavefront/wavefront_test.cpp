@@ -24,27 +24,6 @@ namespace {
 
 const std::string kSource = TESSERA_SOURCE_DIR;
 
-/// A small room with every material kind of the test helpers and both shape kinds: diffuse
-/// walls, a quad light, glass and mirror spheres, a two-sided quad.
-Scene mixed_scene() {
-  Scene s;
-  const uint32_t white = test::add_diffuse(s, {0.7, 0.7, 0.7});
-  const uint32_t red = test::add_diffuse(s, {0.7, 0.1, 0.1}, /*two_sided=*/true);
-  const uint32_t glass = test::add_material(s, MaterialType::glass, 1.5);
-  const uint32_t mirror = test::add_material(s, MaterialType::mirror);
-  s.shapes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, white, /*inward=*/true));
-  Shape light = test::quad({-0.3, 0.99, -0.3}, {0.3, 0.99, -0.3}, {0.3, 0.99, 0.3}, {-0.3, 0.99, 0.3}, white);
-  light.emission = {10, 9, 8};
-  s.shapes.push_back(light);
-  s.shapes.push_back(test::sphere({-0.4, -0.6, 0.0}, 0.35, glass));
-  s.shapes.push_back(test::sphere({0.45, -0.65, -0.3}, 0.3, mirror));
-  s.shapes.push_back(test::quad({-0.9, -0.2, -0.9}, {-0.5, -0.2, -0.9}, {-0.5, 0.3, -0.6}, {-0.9, 0.3, -0.6}, red));
-  s.camera.position = {0, 0, 0.95};
-  s.camera.look_at = {0, -0.2, 0};
-  s.camera.fov_deg = 80;
-  return s;
-}
-
 bool same_bits(const glm::dvec3& a, const glm::dvec3& b) { return std::memcmp(&a, &b, sizeof(a)) == 0; }
 
 template <typename T>
@@ -72,7 +51,7 @@ void expect_same(const Accumulation& a, const Accumulation& b, const std::string
 }
 
 TEST(Wavefront, EveryPacketWidthGivesEachPathTheScalarBits) {
-  const Scene s = mixed_scene();
+  const Scene s = test::mixed_room();
   const TraceableScene scene(s, 24, 18, "");
   constexpr uint64_t kSeed = 3;
   for (const int max_depth : {-1, 3}) {
@@ -116,7 +95,7 @@ TEST(Wavefront, EveryPacketWidthGivesEachPathTheScalarBits) {
 }
 
 TEST(Wavefront, RefusesPathsWithoutSamplers) {
-  const Scene s = mixed_scene();
+  const Scene s = test::mixed_room();
   const TraceableScene scene(s, 8, 8, "");
   const WavefrontIntegrator integrator(scene, -1, 8);
   std::vector<PathState> paths(3);
@@ -166,7 +145,7 @@ void expect_wavefront_equals_scalar(const Scene& scene, const std::string& name,
   }
 }
 
-TEST(Wavefront, MixedSceneGivesTheScalarBits) { expect_wavefront_equals_scalar(mixed_scene(), "mixed scene", 4); }
+TEST(Wavefront, MixedSceneGivesTheScalarBits) { expect_wavefront_equals_scalar(test::mixed_room(), "mixed scene", 4); }
 
 class WavefrontScenes : public ::testing::TestWithParam<const char*> {};
 
