@@ -9,6 +9,20 @@
 namespace tessera {
 namespace {
 
+/// A checkerboard colour: every channel >= 0, not bounded above (it may give an eta or a
+/// radiance). A <spectrum> is read as a reflectance, as before.
+glm::dvec3 checker_color(MitsubaPlugin& plugin, std::string_view name, glm::dvec3 fallback) {
+  std::optional<glm::dvec3> color = plugin.take_color(name);
+  if (!color) return fallback;
+  for (int i = 0; i < 3; ++i) {
+    if (!((*color)[i] >= 0)) {
+      fail_at(*plugin.property(name), std::string(name) + " must be >= 0 in every channel (got " +
+                                          format_number((*color)[i]) + ")");
+    }
+  }
+  return *color;
+}
+
 std::string lower_extension(const std::string& path) {
   size_t dot = path.rfind('.');
   std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
@@ -104,8 +118,8 @@ Texture MitsubaTextures::read(const MitsubaElement& element) {
     plugin.ignore("format");  // storage precision of the texels in Mitsuba's memory
   } else if (plugin.type() == "checkerboard") {
     texture.kind = TextureKind::checkerboard;
-    texture.color0 = plugin.take_color("color0").value_or(glm::dvec3(0.4));
-    texture.color1 = plugin.take_color("color1").value_or(glm::dvec3(0.2));
+    texture.color0 = checker_color(plugin, "color0", glm::dvec3(0.4));
+    texture.color1 = checker_color(plugin, "color1", glm::dvec3(0.2));
   } else if (plugin.type() == "rawconstant") {
     texture.kind = TextureKind::rawconstant;
     read_raw_value(plugin, texture);

@@ -8,6 +8,8 @@
 
 #include "scene/mitsuba/mitsuba_test_support.h"
 #include "scene/mitsuba/mitsuba_transform.h"
+#include "scene/native/scene_writer.h"
+#include "scene/scene_loader.h"
 
 namespace tessera {
 namespace {
@@ -160,6 +162,28 @@ TEST(MitsubaScene, TopLevelObjectsUsedByRef) {
     <sensor type="perspective"><float name="fov" value="40"/><ref id="spp"/></sensor>
   </scene>)");
   EXPECT_EQ(sampled.render.spp, 32);
+}
+
+// The fuzzer's find: a checkerboard colour above 1 was imported, then refused by the native
+// parser when read back. Both now take any colour >= 0; a negative one is refused at import.
+TEST(MitsubaScene, CheckerboardColoursAboveOneImportAndReadBack) {
+  Scene s = parse_xml(mitsuba_scene(R"(
+    <bsdf type="diffuse" id="bright"><texture name="reflectance" type="checkerboard">
+      <float name="color0" value="5.8"/><rgb name="color1" value="1.5, 0, 2"/></texture></bsdf>
+    <shape type="sphere"><ref id="bright"/></shape>)"));
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures[0].color0, glm::dvec3(5.8));
+  EXPECT_EQ(s.textures[0].color1, glm::dvec3(1.5, 0, 2));
+  std::string json = write_scene_json(s);
+  EXPECT_EQ(write_scene_json(parse_scene(json, testing::memory_reader({}))), json);
+
+  std::string xml = mitsuba_scene(R"(
+    <texture type="checkerboard" id="checks"><rgb name="color1" value="0.5, -0.25, 0.5"/></texture>
+    <bsdf type="diffuse" id="floor"><ref name="reflectance" id="checks"/></bsdf>
+    <shape type="disk"><ref id="floor"/></shape>)");
+  EXPECT_NE(xml_error(xml).find("color1 must be >= 0 in every channel (got -0.25)"),
+            std::string::npos)
+      << xml_error(xml);
 }
 
 TEST(MitsubaScene, TopLevelElementsTesseraDoesNotRead) {

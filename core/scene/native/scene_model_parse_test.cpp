@@ -99,6 +99,14 @@ TEST(SceneModelParse, TexturesAndTexturedParameters) {
   EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "checkerboard",
                                                  "to_uv": [[0, 0, 1], [0, 0, 1]]}})")),
             "textures.t.to_uv: must be invertible");
+  // Checkerboard colours are unbounded above, like a bitmap's texels (an eta, a radiance), but
+  // not negative.
+  Scene bright = parse(with(R"("textures": {"t": {"type": "checkerboard",
+                                                  "color0": [5.8, 1, 0], "color1": [1.5, 1.5, 1.5]}})"));
+  EXPECT_EQ(bright.textures.at(0).color0, glm::dvec3(5.8, 1, 0));
+  EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "checkerboard",
+                                                 "color1": [0.5, -0.1, 0.5]}})")),
+            "textures.t.color1[1]: must be >= 0 (got -0.1)");
 }
 
 TEST(SceneModelParse, MaterialKindsTakeMitsubasParameters) {

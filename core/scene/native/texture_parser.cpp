@@ -87,8 +87,10 @@ Texture parse_texture(const std::string& name, const JsonValue& value,
   } else if (type == "checkerboard") {
     texture.kind = TextureKind::checkerboard;
     value.expect_object({"type", "color0", "color1", "to_uv"}, "a checkerboard");
-    if (auto c = value.find("color0")) texture.color0 = ranged_rgb(*c, {0, 1});
-    if (auto c = value.find("color1")) texture.color1 = ranged_rgb(*c, {0, 1});
+    // Unbounded above, as a bitmap's texels are: a checkerboard may feed an index of
+    // refraction, an emitter's radiance or a reflectance above 1 (Mitsuba clamps none).
+    if (auto c = value.find("color0")) texture.color0 = ranged_rgb(*c, {0, 1e300});
+    if (auto c = value.find("color1")) texture.color1 = ranged_rgb(*c, {0, 1e300});
   } else if (type == "rawconstant") {
     texture.kind = TextureKind::rawconstant;
     value.expect_object({"type", "value"}, "a rawconstant");
