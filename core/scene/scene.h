@@ -157,6 +157,10 @@ enum class MaterialType {
   /// reflection of Fresnel F over a diffuse base attenuated by (1 - F) on the way in and out.
   /// reflectance = diffuse_reflectance, ior (or ior_texture), the microfacet keys (anisotropic).
   pplastic,
+  /// Mitsuba's `polarizer` as its RGB variants render it (without polarization): light passes
+  /// straight through, scaled by specular_transmittance / 2 (Mitsuba's `transmittance`), from
+  /// either side; nothing is reflected. Its theta and polarizing change no RGB image.
+  polarizer,
 };
 
 enum class MicrofacetDistribution { ggx, beckmann };
@@ -210,7 +214,7 @@ struct Material {
   TexturedColor reflectance{{0.5, 0.5, 0.5}, -1};
   /// conductors, glass, plastics: Mitsuba's specular_reflectance (default 1).
   TexturedColor specular_reflectance{{1, 1, 1}, -1};
-  /// glass kinds: Mitsuba's specular_transmittance (default 1).
+  /// glass kinds: Mitsuba's specular_transmittance (default 1); polarizer: its transmittance.
   TexturedColor specular_transmittance{{1, 1, 1}, -1};
   /// glass kinds, plastics, principled (Mitsuba's eta, or its `specular` converted): interior
   /// over exterior index, > 0.
@@ -252,7 +256,7 @@ struct Material {
   /// sidedness, mask, bump or normal map of their own (the blend carries those).
   std::vector<Material> blend;
   /// Whether the material transmits light (glass kinds, principled with spec_trans,
-  /// principled_thin, a blend of one): then two-sided by nature.
+  /// principled_thin, polarizer, a blend of one): then two-sided by nature.
   bool transmits() const {
     if (type == MaterialType::glass || type == MaterialType::rough_glass ||
         type == MaterialType::thin_glass) {
@@ -261,6 +265,7 @@ struct Material {
     if (type == MaterialType::principled) return principled.transmits();
     // Mitsuba's principledthin always has a transmission lobe and treats both sides alike.
     if (type == MaterialType::principled_thin) return true;
+    if (type == MaterialType::polarizer) return true;
     if (type == MaterialType::blend) {
       for (const Material& m : blend) {
         if (m.transmits()) return true;

@@ -71,12 +71,13 @@ struct RenderMaterial {
 
   /// Whether any parameter is a texture (the hit then needs its uv).
   bool textured = false;
-  /// Glass kinds, principled materials that transmit and thin principled ones: both sides are
-  /// the surface, with the index inverted from the back (the BSDF handles wo below the
-  /// surface).
+  /// Glass kinds, principled materials that transmit, thin principled ones and polarizers: both
+  /// sides are the surface, with the index inverted from the back (the BSDF handles wo below
+  /// the surface).
   bool dielectric() const {
     return type == MaterialType::glass || type == MaterialType::rough_glass ||
            type == MaterialType::thin_glass || type == MaterialType::principled_thin ||
+           type == MaterialType::polarizer ||
            (type == MaterialType::principled && principled.transmits) ||
            (type == MaterialType::blend && blend_transmits());
   }

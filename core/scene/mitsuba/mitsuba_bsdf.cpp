@@ -13,7 +13,8 @@ namespace {
 
 constexpr const char* kSupported =
     "Tessera supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
-    "thindielectric, plastic, roughplastic, pplastic, principled, principledthin, blendbsdf, "
+    "thindielectric, plastic, roughplastic, pplastic, principled, principledthin, polarizer, "
+    "blendbsdf, "
     "twosided, mask, bumpmap and normalmap";
 
 constexpr MitsubaColorRole kReflectance = MitsubaColorRole::reflectance;
@@ -286,6 +287,20 @@ Material read_pplastic(MitsubaPlugin& plugin, MitsubaTextures& textures) {
   return m;
 }
 
+/// Mitsuba's polarizer, as its RGB variants render it: only transmittance changes the image.
+/// theta (any angle in degrees, a spectrum, float or texture) and polarizing (a boolean) act on
+/// polarization alone, which RGB images do not carry: they are accepted (polarizing checked for
+/// its type).
+Material read_polarizer(MitsubaPlugin& plugin, MitsubaTextures& textures) {
+  Material m;
+  m.type = MaterialType::polarizer;
+  m.specular_transmittance =
+      read_textured_color(plugin, "transmittance", glm::dvec3(1), kReflectance, textures);
+  if (!plugin.take_named_object("theta")) plugin.ignore("theta");
+  plugin.take_boolean("polarizing");
+  return m;
+}
+
 /// The one BSDF nested in a wrapper (twosided, mask, bumpmap, normalmap).
 const MitsubaElement& single_nested(MitsubaPlugin& plugin) {
   std::vector<MitsubaObject> nested = plugin.take_objects("bsdf");
@@ -410,6 +425,8 @@ Material MitsubaMaterials::read(const MitsubaElement& bsdf) {
     m = read_principled_thin(plugin, textures_);
   } else if (type == "pplastic") {
     m = read_pplastic(plugin, textures_);
+  } else if (type == "polarizer") {
+    m = read_polarizer(plugin, textures_);
   } else if (type == "blendbsdf") {
     m = read_blend(plugin);
   } else if (type == "twosided") {

@@ -48,6 +48,9 @@ namespace tessera {
 ///   float in [0, 2] or a texture), eta (1.5; a float or a texture), and the sampling rates
 ///   diffuse_reflectance_, specular_reflectance_, specular_transmittance_ and
 ///   diffuse_transmittance_sampling_rate (1). Two-sided by nature, as a dielectric;
+/// - `polarizer` (as Mitsuba's RGB variants render it, without polarization): transmittance
+///   (1; colour or texture): light passes straight through from either side, times
+///   transmittance / 2; theta and polarizing are accepted and change no RGB image;
 /// - `blendbsdf`: weight (required; a float, clamped to [0, 1] as Mitsuba does, or a texture)
 ///   and two nested BSDFs, which may be blends but have no twosided, mask, bumpmap or normalmap
 ///   inside (those go around the blend);

@@ -289,7 +289,7 @@ TEST(MitsubaBsdf, UnsupportedBsdfsNameTheirLine) {
                 ": <bsdf type=\"hair\" id=\"p\">: unsupported BSDF (Tessera "
                 "supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
                 "thindielectric, plastic, roughplastic, pplastic, principled, principledthin, "
-                "blendbsdf, twosided, mask, bumpmap and normalmap)");
+                "polarizer, blendbsdf, twosided, mask, bumpmap and normalmap)");
 }
 
 TEST(MitsubaBsdf, PrincipledDefaultsAreMitsubas) {
@@ -469,6 +469,37 @@ TEST(MitsubaBsdf, PplasticReadsItsParameters) {
             std::string::npos);
   EXPECT_NE(bsdf_error(R"(<bsdf type="pplastic"><boolean name="nonlinear" value="true"/>
       </bsdf>)").find("nonlinear"),
+            std::string::npos);
+}
+
+TEST(MitsubaBsdf, PolarizerReadsTransmittanceAndAcceptsThetaAndPolarizing) {
+  Material d = material_of(R"(<bsdf type="polarizer"/>)");
+  EXPECT_EQ(d.type, MaterialType::polarizer);
+  EXPECT_EQ(d.specular_transmittance.value, glm::dvec3(1.0));
+  EXPECT_TRUE(d.transmits());  // two-sided by nature, as in Mitsuba (FrontSide | BackSide)
+
+  // theta acts on polarization only: any angle, a spectrum or a texture, changes no RGB value.
+  Material m = material_of(R"(<bsdf type="polarizer">
+      <spectrum name="theta" value="-45"/> <boolean name="polarizing" value="false"/>
+      <rgb name="transmittance" value="0.8, 0.5, 0.2"/></bsdf>)");
+  EXPECT_EQ(m.specular_transmittance.value, glm::dvec3(0.8, 0.5, 0.2));
+  Material t = material_of(R"(<bsdf type="polarizer">
+      <texture name="theta" type="checkerboard"/>
+      <texture name="transmittance" type="checkerboard"/></bsdf>)");
+  EXPECT_GE(t.specular_transmittance.texture, 0);
+
+  EXPECT_NE(bsdf_error(R"(<bsdf type="polarizer"><string name="polarizing" value="yes"/>
+      </bsdf>)").find("polarizing"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="polarizer"><rgb name="transmittance" value="1.5"/>
+      </bsdf>)").find("transmittance"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="polarizer"><float name="eta" value="1.5"/></bsdf>)")
+                .find("eta"),
+            std::string::npos);
+  // Mitsuba's twosided takes no BSDF that transmits light.
+  EXPECT_NE(bsdf_error(R"(<bsdf type="twosided"><bsdf type="polarizer"/></bsdf>)")
+                .find("twosided takes only BSDFs that do not transmit"),
             std::string::npos);
 }
 

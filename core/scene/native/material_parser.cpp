@@ -23,6 +23,7 @@ constexpr std::pair<const char*, MaterialType> kTypes[] = {
     {"blend", MaterialType::blend},
     {"principled_thin", MaterialType::principled_thin},
     {"pplastic", MaterialType::pplastic},
+    {"polarizer", MaterialType::polarizer},
 };
 
 /// The principled material's weights (each in [0, 1], constant or textured), in the order the
@@ -76,7 +77,8 @@ MaterialType parse_type(const JsonValue& value) {
   }
   type->fail("unknown material type \"" + printable(name) +
              "\" (expected diffuse, mirror, glass, conductor, rough_conductor, rough_glass, "
-             "thin_glass, plastic, rough_plastic, pplastic, principled, principled_thin or blend)");
+             "thin_glass, plastic, rough_plastic, pplastic, principled, principled_thin, polarizer or "
+             "blend)");
 }
 
 bool is_rough(MaterialType t) {
@@ -92,7 +94,7 @@ bool is_plastic(MaterialType t) {
 
 /// Both sides alike by nature, as glass: no two_sided key.
 bool always_two_sided(MaterialType t) {
-  return is_glass_kind(t) || t == MaterialType::principled_thin;
+  return is_glass_kind(t) || t == MaterialType::principled_thin || t == MaterialType::polarizer;
 }
 bool has_ior(MaterialType t) {
   return is_glass_kind(t) || is_plastic(t) || t == MaterialType::principled ||
@@ -108,6 +110,9 @@ std::vector<std::string_view> keys_of(MaterialType type) {
     for (const auto& [key, member] : kThinRates) keys.push_back(key);
     keys.insert(keys.end(), {"opacity", "normal_map", "bump_map", "bump_scale", "back"});
     return keys;
+  }
+  if (type == MaterialType::polarizer) {
+    return {"type", "transmittance", "opacity", "normal_map", "bump_map", "bump_scale", "back"};
   }
   if (type == MaterialType::pplastic) keys.push_back("diffuse_reflectance");
   if (type == MaterialType::diffuse) keys.push_back("reflectance");
@@ -157,6 +162,10 @@ void refuse_foreign_keys(const JsonValue& value, MaterialType type) {
   if (is_glass_kind(type)) refuse("two_sided", "glass is always two-sided (remove this key)");
   if (type == MaterialType::principled_thin) {
     refuse("two_sided", "a principled_thin material is two-sided by nature (remove this key)");
+  }
+  if (type == MaterialType::polarizer) {
+    refuse("two_sided", "a polarizer is two-sided by nature (remove this key)");
+    refuse("specular_transmittance", "a polarizer calls it transmittance");
   }
   if (type != MaterialType::principled_thin) {
     refuse("diff_trans", "only principled_thin materials have a diff_trans");
@@ -290,6 +299,11 @@ void parse_type_keys(const JsonValue& value, const TextureNames& textures, Mater
   }
   if (auto s = value.find("specular_transmittance")) {
     m.specular_transmittance = parse_textured_color(*s, textures, {0, 1e300});
+  }
+  if (type == MaterialType::polarizer) {
+    if (auto t = value.find("transmittance")) {
+      m.specular_transmittance = parse_textured_color(*t, textures, {0, 1});
+    }
   }
   if (type == MaterialType::pplastic) {
     if (auto r = value.find("diffuse_reflectance")) {

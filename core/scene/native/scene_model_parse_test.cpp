@@ -273,6 +273,32 @@ TEST(SceneModelParse, PrincipledThinAndPplasticTakeMitsubasParametersAndTextures
             0u);
 }
 
+TEST(SceneModelParse, PolarizerTakesTransmittance) {
+  Scene s = parse(with(R"("materials": {
+      "p": {"type": "polarizer", "transmittance": {"texture": "h", "scale": [0.8, 0.5, 0.2]}},
+      "plain": {"type": "polarizer"}},
+      "textures": {"h": {"type": "bitmap", "file": "h.png"}})"));
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[0].type, MaterialType::polarizer);
+  EXPECT_EQ(s.materials[0].specular_transmittance.texture, 0);
+  EXPECT_EQ(s.materials[0].specular_transmittance.value, glm::dvec3(0.8, 0.5, 0.2));
+  EXPECT_EQ(s.materials[1].specular_transmittance.value, glm::dvec3(1.0));  // Mitsuba's default
+  EXPECT_TRUE(s.materials[1].transmits());
+
+  auto material_error = [](const std::string& m) {
+    return error_of(with(R"("materials": {"m": )" + m + "}"));
+  };
+  EXPECT_EQ(material_error(R"({"type": "polarizer", "two_sided": true})"),
+            "materials.m.two_sided: a polarizer is two-sided by nature (remove this key)");
+  EXPECT_EQ(material_error(R"({"type": "polarizer", "specular_transmittance": [1, 1, 1]})"),
+            "materials.m.specular_transmittance: a polarizer calls it transmittance");
+  EXPECT_EQ(material_error(R"({"type": "polarizer", "ior": 1.5})"),
+            "materials.m.ior: only glass kinds, plastics and principled materials have an ior");
+  EXPECT_EQ(material_error(R"({"type": "polarizer", "transmittance": [1.5, 1, 1]})")
+                .rfind("materials.m.transmittance", 0),
+            0u);
+}
+
 TEST(SceneModelParse, BlendNestsTwoMaterials) {
   Scene s = parse(with(R"("materials": {
       "mix": {"type": "blend", "weight": {"texture": "h"}, "two_sided": true,

@@ -175,6 +175,7 @@ const char* material_type_name(MaterialType type) {
     case MaterialType::blend: return "blend";
     case MaterialType::principled_thin: return "principled_thin";
     case MaterialType::pplastic: return "pplastic";
+    case MaterialType::polarizer: return "polarizer";
   }
   return "diffuse";
 }
@@ -243,6 +244,10 @@ std::string material_type_keys(const Material& m, const Names& names, const std:
                t == MaterialType::rough_plastic || t == MaterialType::pplastic;
   std::string out;
   if (t == MaterialType::principled_thin) return principled_thin_keys(m, names, what);
+  if (t == MaterialType::polarizer) {
+    return ", \"transmittance\": " +
+           textured_color(m.specular_transmittance, names, what + ".transmittance");
+  }
   if (t == MaterialType::pplastic) {
     out += ", \"diffuse_reflectance\": " +
            textured_color(m.reflectance, names, what + ".diffuse_reflectance") +
@@ -318,6 +323,7 @@ std::string material_json(const Material& m, size_t index, const Names& names) {
   std::string what = "materials." + printable(name);
   std::string body = material_body(m, names, what);
   if (!is_glass_kind(m.type) && m.type != MaterialType::principled_thin &&
+      m.type != MaterialType::polarizer &&
       !(m.two_sided && m.transmits())) {
     body += std::string(", \"two_sided\": ") + bool_text(m.two_sided);
   }

@@ -494,6 +494,9 @@ Scene full_model_scene() {
   for (Material& n : blend.blend[0].blend) n.name = "";
   blend.two_sided = false;
   s.materials.push_back(blend);
+  Material polarizer = material("polarizer", MaterialType::polarizer);
+  polarizer.specular_transmittance = {{0.8, 0.5, 0.2}, 2};
+  s.materials.push_back(polarizer);
 
   Shape tri;
   tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

@@ -7,7 +7,8 @@ namespace {
 
 using Impl = std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf,
                           RoughDielectricBsdf, ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf,
-                          PrincipledBsdf, BlendBsdf, PrincipledThinBsdf, PPlasticBsdf>;
+                          PrincipledBsdf, BlendBsdf, PrincipledThinBsdf, PPlasticBsdf,
+                          PolarizerBsdf>;
 
 Impl make_impl(const BsdfParams& p) {
   switch (p.type) {
@@ -24,6 +25,7 @@ Impl make_impl(const BsdfParams& p) {
     case MaterialType::blend: return BlendBsdf(p);
     case MaterialType::principled_thin: return PrincipledThinBsdf(p);
     case MaterialType::pplastic: return PPlasticBsdf(p);
+    case MaterialType::polarizer: return PolarizerBsdf(p);
   }
   return DiffuseBsdf(p);  // unreachable: every MaterialType is handled above
 }

@@ -201,7 +201,7 @@ TEST(BsdfExtremes, EveryOutputIsFinite) {
                             MaterialType::conductor, MaterialType::rough_conductor,
                             MaterialType::rough_glass, MaterialType::thin_glass,
                             MaterialType::plastic, MaterialType::rough_plastic,
-                            MaterialType::pplastic}) {
+                            MaterialType::pplastic, MaterialType::polarizer}) {
     for (auto dist : {MicrofacetDistribution::beckmann, MicrofacetDistribution::ggx}) {
       for (float alpha : {1e-4f, 1e-3f, 1.0f}) {
         for (float eta : {1.0f, 1.0001f, 1.0f / 1.0001f, 1.5f, 4.0f}) {
