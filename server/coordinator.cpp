@@ -318,7 +318,7 @@ bool Coordinator::online(const WorkerRecord& worker) const {
 
 void Coordinator::deregister(int64_t worker_id) {
   std::lock_guard lock(departed_mu_);
-  departed_.insert(worker_id);
+  departed_[worker_id] = calls_begun_.load();
 }
 
 int64_t Coordinator::register_worker(const WorkerRegistration& info) {
@@ -331,10 +331,14 @@ int64_t Coordinator::register_worker(const WorkerRegistration& info) {
   return id;
 }
 
-void Coordinator::touch_or_throw(int64_t worker_id) {
+void Coordinator::touch_or_throw(int64_t worker_id, uint64_t call) {
   {
     std::lock_guard lock(departed_mu_);
-    departed_.erase(worker_id);  // it calls again: online again
+    // A call begun after it deregistered: it calls again, online again. A long poll begun
+    // before (its worker stopped while it waited) does not count.
+    if (const auto it = departed_.find(worker_id); it != departed_.end() && call >= it->second) {
+      departed_.erase(it);
+    }
   }
   const int64_t now = clock_.now_unix_ms();
   if (const auto it = touched_unix_ms_.find(worker_id);
@@ -360,6 +364,7 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
                                                  std::chrono::milliseconds wait,
                                                  const std::function<bool()>& cancelled) {
   const auto deadline = std::chrono::steady_clock::now() + wait;
+  const uint64_t call = begin_call();
   for (;;) {
     if (changes_.stopped()) return {};  // shutting down: no new leases
     // Read the version before looking, so a change made while we look wakes the wait below.
@@ -367,7 +372,7 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
     std::vector<LeasedUnit> units;
     {
       std::lock_guard lock(mu_);
-      touch_or_throw(worker_id);
+      touch_or_throw(worker_id, call);
       std::map<int64_t, JobSpec> specs;  // one read per job, not per unit
       for (const Lease& lease : scheduler_.lease_up_to(worker_id, std::max(1u, max_units))) {
         auto spec = specs.find(lease.job_id);

@@ -4,6 +4,7 @@
 // call it; it decodes results, parses scenes and encodes images outside the lock.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <functional>
@@ -195,7 +196,12 @@ class Coordinator {
   /// Writes a done job's output files again when one is missing (a full disk when it finished,
   /// or a file removed since). Failures are logged: the image stays in the store.
   void rewrite_missing_output(const JobRecord& record);
-  void touch_or_throw(int64_t worker_id);
+  /// Marks the worker seen by a call; throws FarmError(failed_precondition) for an unknown one.
+  /// `call` is the call's number (begin_call(), taken when the call began): a call that began
+  /// before the worker deregistered — a long poll still waiting — does not bring it back online.
+  void touch_or_throw(int64_t worker_id, uint64_t call);
+  void touch_or_throw(int64_t worker_id) { touch_or_throw(worker_id, begin_call()); }
+  uint64_t begin_call() { return calls_begun_.fetch_add(1); }
   /// Logs, once per server run, a worker whose NaN/Inf share crossed the report threshold.
   void report_health(int64_t worker_id);
 
@@ -209,7 +215,10 @@ class Coordinator {
   TileMerger merger_;
   JobOutput output_;
   mutable std::mutex departed_mu_;
-  std::set<int64_t> departed_;  ///< workers that deregistered and have not called since
+  /// Workers that deregistered and have not called since: worker id -> the number of calls
+  /// begun when it deregistered (calls numbered from there on began after it).
+  std::map<int64_t, uint64_t> departed_;
+  std::atomic<uint64_t> calls_begun_{0};
   std::set<int64_t> finishing_;  ///< jobs whose output is being written (guarded by mu_)
   FarmLimits limits_;
   double nan_report_fraction_;

@@ -30,5 +30,35 @@ TEST(Deregister, AStoppedWorkerIsOfflineAtOnceAndOnlineAgainWhenItCalls) {
   EXPECT_TRUE(online(id));
 }
 
+// A worker stopped while its long poll waits on the server: the poll's next round must not
+// bring it back online (found by hand: `tessera workers` listed a SIGTERM-ed worker online for
+// three lease periods, because the waiting LeaseUnit touched it again after Deregister).
+TEST(Deregister, ALongPollBegunBeforeDeregisterDoesNotBringTheWorkerBack) {
+  testing::FakeClock clock;
+  CoordinatorConfig config;
+  config.db_path = ":memory:";
+  Coordinator farm(config, clock);
+  const int64_t id = farm.register_worker({"w", 1, "avx2", "test"});
+  auto online = [&] {
+    for (const WorkerRecord& w : farm.workers()) {
+      if (w.id == id) return farm.online(w);
+    }
+    return false;
+  };
+  // The poll finds no work; between its rounds the worker deregisters (the Deregister call
+  // arrives while the poll still waits), then the poll runs one more round and ends.
+  int rounds = 0;
+  auto between_rounds = [&] {
+    if (++rounds == 1) farm.deregister(id);
+    return rounds >= 2;
+  };
+  EXPECT_TRUE(farm.lease_units(id, 4, std::chrono::seconds(30), between_rounds).empty());
+  EXPECT_EQ(rounds, 2);
+  EXPECT_FALSE(online());
+  // A call begun afterwards is the worker calling again.
+  EXPECT_TRUE(farm.lease_units(id, 4, std::chrono::milliseconds(0), [] { return false; }).empty());
+  EXPECT_TRUE(online());
+}
+
 }  // namespace
 }  // namespace tessera::server
