@@ -386,6 +386,12 @@ bool TraceableScene::intersect(const Ray& ray, Hit* hit) const {
 
 void TraceableScene::make_hit(const Ray& ray, uint32_t geometry_id, uint32_t instance_id, uint32_t primitive,
                               float t, float b1, float b2, Hit* hit) const {
+  const Geometry& g = instance_id == RTC_INVALID_GEOMETRY_ID
+                          ? *geometries_[geometry_id]
+                          : *group_geometries_[geometries_[instance_id]->group][geometry_id];
+  // Embree's packet and single-ray curve intersectors round differently: a curve hit found by
+  // a packet is traced again alone, so that both integrators give the same bits.
+  if (g.kind == Geometry::Kind::curves && intersect(ray, hit)) [[unlikely]] return;
   fill_hit(ray, geometry_id, instance_id, primitive, t, b1, b2, hit);
 }
 
