@@ -98,6 +98,30 @@ TEST(Curve, RaysFromInsideATubeLeaveIt) {
   }
 }
 
+TEST(Curve, InstancedCurvesArePlacedWithTheirRadii) {
+  // A group's tube placed by an instance that scales by 2 and lifts by 1: Embree scales the
+  // whole tube, radius included (Mitsuba instances curves the same way).
+  Scene s = scene_with(curve(CurveBasis::linear, {{-1, 0, 0, 0.5}, {1, 0, 0, 0.5}}, 0));
+  ShapeGroup group;
+  group.name = "g";
+  group.shapes.push_back(s.shapes[0]);
+  s.groups.push_back(group);
+  Shape instance;
+  instance.kind = Shape::Kind::instance;
+  instance.group = 0;
+  instance.to_world = glm::dmat4(2.0);
+  instance.to_world[3] = glm::dvec4(0, 0, 1, 1);
+  s.shapes = {instance};
+  const TraceableScene scene(s, 4, 4, "");
+  Hit hit;
+  ASSERT_TRUE(scene.intersect(Ray{{0.6f, 0, 5}, {0, 0, -1}}, &hit));
+  expect_near(hit.sp.p, {0.6f, 0, 2}, 1e-4f);
+  expect_near(hit.sp.ng, {0, 0, 1}, 1e-4f);
+  EXPECT_NEAR(hit.uv.y, 0.65f, 1e-4f);  // x = 0.3 in the group's space
+  expect_near(hit.dpdv, {4, 0, 0}, 1e-3f);
+  EXPECT_FALSE(scene.intersect(Ray{{0, 0, 1.5f}, {0, 0, 1}}, &hit));  // from inside the tube
+}
+
 TEST(Curve, BsplineHitsFollowTheSpline) {
   // Control points on a line: the centre line runs from x = -0.5 to 0.5 (the uniform cubic
   // B-spline's ends are (p0 + 4 p1 + p2) / 6 and (p1 + 4 p2 + p3) / 6), radius 0.25.
