@@ -14,6 +14,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 namespace tessera {
 
@@ -318,10 +319,17 @@ struct Light {
 // ---------------------------------------------------------------------------------------------
 // Shapes.
 
+/// How a curve's control points make its centre line (Mitsuba's linearcurve, bsplinecurve).
+enum class CurveBasis {
+  linear,   ///< straight segments between consecutive points, spheres at the joints and ends
+  bspline,  ///< uniform cubic B-spline: each 4 consecutive points make a segment; open ends
+};
+
 /// One shape of the scene in world space. Quads, boxes, tetrahedra, triangle lists and meshes
-/// are all triangle meshes here; spheres stay exact; an instance places a shape group.
+/// are all triangle meshes here; spheres stay exact; an instance places a shape group; curves
+/// are round tubes along control points (Embree's round curves, as Mitsuba traces them).
 struct Shape {
-  enum class Kind { triangles, sphere, instance };
+  enum class Kind { triangles, sphere, instance, curves };
   Kind kind = Kind::triangles;
 
   // Kind::triangles
@@ -342,6 +350,17 @@ struct Shape {
   // Kind::instance: the group's shapes placed by to_world (Embree instancing)
   uint32_t group = 0;  ///< index into Scene::groups
   glm::dmat4 to_world{1.0};
+
+  // Kind::curves: tubes of varying radius around each curve's centre line. Only their outside
+  // is ever hit (a ray from inside a tube passes out of it), as in Mitsuba.
+  CurveBasis curve_basis = CurveBasis::linear;
+  /// (x, y, z, radius) per control point: position in world space (a group's curves: the
+  /// group's space), radius >= 0 in the same units but never scaled by a transform (Mitsuba's
+  /// rule). All curves one after another.
+  std::vector<glm::dvec4> control_points;
+  /// Control points per curve, in order; each >= 2 (linear) or >= 4 (bspline); they sum to
+  /// control_points.size().
+  std::vector<uint32_t> curve_sizes;
 
   /// Turns the front to the other side: spheres face inward, triangles swap their winding
   /// (already applied to `indices` and `normals` for Kind::triangles; kept for messages).

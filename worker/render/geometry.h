@@ -8,13 +8,15 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 namespace tessera {
 
 struct Geometry {
   /// instance: a placed shape group (Embree instance); its shapes are in TraceableScene's group
   /// tables and `to_world` maps their space to the world.
-  enum class Kind { triangles, sphere, instance };
+  /// curves: Embree round curves (worker/render/geometry/curve.h).
+  enum class Kind { triangles, sphere, instance, curves };
   Kind kind = Kind::triangles;
 
   // Kind::triangles (float copies of the world-space data Embree traces)
@@ -39,6 +41,12 @@ struct Geometry {
   glm::mat4 to_object{1.0f};        ///< inverse of to_world
   glm::mat3 normal_to_world{1.0f};  ///< inverse transpose of to_world's linear part
   float transform_error = 0;        ///< relative error bound of points mapped by to_world
+
+  // Kind::curves (float copies of what Embree traces): (x, y, z, radius) per control point,
+  // the first control point of each segment, and whether they are cubic B-splines.
+  std::vector<glm::vec4> control_points;
+  std::vector<uint32_t> segments;
+  bool bspline = false;
 
   uint32_t material = 0;
   int32_t emitter = -1;          ///< area emitter index in TraceableScene::lights(), -1 if none

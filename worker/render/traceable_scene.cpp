@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include "render/geometry/curve.h"
 #include "scene/scene_error.h"
 #include "sphere_intersector.h"
 
@@ -105,7 +106,9 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
       if (shape.is_emitter()) {
         throw SceneError(shape.origin + ": a shape group cannot hold an emitter");
       }
-      auto g = shape.kind == Shape::Kind::sphere ? add_sphere(shape, gs) : add_triangles(shape, gs);
+      auto g = shape.kind == Shape::Kind::sphere   ? add_sphere(shape, gs)
+               : shape.kind == Shape::Kind::curves ? add_curves(shape, gs)
+                                                   : add_triangles(shape, gs);
       group_geometries_.back().push_back(std::move(g));
     }
     rtcCommitScene(gs);
@@ -120,6 +123,8 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
       geometries_.push_back(add_sphere(shape, scene_));
     } else if (shape.kind == Shape::Kind::instance) {
       add_instance(shape, group_scenes_);
+    } else if (shape.kind == Shape::Kind::curves) {
+      geometries_.push_back(add_curves(shape, scene_));
     } else {
       geometries_.push_back(add_triangles(shape, scene_));
     }
@@ -231,6 +236,17 @@ std::unique_ptr<Geometry> TraceableScene::add_sphere(const Shape& shape, RTCScen
   return g;
 }
 
+std::unique_ptr<Geometry> TraceableScene::add_curves(const Shape& shape, RTCScene target) {
+  auto g = std::make_unique<Geometry>();
+  RTCGeometry geom = new_curve_geometry(device_, shape, *g);
+  if (!geom) {
+    throw SceneError(shape.origin + ": Embree could not allocate the curves (" + device_error_ + ")");
+  }
+  const size_t expected = target == scene_ ? geometries_.size() : group_geometries_.back().size();
+  attach(geom, target, expected, shape.origin);
+  return g;
+}
+
 void TraceableScene::add_instance(const Shape& shape, const std::vector<RTCScene>& group_scenes) {
   if (shape.group >= group_scenes.size()) {
     throw SceneError(shape.origin + ": instance of shape group " + std::to_string(shape.group) +
@@ -336,6 +352,8 @@ void TraceableScene::fill_sphere_hit(const Geometry& g, const glm::vec3& o, cons
   hit->geometry_id = geometry_id;
   if (g.kind == Geometry::Kind::sphere) {
     fill_sphere_hit(g, ray.o, ray.d, t, hit);
+  } else if (g.kind == Geometry::Kind::curves) [[unlikely]] {
+    fill_curve_hit(g, ray.o, ray.d, t, primitive, b1, need_uv_, hit);
   } else {
     fill_triangle_hit(g, primitive, b1, b2, hit);
   }
@@ -368,6 +386,12 @@ bool TraceableScene::intersect(const Ray& ray, Hit* hit) const {
 
 void TraceableScene::make_hit(const Ray& ray, uint32_t geometry_id, uint32_t instance_id, uint32_t primitive,
                               float t, float b1, float b2, Hit* hit) const {
+  const Geometry& g = instance_id == RTC_INVALID_GEOMETRY_ID
+                          ? *geometries_[geometry_id]
+                          : *group_geometries_[geometries_[instance_id]->group][geometry_id];
+  // Embree's packet and single-ray curve intersectors round differently: a curve hit found by
+  // a packet is traced again alone, so that both integrators give the same bits.
+  if (g.kind == Geometry::Kind::curves && intersect(ray, hit)) [[unlikely]] return;
   fill_hit(ray, geometry_id, instance_id, primitive, t, b1, b2, hit);
 }
 
@@ -384,6 +408,9 @@ void TraceableScene::make_hit(const Ray& ray, uint32_t geometry_id, uint32_t ins
   hit->geometry_id = instance_id;
   if (g.kind == Geometry::Kind::sphere) {
     fill_sphere_hit(g, transform_point(inst.to_object, ray.o), transform_vector(inst.to_object, ray.d), t, hit);
+  } else if (g.kind == Geometry::Kind::curves) {
+    fill_curve_hit(g, transform_point(inst.to_object, ray.o), transform_vector(inst.to_object, ray.d), t,
+                   primitive, b1, need_uv_, hit);
   } else {
     fill_triangle_hit(g, primitive, b1, b2, hit);
   }

@@ -29,7 +29,8 @@ struct Hit {
   /// Texture coordinates and the surface's partial derivatives along them (world space), as
   /// Mitsuba defines them: interpolated vertex uvs on meshes (barycentrics (b1, b2) without
   /// uvs, then dpdu, dpdv are the triangle's edges), (phi / 2 pi, theta / pi) on spheres in
-  /// their own frame. dpdu may be zero at a sphere's poles.
+  /// their own frame, (angle around the tube / 2 pi, v along all segments) on curves
+  /// (geometry/curve.h). dpdu may be zero at a sphere's poles.
   glm::vec2 uv{0.0f};
   glm::vec3 dpdu{0.0f}, dpdv{0.0f};
   const Geometry* geometry = nullptr;  ///< the shape hit (a group's shape for instances)
@@ -92,6 +93,7 @@ class TraceableScene {
   /// `transform` places a group's sphere in the world (spheres are not instanced).
   std::unique_ptr<Geometry> add_triangles(const Shape& shape, RTCScene target);
   std::unique_ptr<Geometry> add_sphere(const Shape& shape, RTCScene target);
+  std::unique_ptr<Geometry> add_curves(const Shape& shape, RTCScene target);
   void add_instance(const Shape& shape, const std::vector<RTCScene>& group_scenes);
   void attach(RTCGeometry geom, RTCScene target, size_t expected_id, const std::string& origin);
   void fill_triangle_hit(const Geometry& g, uint32_t primitive, float b1, float b2, Hit* hit) const;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 #include <limits>
@@ -166,6 +167,21 @@ void check_mitsuba_clip_planes(const MitsubaSensor& sensor, const std::vector<Sh
       glm::dvec3 c = local(shape.center);
       // Camera space is scaled for an orthographic camera: a ball that holds the sphere there.
       const double r = shape.radius / min_scale;
+      if (!orthographic && near.may_meet_sphere(c, r)) refuse(shape, true);
+      if (far.may_meet_sphere(c, r)) refuse(shape, false);
+      continue;
+    }
+    if (shape.kind == Shape::Kind::curves) {
+      // The tubes lie in the ball around the control points' box, widened by the largest radius.
+      glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+      double r_max = 0;
+      for (const glm::dvec4& cp : shape.control_points) {
+        lo = glm::min(lo, glm::dvec3(cp));
+        hi = glm::max(hi, glm::dvec3(cp));
+        r_max = std::max(r_max, cp.w);
+      }
+      const glm::dvec3 c = local(0.5 * (lo + hi));
+      const double r = (0.5 * glm::length(hi - lo) + r_max) / min_scale;
       if (!orthographic && near.may_meet_sphere(c, r)) refuse(shape, true);
       if (far.may_meet_sphere(c, r)) refuse(shape, false);
       continue;

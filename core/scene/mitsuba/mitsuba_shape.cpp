@@ -6,7 +6,9 @@
 #include <numbers>
 
 #include "scene/native/json_value.h"
+#include "scene/mesh/curve_file.h"
 #include "scene/mesh/mesh_file.h"
+#include "scene/native/curve_shape.h"
 #include "scene/mitsuba/mitsuba_emitter.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
 #include "scene/mitsuba/mitsuba_shape_geometry.h"
@@ -19,8 +21,8 @@ namespace tessera {
 namespace {
 
 constexpr const char* kSupported =
-    "Tessera supports obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, shapegroup "
-    "and instance; convert other geometry to PLY";
+    "Tessera supports obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, "
+    "linearcurve, bsplinecurve, shapegroup and instance; convert other geometry to PLY";
 
 /// The geometry of a mesh file, in object space.
 TriangleMesh load_file(MitsubaPlugin& plugin, MitsubaShapeContext& context, bool face_normals,
@@ -173,6 +175,43 @@ double area_of(const Shape& shape) {
   return area;
 }
 
+/// linearcurve and bsplinecurve: the curve file in world space (to_world moves the control
+/// points and leaves their radii as they are, as in Mitsuba).
+Shape read_curves(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
+  Shape shape;
+  shape.kind = Shape::Kind::curves;
+  shape.origin = plugin.element().where();
+  shape.curve_basis = plugin.type() == "linearcurve" ? CurveBasis::linear : CurveBasis::bspline;
+  std::optional<std::string> filename = plugin.take_string("filename");
+  if (!filename) fail_at(plugin.element(), "missing <string name=\"filename\">");
+  const MitsubaElement& where = *plugin.property("filename");
+  std::string path = context.files.resolve(where, *filename);
+  CurveFile curves;
+  try {
+    curves = parse_curve_file(context.files.read(path), path, shape.curve_basis);
+  } catch (const SceneError& e) {
+    fail_at(where, e.what());
+  }
+  std::vector<std::string>& files = context.referenced_files;
+  if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
+  shape.control_points = std::move(curves.control_points);
+  shape.curve_sizes = std::move(curves.curve_sizes);
+  if (std::optional<Transform> to_world = plugin.take_transform("to_world")) {
+    try {
+      place_curve_points(shape.control_points, *to_world, "to_world");
+    } catch (const SceneError& e) {
+      fail_at(*plugin.property("to_world"), e.what());
+    }
+  }
+  if (!plugin.take_objects("emitter").empty()) {
+    fail_at(plugin.element(), "curves cannot emit light in Tessera");
+  }
+  shape.material = read_material(plugin, context, false);
+  refuse_media(plugin);
+  plugin.finish();
+  return shape;
+}
+
 Shape read_instance(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
   std::vector<MitsubaObject> groups = plugin.take_objects("shape");
   if (groups.size() != 1) {
@@ -197,6 +236,7 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
   MitsubaPlugin plugin(element, context.ids);
   const std::string& type = plugin.type();
   if (type == "instance") return read_instance(plugin, context);
+  if (type == "linearcurve" || type == "bsplinecurve") return read_curves(plugin, context);
   if (type == "shapegroup") {
     fail_at(element, "a shapegroup belongs at the top of the scene (instances place it)");
   }

@@ -392,5 +392,43 @@ TEST(MitsubaShape, UnsupportedShapesAndParametersNameTheirLine) {
             std::string::npos);
 }
 
+// Curves: Mitsuba's file format, to_world moving the points but not the radii.
+TEST(MitsubaShape, CurvesReadTheFileAndKeepTheirRadii) {
+  const std::map<std::string, std::string> files = {
+      {"c.txt", "-1 0 -1 0.1\n-0.5 0 1 0.1\n\n0 0 1 0.2\n0.5 0 -1 0.2\n1 0 1 0.3\n1 1 1 0.3\n"}};
+  Shape linear = shape_of(R"(<shape type="linearcurve"><string name="filename" value="c.txt"/>
+      <transform name="to_world"><scale x="2" y="1" z="0.5"/><translate z="3"/></transform>
+      </shape>)", files);
+  EXPECT_EQ(linear.kind, Shape::Kind::curves);
+  EXPECT_EQ(linear.curve_basis, CurveBasis::linear);
+  EXPECT_EQ(linear.curve_sizes, (std::vector<uint32_t>{2, 4}));
+  EXPECT_EQ(linear.control_points[0], glm::dvec4(-2, 0, 2.5, double(0.1f)));
+  EXPECT_EQ(linear.control_points[5], glm::dvec4(2, 1, 3.5, double(0.3f)));
+  Shape bspline = shape_of(R"(<shape type="bsplinecurve"><string name="filename" value="c.txt"/>
+      </shape>)", {{"c.txt", "0 0 0 1\n1 0 0 1\n2 0 0 1\n3 0 0 1\n4 0 0 1\n"}});
+  EXPECT_EQ(bspline.curve_basis, CurveBasis::bspline);
+  EXPECT_EQ(bspline.curve_sizes, (std::vector<uint32_t>{5}));
+}
+
+TEST(MitsubaShape, CurveErrorsNameTheElementFileAndLine) {
+  const std::string bad = mitsuba_scene(R"(<shape type="bsplinecurve">
+      <string name="filename" value="c.txt"/></shape>)");
+  EXPECT_NE(xml_error(bad, {{"c.txt", "0 0 0 1\n1 0 0 1\n2 0 0 1\n3 0 0 1\n\n0 0 0 1\n"}})
+                .find("c.txt: line 6: a B-spline curve needs at least 4 control points"),
+            std::string::npos);
+  EXPECT_NE(xml_error(bad, {{"c.txt", "0 0 0 1\n1 0 0 nan\n"}})
+                .find("c.txt: line 2: the radius must be finite and >= 0 (got nan)"),
+            std::string::npos);
+  const std::string error = xml_error(bad, {});
+  EXPECT_NE(error.find("line " + std::to_string(line_of(bad, "<string name=\"filename\"")) + ":"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="linearcurve">
+      <string name="filename" value="c.txt"/><emitter type="area"/></shape>)"),
+                      {{"c.txt", "0 0 0 1\n1 0 0 1\n"}})
+                .find("curves cannot emit light"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace tessera

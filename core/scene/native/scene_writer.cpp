@@ -463,6 +463,27 @@ void append_points(std::string& out, const char* key, const std::vector<glm::dve
   out += "\n      ]";
 }
 
+/// A curves shape's "control_points" ([x, y, z, radius] each) and "curve_sizes".
+void append_curves(std::string& out, const Shape& s, const std::string& what) {
+  uint64_t total = 0;
+  for (uint32_t n : s.curve_sizes) total += n;
+  if (s.curve_sizes.empty() || total != s.control_points.size()) {
+    throw SceneError(what + ": the curve sizes do not add up to the control points");
+  }
+  out += ",\n      \"control_points\": [";
+  for (size_t i = 0; i < s.control_points.size(); ++i) {
+    const glm::dvec4& cp = s.control_points[i];
+    out += i ? ",\n        [" : "\n        [";
+    out += number(cp.x, what) + ", " + number(cp.y, what) + ", " + number(cp.z, what) + ", " +
+           number(cp.w, what) + "]";
+  }
+  out += "\n      ],\n      \"curve_sizes\": [";
+  for (size_t i = 0; i < s.curve_sizes.size(); ++i) {
+    out += (i ? ", " : "") + std::to_string(s.curve_sizes[i]);
+  }
+  out += "]";
+}
+
 std::string shape_json(const Shape& s, const std::string& what,
                        const std::vector<Material>& materials, const Names& names) {
   if (s.kind == Shape::Kind::instance) {
@@ -480,10 +501,18 @@ std::string shape_json(const Shape& s, const std::string& what,
       out += ",\n      \"frame\": [" + vec3(glm::row(s.frame, 0), what) + ", " +
              vec3(glm::row(s.frame, 1), what) + ", " + vec3(glm::row(s.frame, 2), what) + "]";
     }
+  } else if (s.kind == Shape::Kind::curves) {
+    out += std::string("\"type\": \"curves\", \"basis\": ") +
+           (s.curve_basis == CurveBasis::linear ? "\"linear\"" : "\"bspline\"");
   } else {
     out += "\"type\": \"triangles\"";
   }
   out += ", \"material\": " + json_string(names.materials[s.material]);
+  if (s.kind == Shape::Kind::curves) {
+    if (s.is_emitter()) throw SceneError(what + ": curves cannot emit light");
+    append_curves(out, s, what);
+    return out + "}";
+  }
   if (s.is_emitter()) {
     out += ",\n      \"emission\": " +
            textured_color({s.emission, s.emission_texture}, names, what + ".emission");

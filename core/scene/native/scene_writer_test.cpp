@@ -121,6 +121,17 @@ void expect_same_shape(const Shape& x, const Shape& y) {
   EXPECT_TRUE(same_bits(x.emission, y.emission));
   EXPECT_EQ(x.emission_texture, y.emission_texture);
   EXPECT_EQ(x.two_sided_emission, y.two_sided_emission);
+  if (x.kind == Shape::Kind::curves) {
+    EXPECT_EQ(x.curve_basis, y.curve_basis);
+    EXPECT_EQ(x.curve_sizes, y.curve_sizes);
+    ASSERT_EQ(x.control_points.size(), y.control_points.size());
+    for (size_t k = 0; k < x.control_points.size(); ++k) {
+      for (int c = 0; c < 4; ++c) {
+        ASSERT_TRUE(same_bits(x.control_points[k][c], y.control_points[k][c])) << "point " << k;
+      }
+    }
+    return;
+  }
   if (x.kind == Shape::Kind::sphere) {
     EXPECT_TRUE(same_bits(x.center, y.center));
     EXPECT_TRUE(same_bits(x.radius, y.radius));

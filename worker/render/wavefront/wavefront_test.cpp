@@ -172,7 +172,9 @@ INSTANTIATE_TEST_SUITE_P(
                       "tests/data/mitsuba/docs/scenes/bsdf_roughconductor_textured_carbon.xml",
                       "tests/data/mitsuba/docs/scenes/bsdf_roughdielectric_rough.xml",
                       "tests/data/mitsuba/docs/scenes/bsdf_thindielectric_glass.xml",
-                      "tests/data/mitsuba/docs/scenes/bsdf_twosided_cbox.xml"),
+                      "tests/data/mitsuba/docs/scenes/bsdf_twosided_cbox.xml",
+                      "tests/data/mitsuba/docs/scenes/shape_bsplinecurve_parameterization.xml",
+                      "tests/data/mitsuba/docs/scenes/shape_linearcurve_basic.xml"),
     [](const ::testing::TestParamInfo<const char*>& info) {
       std::string name = info.param;
       name = name.substr(name.rfind('/') + 1);
