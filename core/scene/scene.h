@@ -16,6 +16,8 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "scene/mesh/mesh_attribute.h"
+
 namespace tessera {
 
 /// Which image axis the camera's field of view spans.
@@ -82,6 +84,9 @@ enum class TextureKind {
   checkerboard,
   /// Mitsuba's `rawconstant`: `value` everywhere, with no colour conversion or range check.
   rawconstant,
+  /// Mitsuba's `mesh_attribute`: the shape's attribute `attribute` (Shape::attributes) times
+  /// `scale`, interpolated at the hit as Mitsuba does (docs/scenes.md, "Mesh attributes").
+  mesh_attribute,
 };
 
 /// How a bitmap's texel values map to the renderer's linear RGB.
@@ -112,6 +117,13 @@ struct Texture {
   // (which Mitsuba's scalar lookups refuse: a scalar parameter cannot use it).
   glm::dvec3 value{0, 0, 0};
   int channels = 3;
+
+  // TextureKind::mesh_attribute: the attribute's name ("vertex_..." or "face_...") and a factor.
+  // A shape whose material uses it must have the attribute; a colour parameter reads 1 channel
+  // as grey, 3 as RGB; a scalar parameter reads a 1-channel attribute, and 0 from a 3-channel
+  // one (Mitsuba's eval_1).
+  std::string attribute;
+  double scale = 1;
 
   /// Applied to (u, v, 1) before the lookup (Mitsuba's `to_uv`): row-major 2x3 affine map.
   glm::dmat3 to_uv{1.0};
@@ -339,6 +351,9 @@ struct Shape {
   /// Per-vertex texture coordinates (OBJ `vt`, PLY u/v, serialized UVs, Mitsuba's
   /// parametrisation of rectangle, disk and cube); empty = none (lookups then use (0, 0)).
   std::vector<glm::dvec2> uvs;
+  /// Mitsuba's mesh attributes (from PLY files), read by `mesh_attribute` textures: "vertex_*"
+  /// one row per position, "face_*" one row per triangle of `indices`.
+  std::vector<MeshAttribute> attributes;
 
   // Kind::sphere
   glm::dvec3 center{0, 0, 0};

@@ -10,6 +10,8 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "texture/mesh_attribute_table.h"
+
 namespace tessera {
 
 struct Geometry {
@@ -28,6 +30,8 @@ struct Geometry {
   /// bound of points on it (ray_offset.h, triangle_point_error).
   std::vector<glm::vec3> face_normals;
   std::vector<float> point_errors;
+  /// The shape's mesh attributes that the scene's mesh_attribute textures read; empty = none.
+  MeshAttributeTable attributes;
 
   // Kind::sphere, in double: the user-geometry intersector solves in double precision.
   glm::dvec3 center{0.0};

@@ -15,6 +15,12 @@
 namespace tessera {
 namespace {
 
+/// Where the hit's material looks up its textures (mesh attributes from the shape hit).
+TexturePoint texture_point(const Hit& hit) {
+  return {hit.uv, hit.geometry ? &hit.geometry->attributes : nullptr, hit.primitive,
+          hit.barycentric};
+}
+
 /// Dimension pairs per path vertex: (light choice, roulette), light point, BSDF direction,
 /// (BSDF lobe, mask). Pairs 0 and 3 are independent hashes: choices gain nothing from
 /// stratification.
@@ -147,7 +153,7 @@ float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
   if (m->masked()) {
     opacity = m->opacity.texture < 0
                   ? m->opacity.value
-                  : std::clamp(m->opacity.value * textures.lookup_1(m->opacity.texture, hit->uv), 0.0f, 1.0f);
+                  : std::clamp(m->opacity.value * textures.lookup_1(m->opacity.texture, texture_point(*hit)), 0.0f, 1.0f);
     sampler.set_pair(pair + 3);
     const glm::vec2 u_mask = sampler.get2d_independent();
     if (u_mask.y >= opacity) {
@@ -218,7 +224,7 @@ float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
   } else {
     const ShadingFrame shading = shading_frame(*hit, *m, textures, scene.has_uv(), wo);
     const Frame& frame = shading.frame;
-    const Bsdf bsdf(bsdf_params(*m, textures, hit->uv));
+    const Bsdf bsdf(bsdf_params(*m, textures, texture_point(*hit)));
     const glm::vec3 wo_local = frame.to_local(wo);
     if (roulette || (have_lights && bsdf.has_smooth_lobe())) {
       sampler.set_pair(pair);

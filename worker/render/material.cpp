@@ -76,19 +76,19 @@ RenderMaterial make_render_material(const Material& m, RoughPlasticTables& table
   return r;
 }
 
-BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm::vec2 uv) {
+BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, const TexturePoint& at) {
   BsdfParams p;
   p.type = m.type;
   auto color = [&](const RenderColor& c) {
-    return c.texture < 0 ? c.value : c.value * textures.lookup(c.texture, uv);
+    return c.texture < 0 ? c.value : c.value * textures.lookup(c.texture, at);
   };
   auto scalar = [&](const RenderFloat& f) {
-    return f.texture < 0 ? f.value : f.value * textures.lookup_1(f.texture, uv);
+    return f.texture < 0 ? f.value : f.value * textures.lookup_1(f.texture, at);
   };
   p.reflectance = color(m.reflectance);  // not clamped: Mitsuba does not clamp texels either
   p.specular_reflectance = color(m.specular_reflectance);
   p.specular_transmittance = color(m.specular_transmittance);
-  p.eta = m.ior_texture < 0 ? m.ior : m.ior * textures.lookup_1(m.ior_texture, uv);
+  p.eta = m.ior_texture < 0 ? m.ior : m.ior * textures.lookup_1(m.ior_texture, at);
   p.conductor_eta = m.conductor_eta;
   p.conductor_k = m.conductor_k;
   p.perfect = m.perfect;
@@ -122,7 +122,7 @@ BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm:
   }
   if (m.type == MaterialType::blend) {
     p.blend_weight = scalar(m.blend_weight);
-    for (const RenderMaterial& nested : m.blend) p.blend.push_back(bsdf_params(nested, textures, uv));
+    for (const RenderMaterial& nested : m.blend) p.blend.push_back(bsdf_params(nested, textures, at));
   }
   return p;
 }

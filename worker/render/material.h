@@ -10,6 +10,7 @@
 #include <glm/vec2.hpp>
 
 #include "bsdf/bsdf_sample.h"
+#include "texture/mesh_attribute_table.h"
 #include "scene/scene.h"
 
 namespace tessera {
@@ -95,8 +96,12 @@ struct RenderMaterial {
 /// not one constant.
 RenderMaterial make_render_material(const Material& m, RoughPlasticTables& tables);
 
-/// The BSDF parameters of `m` at a point of texture coordinates `uv`: constants as they are,
-/// textured parameters looked up (only those of m's type).
-BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm::vec2 uv);
+/// The BSDF parameters of `m` at surface point `at`: constants as they are, textured parameters
+/// looked up (only those of m's type; mesh attributes from at's shape).
+BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, const TexturePoint& at);
+/// The same at a point of texture coordinates `uv` that has no mesh attributes.
+inline BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm::vec2 uv) {
+  return bsdf_params(m, textures, TexturePoint{uv});
+}
 
 }  // namespace tessera

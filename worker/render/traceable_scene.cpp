@@ -108,7 +108,7 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
       }
       auto g = shape.kind == Shape::Kind::sphere   ? add_sphere(shape, gs)
                : shape.kind == Shape::Kind::curves ? add_curves(shape, gs)
-                                                   : add_triangles(shape, gs);
+                                                   : add_triangles(shape, gs, scene.textures);
       group_geometries_.back().push_back(std::move(g));
     }
     rtcCommitScene(gs);
@@ -126,7 +126,7 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
     } else if (shape.kind == Shape::Kind::curves) {
       geometries_.push_back(add_curves(shape, scene_));
     } else {
-      geometries_.push_back(add_triangles(shape, scene_));
+      geometries_.push_back(add_triangles(shape, scene_, scene.textures));
     }
   }
   rtcCommitScene(scene_);
@@ -175,7 +175,8 @@ void TraceableScene::attach(RTCGeometry geom, RTCScene target, size_t expected_i
   if (id != expected_id) throw SceneError(origin + ": Embree geometry ids out of sequence");
 }
 
-std::unique_ptr<Geometry> TraceableScene::add_triangles(const Shape& shape, RTCScene target) {
+std::unique_ptr<Geometry> TraceableScene::add_triangles(const Shape& shape, RTCScene target,
+                                                        const std::vector<Texture>& textures) {
   auto g = std::make_unique<Geometry>();
   g->kind = Geometry::Kind::triangles;
   g->positions.reserve(shape.positions.size());
@@ -190,6 +191,7 @@ std::unique_ptr<Geometry> TraceableScene::add_triangles(const Shape& shape, RTCS
     for (const glm::dvec2& uv : shape.uvs) g->uvs.emplace_back(uv);
   }
   g->indices = shape.indices;
+  if (!shape.attributes.empty()) g->attributes = MeshAttributeTable(shape, textures);
   for (const glm::u32vec3& tri : g->indices) {
     const glm::vec3 p0 = g->positions[tri.x], p1 = g->positions[tri.y], p2 = g->positions[tri.z];
     const glm::dvec3 n = glm::cross(glm::dvec3(p1) - glm::dvec3(p0), glm::dvec3(p2) - glm::dvec3(p0));
@@ -281,6 +283,7 @@ void TraceableScene::add_instance(const Shape& shape, const std::vector<RTCScene
   // References, not copies: GCC otherwise moves each vertex through the stack.
   const glm::vec3 &p0 = g.positions[tri.x], &p1 = g.positions[tri.y], &p2 = g.positions[tri.z];
   const float b0 = 1.0f - b1 - b2;
+  hit->barycentric = {b1, b2};
   hit->sp.p = b0 * p0 + b1 * p1 + b2 * p2;
   hit->sp.p_error = glm::vec3(g.point_errors[primitive]);
   hit->sp.ng = g.face_normals[primitive];

@@ -35,6 +35,7 @@ struct Hit {
   glm::vec3 dpdu{0.0f}, dpdv{0.0f};
   const Geometry* geometry = nullptr;  ///< the shape hit (a group's shape for instances)
   uint32_t primitive = 0;
+  glm::vec2 barycentric{0.0f};  ///< triangles: Embree's (b1, b2) of the hit (mesh attributes)
   /// Embree's ids of the hit: top-level geometry (the instance for a group's shape) and, for
   /// instances, the shape inside the group; they key per-hit decisions such as masks.
   uint32_t geometry_id = 0;
@@ -91,7 +92,9 @@ class TraceableScene {
   void release();
   /// Builds the Geometry and Embree geometry of `shape` and attaches it to `target`.
   /// `transform` places a group's sphere in the world (spheres are not instanced).
-  std::unique_ptr<Geometry> add_triangles(const Shape& shape, RTCScene target);
+  /// `textures`: the scene's, whose mesh_attribute textures say which attributes to keep.
+  std::unique_ptr<Geometry> add_triangles(const Shape& shape, RTCScene target,
+                                          const std::vector<Texture>& textures);
   std::unique_ptr<Geometry> add_sphere(const Shape& shape, RTCScene target);
   std::unique_ptr<Geometry> add_curves(const Shape& shape, RTCScene target);
   void add_instance(const Shape& shape, const std::vector<RTCScene>& group_scenes);

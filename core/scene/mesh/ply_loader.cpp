@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "scene/mesh/mesh_limits.h"
+#include "scene/mesh/ply_attributes.h"
 #include "scene/mesh/ply_header.h"
 #include "scene/mesh/ply_value_reader.h"
 #include "scene/scene_error.h"
@@ -70,8 +71,51 @@ void skip_property(PlyValueReader& in, const PlyProperty& property) {
   for (int64_t k = 0; k < count; ++k) in.skip(property.type);
 }
 
+/// The vertex attributes: every property but geometry (Mitsuba reserves x, y, z, nx, ny, nz, u,
+/// v, and the uv pair it reads under another name).
+PlyAttributeLayout vertex_attributes(const PlyElement& vertex, const std::vector<int>& slots) {
+  std::vector<bool> reserved(vertex.properties.size());
+  for (size_t i = 0; i < reserved.size(); ++i) {
+    const std::string& n = vertex.properties[i].name;
+    reserved[i] = slots[i] >= 0 || n == "x" || n == "y" || n == "z" || n == "nx" || n == "ny" ||
+                  n == "nz" || n == "u" || n == "v";
+  }
+  return ply_attribute_layout(vertex, "vertex_", reserved);
+}
+
+/// Stores property `i`'s value `value` in its attribute, if it has one.
+void store_attribute(const PlyAttributeLayout& layout, size_t i, double value, PlyType type,
+                     std::vector<float>& row) {
+  const PlyAttributeLayout::Slot slot = layout.slots[i];
+  if (slot.attribute < 0) return;
+  size_t offset = 0;
+  for (int a = 0; a < slot.attribute; ++a) offset += size_t(layout.attributes[a].channels);
+  row[offset + size_t(slot.channel)] = ply_attribute_value(value, type);
+}
+
+/// Appends one row of attribute values (all attributes side by side) `times` times.
+void append_rows(const std::vector<float>& row, size_t times,
+                 std::vector<MeshAttribute>& attributes) {
+  size_t offset = 0;
+  for (MeshAttribute& a : attributes) {
+    for (size_t t = 0; t < times; ++t) {
+      a.values.insert(a.values.end(), row.begin() + offset, row.begin() + offset + a.channels);
+    }
+    offset += size_t(a.channels);
+  }
+}
+
+size_t row_width(const PlyAttributeLayout& layout) {
+  size_t width = 0;
+  for (const MeshAttribute& a : layout.attributes) width += size_t(a.channels);
+  return width;
+}
+
 void read_vertices(PlyValueReader& in, const PlyElement& vertex, const std::vector<int>& slots,
                    TriangleMesh& mesh) {
+  PlyAttributeLayout layout = vertex_attributes(vertex, slots);
+  std::vector<float> attribute_row(row_width(layout));
+  for (MeshAttribute& a : layout.attributes) a.values.reserve(vertex.count * a.channels);
   bool normals = std::count(slots.begin(), slots.end(), 3) == 1;
   bool uvs = std::count(slots.begin(), slots.end(), 6) == 1;
   mesh.positions.reserve(vertex.count);
@@ -81,7 +125,11 @@ void read_vertices(PlyValueReader& in, const PlyElement& vertex, const std::vect
     in.locate(vertex.name, row);
     std::array<double, 8> v{};
     for (size_t i = 0; i < slots.size(); ++i) {
-      if (slots[i] < 0) {
+      if (layout.slots[i].attribute >= 0) {
+        double value = in.number(vertex.properties[i].type);
+        if (!std::isfinite(value)) in.fail("attribute value is not a finite number");
+        store_attribute(layout, i, value, vertex.properties[i].type, attribute_row);
+      } else if (slots[i] < 0) {
         skip_property(in, vertex.properties[i]);
       } else {
         v[slots[i]] = in.number(vertex.properties[i].type);
@@ -98,14 +146,17 @@ void read_vertices(PlyValueReader& in, const PlyElement& vertex, const std::vect
       }
       mesh.uvs.emplace_back(v[6], v[7]);
     }
+    append_rows(attribute_row, 1, layout.attributes);
   }
+  for (MeshAttribute& a : layout.attributes) mesh.attributes.push_back(std::move(a));
 }
 
 /// Appends the fan (0, k, k+1) of `polygon`; counts polygons with fewer than 3 vertices.
-void add_polygon(const std::vector<uint32_t>& polygon, PlyValueReader& in, PlyMesh& out) {
+/// Returns how many triangles it added.
+size_t add_polygon(const std::vector<uint32_t>& polygon, PlyValueReader& in, PlyMesh& out) {
   if (polygon.size() < 3) {
     ++out.dropped_faces;
-    return;
+    return 0;
   }
   if (out.mesh.indices.size() + polygon.size() - 2 > kMaxMeshElements) {
     in.fail("more than " + std::to_string(kMaxMeshElements) + " triangles");
@@ -113,16 +164,28 @@ void add_polygon(const std::vector<uint32_t>& polygon, PlyValueReader& in, PlyMe
   for (size_t k = 1; k + 1 < polygon.size(); ++k) {
     out.mesh.indices.emplace_back(polygon[0], polygon[k], polygon[k + 1]);
   }
+  return polygon.size() - 2;
 }
 
 void read_faces(PlyValueReader& in, const PlyElement& face, int list, uint64_t vertex_count,
                 PlyMesh& out) {
   out.mesh.indices.reserve(face.count);
+  // Face attributes: every scalar property (the index list is a list). A polygon's row is
+  // given to each triangle of its fan.
+  PlyAttributeLayout layout = ply_attribute_layout(face, "face_", {});
+  std::vector<float> values(row_width(layout));
   std::vector<uint32_t> polygon;
+  size_t triangles = 0;
   for (uint64_t row = 0; row < face.count; ++row) {
     in.locate(face.name, row);
     for (size_t i = 0; i < face.properties.size(); ++i) {
       const PlyProperty& property = face.properties[i];
+      if (layout.slots[i].attribute >= 0) {
+        double value = in.number(property.type);
+        if (!std::isfinite(value)) in.fail("attribute value is not a finite number");
+        store_attribute(layout, i, value, property.type, values);
+        continue;
+      }
       if (static_cast<int>(i) != list) {
         skip_property(in, property);
         continue;
@@ -138,9 +201,11 @@ void read_faces(PlyValueReader& in, const PlyElement& face, int list, uint64_t v
         }
         polygon.push_back(static_cast<uint32_t>(index));
       }
-      add_polygon(polygon, in, out);
+      triangles = add_polygon(polygon, in, out);
     }
+    append_rows(values, triangles, layout.attributes);
   }
+  for (MeshAttribute& a : layout.attributes) out.mesh.attributes.push_back(std::move(a));
 }
 
 /// Skips an element we do not use; binary rows without lists are skipped in one step.

@@ -20,7 +20,9 @@ struct PlyMesh {
 /// have nx, ny, nz (read when `read_normals` and all three are there; dropped when one is zero or
 /// not finite), and texture coordinates u, v (or s, t, or texture_u, texture_v, the first pair
 /// present; stored as they are, as Mitsuba does). Element "face" needs a list "vertex_indices" (or
-/// "vertex_index") of integers. Other elements are skipped. Throws SceneError("<name>: ...") for
+/// "vertex_index") of integers. Other scalar properties of the two elements become mesh
+/// attributes under Mitsuba's names (ply_attributes.h; a polygon's face row goes to each triangle
+/// of its fan). Other elements are skipped. Throws SceneError("<name>: ...") for
 /// bad headers, truncated data, non-finite coordinates, indices out of range, and for more than
 /// kMaxMeshElements vertices, faces or triangles (refused before allocating).
 PlyMesh load_ply(std::string_view bytes, const std::string& name, bool read_normals);

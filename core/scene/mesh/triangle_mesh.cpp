@@ -49,11 +49,25 @@ std::optional<size_t> first_degenerate_triangle(const TriangleMesh& mesh) {
 }
 
 size_t drop_degenerate_triangles(TriangleMesh& mesh) {
-  size_t before = mesh.indices.size();
-  std::erase_if(mesh.indices, [&mesh](const glm::u32vec3& t) {
-    return is_degenerate_triangle(mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]);
-  });
-  return before - mesh.indices.size();
+  const size_t before = mesh.indices.size();
+  size_t kept = 0;
+  for (size_t i = 0; i < before; ++i) {
+    const glm::u32vec3 t = mesh.indices[i];
+    if (is_degenerate_triangle(mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z])) {
+      continue;
+    }
+    for (MeshAttribute& a : mesh.attributes) {
+      if (a.per_vertex()) continue;
+      const size_t c = size_t(a.channels);
+      std::copy_n(a.values.begin() + i * c, c, a.values.begin() + kept * c);
+    }
+    mesh.indices[kept++] = t;
+  }
+  mesh.indices.resize(kept);
+  for (MeshAttribute& a : mesh.attributes) {
+    if (!a.per_vertex()) a.values.resize(kept * size_t(a.channels));
+  }
+  return before - kept;
 }
 
 bool positions_finite(const TriangleMesh& mesh) {

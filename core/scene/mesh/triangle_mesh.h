@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "scene/mesh/mesh_attribute.h"
 #include "scene/transform.h"
 
 namespace tessera {
@@ -19,6 +20,9 @@ struct TriangleMesh {
   std::vector<glm::dvec3> normals;  ///< one per position, or empty
   std::vector<glm::dvec2> uvs;      ///< one per position, or empty (Shape::uvs)
   std::vector<glm::u32vec3> indices;
+  /// Mitsuba's mesh attributes (PLY files): "vertex_*" one row per position, "face_*" one per
+  /// triangle (kept in step with `indices` by drop_degenerate_triangles).
+  std::vector<MeshAttribute> attributes;
 };
 
 /// Maps the mesh to world space: positions by `transform`, normals by its inverse transpose,
@@ -42,7 +46,8 @@ double mesh_area(const TriangleMesh& mesh);
 /// The index of the first degenerate triangle, or nullopt when there is none.
 std::optional<size_t> first_degenerate_triangle(const TriangleMesh& mesh);
 
-/// Removes degenerate triangles (vertices stay); returns how many were removed.
+/// Removes degenerate triangles (vertices stay) and their rows of face attributes; returns how
+/// many were removed.
 size_t drop_degenerate_triangles(TriangleMesh& mesh);
 
 /// True when every position is finite.

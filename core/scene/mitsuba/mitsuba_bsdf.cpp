@@ -402,6 +402,30 @@ Material MitsubaMaterials::read_wrapper(MitsubaPlugin& plugin) {
   return m;
 }
 
+namespace {
+
+/// Mitsuba's measured_polarized (src/bsdfs/measured_polarized.cpp) interpolates a measured
+/// polarimetric BRDF (a .pbsdf tensor file of Baek et al. 2020) over five wavelength bands. Its
+/// RGB variants throw unless `wavelength` picks one band; the public scenes without it render
+/// only in *_spectral_polarized variants, and those with it use the stokes integrator. Refused,
+/// saying which of the two applies and naming the data file.
+[[noreturn]] void refuse_measured_polarized(MitsubaPlugin& plugin) {
+  std::optional<std::string> file = plugin.take_string("filename");
+  const std::string data = file ? "its data file \"" + *file + "\"" : "its data file";
+  if (!plugin.has("wavelength")) {
+    fail_at(plugin.element(),
+            "measured_polarized is not supported: without a `wavelength` Mitsuba renders it only "
+            "in *_spectral_polarized variants (its RGB variants refuse it), while Tessera renders "
+            "RGB without polarization; nor does Tessera read " + data +
+                " (a .pbsdf polarimetric BRDF tensor)");
+  }
+  fail_at(plugin.element(),
+          "measured_polarized is not supported: Tessera does not read " + data +
+              " (a .pbsdf polarimetric BRDF tensor measured in five wavelength bands)");
+}
+
+}  // namespace
+
 Material MitsubaMaterials::read(const MitsubaElement& bsdf) {
   if (bsdf.tag != "bsdf") fail_at(bsdf, "is no <bsdf>");
   MitsubaPlugin plugin(bsdf, ids_);
@@ -433,6 +457,8 @@ Material MitsubaMaterials::read(const MitsubaElement& bsdf) {
     m = read_twosided(plugin);
   } else if (type == "mask" || type == "bumpmap" || type == "normalmap") {
     m = read_wrapper(plugin);
+  } else if (type == "measured_polarized") {
+    refuse_measured_polarized(plugin);
   } else {
     fail_at(bsdf, std::string("unsupported BSDF (") + kSupported + ")");
   }

@@ -621,3 +621,34 @@ TEST(MitsubaBsdf, MaterialNamesAreUnique) {
 
 }  // namespace
 }  // namespace tessera
+
+namespace tessera {
+namespace {
+
+// measured_polarized: the public scenes either give no wavelength (Mitsuba's RGB variants
+// throw then) or one wavelength under the stokes integrator; their .pbsdf files are not in
+// the public copy. The refusal says which case applies and names the file.
+TEST(MitsubaBsdf, MeasuredPolarizedRefusalSaysWhy) {
+  const std::string all_bands = bsdf_error(R"(<bsdf type="measured_polarized">
+      <string name="filename" value="pbsdfs/6_gold_inpainted.pbsdf"/>
+      <float name="alpha_sample" value="0.02"/></bsdf>)");
+  EXPECT_NE(all_bands.find("line "), std::string::npos) << all_bands;
+  EXPECT_NE(all_bands.find("<bsdf type=\"measured_polarized\">: measured_polarized is not "
+                           "supported: without a `wavelength` Mitsuba renders it only in "
+                           "*_spectral_polarized variants"),
+            std::string::npos)
+      << all_bands;
+  EXPECT_NE(all_bands.find("\"pbsdfs/6_gold_inpainted.pbsdf\" (a .pbsdf"), std::string::npos)
+      << all_bands;
+  const std::string one_band = bsdf_error(R"(<bsdf type="measured_polarized">
+      <string name="filename" value="pbsdfs/7_fake_gold_inpainted.pbsdf"/>
+      <float name="wavelength" value="550"/></bsdf>)");
+  EXPECT_NE(one_band.find("Tessera does not read its data file "
+                          "\"pbsdfs/7_fake_gold_inpainted.pbsdf\""),
+            std::string::npos)
+      << one_band;
+  EXPECT_EQ(one_band.find("spectral_polarized"), std::string::npos) << one_band;
+}
+
+}  // namespace
+}  // namespace tessera

@@ -1,7 +1,10 @@
 #include "scene/mitsuba/mitsuba_integrator.h"
 
+#include <initializer_list>
 #include <limits>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "scene/mitsuba/mitsuba_plugin.h"
 
@@ -16,6 +19,48 @@ int read_max_depth(MitsubaPlugin& integrator) {
             "must be -1 (unbounded) or >= 1 (got " + std::to_string(*depth) + ")");
   }
   return int(*depth);
+}
+
+/// Mitsuba's projective-sampling integrators read a string option from a fixed set and throw on
+/// any other value; so does the importer.
+void check_choice(MitsubaPlugin& integrator, std::string_view name,
+                  std::initializer_list<std::string_view> choices) {
+  std::optional<std::string> value = integrator.take_string(name);
+  if (!value) return;
+  std::string list;
+  for (std::string_view choice : choices) {
+    if (*value == choice) return;
+    list += (list.empty() ? "" : ", ") + std::string(choice);
+  }
+  fail_at(*integrator.property(name), "must be one of " + list + " (got \"" + *value + "\")");
+}
+
+/// direct_projective (Mitsuba's Python plugin ad/integrators/direct_projective.py): its primal
+/// image is direct illumination with emitter and BSDF sampling weighed by MIS, one emitter
+/// sample, max_depth forced to 2, exactly the image of `direct`. Its other options choose how
+/// gradients are sampled and change no pixel of the primal image.
+void read_direct_projective(MitsubaPlugin& integrator, MitsubaIntegrator& result) {
+  // PSIntegrator reads max_depth and rr_depth, checks them, then direct_projective sets them
+  // to 2: checked as Mitsuba checks them and otherwise ignored.
+  std::optional<int64_t> depth = integrator.take_integer("max_depth");
+  if (depth && *depth < -1) {
+    fail_at(*integrator.property("max_depth"),
+            "must be -1 (unbounded) or >= 0 (got " + std::to_string(*depth) + ")");
+  }
+  std::optional<int64_t> rr_depth = integrator.take_integer("rr_depth");
+  if (rr_depth && *rr_depth <= 0) {
+    fail_at(*integrator.property("rr_depth"),
+            "must be > 0 (got " + std::to_string(*rr_depth) + ")");
+  }
+  for (const char* samples : {"sppc", "sppp", "sppi", "guiding_rounds"}) {
+    integrator.take_integer(samples);  // gradient samples only
+  }
+  integrator.take_boolean("guiding_proj");
+  check_choice(integrator, "guiding", {"none", "grid", "octree"});
+  check_choice(integrator, "project_seed", {"both", "bsdf", "emitter"});
+  result.max_depth = 2;
+  result.note = "the direct_projective integrator's image is direct illumination: rendered as "
+                "Tessera's path tracer with max_depth 2 (its gradient options are ignored)";
 }
 
 }  // namespace
@@ -43,18 +88,20 @@ MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& element, const M
     }
     result.note = "the direct integrator is rendered as Tessera's path tracer with max_depth 2 "
                   "(direct illumination only)";
+  } else if (type == "direct_projective") {
+    read_direct_projective(integrator, result);
   } else if (type == "aov" || type == "moment" || type == "stokes" || type == "depth") {
     fail_at(element,
             "this integrator makes another kind of image than a rendered picture (Tessera "
-            "renders path, ptracer, volpath without media and direct)");
+            "renders path, ptracer, volpath without media, direct and direct_projective)");
   } else if (type == "volpathmis" || type == "prbvolpath") {
     fail_at(element,
             "integrators for participating media are not supported (Tessera renders path, "
-            "ptracer, volpath without media and direct)");
+            "ptracer, volpath without media, direct and direct_projective)");
   } else {
     fail_at(element,
-            "unsupported integrator (Tessera renders path, ptracer, volpath without media and "
-            "direct)");
+            "unsupported integrator (Tessera renders path, ptracer, volpath without media, "
+            "direct and direct_projective)");
   }
   result.hide_emitters = integrator.take_boolean("hide_emitters").value_or(false);
   integrator.finish();

@@ -34,6 +34,10 @@ struct MitsubaIntegrator {
 /// - `direct` (direct illumination only: path with max_depth 2): hide_emitters;
 ///   emitter_samples, bsdf_samples and shading_samples change noise only (but see
 ///   MitsubaIntegrator::emitter_samples).
+/// - `direct_projective` (Mitsuba's projective-sampling integrator for gradients; its primal
+///   image is `direct`'s, max_depth forced to 2): hide_emitters; max_depth and rr_depth checked
+///   and ignored; its gradient options (sppc, sppp, sppi, guiding, guiding_proj,
+///   guiding_rounds, project_seed) accepted, their enumerations checked.
 /// rr_depth is accepted and ignored: Tessera's Russian roulette is unbiased too, so where it
 /// starts changes the noise, not the image. Integrators that make another kind of image (aov,
 /// moment, stokes, depth, ...) or need media are refused, as are max_depth 0 or < -1, with

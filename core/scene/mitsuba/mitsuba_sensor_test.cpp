@@ -343,6 +343,40 @@ TEST(MitsubaIntegrator, ThoseThatRenderThePathImageAreAccepted) {
             2);
 }
 
+// direct_projective's primal image is Mitsuba's direct illumination (one emitter sample, MIS with
+// BSDF sampling, max_depth forced to 2 whatever is written); its options steer gradients only.
+TEST(MitsubaIntegrator, DirectProjectiveRendersAsDirect) {
+  Scene s = parse_xml(mitsuba_scene(R"(<integrator type="direct_projective">
+      <integer name="max_depth" value="7"/><integer name="rr_depth" value="3"/>
+      <integer name="sppc" value="32"/><integer name="sppp" value="16"/>
+      <integer name="sppi" value="128"/><string name="guiding" value="grid"/>
+      <boolean name="guiding_proj" value="false"/><integer name="guiding_rounds" value="2"/>
+      <string name="project_seed" value="bsdf"/><boolean name="hide_emitters" value="true"/>
+      </integrator>)"));
+  EXPECT_EQ(s.render.max_depth, 2);
+  EXPECT_TRUE(s.render.hide_emitters);
+  EXPECT_EQ(parse_xml(mitsuba_scene(R"(<integrator type="direct_projective"/>)")).render.max_depth,
+            2);
+  auto error = [](const std::string& integrator) { return xml_error(mitsuba_scene(integrator)); };
+  EXPECT_NE(error(R"(<integrator type="direct_projective"><string name="guiding" value="kd"/>
+      </integrator>)")
+                .find("must be one of none, grid, octree (got \"kd\")"),
+            std::string::npos)
+      << error(R"(<integrator type="direct_projective"><string name="guiding" value="kd"/>
+      </integrator>)");
+  EXPECT_NE(error(R"(<integrator type="direct_projective"><integer name="rr_depth" value="0"/>
+      </integrator>)")
+                .find("must be > 0 (got 0)"),
+            std::string::npos);
+  EXPECT_NE(error(R"(<integrator type="direct_projective"><float name="sppc" value="2"/>
+      </integrator>)"),
+            "");
+  EXPECT_NE(error(R"(<integrator type="direct_projective"><integer name="spp" value="2"/>
+      </integrator>)")
+                .find("spp"),
+            std::string::npos);
+}
+
 // Mitsuba 3.9.1's direct integrator counts each of its emitter_samples samples of a delta light
 // at full weight: mitsuba-data's scenes/hello.xml (two point lights, emitter_samples 4,
 // bsdf_samples 0) has image mean 0.0519 in Mitsuba, 0.0129 with emitter_samples 1, and 0.0120 in

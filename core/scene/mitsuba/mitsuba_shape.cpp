@@ -279,6 +279,7 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
     shape.positions = std::move(mesh.positions);
     shape.normals = std::move(mesh.normals);
     shape.indices = std::move(mesh.indices);
+    shape.attributes = std::move(mesh.attributes);  // PLY files' (mesh_attribute textures)
     shape.dropped_triangles = dropped;
   }
   bool emitter = read_emitter(plugin, context, shape);

@@ -125,10 +125,23 @@ Texture MitsubaTextures::read(const MitsubaElement& element) {
     read_raw_value(plugin, texture);
     plugin.finish();  // no to_uv: the value is the same everywhere
     return texture;
+  } else if (plugin.type() == "mesh_attribute") {
+    texture.kind = TextureKind::mesh_attribute;
+    std::optional<std::string> name = plugin.take_string("name");
+    if (!name) fail_at(element, "missing <string name=\"name\"> (the mesh attribute to read)");
+    if (!MeshAttribute::is_vertex_attribute_name(*name) &&
+        !MeshAttribute::is_face_attribute_name(*name)) {
+      fail_at(*plugin.property("name"), "the attribute's name must start with \"vertex_\" or "
+                                        "\"face_\" (got \"" + *name + "\")");
+    }
+    texture.attribute = *name;
+    texture.scale = plugin.take_float("scale").value_or(1.0);
+    plugin.finish();  // no to_uv: the shape's attribute is looked up where it is hit
+    return texture;
   } else {
     fail_at(element,
-            "unsupported texture (Tessera has bitmap, checkerboard and rawconstant; bake others "
-            "into a bitmap)");
+            "unsupported texture (Tessera has bitmap, checkerboard, rawconstant and "
+            "mesh_attribute; bake others into a bitmap)");
   }
   texture.to_uv = read_mitsuba_to_uv(plugin);
   plugin.finish();

@@ -32,6 +32,9 @@ class MitsubaTextures {
   ///   change no pixel and are accepted;
   /// - `checkerboard`: color0, color1 (<rgb>, <float> or <spectrum>; defaults 0.4 and 0.2),
   ///   to_uv.
+  /// - `rawconstant`: value (a <float> or a <vector>), used as written;
+  /// - `mesh_attribute`: name ("vertex_..." or "face_..."), scale (1); whether the shapes have
+  ///   the attribute is checked once the scene is read (check_mesh_attribute_use).
   /// Throws SceneError naming the element for another kind or parameter.
   int32_t of(const MitsubaElement& texture);
 

@@ -5,6 +5,7 @@
 #include <optional>
 #include <set>
 
+#include "scene/mesh/mesh_attribute_use.h"
 #include "scene/mitsuba/mitsuba_bsdf.h"
 #include "scene/mitsuba/mitsuba_clip_check.h"
 #include "scene/mitsuba/mitsuba_emitter.h"
@@ -80,6 +81,7 @@ class SceneBuilder {
     result.groups = std::move(groups_);
     result.lights = std::move(lights_);
     result.referenced_files = std::move(referenced_);
+    check_mesh_attribute_use(result);
     if (!integrator_.note.empty()) {
       std::fprintf(stderr, "note: %s: line %d: %s\n", integrator_element_->file.c_str(),
                    integrator_element_->line, integrator_.note.c_str());

@@ -91,8 +91,8 @@ TEST(SceneModelParse, TexturesAndTexturedParameters) {
                 .rfind("textures.t.file: ", 0),
             0u);
   EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "noise"}})")),
-            "textures.t.type: unknown texture type \"noise\" (expected bitmap, checkerboard or "
-            "rawconstant)");
+            "textures.t.type: unknown texture type \"noise\" (expected bitmap, checkerboard, "
+            "rawconstant or mesh_attribute)");
   EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "bitmap", "file": "a.png",
                                                  "wrap": "tile"}})")),
             "textures.t.wrap: must be \"repeat\", \"mirror\" or \"clamp\" (got \"tile\")");

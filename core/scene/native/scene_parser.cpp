@@ -2,6 +2,7 @@
 
 #include <map>
 
+#include "scene/mesh/mesh_attribute_use.h"
 #include "scene/native/light_parser.h"
 #include "scene/native/material_parser.h"
 #include "scene/native/settings_parser.h"
@@ -75,6 +76,7 @@ Scene parse_native_scene(const JsonValue& root, const FileReader& reader) {
     scene.lights = parse_lights(*lights, textures, scene.referenced_files);
   }
   scene.materials = materials.take();
+  check_mesh_attribute_use(scene);
   return scene;
 }
 

@@ -373,6 +373,10 @@ std::string texture_json(const Texture& t, size_t index, const Names& names) {
     if (t.to_uv != glm::dmat3(1.0)) throw SceneError(what + ": a rawconstant has no to_uv");
     return out + "\"type\": \"rawconstant\", \"value\": " +
            (t.channels == 1 ? number(t.value.x, what) : vec3(t.value, what)) + "}";
+  } else if (t.kind == TextureKind::mesh_attribute) {
+    if (t.to_uv != glm::dmat3(1.0)) throw SceneError(what + ": a mesh_attribute has no to_uv");
+    return out + "\"type\": \"mesh_attribute\", \"attribute\": " +
+           json_string(valid_utf8(t.attribute)) + ", \"scale\": " + number(t.scale, what) + "}";
   } else {
     out += "\"type\": \"checkerboard\", \"color0\": " + vec3(t.color0, what) +
            ", \"color1\": " + vec3(t.color1, what);
@@ -484,6 +488,30 @@ void append_curves(std::string& out, const Shape& s, const std::string& what) {
   out += "]";
 }
 
+/// "attributes": {"vertex_color": [[r, g, b], ...], "face_id": [x, ...]}; nothing without any.
+void append_attributes(std::string& out, const Shape& s, const std::string& what) {
+  if (s.attributes.empty()) return;
+  std::string problem = mesh_attributes_problem(s.attributes, s.positions.size(), s.indices.size());
+  if (!problem.empty()) throw SceneError(what + ": " + problem);
+  out += ",\n      \"attributes\": {";
+  for (size_t k = 0; k < s.attributes.size(); ++k) {
+    const MeshAttribute& a = s.attributes[k];
+    out += (k ? ",\n        " : "\n        ") + json_string(valid_utf8(a.name)) + ": [";
+    const size_t c = size_t(a.channels);
+    for (size_t row = 0; row < a.rows(); ++row) {
+      out += row ? ", " : "";
+      if (c == 1) {
+        out += number(a.values[row], what);
+      } else {
+        out += "[" + number(a.values[row * c], what) + ", " + number(a.values[row * c + 1], what) +
+               ", " + number(a.values[row * c + 2], what) + "]";
+      }
+    }
+    out += "]";
+  }
+  out += "\n      }";
+}
+
 std::string shape_json(const Shape& s, const std::string& what,
                        const std::vector<Material>& materials, const Names& names) {
   if (s.kind == Shape::Kind::instance) {
@@ -551,6 +579,7 @@ std::string shape_json(const Shape& s, const std::string& what,
       }
       out += "\n      ]";
     }
+    append_attributes(out, s, what);
   }
   return out + "}";
 }

@@ -35,7 +35,7 @@ std::vector<std::string_view> keys_of(std::string_view type) {
   } else if (type == "sphere") {
     keys.insert(keys.end(), {"center", "radius", "frame"});
   } else if (type == "triangles") {
-    keys.insert(keys.end(), {"vertices", "indices", "normals", "uvs"});
+    keys.insert(keys.end(), {"vertices", "indices", "normals", "uvs", "attributes"});
   } else if (type == "box") {
     keys.insert(keys.end(), {"min", "max"});
   } else if (type == "mesh") {
@@ -80,6 +80,30 @@ std::vector<Part> load_mesh_parts(const JsonValue& value, bool use_file_material
   return parts;
 }
 
+/// "attributes": {"vertex_<name>": rows, "face_<name>": rows}, a row a number (1 channel) or
+/// [r, g, b] (3 channels), one per vertex or per triangle.
+std::vector<MeshAttribute> parse_mesh_attributes(const JsonValue& value, const TriangleMesh& mesh) {
+  std::vector<MeshAttribute> attributes;
+  for (const auto& [name, rows] : value.members()) {
+    MeshAttribute a;
+    a.name = name;
+    std::vector<JsonValue> items = rows.elements();
+    a.channels = !items.empty() && items[0].json().is_array() ? 3 : 1;
+    for (const JsonValue& item : items) {
+      if (a.channels == 1) {
+        a.values.push_back(float(item.number()));
+      } else {
+        for (const JsonValue& c : item.elements(3)) a.values.push_back(float(c.number()));
+      }
+    }
+    attributes.push_back(std::move(a));
+    std::string problem =
+        mesh_attributes_problem(attributes, mesh.positions.size(), mesh.indices.size());
+    if (!problem.empty()) rows.fail(problem);
+  }
+  return attributes;
+}
+
 std::vector<Part> build_parts(const JsonValue& value, std::string_view type,
                               bool use_file_materials, ShapeContext& context) {
   if (type == "mesh") return load_mesh_parts(value, use_file_materials, context);
@@ -91,6 +115,9 @@ std::vector<Part> build_parts(const JsonValue& value, std::string_view type,
     part.mesh = build_quad(value);
   } else if (type == "triangles") {
     part.mesh = build_triangles(value);
+    if (std::optional<JsonValue> attributes = value.find("attributes")) {
+      part.mesh.attributes = parse_mesh_attributes(*attributes, part.mesh);
+    }
   } else if (type == "box") {
     part.mesh = build_box(value);
   } else {
@@ -194,6 +221,7 @@ Shape make_shape(Part& part, const JsonValue& value, bool flip, bool several) {
   shape.positions = std::move(part.mesh.positions);
   shape.normals = std::move(part.mesh.normals);
   shape.uvs = std::move(part.mesh.uvs);
+  shape.attributes = std::move(part.mesh.attributes);
   shape.indices = std::move(part.mesh.indices);
   shape.center = part.sphere.center;
   shape.radius = part.sphere.radius;

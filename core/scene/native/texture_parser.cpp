@@ -1,5 +1,6 @@
 #include "scene/native/texture_parser.h"
 
+#include <cmath>
 #include <algorithm>
 #include <cctype>
 
@@ -103,9 +104,24 @@ Texture parse_texture(const std::string& name, const JsonValue& value,
       texture.channels = 3;
     }
     return texture;
+  } else if (type == "mesh_attribute") {
+    texture.kind = TextureKind::mesh_attribute;
+    value.expect_object({"type", "attribute", "scale"}, "a mesh_attribute");
+    JsonValue attribute = value.at("attribute");
+    texture.attribute = attribute.string();
+    if (!MeshAttribute::is_vertex_attribute_name(texture.attribute) &&
+        !MeshAttribute::is_face_attribute_name(texture.attribute)) {
+      attribute.fail("must start with \"vertex_\" or \"face_\" (got \"" +
+                     printable(texture.attribute) + "\")");
+    }
+    if (auto scale = value.find("scale")) {
+      texture.scale = scale->number();
+      if (!std::isfinite(texture.scale)) scale->fail("must be a finite number");
+    }
+    return texture;
   } else {
     value.at("type").fail("unknown texture type \"" + printable(type) +
-                          "\" (expected bitmap, checkerboard or rawconstant)");
+                          "\" (expected bitmap, checkerboard, rawconstant or mesh_attribute)");
   }
   if (auto t = value.find("to_uv")) texture.to_uv = parse_to_uv(*t);
   return texture;

@@ -38,6 +38,9 @@ TextureSet::TextureSet(const std::vector<Texture>& textures, const FileReader& r
       case TextureKind::rawconstant:
         textures_.emplace_back(RawConstant(to_float(t.value), t.channels == 1));
         break;
+      case TextureKind::mesh_attribute:
+        textures_.emplace_back(MeshAttributeRef{});
+        break;
     }
   }
 }
@@ -58,7 +61,24 @@ float TextureSet::lookup_1(int32_t texture, glm::vec2 uv) const {
   const Entry& e = at(texture);
   if (const auto* b = std::get_if<BitmapTexture>(&e)) return b->eval_1(uv);
   if (const auto* r = std::get_if<RawConstant>(&e)) return r->eval_1(uv);
+  if (std::holds_alternative<MeshAttributeRef>(e)) return 0.0f;
   return mitsuba_luminance(std::get<Checkerboard>(e).eval_scalar_order(uv));
+}
+
+glm::vec3 TextureSet::lookup(int32_t texture, const TexturePoint& at) const {
+  if (!std::holds_alternative<MeshAttributeRef>(this->at(texture))) return lookup(texture, at.uv);
+  if (!at.attributes) return glm::vec3(0.0f);
+  int channels = 0;
+  const glm::vec3 v = at.attributes->eval(texture, at.primitive, at.barycentric, channels);
+  return channels == 1 ? glm::vec3(v.x) : v;
+}
+
+float TextureSet::lookup_1(int32_t texture, const TexturePoint& at) const {
+  if (!std::holds_alternative<MeshAttributeRef>(this->at(texture))) return lookup_1(texture, at.uv);
+  if (!at.attributes) return 0.0f;
+  int channels = 0;
+  const glm::vec3 v = at.attributes->eval(texture, at.primitive, at.barycentric, channels);
+  return channels == 1 ? v.x : 0.0f;
 }
 
 glm::vec2 TextureSet::gradient(int32_t texture, glm::vec2 uv) const {

@@ -10,6 +10,7 @@
 
 #include "bitmap_texture.h"
 #include "checkerboard.h"
+#include "mesh_attribute_table.h"
 #include "raw_constant.h"
 #include "scene/scene.h"
 #include "scene/scene_loader.h"
@@ -46,6 +47,14 @@ class TextureSet {
   glm::vec3 lookup(int32_t texture, glm::vec2 uv) const;
   /// The scalar lookup alone (see eval(TexturedFloat)).
   float lookup_1(int32_t texture, glm::vec2 uv) const;
+  /// The texture at a surface point: a mesh_attribute reads the point's shape attributes (a
+  /// 1-channel attribute as grey, a 3-channel one as RGB, 0 without the attribute), every
+  /// other kind looks up `at.uv`. The uv-only lookups above read a mesh_attribute as 0 (only
+  /// materials of shapes that have the attribute may use one; the loaders check that).
+  glm::vec3 lookup(int32_t texture, const TexturePoint& at) const;
+  /// Scalar lookup at a surface point: a 1-channel mesh attribute's value; a 3-channel one
+  /// reads 0, as Mitsuba's eval_1 of it (Mesh::eval_attribute_1 returns 0 for another size).
+  float lookup_1(int32_t texture, const TexturePoint& at) const;
   /// d/du and d/dv of the scalar lookup, for bump mapping (Mitsuba's eval_1_grad). Zero for
   /// raw constants, checkerboards and nearest-filtered bitmaps (piecewise constant; Mitsuba refuses them).
   glm::vec2 gradient(int32_t texture, glm::vec2 uv) const;
@@ -54,7 +63,11 @@ class TextureSet {
   size_t size() const { return textures_.size(); }
 
  private:
-  using Entry = std::variant<BitmapTexture, Checkerboard, RawConstant>;
+  /// A mesh_attribute texture: what it reads lives in each shape's MeshAttributeTable.
+  struct MeshAttributeRef {
+    glm::vec3 eval(glm::vec2 /*uv*/) const { return glm::vec3(0.0f); }
+  };
+  using Entry = std::variant<BitmapTexture, Checkerboard, RawConstant, MeshAttributeRef>;
   const Entry& at(int32_t texture) const;
 
   std::vector<Entry> textures_;
