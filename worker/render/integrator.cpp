@@ -22,8 +22,10 @@ TexturePoint texture_point(const Hit& hit) {
 }
 
 /// Dimension pairs per path vertex: (light choice, roulette), light point, BSDF direction,
-/// (BSDF lobe, mask). Pairs 0 and 3 are independent hashes: choices gain nothing from
-/// stratification.
+/// (BSDF lobe, mask). Pair 0 is an independent hash; pair 3 is a Sobol pair like 1 and 2: a
+/// smooth dielectric's reflect-or-refract choice is its only random decision, and drawn from
+/// an independent hash it raised cornell-sphere's 64-spp RMSE by 8 % (0.0410 -> 0.0438, seeds
+/// 0-2; BENCHMARKS.md, "Error per sample: the lobe choice").
 constexpr uint32_t kPairsPerVertex = 4;
 /// Russian roulette starts at this vertex (0 = the camera ray's hit).
 constexpr int kRouletteVertex = 3;
@@ -155,7 +157,7 @@ float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
                   ? m->opacity.value
                   : std::clamp(m->opacity.value * textures.lookup_1(m->opacity.texture, texture_point(*hit)), 0.0f, 1.0f);
     sampler.set_pair(pair + 3);
-    const glm::vec2 u_mask = sampler.get2d_independent();
+    const glm::vec2 u_mask = sampler.get2d();
     if (u_mask.y >= opacity) {
       float survival = 1;
       if (roulette) {
@@ -248,7 +250,7 @@ float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
       }
     }
     sampler.set_pair(pair + 3);
-    const float u_lobe = sampler.get2d_independent().x;
+    const float u_lobe = sampler.get2d().x;
     sampler.set_pair(pair + 2);
     const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, sampler.get2d());
     if (!bs) return false;
