@@ -1,10 +1,11 @@
 // Accepting work-unit results and merging them per tile in batch order (the determinism
 // contract's rule 3). Accepting is one transaction: compare-and-set the unit leased -> done on
 // its current lease id, then either merge the result (and any waiting successors) into the
-// tile's sum, or, when earlier batches of the tile are still missing, store it in
-// pending_results until they arrive. The sum is kept decoded in memory (MergeCache) and stored
-// as a checkpoint plus the merged results since, as uploaded (migration 7): a merge appends the
-// result's bytes, and only every kCheckpointEvery batches (and when the tile finishes) is the
+// tile's sum, or, when earlier batches of the tile are still missing, keep it in the results
+// table until they arrive. The sum is kept decoded in memory (MergeCache) and stored as a
+// checkpoint plus the merged results since, as uploaded (store/results_table.h): a result's
+// bytes are written once, when accepted (not at all when its merge is followed by a
+// checkpoint), and only every kCheckpointEvery batches (and when the tile finishes) is the
 // sum encoded and written. Replaying the checkpoint and the rows in batch order gives the same
 // bits, so nothing accepted is lost or merged twice across a crash. A tile's sum starts at
 // zeros and adds batches 0, 1, 2, ... exactly as `tessera-worker render` does, so the pixels are
@@ -113,14 +114,14 @@ class TileMerger {
   /// Throws FarmError(internal) when the store's rows do not continue the checkpoint exactly.
   MergeCache::Tile load_sum(int64_t job_id, uint32_t tile, const TileRect& rect,
                             uint32_t next_batch, Staged* staged = nullptr);
-  /// The first batch of the tile not in its checkpoint (next_batch when all are).
-  uint32_t oldest_unchecked(int64_t job_id, uint32_t tile, uint32_t next_batch);
-  /// Stores `sum` as the tile's checkpoint and deletes its merged results.
-  void write_checkpoint(int64_t job_id, uint32_t tile, const Accumulation& sum);
-  void delete_pending(int64_t job_id, uint32_t tile, uint32_t batch);
+  /// Stores `sum` (batches [0, next_batch)) as the tile's checkpoint and deletes the merged
+  /// results it covers.
+  void write_checkpoint(int64_t job_id, uint32_t tile, const Accumulation& sum,
+                        uint32_t next_batch);
 
-  /// The tile met its stopping rule: skip its remaining units, drop its waiting results.
-  void close_tile(int64_t job_id, uint32_t tile);
+  /// The tile met its stopping rule with `next_batch` merged: skip its remaining units, drop
+  /// its waiting results.
+  void close_tile(int64_t job_id, uint32_t tile, uint32_t next_batch);
 
   Database& db_;
   const Clock& clock_;
