@@ -128,6 +128,9 @@ std::vector<AcceptOutcome> TileMerger::accept_all(const std::vector<Upload>& upl
   // Only committed sums go to the cache (an exception above leaves them out: they are rebuilt
   // from the store next time).
   for (auto& [key, tile] : staged.tiles) cache_.put(key.first, key.second, std::move(tile));
+  for (auto& [key, result] : staged.waiting) {
+    waiting_.put(std::get<0>(key), std::get<1>(key), std::get<2>(key), std::move(result));
+  }
   contributors_.insert(staged.contributors.begin(), staged.contributors.end());
   return outcomes;
 }
@@ -183,6 +186,7 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
     // Earlier batches of this tile are missing: keep the result, durably, until they come. Its
     // row stays where it is when it merges (store/results_table.h).
     results.append(r.job_id, r.tile, r.batch, r.encoded);
+    staged.waiting.insert_or_assign({r.job_id, r.tile, r.batch}, decoded);
   } else {
     // Merge this batch, then every waiting successor, strictly in batch order, judging the
     // tile by the job's stopping rule after each (determinism contract rule 4): once it is
@@ -201,9 +205,22 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
       verdict = judge_tile(c->rule, c->noise_target, tile, next, c->plan.batch_count(),
                            c->plan.batch_end(next - 1));
       if (verdict.finished) break;
-      std::optional<std::string> waiting = results.find(r.job_id, r.tile, next);
-      if (!waiting) break;
-      successor = decode_accumulation(*waiting);
+      // The waiting successor: decoded in memory when this transaction or an earlier one kept
+      // it (WaitingResults), else its row read back and decoded.
+      if (const auto it = staged.waiting.find({r.job_id, r.tile, next});
+          it != staged.waiting.end()) {
+        successor = std::move(it->second);
+        staged.waiting.erase(it);
+        ++waiting_hits_;
+      } else if (std::optional<Accumulation> kept = waiting_.take(r.job_id, r.tile, next)) {
+        successor = std::move(*kept);
+        ++waiting_hits_;
+      } else {
+        std::optional<std::string> row = results.find(r.job_id, r.tile, next);
+        if (!row) break;
+        successor = decode_accumulation(*row);
+      }
+      ++waiting_merged_;
       batch = &successor;
     }
     cached->next_batch = next;

@@ -20,13 +20,16 @@
 #include <cstdint>
 #include <map>
 #include <set>
-#include <vector>
 #include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "accum/accumulation.h"
 #include "clock.h"
 #include "job/stopping_rule.h"
 #include "merge_cache.h"
+#include "waiting_results.h"
 #include "store/sqlite.h"
 
 namespace tessera::server {
@@ -54,11 +57,16 @@ class TileMerger {
   /// A tile's sum is written back (checkpointed) after at most this many merged batches.
   static constexpr uint32_t kCheckpointEvery = 8;
 
-  /// `cache_bytes` bounds the decoded tiles kept between merges (MergeCache).
+  /// `cache_bytes` bounds the decoded tiles kept between merges (MergeCache), and a quarter of
+  /// it more the decoded results waiting for an earlier batch (WaitingResults).
   TileMerger(Database& db, const Clock& clock,
              size_t cache_bytes = MergeCache::kDefaultBudgetBytes,
              uint32_t checkpoint_every = kCheckpointEvery)
-      : db_(db), clock_(clock), cache_(cache_bytes), checkpoint_every_(checkpoint_every) {}
+      : db_(db),
+        clock_(clock),
+        cache_(cache_bytes),
+        waiting_(cache_bytes / 4),
+        checkpoint_every_(checkpoint_every) {}
 
   /// Accepts `result` whose decoded accumulation is `decoded` (decoded by the caller, outside
   /// any lock). Throws FarmError: not_found for an unknown unit, invalid_argument when `decoded`
@@ -84,10 +92,15 @@ class TileMerger {
   /// Drops the job's tiles from memory (it was deleted).
   void forget_job(int64_t job_id) {
     cache_.forget_job(job_id);
+    waiting_.forget_job(job_id);
     std::erase_if(contributors_, [job_id](const Contributor& c) { return c.job_id == job_id; });
   }
 
   const MergeCache& cache() const { return cache_; }
+  const WaitingResults& waiting() const { return waiting_; }
+  /// Waiting results merged since construction, and how many of them came decoded from memory
+  /// (the others were read back from the store and decoded).
+  std::pair<uint64_t, uint64_t> waiting_merged() const { return {waiting_merged_, waiting_hits_}; }
 
  private:
   /// A (job, worker, ISA) whose job_contributors row is committed: later results of the same
@@ -103,6 +116,8 @@ class TileMerger {
   struct Staged {
     std::map<std::pair<int64_t, uint32_t>, MergeCache::Tile> tiles;
     std::set<Contributor> contributors;
+    /// Results this transaction stored as waiting, decoded: (job, tile, batch) -> result.
+    std::map<std::tuple<int64_t, uint32_t, uint32_t>, Accumulation> waiting;
   };
 
   /// accept() inside the caller's transaction; what it merged goes to `staged`.
@@ -126,6 +141,8 @@ class TileMerger {
   Database& db_;
   const Clock& clock_;
   MergeCache cache_;
+  WaitingResults waiting_;
+  uint64_t waiting_merged_ = 0, waiting_hits_ = 0;
   std::set<Contributor> contributors_;
   uint32_t checkpoint_every_;
 };
