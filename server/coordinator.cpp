@@ -450,24 +450,12 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
     }
     uploads.push_back({&results[i], &decoded[i]});
   }
-  std::vector<AcceptOutcome> outcomes;
-  {
-    // The worker was checked (and its last call recorded) above; workers are never removed.
-    std::lock_guard lock(mu_);
-    try {
-      outcomes = merger_.accept_all(uploads);
-    } catch (const FarmError& e) {
-      if (results.size() == 1) throw;
-      throw FarmError(e.code(), "one result of the call was refused, none stored: " +
-                                    std::string(e.what()));
-    }
-    for (size_t i = 0; i < results.size(); ++i) {
-      // Only NaN/Inf samples can move a worker over the report threshold.
-      if (outcomes[i].accepted && decoded[i].nan_dropped + decoded[i].inf_dropped > 0) {
-        report_health(results[i].worker_id);
-      }
-    }
-  }
+  // The worker was checked (and its last call recorded) above; workers are never removed.
+  UploadCall call;
+  call.uploads = &uploads;
+  upload_commits_.run(call);
+  if (call.error) std::rethrow_exception(call.error);
+  const std::vector<AcceptOutcome>& outcomes = call.outcomes;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - received).count();
   std::set<int64_t> complete;
@@ -479,6 +467,55 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
   changes_.notify();
   for (int64_t id : complete) finish_job(id);
   return outcomes;
+}
+
+void Coordinator::commit_upload(UploadCall& call) {
+  const std::vector<TileMerger::Upload>& uploads = *call.uploads;
+  try {
+    call.outcomes = merger_.accept_all(uploads);
+  } catch (const FarmError& e) {
+    call.error = uploads.size() == 1
+                     ? std::current_exception()
+                     : std::make_exception_ptr(FarmError(
+                           e.code(), "one result of the call was refused, none stored: " +
+                                         std::string(e.what())));
+  } catch (...) {
+    call.error = std::current_exception();
+  }
+}
+
+void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
+  std::lock_guard lock(mu_);
+  if (calls.size() == 1) {
+    commit_upload(*calls.front());
+  } else {
+    std::vector<TileMerger::Upload> all;
+    for (const UploadCall* c : calls) {
+      all.insert(all.end(), c->uploads->begin(), c->uploads->end());
+    }
+    try {
+      const std::vector<AcceptOutcome> outcomes = merger_.accept_all(all);
+      size_t next = 0;
+      for (UploadCall* c : calls) {
+        c->outcomes.assign(outcomes.begin() + ptrdiff_t(next),
+                           outcomes.begin() + ptrdiff_t(next + c->uploads->size()));
+        next += c->uploads->size();
+      }
+    } catch (...) {
+      // Rolled back: each call again on its own, so that only the call at fault is refused.
+      for (UploadCall* c : calls) commit_upload(*c);
+    }
+  }
+  for (const UploadCall* c : calls) {
+    if (c->error) continue;
+    for (size_t i = 0; i < c->uploads->size(); ++i) {
+      // Only NaN/Inf samples can move a worker over the report threshold.
+      const TileMerger::Upload& u = (*c->uploads)[i];
+      if (c->outcomes[i].accepted && u.decoded->nan_dropped + u.decoded->inf_dropped > 0) {
+        report_health(u.result->worker_id);
+      }
+    }
+  }
 }
 
 ReleaseOutcome Coordinator::release(int64_t worker_id, const std::string& lease_id,

@@ -19,6 +19,7 @@
 #include "clock.h"
 #include "farm_limits.h"
 #include "dashboard/farm_metrics.h"
+#include "group_commit.h"
 #include "job_output.h"
 #include "job_store.h"
 #include "lease_table.h"
@@ -152,7 +153,9 @@ class Coordinator {
   AcceptOutcome upload(const UnitResult& result);
   /// Several results of one worker in one transaction (TileMerger::accept_all); outcome i
   /// answers results[i]. All or nothing: FarmError(invalid_argument) naming the first result
-  /// that does not decode or fit its unit, and nothing is stored.
+  /// that does not decode or fit its unit, and nothing is stored. Calls that arrive while
+  /// another commits share one transaction (group commit, server/group_commit.h); a call that
+  /// fails in a group is retried alone, so one call's refusal never refuses another's.
   std::vector<AcceptOutcome> upload_all(const std::vector<UnitResult>& results);
   ReleaseOutcome release(int64_t worker_id, const std::string& lease_id, ReleaseReason reason,
                          const std::string& message);
@@ -205,6 +208,18 @@ class Coordinator {
   /// Logs, once per server run, a worker whose NaN/Inf share crossed the report threshold.
   void report_health(int64_t worker_id);
 
+  /// One upload call waiting for its commit: its decoded results, then its outcomes or error.
+  struct UploadCall {
+    const std::vector<TileMerger::Upload>* uploads = nullptr;
+    std::vector<AcceptOutcome> outcomes;
+    std::exception_ptr error;
+  };
+  /// Commits a group of upload calls (GroupCommit's commit): one transaction for all, or, when
+  /// that fails, one per call, each call getting its own outcome or error.
+  void commit_uploads(const std::vector<UploadCall*>& calls);
+  /// One call in its own transaction (under mu_).
+  void commit_upload(UploadCall& call);
+
   const Clock& clock_;
   std::mutex mu_;  ///< guards db_ and every component below
   Database db_;
@@ -232,6 +247,8 @@ class Coordinator {
   double retention_days_;
   int64_t last_retention_unix_ms_ = 0;  ///< guarded by mu_
   ChangeNotifier changes_;
+  GroupCommit<UploadCall> upload_commits_{
+      [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); }};
   FarmMetrics metrics_{clock_};  ///< dashboard counters (thread-safe on its own)
 };
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "farm_error.h"
+#include "store/results_table.h"
 #include "store/tile_queue.h"
 #include "store/units_table.h"
 
@@ -264,7 +265,7 @@ std::optional<JobState> apply_job_event(Database& db, int64_t job_id, JobEvent e
 void cancel_units(Database& db, int64_t job_id) {
   UnitsTable(db).cancel_job(job_id);
   TileQueue(db).close_job(job_id);
-  db.prepare("DELETE FROM pending_results WHERE job_id = ?")->bind(1, job_id).run();
+  ResultsTable(db).drop_waiting_of_job(job_id);
 }
 
 }  // namespace
@@ -363,8 +364,7 @@ StopReason JobStore::settle(int64_t job_id) {
   }
   if (!job || job->state != JobState::running || !job->complete) return StopReason::none;
   // Results whose predecessor was skipped can never merge (only batch prefixes do).
-  db_.prepare("DELETE FROM pending_results WHERE job_id = ?")->bind(1, job_id).run();
-  const int64_t wasted = db_.changes();
+  const int64_t wasted = ResultsTable(db_).drop_waiting_of_job(job_id);
   // A tile is closed by its verdict (noise target, cap, spp); a time job may leave tiles open.
   StopReason reason = StopReason::spp_reached;
   if (job->options.rule == StopRule::time) {

@@ -342,7 +342,8 @@ int main(int argc, char** argv) {
                "report a worker whose NaN/Inf samples exceed this fraction of its samples")
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--merge-cache-mb", flags.merge_cache_mb,
-                 "memory for decoded tiles kept between merges, MiB (36 bytes per pixel)")
+                 "memory for decoded tiles kept between merges, MiB (36 bytes per pixel); a"
+                 " quarter of it more for decoded results waiting for an earlier batch")
       ->envname("TESSERA_MERGE_CACHE_MB")
       ->capture_default_str();
   app.add_option("--retention-days", flags.retention_days,

@@ -9,6 +9,7 @@
 #include "job/stopping_rule.h"
 #include "job_state.h"
 #include "job_store.h"
+#include "store/results_table.h"
 #include "store/tile_queue.h"
 #include "store/units_table.h"
 #include "store/workers_table.h"
@@ -89,16 +90,12 @@ struct MergeTally {
 
 }  // namespace
 
-void TileMerger::close_tile(int64_t job_id, uint32_t tile) {
+void TileMerger::close_tile(int64_t job_id, uint32_t tile, uint32_t next_batch) {
   // The tile's later units are not needed: queued or leased, they are skipped (a leased one's
   // result will be stale and dropped); results already accepted for later batches are wasted.
   int64_t skipped = UnitsTable(db_).skip_tile(job_id, tile);
   skipped += TileQueue(db_).close_tile(job_id, tile);  // and those without a row yet
-  db_.prepare("DELETE FROM pending_results WHERE job_id = ? AND tile = ?")
-      ->bind(1, job_id)
-      .bind(2, tile)
-      .run();
-  const int64_t wasted = db_.changes();
+  const int64_t wasted = ResultsTable(db_).drop_waiting_of_tile(job_id, tile, next_batch);
   db_.prepare(
          "UPDATE jobs SET units_skipped = units_skipped + ?, results_wasted = results_wasted + ?"
          " WHERE id = ?")
@@ -131,6 +128,9 @@ std::vector<AcceptOutcome> TileMerger::accept_all(const std::vector<Upload>& upl
   // Only committed sums go to the cache (an exception above leaves them out: they are rebuilt
   // from the store next time).
   for (auto& [key, tile] : staged.tiles) cache_.put(key.first, key.second, std::move(tile));
+  for (auto& [key, result] : staged.waiting) {
+    waiting_.put(std::get<0>(key), std::get<1>(key), std::get<2>(key), std::move(result));
+  }
   contributors_.insert(staged.contributors.begin(), staged.contributors.end());
   return outcomes;
 }
@@ -181,29 +181,23 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
         .run();
   }
 
+  ResultsTable results(db_);
   if (r.batch != c->next_batch) {
-    // Earlier batches of this tile are missing: keep the result, durably, until they come.
-    db_.prepare(
-           "INSERT INTO pending_results (job_id, tile, batch, accumulation, received_unix_ms)"
-           " VALUES (?, ?, ?, ?, ?)")
-        ->bind(1, r.job_id)
-        .bind(2, r.tile)
-        .bind(3, r.batch)
-        .bind_blob(4, r.encoded)
-        .bind(5, clock_.now_unix_ms())
-        .run();
+    // Earlier batches of this tile are missing: keep the result, durably, until they come. Its
+    // row stays where it is when it merges (store/results_table.h).
+    results.append(r.job_id, r.tile, r.batch, r.encoded);
+    staged.waiting.insert_or_assign({r.job_id, r.tile, r.batch}, decoded);
   } else {
     // Merge this batch, then every waiting successor, strictly in batch order, judging the
     // tile by the job's stopping rule after each (determinism contract rule 4): once it is
     // finished nothing more merges into it, whatever else has arrived. The sum comes from the
-    // merge cache, or is rebuilt from the checkpoint and merged_results.
+    // merge cache, or is rebuilt from the checkpoint and the merged rows of `results`.
     cached = load_sum(r.job_id, r.tile, c->rect, c->next_batch, &staged);
     Accumulation& tile = cached->sum;
     uint32_t next = c->next_batch;
     const Accumulation* batch = &decoded;
     Accumulation successor;
     TileVerdict verdict;
-    std::vector<uint32_t> from_pending;  // merged batches whose bytes are in pending_results
     for (;;) {
       tile.merge(*batch);
       tally.add(*batch, c->plan.batch_end(next) - c->plan.batch_begin(next));
@@ -211,46 +205,36 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
       verdict = judge_tile(c->rule, c->noise_target, tile, next, c->plan.batch_count(),
                            c->plan.batch_end(next - 1));
       if (verdict.finished) break;
-      std::optional<std::string> waiting;
-      {
-        auto q = db_.prepare(
-            "SELECT accumulation FROM pending_results WHERE job_id = ? AND tile = ? AND batch = ?");
-        q->bind(1, r.job_id).bind(2, r.tile).bind(3, next);
-        if (q->step()) waiting = q->blob(0);
+      // The waiting successor: decoded in memory when this transaction or an earlier one kept
+      // it (WaitingResults), else its row read back and decoded.
+      if (const auto it = staged.waiting.find({r.job_id, r.tile, next});
+          it != staged.waiting.end()) {
+        successor = std::move(it->second);
+        staged.waiting.erase(it);
+        ++waiting_hits_;
+      } else if (std::optional<Accumulation> kept = waiting_.take(r.job_id, r.tile, next)) {
+        successor = std::move(*kept);
+        ++waiting_hits_;
+      } else {
+        std::optional<std::string> row = results.find(r.job_id, r.tile, next);
+        if (!row) break;
+        successor = decode_accumulation(*row);
       }
-      if (!waiting) break;
-      successor = decode_accumulation(*waiting);
+      ++waiting_merged_;
       batch = &successor;
-      from_pending.push_back(next);
     }
     cached->next_batch = next;
     if (verdict.finished || next - cached->checkpointed >= checkpoint_every_) {
-      // Checkpoint: the sum becomes the stored tile; the rows it covers go.
-      for (uint32_t b : from_pending) delete_pending(r.job_id, r.tile, b);
-      write_checkpoint(r.job_id, r.tile, tile);
+      // Checkpoint: the sum becomes the stored tile; the rows it covers (the successors merged
+      // here among them) go, and this result is never written.
+      write_checkpoint(r.job_id, r.tile, tile, next);
       cached->checkpointed = next;
     } else {
-      // Append: the uploaded bytes as they came, and the successors' rows moved, not re-encoded.
-      db_.prepare(
-             "INSERT INTO merged_results (job_id, tile, batch, accumulation) VALUES (?, ?, ?, ?)")
-          ->bind(1, r.job_id)
-          .bind(2, r.tile)
-          .bind(3, r.batch)
-          .bind_blob(4, r.encoded)
-          .run();
-      for (uint32_t b : from_pending) {
-        db_.prepare(
-               "INSERT INTO merged_results (job_id, tile, batch, accumulation) SELECT job_id,"
-               " tile, batch, accumulation FROM pending_results WHERE job_id = ? AND tile = ?"
-               " AND batch = ?")
-            ->bind(1, r.job_id)
-            .bind(2, r.tile)
-            .bind(3, b)
-            .run();
-        delete_pending(r.job_id, r.tile, b);
-      }
+      // The uploaded bytes as they came; merged successors keep their rows, now below the
+      // tile's next_batch.
+      results.append(r.job_id, r.tile, r.batch, r.encoded);
     }
-    if (verdict.finished) close_tile(r.job_id, r.tile);
+    if (verdict.finished) close_tile(r.job_id, r.tile, next);
     db_.prepare(
            "UPDATE tiles SET next_batch = ?, error = ?, finished = ?, spp = ?"
            " WHERE job_id = ? AND tile = ? AND next_batch = ?")
@@ -284,31 +268,14 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
   return outcome;
 }
 
-uint32_t TileMerger::oldest_unchecked(int64_t job_id, uint32_t tile, uint32_t next_batch) {
-  auto q = db_.prepare("SELECT MIN(batch) FROM merged_results WHERE job_id = ? AND tile = ?");
-  q->bind(1, job_id).bind(2, tile);
-  if (q->step() && !q->is_null(0)) return uint32_t(q->int64(0));
-  return next_batch;
-}
-
-void TileMerger::delete_pending(int64_t job_id, uint32_t tile, uint32_t batch) {
-  db_.prepare("DELETE FROM pending_results WHERE job_id = ? AND tile = ? AND batch = ?")
-      ->bind(1, job_id)
-      .bind(2, tile)
-      .bind(3, batch)
-      .run();
-}
-
-void TileMerger::write_checkpoint(int64_t job_id, uint32_t tile, const Accumulation& sum) {
+void TileMerger::write_checkpoint(int64_t job_id, uint32_t tile, const Accumulation& sum,
+                                  uint32_t next_batch) {
   db_.prepare("UPDATE tiles SET accumulation = ? WHERE job_id = ? AND tile = ?")
       ->bind_blob(1, encode_accumulation(sum))
       .bind(2, job_id)
       .bind(3, tile)
       .run();
-  db_.prepare("DELETE FROM merged_results WHERE job_id = ? AND tile = ?")
-      ->bind(1, job_id)
-      .bind(2, tile)
-      .run();
+  ResultsTable(db_).drop_merged(job_id, tile, next_batch);
 }
 
 MergeCache::Tile TileMerger::load_sum(int64_t job_id, uint32_t tile, const TileRect& rect,
@@ -330,22 +297,20 @@ MergeCache::Tile TileMerger::load_sum(int64_t job_id, uint32_t tile, const TileR
     q->bind(1, job_id).bind(2, tile);
     if (q->step() && !q->is_null(0)) t.sum = decode_accumulation(q->blob(0));
   }
-  // The checkpoint holds batches [0, first); merged_results holds [first, next_batch), in order.
-  uint32_t expected = oldest_unchecked(job_id, tile, next_batch);
+  // The checkpoint holds batches [0, first); the results table holds [first, next_batch), in
+  // order (and maybe results waiting beyond next_batch, not part of the sum).
+  ResultsTable results(db_);
+  uint32_t expected = results.first_merged(job_id, tile, next_batch);
   t.checkpointed = expected;
-  auto q = db_.prepare(
-      "SELECT batch, accumulation FROM merged_results WHERE job_id = ? AND tile = ?"
-      " ORDER BY batch");
-  q->bind(1, job_id).bind(2, tile);
-  while (q->step()) {
-    if (uint32_t(q->int64(0)) != expected || expected >= next_batch) {
+  results.for_each_merged(job_id, tile, next_batch, [&](uint32_t batch, const std::string& bytes) {
+    if (batch != expected) {
       throw FarmError(ErrorCode::internal,
                       "tile " + std::to_string(tile) + " of job " + std::to_string(job_id) +
                           ": merged results do not continue its checkpoint in batch order");
     }
-    t.sum.merge(decode_accumulation(q->blob(1)));
+    t.sum.merge(decode_accumulation(bytes));
     ++expected;
-  }
+  });
   if (expected != next_batch) {
     throw FarmError(ErrorCode::internal, "tile " + std::to_string(tile) + " of job " +
                                              std::to_string(job_id) + ": merged results end at "
@@ -358,25 +323,21 @@ MergeCache::Tile TileMerger::load_sum(int64_t job_id, uint32_t tile, const TileR
 void TileMerger::checkpoint_job(int64_t job_id) {
   std::vector<std::pair<uint32_t, MergeCache::Tile>> written;
   Transaction tx(db_);
-  std::vector<std::pair<uint32_t, TileRect>> dirty;
-  std::vector<uint32_t> next_batches;
-  {
-    auto q = db_.prepare(
-        "SELECT t.tile, t.x0, t.y0, t.x1, t.y1, t.next_batch FROM tiles t WHERE t.job_id = ?1"
-        " AND t.tile IN (SELECT DISTINCT tile FROM merged_results WHERE job_id = ?1)"
-        " ORDER BY t.tile");
-    q->bind(1, job_id);
-    while (q->step()) {
-      dirty.emplace_back(uint32_t(q->int64(0)), TileRect{int(q->int64(1)), int(q->int64(2)),
-                                                         int(q->int64(3)), int(q->int64(4))});
-      next_batches.push_back(uint32_t(q->int64(5)));
+  for (const uint32_t tile : ResultsTable(db_).tiles_with_merged(job_id)) {
+    TileRect rect;
+    uint32_t next_batch = 0;
+    {
+      auto q = db_.prepare(
+          "SELECT x0, y0, x1, y1, next_batch FROM tiles WHERE job_id = ? AND tile = ?");
+      q->bind(1, job_id).bind(2, tile);
+      if (!q->step()) continue;
+      rect = {int(q->int64(0)), int(q->int64(1)), int(q->int64(2)), int(q->int64(3))};
+      next_batch = uint32_t(q->int64(4));
     }
-  }
-  for (size_t i = 0; i < dirty.size(); ++i) {
-    MergeCache::Tile t = load_sum(job_id, dirty[i].first, dirty[i].second, next_batches[i]);
-    write_checkpoint(job_id, dirty[i].first, t.sum);
+    MergeCache::Tile t = load_sum(job_id, tile, rect, next_batch);
+    write_checkpoint(job_id, tile, t.sum, next_batch);
     t.checkpointed = t.next_batch;
-    written.emplace_back(dirty[i].first, std::move(t));
+    written.emplace_back(tile, std::move(t));
   }
   tx.commit();
   for (auto& [tile, t] : written) cache_.put(job_id, tile, std::move(t));

@@ -1,10 +1,11 @@
 // Accepting work-unit results and merging them per tile in batch order (the determinism
 // contract's rule 3). Accepting is one transaction: compare-and-set the unit leased -> done on
 // its current lease id, then either merge the result (and any waiting successors) into the
-// tile's sum, or, when earlier batches of the tile are still missing, store it in
-// pending_results until they arrive. The sum is kept decoded in memory (MergeCache) and stored
-// as a checkpoint plus the merged results since, as uploaded (migration 7): a merge appends the
-// result's bytes, and only every kCheckpointEvery batches (and when the tile finishes) is the
+// tile's sum, or, when earlier batches of the tile are still missing, keep it in the results
+// table until they arrive. The sum is kept decoded in memory (MergeCache) and stored as a
+// checkpoint plus the merged results since, as uploaded (store/results_table.h): a result's
+// bytes are written once, when accepted (not at all when its merge is followed by a
+// checkpoint), and only every kCheckpointEvery batches (and when the tile finishes) is the
 // sum encoded and written. Replaying the checkpoint and the rows in batch order gives the same
 // bits, so nothing accepted is lost or merged twice across a crash. A tile's sum starts at
 // zeros and adds batches 0, 1, 2, ... exactly as `tessera-worker render` does, so the pixels are
@@ -19,13 +20,16 @@
 #include <cstdint>
 #include <map>
 #include <set>
-#include <vector>
 #include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "accum/accumulation.h"
 #include "clock.h"
 #include "job/stopping_rule.h"
 #include "merge_cache.h"
+#include "waiting_results.h"
 #include "store/sqlite.h"
 
 namespace tessera::server {
@@ -53,11 +57,16 @@ class TileMerger {
   /// A tile's sum is written back (checkpointed) after at most this many merged batches.
   static constexpr uint32_t kCheckpointEvery = 8;
 
-  /// `cache_bytes` bounds the decoded tiles kept between merges (MergeCache).
+  /// `cache_bytes` bounds the decoded tiles kept between merges (MergeCache), and a quarter of
+  /// it more the decoded results waiting for an earlier batch (WaitingResults).
   TileMerger(Database& db, const Clock& clock,
              size_t cache_bytes = MergeCache::kDefaultBudgetBytes,
              uint32_t checkpoint_every = kCheckpointEvery)
-      : db_(db), clock_(clock), cache_(cache_bytes), checkpoint_every_(checkpoint_every) {}
+      : db_(db),
+        clock_(clock),
+        cache_(cache_bytes),
+        waiting_(cache_bytes / 4),
+        checkpoint_every_(checkpoint_every) {}
 
   /// Accepts `result` whose decoded accumulation is `decoded` (decoded by the caller, outside
   /// any lock). Throws FarmError: not_found for an unknown unit, invalid_argument when `decoded`
@@ -83,10 +92,15 @@ class TileMerger {
   /// Drops the job's tiles from memory (it was deleted).
   void forget_job(int64_t job_id) {
     cache_.forget_job(job_id);
+    waiting_.forget_job(job_id);
     std::erase_if(contributors_, [job_id](const Contributor& c) { return c.job_id == job_id; });
   }
 
   const MergeCache& cache() const { return cache_; }
+  const WaitingResults& waiting() const { return waiting_; }
+  /// Waiting results merged since construction, and how many of them came decoded from memory
+  /// (the others were read back from the store and decoded).
+  std::pair<uint64_t, uint64_t> waiting_merged() const { return {waiting_merged_, waiting_hits_}; }
 
  private:
   /// A (job, worker, ISA) whose job_contributors row is committed: later results of the same
@@ -102,6 +116,8 @@ class TileMerger {
   struct Staged {
     std::map<std::pair<int64_t, uint32_t>, MergeCache::Tile> tiles;
     std::set<Contributor> contributors;
+    /// Results this transaction stored as waiting, decoded: (job, tile, batch) -> result.
+    std::map<std::tuple<int64_t, uint32_t, uint32_t>, Accumulation> waiting;
   };
 
   /// accept() inside the caller's transaction; what it merged goes to `staged`.
@@ -113,18 +129,20 @@ class TileMerger {
   /// Throws FarmError(internal) when the store's rows do not continue the checkpoint exactly.
   MergeCache::Tile load_sum(int64_t job_id, uint32_t tile, const TileRect& rect,
                             uint32_t next_batch, Staged* staged = nullptr);
-  /// The first batch of the tile not in its checkpoint (next_batch when all are).
-  uint32_t oldest_unchecked(int64_t job_id, uint32_t tile, uint32_t next_batch);
-  /// Stores `sum` as the tile's checkpoint and deletes its merged results.
-  void write_checkpoint(int64_t job_id, uint32_t tile, const Accumulation& sum);
-  void delete_pending(int64_t job_id, uint32_t tile, uint32_t batch);
+  /// Stores `sum` (batches [0, next_batch)) as the tile's checkpoint and deletes the merged
+  /// results it covers.
+  void write_checkpoint(int64_t job_id, uint32_t tile, const Accumulation& sum,
+                        uint32_t next_batch);
 
-  /// The tile met its stopping rule: skip its remaining units, drop its waiting results.
-  void close_tile(int64_t job_id, uint32_t tile);
+  /// The tile met its stopping rule with `next_batch` merged: skip its remaining units, drop
+  /// its waiting results.
+  void close_tile(int64_t job_id, uint32_t tile, uint32_t next_batch);
 
   Database& db_;
   const Clock& clock_;
   MergeCache cache_;
+  WaitingResults waiting_;
+  uint64_t waiting_merged_ = 0, waiting_hits_ = 0;
   std::set<Contributor> contributors_;
   uint32_t checkpoint_every_;
 };

@@ -226,6 +226,26 @@ CREATE TABLE merged_results (
   FOREIGN KEY (job_id, tile) REFERENCES tiles (job_id, tile) ON DELETE CASCADE
 ) WITHOUT ROWID;
 )sql"},
+      {8, "one table of accepted results, written once", R"sql(
+-- Every accepted result of a tile not yet in its checkpoint, as uploaded (store/results_table.h):
+-- batches below the tile's next_batch are merged since its checkpoint, the others wait for an
+-- earlier batch. A result is written once; merging it writes nothing here. Replaces
+-- pending_results (waiting) and merged_results (merged), whose rows move over unchanged.
+CREATE TABLE results (
+  job_id       INTEGER NOT NULL,
+  tile         INTEGER NOT NULL,
+  batch        INTEGER NOT NULL,
+  accumulation BLOB NOT NULL,             -- encode_accumulation, as uploaded
+  PRIMARY KEY (job_id, tile, batch),
+  FOREIGN KEY (job_id, tile) REFERENCES tiles (job_id, tile) ON DELETE CASCADE
+) WITHOUT ROWID;
+INSERT INTO results (job_id, tile, batch, accumulation)
+  SELECT job_id, tile, batch, accumulation FROM merged_results;
+INSERT INTO results (job_id, tile, batch, accumulation)
+  SELECT job_id, tile, batch, accumulation FROM pending_results;
+DROP TABLE merged_results;
+DROP TABLE pending_results;
+)sql"},
   };
   return kMigrations;
 }

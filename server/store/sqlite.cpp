@@ -109,6 +109,13 @@ Database::Database(const std::string& path, int busy_timeout_ms) {
   exec("PRAGMA journal_mode = WAL");
   exec("PRAGMA synchronous = NORMAL");
   exec("PRAGMA foreign_keys = ON");
+  // Accepted results pass through the store (about 19 KB each at 32-px tiles) and most are
+  // deleted again at their tile's next checkpoint: a 64 MiB page cache keeps the hot pages
+  // (tiles, units, results waiting) from being read back from the file, and 64 MiB of WAL
+  // between checkpoints lets a freed page be rewritten in the WAL several times before one
+  // copy of it goes to the database file (BENCHMARKS.md, "one results table, group commit").
+  exec("PRAGMA cache_size = -65536");
+  exec("PRAGMA wal_autocheckpoint = 16384");
 }
 
 void Database::exec(std::string_view sql) {

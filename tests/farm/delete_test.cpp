@@ -40,7 +40,7 @@ TEST(DeleteJob, OnlyFinalJobsAndEverythingOfThemGoes) {
   ASSERT_EQ(f.jobs.cancel(job, f.clock.now_unix_ms()), CancelOutcome::cancelled);
   EXPECT_EQ(f.jobs.remove(job), DeleteOutcome::deleted);
   EXPECT_FALSE(f.jobs.get(job).has_value());
-  for (const char* table : {"jobs", "tiles", "units", "pending_results", "job_contributors",
+  for (const char* table : {"jobs", "tiles", "units", "results", "job_contributors",
                             "bundles"}) {
     EXPECT_EQ(count(f.db, table), 0) << table;
   }

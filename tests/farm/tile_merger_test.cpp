@@ -88,7 +88,7 @@ TEST(TileMerger, ResultsArriving201MergeAs012) {
   EXPECT_EQ(done.progress(), 1.0);
   EXPECT_EQ(done.counters.samples_merged, 16u * 3u);
   EXPECT_EQ(done.isas, std::vector<std::string>{"avx2"});
-  auto q = f.db.prepare("SELECT COUNT(*) FROM pending_results");
+  auto q = f.db.prepare("SELECT COUNT(*) FROM results");
   ASSERT_TRUE(q->step());
   EXPECT_EQ(q->int64(0), 0);
 }

@@ -96,8 +96,8 @@ JobOutcome verify_job(const nlohmann::json& status, const std::filesystem::path&
   EXPECT_EQ(status.at("progress").get<double>(), 1.0);
 
   // The store, counted another way: every pixel of every tile holds exactly spp samples (a
-  // batch lost or merged twice would show here), nothing waits in pending_results and nothing
-  // is left outside the checkpoints.
+  // batch lost or merged twice would show here), and the results table is empty: nothing waits
+  // and nothing is left outside the checkpoints.
   {
     server::Database store(db.string());
     auto tiles = store.prepare("SELECT tile, accumulation FROM tiles WHERE job_id = ?");
@@ -112,15 +112,11 @@ JobOutcome verify_job(const nlohmann::json& status, const std::filesystem::path&
                            << " pixels do not hold exactly " << spp << " samples";
     }
     EXPECT_GT(tile_count, 0);
-    auto pending = store.prepare("SELECT COUNT(*) FROM pending_results WHERE job_id = ?");
-    pending->bind(1, int64_t(id));
-    EXPECT_TRUE(pending->step());
-    EXPECT_EQ(pending->int64(0), 0) << "results still pending after the job finished";
-    // Every merged result is in its tile's checkpoint once the job is done (migration 7).
-    auto unchecked = store.prepare("SELECT COUNT(*) FROM merged_results WHERE job_id = ?");
-    unchecked->bind(1, int64_t(id));
-    EXPECT_TRUE(unchecked->step());
-    EXPECT_EQ(unchecked->int64(0), 0) << "merged results outside the checkpoints of a done job";
+    auto left = store.prepare("SELECT COUNT(*) FROM results WHERE job_id = ?");
+    left->bind(1, int64_t(id));
+    EXPECT_TRUE(left->step());
+    EXPECT_EQ(left->int64(0), 0)
+        << "results waiting, or merged outside the checkpoints, after the job finished";
   }
 
   // The determinism contract: the farm's pixels are the local render's, bit for bit.

@@ -9,7 +9,9 @@
 // job's spp in the store. The test prints the lease latencies (p50, p99, max) and the rate.
 // TESSERA_LOAD_WORKERS, TESSERA_LOAD_JOBS, TESSERA_LOAD_SPP (units per job = 16 x spp) and
 // TESSERA_LOAD_BOUND_S change the sizes; TESSERA_LOAD_SERVER_BIN runs another tessera-server
-// binary (to compare two builds on the same test).
+// binary (to compare two builds on the same test). Two tests: one call per unit (LeaseUnit,
+// UploadResult, as workers before batched calls), and batched calls (LeaseUnit with max_units =
+// TESSERA_LOAD_PER_CALL, default 16, and one UploadResults for every unit it holds).
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -95,8 +97,16 @@ struct Shared {
   std::atomic<bool> stop{false};
 };
 
+/// One unit leased: what its upload names.
+struct Held {
+  std::string lease_id;
+  v1::WorkUnit unit;
+};
+
+/// `per_call` 1: LeaseUnit and UploadResult per unit; more: LeaseUnit with max_units and one
+/// UploadResults for every unit held.
 void simulated_worker(int index, const std::string& address, const ResultBank& bank,
-                      uint32_t batches, Shared& shared) {
+                      uint32_t batches, uint32_t per_call, Shared& shared) {
   auto stub = v1::WorkerService::NewStub(own_channel(address));
   auto fail = [&](const std::string& what, const grpc::Status& s) {
     std::lock_guard lock(shared.mu);
@@ -123,6 +133,7 @@ void simulated_worker(int index, const std::string& address, const ResultBank& b
     v1::LeaseUnitRequest req;
     req.set_worker_id(me.worker_id());
     req.set_wait_ms(500);
+    if (per_call > 1) req.set_max_units(per_call);
     v1::LeaseUnitResponse lease;
     const auto t0 = Clock::now();
     {
@@ -136,29 +147,59 @@ void simulated_worker(int index, const std::string& address, const ResultBank& b
       continue;
     }
     lease_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    const v1::WorkUnit& u = lease.unit();
-    v1::UploadResultRequest up;
-    up.set_worker_id(me.worker_id());
-    up.set_lease_id(lease.lease_id());
-    up.set_job_id(u.job_id());
-    up.set_tile(u.tile());
-    up.set_batch(u.batch());
-    up.set_accumulation(bank.get(u.tile(), u.sample_end() - u.sample_begin()));
-    up.set_isa("load");
-    v1::UploadResultResponse result;
-    {
+    std::vector<Held> held;
+    if (per_call > 1) {
+      for (const v1::UnitLease& l : lease.leases()) held.push_back({l.lease_id(), l.unit()});
+    } else {
+      held.push_back({lease.lease_id(), lease.unit()});
+    }
+    const auto upload_of = [&](const Held& h) {
+      v1::UploadResultRequest up;
+      up.set_worker_id(me.worker_id());
+      up.set_lease_id(h.lease_id);
+      up.set_job_id(h.unit.job_id());
+      up.set_tile(h.unit.tile());
+      up.set_batch(h.unit.batch());
+      up.set_accumulation(bank.get(h.unit.tile(), h.unit.sample_end() - h.unit.sample_begin()));
+      up.set_isa("load");
+      return up;
+    };
+    std::vector<bool> accepted;
+    if (per_call > 1) {
+      v1::UploadResultsRequest up;
+      up.set_worker_id(me.worker_id());
+      for (const Held& h : held) *up.add_results() = upload_of(h);
+      v1::UploadResultsResponse results;
       grpc::ClientContext ctx;
       wire::prepare_context(ctx, "", std::chrono::seconds(120));
       ctx.set_wait_for_ready(true);
-      if (const auto s = stub->UploadResult(&ctx, up, &result); !s.ok()) {
+      if (const auto s = stub->UploadResults(&ctx, up, &results); !s.ok()) {
+        return fail("UploadResults", s);
+      }
+      if (size_t(results.results_size()) != held.size()) {
+        return fail("UploadResults answered " + std::to_string(results.results_size()) +
+                        " results for " + std::to_string(held.size()),
+                    grpc::Status::OK);
+      }
+      for (const auto& r : results.results()) accepted.push_back(r.accepted());
+    } else {
+      v1::UploadResultResponse result;
+      grpc::ClientContext ctx;
+      wire::prepare_context(ctx, "", std::chrono::seconds(120));
+      ctx.set_wait_for_ready(true);
+      if (const auto s = stub->UploadResult(&ctx, upload_of(held.front()), &result); !s.ok()) {
         return fail("UploadResult", s);
       }
+      accepted.push_back(result.accepted());
     }
-    if (result.accepted()) {
-      std::lock_guard lock(shared.mu);
-      ++shared.accepted[{u.job_id(), uint64_t(u.tile()) * batches + u.batch()}];
-    } else {
-      ++dropped;
+    for (size_t i = 0; i < held.size(); ++i) {
+      const v1::WorkUnit& u = held[i].unit;
+      if (accepted[i]) {
+        std::lock_guard lock(shared.mu);
+        ++shared.accepted[{u.job_id(), uint64_t(u.tile()) * batches + u.batch()}];
+      } else {
+        ++dropped;
+      }
     }
   }
   std::lock_guard lock(shared.mu);
@@ -174,7 +215,8 @@ double percentile(std::vector<double> v, double p) {
   return v[std::clamp<size_t>(rank, 1, v.size()) - 1];
 }
 
-TEST(Load, SixtyFourWorkersTwentyJobsNothingLostNoDeadlock) {
+/// The load test with `per_call` units per LeaseUnit and results per upload.
+void run_load(uint32_t per_call) {
   const int workers = env_int("TESSERA_LOAD_WORKERS", 64);
   const int jobs = env_int("TESSERA_LOAD_JOBS", 20);
   const uint32_t kSpp = uint32_t(env_int("TESSERA_LOAD_SPP", 8));
@@ -209,7 +251,7 @@ TEST(Load, SixtyFourWorkersTwentyJobsNothingLostNoDeadlock) {
   std::vector<std::thread> threads;
   for (int i = 0; i < workers; ++i) {
     threads.emplace_back(simulated_worker, i, address, std::cref(bank), plan.batch_count(),
-                         std::ref(shared));
+                         per_call, std::ref(shared));
   }
   // The 20 jobs arrive at once, while the workers already ask for work.
   const v1::SceneBundle bundle =
@@ -295,24 +337,29 @@ TEST(Load, SixtyFourWorkersTwentyJobsNothingLostNoDeadlock) {
       }
     }
     EXPECT_EQ(tiles, uint64_t(plan.tile_count()) * uint64_t(jobs));
-    auto pending = store.prepare("SELECT COUNT(*) FROM pending_results");
-    ASSERT_TRUE(pending->step());
-    EXPECT_EQ(pending->int64(0), 0);
-    auto unchecked = store.prepare("SELECT COUNT(*) FROM merged_results");
-    ASSERT_TRUE(unchecked->step());
-    EXPECT_EQ(unchecked->int64(0), 0);  // every done job's sums are in their checkpoints
+    // Nothing waits and every done job's sums are in their checkpoints.
+    auto left = store.prepare("SELECT COUNT(*) FROM results");
+    ASSERT_TRUE(left->step());
+    EXPECT_EQ(left->int64(0), 0);
   }
 
-  std::cout << "[load] " << workers << " simulated workers, " << jobs << " jobs x " << units_per_job
+  std::cout << "[load] " << workers << " simulated workers, " << per_call
+            << " unit(s) per call, " << jobs << " jobs x " << units_per_job
             << " units = " << total << " results merged in " << seconds << " s ("
-            << double(total) / seconds << " results/s); lease latency (leases that got a unit, "
+            << double(total) / seconds << " results/s); lease latency (lease calls that got work, "
             << shared.lease_ms.size() << "): p50 " << percentile(shared.lease_ms, 50) << " ms, p99 "
             << percentile(shared.lease_ms, 99) << " ms, max "
             << percentile(shared.lease_ms, 100) << " ms; empty long polls " << shared.no_work
             << std::endl;
-  RecordProperty("lease_p99_ms", std::to_string(percentile(shared.lease_ms, 99)));
+  ::testing::Test::RecordProperty("lease_p99_ms", std::to_string(percentile(shared.lease_ms, 99)));
   server.reset();
-  if (!HasFailure()) fs::remove_all(dir);
+  if (!::testing::Test::HasFailure()) fs::remove_all(dir);
+}
+
+TEST(Load, SixtyFourWorkersTwentyJobsNothingLostNoDeadlock) { run_load(1); }
+
+TEST(Load, BatchedCallsNothingLostNoDeadlock) {
+  run_load(uint32_t(env_int("TESSERA_LOAD_PER_CALL", 16)));
 }
 
 }  // namespace

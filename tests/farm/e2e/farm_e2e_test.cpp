@@ -155,7 +155,7 @@ TEST(FarmE2E, ServerKilledMidJobResumesWithoutLosingOrDoubleMerging) {
       ++tiles;
     }
     EXPECT_EQ(tiles, 4);
-    auto pending = db.prepare("SELECT COUNT(*) FROM pending_results WHERE job_id = ?");
+    auto pending = db.prepare("SELECT COUNT(*) FROM results WHERE job_id = ?");
     pending->bind(1, int64_t(id));
     ASSERT_TRUE(pending->step());
     EXPECT_EQ(pending->int64(0), 0);

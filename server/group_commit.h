@@ -1,0 +1,90 @@
+// Group commit: calls that arrive while a commit is in progress are committed together, in one
+// commit, by the first of them once that commit ends (leader and followers, no timer). Under
+// load many uploads wait on the store's lock at once; committing them in one transaction pays
+// BEGIN/COMMIT and the WAL's commit once for all of them (issue 14, "capacity"). A call alone
+// is committed at once: nothing ever waits for company.
+//
+// `commit` receives the calls of one group in arrival order and records each call's answer in
+// the call itself (Call holds its input and its outcome). Should it throw, every call of the
+// group gets that exception from run().
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <utility>
+#include <vector>
+
+namespace tessera::server {
+
+template <typename Call>
+class GroupCommit {
+ public:
+  using Commit = std::function<void(const std::vector<Call*>&)>;
+
+  explicit GroupCommit(Commit commit) : commit_(std::move(commit)) {}
+
+  /// Returns once `call` was committed, alone or with the calls waiting beside it.
+  void run(Call& call) {
+    Waiter me{&call, false, nullptr};
+    std::unique_lock lock(mu_);
+    queue_.push_back(&me);
+    cv_.wait(lock, [&] { return me.done || !committing_; });
+    if (!me.done) {
+      // No commit in progress: this call leads the group of every call waiting now (itself
+      // among them, since the queue holds only calls not yet committed).
+      committing_ = true;
+      std::vector<Waiter*> group;
+      group.swap(queue_);
+      lock.unlock();
+      std::vector<Call*> calls;
+      calls.reserve(group.size());
+      for (Waiter* w : group) calls.push_back(w->call);
+      std::exception_ptr error;
+      try {
+        commit_(calls);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+      for (Waiter* w : group) {
+        w->done = true;
+        w->error = error;
+      }
+      ++groups_;
+      calls_ += group.size();
+      committing_ = false;
+      cv_.notify_all();
+    }
+    if (me.error) std::rethrow_exception(me.error);
+  }
+
+  /// Calls waiting for a commit (tests use it to line calls up).
+  size_t waiting() {
+    std::lock_guard lock(mu_);
+    return queue_.size();
+  }
+  /// Groups committed and calls in them since construction.
+  std::pair<uint64_t, uint64_t> committed() {
+    std::lock_guard lock(mu_);
+    return {groups_, calls_};
+  }
+
+ private:
+  struct Waiter {
+    Call* call;
+    bool done = false;
+    std::exception_ptr error;
+  };
+
+  Commit commit_;
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::vector<Waiter*> queue_;  ///< calls not committed yet, in arrival order
+  bool committing_ = false;
+  uint64_t groups_ = 0, calls_ = 0;
+};
+
+}  // namespace tessera::server

@@ -1,0 +1,52 @@
+// Decoded results waiting for an earlier batch of their tile, kept in memory so that merging
+// one later neither reads its row back from the store nor decodes it a second time (it was
+// decoded once already, to be checked when it was uploaded). A pure cache of the waiting rows of
+// the results table (store/results_table.h): an entry may be missing at any time (evicted, a
+// transaction rolled back, a restart), and the merger then reads the row as before; an entry
+// is only ever taken for the one result its (job, tile, batch) names, accepted once.
+//
+// Memory: at most `budget_bytes` of decoded results (MergeCache::bytes_of each); the oldest
+// entries go first.
+#pragma once
+
+#include <cstdint>
+#include <list>
+#include <map>
+#include <optional>
+#include <tuple>
+
+#include "accum/accumulation.h"
+
+namespace tessera::server {
+
+class WaitingResults {
+ public:
+  explicit WaitingResults(size_t budget_bytes) : budget_(budget_bytes) {}
+
+  /// Keeps the decoded result of (job, tile, batch), evicting the oldest entries while the
+  /// bytes exceed the budget (this one too when it alone exceeds it).
+  void put(int64_t job_id, uint32_t tile, uint32_t batch, Accumulation result);
+  /// Removes and returns the entry of (job, tile, batch); nullopt when there is none.
+  std::optional<Accumulation> take(int64_t job_id, uint32_t tile, uint32_t batch);
+  /// Drops every entry of the job (deleted).
+  void forget_job(int64_t job_id);
+
+  size_t bytes() const { return bytes_; }
+  size_t entries() const { return index_.size(); }
+
+ private:
+  using Key = std::tuple<int64_t, uint32_t, uint32_t>;
+  struct Entry {
+    Key key;
+    Accumulation result;
+    size_t bytes;
+  };
+  void erase(std::list<Entry>::iterator it);
+
+  size_t budget_;
+  size_t bytes_ = 0;
+  std::list<Entry> order_;  ///< newest first
+  std::map<Key, std::list<Entry>::iterator> index_;
+};
+
+}  // namespace tessera::server
