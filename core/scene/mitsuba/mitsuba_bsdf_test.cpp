@@ -196,6 +196,23 @@ TEST(MitsubaBsdf, WrappersModifyTheNestedBsdf) {
             std::string::npos);
 }
 
+// Bitterli's scenes in Mitsuba 3 form (The White Room) give a mask's opacity as an <rgb>: Mitsuba
+// 3.9.1 reads it as an sRGB texture whose eval_1 is the mean of the channels (0.5333 for
+// 0.2, 0.5, 0.9, printed by mi.load_dict({'type': 'srgb', 'color': [0.2, 0.5, 0.9]}).eval_1).
+TEST(MitsubaBsdf, MaskOpacityAsRgbIsTheMeanOfItsChannels) {
+  Material m = material_of(R"(<bsdf type="mask"><rgb name="opacity" value="0.2, 0.5, 0.9"/>
+      <bsdf type="diffuse"/></bsdf>)");
+  EXPECT_TRUE(m.opacity.is_constant());
+  EXPECT_NEAR(m.opacity.value, 0.5333333, 1e-6);
+  EXPECT_DOUBLE_EQ(material_of(R"(<bsdf type="mask"><rgb name="opacity" value="0.893289"/>
+      <bsdf type="diffuse"/></bsdf>)").opacity.value, 0.893289);
+  std::string error = bsdf_error(R"(<bsdf type="mask"><rgb name="opacity" value="0.5, 1.2, 0"/>
+      <bsdf type="diffuse"/></bsdf>)");
+  EXPECT_NE(error.find("<rgb name=\"opacity\">: each channel must be in [0, 1] (got 1.2)"),
+            std::string::npos)
+      << error;
+}
+
 TEST(MitsubaBsdf, DielectricIorIsInteriorOverExterior) {
   Material m = material_of(R"(<bsdf type="dielectric"><float name="int_ior" value="1.5"/>
       <float name="ext_ior" value="1.25"/></bsdf>)");

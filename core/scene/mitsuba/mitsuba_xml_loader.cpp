@@ -26,11 +26,11 @@ namespace {
   if (tag == "medium" || tag == "phase" || tag == "volume") {
     fail_at(element, "participating media are not supported (Tessera renders surfaces in vacuum)");
   }
-  if (tag == "film") fail_at(element, "belongs inside the <sensor>");
   if (tag == "ref") fail_at(element, "a <ref> belongs inside the object that uses it");
   fail_at(element,
           "not supported at the top of a scene (Tessera reads <sensor>, <integrator>, "
-          "<emitter>, <bsdf>, <texture>, <shape>, <sampler> and <rfilter> there)");
+          "<emitter>, <bsdf>, <texture>, <shape>, and the <film>, <sampler> and <rfilter> a "
+          "<ref> names there)");
 }
 
 /// Adds every object some <ref> below `element` names to `targets`.
@@ -141,7 +141,7 @@ class SceneBuilder {
       textures_.of(element);
     } else if (tag == "emitter") {
       add_emitter(element);
-    } else if (tag == "sampler" || tag == "rfilter") {
+    } else if (tag == "sampler" || tag == "rfilter" || tag == "film") {
       // Top-level objects a sensor or film names with <ref>; read there.
       if (!referenced_objects_.count(&element)) {
         fail_at(element, "belongs inside the <sensor> (or is named there by <ref>)");

@@ -162,6 +162,19 @@ TEST(MitsubaScene, TopLevelObjectsUsedByRef) {
     <sensor type="perspective"><float name="fov" value="40"/><ref id="spp"/></sensor>
   </scene>)");
   EXPECT_EQ(sampled.render.spp, 32);
+  // A film (with its filter) declared at the top and named by the sensor, as the Mitsuba 3
+  // versions of Bitterli's scenes and BlendSwap exports write it (Mitsuba 3.9.1 loads this).
+  Scene filmed = parse_xml(R"(<scene version="3.0.0">
+    <film type="hdrfilm" id="film"><integer name="width" value="86"/>
+      <integer name="height" value="72"/><rfilter type="box"/></film>
+    <sampler type="independent" id="sampler"><integer name="sample_count" value="8"/></sampler>
+    <sensor type="perspective"><float name="fov" value="40"/><ref id="sampler"/><ref id="film"/>
+    </sensor>
+  </scene>)");
+  EXPECT_EQ(filmed.film.width, 86);
+  EXPECT_EQ(filmed.film.height, 72);
+  EXPECT_EQ(filmed.film.filter.kind, FilterKind::box);
+  EXPECT_EQ(filmed.render.spp, 8);
 }
 
 // The fuzzer's find: a checkerboard colour above 1 was imported, then refused by the native
