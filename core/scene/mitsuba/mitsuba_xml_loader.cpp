@@ -63,7 +63,8 @@ class SceneBuilder {
     if (!sensor_) {
       fail_at(root_,
               "the scene has no <sensor> (Tessera needs a perspective, thinlens or orthographic "
-              "sensor)");
+              "sensor; Mitsuba 3 loads such a scene but cannot render it either: \"No sensor "
+              "specified\")");
     }
     check_mitsuba_clip_planes(*sensor_, shapes_);
     refuse_overweighted_delta_lights();
@@ -83,6 +84,12 @@ class SceneBuilder {
     if (!integrator_.note.empty()) {
       std::fprintf(stderr, "note: %s: line %d: %s\n", integrator_element_->file.c_str(),
                    integrator_element_->line, integrator_.note.c_str());
+    }
+    if (other_sensors_ > 0) {
+      std::fprintf(stderr,
+                   "note: %s: line %d: the scene has %d sensors; Tessera renders this first one, "
+                   "as Mitsuba 3 does by default (its --sensor 0)\n",
+                   sensor_->element->file.c_str(), sensor_->element->line, other_sensors_ + 1);
     }
     return result;
   }
@@ -111,11 +118,15 @@ class SceneBuilder {
   void add(const MitsubaElement& element) {
     const std::string& tag = element.tag;
     if (tag == "sensor") {
+      // Mitsuba keeps the sensors in document order and renders the first unless told
+      // otherwise (mitsuba --sensor I, mi.render(scene, sensor=I)). Every sensor is read, so
+      // that an unsupported one is refused as Mitsuba would fail on it; the first is rendered.
+      MitsubaSensor sensor = read_mitsuba_sensor(element, ids_);
       if (sensor_) {
-        fail_at(element, "a second sensor (Tessera renders one camera; first at line " +
-                             std::to_string(sensor_->element->line) + ")");
+        ++other_sensors_;
+      } else {
+        sensor_ = std::move(sensor);
       }
-      sensor_ = read_mitsuba_sensor(element, ids_);
     } else if (tag == "integrator") {
       if (integrator_element_) {
         fail_at(element, "a second integrator (first at line " +
@@ -180,6 +191,7 @@ class SceneBuilder {
   std::vector<ShapeGroup> groups_;
   MitsubaShapeContext context_;
   std::optional<MitsubaSensor> sensor_;
+  int other_sensors_ = 0;  ///< sensors after the first: read, not rendered
   const MitsubaElement* integrator_element_ = nullptr;
   MitsubaIntegrator integrator_;  // Mitsuba's default integrator: path, unbounded
   std::vector<Shape> shapes_;
