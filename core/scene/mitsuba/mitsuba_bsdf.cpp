@@ -322,8 +322,14 @@ Material MitsubaMaterials::read_twosided(MitsubaPlugin& plugin) {
   std::vector<Material> sides;
   for (const MitsubaObject& side : nested) {
     const std::string* type = side.element->attribute("type");
-    if (type && *type == "twosided") fail_at(*side.written, "twosided may not nest twosided");
     Material m = read(*side.element);
+    if (type && *type == "twosided") {
+      // Mitsuba's twosided turns wi to the front side before it calls a nested BSDF, so a
+      // twosided inside a twosided (as in the Mitsuba 3 versions of Bitterli's car scenes) only
+      // ever shows its front BSDF: twosided(twosided(A, B)) renders as twosided(A). The inner
+      // back BSDF was read (and checked) but is never seen.
+      m.back = -1;
+    }
     if (m.transmits()) {
       fail_at(*side.written,
               "twosided takes only BSDFs that do not transmit light (as in Mitsuba); a "

@@ -283,6 +283,32 @@ TEST(MitsubaBsdf, TwosidedWithTwoBsdfsHasABack) {
   EXPECT_TRUE(back.two_sided);
 }
 
+// Bitterli's car and car2 in Mitsuba 3 form nest a twosided in a twosided. Mitsuba's twosided
+// flips wi to the front before calling the nested BSDF (src/bsdfs/twosided.cpp, sample/eval/pdf),
+// so the inner one only ever shows its front BSDF. Mitsuba 3.9.1 agrees: twosided(twosided(diffuse
+// 0.2, plastic)) and twosided(diffuse 0.2) eval to the same 0.0555687 from the back side.
+TEST(MitsubaBsdf, TwosidedInsideTwosidedShowsItsFront) {
+  Material car = material_of(R"(<bsdf type="twosided"><bsdf type="twosided">
+      <bsdf type="roughconductor"><float name="alpha" value="0.1"/>
+      <string name="distribution" value="ggx"/></bsdf></bsdf></bsdf>)");
+  EXPECT_EQ(car.type, MaterialType::rough_conductor);
+  EXPECT_TRUE(car.two_sided);
+  EXPECT_EQ(car.back, -1);
+  Scene s = parse_xml(mitsuba_scene(R"(<shape type="rectangle"><bsdf type="twosided">
+      <bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.2"/></bsdf>
+      <bsdf type="plastic"/></bsdf><bsdf type="conductor"/></bsdf></shape>)"));
+  const Material& front = s.materials.at(s.shapes.at(0).material);
+  EXPECT_EQ(front.type, MaterialType::diffuse);
+  EXPECT_EQ(front.reflectance.value, glm::dvec3(0.2));
+  ASSERT_GE(front.back, 0);
+  EXPECT_EQ(s.materials.at(size_t(front.back)).type, MaterialType::mirror);  // the outer back
+  // The inner twosided is still read whole: what Mitsuba refuses in it is refused.
+  EXPECT_NE(bsdf_error(R"(<bsdf type="twosided"><bsdf type="twosided">
+      <bsdf type="dielectric"/></bsdf></bsdf>)")
+                .find("twosided takes only BSDFs that do not transmit light"),
+            std::string::npos);
+}
+
 TEST(MitsubaBsdf, TwosidedLimits) {
   EXPECT_NE(bsdf_error(R"(<bsdf type="twosided"><bsdf type="dielectric"/></bsdf>)")
                 .find("twosided takes only BSDFs that do not transmit light"),
