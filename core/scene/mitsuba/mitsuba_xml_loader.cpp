@@ -139,7 +139,12 @@ class SceneBuilder {
       if (type && *type == "shapegroup") {
         read_mitsuba_shape_group(element, context_);  // placed by instances
       } else {
-        shapes_.push_back(read_mitsuba_shape(element, context_));
+        Shape shape = read_mitsuba_shape(element, context_);
+        if (mitsuba_shape_is_empty(shape)) {
+          note_empty_mitsuba_shape(shape);  // nothing to render; nothing dropped silently
+        } else {
+          shapes_.push_back(std::move(shape));
+        }
       }
     } else if (tag == "bsdf") {
       // Declared for <ref>s, and checked even when unused, as Mitsuba instantiates it.
