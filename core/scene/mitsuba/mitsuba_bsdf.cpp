@@ -357,8 +357,20 @@ Material MitsubaMaterials::read_blend(MitsubaPlugin& plugin) {
     fail_at(nested.size() > 2 ? *nested[2].written : plugin.element(),
             "takes two nested BSDFs, as in Mitsuba");
   }
+  // Blender exports (mitsuba-blender's Mix Shader) blend two twosided BSDFs. Mitsuba's blend
+  // weighs its two nested BSDFs' values and samples; each twosided turns wi to the front side
+  // alike, so blend(twosided(A), twosided(B)) is twosided(blend(A, B)) exactly.
+  const MitsubaObject* one_sided = nullptr;
+  const MitsubaObject* two_sided = nullptr;
   for (const MitsubaObject& n : nested) {
     Material inner = read(*n.element);
+    const std::string* type = n.element->attribute("type");
+    if (type && *type == "twosided" && inner.back < 0) {
+      inner.two_sided = false;
+      two_sided = &n;
+    } else {
+      one_sided = &n;
+    }
     if (inner.two_sided || inner.back >= 0 || !inner.opacity.is_constant() ||
         inner.opacity.value != 1 || inner.normal_map >= 0 || inner.bump_map >= 0) {
       fail_at(*n.written,
@@ -367,6 +379,13 @@ Material MitsubaMaterials::read_blend(MitsubaPlugin& plugin) {
     }
     m.blend.push_back(std::move(inner));
   }
+  if (two_sided && one_sided) {
+    fail_at(*two_sided->written,
+            "a blend of a twosided and a one-sided BSDF (" + one_sided->written->where() +
+                "): Tessera makes a blend two-sided as a whole, so both or neither must be "
+                "twosided (or put the twosided around the blendbsdf)");
+  }
+  m.two_sided = two_sided != nullptr;
   return m;
 }
 
