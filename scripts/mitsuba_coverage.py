@@ -51,8 +51,12 @@ FRAGMENT_FOLDERS = {"include", "includes", "fragments"}
 
 
 def find_scenes(folders):
-    """(scene file, its FOLDER) for every scene under the folders, sorted; fragments left out
-    (see the module doc)."""
+    """Every scene file under the folders, sorted; fragments left out (see the module doc)."""
+    return [scene for scene, _ in find_scenes_in_folders(folders)]
+
+
+def find_scenes_in_folders(folders):
+    """(scene file, the FOLDER it was found under) for each of find_scenes."""
     scenes = []
     for folder in folders:
         for directory, subfolders, files in os.walk(folder):
@@ -228,7 +232,7 @@ def main():
     if args.xml_only and args.root:
         sys.exit("--xml-only takes each FOLDER as the root; leave out --root")
 
-    found = find_scenes(args.folders)
+    found = find_scenes_in_folders(args.folders)
     if not found:
         sys.exit("no Mitsuba scene under " + ", ".join(args.folders))
     scenes = [scene for scene, _ in found]
