@@ -172,22 +172,27 @@ def convert_xml_only(worker, defines, scene, folder, stand_ins):
     """(reason or None, number of stand-ins, the scene file converted last) for `scene` with its
     missing files stood in."""
     reason = convert(worker, None, defines, scene)
-    count = 0
+    missing = set()  # every file this scene lacks, whether this scene or another stood it in
     copy = None
-    while reason is not None and count < 200:
+    while reason is not None and len(missing) < 200:
         match = MISSING_FILE.search(reason)
         if not match:
             break
         if copy is None:
+            # Paths in messages are relative to the bundle root: the copy is the root from now.
             copy = stand_ins.copy_of(folder)
             scene = os.path.join(copy, os.path.relpath(scene, folder))
             reason = convert(worker, copy, defines, scene)
             continue
+        if match.group(1) in missing:
+            break  # stood in, and still refused: some other trouble with the file
         if not stand_ins.add(copy, match.group(1)):
-            break
-        count += 1
+            break  # a kind of file without a stand-in
+        missing.add(match.group(1))
         reason = convert(worker, copy, defines, scene)
-    return reason, count, scene
+    # A scene that lacked files counts as stood in even when another scene of the same FOLDER
+    # wrote the stand-ins it needed.
+    return reason, max(len(missing), 1) if copy else 0, scene
 
 
 # Mitsuba's load_file refuses a parameter the scene never uses ("Found unused parameters"),
