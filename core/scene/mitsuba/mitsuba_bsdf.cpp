@@ -322,8 +322,14 @@ Material MitsubaMaterials::read_twosided(MitsubaPlugin& plugin) {
   std::vector<Material> sides;
   for (const MitsubaObject& side : nested) {
     const std::string* type = side.element->attribute("type");
-    if (type && *type == "twosided") fail_at(*side.written, "twosided may not nest twosided");
     Material m = read(*side.element);
+    if (type && *type == "twosided") {
+      // Mitsuba's twosided turns wi to the front side before it calls a nested BSDF, so a
+      // twosided inside a twosided (as in the Mitsuba 3 versions of Bitterli's car scenes) only
+      // ever shows its front BSDF: twosided(twosided(A, B)) renders as twosided(A). The inner
+      // back BSDF was read (and checked) but is never seen.
+      m.back = -1;
+    }
     if (m.transmits()) {
       fail_at(*side.written,
               "twosided takes only BSDFs that do not transmit light (as in Mitsuba); a "
@@ -351,8 +357,20 @@ Material MitsubaMaterials::read_blend(MitsubaPlugin& plugin) {
     fail_at(nested.size() > 2 ? *nested[2].written : plugin.element(),
             "takes two nested BSDFs, as in Mitsuba");
   }
+  // Blender exports (mitsuba-blender's Mix Shader) blend two twosided BSDFs. Mitsuba's blend
+  // weighs its two nested BSDFs' values and samples; each twosided turns wi to the front side
+  // alike, so blend(twosided(A), twosided(B)) is twosided(blend(A, B)) exactly.
+  const MitsubaObject* one_sided = nullptr;
+  const MitsubaObject* two_sided = nullptr;
   for (const MitsubaObject& n : nested) {
     Material inner = read(*n.element);
+    const std::string* type = n.element->attribute("type");
+    if (type && *type == "twosided" && inner.back < 0) {
+      inner.two_sided = false;
+      two_sided = &n;
+    } else {
+      one_sided = &n;
+    }
     if (inner.two_sided || inner.back >= 0 || !inner.opacity.is_constant() ||
         inner.opacity.value != 1 || inner.normal_map >= 0 || inner.bump_map >= 0) {
       fail_at(*n.written,
@@ -361,12 +379,40 @@ Material MitsubaMaterials::read_blend(MitsubaPlugin& plugin) {
     }
     m.blend.push_back(std::move(inner));
   }
+  if (two_sided && one_sided) {
+    fail_at(*two_sided->written,
+            "a blend of a twosided and a one-sided BSDF (" + one_sided->written->where() +
+                "): Tessera makes a blend two-sided as a whole, so both or neither must be "
+                "twosided (or put the twosided around the blendbsdf)");
+  }
+  m.two_sided = two_sided != nullptr;
   return m;
+}
+
+/// A mask's `opacity`: a <float> or a texture, or an <rgb> (as Bitterli's scenes in Mitsuba 3
+/// form write it: `<rgb name="opacity" value="0.89, 0.89, 0.89"/>`), which Mitsuba reads as an
+/// sRGB reflectance texture (each channel in [0, 1]) whose scalar value, `eval_1`, is the mean of
+/// its three channels in the RGB variants (src/spectra/srgb.cpp).
+TexturedFloat MitsubaMaterials::read_opacity(MitsubaPlugin& plugin) {
+  const MitsubaElement* written = plugin.property("opacity");
+  if (written && written->tag == "rgb") {
+    const glm::dvec3 rgb = *plugin.take_color("opacity");
+    for (int c = 0; c < 3; ++c) {
+      if (!(rgb[c] >= 0 && rgb[c] <= 1)) {
+        fail_at(*written, "each channel must be in [0, 1] (got " + format_number(rgb[c]) +
+                              "), as Mitsuba's sRGB reflectance demands");
+      }
+    }
+    TexturedFloat opacity;
+    opacity.value = (rgb.x + rgb.y + rgb.z) / 3;
+    return opacity;
+  }
+  return read_textured_float(plugin, "opacity", 0.5, textures_);
 }
 
 Material MitsubaMaterials::read_wrapper(MitsubaPlugin& plugin) {
   if (plugin.type() == "mask") {
-    TexturedFloat opacity = read_textured_float(plugin, "opacity", 0.5, textures_);
+    TexturedFloat opacity = read_opacity(plugin);
     if (opacity.is_constant() && !(opacity.value >= 0 && opacity.value <= 1)) {
       fail_at(*plugin.property("opacity"),
               "must be in [0, 1] (got " + format_number(opacity.value) + ")");

@@ -196,6 +196,23 @@ TEST(MitsubaBsdf, WrappersModifyTheNestedBsdf) {
             std::string::npos);
 }
 
+// Bitterli's scenes in Mitsuba 3 form (The White Room) give a mask's opacity as an <rgb>: Mitsuba
+// 3.9.1 reads it as an sRGB texture whose eval_1 is the mean of the channels (0.5333 for
+// 0.2, 0.5, 0.9, printed by mi.load_dict({'type': 'srgb', 'color': [0.2, 0.5, 0.9]}).eval_1).
+TEST(MitsubaBsdf, MaskOpacityAsRgbIsTheMeanOfItsChannels) {
+  Material m = material_of(R"(<bsdf type="mask"><rgb name="opacity" value="0.2, 0.5, 0.9"/>
+      <bsdf type="diffuse"/></bsdf>)");
+  EXPECT_TRUE(m.opacity.is_constant());
+  EXPECT_NEAR(m.opacity.value, 0.5333333, 1e-6);
+  EXPECT_DOUBLE_EQ(material_of(R"(<bsdf type="mask"><rgb name="opacity" value="0.893289"/>
+      <bsdf type="diffuse"/></bsdf>)").opacity.value, 0.893289);
+  std::string error = bsdf_error(R"(<bsdf type="mask"><rgb name="opacity" value="0.5, 1.2, 0"/>
+      <bsdf type="diffuse"/></bsdf>)");
+  EXPECT_NE(error.find("<rgb name=\"opacity\">: each channel must be in [0, 1] (got 1.2)"),
+            std::string::npos)
+      << error;
+}
+
 TEST(MitsubaBsdf, DielectricIorIsInteriorOverExterior) {
   Material m = material_of(R"(<bsdf type="dielectric"><float name="int_ior" value="1.5"/>
       <float name="ext_ior" value="1.25"/></bsdf>)");
@@ -264,6 +281,32 @@ TEST(MitsubaBsdf, TwosidedWithTwoBsdfsHasABack) {
   const Material& back = s.materials.at(size_t(front.back));
   EXPECT_EQ(back.type, MaterialType::plastic);
   EXPECT_TRUE(back.two_sided);
+}
+
+// Bitterli's car and car2 in Mitsuba 3 form nest a twosided in a twosided. Mitsuba's twosided
+// flips wi to the front before calling the nested BSDF (src/bsdfs/twosided.cpp, sample/eval/pdf),
+// so the inner one only ever shows its front BSDF. Mitsuba 3.9.1 agrees: twosided(twosided(diffuse
+// 0.2, plastic)) and twosided(diffuse 0.2) eval to the same 0.0555687 from the back side.
+TEST(MitsubaBsdf, TwosidedInsideTwosidedShowsItsFront) {
+  Material car = material_of(R"(<bsdf type="twosided"><bsdf type="twosided">
+      <bsdf type="roughconductor"><float name="alpha" value="0.1"/>
+      <string name="distribution" value="ggx"/></bsdf></bsdf></bsdf>)");
+  EXPECT_EQ(car.type, MaterialType::rough_conductor);
+  EXPECT_TRUE(car.two_sided);
+  EXPECT_EQ(car.back, -1);
+  Scene s = parse_xml(mitsuba_scene(R"(<shape type="rectangle"><bsdf type="twosided">
+      <bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.2"/></bsdf>
+      <bsdf type="plastic"/></bsdf><bsdf type="conductor"/></bsdf></shape>)"));
+  const Material& front = s.materials.at(s.shapes.at(0).material);
+  EXPECT_EQ(front.type, MaterialType::diffuse);
+  EXPECT_EQ(front.reflectance.value, glm::dvec3(0.2));
+  ASSERT_GE(front.back, 0);
+  EXPECT_EQ(s.materials.at(size_t(front.back)).type, MaterialType::mirror);  // the outer back
+  // The inner twosided is still read whole: what Mitsuba refuses in it is refused.
+  EXPECT_NE(bsdf_error(R"(<bsdf type="twosided"><bsdf type="twosided">
+      <bsdf type="dielectric"/></bsdf></bsdf>)")
+                .find("twosided takes only BSDFs that do not transmit light"),
+            std::string::npos);
 }
 
 TEST(MitsubaBsdf, TwosidedLimits) {
@@ -530,12 +573,39 @@ TEST(MitsubaBsdf, BlendbsdfNestsTwoBsdfs) {
             std::string::npos);
   EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/>
       <bsdf type="twosided"><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf>)")
+                .find("a blend of a twosided and a one-sided BSDF (test.xml: line "),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/>
+      <bsdf type="twosided"><bsdf type="diffuse"/><bsdf type="plastic"/></bsdf>
+      <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf>)")
                 .find("without twosided, mask, bumpmap or normalmap inside"),
             std::string::npos);
   EXPECT_NE(bsdf_error(R"(<bsdf type="twosided"><bsdf type="blendbsdf">
       <float name="weight" value="0.5"/><bsdf type="dielectric"/><bsdf type="diffuse"/></bsdf>
       </bsdf>)").find("twosided takes only BSDFs that do not transmit light"),
             std::string::npos);
+}
+
+// mitsuba-blender exports a Mix Shader as a blend of two twosided BSDFs (the BlendSwap rover of
+// the Mitsuba 3 gallery). Each twosided turns wi to the front alike, so the blend of the two is
+// the twosided blend of their insides: Mitsuba 3.9.1 gives both forms the same value and pdf from
+// the back (0.672719 and 0.84166 for weight 0.3, diffuse 0.2 and roughconductor alpha 0.2, wi ∝
+// (0.3, 0.1, -0.9), wo ∝ (-0.25, -0.1, -0.8)).
+TEST(MitsubaBsdf, BlendOfTwoTwosidedIsATwosidedBlend) {
+  Material m = material_of(R"(<bsdf type="blendbsdf"><float name="weight" value="0.3"/>
+      <bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.2"/></bsdf>
+      </bsdf><bsdf type="twosided"><bsdf type="roughconductor">
+      <float name="alpha" value="0.2"/></bsdf></bsdf></bsdf>)");
+  EXPECT_EQ(m.type, MaterialType::blend);
+  EXPECT_TRUE(m.two_sided);
+  EXPECT_EQ(m.back, -1);
+  ASSERT_EQ(m.blend.size(), 2u);
+  EXPECT_EQ(m.blend[0].type, MaterialType::diffuse);
+  EXPECT_FALSE(m.blend[0].two_sided);
+  EXPECT_EQ(m.blend[1].type, MaterialType::rough_conductor);
+  EXPECT_FALSE(m.blend[1].two_sided);
+  EXPECT_FALSE(material_of(R"(<bsdf type="blendbsdf"><float name="weight" value="0.3"/>
+      <bsdf type="diffuse"/><bsdf type="plastic"/></bsdf>)").two_sided);
 }
 
 TEST(MitsubaRef, ABsdfNamedTwiceIsOneMaterial) {

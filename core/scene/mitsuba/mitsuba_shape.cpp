@@ -1,6 +1,7 @@
 #include "scene/mitsuba/mitsuba_shape.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -82,10 +83,9 @@ void place_mesh(TriangleMesh& mesh, const Transform& to_world, bool flip, bool f
   if (from_file) {
     // Normals first: Mitsuba keeps nearly degenerate faces, and they weigh in at their vertices.
     if (mesh.normals.empty() && !face_normals) compute_mitsuba_vertex_normals(mesh);
+    // A file whose faces are all degenerate leaves an empty mesh, which Mitsuba loads and no
+    // ray hits: the scene leaves it out (mitsuba_shape_is_empty), a light of it is refused.
     dropped += drop_degenerate_triangles(mesh);
-    if (mesh.indices.empty()) {
-      fail_at(shape, "no triangles (" + std::to_string(dropped) + " degenerate faces dropped)");
-    }
   } else if (first_degenerate_triangle(mesh)) {
     fail_at(shape, "to_world makes the shape degenerate");
   }
@@ -296,6 +296,17 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
   return shape;
 }
 
+bool mitsuba_shape_is_empty(const Shape& shape) {
+  return shape.kind == Shape::Kind::triangles && shape.indices.empty();
+}
+
+void note_empty_mitsuba_shape(const Shape& shape) {
+  std::fprintf(stderr,
+               "note: %s: all %llu faces of its mesh are degenerate (zero area): left out, as "
+               "no ray hits it in Mitsuba either\n",
+               shape.origin.c_str(), static_cast<unsigned long long>(shape.dropped_triangles));
+}
+
 uint32_t read_mitsuba_shape_group(const MitsubaElement& element, MitsubaShapeContext& context) {
   auto it = context.group_index.find(&element);
   if (it != context.group_index.end()) return it->second;
@@ -312,6 +323,10 @@ uint32_t read_mitsuba_shape_group(const MitsubaElement& element, MitsubaShapeCon
     Shape shape = read_mitsuba_shape(*member.element, context);
     if (shape.is_emitter()) {
       fail_at(*member.written, "a shapegroup's shapes cannot emit light (as in Mitsuba)");
+    }
+    if (mitsuba_shape_is_empty(shape)) {
+      note_empty_mitsuba_shape(shape);
+      continue;
     }
     group.shapes.push_back(std::move(shape));
   }

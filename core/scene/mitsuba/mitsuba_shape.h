@@ -33,8 +33,9 @@ struct MitsubaShapeContext {
 /// one BSDF (Mitsuba's default diffuse 0.5 without one) and at most one area emitter; and
 /// `instance`, which places a `shapegroup` (named through <ref>) by its to_world. Mesh files
 /// without normals get Mitsuba's vertex normals unless face_normals is true. Degenerate
-/// triangles of mesh files are dropped and counted; built-in shapes made degenerate by to_world
-/// are an error. Shape::origin is the element's place, "<file>: line <L>: <shape ...>". Throws
+/// triangles of mesh files are dropped and counted (a mesh file whose faces are all degenerate
+/// gives an empty shape, see mitsuba_shape_is_empty; as a light it is refused); built-in shapes
+/// made degenerate by to_world are an error. Shape::origin is the element's place, "<file>: line <L>: <shape ...>". Throws
 /// SceneError naming the element for anything else (`shapegroup` is read by
 /// read_mitsuba_shape_group).
 Shape read_mitsuba_shape(const MitsubaElement& shape, MitsubaShapeContext& context);
@@ -42,5 +43,11 @@ Shape read_mitsuba_shape(const MitsubaElement& shape, MitsubaShapeContext& conte
 /// The index in context.groups of <shape type="shapegroup"> element `group`, read on first use:
 /// its shapes (not emitters, instances or groups) in the group's own space.
 uint32_t read_mitsuba_shape_group(const MitsubaElement& group, MitsubaShapeContext& context);
+
+/// True for a mesh shape left without triangles (every face of its file degenerate, as in the
+/// Mitsuba 3 version of Bitterli's staircase): Mitsuba loads it and no ray ever hits it, so the
+/// scene leaves it out, after note_empty_mitsuba_shape says so on stderr.
+bool mitsuba_shape_is_empty(const Shape& shape);
+void note_empty_mitsuba_shape(const Shape& shape);
 
 }  // namespace tessera

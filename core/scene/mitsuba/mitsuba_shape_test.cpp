@@ -186,6 +186,31 @@ TEST(MitsubaShape, ObjIsReadWithoutItsMaterials) {
   EXPECT_EQ(s.materials.at(s.shapes[0].material).name, "(Mitsuba default diffuse)");
 }
 
+// The Mitsuba 3 version of Bitterli's staircase has an OBJ (Mesh432.obj) whose two faces both
+// repeat a vertex. Mitsuba loads it and no ray hits it: the scene leaves the shape out (with a
+// note), also inside a shapegroup. As a light it would have no area, and is refused.
+TEST(MitsubaShape, MeshWhoseFacesAreAllDegenerateIsLeftOut) {
+  std::string flat = "v 0 0 0\nv 1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 4 1 1\n";
+  std::string good = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  Scene s = parse_xml(mitsuba_scene(R"(
+      <shape type="obj"><string name="filename" value="flat.obj"/></shape>
+      <shape type="obj"><string name="filename" value="good.obj"/></shape>
+      <shape type="shapegroup" id="g"><shape type="obj"><string name="filename" value="flat.obj"/>
+        </shape><shape type="cube"/></shape>
+      <shape type="instance"><ref id="g"/></shape>)"),
+                      {{"flat.obj", flat}, {"good.obj", good}});
+  ASSERT_EQ(s.shapes.size(), 2u);
+  EXPECT_EQ(s.shapes[0].indices.size(), 1u);
+  ASSERT_EQ(s.groups.size(), 1u);
+  EXPECT_EQ(s.groups[0].shapes.size(), 1u);  // the cube
+  std::string light = mitsuba_scene(R"(<shape type="obj"><string name="filename" value="f.obj"/>
+      <emitter type="area"/></shape>)");
+  EXPECT_NE(xml_error(light, {{"f.obj", flat}})
+                .find("a light must have a positive, finite area (got 0)"),
+            std::string::npos)
+      << xml_error(light, {{"f.obj", flat}});
+}
+
 TEST(MitsubaShape, ObjNormalsFromTheFileAreKept) {
   std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 2\nf 1//1 2//1 3//1\n";
   Shape s = shape_of(R"(<shape type="obj"><string name="filename" value="t.obj"/>

@@ -27,11 +27,11 @@ namespace {
   if (tag == "medium" || tag == "phase" || tag == "volume") {
     fail_at(element, "participating media are not supported (Tessera renders surfaces in vacuum)");
   }
-  if (tag == "film") fail_at(element, "belongs inside the <sensor>");
   if (tag == "ref") fail_at(element, "a <ref> belongs inside the object that uses it");
   fail_at(element,
           "not supported at the top of a scene (Tessera reads <sensor>, <integrator>, "
-          "<emitter>, <bsdf>, <texture>, <shape>, <sampler> and <rfilter> there)");
+          "<emitter>, <bsdf>, <texture>, <shape>, and the <film>, <sampler> and <rfilter> a "
+          "<ref> names there)");
 }
 
 /// Adds every object some <ref> below `element` names to `targets`.
@@ -64,7 +64,8 @@ class SceneBuilder {
     if (!sensor_) {
       fail_at(root_,
               "the scene has no <sensor> (Tessera needs a perspective, thinlens or orthographic "
-              "sensor)");
+              "sensor; Mitsuba 3 loads such a scene but cannot render it either: \"No sensor "
+              "specified\")");
     }
     check_mitsuba_clip_planes(*sensor_, shapes_);
     refuse_overweighted_delta_lights();
@@ -85,6 +86,12 @@ class SceneBuilder {
     if (!integrator_.note.empty()) {
       std::fprintf(stderr, "note: %s: line %d: %s\n", integrator_element_->file.c_str(),
                    integrator_element_->line, integrator_.note.c_str());
+    }
+    if (other_sensors_ > 0) {
+      std::fprintf(stderr,
+                   "note: %s: line %d: the scene has %d sensors; Tessera renders this first one, "
+                   "as Mitsuba 3 does by default (its --sensor 0)\n",
+                   sensor_->element->file.c_str(), sensor_->element->line, other_sensors_ + 1);
     }
     return result;
   }
@@ -113,11 +120,15 @@ class SceneBuilder {
   void add(const MitsubaElement& element) {
     const std::string& tag = element.tag;
     if (tag == "sensor") {
+      // Mitsuba keeps the sensors in document order and renders the first unless told
+      // otherwise (mitsuba --sensor I, mi.render(scene, sensor=I)). Every sensor is read, so
+      // that an unsupported one is refused as Mitsuba would fail on it; the first is rendered.
+      MitsubaSensor sensor = read_mitsuba_sensor(element, ids_);
       if (sensor_) {
-        fail_at(element, "a second sensor (Tessera renders one camera; first at line " +
-                             std::to_string(sensor_->element->line) + ")");
+        ++other_sensors_;
+      } else {
+        sensor_ = std::move(sensor);
       }
-      sensor_ = read_mitsuba_sensor(element, ids_);
     } else if (tag == "integrator") {
       if (integrator_element_) {
         fail_at(element, "a second integrator (first at line " +
@@ -130,7 +141,12 @@ class SceneBuilder {
       if (type && *type == "shapegroup") {
         read_mitsuba_shape_group(element, context_);  // placed by instances
       } else {
-        shapes_.push_back(read_mitsuba_shape(element, context_));
+        Shape shape = read_mitsuba_shape(element, context_);
+        if (mitsuba_shape_is_empty(shape)) {
+          note_empty_mitsuba_shape(shape);  // nothing to render; nothing dropped silently
+        } else {
+          shapes_.push_back(std::move(shape));
+        }
       }
     } else if (tag == "bsdf") {
       // Declared for <ref>s, and checked even when unused, as Mitsuba instantiates it.
@@ -143,7 +159,7 @@ class SceneBuilder {
       textures_.of(element);
     } else if (tag == "emitter") {
       add_emitter(element);
-    } else if (tag == "sampler" || tag == "rfilter") {
+    } else if (tag == "sampler" || tag == "rfilter" || tag == "film") {
       // Top-level objects a sensor or film names with <ref>; read there.
       if (!referenced_objects_.count(&element)) {
         fail_at(element, "belongs inside the <sensor> (or is named there by <ref>)");
@@ -182,6 +198,7 @@ class SceneBuilder {
   std::vector<ShapeGroup> groups_;
   MitsubaShapeContext context_;
   std::optional<MitsubaSensor> sensor_;
+  int other_sensors_ = 0;  ///< sensors after the first: read, not rendered
   const MitsubaElement* integrator_element_ = nullptr;
   MitsubaIntegrator integrator_;  // Mitsuba's default integrator: path, unbounded
   std::vector<Shape> shapes_;
