@@ -98,9 +98,17 @@ void check_declared_triangles(const wire::BundleContents& bundle, const FarmLimi
 
 void check_scene_triangles(const Scene& scene, const FarmLimits& limits) {
   uint64_t total = 0;
-  for (const Shape& shape : scene.shapes) total += shape.indices.size();
-  if (total > limits.max_triangles) {
-    over("scene: triangle count", total, limits.max_triangles, "--max-triangles");
+  uint64_t segments = 0;  // curve segments: Embree primitives as a triangle is one
+  for (const Shape& shape : scene.shapes) {
+    total += shape.indices.size();
+    const uint32_t points_per_segment = shape.curve_basis == CurveBasis::bspline ? 4 : 2;
+    for (uint32_t points : shape.curve_sizes) {
+      if (points >= points_per_segment) segments += points - points_per_segment + 1;
+    }
+  }
+  if (total + segments > limits.max_triangles) {
+    over(segments ? "scene: triangle and curve segment count" : "scene: triangle count",
+         total + segments, limits.max_triangles, "--max-triangles");
   }
 }
 

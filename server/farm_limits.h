@@ -40,7 +40,8 @@ void check_bundle_limits(const v1::SceneBundle& bundle, const FarmLimits& limits
 /// its header's face count, an OBJ file its "f" lines. Throws FarmError(invalid_argument).
 void check_declared_triangles(const wire::BundleContents& bundle, const FarmLimits& limits);
 
-/// The parsed scene's triangles (meshes after triangulation, inline triangles, boxes, quads).
+/// The parsed scene's triangles (meshes after triangulation, inline triangles, boxes, quads)
+/// and curve segments (a linear curve of n points has n - 1, a B-spline n - 3), together.
 /// Throws FarmError(invalid_argument).
 void check_scene_triangles(const Scene& scene, const FarmLimits& limits);
 

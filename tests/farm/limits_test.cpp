@@ -105,6 +105,32 @@ TEST(Limits, BundleSizeAndFileCount) {
   EXPECT_EQ(farm.coordinator->jobs(100).size(), 1u);  // the refused ones stored nothing
 }
 
+// Curve segments are primitives as triangles are: a curves shape cannot carry more than the
+// limit past it.
+TEST(Limits, CurveSegmentsCountWithTriangles) {
+  FarmLimits limits;
+  limits.max_triangles = 12;
+  Farm farm(limits);
+  auto curves = [](const std::string& basis, int points) {
+    std::string cps;
+    for (int i = 0; i < points; ++i) cps += (i ? ", [" : "[") + std::to_string(0.1 * i) + ", 0, 0, 0.01]";
+    return R"({"tessera": 1, "camera": {"position": [0,0,3], "look_at": [0,0,0], "fov": 40},
+      "film": {"width": 16, "height": 16}, "render": {"spp": 8},
+      "materials": {"white": {"type": "diffuse", "reflectance": [0.5,0.5,0.5]}},
+      "shapes": [{"type": "curves", "basis": ")" + basis + R"(", "control_points": [)" + cps +
+           R"(], "material": "white"},
+        {"type": "quad", "vertices": [[-1,2,-1],[1,2,-1],[1,2,1],[-1,2,1]], "emission": [5,5,5]}]})";
+  };
+  // The light quad's 2 triangles + 10 linear segments (11 points) = 12: within the limit.
+  EXPECT_EQ(farm.refusal(bundle(curves("linear", 11), {})), "");
+  const std::string linear = farm.refusal(bundle(curves("linear", 12), {}));
+  expect_refused(linear, "--max-triangles");
+  EXPECT_NE(linear.find("scene: triangle and curve segment count 13"), std::string::npos) << linear;
+  // A B-spline of n points has n - 3 segments.
+  EXPECT_EQ(farm.refusal(bundle(curves("bspline", 13), {})), "");
+  expect_refused(farm.refusal(bundle(curves("bspline", 14), {})), "--max-triangles");
+}
+
 TEST(Limits, TrianglesCountedFromHeadersBeforeParsing) {
   FarmLimits limits;
   limits.max_triangles = 12;
