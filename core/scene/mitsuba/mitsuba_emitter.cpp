@@ -38,9 +38,13 @@ glm::dmat4 rigid_to_world(MitsubaPlugin& plugin) {
   return to_world->matrix();
 }
 
-/// A frame whose +z is `direction` (a directional light is the same about its axis).
+/// A frame whose +z is `direction` (a directional light is the same about its axis). The
+/// direction is scaled by its largest component before it is normalised, so that neither a huge
+/// one (1e308: its squared length overflows) nor a tiny one (1e-310: underflows) becomes NaN.
 glm::dmat4 frame_along(const glm::dvec3& direction) {
-  glm::dvec3 z = glm::normalize(direction);
+  const double largest =
+      std::max({std::abs(direction.x), std::abs(direction.y), std::abs(direction.z)});
+  glm::dvec3 z = glm::normalize(direction / largest);
   glm::dvec3 helper = std::abs(z.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   glm::dvec3 x = glm::normalize(glm::cross(helper, z));
   glm::dvec3 y = glm::cross(z, x);
@@ -129,7 +133,7 @@ void read_directional(MitsubaPlugin& plugin, Light& light) {
     if (plugin.property("to_world")) {
       fail_at(*plugin.property("to_world"), "give direction or to_world, not both");
     }
-    if (!(glm::length(*direction) > 0)) fail_at(*plugin.property("direction"), "must not be 0");
+    if (*direction == glm::dvec3(0)) fail_at(*plugin.property("direction"), "must not be 0");
     light.to_world = frame_along(*direction);
   } else {
     light.to_world = rigid_to_world(plugin);

@@ -75,6 +75,21 @@ TEST(MitsubaEmitter, PointSpotAndDirectional) {
   EXPECT_EQ(sun.kind, LightKind::directional);
   testing::expect_near(glm::dvec3(sun.to_world[2]), glm::dvec3(0, 0, -1));
   EXPECT_EQ(sun.value, glm::dvec3(3));
+  // The fuzzer's find: a direction whose squared length overflows (or underflows) gave a NaN
+  // frame. Any non-zero finite direction gives a unit frame.
+  for (const char* d : {"1e308, -1, -1", "-1e-310, 0, 1e-311", "1e308, 1e308, -1e308"}) {
+    Light far = light_of(std::string(R"(<emitter type="directional"><vector name="direction" value=")") +
+                         d + R"("/></emitter>)");
+    const glm::dvec3 z(far.to_world[2]);
+    EXPECT_NEAR(glm::length(z), 1.0, 1e-12) << d;
+    EXPECT_NEAR(glm::length(glm::dvec3(far.to_world[0])), 1.0, 1e-12) << d;
+    EXPECT_NEAR(glm::dot(z, glm::dvec3(far.to_world[0])), 0.0, 1e-12) << d;
+  }
+  Light far = light_of(R"(<emitter type="directional"><vector name="direction" value="1e308, -1, -1"/></emitter>)");
+  testing::expect_near(glm::dvec3(far.to_world[2]), glm::dvec3(1, 0, 0));
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<emitter type="directional"><vector name="direction" value="0, 0, 0"/></emitter>)"))
+                .find("must not be 0"),
+            std::string::npos);
   EXPECT_NE(xml_error(mitsuba_scene(R"(<emitter type="spot"><float name="cutoff_angle" value="10"/>
       <float name="beam_width" value="20"/></emitter>)"))
                 .find("beam_width must be in (0, cutoff_angle]"),
