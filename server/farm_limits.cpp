@@ -5,6 +5,7 @@
 #include <string>
 
 #include "farm_error.h"
+#include "scene/mesh/curve_file.h"
 #include "scene/mesh/ply_header.h"
 #include "scene/scene_error.h"
 
@@ -101,10 +102,7 @@ void check_scene_triangles(const Scene& scene, const FarmLimits& limits) {
   uint64_t segments = 0;  // curve segments: Embree primitives as a triangle is one
   for (const Shape& shape : scene.shapes) {
     total += shape.indices.size();
-    const uint32_t points_per_segment = shape.curve_basis == CurveBasis::bspline ? 4 : 2;
-    for (uint32_t points : shape.curve_sizes) {
-      if (points >= points_per_segment) segments += points - points_per_segment + 1;
-    }
+    for (uint32_t points : shape.curve_sizes) segments += curve_segment_count(shape.curve_basis, points);
   }
   if (total + segments > limits.max_triangles) {
     over(segments ? "scene: triangle and curve segment count" : "scene: triangle count",

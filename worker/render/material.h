@@ -99,9 +99,5 @@ RenderMaterial make_render_material(const Material& m, RoughPlasticTables& table
 /// The BSDF parameters of `m` at surface point `at`: constants as they are, textured parameters
 /// looked up (only those of m's type; mesh attributes from at's shape).
 BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, const TexturePoint& at);
-/// The same at a point of texture coordinates `uv` that has no mesh attributes.
-inline BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, glm::vec2 uv) {
-  return bsdf_params(m, textures, TexturePoint{uv});
-}
 
 }  // namespace tessera

@@ -47,7 +47,7 @@ TEST(RenderMaterial, PrincipledThinLooksUpEveryTexturedParameter) {
   const TextureSet set = checker();
   for (glm::vec2 uv : {glm::vec2(0.1f, 0.1f), glm::vec2(0.6f, 0.1f)}) {
     const float t = set.lookup_1(0, uv);
-    const BsdfParams b = bsdf_params(r, set, uv);
+    const BsdfParams b = bsdf_params(r, set, TexturePoint{uv});
     EXPECT_EQ(b.type, MaterialType::principled_thin);
     EXPECT_EQ(b.reflectance, glm::vec3(0.5f, 0.25f, 1.0f) * set.lookup(0, uv));
     EXPECT_FLOAT_EQ(b.eta, 1.25f * t);
@@ -77,7 +77,7 @@ TEST(RenderMaterial, PplasticLooksUpItsTexturedIndexAndAlphas) {
   EXPECT_EQ(tables.size(), 0u);
   const TextureSet set = checker();
   const glm::vec2 uv(0.6f, 0.1f);
-  const BsdfParams b = bsdf_params(r, set, uv);
+  const BsdfParams b = bsdf_params(r, set, TexturePoint{uv});
   EXPECT_FLOAT_EQ(b.eta, 1.5f * set.lookup_1(0, uv));
   EXPECT_FLOAT_EQ(b.alpha_u, 0.1f);
   EXPECT_FLOAT_EQ(b.alpha_v, 0.5f * set.lookup_1(0, uv));

@@ -25,6 +25,12 @@ struct CurveFile {
 
 /// The fewest control points a curve of `basis` has: 2 linear, 4 B-spline (one segment).
 uint32_t min_curve_points(CurveBasis basis);
+/// The segments of a curve of `points` control points: points - 1 (linear) or points - 3
+/// (B-spline), Mitsuba's segment indices; 0 below min_curve_points.
+inline uint32_t curve_segment_count(CurveBasis basis, uint32_t points) {
+  const uint32_t min_points = min_curve_points(basis);
+  return points < min_points ? 0 : points - min_points + 1;
+}
 
 /// Reads the text of a curve file whose bundle path is `path` (for messages). Each line holds
 /// four numbers (x, y, z, radius) separated by spaces or tabs, and nothing else; positions and

@@ -8,6 +8,7 @@
 
 #include "render/ray_offset.h"
 #include "render/traceable_scene.h"
+#include "scene/mesh/curve_file.h"
 
 namespace tessera {
 namespace {
@@ -129,10 +130,10 @@ RTCGeometry new_curve_geometry(RTCDevice device, const Shape& shape, Geometry& g
   for (const glm::dvec4& cp : shape.control_points) g.control_points.emplace_back(cp);
   // Mitsuba's segment indices: each curve of n points has n - 1 (linear) or n - 3 (B-spline)
   // segments, starting at its points in order.
-  const uint32_t per_curve = g.bspline ? 3 : 1;
   uint32_t first = 0;
   for (uint32_t n : shape.curve_sizes) {
-    for (uint32_t j = 0; j + per_curve < n; ++j) g.segments.push_back(first + j);
+    const uint32_t segments = curve_segment_count(shape.curve_basis, n);
+    for (uint32_t j = 0; j < segments; ++j) g.segments.push_back(first + j);
     first += n;
   }
   g.material = shape.material;
