@@ -389,30 +389,9 @@ Material MitsubaMaterials::read_blend(MitsubaPlugin& plugin) {
   return m;
 }
 
-/// A mask's `opacity`: a <float> or a texture, or an <rgb> (as Bitterli's scenes in Mitsuba 3
-/// form write it: `<rgb name="opacity" value="0.89, 0.89, 0.89"/>`), which Mitsuba reads as an
-/// sRGB reflectance texture (each channel in [0, 1]) whose scalar value, `eval_1`, is the mean of
-/// its three channels in the RGB variants (src/spectra/srgb.cpp).
-TexturedFloat MitsubaMaterials::read_opacity(MitsubaPlugin& plugin) {
-  const MitsubaElement* written = plugin.property("opacity");
-  if (written && written->tag == "rgb") {
-    const glm::dvec3 rgb = *plugin.take_color("opacity");
-    for (int c = 0; c < 3; ++c) {
-      if (!(rgb[c] >= 0 && rgb[c] <= 1)) {
-        fail_at(*written, "each channel must be in [0, 1] (got " + format_number(rgb[c]) +
-                              "), as Mitsuba's sRGB reflectance demands");
-      }
-    }
-    TexturedFloat opacity;
-    opacity.value = (rgb.x + rgb.y + rgb.z) / 3;
-    return opacity;
-  }
-  return read_textured_float(plugin, "opacity", 0.5, textures_);
-}
-
 Material MitsubaMaterials::read_wrapper(MitsubaPlugin& plugin) {
   if (plugin.type() == "mask") {
-    TexturedFloat opacity = read_opacity(plugin);
+    TexturedFloat opacity = read_textured_float(plugin, "opacity", 0.5, textures_);
     if (opacity.is_constant() && !(opacity.value >= 0 && opacity.value <= 1)) {
       fail_at(*plugin.property("opacity"),
               "must be in [0, 1] (got " + format_number(opacity.value) + ")");

@@ -82,7 +82,6 @@ class MitsubaMaterials {
   Material read_twosided(MitsubaPlugin& plugin);
   Material read_blend(MitsubaPlugin& plugin);
   Material read_wrapper(MitsubaPlugin& plugin);
-  TexturedFloat read_opacity(MitsubaPlugin& plugin);
 
   const MitsubaIds& ids_;
   MitsubaTextures& textures_;

@@ -211,6 +211,9 @@ TEST(MitsubaBsdf, MaskOpacityAsRgbIsTheMeanOfItsChannels) {
   EXPECT_NE(error.find("<rgb name=\"opacity\">: each channel must be in [0, 1] (got 1.2)"),
             std::string::npos)
       << error;
+  // The same rule for every scalar texture parameter, e.g. a blend's weight.
+  EXPECT_NEAR(material_of(R"(<bsdf type="blendbsdf"><rgb name="weight" value="0.1, 0.2, 0.6"/>
+      <bsdf type="diffuse"/><bsdf type="conductor"/></bsdf>)").blend_weight.value, 0.3, 1e-12);
 }
 
 TEST(MitsubaBsdf, DielectricIorIsInteriorOverExterior) {

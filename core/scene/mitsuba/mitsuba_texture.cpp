@@ -207,6 +207,21 @@ TexturedFloat read_textured_float(MitsubaPlugin& plugin, std::string_view name, 
     }
     return result;
   }
+  const MitsubaElement* written = plugin.property(name);
+  if (written && written->tag == "rgb") {
+    // An <rgb> makes Mitsuba's sRGB reflectance texture (each channel in [0, 1]), whose scalar
+    // value, eval_1, is the mean of its channels in the RGB variants (src/spectra/srgb.cpp);
+    // Bitterli's scenes in Mitsuba 3 form give a mask's opacity so.
+    const glm::dvec3 rgb = *plugin.take_color(name);
+    for (int c = 0; c < 3; ++c) {
+      if (!(rgb[c] >= 0 && rgb[c] <= 1)) {
+        fail_at(*written, "each channel must be in [0, 1] (got " + format_number(rgb[c]) +
+                              "), as Mitsuba's sRGB reflectance demands");
+      }
+    }
+    result.value = (rgb.x + rgb.y + rgb.z) / 3;
+    return result;
+  }
   result.value = plugin.take_float(name).value_or(fallback);
   return result;
 }

@@ -62,8 +62,9 @@ TexturedColor read_textured_color(MitsubaPlugin& plugin, std::string_view name,
                                   const glm::dvec3& fallback, MitsubaColorRole role,
                                   MitsubaTextures& textures);
 
-/// Scalar parameter `name`: a <float> or a texture (its lookups give the first channel, or the
-/// mean of an RGB texture); `fallback` when absent.
+/// Scalar parameter `name`: a <float>, an <rgb> (Mitsuba's sRGB texture: each channel in [0, 1],
+/// the mean of the three) or a texture (its lookups give the first channel, or the mean of an
+/// RGB texture); `fallback` when absent.
 TexturedFloat read_textured_float(MitsubaPlugin& plugin, std::string_view name, double fallback,
                                   MitsubaTextures& textures);
 
