@@ -135,9 +135,14 @@ void put_shuffled_doubles(std::string& out, const std::vector<double>& values) {
 }
 
 void get_shuffled_doubles(Reader& in, std::vector<double>& values) {
-  std::vector<uint64_t> bits(values.size());
-  get_shuffled(in, bits);
-  for (size_t i = 0; i < values.size(); ++i) values[i] = std::bit_cast<double>(bits[i]);
+  // Straight into the doubles: no temporary array of bits (the server decodes every upload).
+  const size_t n = values.size();
+  const uint8_t* planes = in.take(n * sizeof(uint64_t));
+  for (size_t i = 0; i < n; ++i) {
+    uint64_t bits = 0;
+    for (size_t k = 0; k < sizeof(uint64_t); ++k) bits |= uint64_t(planes[k * n + i]) << (8 * k);
+    values[i] = std::bit_cast<double>(bits);
+  }
 }
 
 // ---- header ----
@@ -271,9 +276,11 @@ std::string compress(const std::string& payload) {
   return frame;
 }
 
-/// Decompresses the single frame `frame` into exactly `expected` bytes, checking the frame's
-/// declared size before allocating and its checksum after.
-std::vector<uint8_t> decompress(const uint8_t* frame, size_t frame_size, size_t expected) {
+/// Decompresses the single frame `frame` into exactly `expected` bytes of `payload` (resized;
+/// its capacity is reused), checking the frame's declared size before allocating and its
+/// checksum after.
+void decompress(const uint8_t* frame, size_t frame_size, size_t expected,
+                std::vector<uint8_t>& payload) {
   const size_t compressed = ZSTD_findFrameCompressedSize(frame, frame_size);
   if (ZSTD_isError(compressed)) {
     throw CodecError(std::string("accumulation codec: truncated or corrupt payload frame (") +
@@ -291,9 +298,11 @@ std::vector<uint8_t> decompress(const uint8_t* frame, size_t frame_size, size_t 
     throw CodecError("accumulation codec: payload holds " + std::to_string(declared) +
                      " bytes, the header implies " + std::to_string(expected));
   }
-  std::unique_ptr<ZSTD_DCtx, ZstdDCtxFree> dctx(ZSTD_createDCtx());
+  // One decompression context per thread, reused (each frame starts it afresh): creating one
+  // per result allocated and initialised about 100 KB on every upload the server decoded.
+  thread_local const std::unique_ptr<ZSTD_DCtx, ZstdDCtxFree> dctx(ZSTD_createDCtx());
   if (!dctx) throw CodecError("accumulation codec: cannot create a zstd context");
-  std::vector<uint8_t> payload(expected);
+  payload.resize(expected);
   const size_t size =
       ZSTD_decompressDCtx(dctx.get(), payload.data(), payload.size(), frame, frame_size);
   if (ZSTD_isError(size)) {
@@ -304,7 +313,6 @@ std::vector<uint8_t> decompress(const uint8_t* frame, size_t frame_size, size_t 
     throw CodecError("accumulation codec: payload decompressed to " + std::to_string(size) +
                      " bytes, expected " + std::to_string(expected));
   }
-  return payload;
 }
 
 }  // namespace
@@ -345,8 +353,16 @@ Accumulation decode_accumulation(std::string_view bytes, int64_t max_pixels) {
   Reader header_in(data, bytes.size(), "header");
   const Header h = read_header(header_in);
   const size_t payload_size = checked_payload_size(h, max_pixels);
-  const std::vector<uint8_t> payload =
-      decompress(data + kHeaderSize, bytes.size() - kHeaderSize, payload_size);
+  // The payload buffer is the thread's, reused from one decode to the next; one grown past
+  // kKeptPayloadBytes (a huge tile) is given back when this decode ends, however it ends.
+  static constexpr size_t kKeptPayloadBytes = size_t(16) << 20;
+  thread_local std::vector<uint8_t> payload;
+  struct Trim {
+    ~Trim() {
+      if (payload.capacity() > kKeptPayloadBytes) std::vector<uint8_t>().swap(payload);
+    }
+  } trim;
+  decompress(data + kHeaderSize, bytes.size() - kHeaderSize, payload_size, payload);
 
   Reader in(payload.data(), payload.size(), "payload");
   if (std::memcmp(in.take(kSizingSize), data + kSizingOffset, kSizingSize) != 0) {
