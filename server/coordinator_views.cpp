@@ -7,6 +7,10 @@
 #include "accum/film.h"
 #include "coordinator.h"
 #include "farm_error.h"
+#include "store/jobs_table.h"
+#include "store/migrations.h"
+#include "store/units_table.h"
+#include "store/workers_table.h"
 
 namespace tessera::server {
 namespace {
@@ -62,26 +66,15 @@ FarmTotals Coordinator::totals() {
     totals.jobs_by_state[std::string(to_string(s))] = 0;
   }
   std::lock_guard lock(mu_);
-  {
-    auto q = db_.prepare(
-        "SELECT state, COUNT(*), SUM(units_done), SUM(leases_expired), SUM(results_dropped), "
-        "SUM(samples_merged) FROM jobs GROUP BY state");
-    while (q->step()) {
-      totals.jobs_by_state[q->text(0)] = uint64_t(q->int64(1));
-      totals.units_done += uint64_t(q->int64(2));
-      totals.leases_expired += uint64_t(q->int64(3));
-      totals.results_dropped += uint64_t(q->int64(4));
-      totals.samples_merged += uint64_t(q->int64(5));
-    }
+  for (const auto& [state, sums] : JobsTable(db_).totals_by_state()) {
+    totals.jobs_by_state[state] = sums.jobs;
+    totals.units_done += sums.units_done;
+    totals.leases_expired += sums.leases_expired;
+    totals.results_dropped += sums.results_dropped;
+    totals.samples_merged += sums.samples_merged;
   }
-  {
-    auto q = db_.prepare("SELECT COUNT(*) FROM units WHERE state = 'leased'");
-    if (q->step()) totals.units_leased_now = uint64_t(q->int64(0));
-  }
-  {
-    auto q = db_.prepare("SELECT COUNT(*) FROM workers");
-    if (q->step()) totals.workers = uint64_t(q->int64(0));
-  }
+  totals.units_leased_now = uint64_t(UnitsTable(db_).count_leased());
+  totals.workers = uint64_t(WorkersTable(db_).count());
   return totals;
 }
 
@@ -89,13 +82,8 @@ JobRecord Coordinator::set_priority(int64_t job_id, int priority) {
   JobRecord record;
   {
     std::lock_guard lock(mu_);
-    {
-      // Compare-and-set on the state: a job that ends meanwhile keeps its recorded priority.
-      auto q = db_.prepare(
-          "UPDATE jobs SET priority = ? WHERE id = ? AND state IN ('queued', 'running')");
-      q->bind(1, priority).bind(2, job_id).run();
-    }
-    const bool changed = db_.changes() > 0;
+    // Compare-and-set on the state: a job that ends meanwhile keeps its recorded priority.
+    const bool changed = JobsTable(db_).set_priority(job_id, priority);
     std::optional<JobRecord> found = jobs_.get(job_id);
     if (!found) throw FarmError(ErrorCode::not_found, "no job " + std::to_string(job_id));
     if (!changed) {
@@ -112,8 +100,8 @@ JobRecord Coordinator::set_priority(int64_t job_id, int priority) {
 bool Coordinator::store_ready() {
   try {
     std::lock_guard lock(mu_);
-    auto q = db_.prepare("SELECT COUNT(*) FROM schema_migrations");
-    return q->step();
+    migrations_applied(db_);
+    return true;
   } catch (const SqliteError&) {
     return false;
   }

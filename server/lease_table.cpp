@@ -4,6 +4,8 @@
 #include <random>
 #include <vector>
 
+#include "store/failures_table.h"
+#include "store/jobs_table.h"
 #include "store/tile_queue.h"
 #include "store/workers_table.h"
 
@@ -51,8 +53,8 @@ std::optional<Lease> LeaseTable::grant_unborn_in_transaction(int64_t job_id, uin
   if (!TileQueue(db_).take(job_id, tile, batch)) return std::nullopt;
   const std::string lease_id = new_id_();
   const int64_t expires = clock_.now_unix_ms() + lease_ms_;
-  units_.insert_leased(job_id, tile, batch, worker_id, lease_id, expires);
-  return Lease{lease_id, db_.last_insert_rowid(), job_id, tile, batch, worker_id, expires};
+  const int64_t unit_id = units_.insert_leased(job_id, tile, batch, worker_id, lease_id, expires);
+  return Lease{lease_id, unit_id, job_id, tile, batch, worker_id, expires};
 }
 
 std::optional<int64_t> LeaseTable::extend_in_transaction(int64_t worker_id,
@@ -69,6 +71,16 @@ std::optional<int64_t> LeaseTable::heartbeat(int64_t worker_id, const std::strin
   return expires;
 }
 
+std::vector<std::optional<int64_t>> LeaseTable::heartbeat_all(
+    int64_t worker_id, const std::vector<std::string>& lease_ids) {
+  std::vector<std::optional<int64_t>> out;
+  out.reserve(lease_ids.size());
+  Transaction tx(db_);
+  for (const std::string& id : lease_ids) out.push_back(extend_in_transaction(worker_id, id));
+  tx.commit();
+  return out;
+}
+
 ReleaseOutcome LeaseTable::release(int64_t worker_id, const std::string& lease_id,
                                    ReleaseReason reason, const std::string& message) {
   ReleaseOutcome outcome;
@@ -78,9 +90,7 @@ ReleaseOutcome LeaseTable::release(int64_t worker_id, const std::string& lease_i
   const int64_t unit_id = held->unit_id, job_id = held->job_id;
   const bool failed = reason == ReleaseReason::failed;
   outcome.released = units_.requeue(unit_id, lease_id, UnitEvent::release, failed) == 1;
-  db_.prepare("UPDATE jobs SET units_released = units_released + 1 WHERE id = ?")
-      ->bind(1, job_id)
-      .run();
+  JobsTable(db_).count_released(job_id);
   if (failed) outcome.job_failed = record_failure(unit_id, job_id, worker_id, message);
   tx.commit();
   return outcome;
@@ -90,39 +100,15 @@ bool LeaseTable::record_failure(int64_t unit_id, int64_t job_id, int64_t worker_
                                 const std::string& message) {
   const int64_t now = clock_.now_unix_ms();
   // A failure after the forgiveness window starts the worker's count on this job again.
-  db_.prepare(
-         "INSERT INTO job_worker_failures (job_id, worker_id, failures, last_error,"
-         " last_failure_unix_ms) VALUES (?1, ?2, 1, ?3, ?4) ON CONFLICT (job_id, worker_id)"
-         " DO UPDATE SET failures = CASE WHEN last_failure_unix_ms <= ?5 THEN 1"
-         " ELSE failures + 1 END, last_error = ?3, last_failure_unix_ms = ?4")
-      ->bind(1, job_id)
-      .bind(2, worker_id)
-      .bind(3, message)
-      .bind(4, now)
-      .bind(5, forgiven_before_unix_ms())
-      .run();
-  db_.prepare(
-         "INSERT INTO unit_failures (unit_id, worker_id, failures, last_error,"
-         " last_failure_unix_ms) VALUES (?1, ?2, 1, ?3, ?4) ON CONFLICT (unit_id, worker_id)"
-         " DO UPDATE SET failures = failures + 1, last_error = ?3, last_failure_unix_ms = ?4")
-      ->bind(1, unit_id)
-      .bind(2, worker_id)
-      .bind(3, message)
-      .bind(4, now)
-      .run();
+  FailuresTable failures(db_);
+  failures.record(job_id, unit_id, worker_id, message, now, forgiven_before_unix_ms());
   int64_t workers = 0, attempts = 0;
   std::string reasons;
-  {
-    auto q = db_.prepare(
-        "SELECT f.worker_id, w.name, f.failures, f.last_error FROM unit_failures f"
-        " JOIN workers w ON w.id = f.worker_id WHERE f.unit_id = ? ORDER BY f.worker_id");
-    q->bind(1, unit_id);
-    while (q->step()) {
-      ++workers;
-      attempts += q->int64(2);
-      reasons += std::string(reasons.empty() ? "" : "; ") + "worker " +
-                 std::to_string(q->int64(0)) + " (" + q->text(1) + "): " + q->text(3);
-    }
+  for (const UnitFailure& f : failures.of_unit(unit_id)) {
+    ++workers;
+    attempts += f.failures;
+    reasons += std::string(reasons.empty() ? "" : "; ") + "worker " +
+               std::to_string(f.worker_id) + " (" + f.worker_name + "): " + f.last_error;
   }
   const int64_t max_attempts = int64_t(policy_.workers_to_fail_unit) * policy_.failures_to_block;
   if (workers < policy_.workers_to_fail_unit && attempts < max_attempts) return false;
@@ -140,9 +126,7 @@ int LeaseTable::requeue_expiring_before(int64_t bound) {
   for (const LeasedRow& e : units_.leases_expiring_before(bound)) {
     if (units_.requeue(e.unit_id, e.lease_id, UnitEvent::expire, false) != 1) continue;
     ++count;
-    db_.prepare("UPDATE jobs SET leases_expired = leases_expired + 1 WHERE id = ?")
-        ->bind(1, e.job_id)
-        .run();
+    JobsTable(db_).count_expired(e.job_id);
     WorkersTable(db_).count_lost(e.worker_id);
   }
   return count;

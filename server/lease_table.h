@@ -7,6 +7,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "clock.h"
 #include "job_store.h"
@@ -88,6 +89,9 @@ class LeaseTable {
 
   /// extend_in_transaction in its own transaction.
   std::optional<int64_t> heartbeat(int64_t worker_id, const std::string& lease_id);
+  /// heartbeat() of each of `lease_ids` in one transaction; answer i is lease i's.
+  std::vector<std::optional<int64_t>> heartbeat_all(int64_t worker_id,
+                                                    const std::vector<std::string>& lease_ids);
 
   /// leased -> queued. With ReleaseReason::failed the failure counts against the worker on that
   /// job (blocking it at policy.failures_to_block) and against the unit (failing the job, with

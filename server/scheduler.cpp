@@ -3,14 +3,10 @@
 #include <limits>
 #include <string>
 
+#include "store/jobs_table.h"
 #include "store/tile_queue.h"
 
 namespace tessera::server {
-namespace {
-
-std::string s(JobState state) { return std::string(to_string(state)); }
-
-}  // namespace
 
 std::optional<Scheduler::Pick> Scheduler::first_unit(int64_t job_id, bool noise,
                                                      bool over_budget) {
@@ -54,35 +50,13 @@ std::vector<Lease> Scheduler::lease_up_to(int64_t worker_id, uint32_t max_units)
     return out;
   }
   // The jobs that may lease, in scheduling order (the jobs_schedule index); few at a time.
-  struct Candidate {
-    int64_t job_id;
-    bool noise, over_budget, queued;
-  };
-  std::vector<Candidate> candidates;
-  {
-    auto q = db_.prepare(R"sql(
-        SELECT j.id, j.stop_rule = 'noise',
-               j.stop_rule = 'time' AND j.started_unix_ms > 0
-                 AND j.started_unix_ms + j.time_budget_ms <= ?3,
-               j.state = ?1
-        FROM jobs j
-        WHERE j.state IN (?1, ?2)
-          AND NOT EXISTS (SELECT 1 FROM job_worker_failures f
-                          WHERE f.job_id = j.id AND f.worker_id = ?4 AND f.failures >= ?5
-                            AND f.last_failure_unix_ms > ?6)
-        ORDER BY j.priority DESC, j.submitted_unix_ms ASC, j.id ASC)sql");
-    q->bind(1, s(JobState::queued))
-        .bind(2, s(JobState::running))
-        .bind(3, clock_.now_unix_ms())
-        .bind(4, worker_id)
-        .bind(5, leases_.health_policy().failures_to_block)
-        .bind(6, leases_.forgiven_before_unix_ms());
-    while (q->step()) {
-      candidates.push_back({q->int64(0), q->int64(1) != 0, q->int64(2) != 0, q->int64(3) != 0});
-    }
-  }
+  JobsTable jobs(db_);
+  std::vector<LeaseCandidate> candidates =
+      jobs.lease_candidates(worker_id, clock_.now_unix_ms(),
+                            leases_.health_policy().failures_to_block,
+                            leases_.forgiven_before_unix_ms());
   bool changed = false;
-  for (Candidate& c : candidates) {
+  for (LeaseCandidate& c : candidates) {
     while (out.size() < max_units) {
       const std::optional<Pick> pick = first_unit(c.job_id, c.noise, c.over_budget);
       if (!pick) break;
@@ -96,13 +70,7 @@ std::vector<Lease> Scheduler::lease_up_to(int64_t worker_id, uint32_t max_units)
       out.push_back(*lease);
       if (c.queued) {
         // queued -> running on the first lease; a running job stays running (JobEvent::start).
-        const JobState to = *next_state(JobState::queued, JobEvent::start);
-        db_.prepare("UPDATE jobs SET state = ?, started_unix_ms = ? WHERE id = ? AND state = ?")
-            ->bind(1, s(to))
-            .bind(2, clock_.now_unix_ms())
-            .bind(3, c.job_id)
-            .bind(4, s(JobState::queued))
-            .run();
+        jobs.start(c.job_id, clock_.now_unix_ms());
         c.queued = false;
       }
     }
@@ -115,29 +83,15 @@ std::vector<Lease> Scheduler::lease_up_to(int64_t worker_id, uint32_t max_units)
 std::vector<int64_t> Scheduler::enforce_time_budgets() {
   const int64_t now = clock_.now_unix_ms();
   Transaction tx(db_);
-  std::vector<int64_t> over;
-  {
-    auto q = db_.prepare(R"sql(
-        SELECT id FROM jobs
-        WHERE state = ?1 AND stop_rule = 'time' AND started_unix_ms > 0
-          AND started_unix_ms + time_budget_ms <= ?2)sql");
-    q->bind(1, s(JobState::running)).bind(2, now);
-    while (q->step()) over.push_back(q->int64(0));
-  }
+  JobsTable jobs(db_);
+  const std::vector<int64_t> over = jobs.running_over_budget(now);
   std::vector<int64_t> complete;
   for (int64_t job_id : over) {
     // Batch 0 is never skipped: every tile gets it, even after the budget.
     const int64_t skipped_rows = units_.skip_queued_after_first_batch(job_id);
     // ...and so are those without a row yet.
     const int64_t n = skipped_rows + TileQueue(db_).skip_after_first_batch(job_id);
-    db_.prepare(
-           "UPDATE jobs SET units_skipped = units_skipped + ?, budget_reached_unix_ms ="
-           " CASE WHEN budget_reached_unix_ms = 0 THEN ? ELSE budget_reached_unix_ms END"
-           " WHERE id = ?")
-        ->bind(1, n)
-        .bind(2, now)
-        .bind(3, job_id)
-        .run();
+    jobs.count_budget_reached(job_id, n, now);
     if (!units_left(db_, job_id)) complete.push_back(job_id);
   }
   tx.commit();

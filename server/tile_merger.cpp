@@ -9,54 +9,18 @@
 #include "job/stopping_rule.h"
 #include "job_state.h"
 #include "job_store.h"
+#include "store/job_contributors_table.h"
+#include "store/jobs_table.h"
 #include "store/results_table.h"
 #include "store/tile_queue.h"
+#include "store/tiles_table.h"
 #include "store/units_table.h"
 #include "store/workers_table.h"
 
 namespace tessera::server {
 namespace {
 
-std::string s(UnitState state) { return std::string(to_string(state)); }
-
-struct UnitContext {
-  int64_t unit_id = 0;
-  TileRect rect;
-  JobPlan plan;
-  uint32_t next_batch = 0;
-  StopRule rule = StopRule::spp;
-  double noise_target = 0;
-  bool cancelled = false;  ///< the unit was cancelled (its job ended, or the rule skipped it)
-};
-
-std::optional<UnitContext> load_unit(Database& db, const UnitResult& r) {
-  auto q = db.prepare(R"sql(
-      SELECT u.id, t.x0, t.y0, t.x1, t.y1, t.next_batch, 0,
-             j.width, j.height, j.tile_size, j.spp, j.batch_spp, j.stop_rule, j.noise_target,
-             j.batch_schedule, u.state
-      FROM units u
-      JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile
-      JOIN jobs j ON j.id = u.job_id
-      WHERE u.job_id = ? AND u.tile = ? AND u.batch = ?)sql");
-  q->bind(1, r.job_id).bind(2, r.tile).bind(3, r.batch);
-  if (!q->step()) return std::nullopt;
-  UnitContext c;
-  c.unit_id = q->int64(0);
-  c.rect = {int(q->int64(1)), int(q->int64(2)), int(q->int64(3)), int(q->int64(4))};
-  c.next_batch = uint32_t(q->int64(5));
-  c.plan.width = int(q->int64(7));
-  c.plan.height = int(q->int64(8));
-  c.plan.tile_size = int(q->int64(9));
-  c.plan.spp = uint32_t(q->int64(10));
-  c.plan.batch_spp = uint32_t(q->int64(11));
-  c.rule = stop_rule_from_string(q->text(12)).value_or(StopRule::spp);
-  c.noise_target = q->real(13);
-  c.plan.batch_kind = batch_kind_from_string(q->text(14)).value_or(BatchKind::fixed);
-  c.cancelled = q->text(15) == s(UnitState::cancelled);
-  return c;
-}
-
-void validate(const UnitResult& r, const UnitContext& c, const Accumulation& acc) {
+void validate(const UnitResult& r, const UnitForResult& c, const Accumulation& acc) {
   const std::string unit = "job " + std::to_string(r.job_id) + " tile " + std::to_string(r.tile) +
                            " batch " + std::to_string(r.batch);
   if (!(acc.rect == c.rect) || acc.pixels() != size_t(c.rect.pixel_count()) ||
@@ -74,12 +38,8 @@ void validate(const UnitResult& r, const UnitContext& c, const Accumulation& acc
   }
 }
 
-/// Counters of the merged results, added to the job in one UPDATE.
-struct MergeTally {
-  uint32_t results = 0;
-  uint64_t pixel_samples = 0;
-  uint64_t nan = 0, inf = 0;
-
+/// Counters of the merged results, added to the job's with its units_done.
+struct MergeTally : MergedCounts {
   void add(const Accumulation& acc, uint32_t batch_samples) {
     ++results;
     pixel_samples += uint64_t(acc.pixels()) * batch_samples;
@@ -96,13 +56,7 @@ void TileMerger::close_tile(int64_t job_id, uint32_t tile, uint32_t next_batch) 
   int64_t skipped = UnitsTable(db_).skip_tile(job_id, tile);
   skipped += TileQueue(db_).close_tile(job_id, tile);  // and those without a row yet
   const int64_t wasted = ResultsTable(db_).drop_waiting_of_tile(job_id, tile, next_batch);
-  db_.prepare(
-         "UPDATE jobs SET units_skipped = units_skipped + ?, results_wasted = results_wasted + ?"
-         " WHERE id = ?")
-      ->bind(1, skipped)
-      .bind(2, wasted)
-      .bind(3, job_id)
-      .run();
+  JobsTable(db_).count_skipped(job_id, skipped, wasted);
 }
 
 AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decoded) {
@@ -118,6 +72,12 @@ std::vector<AcceptOutcome> TileMerger::accept_all(const std::vector<Upload>& upl
   for (const Upload& u : uploads) {
     outcomes.push_back(accept_in_transaction(*u.result, *u.decoded, staged));
     complete.try_emplace(u.result->job_id, false);
+  }
+  for (const auto& [worker_id, d] : staged.delivered) {
+    WorkersTable(db_).count_delivered(worker_id, d.units, d.samples, d.nan, d.inf);
+  }
+  for (const auto& [job_id, a] : staged.accepted) {
+    JobsTable(db_).count_accepted(job_id, a.units, a.merged);
   }
   // Asked once per job after the call's last result, not after each.
   for (auto& [job_id, done] : complete) done = !units_left(db_, job_id);
@@ -139,7 +99,7 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
                                                 Staged& staged) {
   AcceptOutcome outcome;
   std::optional<MergeCache::Tile> cached;  // the tile's sum while this call merges into it
-  const std::optional<UnitContext> c = load_unit(db_, r);
+  const std::optional<UnitForResult> c = UnitsTable(db_).for_result(r.job_id, r.tile, r.batch);
   if (!c) {
     throw FarmError(ErrorCode::not_found, "no unit job " + std::to_string(r.job_id) + " tile " +
                                               std::to_string(r.tile) + " batch " +
@@ -149,9 +109,7 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
 
   // The compare-and-set: only the current lease of this unit, held by this worker, completes it.
   if (UnitsTable(db_).accept(c->unit_id, r.worker_id, r.lease_id) != 1) {
-    db_.prepare("UPDATE jobs SET results_dropped = results_dropped + 1 WHERE id = ?")
-        ->bind(1, r.job_id)
-        .run();
+    JobsTable(db_).count_dropped(r.job_id);
     // A unit cancelled under the worker (its job was cancelled or failed, or the stopping rule
     // no longer needs it) is not the worker's failure: only a lost lease counts against it.
     if (!c->cancelled) {
@@ -166,19 +124,15 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
   MergeTally tally;  // what this call merged, added to the job's counters with units_done
   {
     for (uint32_t n : decoded.count) outcome.samples += n;
-    const uint64_t samples = outcome.samples + decoded.nan_dropped + decoded.inf_dropped;
-    WorkersTable(db_).count_delivered(r.worker_id, samples, decoded.nan_dropped,
-                                      decoded.inf_dropped);
+    Staged::Delivered& d = staged.delivered[r.worker_id];
+    ++d.units;
+    d.samples += outcome.samples + decoded.nan_dropped + decoded.inf_dropped;
+    d.nan += decoded.nan_dropped;
+    d.inf += decoded.inf_dropped;
   }
   const Contributor contributor{r.job_id, r.worker_id, r.isa};
   if (!contributors_.contains(contributor) && !staged.contributors.contains(contributor)) {
-    db_.prepare(
-           "INSERT OR IGNORE INTO job_contributors (job_id, isa, version)"
-           " SELECT ?, ?, version FROM workers WHERE id = ?")
-        ->bind(1, r.job_id)
-        .bind(2, r.isa)
-        .bind(3, r.worker_id)
-        .run();
+    JobContributorsTable(db_).add(r.job_id, r.isa, r.worker_id);
   }
 
   ResultsTable results(db_);
@@ -235,34 +189,21 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
       results.append(r.job_id, r.tile, r.batch, r.encoded);
     }
     if (verdict.finished) close_tile(r.job_id, r.tile, next);
-    db_.prepare(
-           "UPDATE tiles SET next_batch = ?, error = ?, finished = ?, spp = ?"
-           " WHERE job_id = ? AND tile = ? AND next_batch = ?")
-        ->bind(1, next)
-        .bind(2, verdict.relative_error)
-        .bind(3, std::string(to_string(verdict.reason)))
-        .bind(4, c->plan.schedule().spp_after(next))
-        .bind(5, r.job_id)
-        .bind(6, r.tile)
-        .bind(7, c->next_batch)
-        .run();
-    if (db_.changes() != 1) {
+    const TileProgress progress{next, verdict.relative_error, verdict.reason,
+                                c->plan.schedule().spp_after(next)};
+    if (!TilesTable(db_).advance(r.job_id, r.tile, c->next_batch, progress)) {
       throw FarmError(ErrorCode::internal, "tile " + std::to_string(r.tile) + " of job " +
                                                std::to_string(r.job_id) +
                                                " changed during its merge");
     }
     outcome.merged = tally.results;
   }
-  db_.prepare(
-         "UPDATE jobs SET units_done = units_done + 1, results_merged = results_merged + ?,"
-         " samples_merged = samples_merged + ?, nan_dropped = nan_dropped + ?,"
-         " inf_dropped = inf_dropped + ? WHERE id = ?")
-      ->bind(1, tally.results)
-      .bind(2, int64_t(tally.pixel_samples))
-      .bind(3, int64_t(tally.nan))
-      .bind(4, int64_t(tally.inf))
-      .bind(5, r.job_id)
-      .run();
+  Staged::Accepted& a = staged.accepted[r.job_id];
+  ++a.units;
+  a.merged.results += tally.results;
+  a.merged.pixel_samples += tally.pixel_samples;
+  a.merged.nan += tally.nan;
+  a.merged.inf += tally.inf;
   if (cached) staged.tiles.insert_or_assign({r.job_id, r.tile}, std::move(*cached));
   staged.contributors.insert(contributor);
   return outcome;
@@ -270,11 +211,7 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
 
 void TileMerger::write_checkpoint(int64_t job_id, uint32_t tile, const Accumulation& sum,
                                   uint32_t next_batch) {
-  db_.prepare("UPDATE tiles SET accumulation = ? WHERE job_id = ? AND tile = ?")
-      ->bind_blob(1, encode_accumulation(sum))
-      .bind(2, job_id)
-      .bind(3, tile)
-      .run();
+  TilesTable(db_).write_checkpoint(job_id, tile, encode_accumulation(sum));
   ResultsTable(db_).drop_merged(job_id, tile, next_batch);
 }
 
@@ -292,10 +229,8 @@ MergeCache::Tile TileMerger::load_sum(int64_t job_id, uint32_t tile, const TileR
     return std::move(*hit);
   }
   MergeCache::Tile t{Accumulation(rect), next_batch};
-  {
-    auto q = db_.prepare("SELECT accumulation FROM tiles WHERE job_id = ? AND tile = ?");
-    q->bind(1, job_id).bind(2, tile);
-    if (q->step() && !q->is_null(0)) t.sum = decode_accumulation(q->blob(0));
+  if (const std::optional<std::string> stored = TilesTable(db_).checkpoint(job_id, tile)) {
+    t.sum = decode_accumulation(*stored);
   }
   // The checkpoint holds batches [0, first); the results table holds [first, next_batch), in
   // order (and maybe results waiting beyond next_batch, not part of the sum).
@@ -324,18 +259,10 @@ void TileMerger::checkpoint_job(int64_t job_id) {
   std::vector<std::pair<uint32_t, MergeCache::Tile>> written;
   Transaction tx(db_);
   for (const uint32_t tile : ResultsTable(db_).tiles_with_merged(job_id)) {
-    TileRect rect;
-    uint32_t next_batch = 0;
-    {
-      auto q = db_.prepare(
-          "SELECT x0, y0, x1, y1, next_batch FROM tiles WHERE job_id = ? AND tile = ?");
-      q->bind(1, job_id).bind(2, tile);
-      if (!q->step()) continue;
-      rect = {int(q->int64(0)), int(q->int64(1)), int(q->int64(2)), int(q->int64(3))};
-      next_batch = uint32_t(q->int64(4));
-    }
-    MergeCache::Tile t = load_sum(job_id, tile, rect, next_batch);
-    write_checkpoint(job_id, tile, t.sum, next_batch);
+    const std::optional<TilePosition> at = TilesTable(db_).position(job_id, tile);
+    if (!at) continue;
+    MergeCache::Tile t = load_sum(job_id, tile, at->rect, at->next_batch);
+    write_checkpoint(job_id, tile, t.sum, at->next_batch);
     t.checkpointed = t.next_batch;
     written.emplace_back(tile, std::move(t));
   }

@@ -28,6 +28,7 @@
 #include "accum/accumulation.h"
 #include "clock.h"
 #include "job/stopping_rule.h"
+#include "store/jobs_table.h"
 #include "merge_cache.h"
 #include "waiting_results.h"
 #include "store/sqlite.h"
@@ -118,6 +119,17 @@ class TileMerger {
     std::set<Contributor> contributors;
     /// Results this transaction stored as waiting, decoded: (job, tile, batch) -> result.
     std::map<std::tuple<int64_t, uint32_t, uint32_t>, Accumulation> waiting;
+    /// The counters of the transaction's accepted results, per worker and per job, added to
+    /// the store once each before it commits (one UPDATE per worker and job, not per result).
+    struct Delivered {
+      uint64_t units = 0, samples = 0, nan = 0, inf = 0;
+    };
+    struct Accepted {
+      uint32_t units = 0;
+      MergedCounts merged;
+    };
+    std::map<int64_t, Delivered> delivered;  ///< by worker id
+    std::map<int64_t, Accepted> accepted;    ///< by job id
   };
 
   /// accept() inside the caller's transaction; what it merged goes to `staged`.

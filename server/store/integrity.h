@@ -28,8 +28,24 @@ std::string corrupt_store_message(const std::string& path, const std::string& de
 /// True for SQLite's "this file is damaged" result codes (SQLITE_CORRUPT, SQLITE_NOTADB).
 bool is_corruption(const SqliteError& e);
 
+/// Start-up: true when the last server on `db` stopped cleanly (it called
+/// leave_clean_shutdown_mark as its last write), false after a crash, a SIGKILL or a power loss,
+/// and for a store from before the mark. Either way the mark is cleared (committed) before it
+/// returns, so a crash from now on is seen by the next start. The mark is the database header's
+/// `PRAGMA user_version` (nothing else uses it): reading it reads page 1 only. Throws StoreCorrupt
+/// when SQLite finds the file damaged.
+bool take_clean_shutdown_mark(Database& db, const std::string& path);
+
+/// Shutdown, after the last write of the server's life: marks the store as left cleanly, so the
+/// next start skips the whole-file check (check_integrity).
+void leave_clean_shutdown_mark(Database& db);
+
 /// PRAGMA wal_checkpoint(TRUNCATE): copies the WAL into the database file and empties it, so a
 /// stopped server leaves one self-contained file. Returns false when readers kept it busy.
 bool checkpoint_wal(Database& db);
+
+/// PRAGMA incremental_vacuum: gives the file's free pages back to the file system (after a
+/// delete; the database is in incremental auto-vacuum mode since migration 5).
+void release_free_pages(Database& db);
 
 }  // namespace tessera::server

@@ -292,4 +292,10 @@ int migrate(Database& db, int64_t now_unix_ms, int up_to) {
   return version;
 }
 
+int64_t migrations_applied(Database& db) {
+  auto q = db.prepare("SELECT COUNT(*) FROM schema_migrations");
+  q->step();
+  return q->int64(0);
+}
+
 }  // namespace tessera::server

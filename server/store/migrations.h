@@ -31,4 +31,8 @@ int migrate(Database& db, int64_t now_unix_ms, int up_to = std::numeric_limits<i
 /// The highest migration applied to `db` (0 for a new database).
 int schema_version(Database& db);
 
+/// How many migrations `db` records, without creating anything: a read that fails (SqliteError)
+/// when the store cannot answer (the readiness probe).
+int64_t migrations_applied(Database& db);
+
 }  // namespace tessera::server

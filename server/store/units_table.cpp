@@ -112,8 +112,9 @@ int UnitsTable::lease_requeued(int64_t unit_id, int64_t worker_id, const std::st
   return db_.changes();
 }
 
-void UnitsTable::insert_leased(int64_t job_id, uint32_t tile, uint32_t batch, int64_t worker_id,
-                               const std::string& lease_id, int64_t expires_unix_ms) {
+int64_t UnitsTable::insert_leased(int64_t job_id, uint32_t tile, uint32_t batch,
+                                  int64_t worker_id, const std::string& lease_id,
+                                  int64_t expires_unix_ms) {
   // Born leased: the row's first state is the one the lease event leads to from queued.
   static const std::string sql =
       "INSERT INTO units (job_id, tile, batch, state, lease_id, worker_id, lease_expires_unix_ms)"
@@ -127,6 +128,7 @@ void UnitsTable::insert_leased(int64_t job_id, uint32_t tile, uint32_t batch, in
       .bind(5, worker_id)
       .bind(6, expires_unix_ms)
       .run();
+  return db_.last_insert_rowid();
 }
 
 int UnitsTable::extend(int64_t worker_id, const std::string& lease_id, int64_t expires_unix_ms) {
@@ -192,6 +194,42 @@ int64_t UnitsTable::cancel_job(int64_t job_id) {
 int64_t UnitsTable::skip_queued_after_first_batch(int64_t job_id) {
   return end_leases(UnitEvent::skip, UnitState::queued, "job_id = ?1 AND batch > 0",
                     [&](Statement& q) { q.bind(1, job_id); });
+}
+
+std::optional<UnitForResult> UnitsTable::for_result(int64_t job_id, uint32_t tile,
+                                                    uint32_t batch) {
+  auto q = db_.prepare(R"sql(
+      SELECT u.id, t.x0, t.y0, t.x1, t.y1, t.next_batch, 0,
+             j.width, j.height, j.tile_size, j.spp, j.batch_spp, j.stop_rule, j.noise_target,
+             j.batch_schedule, u.state
+      FROM units u
+      JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile
+      JOIN jobs j ON j.id = u.job_id
+      WHERE u.job_id = ? AND u.tile = ? AND u.batch = ?)sql");
+  q->bind(1, job_id).bind(2, tile).bind(3, batch);
+  if (!q->step()) return std::nullopt;
+  UnitForResult c;
+  c.unit_id = q->int64(0);
+  c.rect = {int(q->int64(1)), int(q->int64(2)), int(q->int64(3)), int(q->int64(4))};
+  c.next_batch = uint32_t(q->int64(5));
+  c.plan.width = int(q->int64(7));
+  c.plan.height = int(q->int64(8));
+  c.plan.tile_size = int(q->int64(9));
+  c.plan.spp = uint32_t(q->int64(10));
+  c.plan.batch_spp = uint32_t(q->int64(11));
+  c.rule = stop_rule_from_string(q->text(12)).value_or(StopRule::spp);
+  c.noise_target = q->real(13);
+  c.plan.batch_kind = batch_kind_from_string(q->text(14)).value_or(BatchKind::fixed);
+  c.cancelled = q->text(15) == to_string(UnitState::cancelled);
+  return c;
+}
+
+int64_t UnitsTable::count_leased() {
+  static const std::string sql =
+      "SELECT COUNT(*) FROM units WHERE state = " + lit(UnitState::leased);
+  auto q = db_.prepare(sql);
+  q->step();
+  return q->int64(0);
 }
 
 }  // namespace tessera::server

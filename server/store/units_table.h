@@ -16,6 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "accum/tile_rect.h"
+#include "job/job_plan.h"
+#include "job/stopping_rule.h"
 #include "job_state.h"
 #include "store/sqlite.h"
 
@@ -39,6 +42,17 @@ struct RequeuedUnit {
   uint32_t batch = 0;
 };
 
+/// A unit with what judging its result needs of its tile and job (UnitsTable::for_result).
+struct UnitForResult {
+  int64_t unit_id = 0;
+  TileRect rect;              ///< its tile's pixels
+  uint32_t next_batch = 0;    ///< its tile's merged prefix
+  JobPlan plan;               ///< its job's size, tiles and batch schedule
+  StopRule rule = StopRule::spp;
+  double noise_target = 0;
+  bool cancelled = false;     ///< cancelled (its job ended, or the stopping rule skipped it)
+};
+
 class UnitsTable {
  public:
   explicit UnitsTable(Database& db) : db_(db) {}
@@ -57,6 +71,10 @@ class UnitsTable {
                                              int64_t batch_limit);
   /// True when a unit of the job with a row is queued or leased.
   bool any_queued_or_leased(int64_t job_id);
+  /// The unit (job, tile, batch) with its tile and job, in one join; nullopt when it has no row.
+  std::optional<UnitForResult> for_result(int64_t job_id, uint32_t tile, uint32_t batch);
+  /// Units leased now, farm-wide (by the partial index units_expiry).
+  int64_t count_leased();
   /// The (tile, batch) of a unit; nullopt for an unknown id.
   std::optional<std::pair<uint32_t, uint32_t>> tile_batch(int64_t unit_id);
 
@@ -65,8 +83,8 @@ class UnitsTable {
   int lease_requeued(int64_t unit_id, int64_t worker_id, const std::string& lease_id,
                      int64_t expires_unix_ms);
   /// UnitEvent::lease of a unit without a row: the row is born leased (the tile_queue half is
-  /// TileQueue::take, in the same transaction).
-  void insert_leased(int64_t job_id, uint32_t tile, uint32_t batch, int64_t worker_id,
+  /// TileQueue::take, in the same transaction). Returns the new unit's id.
+  int64_t insert_leased(int64_t job_id, uint32_t tile, uint32_t batch, int64_t worker_id,
                      const std::string& lease_id, int64_t expires_unix_ms);
   /// A heartbeat: the current lease's expiry moves to at least `expires_unix_ms`.
   int extend(int64_t worker_id, const std::string& lease_id, int64_t expires_unix_ms);

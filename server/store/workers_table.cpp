@@ -57,15 +57,16 @@ bool WorkersTable::touch(int64_t worker_id, int64_t now) {
   return db_.changes() == 1;
 }
 
-void WorkersTable::count_delivered(int64_t worker_id, uint64_t samples, uint64_t nan,
-                                   uint64_t inf) {
+void WorkersTable::count_delivered(int64_t worker_id, uint64_t units, uint64_t samples,
+                                   uint64_t nan, uint64_t inf) {
   db_.prepare(
-         "UPDATE workers SET units_done = units_done + 1, samples_returned = samples_returned + ?,"
+         "UPDATE workers SET units_done = units_done + ?, samples_returned = samples_returned + ?,"
          " nan_dropped = nan_dropped + ?, inf_dropped = inf_dropped + ? WHERE id = ?")
-      ->bind(1, int64_t(samples))
-      .bind(2, int64_t(nan))
-      .bind(3, int64_t(inf))
-      .bind(4, worker_id)
+      ->bind(1, int64_t(units))
+      .bind(2, int64_t(samples))
+      .bind(3, int64_t(nan))
+      .bind(4, int64_t(inf))
+      .bind(5, worker_id)
       .run();
 }
 
@@ -87,6 +88,12 @@ std::vector<WorkerRecord> WorkersTable::list() {
   auto q = db_.prepare(std::string(kSelect) + " ORDER BY w.last_seen_unix_ms DESC, w.id DESC");
   while (q->step()) out.push_back(read_worker(*q));
   return out;
+}
+
+int64_t WorkersTable::count() {
+  auto q = db_.prepare("SELECT COUNT(*) FROM workers");
+  q->step();
+  return q->int64(0);
 }
 
 }  // namespace tessera::server

@@ -43,12 +43,16 @@ class WorkersTable {
   int64_t insert(const WorkerRegistration& info, int64_t now_unix_ms);
   /// last_seen moves to at least `now_unix_ms`. False when the id is unknown.
   bool touch(int64_t worker_id, int64_t now_unix_ms);
-  /// An accepted result: units_done + 1, and its samples (NaN/Inf included) and NaN/Inf counts.
-  void count_delivered(int64_t worker_id, uint64_t samples, uint64_t nan, uint64_t inf);
+  /// `units` accepted results: units_done + units, and their samples (NaN/Inf included) and
+  /// NaN/Inf counts.
+  void count_delivered(int64_t worker_id, uint64_t units, uint64_t samples, uint64_t nan,
+                       uint64_t inf);
   /// A unit the worker lost: its lease expired, or its result came under a superseded lease.
   void count_lost(int64_t worker_id);
 
   std::optional<WorkerRecord> get(int64_t worker_id);
+  /// Workers registered (rows of the table).
+  int64_t count();
   /// Most recently seen first.
   std::vector<WorkerRecord> list();
 

@@ -1,0 +1,32 @@
+#include "store/job_contributors_table.h"
+
+namespace tessera::server {
+
+void JobContributorsTable::add(int64_t job_id, const std::string& isa, int64_t worker_id) {
+  db_.prepare(
+         "INSERT OR IGNORE INTO job_contributors (job_id, isa, version)"
+         " SELECT ?, ?, version FROM workers WHERE id = ?")
+      ->bind(1, job_id)
+      .bind(2, isa)
+      .bind(3, worker_id)
+      .run();
+}
+
+std::vector<std::string> JobContributorsTable::isas(int64_t job_id) {
+  std::vector<std::string> out;
+  auto q = db_.prepare("SELECT DISTINCT isa FROM job_contributors WHERE job_id = ? ORDER BY isa");
+  q->bind(1, job_id);
+  while (q->step()) out.push_back(q->text(0));
+  return out;
+}
+
+std::vector<std::string> JobContributorsTable::versions(int64_t job_id) {
+  std::vector<std::string> out;
+  auto q = db_.prepare(
+      "SELECT DISTINCT version FROM job_contributors WHERE job_id = ? ORDER BY version");
+  q->bind(1, job_id);
+  while (q->step()) out.push_back(q->text(0));
+  return out;
+}
+
+}  // namespace tessera::server

@@ -1,0 +1,400 @@
+#include "store/jobs_table.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace tessera::server {
+namespace {
+
+std::string s(JobState state) { return std::string(to_string(state)); }
+std::string s(UnitState state) { return std::string(to_string(state)); }
+
+// Columns of a JobRecord, in the order read_job expects. ?1 is bound to 'leased'.
+constexpr const char* kJobColumns = R"sql(
+  j.id, j.state, j.priority, j.bundle_sha256, j.scene_file,
+  j.width, j.height, j.spp, j.max_depth, j.seed, j.tile_size, j.batch_spp, j.isa,
+  j.tile_count, j.batch_count, j.units_total,
+  j.units_done, j.results_merged, j.results_dropped, j.leases_expired, j.units_released,
+  j.samples_merged, j.nan_dropped, j.inf_dropped,
+  j.submitted_unix_ms, j.started_unix_ms, j.finished_unix_ms, j.error, j.output_exr, j.output_png,
+  (SELECT COUNT(*) FROM units u WHERE u.job_id = j.id AND u.state = ?1),
+  (SELECT MIN(t.spp) FROM tiles t WHERE t.job_id = j.id),
+  j.stop_rule, j.time_budget_ms, j.noise_target, j.budget_reached_unix_ms, j.stop_reason,
+  j.units_skipped, j.results_wasted,
+  (SELECT MAX(t.spp) FROM tiles t WHERE t.job_id = j.id),
+  (SELECT AVG(t.spp) FROM tiles t WHERE t.job_id = j.id),
+  (SELECT MAX(t.error) FROM tiles t WHERE t.job_id = j.id),
+  (SELECT AVG(t.error) FROM tiles t WHERE t.job_id = j.id),
+  (SELECT COUNT(*) FROM tiles t WHERE t.job_id = j.id AND t.finished != ''),
+  NOT EXISTS (SELECT 1 FROM units u WHERE u.job_id = j.id AND u.state IN ('queued', 'leased'))
+    AND NOT EXISTS (SELECT 1 FROM tile_queue q WHERE q.job_id = j.id
+                    AND q.next_lease < q.lease_end),
+  j.batch_schedule
+)sql";
+
+JobRecord read_job(const Statement& q) {
+  JobRecord r;
+  int c = 0;
+  r.id = q.int64(c++);
+  r.state = job_state_from_string(q.text(c++)).value_or(JobState::failed);
+  r.priority = int(q.int64(c++));
+  r.bundle_sha256 = q.text(c++);
+  r.scene_file = q.text(c++);
+  r.options.width = int(q.int64(c++));
+  r.options.height = int(q.int64(c++));
+  r.options.spp = uint32_t(q.int64(c++));
+  r.options.max_depth = int(q.int64(c++));
+  r.options.seed = uint64_t(q.int64(c++));
+  r.options.tile_size = int(q.int64(c++));
+  r.options.batch_spp = uint32_t(q.int64(c++));
+  r.options.isa = q.text(c++);
+  r.tile_count = uint32_t(q.int64(c++));
+  r.batch_count = uint32_t(q.int64(c++));
+  r.units_total = uint32_t(q.int64(c++));
+  r.counters.units_done = uint32_t(q.int64(c++));
+  r.counters.results_merged = uint32_t(q.int64(c++));
+  r.counters.results_dropped = uint32_t(q.int64(c++));
+  r.counters.leases_expired = uint32_t(q.int64(c++));
+  r.counters.units_released = uint32_t(q.int64(c++));
+  r.counters.samples_merged = uint64_t(q.int64(c++));
+  r.counters.nan_dropped = uint64_t(q.int64(c++));
+  r.counters.inf_dropped = uint64_t(q.int64(c++));
+  r.submitted_unix_ms = q.int64(c++);
+  r.started_unix_ms = q.int64(c++);
+  r.finished_unix_ms = q.int64(c++);
+  r.error = q.text(c++);
+  r.output_exr = q.text(c++);
+  r.output_png = q.text(c++);
+  r.counters.units_leased = uint32_t(q.int64(c++));
+  r.spp_merged = uint32_t(q.int64(c++));
+  r.options.rule = stop_rule_from_string(q.text(c++)).value_or(StopRule::spp);
+  r.options.time_budget_s = double(q.int64(c++)) / 1000.0;
+  r.options.noise_target = q.real(c++);
+  r.budget_reached_unix_ms = q.int64(c++);
+  r.stop_reason = stop_reason_from_string(q.text(c++)).value_or(StopReason::none);
+  r.counters.units_skipped = uint32_t(q.int64(c++));
+  r.counters.results_wasted = uint32_t(q.int64(c++));
+  r.reached.spp_min = r.spp_merged;
+  r.reached.spp_max = uint32_t(q.int64(c++));
+  r.reached.spp_mean = q.real(c++);
+  r.reached.error_max = q.real(c++);
+  r.reached.error_mean = q.real(c++);
+  r.tiles_finished = uint32_t(q.int64(c++));
+  r.complete = q.int64(c++) != 0;
+  r.options.batch_kind = batch_kind_from_string(q.text(c++)).value_or(BatchKind::fixed);
+  return r;
+}
+
+std::optional<JobRecord> read_one(Database& db, int64_t job_id) {
+  static const std::string sql =
+      std::string("SELECT ") + kJobColumns + " FROM jobs j WHERE j.id = ?2";
+  auto q = db.prepare(sql);
+  q->bind(1, s(UnitState::leased)).bind(2, job_id);
+  if (!q->step()) return std::nullopt;
+  return read_job(*q);
+}
+
+}  // namespace
+
+std::optional<JobRecord> JobsTable::get(int64_t job_id) { return read_one(db_, job_id); }
+
+std::vector<JobRecord> JobsTable::newest(uint32_t limit) {
+  static const std::string sql =
+      std::string("SELECT ") + kJobColumns + " FROM jobs j ORDER BY j.id DESC LIMIT ?2";
+  std::vector<JobRecord> out;
+  auto q = db_.prepare(sql);
+  q->bind(1, s(UnitState::leased)).bind(2, int64_t(limit));
+  while (q->step()) out.push_back(read_job(*q));
+  return out;
+}
+
+std::optional<JobSpec> JobsTable::spec(int64_t job_id) {
+  auto q = db_.prepare(
+      "SELECT width, height, spp, max_depth, seed, tile_size, batch_spp, isa, stop_rule,"
+      " time_budget_ms, noise_target, bundle_sha256, batch_schedule FROM jobs WHERE id = ?");
+  q->bind(1, job_id);
+  if (!q->step()) return std::nullopt;
+  JobSpec spec;
+  JobOptions& o = spec.options;
+  o.width = int(q->int64(0));
+  o.height = int(q->int64(1));
+  o.spp = uint32_t(q->int64(2));
+  o.max_depth = int(q->int64(3));
+  o.seed = uint64_t(q->int64(4));
+  o.tile_size = int(q->int64(5));
+  o.batch_spp = uint32_t(q->int64(6));
+  o.isa = q->text(7);
+  o.rule = stop_rule_from_string(q->text(8)).value_or(StopRule::spp);
+  o.time_budget_s = double(q->int64(9)) / 1000.0;
+  o.noise_target = q->real(10);
+  spec.bundle_sha256 = q->text(11);
+  o.batch_kind = batch_kind_from_string(q->text(12)).value_or(BatchKind::fixed);
+  return spec;
+}
+
+std::optional<std::pair<JobState, std::string>> JobsTable::state_and_bundle(int64_t job_id) {
+  auto q = db_.prepare("SELECT state, bundle_sha256 FROM jobs WHERE id = ?");
+  q->bind(1, job_id);
+  if (!q->step()) return std::nullopt;
+  const std::optional<JobState> state = job_state_from_string(q->text(0));
+  if (!state) return std::nullopt;
+  return std::pair(*state, q->text(1));
+}
+
+std::vector<int64_t> JobsTable::unfinished() {
+  std::vector<int64_t> out;
+  auto q = db_.prepare("SELECT id FROM jobs WHERE state IN (?, ?) ORDER BY id");
+  q->bind(1, s(JobState::queued)).bind(2, s(JobState::running));
+  while (q->step()) out.push_back(q->int64(0));
+  return out;
+}
+
+std::vector<DoneOutput> JobsTable::done_outputs() {
+  std::vector<DoneOutput> out;
+  auto q = db_.prepare("SELECT id, output_exr, output_png FROM jobs WHERE state = ? ORDER BY id");
+  q->bind(1, s(JobState::done));
+  while (q->step()) out.push_back({q->int64(0), q->text(1), q->text(2)});
+  return out;
+}
+
+std::vector<int64_t> JobsTable::finished_before(int64_t before) {
+  std::vector<int64_t> out;
+  auto q = db_.prepare(
+      "SELECT id FROM jobs WHERE state IN (?, ?, ?) AND finished_unix_ms > 0"
+      " AND finished_unix_ms < ? ORDER BY id");
+  q->bind(1, s(JobState::done))
+      .bind(2, s(JobState::failed))
+      .bind(3, s(JobState::cancelled))
+      .bind(4, before);
+  while (q->step()) out.push_back(q->int64(0));
+  return out;
+}
+
+std::vector<LeaseCandidate> JobsTable::lease_candidates(int64_t worker_id, int64_t now,
+                                                        int failures_to_block,
+                                                        int64_t forgiven_before) {
+  // By the jobs_schedule index; few jobs are queued or running at a time.
+  auto q = db_.prepare(R"sql(
+      SELECT j.id, j.stop_rule = 'noise',
+             j.stop_rule = 'time' AND j.started_unix_ms > 0
+               AND j.started_unix_ms + j.time_budget_ms <= ?3,
+             j.state = ?1
+      FROM jobs j
+      WHERE j.state IN (?1, ?2)
+        AND NOT EXISTS (SELECT 1 FROM job_worker_failures f
+                        WHERE f.job_id = j.id AND f.worker_id = ?4 AND f.failures >= ?5
+                          AND f.last_failure_unix_ms > ?6)
+      ORDER BY j.priority DESC, j.submitted_unix_ms ASC, j.id ASC)sql");
+  q->bind(1, s(JobState::queued))
+      .bind(2, s(JobState::running))
+      .bind(3, now)
+      .bind(4, worker_id)
+      .bind(5, failures_to_block)
+      .bind(6, forgiven_before);
+  std::vector<LeaseCandidate> out;
+  while (q->step()) {
+    out.push_back({q->int64(0), q->int64(1) != 0, q->int64(2) != 0, q->int64(3) != 0});
+  }
+  return out;
+}
+
+std::vector<int64_t> JobsTable::running_over_budget(int64_t now) {
+  auto q = db_.prepare(R"sql(
+      SELECT id FROM jobs
+      WHERE state = ?1 AND stop_rule = 'time' AND started_unix_ms > 0
+        AND started_unix_ms + time_budget_ms <= ?2)sql");
+  q->bind(1, s(JobState::running)).bind(2, now);
+  std::vector<int64_t> out;
+  while (q->step()) out.push_back(q->int64(0));
+  return out;
+}
+
+std::map<std::string, JobStateTotals> JobsTable::totals_by_state() {
+  std::map<std::string, JobStateTotals> out;
+  auto q = db_.prepare(
+      "SELECT state, COUNT(*), SUM(units_done), SUM(leases_expired), SUM(results_dropped), "
+      "SUM(samples_merged) FROM jobs GROUP BY state");
+  while (q->step()) {
+    out[q->text(0)] = {uint64_t(q->int64(1)), uint64_t(q->int64(2)), uint64_t(q->int64(3)),
+                       uint64_t(q->int64(4)), uint64_t(q->int64(5))};
+  }
+  return out;
+}
+
+int64_t JobsTable::insert(const NewJob& job, uint32_t tile_count, uint32_t batch_count,
+                          uint64_t units_total, int64_t now) {
+  const JobOptions& o = job.options;
+  db_.prepare(R"sql(
+      INSERT INTO jobs (state, priority, bundle_sha256, scene_file, width, height, spp, max_depth,
+                        seed, tile_size, batch_spp, isa, tile_count, batch_count, units_total,
+                        submitted_unix_ms, stop_rule, time_budget_ms, noise_target,
+                        batch_schedule)
+      VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?))sql")
+      ->bind(1, s(JobState::queued))
+      .bind(2, job.priority)
+      .bind(3, job.bundle_sha256)
+      .bind(4, job.scene_file)
+      .bind(5, o.width)
+      .bind(6, o.height)
+      .bind(7, o.spp)
+      .bind(8, o.max_depth)
+      .bind(9, int64_t(o.seed))
+      .bind(10, o.tile_size)
+      .bind(11, o.batch_spp)
+      .bind(12, o.isa)
+      .bind(13, int64_t(tile_count))
+      .bind(14, batch_count)
+      .bind(15, int64_t(units_total))
+      .bind(16, now)
+      .bind(17, std::string(to_string(o.rule)))
+      .bind(18, int64_t(std::llround(o.time_budget_s * 1000.0)))
+      .bind(19, o.noise_target)
+      .bind(20, std::string(to_string(o.batch_kind)))
+      .run();
+  return db_.last_insert_rowid();
+}
+
+namespace {
+
+/// The state the job state machine gives `from` on `event`, as stored text; throws on a
+/// transition it does not allow (a caller's bug, not a race).
+std::string to_state(JobState from, JobEvent event) {
+  const std::optional<JobState> to = next_state(from, event);
+  if (!to) {
+    throw std::logic_error("job event " + std::string(to_string(event)) + " from " +
+                           std::string(to_string(from)));
+  }
+  return s(*to);
+}
+
+}  // namespace
+
+bool JobsTable::start(int64_t job_id, int64_t now) {
+  db_.prepare("UPDATE jobs SET state = ?, started_unix_ms = ? WHERE id = ? AND state = ?")
+      ->bind(1, to_state(JobState::queued, JobEvent::start))
+      .bind(2, now)
+      .bind(3, job_id)
+      .bind(4, s(JobState::queued))
+      .run();
+  return db_.changes() == 1;
+}
+
+bool JobsTable::cancel(int64_t job_id, JobState from, int64_t now) {
+  db_.prepare(
+         "UPDATE jobs SET state = ?, finished_unix_ms = ?, stop_reason = ?"
+         " WHERE id = ? AND state = ?")
+      ->bind(1, to_state(from, JobEvent::cancel))
+      .bind(2, now)
+      .bind(3, std::string(to_string(StopReason::cancelled)))
+      .bind(4, job_id)
+      .bind(5, s(from))
+      .run();
+  return db_.changes() == 1;
+}
+
+bool JobsTable::fail(int64_t job_id, JobState from, const std::string& message, int64_t now) {
+  db_.prepare(
+         "UPDATE jobs SET state = ?, finished_unix_ms = ?, error = ?, stop_reason = ''"
+         " WHERE id = ? AND state = ?")
+      ->bind(1, to_state(from, JobEvent::fail))
+      .bind(2, now)
+      .bind(3, message)
+      .bind(4, job_id)
+      .bind(5, s(from))
+      .run();
+  return db_.changes() == 1;
+}
+
+bool JobsTable::finish(int64_t job_id, const std::string& output_exr,
+                       const std::string& output_png, int64_t now) {
+  db_.prepare(
+         "UPDATE jobs SET state = ?, finished_unix_ms = ?, output_exr = ?, output_png = ?"
+         " WHERE id = ? AND state = ?")
+      ->bind(1, to_state(JobState::running, JobEvent::finish))
+      .bind(2, now)
+      .bind(3, output_exr)
+      .bind(4, output_png)
+      .bind(5, job_id)
+      .bind(6, s(JobState::running))
+      .run();
+  return db_.changes() == 1;
+}
+
+bool JobsTable::remove(int64_t job_id, JobState state) {
+  db_.prepare("DELETE FROM jobs WHERE id = ? AND state = ?")
+      ->bind(1, job_id)
+      .bind(2, s(state))
+      .run();
+  return db_.changes() == 1;
+}
+
+bool JobsTable::set_priority(int64_t job_id, int priority) {
+  db_.prepare("UPDATE jobs SET priority = ? WHERE id = ? AND state IN ('queued', 'running')")
+      ->bind(1, priority)
+      .bind(2, job_id)
+      .run();
+  return db_.changes() > 0;
+}
+
+void JobsTable::settle(int64_t job_id, StopReason reason, int64_t wasted) {
+  db_.prepare("UPDATE jobs SET stop_reason = ?, results_wasted = results_wasted + ? WHERE id = ?")
+      ->bind(1, std::string(to_string(reason)))
+      .bind(2, wasted)
+      .bind(3, job_id)
+      .run();
+}
+
+void JobsTable::count_released(int64_t job_id) {
+  db_.prepare("UPDATE jobs SET units_released = units_released + 1 WHERE id = ?")
+      ->bind(1, job_id)
+      .run();
+}
+
+void JobsTable::count_expired(int64_t job_id) {
+  db_.prepare("UPDATE jobs SET leases_expired = leases_expired + 1 WHERE id = ?")
+      ->bind(1, job_id)
+      .run();
+}
+
+void JobsTable::count_dropped(int64_t job_id) {
+  db_.prepare("UPDATE jobs SET results_dropped = results_dropped + 1 WHERE id = ?")
+      ->bind(1, job_id)
+      .run();
+}
+
+void JobsTable::count_skipped(int64_t job_id, int64_t units_skipped, int64_t results_wasted) {
+  db_.prepare(
+         "UPDATE jobs SET units_skipped = units_skipped + ?, results_wasted = results_wasted + ?"
+         " WHERE id = ?")
+      ->bind(1, units_skipped)
+      .bind(2, results_wasted)
+      .bind(3, job_id)
+      .run();
+}
+
+void JobsTable::count_budget_reached(int64_t job_id, int64_t units_skipped, int64_t now) {
+  db_.prepare(
+         "UPDATE jobs SET units_skipped = units_skipped + ?, budget_reached_unix_ms ="
+         " CASE WHEN budget_reached_unix_ms = 0 THEN ? ELSE budget_reached_unix_ms END"
+         " WHERE id = ?")
+      ->bind(1, units_skipped)
+      .bind(2, now)
+      .bind(3, job_id)
+      .run();
+}
+
+void JobsTable::count_accepted(int64_t job_id, uint32_t units, const MergedCounts& merged) {
+  db_.prepare(
+         "UPDATE jobs SET units_done = units_done + ?, results_merged = results_merged + ?,"
+         " samples_merged = samples_merged + ?, nan_dropped = nan_dropped + ?,"
+         " inf_dropped = inf_dropped + ? WHERE id = ?")
+      ->bind(1, units)
+      .bind(2, merged.results)
+      .bind(3, int64_t(merged.pixel_samples))
+      .bind(4, int64_t(merged.nan))
+      .bind(5, int64_t(merged.inf))
+      .bind(6, job_id)
+      .run();
+}
+
+}  // namespace tessera::server
