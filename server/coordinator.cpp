@@ -11,6 +11,7 @@
 #include "job/job_options.h"
 #include "scene/scene_error.h"
 #include "store/integrity.h"
+#include "store/job_clients_table.h"
 #include "store/migrations.h"
 #include "wire/job_options_wire.h"
 #include "wire/scene_bundle.h"
@@ -49,13 +50,16 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       limits_(config.limits),
       nan_report_fraction_(config.nan_report_fraction),
       retention_days_(config.retention_days) {
-  check_integrity(db_, config.db_path);
+  // The whole-file check only after a server stopped without its clean shutdown (a crash, a
+  // kill): a clean restart reads no page beyond the header, whatever the store's size.
+  if (!take_clean_shutdown_mark(db_, config.db_path)) check_integrity(db_, config.db_path);
   migrate(db_, clock_.now_unix_ms());
   leases_.set_health_policy(config.health);
 }
 
 bool Coordinator::checkpoint() {
   std::lock_guard lock(mu_);
+  leave_clean_shutdown_mark(db_);
   return checkpoint_wal(db_);
 }
 
@@ -139,14 +143,7 @@ JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobReques
     std::lock_guard lock(mu_);
     const uint64_t quota = limits_.max_queued_jobs_per_client;
     if (quota > 0) {
-      auto q = db_.prepare(
-          "SELECT COUNT(*) FROM job_clients c JOIN jobs j ON j.id = c.job_id"
-          " WHERE c.client = ? AND j.state IN (?, ?)");
-      q->bind(1, client)
-          .bind(2, std::string(to_string(JobState::queued)))
-          .bind(3, std::string(to_string(JobState::running)));
-      q->step();
-      const uint64_t active = uint64_t(q->int64(0));
+      const uint64_t active = JobClientsTable(db_).unfinished_of(client);
       if (active >= quota) {
         throw FarmError(ErrorCode::resource_exhausted,
                         "client " + client + " already has " + std::to_string(active) +
@@ -155,10 +152,7 @@ JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobReques
       }
     }
     const int64_t id = jobs_.create(job, clock_.now_unix_ms());
-    db_.prepare("INSERT INTO job_clients (job_id, client) VALUES (?, ?)")
-        ->bind(1, id)
-        .bind(2, client)
-        .run();
+    JobClientsTable(db_).add(id, client);
     record = *jobs_.get(id);
   }
   changes_.notify();
@@ -400,6 +394,17 @@ std::optional<int64_t> Coordinator::heartbeat(int64_t worker_id, const std::stri
   return leases_.heartbeat(worker_id, lease_id);
 }
 
+std::vector<std::optional<int64_t>> Coordinator::heartbeat_all(
+    int64_t worker_id, const std::vector<std::string>& lease_ids) {
+  if (lease_ids.size() > kMaxLeasesPerHeartbeat) {
+    throw invalid("a heartbeat names " + std::to_string(lease_ids.size()) +
+                  " leases; at most " + std::to_string(kMaxLeasesPerHeartbeat) + " per call");
+  }
+  std::lock_guard lock(mu_);
+  touch_or_throw(worker_id);
+  return leases_.heartbeat_all(worker_id, lease_ids);
+}
+
 std::string Coordinator::bundle(const std::string& sha256) {
   if (!wire::is_sha256_hex(sha256)) {
     throw invalid("bundle hash must be 64 lowercase hex characters (got \"" + sha256 + "\")");
@@ -460,8 +465,10 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
       std::chrono::duration<double>(std::chrono::steady_clock::now() - received).count();
   std::set<int64_t> complete;
   for (size_t i = 0; i < results.size(); ++i) {
-    metrics_.record_result(results[i].worker_id, results[i].job_id, outcomes[i].accepted,
-                           outcomes[i].samples, seconds);
+    if (upload_observer_) {
+      upload_observer_->record_result(results[i].worker_id, results[i].job_id,
+                                      outcomes[i].accepted, outcomes[i].samples, seconds);
+    }
     if (outcomes[i].job_complete) complete.insert(results[i].job_id);
   }
   changes_.notify();

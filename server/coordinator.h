@@ -18,7 +18,6 @@
 #include "change_notifier.h"
 #include "clock.h"
 #include "farm_limits.h"
-#include "dashboard/farm_metrics.h"
 #include "group_commit.h"
 #include "job_output.h"
 #include "job_store.h"
@@ -27,6 +26,7 @@
 #include "store/sqlite.h"
 #include "tessera/v1/job.pb.h"
 #include "tile_merger.h"
+#include "upload_observer.h"
 #include "worker_registry.h"
 
 namespace tessera::server {
@@ -94,7 +94,8 @@ struct JobImage {
 
 class Coordinator {
  public:
-  /// Opens (creating) the database, checks it (PRAGMA quick_check) and applies migrations.
+  /// Opens (creating) the database, checks it (PRAGMA quick_check) unless the last server left
+  /// it with a clean shutdown (checkpoint()), and applies migrations.
   /// Throws StoreCorrupt for a damaged database, SqliteError for other store errors.
   Coordinator(const CoordinatorConfig& config, const Clock& clock);
 
@@ -146,6 +147,12 @@ class Coordinator {
                                       const std::function<bool()>& cancelled);
   /// The new expiry, or nullopt when the lease is not current.
   std::optional<int64_t> heartbeat(int64_t worker_id, const std::string& lease_id);
+  /// Most lease ids one heartbeat may name.
+  static constexpr size_t kMaxLeasesPerHeartbeat = 64;
+  /// heartbeat() of several leases in one call and one transaction; answer i is lease i's.
+  /// Throws FarmError(invalid_argument) for more than kMaxLeasesPerHeartbeat.
+  std::vector<std::optional<int64_t>> heartbeat_all(int64_t worker_id,
+                                                    const std::vector<std::string>& lease_ids);
   /// The canonical bundle bytes. Throws FarmError(not_found).
   std::string bundle(const std::string& sha256);
   /// Decodes and accepts a result; writes the job's output when it completes the job. Throws
@@ -166,8 +173,9 @@ class Coordinator {
   /// Graceful shutdown, first step: no more leases (LeaseUnit answers "no work"), long polls
   /// and watches end. Uploads, heartbeats and releases still work, so results in flight commit.
   void stop_leasing() { changes_.stop(); }
-  /// Last step: checkpoints the WAL into the database file (PRAGMA wal_checkpoint(TRUNCATE)).
-  /// Returns false when the checkpoint could not complete.
+  /// Last step: marks the store as shut down cleanly (the next start skips the whole-file
+  /// check) and checkpoints the WAL into the database file (PRAGMA wal_checkpoint(TRUNCATE)).
+  /// Returns false when the checkpoint could not complete. Nothing may write after it.
   bool checkpoint();
 
   // ---- Dashboard views (defined in server/coordinator_views.cpp, used by server/dashboard/) --
@@ -181,13 +189,15 @@ class Coordinator {
   JobRecord set_priority(int64_t job_id, int priority);
   /// True when the store answers a query (for /readyz).
   bool store_ready();
-  /// Results, rates and merge latency recorded by upload().
-  const FarmMetrics& metrics() const { return metrics_; }
   // ---- end of dashboard views ---------------------------------------------------------------
 
   /// What the store has executed since the server started (StoreCounters): the statements a
   /// lease or an accepted result costs (tests/farm/store_cost_test.cpp, BENCHMARKS.md).
   StoreCounters store_counters();
+
+  /// Every answered upload is reported to `observer` (the dashboard's counters). Call before
+  /// serving; nullptr reports nothing. The observer must outlive the coordinator's calls.
+  void set_upload_observer(UploadObserver* observer) { upload_observer_ = observer; }
 
   ChangeNotifier& changes() { return changes_; }
   int64_t lease_ms() const { return leases_.lease_ms(); }
@@ -249,7 +259,7 @@ class Coordinator {
   ChangeNotifier changes_;
   GroupCommit<UploadCall> upload_commits_{
       [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); }};
-  FarmMetrics metrics_{clock_};  ///< dashboard counters (thread-safe on its own)
+  UploadObserver* upload_observer_ = nullptr;  ///< set before serving; may be null
 };
 
 }  // namespace tessera::server

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "coordinator.h"
+#include "dashboard/farm_metrics.h"
 #include "dashboard/http_server.h"
 #include "job_service.h"
 #include "lease_reaper.h"
@@ -129,7 +130,9 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   config.nan_report_fraction = flags.nan_report_fraction;
   config.retention_days = flags.retention_days;
   config.merge_cache_bytes = size_t(flags.merge_cache_mb) << 20;
+  ts::FarmMetrics metrics(clock);  // the dashboard's rates, fed by every answered upload
   ts::Coordinator coordinator(config, clock);
+  coordinator.set_upload_observer(&metrics);
   const int resumed = coordinator.resume();
 
   tessera::wire::BearerTokenCheck client_auth(tokens.client);
@@ -187,7 +190,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   std::optional<ts::DashboardServer> dashboard;
   int http_port = 0;
   try {
-    dashboard.emplace(coordinator, std::move(dashboard_config));
+    dashboard.emplace(coordinator, metrics, std::move(dashboard_config));
     http_port = dashboard->start(flags.http_address);
   } catch (const std::exception& e) {
     std::cerr << "tessera-server: " << e.what() << "\n";

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "coordinator.h"
+#include "dashboard/farm_metrics.h"
 #include "dashboard/prometheus_text.h"
 #include "dashboard_assets.h"
 #include "farm_error.h"
@@ -67,8 +68,8 @@ int64_t job_id_of(const httplib::Request& req) {
 /// Everything the routes share; owned by the handlers' closures.
 class Api {
  public:
-  Api(Coordinator& coordinator, DashboardConfig config)
-      : coordinator_(coordinator), config_(std::move(config)) {}
+  Api(Coordinator& coordinator, const FarmMetrics& metrics, DashboardConfig config)
+      : coordinator_(coordinator), metrics_(metrics), config_(std::move(config)) {}
 
   /// Runs a handler, mapping FarmError and other exceptions to JSON errors.
   template <typename F>
@@ -113,7 +114,7 @@ class Api {
     return json{{"jobs", list},
                 {"server_time_unix_ms", now},
                 {"token_required", !config_.token.empty()},
-                {"samples_per_s", coordinator_.metrics().farm_samples_per_s()}};
+                {"samples_per_s", metrics_.farm_samples_per_s()}};
   }
 
   json job_detail(int64_t id) {
@@ -142,7 +143,7 @@ class Api {
           {"state", !online ? "offline" : w.job_id ? "busy" : "idle"},
           {"online", online},
           {"unit", unit},
-          {"samples_per_s", coordinator_.metrics().worker_samples_per_s(w.id)},
+          {"samples_per_s", metrics_.worker_samples_per_s(w.id)},
           {"registered_unix_ms", w.registered_unix_ms},
           {"last_seen_unix_ms", w.last_seen_unix_ms},
           {"last_seen_s", double(now - w.last_seen_unix_ms) / 1000.0},
@@ -157,7 +158,7 @@ class Api {
     FarmSnapshotForMetrics s;
     s.totals = coordinator_.totals();
     for (const WorkerRecord& w : coordinator_.workers()) s.workers_online += coordinator_.online(w);
-    const FarmMetrics& m = coordinator_.metrics();
+    const FarmMetrics& m = metrics_;
     s.samples_per_s = m.farm_samples_per_s();
     s.results_accepted = m.results_accepted();
     s.results_dropped_session = m.results_dropped();
@@ -170,7 +171,7 @@ class Api {
  private:
   double job_rate(const JobRecord& job) const {
     if (job.state != JobState::running) return 0.0;
-    return coordinator_.metrics().job_samples_per_s(job.id, job.started_unix_ms);
+    return metrics_.job_samples_per_s(job.id, job.started_unix_ms);
   }
 
   std::optional<double> job_error(const JobRecord& job) {
@@ -223,6 +224,7 @@ class Api {
   static constexpr size_t kMaxCachedMaps = 256;
 
   Coordinator& coordinator_;
+  const FarmMetrics& metrics_;
   const DashboardConfig config_;
   std::mutex mu_;  ///< guards maps_ (handlers run on a thread pool)
   std::map<int64_t, CachedMap> maps_;
@@ -347,8 +349,8 @@ json tiles_json(const std::vector<TileView>& tiles) {
 }
 
 void install_dashboard_routes(httplib::Server& http, Coordinator& coordinator,
-                              DashboardConfig config) {
-  auto api = std::make_shared<Api>(coordinator, std::move(config));
+                              const FarmMetrics& metrics, DashboardConfig config) {
+  auto api = std::make_shared<Api>(coordinator, metrics, std::move(config));
   http.set_pre_routing_handler([api](const httplib::Request& req, httplib::Response& res) {
     return refuse_before_body(*api, req, res) ? httplib::Server::HandlerResponse::Handled
                                               : httplib::Server::HandlerResponse::Unhandled;

@@ -25,7 +25,7 @@ struct WorkerRecord;
 struct TileView;
 
 void install_dashboard_routes(httplib::Server& http, Coordinator& coordinator,
-                              DashboardConfig config);
+                              const FarmMetrics& metrics, DashboardConfig config);
 
 /// The JSON of a job in /api/jobs (and, with tiles and provenance added, /api/jobs/{id}).
 /// `now_unix_ms` dates elapsed and ETA; `samples_per_s` is the job's recent rate (0: unknown).

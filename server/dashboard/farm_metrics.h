@@ -11,10 +11,11 @@
 #include <mutex>
 
 #include "clock.h"
+#include "upload_observer.h"
 
 namespace tessera::server {
 
-class FarmMetrics {
+class FarmMetrics : public UploadObserver {
  public:
   /// Upper bounds (seconds) of the merge-latency histogram buckets; +Inf is implicit.
   static constexpr std::array<double, 11> kMergeBuckets = {0.001, 0.0025, 0.005, 0.01, 0.025, 0.05,
@@ -34,7 +35,7 @@ class FarmMetrics {
   /// (stale lease). `samples` are the pixel samples it carried (sum of per-pixel counts);
   /// `merge_s` the time from receiving it to its commit, lock wait included.
   void record_result(int64_t worker_id, int64_t job_id, bool accepted, uint64_t samples,
-                     double merge_s);
+                     double merge_s) override;
 
   /// Pixel samples accepted per second over the last kRateWindowMs (or since `since_unix_ms`
   /// when that is later, e.g. a job's start; at least one second). 0 when nothing arrived.

@@ -26,7 +26,8 @@ std::unique_ptr<httplib::Server> make_listener(const DashboardConfig& config) {
 
 }  // namespace
 
-DashboardServer::DashboardServer(Coordinator& coordinator, DashboardConfig config)
+DashboardServer::DashboardServer(Coordinator& coordinator, const FarmMetrics& metrics,
+                                 DashboardConfig config)
     : http_(make_listener(config)) {
   // httplib's default also sets SO_REUSEPORT, which lets the kernel hand the same port (even a
   // "free" one for port 0) to another process's listener, gRPC's included: a client would then
@@ -38,7 +39,7 @@ DashboardServer::DashboardServer(Coordinator& coordinator, DashboardConfig confi
   // One request per connection: a request refused on its headers (401, 411, 413, 415) leaves its
   // body unread, and the connection is closed rather than reading that body as the next request.
   http_->set_keep_alive_max_count(1);
-  install_dashboard_routes(*http_, coordinator, std::move(config));
+  install_dashboard_routes(*http_, coordinator, metrics, std::move(config));
 }
 
 DashboardServer::~DashboardServer() { stop(); }

@@ -15,6 +15,7 @@ class Server;
 namespace tessera::server {
 
 class Coordinator;
+class FarmMetrics;
 
 struct DashboardConfig {
   std::string token;  ///< the client token (--client-token or --token); empty: no token needed
@@ -26,7 +27,8 @@ struct DashboardConfig {
 class DashboardServer {
  public:
   /// Throws std::runtime_error naming the files when the TLS certificate or key cannot be used.
-  DashboardServer(Coordinator& coordinator, DashboardConfig config);
+  /// `metrics` (fed by the coordinator through its UploadObserver) must outlive the server.
+  DashboardServer(Coordinator& coordinator, const FarmMetrics& metrics, DashboardConfig config);
   ~DashboardServer();  ///< stops and joins
   DashboardServer(const DashboardServer&) = delete;
   DashboardServer& operator=(const DashboardServer&) = delete;
