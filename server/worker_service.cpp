@@ -81,10 +81,22 @@ grpc::Status WorkerServiceImpl::Heartbeat(grpc::ServerContext* context,
                                           const v1::HeartbeatRequest* request,
                                           v1::HeartbeatResponse* response) {
   return guarded(auth_, *context, "Heartbeat", [&] {
-    const std::optional<int64_t> expires =
-        coordinator_.heartbeat(worker_id_of(request->worker_id()), request->lease_id());
-    response->set_valid(expires.has_value());
-    response->set_expires_unix_ms(expires.value_or(0));
+    const int64_t worker_id = worker_id_of(request->worker_id());
+    if (request->lease_ids().empty()) {
+      const std::optional<int64_t> expires = coordinator_.heartbeat(worker_id, request->lease_id());
+      response->set_valid(expires.has_value());
+      response->set_expires_unix_ms(expires.value_or(0));
+      return grpc::Status::OK;
+    }
+    const std::vector<std::string> ids(request->lease_ids().begin(), request->lease_ids().end());
+    const std::vector<std::optional<int64_t>> renewed = coordinator_.heartbeat_all(worker_id, ids);
+    for (const std::optional<int64_t>& expires : renewed) {
+      v1::LeaseRenewal* r = response->add_leases();
+      r->set_valid(expires.has_value());
+      r->set_expires_unix_ms(expires.value_or(0));
+    }
+    response->set_valid(renewed.front().has_value());
+    response->set_expires_unix_ms(renewed.front().value_or(0));
     return grpc::Status::OK;
   });
 }

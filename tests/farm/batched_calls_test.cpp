@@ -196,6 +196,62 @@ TEST_F(BatchedCalls, OneBadResultRefusesTheWholeCallNamingItAndStoresNothing) {
   EXPECT_NE(too_many.error_message().find("at most"), std::string::npos);
 }
 
+// One Heartbeat with lease_ids renews every lease named, in one call, answering each in order;
+// a lease that is gone (here: another worker's, and one handed back) is answered invalid
+// without failing the others. Without lease_ids the single-lease answer is as before.
+TEST_F(BatchedCalls, OneHeartbeatRenewsEveryLeaseNamedAndAnswersEachInOrder) {
+  const uint64_t w = register_worker();
+  const uint64_t other = register_worker();
+  const v1::LeaseUnitResponse mine = this->lease(w, 3);
+  const v1::LeaseUnitResponse theirs = this->lease(other, 1);
+  ASSERT_EQ(mine.leases_size(), 3);
+  ASSERT_EQ(theirs.leases_size(), 1);
+  {
+    v1::ReleaseUnitRequest release;
+    release.set_worker_id(w);
+    release.set_lease_id(mine.leases(1).lease_id());
+    v1::ReleaseUnitResponse released;
+    grpc::ClientContext context;
+    wire::prepare_context(context, "", std::chrono::seconds(30));
+    ASSERT_TRUE(stub_->ReleaseUnit(&context, release, &released).ok());
+  }
+  clock_.advance(1000);
+  v1::HeartbeatRequest request;
+  request.set_worker_id(w);
+  request.set_lease_id(mine.leases(0).lease_id());
+  for (int i = 0; i < 3; ++i) request.add_lease_ids(mine.leases(i).lease_id());
+  request.add_lease_ids(theirs.leases(0).lease_id());
+  v1::HeartbeatResponse response;
+  {
+    grpc::ClientContext context;
+    wire::prepare_context(context, "", std::chrono::seconds(30));
+    ASSERT_TRUE(stub_->Heartbeat(&context, request, &response).ok());
+  }
+  ASSERT_EQ(response.leases_size(), 4);
+  EXPECT_TRUE(response.leases(0).valid());
+  EXPECT_FALSE(response.leases(1).valid());  // handed back
+  EXPECT_TRUE(response.leases(2).valid());
+  EXPECT_FALSE(response.leases(3).valid());  // not this worker's
+  EXPECT_EQ(response.leases(0).expires_unix_ms(),
+            mine.leases(0).expires_unix_ms() + 1000);  // renewed from now
+  EXPECT_EQ(response.leases(2).expires_unix_ms(), response.leases(0).expires_unix_ms());
+  EXPECT_TRUE(response.valid());  // the first's answer in the single fields too
+  EXPECT_EQ(response.expires_unix_ms(), response.leases(0).expires_unix_ms());
+
+  // More leases than a call allows is refused with the limit.
+  v1::HeartbeatRequest many;
+  many.set_worker_id(w);
+  for (size_t i = 0; i <= Coordinator::kMaxLeasesPerHeartbeat; ++i) {
+    many.add_lease_ids(mine.leases(0).lease_id());
+  }
+  grpc::ClientContext context;
+  wire::prepare_context(context, "", std::chrono::seconds(30));
+  const grpc::Status refused = stub_->Heartbeat(&context, many, &response);
+  EXPECT_EQ(refused.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(refused.error_message().find("at most 64"), std::string::npos)
+      << refused.error_message();
+}
+
 // A worker killed holding K leases: every lease expires and goes to the next worker; the dead
 // worker's results, should they still arrive, are dropped; every unit is merged once.
 TEST(BatchedLeases, AWorkerLostWithKLeasesLosesNothingAndNothingMergesTwice) {

@@ -261,12 +261,16 @@ class FarmWorker {
         continue;
       }
       const auto heartbeat = [&, i] {
-        LeaseCheck own = LeaseCheck::valid;
+        // Every lease still held, in one call (a server from before lease_ids answers one).
+        std::vector<size_t> live;
         for (size_t j = 0; j < held.size(); ++j) {
-          if (gone[j]) continue;
-          const LeaseCheck check = heartbeat_lease(held[j].lease_id, interval);
-          if (check == LeaseCheck::gone) gone[j] = 1;
-          if (j == i) own = check;
+          if (!gone[j]) live.push_back(j);
+        }
+        const std::vector<LeaseCheck> checks = heartbeat_leases(held, live, interval);
+        LeaseCheck own = LeaseCheck::valid;
+        for (size_t k = 0; k < live.size(); ++k) {
+          if (checks[k] == LeaseCheck::gone) gone[live[k]] = 1;
+          if (live[k] == i) own = checks[k];
         }
         return own;
       };
@@ -281,6 +285,38 @@ class FarmWorker {
       }
     }
     upload_all(std::move(results));
+  }
+
+  /// The leases held[live[k]] renewed in one Heartbeat call (lease_ids); answer k is lease k's.
+  /// A server from before lease_ids answers only the first: the others get a call each.
+  std::vector<LeaseCheck> heartbeat_leases(const std::vector<HeldUnit>& held,
+                                           const std::vector<size_t>& live,
+                                           milliseconds interval) {
+    if (live.size() <= 1) {
+      std::vector<LeaseCheck> out;
+      for (size_t j : live) out.push_back(heartbeat_lease(held[j].lease_id, interval));
+      return out;
+    }
+    v1::HeartbeatRequest request;
+    request.set_worker_id(worker_id_);
+    request.set_lease_id(held[live.front()].lease_id);
+    for (size_t j : live) request.add_lease_ids(held[j].lease_id);
+    v1::HeartbeatResponse response;
+    const grpc::Status status =
+        client_.heartbeat(request, &response, std::max(interval, milliseconds(5000)));
+    std::vector<LeaseCheck> out(live.size(), LeaseCheck::unreachable);
+    if (!status.ok()) return out;
+    if (size_t(response.leases_size()) == live.size()) {
+      for (size_t k = 0; k < live.size(); ++k) {
+        out[k] = response.leases(int(k)).valid() ? LeaseCheck::valid : LeaseCheck::gone;
+      }
+      return out;
+    }
+    out[0] = response.valid() ? LeaseCheck::valid : LeaseCheck::gone;
+    for (size_t k = 1; k < live.size(); ++k) {
+      out[k] = heartbeat_lease(held[live[k]].lease_id, interval);
+    }
+    return out;
   }
 
   /// One heartbeat of one lease.
