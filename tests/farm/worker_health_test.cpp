@@ -79,6 +79,52 @@ TEST(StoreIntegrity, AHealthyStorePassesAndCheckpointEmptiesTheWal) {
   remove_db(path);
 }
 
+// Start-up checks the whole file only when the last server did not stop cleanly: the mark is
+// taken (and cleared, durably) by every start, so a crash after it is seen by the next one.
+TEST(StoreIntegrity, OnlyACleanShutdownLetsTheNextStartSkipTheCheck) {
+  const auto path = temp_db("clean-mark");
+  remove_db(path);
+  {
+    Database db(path.string());
+    migrate(db, 0);
+    EXPECT_FALSE(take_clean_shutdown_mark(db, path.string()));  // a new store: check it
+    leave_clean_shutdown_mark(db);
+    EXPECT_TRUE(checkpoint_wal(db));
+  }
+  {
+    Database db(path.string());  // the next start after a clean shutdown
+    EXPECT_TRUE(take_clean_shutdown_mark(db, path.string()));
+    // ...then killed: nothing marks the store clean again.
+  }
+  {
+    Database db(path.string());
+    EXPECT_FALSE(take_clean_shutdown_mark(db, path.string()));
+  }
+  remove_db(path);
+}
+
+// A server stopped cleanly (Coordinator::checkpoint last) leaves the mark; one destroyed without
+// it (as a crash would) does not.
+TEST(StoreIntegrity, TheCoordinatorsCheckpointLeavesTheMark) {
+  const auto path = temp_db("coordinator-mark");
+  remove_db(path);
+  testing::FakeClock clock;
+  CoordinatorConfig config;
+  config.db_path = path.string();
+  config.output_dir = std::filesystem::temp_directory_path() / "tessera-mark-test";
+  { Coordinator(config, clock).checkpoint(); }
+  {
+    Database db(path.string());
+    EXPECT_TRUE(take_clean_shutdown_mark(db, path.string()));
+  }
+  { Coordinator crashed(config, clock); }  // no checkpoint()
+  {
+    Database db(path.string());
+    EXPECT_FALSE(take_clean_shutdown_mark(db, path.string()));
+  }
+  remove_db(path);
+}
+
 TEST(StoreIntegrity, ADamagedStoreIsRefusedWithAClearMessage) {
   const auto path = temp_db("damaged");
   remove_db(path);
