@@ -213,6 +213,8 @@ void Coordinator::remove(int64_t job_id) {
       case DeleteOutcome::deleted: break;
     }
     merger_.forget_job(job_id);
+    tile_rects_.erase(tile_rects_.lower_bound({job_id, 0}),
+                      tile_rects_.lower_bound({job_id + 1, 0}));
   }
   // The job is gone from the store: its files are nobody's now.
   for (const std::string& file : {record->output_exr, record->output_png}) {
@@ -415,6 +417,16 @@ std::string Coordinator::bundle(const std::string& sha256) {
   return std::move(*bytes);
 }
 
+std::optional<TileRect> Coordinator::tile_rect(int64_t job_id, uint32_t tile) {
+  const std::pair key(job_id, tile);
+  if (const auto it = tile_rects_.find(key); it != tile_rects_.end()) return it->second;
+  const std::optional<TileRect> rect = jobs_.tile_rect(job_id, tile);
+  if (!rect) return std::nullopt;
+  if (tile_rects_.size() >= kTileRectsKept) tile_rects_.clear();
+  tile_rects_.emplace(key, *rect);
+  return rect;
+}
+
 AcceptOutcome Coordinator::upload(const UnitResult& result) {
   return upload_all({result}).front();
 }
@@ -435,7 +447,7 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
     touch_or_throw(results.front().worker_id);
     for (size_t i = 0; i < results.size(); ++i) {
       const UnitResult& r = results[i];
-      const std::optional<TileRect> rect = jobs_.tile_rect(r.job_id, r.tile);
+      const std::optional<TileRect> rect = tile_rect(r.job_id, r.tile);
       if (!rect) {
         throw FarmError(ErrorCode::not_found, which(i) + "no unit job " + std::to_string(r.job_id) +
                                                   " tile " + std::to_string(r.tile) + " batch " +
