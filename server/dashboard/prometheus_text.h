@@ -5,6 +5,7 @@
 #include <string>
 
 #include "coordinator.h"
+#include "dashboard/farm_metrics.h"
 
 namespace tessera::server {
 
