@@ -276,7 +276,8 @@ TEST(PacketTracer, InactiveAndTailRaysAreNotTraced) {
       EXPECT_EQ(hits.geometry[i] != RTC_INVALID_GEOMETRY_ID, traced) << "width " << width << " ray " << i;
       EXPECT_EQ(occluded[i], traced ? 1 : 0) << "width " << width << " ray " << i;
       if (traced) {
-        EXPECT_EQ(hits.t[i], 1.0f) << "width " << width << " ray " << i;
+        // Within 4 ulps: Embree's AVX2 kernels give 1 - 2^-24 here, its AVX-512 ones 1.
+        EXPECT_FLOAT_EQ(hits.t[i], 1.0f) << "width " << width << " ray " << i;
       }
     }
   }
