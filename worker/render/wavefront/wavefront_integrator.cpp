@@ -5,6 +5,7 @@
 #include <string>
 
 #include "render/embree_packet.h"
+#include "render/path_vertex.h"
 
 namespace tessera {
 namespace {

@@ -13,7 +13,7 @@
 namespace tessera {
 
 /// Traces a group of paths breadth-first: every live path's next ray in Embree packets of the
-/// chosen width, each live path's vertex shaded (path_vertex(), the scalar integrator's own) as
+/// chosen width, each live path's vertex shaded (path_vertex.h, the scalar integrator's own, inlined) as
 /// its packet comes back, and the shadow rays those vertices ask for in packets of the same
 /// width, each traced as soon as it is full and the last one at the end of the bounce.
 ///
