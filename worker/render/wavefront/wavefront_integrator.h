@@ -13,17 +13,17 @@
 namespace tessera {
 
 /// Traces a group of paths breadth-first: every live path's next ray in Embree packets of the
-/// chosen width, each live path's vertex shaded (path_vertex.h, the scalar integrator's own, inlined) as
-/// its packet comes back, and the shadow rays those vertices ask for in packets of the same
-/// width, each traced as soon as it is full and the last one at the end of the bounce.
+/// chosen width, each live path's vertex shaded as its packet comes back (path_vertex.h, the
+/// scalar integrator's own, inlined), and the shadow rays those vertices ask for in packets of
+/// the same width, each traced as soon as it is full and the last one at the end of the bounce.
 ///
 /// Each path gets exactly the arithmetic and sampler calls trace_path() gives it, and Embree's
 /// packet queries return the bits of TraceableScene's single-ray queries (packet_tracer.h), so
 /// a path's radiance has the same bits as trace_path's whatever the packet width and whichever
 /// paths share its packets. The packets are filled straight from the paths' rays and read back
-/// lane by lane, with no batch in between (issue 13: that copying cost 9-11 % of a render).
-/// Live paths are packed in path order at each bounce, so which paths share a packet depends
-/// only on the group.
+/// lane by lane, with no batch in between (issue 13: the packets' bookkeeping was 9-11 % of a
+/// render before). Live paths are packed in path order at each bounce, so which paths share a
+/// packet depends only on the group.
 ///
 /// Thread-safe for const use: each trace() call works in its caller's Workspace.
 class WavefrontIntegrator {
