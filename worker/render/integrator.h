@@ -1,9 +1,9 @@
 // The path tracer: the Monte Carlo estimator of the report, with next-event estimation.
 //
-// One path vertex is one call of path_vertex(): both the scalar trace_path() (one path, one ray
-// at a time) and the wavefront integrator (wavefront/wavefront_integrator.h: many paths, their
-// rays traced in packets) call it, so a path's arithmetic and sampler calls are the same in
-// both and so are its bits.
+// One path vertex is one call of path_vertex() (path_vertex.h): both the scalar trace_path() (one
+// path, one ray at a time) and the wavefront integrator (wavefront/wavefront_integrator.h: many
+// paths, their rays traced in packets) call it, so a path's arithmetic and sampler calls are the
+// same in both and so are its bits.
 #pragma once
 
 #include <glm/vec3.hpp>
@@ -45,25 +45,6 @@ struct ShadowQuery {
   float t_max;
   glm::dvec3 contribution;
 };
-
-/// Shades the vertex of `path` that its ray found: `hit` is the closest hit of path.ray
-/// (TraceableScene::intersect, or the same Hit built from a packet query), nullptr when the ray
-/// escaped; it may be changed (a back face flips its normals).
-///
-/// Adds what the vertex sees directly to path.radiance; asks for at most one shadow ray, in
-/// `*shadow`, returning `*has_shadow` (the caller traces it and adds its contribution when
-/// unblocked); then either samples the next direction, leaving the next ray in path.ray, and
-/// returns true, or returns false when the path ends (escaped, absorbed, roulette, depth).
-/// `sampler` is the path's own (pixel, sample index) stream; every dimension is set by pair
-/// index, so a vertex draws the same numbers whatever ran before it.
-///
-/// Lambertian surfaces get next-event estimation (one emitter chosen by power, one point on it
-/// by area, one shadow ray) plus a cosine-weighted bounce; other BSDFs combine both strategies
-/// by multiple importance sampling. Russian roulette from the third bounce on, survival
-/// min(max(beta * eta^2), 0.95): unbiased, and a path trapped by total internal reflection still
-/// ends. `max_depth` follows Mitsuba (path segments including the camera ray; -1 = unbounded).
-bool path_vertex(const TraceableScene& scene, int max_depth, PixelSampler& sampler, PathState& path,
-                 Hit* hit, ShadowQuery* shadow, bool* has_shadow);
 
 /// Estimates the radiance arriving along the camera ray `ray`: path_vertex() after each
 /// closest-hit query, each shadow ray traced at once. Returns the estimate in double so that

@@ -4,48 +4,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "embree_packet.h"
+
 namespace tessera {
 namespace {
-
-/// Embree's packet types and queries for one packet width K.
-template <int K>
-struct Packet;
-
-template <>
-struct Packet<4> {
-  using RayHit = RTCRayHit4;
-  using Ray = RTCRay4;
-  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
-    rtcIntersect4(valid, s, c, r);
-  }
-  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
-    rtcOccluded4(valid, s, c, r);
-  }
-};
-
-template <>
-struct Packet<8> {
-  using RayHit = RTCRayHit8;
-  using Ray = RTCRay8;
-  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
-    rtcIntersect8(valid, s, c, r);
-  }
-  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
-    rtcOccluded8(valid, s, c, r);
-  }
-};
-
-template <>
-struct Packet<16> {
-  using RayHit = RTCRayHit16;
-  using Ray = RTCRay16;
-  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
-    rtcIntersect16(valid, s, c, r);
-  }
-  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
-    rtcOccluded16(valid, s, c, r);
-  }
-};
 
 /// Lane `lane` of packet ray `r` (RTCRay, RTCRayK) from ray i of the batch; tnear 0 as for
 /// TraceableScene's single rays.
@@ -72,7 +34,7 @@ void intersect_packets(RTCScene scene, const RayBatch& rays, size_t begin, size_
   for (size_t first = begin; first < end; first += K) {
     const size_t n = std::min(end - first, size_t(K));
     alignas(64) int valid[K];
-    alignas(64) typename Packet<K>::RayHit rh;
+    alignas(64) typename EmbreePacket<K>::RayHit rh;
     for (int lane = 0; lane < K; ++lane) {
       const size_t i = first + size_t(lane);
       const bool on = size_t(lane) < n && rays.active[i];
@@ -88,7 +50,7 @@ void intersect_packets(RTCScene scene, const RayBatch& rays, size_t begin, size_
       rh.hit.primID[lane] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
     }
-    Packet<K>::intersect(valid, scene, &context, &rh);
+    EmbreePacket<K>::intersect(valid, scene, &context, &rh);
     for (size_t lane = 0; lane < n; ++lane) {
       const size_t i = first + lane;
       hits->geometry[i] = valid[lane] ? rh.hit.geomID[lane] : RTC_INVALID_GEOMETRY_ID;
@@ -147,7 +109,7 @@ void occluded_packets(RTCScene scene, const RayBatch& rays, size_t begin, size_t
   for (size_t first = begin; first < end; first += K) {
     const size_t n = std::min(end - first, size_t(K));
     alignas(64) int valid[K];
-    alignas(64) typename Packet<K>::Ray r;
+    alignas(64) typename EmbreePacket<K>::Ray r;
     for (int lane = 0; lane < K; ++lane) {
       const size_t i = first + size_t(lane);
       const bool on = size_t(lane) < n && rays.active[i];
@@ -155,7 +117,7 @@ void occluded_packets(RTCScene scene, const RayBatch& rays, size_t begin, size_t
       load_lane(r, lane, rays, on ? i : first);
       if (!on) r.tfar[lane] = -1.0f;
     }
-    Packet<K>::occluded(valid, scene, &context, &r);
+    EmbreePacket<K>::occluded(valid, scene, &context, &r);
     for (size_t lane = 0; lane < n; ++lane) {
       (*occluded)[first + lane] = valid[lane] && r.tfar[lane] < 0.0f ? 1 : 0;
     }

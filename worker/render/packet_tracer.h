@@ -33,7 +33,8 @@ struct RayBatch {
 /// geometry[i] == RTC_INVALID_GEOMETRY_ID when ray i escaped or was inactive; its other fields
 /// are then unspecified. Otherwise the fields are Embree's: t along the ray's own (unnormalised)
 /// direction, the hit's barycentric u and v (0 for spheres), and the geometric normal ng, not
-/// normalised for triangles (Embree's cross product of the edges), unit and outward for spheres.
+/// normalised: Embree's cross product of the edges for triangles, the hit point less the centre
+/// for spheres (sphere_intersector.cpp; the renderer recomputes a unit normal from the point).
 struct HitBatch {
   /// Embree geometry id: an index into the geometry table; for a shape reached through an
   /// instance, the shape's id inside the instanced scene (then `instance` is the instance's id).

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "integrator.h"
+#include "packet_tracer.h"
 #include "traceable_scene.h"
 #include "wavefront/wavefront_integrator.h"
 

@@ -6,24 +6,24 @@
 #include <vector>
 
 #include "render/integrator.h"
-#include "render/packet_tracer.h"
 #include "render/ray.h"
 #include "render/sampler.h"
 #include "render/traceable_scene.h"
 
 namespace tessera {
 
-/// Traces a group of paths breadth-first: every live path's next ray in one packet query, then
-/// each live path's vertex (path_vertex(), the scalar integrator's own), then every shadow ray
-/// those vertices asked for in one occlusion query, then their contributions.
+/// Traces a group of paths breadth-first: every live path's next ray in Embree packets of the
+/// chosen width, each live path's vertex shaded as its packet comes back (path_vertex.h, the
+/// scalar integrator's own, inlined), and the shadow rays those vertices ask for in packets of
+/// the same width, each traced as soon as it is full and the last one at the end of the bounce.
 ///
-/// Each path gets exactly the arithmetic and sampler calls trace_path() gives it, and the
+/// Each path gets exactly the arithmetic and sampler calls trace_path() gives it, and Embree's
 /// packet queries return the bits of TraceableScene's single-ray queries (packet_tracer.h), so
 /// a path's radiance has the same bits as trace_path's whatever the packet width and whichever
-/// paths share its packets. Rays and hits travel in structure-of-arrays form (RayBatch,
-/// HitBatch); the per-path state (PathState) stays one record per path, since shading is scalar
-/// per path. Live paths are packed in path order at each bounce, so which paths share a packet
-/// depends only on the group.
+/// paths share its packets. The packets are filled straight from the paths' rays and read back
+/// lane by lane, with no batch in between (issue 13: the packets' bookkeeping was 9-11 % of a
+/// render before). Live paths are packed in path order at each bounce, so which paths share a
+/// packet depends only on the group.
 ///
 /// Thread-safe for const use: each trace() call works in its caller's Workspace.
 class WavefrontIntegrator {
@@ -31,14 +31,11 @@ class WavefrontIntegrator {
   /// The buffers of one trace() call, kept by the caller between calls (one per thread) so
   /// that each group does not allocate them again. Contents are scratch.
   struct Workspace {
-    RayBatch rays, shadow_rays;
-    HitBatch hits;
-    std::vector<uint8_t> occluded;
-    std::vector<uint32_t> live, next, shadow_path;
-    std::vector<glm::dvec3> shadow_contribution;
+    std::vector<uint32_t> live, next;  ///< the paths still going, in path order
   };
 
-  /// `scene` must outlive the integrator; `packet_width` as PacketTracer's (1, 4, 8 or 16).
+  /// `scene` must outlive the integrator; `packet_width` is 1 (TraceableScene's single-ray
+  /// queries), 4, 8 or 16 (Embree's packets); throws std::invalid_argument otherwise.
   WavefrontIntegrator(const TraceableScene& scene, int max_depth, int packet_width);
 
   /// Traces every path of `paths` to its end: path i starts as PathState{camera ray} and uses
@@ -49,9 +46,15 @@ class WavefrontIntegrator {
              Workspace& workspace) const;
 
  private:
+  void trace_single(std::vector<PathState>& paths, std::vector<PixelSampler>& samplers, PathCounters& counters,
+                    Workspace& workspace) const;
+  template <int K>
+  void trace_packets(std::vector<PathState>& paths, std::vector<PixelSampler>& samplers, PathCounters& counters,
+                     Workspace& workspace) const;
+
   const TraceableScene& scene_;
   int max_depth_;
-  PacketTracer tracer_;
+  int width_;
 };
 
 }  // namespace tessera

@@ -1,0 +1,310 @@
+// One vertex of the path tracer (path_vertex()), defined here so that both integrators inline
+// it: the scalar trace_path() (integrator.cpp) and the wavefront integrator
+// (wavefront/wavefront_integrator.h). Both call the same function, so a path's arithmetic and
+// sampler calls are the same in both and so are its bits.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+#include "bsdf/bsdf.h"
+#include "frame.h"
+#include "integrator.h"
+#include "texture/shading_normal.h"
+#include "texture/texture_set.h"
+#include "warp.h"
+
+namespace tessera {
+namespace path_vertex_detail {
+
+/// Where the hit's material looks up its textures (mesh attributes from the shape hit).
+inline TexturePoint texture_point(const Hit& hit) {
+  return {hit.uv, hit.geometry ? &hit.geometry->attributes : nullptr, hit.primitive,
+          hit.barycentric};
+}
+
+/// Dimension pairs per path vertex: (light choice, roulette), light point, BSDF direction,
+/// (BSDF lobe, mask). Pair 0 is an independent hash; pair 3 is a Sobol pair like 1 and 2: a
+/// smooth dielectric's reflect-or-refract choice is its only random decision, and drawn from
+/// an independent hash it raised cornell-sphere's 64-spp RMSE by 8 % (0.0410 -> 0.0438, seeds
+/// 0-2; BENCHMARKS.md, "Error per sample: the lobe choice").
+constexpr uint32_t kPairsPerVertex = 4;
+/// Russian roulette starts at this vertex (0 = the camera ray's hit).
+constexpr int kRouletteVertex = 3;
+constexpr float kMaxSurvival = 0.95f;
+
+inline float max_component(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+/// The power heuristic (exponent 2), as Mitsuba's path tracer weighs its two strategies.
+inline float mis_weight(float pdf_a, float pdf_b) {
+  const float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+  const float w = a / (a + b);
+  return std::isfinite(w) ? w : 0.0f;
+}
+
+/// Sets `q` to the shadow ray of light sample `ls` from `origin` (already offset off the
+/// surface): to the light's offset point, or unbounded for lights at infinity.
+inline void set_shadow_ray(glm::vec3 origin, const LightSample& ls, ShadowQuery* q) {
+  q->o = origin;
+  if (std::isinf(ls.distance)) {
+    q->d = ls.wi;
+    q->t_max = std::numeric_limits<float>::infinity();
+  } else {
+    const glm::vec3 to = offset_ray_origin(ls.point, -ls.wi);
+    q->d = to - origin;
+    q->t_max = 1.0f;
+  }
+}
+
+/// The shading frame at a hit: the interpolated normal, perturbed by a normal or bump map as
+/// Mitsuba's adapters do (texture/shading_normal.h), with its tangent along dpdu when the scene
+/// has uvs (anisotropic roughness is measured there). `wo` points to the previous vertex.
+struct ShadingFrame {
+  Frame frame;
+  glm::vec3 ns;            ///< the unperturbed shading normal
+  bool perturbed = false;  ///< a normal or bump map moved the normal
+};
+
+inline ShadingFrame shading_frame(const Hit& hit, const RenderMaterial& m, const TextureSet& textures,
+                           bool has_uv, glm::vec3 wo) {
+  ShadingFrame out{Frame(hit.ns), hit.ns, false};
+  glm::vec3 n = hit.ns;
+  if (m.normal_map >= 0) {
+    n = normal_mapped(textures.lookup(m.normal_map, hit.uv), hit.dpdu, hit.dpdv, hit.ns, wo);
+    out.perturbed = true;
+  } else if (m.bump_map >= 0) {
+    n = bump_mapped(textures.gradient(m.bump_map, hit.uv), m.bump_scale, hit.dpdu, hit.dpdv,
+                    hit.ns, hit.sp.ng, wo);
+    out.perturbed = true;
+  }
+  if (!std::isfinite(n.x + n.y + n.z) || !(glm::dot(n, n) > 0)) {
+    n = hit.ns;
+    out.perturbed = false;
+  }
+  if (!has_uv && !out.perturbed) return out;
+  const glm::vec3 s = out.perturbed ? perturbed_tangent(n, shading_tangent(hit.dpdu, hit.ns))
+                                    : shading_tangent(hit.dpdu, n);
+  out.frame.n = n;
+  out.frame.s = s;
+  out.frame.t = glm::cross(n, s);
+  return out;
+}
+
+/// The factor a perturbed normal puts on a BSDF value towards wi (Mitsuba's adapters): 0 when
+/// wi lies on different sides of the perturbed and the true shading normal, else the
+/// shadow-terminator softening.
+inline float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
+  if (!f.perturbed) return 1.0f;
+  if (glm::dot(wi, f.ns) * glm::dot(wi, f.frame.n) <= 0) return 0.0f;
+  return shadow_terminator(f.frame.n, f.ns, wi);
+}
+
+}  // namespace path_vertex_detail
+
+/// Shades the vertex of `path` that its ray found: `hit` is the closest hit of path.ray
+/// (TraceableScene::intersect, or the same Hit built from a packet query), nullptr when the ray
+/// escaped; it may be changed (a back face flips its normals).
+///
+/// Adds what the vertex sees directly to path.radiance; asks for at most one shadow ray, in
+/// `*shadow`, returning `*has_shadow` (the caller traces it and adds its contribution when
+/// unblocked); then either samples the next direction, leaving the next ray in path.ray, and
+/// returns true, or returns false when the path ends (escaped, absorbed, roulette, depth).
+/// `sampler` is the path's own (pixel, sample index) stream; every dimension is set by pair
+/// index, so a vertex draws the same numbers whatever ran before it.
+///
+/// Lambertian surfaces get next-event estimation (one emitter chosen by power, one point on it
+/// by area, one shadow ray) plus a cosine-weighted bounce; other BSDFs combine both strategies
+/// by multiple importance sampling. Russian roulette from the third bounce on, survival
+/// min(max(beta * eta^2), 0.95): unbiased, and a path trapped by total internal reflection still
+/// ends. `max_depth` follows Mitsuba (path segments including the camera ray; -1 = unbounded).
+///
+/// Inlined into both integrators' loops (trace_path in integrator.cpp, the wavefront's lane
+/// loop), so that the shadow query and the locals stay in registers: called out of line it
+/// cost trace_path 2.4 % more instructions per sample.
+[[gnu::always_inline]] inline bool path_vertex(const TraceableScene& scene, int max_depth, PixelSampler& sampler,
+                                               PathState& path, Hit* hit, ShadowQuery* shadow, bool* has_shadow) {
+  using namespace path_vertex_detail;
+  const LightSet& lights = scene.lights();
+  const TextureSet& textures = scene.textures();
+  const bool have_lights = !lights.empty();
+  const int vertex = path.vertex;
+  Ray& ray = path.ray;
+  glm::dvec3& radiance = path.radiance;
+  glm::vec3& beta = path.beta;
+  *has_shadow = false;
+
+  if (!hit) {
+    if (lights.has_environment() && !(vertex == 0 && scene.hide_emitters())) {
+      const glm::vec3 le = lights.environment(ray.d);
+      const float w = path.prev_delta ? 1.0f : mis_weight(path.prev_pdf, lights.pdf_environment(path.prev_sp, ray.d));
+      radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
+    }
+    return false;
+  }
+  const glm::vec3 wo = -ray.d;  // every ray the integrator spawns has a unit direction
+  const Geometry& g = *hit->geometry;
+
+  if (g.emitter >= 0) {
+    if (vertex == 0 && scene.hide_emitters()) {
+      // Mitsuba's hide_emitters: the camera ray goes on through the emitter, as if unseen
+      // (the same vertex again).
+      ray.o = offset_ray_origin(hit->sp, ray.d);
+      ray.t_max = std::numeric_limits<float>::infinity();
+      return true;
+    }
+    const glm::vec3 le = lights.emitted(g, hit->primitive, hit->uv, hit->sp.ng, wo);
+    if (le != glm::vec3(0.0f)) {
+      const float w = path.prev_delta ? 1.0f
+                                      : mis_weight(path.prev_pdf, lights.pdf_area(g, hit->primitive, path.prev_sp,
+                                                                                  hit->sp.p, hit->sp.ng));
+      radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
+    }
+  }
+  // Vertex `vertex` closes segment vertex + 1; scattering here would add one more.
+  if (max_depth >= 0 && vertex + 2 > max_depth) return false;
+
+  // Each pair is drawn only where it is used (a pure function of its pair index, so the
+  // numbers are the same as drawing all of them).
+  const uint32_t pair = kCameraPairs + kPairsPerVertex * uint32_t(vertex);
+  const bool roulette = vertex + 1 >= kRouletteVertex;
+  const RenderMaterial* m = &scene.material(g.material);
+
+  // Mitsuba's mask: with probability 1 - opacity the hit is a null interaction, the path goes
+  // straight on (a vertex all the same, as in Mitsuba); shadow rays see the surface as opaque,
+  // and light through it arrives by this null scattering with full weight.
+  float opacity = 1;
+  if (m->masked()) {
+    opacity = m->opacity.texture < 0
+                  ? m->opacity.value
+                  : std::clamp(m->opacity.value * textures.lookup_1(m->opacity.texture, texture_point(*hit)), 0.0f, 1.0f);
+    sampler.set_pair(pair + 3);
+    const glm::vec2 u_mask = sampler.get2d();
+    if (u_mask.y >= opacity) {
+      float survival = 1;
+      if (roulette) {
+        sampler.set_pair(pair);
+        survival = std::min(max_component(beta) * path.eta_scale, kMaxSurvival);
+        if (sampler.get2d_independent().y >= survival) return false;
+        beta /= survival;
+      }
+      path.prev_delta = true;
+      path.prev_sp = hit->sp;
+      ray.o = offset_ray_origin(hit->sp, ray.d);
+      ray.t_max = std::numeric_limits<float>::infinity();
+      ++path.vertex;
+      return true;
+    }
+  }
+
+  SurfacePoint sp = hit->sp;
+  const bool front = glm::dot(wo, sp.ng) > 0;
+  if (!front && !m->dielectric()) {
+    if (m->back >= 0) {
+      m = &scene.material(uint32_t(m->back));
+    } else if (!m->two_sided) {
+      return false;  // one-sided surfaces are black from behind
+    }
+    sp.ng = -sp.ng;
+    hit->ns = -hit->ns;
+  }
+
+  glm::vec2 u_choice(0.0f);
+  glm::vec3 wi;
+  float bsdf_pdf = 0;
+  bool sampled_delta = false;
+
+  if (m->type == MaterialType::diffuse && !m->textured) {
+    // The common case, with nothing of the other materials in its way: Lambertian, constant
+    // albedo. Both the shadow ray and the bounce leave on the front side.
+    const glm::vec3 ns = hit->ns;
+    const glm::vec3 origin = offset_ray_origin(sp, sp.ng);
+    if (roulette || have_lights) {
+      sampler.set_pair(pair);
+      u_choice = sampler.get2d_independent();
+    }
+    if (have_lights) {
+      sampler.set_pair(pair + 1);
+      const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
+      if (ls.pdf > 0) {
+        const float cos_surface = glm::dot(ns, ls.wi);
+        if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
+          const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, cos_surface * (opacity * kInvPi));
+          set_shadow_ray(origin, ls, shadow);
+          // (albedo / pi) cos Le / pdf, in double so tiny, bright lights cannot overflow.
+          shadow->contribution = glm::dvec3(beta) * glm::dvec3(m->albedo) * glm::dvec3(ls.radiance) *
+                                 (double(opacity) * double(cos_surface) * double(kInvPi) * double(w) / double(ls.pdf));
+          *has_shadow = true;
+        }
+      }
+    }
+    sampler.set_pair(pair + 2);
+    const glm::vec3 local = square_to_cosine_hemisphere(sampler.get2d());
+    wi = Frame(ns).to_world(local);
+    if (glm::dot(wi, sp.ng) <= 0) return false;
+    beta *= m->albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
+    bsdf_pdf = local.z * kInvPi * opacity;
+    ray.o = origin;
+  } else {
+    const ShadingFrame shading = shading_frame(*hit, *m, textures, scene.has_uv(), wo);
+    const Frame& frame = shading.frame;
+    const Bsdf bsdf(bsdf_params(*m, textures, texture_point(*hit)));
+    const glm::vec3 wo_local = frame.to_local(wo);
+    if (roulette || (have_lights && bsdf.has_smooth_lobe())) {
+      sampler.set_pair(pair);
+      u_choice = sampler.get2d_independent();
+    }
+    if (have_lights && bsdf.has_smooth_lobe()) {
+      sampler.set_pair(pair + 1);
+      const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
+      if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
+        const glm::vec3 wi_local = frame.to_local(ls.wi);
+        const glm::vec3 f = bsdf.eval(wo_local, wi_local) * (opacity * perturbation_factor(shading, ls.wi));
+        // A reflection must leave on the side it arrived from, geometrically too.
+        const bool leaks = !m->dielectric() && glm::dot(sp.ng, ls.wi) <= 0;
+        if (f != glm::vec3(0.0f) && !leaks) {
+          const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, bsdf.pdf(wo_local, wi_local) * opacity);
+          set_shadow_ray(offset_ray_origin(sp, ls.wi), ls, shadow);
+          shadow->contribution = glm::dvec3(beta) * glm::dvec3(f) * glm::dvec3(ls.radiance) *
+                                 (double(w) / double(ls.pdf));
+          *has_shadow = true;
+        }
+      }
+    }
+    sampler.set_pair(pair + 3);
+    const float u_lobe = sampler.get2d().x;
+    sampler.set_pair(pair + 2);
+    const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, sampler.get2d());
+    if (!bs) return false;
+    wi = frame.to_world(bs->wi);
+    const float len2 = glm::dot(wi, wi);
+    if (!(len2 > 0)) return false;
+    wi /= std::sqrt(len2);
+    if (!m->dielectric() && glm::dot(wi, sp.ng) <= 0) return false;
+    const float perturbation = perturbation_factor(shading, wi);
+    if (!(perturbation > 0)) return false;
+    beta *= bs->weight * perturbation;
+    bsdf_pdf = bs->pdf * opacity;
+    sampled_delta = bs->delta;
+    path.eta_scale *= bs->eta * bs->eta;
+    ray.o = offset_ray_origin(sp, wi);
+  }
+  if (!(max_component(beta) > 0)) return false;
+
+  if (roulette) {
+    const float survival = std::min(max_component(beta) * path.eta_scale, kMaxSurvival);
+    if (u_choice.y >= survival) return false;
+    beta /= survival;
+  }
+  path.prev_delta = sampled_delta;
+  path.prev_pdf = bsdf_pdf;
+  path.prev_sp = sp;
+  ray.d = wi;
+  ray.t_max = std::numeric_limits<float>::infinity();
+  ++path.vertex;
+  return true;
+}
+
+}  // namespace tessera
