@@ -71,14 +71,12 @@ namespace detail {
 
 /// The generator matrix of Sobol's second dimension (Pascal's triangle mod 2) applied byte by
 /// byte: table[k][b] is the contribution of byte k of the index having value b.
-/// With `reversed`, the columns are bit-reversed: the table then gives reverse_bits32 of the
-/// point, since bit reversal commutes with XOR.
-struct Sobol1Tables {
+struct Sobol1Table {
   uint32_t table[4][256];
-  constexpr explicit Sobol1Tables(bool reversed) : table{} {
+  constexpr Sobol1Table() : table{} {
     uint32_t columns[32] = {};
     uint32_t v = 1u << 31;
-    for (int bit = 0; bit < 32; ++bit, v ^= v >> 1) columns[bit] = reversed ? reverse_bits32(v) : v;
+    for (int bit = 0; bit < 32; ++bit, v ^= v >> 1) columns[bit] = v;
     for (int k = 0; k < 4; ++k) {
       for (uint32_t b = 0; b < 256; ++b) {
         uint32_t r = 0;
@@ -91,8 +89,7 @@ struct Sobol1Tables {
   }
 };
 
-inline constexpr Sobol1Tables kSobol1{false};
-inline constexpr Sobol1Tables kSobol1Reversed{true};
+inline constexpr Sobol1Table kSobol1{};
 
 }  // namespace detail
 
@@ -101,12 +98,34 @@ constexpr uint32_t sobol_dim1(uint32_t i) {
          detail::kSobol1.table[2][(i >> 16) & 0xffu] ^ detail::kSobol1.table[3][i >> 24];
 }
 
-/// reverse_bits32(sobol_dim1(i)).
-constexpr uint32_t sobol_dim1_reversed(uint32_t i) {
-  return detail::kSobol1Reversed.table[0][i & 0xffu] ^
-         detail::kSobol1Reversed.table[1][(i >> 8) & 0xffu] ^
-         detail::kSobol1Reversed.table[2][(i >> 16) & 0xffu] ^
-         detail::kSobol1Reversed.table[3][i >> 24];
+namespace detail {
+
+/// What get2d needs of the shuffled index s, given r = reverse_bits32(s): s itself and
+/// reverse_bits32(sobol_dim1(s)). Both are linear over GF(2) in r (a bit permutation, and a
+/// permutation then Sobol's matrix then a permutation), so both come from one table looked up
+/// byte by byte: table[k][b] holds, for byte k of r having value b, s's contribution in its low
+/// half and reverse_bits32(sobol_dim1(s))'s in its high half. Four loads replace a 32-bit
+/// reversal and four loads of a Sobol table.
+struct ShuffleTable {
+  uint64_t table[4][256];
+  constexpr ShuffleTable() : table{} {
+    for (int k = 0; k < 4; ++k) {
+      for (uint32_t b = 0; b < 256; ++b) {
+        const uint32_t s = reverse_bits32(b << (8 * k));
+        table[k][b] = uint64_t(reverse_bits32(sobol_dim1(s))) << 32 | s;
+      }
+    }
+  }
+};
+
+inline constexpr ShuffleTable kShuffle{};
+
+}  // namespace detail
+
+/// For r = reverse_bits32(s): reverse_bits32(sobol_dim1(s)) << 32 | s.
+constexpr uint64_t unreverse_with_sobol_dim1(uint32_t r) {
+  return detail::kShuffle.table[0][r & 0xffu] ^ detail::kShuffle.table[1][(r >> 8) & 0xffu] ^
+         detail::kShuffle.table[2][(r >> 16) & 0xffu] ^ detail::kShuffle.table[3][r >> 24];
 }
 
 /// The reference definition of sobol_dim1, bit by bit (for tests).
@@ -148,14 +167,17 @@ class PixelSampler {
   /// The next pair of dimensions, each in [0, 1): the shuffled, scrambled Sobol point
   ///   shuffled = owen_scramble(index, s0)
   ///   x = owen_scramble(sobol_dim0(shuffled), s1),  y = owen_scramble(sobol_dim1(shuffled), s2)
-  /// computed with three bit reversals instead of seven (sobol_dim0 is a reversal; reversals
-  /// cancel; the index's reversal is computed once per sample).
+  /// computed with one bit reversal (of both coordinates at once) instead of seven: sobol_dim0
+  /// is a reversal, reversals cancel, the index's reversal is computed once per sample, and the
+  /// shuffled index comes back from its reversal together with its sobol_dim1 by one table.
   glm::vec2 get2d() {
     if (pair_ >= kSobolPairs) return get2d_independent();
     const uint64_t h = pair_hash(pair_++);
-    const uint32_t shuffled = reverse_bits32(laine_karras_hash(index_reversed_, uint32_t(h)));
-    const uint32_t x_reversed = laine_karras_hash(shuffled, uint32_t(h >> 32));
-    const uint32_t y_reversed = laine_karras_hash(sobol_dim1_reversed(shuffled), uint32_t(mix64(h)));
+    // x's scramble takes the reversal of sobol_dim0(shuffled), which is shuffled itself; y's the
+    // reversal of sobol_dim1(shuffled). The hash gives shuffled's reversal; one table both.
+    const uint64_t dim1_shuffled = unreverse_with_sobol_dim1(laine_karras_hash(index_reversed_, uint32_t(h)));
+    const uint32_t x_reversed = laine_karras_hash(uint32_t(dim1_shuffled), uint32_t(h >> 32));
+    const uint32_t y_reversed = laine_karras_hash(uint32_t(dim1_shuffled >> 32), uint32_t(mix64(h)));
     // Both final reversals in one 64-bit pass: y lands in the high half.
     const uint64_t yx = reverse_bits64(uint64_t(x_reversed) << 32 | y_reversed);
     return {to_unit_float(uint32_t(yx)), to_unit_float(uint32_t(yx >> 32))};

@@ -41,6 +41,11 @@ TEST(Sampler, TabulatedSobolMatchesTheBitwiseDefinition) {
     const uint32_t x = i * 2654435761u;
     ASSERT_EQ(sobol_dim1(x), sobol_dim1_reference(x)) << x;
   }
+  for (uint32_t i = 0; i < 100000; ++i) {
+    const uint32_t r = i * 2654435761u;
+    const uint32_t s = reverse_bits32(r);
+    ASSERT_EQ(unreverse_with_sobol_dim1(r), uint64_t(reverse_bits32(sobol_dim1_reference(s))) << 32 | s) << r;
+  }
   EXPECT_EQ(reverse_bits32(1u), 0x80000000u);
   EXPECT_EQ(reverse_bits32(0x12345678u), 0x1e6a2c48u);
   for (uint32_t i = 0; i < 100000; ++i) {
