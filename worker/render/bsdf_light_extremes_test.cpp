@@ -171,6 +171,11 @@ struct MaterialCase {
   /// counts as black (Mitsuba's normalmap and bumpmap adapters do the same): a pixel on such
   /// texels may be black, so only the image mean must be > 0.
   bool black_allowed = false;
+  /// Samples per pixel of the stage render. 16 leaves a pixel black by chance where few
+  /// directions get light back (a normal-mapped anisotropic conductor: at 16 spp 10 of seeds
+  /// 1-16 gave a black pixel with main cf0ed90's sampler and 11 with branch lights6's, at 64
+  /// spp none), so such a case takes more, asserting the same.
+  int stage_spp = 16;
 };
 
 /// The stage: the test material on a sphere and on a tilted quad with uvs (for textures, normal
@@ -272,7 +277,8 @@ const MaterialCase kMaterials[] = {
      "", true},
     {"normalmap_dielectric", R"({"type": "glass", "ior": 1.5, "normal_map": "normals"})", "", true},
     {"normalmap_anisotropic_roughconductor",
-     R"({"type": "rough_conductor", "alpha_u": 0.05, "alpha_v": 0.8, "perfect": true, "normal_map": "normals"})"},
+     R"({"type": "rough_conductor", "alpha_u": 0.05, "alpha_v": 0.8, "perfect": true, "normal_map": "normals"})",
+     "", false, 64},
     {"bumpmap_diffuse",
      R"({"type": "diffuse", "reflectance": [0.7, 0.7, 0.7], "bump_map": "heights", "bump_scale": 100})"},
     {"bumpmap_roughdielectric",
@@ -290,7 +296,7 @@ TEST_P(MaterialExtremes, RenderFiniteAndLit) {
   write_material_textures(dir.path());
   // Seen from above: every pixel sees the floor, the objects or the environment, each lit.
   write_file(dir / "stage.json", material_scene(c, kStageCamera, "grey"));
-  const Rendered stage = render_file(dir / "stage.json", 16, 16, 16);
+  const Rendered stage = render_file(dir / "stage.json", 16, 16, c.stage_spp);
   expect_finite(stage, std::string(c.name) + " (stage)", !c.black_allowed);
   EXPECT_GT(stage.mean_luminance(), 0.0) << c.name;
   // The floor made of the material, seen at grazing angles. Light arrives at every point of it,

@@ -3,7 +3,7 @@
 // The sequence is a shuffled, Owen-scrambled 2D Sobol sequence padded across dimension pairs
 // (Burley 2020, "Practical Hash-based Owen Scrambling"; the hash is pbrt-v4's FastOwenScrambler).
 // Each pair of dimensions of each pixel gets its own index shuffle and its own scrambles, keyed
-// by a hash of (seed, pixel, pair). Shuffling by Owen-scrambling the index maps every aligned
+// by one hash of (seed, pixel, pair). Shuffling by Owen-scrambling the index maps every aligned
 // block of 2^k indices onto an aligned block, so every power-of-two batch of samples [b*B,
 // (b+1)*B) is itself a (0,k,2)-net: stratification survives any batch size that is a power of
 // two, and nothing depends on tiles, threads or workers (docs/design.md, "The determinism contract").
@@ -44,6 +44,14 @@ constexpr uint64_t mix64(uint64_t k) {
   return k;
 }
 
+/// SplitMix64's finaliser (Stafford's "Mix13", Steele, Lea and Flood 2014): a bijective mix that
+/// turns a Weyl sequence (key + n * odd constant) into a stream that passes BigCrush.
+constexpr uint64_t splitmix64(uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
 constexpr uint64_t hash_combine(uint64_t seed, uint64_t v) {
   return mix64(seed ^ (v + 0x9e3779b97f4a7c15ull + (seed << 6) + (seed >> 2)));
 }
@@ -71,14 +79,12 @@ namespace detail {
 
 /// The generator matrix of Sobol's second dimension (Pascal's triangle mod 2) applied byte by
 /// byte: table[k][b] is the contribution of byte k of the index having value b.
-/// With `reversed`, the columns are bit-reversed: the table then gives reverse_bits32 of the
-/// point, since bit reversal commutes with XOR.
-struct Sobol1Tables {
+struct Sobol1Table {
   uint32_t table[4][256];
-  constexpr explicit Sobol1Tables(bool reversed) : table{} {
+  constexpr Sobol1Table() : table{} {
     uint32_t columns[32] = {};
     uint32_t v = 1u << 31;
-    for (int bit = 0; bit < 32; ++bit, v ^= v >> 1) columns[bit] = reversed ? reverse_bits32(v) : v;
+    for (int bit = 0; bit < 32; ++bit, v ^= v >> 1) columns[bit] = v;
     for (int k = 0; k < 4; ++k) {
       for (uint32_t b = 0; b < 256; ++b) {
         uint32_t r = 0;
@@ -91,8 +97,7 @@ struct Sobol1Tables {
   }
 };
 
-inline constexpr Sobol1Tables kSobol1{false};
-inline constexpr Sobol1Tables kSobol1Reversed{true};
+inline constexpr Sobol1Table kSobol1{};
 
 }  // namespace detail
 
@@ -101,12 +106,34 @@ constexpr uint32_t sobol_dim1(uint32_t i) {
          detail::kSobol1.table[2][(i >> 16) & 0xffu] ^ detail::kSobol1.table[3][i >> 24];
 }
 
-/// reverse_bits32(sobol_dim1(i)).
-constexpr uint32_t sobol_dim1_reversed(uint32_t i) {
-  return detail::kSobol1Reversed.table[0][i & 0xffu] ^
-         detail::kSobol1Reversed.table[1][(i >> 8) & 0xffu] ^
-         detail::kSobol1Reversed.table[2][(i >> 16) & 0xffu] ^
-         detail::kSobol1Reversed.table[3][i >> 24];
+namespace detail {
+
+/// What get2d needs of the shuffled index s, given r = reverse_bits32(s): s itself and
+/// reverse_bits32(sobol_dim1(s)). Both are linear over GF(2) in r (a bit permutation, and a
+/// permutation then Sobol's matrix then a permutation), so both come from one table looked up
+/// byte by byte: table[k][b] holds, for byte k of r having value b, s's contribution in its low
+/// half and reverse_bits32(sobol_dim1(s))'s in its high half. Four loads replace a 32-bit
+/// reversal and four loads of a Sobol table.
+struct ShuffleTable {
+  uint64_t table[4][256];
+  constexpr ShuffleTable() : table{} {
+    for (int k = 0; k < 4; ++k) {
+      for (uint32_t b = 0; b < 256; ++b) {
+        const uint32_t s = reverse_bits32(b << (8 * k));
+        table[k][b] = uint64_t(reverse_bits32(sobol_dim1(s))) << 32 | s;
+      }
+    }
+  }
+};
+
+inline constexpr ShuffleTable kShuffle{};
+
+}  // namespace detail
+
+/// For r = reverse_bits32(s): reverse_bits32(sobol_dim1(s)) << 32 | s.
+constexpr uint64_t unreverse_with_sobol_dim1(uint32_t r) {
+  return detail::kShuffle.table[0][r & 0xffu] ^ detail::kShuffle.table[1][(r >> 8) & 0xffu] ^
+         detail::kShuffle.table[2][(r >> 16) & 0xffu] ^ detail::kShuffle.table[3][r >> 24];
 }
 
 /// The reference definition of sobol_dim1, bit by bit (for tests).
@@ -137,6 +164,7 @@ class PixelSampler {
   PixelSampler(uint64_t pixel_key, uint32_t sample_index)
       : pixel_key_(pixel_key),
         pair_offset_(0x9e3779b97f4a7c15ull + (pixel_key << 6) + (pixel_key >> 2)),
+        sample_key_(sample_key(pixel_key, sample_index)),
         index_(sample_index),
         index_reversed_(reverse_bits32(sample_index)) {}
 
@@ -145,17 +173,35 @@ class PixelSampler {
   /// hash costs a fraction of three Owen scrambles.
   static constexpr uint32_t kSobolPairs = 14;
 
+  /// The key of one (pixel, sample index) that the independent pairs start from: one mix per
+  /// sample, so that each independent pair needs only one more.
+  static constexpr uint64_t sample_key(uint64_t pixel_key, uint32_t sample_index) {
+    return mix64(pixel_key ^ (uint64_t(sample_index) * 0x9e3779b97f4a7c15ull));
+  }
+
+  /// The three 32-bit scramble seeds of a pair, from its one 64-bit hash h: the index shuffle
+  /// takes the low half, x the high half and y the high half of h times an odd constant (a
+  /// multiply instead of a second mix64: every bit of h reaches y's seed through the carries,
+  /// and the product's high half is a different function of h than either half).
+  static constexpr uint32_t shuffle_seed(uint64_t h) { return uint32_t(h); }
+  static constexpr uint32_t x_seed(uint64_t h) { return uint32_t(h >> 32); }
+  static constexpr uint32_t y_seed(uint64_t h) { return uint32_t((h * 0xd1342543de82ef95ull) >> 32); }
+
   /// The next pair of dimensions, each in [0, 1): the shuffled, scrambled Sobol point
-  ///   shuffled = owen_scramble(index, s0)
-  ///   x = owen_scramble(sobol_dim0(shuffled), s1),  y = owen_scramble(sobol_dim1(shuffled), s2)
-  /// computed with three bit reversals instead of seven (sobol_dim0 is a reversal; reversals
-  /// cancel; the index's reversal is computed once per sample).
+  ///   h = hash_combine(pixel key, pair)
+  ///   shuffled = owen_scramble(index, shuffle_seed(h))
+  ///   x = owen_scramble(sobol_dim0(shuffled), x_seed(h)),  y = owen_scramble(sobol_dim1(shuffled), y_seed(h))
+  /// computed with one bit reversal (of both coordinates at once) instead of seven: sobol_dim0
+  /// is a reversal, reversals cancel, the index's reversal is computed once per sample, and the
+  /// shuffled index comes back from its reversal together with its sobol_dim1 by one table.
   glm::vec2 get2d() {
     if (pair_ >= kSobolPairs) return get2d_independent();
     const uint64_t h = pair_hash(pair_++);
-    const uint32_t shuffled = reverse_bits32(laine_karras_hash(index_reversed_, uint32_t(h)));
-    const uint32_t x_reversed = laine_karras_hash(shuffled, uint32_t(h >> 32));
-    const uint32_t y_reversed = laine_karras_hash(sobol_dim1_reversed(shuffled), uint32_t(mix64(h)));
+    // x's scramble takes the reversal of sobol_dim0(shuffled), which is shuffled itself; y's the
+    // reversal of sobol_dim1(shuffled). The hash gives shuffled's reversal; one table both.
+    const uint64_t dim1_shuffled = unreverse_with_sobol_dim1(laine_karras_hash(index_reversed_, shuffle_seed(h)));
+    const uint32_t x_reversed = laine_karras_hash(uint32_t(dim1_shuffled), x_seed(h));
+    const uint32_t y_reversed = laine_karras_hash(uint32_t(dim1_shuffled >> 32), y_seed(h));
     // Both final reversals in one 64-bit pass: y lands in the high half.
     const uint64_t yx = reverse_bits64(uint64_t(x_reversed) << 32 | y_reversed);
     return {to_unit_float(uint32_t(yx)), to_unit_float(uint32_t(yx >> 32))};
@@ -164,20 +210,24 @@ class PixelSampler {
   /// get2d() by its definition, without the algebra (for tests).
   glm::vec2 get2d_reference() {
     const uint64_t h = hash_combine(pixel_key_, pair_++);
-    const uint32_t shuffled = owen_scramble(index_, uint32_t(h));
-    const uint32_t x = owen_scramble(sobol_dim0(shuffled), uint32_t(h >> 32));
-    const uint32_t y = owen_scramble(sobol_dim1(shuffled), uint32_t(mix64(h)));
+    const uint32_t shuffled = owen_scramble(index_, shuffle_seed(h));
+    const uint32_t x = owen_scramble(sobol_dim0(shuffled), x_seed(h));
+    const uint32_t y = owen_scramble(sobol_dim1(shuffled), y_seed(h));
     return {to_unit_float(x), to_unit_float(y)};
   }
 
   /// The next pair of dimensions as independent hashed uniforms, for decisions that gain
-  /// nothing from stratification (emitter choice, Russian roulette). Still a pure function of
-  /// (seed, pixel, sample index, dimension).
+  /// nothing from stratification (emitter choice, Russian roulette) and for every pair from
+  /// kSobolPairs on: splitmix64(sample_key + pair * kIndependentStep), SplitMix64's stream
+  /// with the sample's key as its seed, one mix per pair. Still a pure function of (seed,
+  /// pixel, sample index, dimension).
   glm::vec2 get2d_independent() {
-    const uint64_t h = pair_hash(pair_++);
-    const uint64_t r = mix64(h ^ (uint64_t(index_) * 0x9e3779b97f4a7c15ull));
+    const uint64_t r = splitmix64(sample_key_ + uint64_t(pair_++) * kIndependentStep);
     return {to_unit_float(uint32_t(r)), to_unit_float(uint32_t(r >> 32))};
   }
+
+  /// SplitMix64's increment (the golden ratio in 64 bits): get2d_independent's step per pair.
+  static constexpr uint64_t kIndependentStep = 0x9e3779b97f4a7c15ull;
 
   /// Skips to a fixed pair index, so that each path vertex starts at a known dimension.
   void set_pair(uint32_t pair) { pair_ = pair; }
@@ -189,6 +239,7 @@ class PixelSampler {
 
   uint64_t pixel_key_;
   uint64_t pair_offset_;  ///< hash_combine's pixel-dependent addend
+  uint64_t sample_key_;   ///< sample_key(pixel_key_, index_)
   uint32_t index_;
   uint32_t index_reversed_;
   uint32_t pair_ = 0;

@@ -1,8 +1,11 @@
 #include "sampler.h"
 
+#include <cmath>
+#include <functional>
 #include <set>
 #include <vector>
 
+#include <glm/common.hpp>
 #include <gtest/gtest.h>
 
 namespace tessera {
@@ -25,6 +28,32 @@ bool is_net(const std::vector<glm::vec2>& pts) {
   return true;
 }
 
+/// Upper tail probability of the chi-square distribution (Wilson-Hilferty approximation).
+double chi_square_p_value(double chi2, int dof) {
+  const double k = dof;
+  const double z = (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
+  return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
+/// The p-value of n points (from point(k), k < n) against the uniform density on [0, 1)^2,
+/// by a chi-square test over 8 x 8 cells.
+double uniformity_p_value(int n, const std::function<glm::vec2(int)>& point) {
+  constexpr int kCells = 8;
+  std::vector<double> counts(kCells * kCells, 0.0);
+  for (int k = 0; k < n; ++k) {
+    const glm::vec2 u = point(k);
+    counts[size_t(int(u.y * kCells) * kCells + int(u.x * kCells))] += 1;
+  }
+  const double expected = double(n) / (kCells * kCells);
+  double chi2 = 0;
+  for (const double c : counts) chi2 += (c - expected) * (c - expected) / expected;
+  return chi_square_p_value(chi2, kCells * kCells - 1);
+}
+
+/// Below this p-value a uniformity test fails: with the tests' fixed seeds a pass is
+/// reproducible, and a sampler whose seeds were correlated gives p-values far below it.
+constexpr double kUniformityLevel = 1e-4;
+
 std::vector<glm::vec2> pair_points(uint64_t seed, int x, int y, uint32_t pair, uint32_t begin,
                                    uint32_t count) {
   std::vector<glm::vec2> pts;
@@ -41,6 +70,11 @@ TEST(Sampler, TabulatedSobolMatchesTheBitwiseDefinition) {
     const uint32_t x = i * 2654435761u;
     ASSERT_EQ(sobol_dim1(x), sobol_dim1_reference(x)) << x;
   }
+  for (uint32_t i = 0; i < 100000; ++i) {
+    const uint32_t r = i * 2654435761u;
+    const uint32_t s = reverse_bits32(r);
+    ASSERT_EQ(unreverse_with_sobol_dim1(r), uint64_t(reverse_bits32(sobol_dim1_reference(s))) << 32 | s) << r;
+  }
   EXPECT_EQ(reverse_bits32(1u), 0x80000000u);
   EXPECT_EQ(reverse_bits32(0x12345678u), 0x1e6a2c48u);
   for (uint32_t i = 0; i < 100000; ++i) {
@@ -49,8 +83,8 @@ TEST(Sampler, TabulatedSobolMatchesTheBitwiseDefinition) {
   }
 }
 
-/// The independent pairs by their definition: a hash of (pixel key, pair) mixed with the
-/// sample index (the sampler computes the pixel's part of the hash once per sample).
+/// The independent pairs by their definition: SplitMix64's stream seeded with a hash of the
+/// pixel key and the sample index, one step per pair.
 TEST(Sampler, IndependentPairsEqualTheDefinition) {
   for (uint32_t i = 0; i < 5000; ++i) {
     const uint64_t key = PixelSampler::pixel_key(99, int(i % 37), int(i / 37));
@@ -59,11 +93,15 @@ TEST(Sampler, IndependentPairsEqualTheDefinition) {
     for (uint32_t pair = 0; pair < 40; ++pair) {
       s.set_pair(pair);
       const glm::vec2 u = s.get2d_independent();
-      const uint64_t r = mix64(hash_combine(key, pair) ^ (uint64_t(index) * 0x9e3779b97f4a7c15ull));
+      const uint64_t r = splitmix64(mix64(key ^ (uint64_t(index) * 0x9e3779b97f4a7c15ull)) +
+                                    uint64_t(pair) * 0x9e3779b97f4a7c15ull);
       ASSERT_EQ(u.x, to_unit_float(uint32_t(r)));
       ASSERT_EQ(u.y, to_unit_float(uint32_t(r >> 32)));
     }
   }
+  // SplitMix64's published first output for seed 0 (Vigna's splitmix64.c: the state is
+  // incremented, then mixed).
+  EXPECT_EQ(splitmix64(0x9e3779b97f4a7c15ull), 0xe220a8397b1dcdafull);
 }
 
 TEST(Sampler, FastPathEqualsTheDefinition) {
@@ -136,6 +174,88 @@ TEST(Sampler, MeanOfManySamplesIsUniform) {
   EXPECT_NEAR(sum_x / n, 0.5, 0.005);
   EXPECT_NEAR(sum_y / n, 0.5, 0.005);
   EXPECT_NEAR(sum_xy / n, 0.25, 0.005);  // x and y independent
+}
+
+/// One sample from each of 2^16 pixels: for an unbiased estimate every pixel's point must be
+/// uniform on its own, and x, y and the pairs must not depend on each other through the seeds
+/// derived from one hash (the shuffle's, x's and y's) or from one sample key.
+TEST(Sampler, PointsAcrossPixelsAreJointlyUniform) {
+  constexpr int n = 1 << 14;
+  const auto sampler = [](int k, uint32_t index) { return PixelSampler(5, k % 128, k / 128, index); };
+  for (const uint32_t index : {0u, 1000u}) {
+    for (const uint32_t pair : {0u, 7u, PixelSampler::kSobolPairs - 1, PixelSampler::kSobolPairs}) {
+      // x and y of one pair.
+      EXPECT_GT(uniformity_p_value(n, [&](int k) {
+                  PixelSampler s = sampler(k, index);
+                  s.set_pair(pair);
+                  return s.get2d();
+                }),
+                kUniformityLevel)
+          << "index " << index << " pair " << pair;
+      // x of this pair against y of the next.
+      EXPECT_GT(uniformity_p_value(n, [&](int k) {
+                  PixelSampler s = sampler(k, index);
+                  s.set_pair(pair);
+                  const float x = s.get2d().x;
+                  return glm::vec2(x, s.get2d().y);
+                }),
+                kUniformityLevel)
+          << "index " << index << " pairs " << pair << ", " << pair + 1;
+    }
+    // The independent pairs of the vertices' decisions (emitter choice, roulette).
+    for (const uint32_t pair : {2u, 6u, 10u}) {
+      EXPECT_GT(uniformity_p_value(n, [&](int k) {
+                  PixelSampler s = sampler(k, index);
+                  s.set_pair(pair);
+                  return s.get2d_independent();
+                }),
+                kUniformityLevel)
+          << "independent, index " << index << " pair " << pair;
+    }
+  }
+}
+
+/// Within one pixel, the independent pairs of consecutive samples and of consecutive pairs
+/// must not be related (SplitMix64's stream per sample, the streams' seeds one hash apart).
+TEST(Sampler, IndependentPairsOfOnePixelAreJointlyUniform) {
+  constexpr int n = 1 << 14;
+  const uint64_t key = PixelSampler::pixel_key(11, 40, 30);
+  EXPECT_GT(uniformity_p_value(n, [&](int k) {
+              PixelSampler a(key, uint32_t(k)), b(key, uint32_t(k) + 1);
+              a.set_pair(20);
+              b.set_pair(20);
+              return glm::vec2(a.get2d_independent().x, b.get2d_independent().x);
+            }),
+            kUniformityLevel);
+  EXPECT_GT(uniformity_p_value(n, [&](int k) {
+              PixelSampler s(key, uint32_t(k));
+              s.set_pair(20);
+              const float x = s.get2d_independent().x;
+              return glm::vec2(x, s.get2d_independent().x);
+            }),
+            kUniformityLevel);
+}
+
+/// The scrambles randomise each point inside its stratum: of the first 4 samples of a pixel
+/// (a (0,2,2)-net), the one in [0, 1/4) in x sits uniformly inside it across pixels, and
+/// likewise in y. Were a pair's shuffle and scrambles the same in every pixel, it would sit at
+/// the same place in every pixel: every pixel's estimate off by the same error. (The index
+/// shuffle alone already moves it: the block of indices it maps 0..3 onto is random.)
+TEST(Sampler, ScramblesRandomiseInsideTheStrata) {
+  constexpr int n = 1 << 14;
+  for (const uint32_t pair : {0u, 5u, PixelSampler::kSobolPairs - 1}) {
+    EXPECT_GT(uniformity_p_value(n, [&](int k) {
+                glm::vec2 lowest(1.0f);
+                for (uint32_t i = 0; i < 4; ++i) {
+                  PixelSampler s(8, k % 128, k / 128, i);
+                  s.set_pair(pair);
+                  lowest = glm::min(lowest, s.get2d());
+                }
+                return lowest * 4.0f;
+              }),
+              kUniformityLevel)
+        << "pair " << pair;
+  }
 }
 
 }  // namespace

@@ -121,13 +121,12 @@ std::optional<AreaLight::Rectangle> AreaLight::find_rectangle(const Geometry& g)
   return r;
 }
 
-AreaLight::PointSample AreaLight::rectangle_point(glm::dvec2 ab) const {
+AreaLight::PointSample AreaLight::rectangle_point(float a, float b) const {
   // Barycentric weights of (a, b) on the near triangle (corner, x, y) or the far one
-  // (opposite, x, y): the interpolation sample_point uses, so the point lies on what Embree
-  // traces and carries that triangle's error bound and uvs.
+  // (opposite, x, y): the interpolation of a triangle's points, so the point lies on what
+  // Embree traces and carries that triangle's error bound and uvs.
   const Geometry& g = *g_;
   const Rectangle& r = *rectangle_;
-  const float a = float(ab.x), b = float(ab.y);
   const bool near = a + b <= 1.0f;
   const uint32_t tri = near ? r.near : r.far;
   const uint32_t v0 = near ? r.v_corner : r.v_opposite;
@@ -164,6 +163,9 @@ AreaLight::PointSample AreaLight::sample_point(glm::vec2 u) const {
     s.uv = sphere_uv(g.frame, glm::vec3(dir));
     return s;
   }
+  // Uniform on the rectangle: corner + u.x ex + u.y ey has density 1 / |ex x ey|, which is
+  // 1 / area_ to within find_rectangle's 1e-5 tolerance.
+  if (rectangle_) return rectangle_point(u.x, u.y);
   // A triangle by area, then the remainder of u.x inside its interval, so that the
   // stratification of u carries over to the point on the triangle.
   float pmf = 0, ux = 0;
@@ -240,16 +242,17 @@ LightSample AreaLight::sample_solid_angle(glm::vec3 ref, glm::vec2 u) const {
     const Rectangle& r = *rectangle_;
     const SphericalRectangle sr(glm::dvec3(ref), r.corner, r.ex, r.ey);
     solid_angle_pdf = inverse_solid_angle(sr.solid_angle());
-    if (solid_angle_pdf > 0) ps = rectangle_point(sr.sample(u));
+    if (solid_angle_pdf > 0) {
+      const glm::dvec2 ab = sr.sample(u);
+      ps = rectangle_point(float(ab.x), float(ab.y));
+    }
   }
   if (!(solid_angle_pdf > 0)) return {};
   return towards(*this, ref, ps, solid_angle_pdf);
 }
 
-glm::vec3 AreaLight::emitted(glm::vec2 uv, glm::vec3 ng, glm::vec3 w) const {
+glm::vec3 AreaLight::textured_emission(glm::vec2 uv) const {
   const Geometry& g = *g_;
-  if (!(glm::dot(ng, w) > 0) && !g.two_sided_emission) return glm::vec3(0.0f);
-  if (g.emission_texture < 0) return g.emission;
   return g.emission * textures_(g.emission_texture, uv);
 }
 

@@ -37,7 +37,8 @@ class AreaLight {
 
   /// A point uniform by area on the shape from u in [0,1)^2, with its error bound, its
   /// front-facing unit normal and its (u, v) (triangles: interpolated vertex uvs, (0, 0)
-  /// without them; spheres: sphere_uv).
+  /// without them; spheres: sphere_uv). A rectangle maps u to corner + u.x ex + u.y ey
+  /// directly (no triangle to pick), other meshes pick a triangle by area with u.x.
   struct PointSample {
     SurfacePoint sp;
     glm::vec2 uv{0.0f};
@@ -75,7 +76,13 @@ class AreaLight {
   /// Radiance leaving the surface point with front-facing normal ng and texture coordinates
   /// uv towards w: emission * texture(uv) when w is on the front (or emission is two-sided),
   /// 0 otherwise.
-  glm::vec3 emitted(glm::vec2 uv, glm::vec3 ng, glm::vec3 w) const;
+  glm::vec3 emitted(glm::vec2 uv, glm::vec3 ng, glm::vec3 w) const {
+    // Inline: every light sample and every path that hits an emitter asks.
+    const Geometry& g = *g_;
+    if (!(glm::dot(ng, w) > 0) && !g.two_sided_emission) return glm::vec3(0.0f);
+    if (g.emission_texture < 0) return g.emission;
+    return textured_emission(uv);
+  }
   /// The solid-angle density sample() gives the point hit_p (a point of the light; normal
   /// hit_ng, either orientation) seen from ref, pick probability not included: the same
   /// figure sample() returns, bit for bit, when sampled by solid angle; by area 0 for a
@@ -126,12 +133,14 @@ class AreaLight {
   enum class Sampling : uint8_t { by_area, sphere_cone, rectangle };
 
   static std::optional<Rectangle> find_rectangle(const Geometry& g);
+  /// emission * texture(uv), for a textured emitter.
+  glm::vec3 textured_emission(glm::vec2 uv) const;
   /// solid_angle_sampled for a sphere.
   bool outside_sphere(glm::vec3 ref) const;
   /// sample() by solid angle (solid_angle_sampled(ref)).
   LightSample sample_solid_angle(glm::vec3 ref, glm::vec2 u) const;
   /// The point of the rectangle at (a, b) in [0,1]^2: corner + a ex + b ey.
-  PointSample rectangle_point(glm::dvec2 ab) const;
+  PointSample rectangle_point(float a, float b) const;
 
   const Geometry* g_;
   std::optional<Rectangle> rectangle_;

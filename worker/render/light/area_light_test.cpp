@@ -184,6 +184,38 @@ TEST(AreaLight, RectangleSamplesMatchPdfChiSquare) {
   }
 }
 
+TEST(AreaLight, RectangleByAreaSamplesMatchPdfChiSquare) {
+  // Where a rectangle is sampled by area (farther than its diagonal from its centre, or a hair
+  // off its plane beside it), its point is corner + u.x ex + u.y ey, not a triangle picked
+  // first: the directions must still follow pdf() = d^2 / (|cos| area).
+  const glm::vec3 corner(-0.5f, -0.3f, 1.0f), ex(1.2f, 0.3f, 0.1f), ey(-0.3f, 0.9f, 0.9f);
+  const glm::vec3 ey_orthogonal = ey - ex * (glm::dot(ex, ey) / glm::dot(ex, ex));
+  const Geometry g = emitting_rectangle(corner, ey_orthogonal, ex);
+  const AreaLight light(g, nullptr);
+  ASSERT_TRUE(light.is_rectangle());
+  const glm::vec3 center = corner + 0.5f * (ex + ey_orthogonal);
+  const glm::vec3 n = glm::normalize(glm::cross(ey_orthogonal, ex));
+  const float diagonal = glm::length(ex + ey_orthogonal);
+  uint64_t seed = 40;
+  // Off-centre at 1.2 diagonals, and obliquely at 1.5 diagonals (grazing the light at about
+  // 70 degrees).
+  for (const glm::vec3 ref : {center + 1.2f * diagonal * n + 0.3f * ex,
+                              center + 0.5f * diagonal * n + 1.4f * diagonal * glm::normalize(ex)}) {
+    ASSERT_FALSE(light.solid_angle_sampled(ref));
+    ASSERT_FALSE(light.behind(ref));
+    test::UniformFloats u(seed++);
+    const auto sample = [&]() -> std::optional<glm::vec3> {
+      const LightSample s = light.sample(ref, u.next2());
+      if (!(s.pdf > 0)) return std::nullopt;
+      return s.wi;
+    };
+    const auto pdf = [&](glm::vec3 d) { return planar_pdf(light, g, ref, d); };
+    const test::DirectionBins bins = bins_towards(ref, center, g.positions, 12, 16);
+    const test::ChiSquareResult r = test::chi_square_directions(bins, 100000, sample, pdf);
+    EXPECT_GT(r.p_value, test::kChiSquareLevel) << "ref " << ref.x << " " << ref.y << " " << ref.z << ": " << r.detail;
+  }
+}
+
 TEST(AreaLight, RectanglePdfAgreesWithSampleBitForBit) {
   Geometry g = emitting_rectangle({-1, -1, 1}, {0, 2, 0}, {2, 0, 0});  // faces -z
   g.emission_texture = 0;

@@ -62,6 +62,11 @@ class LightImportance {
   };
 
  private:
+  /// evaluate_all for any number of blocks (kept out of line: its loop would otherwise make
+  /// the one-block case keep its inputs on the stack).
+  [[gnu::noinline]] float evaluate_blocks(const glm::vec3& p, const glm::vec3& n, bool has_n,
+                                          float* importance) const;
+
   std::array<Block, kMaxLights / kLanes> blocks_{};
   uint32_t block_count_ = 0;
   uint32_t count_ = 0;

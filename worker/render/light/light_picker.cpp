@@ -15,7 +15,7 @@ std::vector<double> uniform_if_all_zero(std::vector<double> powers) {
 }  // namespace
 
 LightPicker::LightPicker(std::vector<LightBounds> bounds, const std::vector<double>& powers)
-    : distribution_(uniform_if_all_zero(powers)) {
+    : distribution_(uniform_if_all_zero(powers)), single_(powers.size() == 1) {
   if (bounds.size() >= 2 && bounds.size() <= kMaxPerPoint) importance_ = LightImportance(bounds);
 }
 

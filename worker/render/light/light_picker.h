@@ -33,9 +33,14 @@ class LightPicker {
   /// sum of the importances at ref goes there (kUnknownSum when picking by power), for pmf()
   /// at the same ref. Must not be called without lights.
   uint32_t pick(float u, const SurfacePoint& ref, float* pmf, float* sum = nullptr) const {
-    // By power inline: a scene of one light pays nothing for picking per point.
+    // By power inline: a scene of one light pays nothing for picking per point, nor for
+    // searching a distribution of one.
     if (!per_point()) {
       if (sum) *sum = kUnknownSum;
+      if (single_) {
+        *pmf = 1.0f;
+        return 0;
+      }
       return distribution_.sample_discrete(u, pmf);
     }
     return pick_per_point(u, ref, pmf, sum);
@@ -44,7 +49,7 @@ class LightPicker {
   /// what pick() at this very ref reported, so that only light i's importance is evaluated, or
   /// kUnknownSum (any negative value): every light's, for their sum.
   float pmf(uint32_t i, const SurfacePoint& ref, float sum = kUnknownSum) const {
-    if (!per_point()) return distribution_.pmf(i);
+    if (!per_point()) return single_ ? 1.0f : distribution_.pmf(i);
     return pmf_per_point(i, ref, sum);
   }
 
@@ -59,6 +64,9 @@ class LightPicker {
 
   LightImportance importance_;        ///< empty unless picking per point
   PiecewiseConstant1D distribution_;  ///< by power
+  /// One light: picked with probability exactly 1 (the distribution would give its weight
+  /// over their sum, rounded to float: 1 - 2^-24 for some weights).
+  bool single_ = false;
 };
 
 }  // namespace tessera

@@ -119,6 +119,21 @@ TEST(LightPicker, PicksNothingWhereNoLightCanReach) {
   }
 }
 
+TEST(LightPicker, OneLightIsPickedWithProbabilityExactlyOne) {
+  // 1 + 3 * 2^-26 rounds down to float, so its weight over the double sum of weights is
+  // 1 - 2^-26 before rounding to float: 1 - 2^-24, not 1, from the distribution by power.
+  for (const double power : {1.0 + 3.0 * 0x1p-26, 0.7, 1e-30, 0.0}) {
+    const LightPicker picker({point({0, 1, 0}, power)}, {power});
+    for (const float u : {0.0f, 0.5f, 0x1.fffffep-1f}) {
+      float pmf = 0, sum = 0;
+      EXPECT_EQ(picker.pick(u, SurfacePoint{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}}, &pmf, &sum), 0u);
+      EXPECT_EQ(pmf, 1.0f) << power;
+      EXPECT_EQ(sum, LightPicker::kUnknownSum);
+    }
+    EXPECT_EQ(picker.pmf(0, SurfacePoint{}), 1.0f) << power;
+  }
+}
+
 TEST(LightPicker, BeyondSixteenLightsPicksByPower) {
   std::vector<LightBounds> bounds;
   std::vector<double> powers;
