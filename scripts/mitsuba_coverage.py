@@ -11,7 +11,8 @@ id="...", name="...", numbers), so that the same blocker in many scenes counts a
 
 Files that are no scene are left out of the figure: an XML file whose root element is not
 <scene> (a fragment meant for <include>), and files under a folder named `include`,
-`includes` or `fragments`, which Mitsuba's test data keeps for inclusion.
+`includes` or `fragments`, which Mitsuba's test data keeps for inclusion, and files under
+`__MACOSX` (macOS archive metadata that public copies sometimes carry: not XML).
 
 With -D name=value (repeatable), every scene is read with that parameter, as Mitsuba's command
 line gives it (`tessera-worker convert -D`, and `mi.load_file(..., name=value)`): public scenes
@@ -49,6 +50,8 @@ import threading
 import xml.etree.ElementTree as ElementTree
 
 FRAGMENT_FOLDERS = {"include", "includes", "fragments"}
+# macOS archive metadata (AppleDouble `._name.xml` files beside copies of the scenes): not XML.
+NOT_SCENE_FOLDERS = {"__MACOSX"}
 
 
 def find_scenes(folders):
@@ -62,7 +65,7 @@ def find_scenes_in_folders(folders):
     for folder in folders:
         for directory, subfolders, files in os.walk(folder):
             subfolders.sort()
-            if FRAGMENT_FOLDERS & set(directory.split(os.sep)):
+            if (FRAGMENT_FOLDERS | NOT_SCENE_FOLDERS) & set(directory.split(os.sep)):
                 continue
             for name in sorted(files):
                 if name.lower().endswith(".xml") and is_scene(os.path.join(directory, name)):
