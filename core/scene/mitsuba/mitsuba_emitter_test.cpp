@@ -73,8 +73,8 @@ TEST(MitsubaEmitter, LightInsideAShapeIsALightOfTheScene) {
             std::string::npos)
       << xml_error(two);
   for (const char* environment : {"constant", "envmap"}) {
-    const std::string xml = mitsuba_scene(std::string(R"(<shape type="rectangle"><emitter type=")") +
-                                          environment + R"("/></shape>)");
+    const std::string xml = mitsuba_scene(R"(<shape type="rectangle"><emitter type=")" +
+                                          std::string(environment) + R"("/></shape>)");
     EXPECT_NE(xml_error(xml).find(std::string("a ") + environment +
                                   " emitter inside a shape: Mitsuba samples it as a light but "
                                   "escaping rays do not see it"),

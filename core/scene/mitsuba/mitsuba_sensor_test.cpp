@@ -352,8 +352,8 @@ TEST(MitsubaIntegrator, VolpathWithNullInteractionsNeedsAnUnboundedDepth) {
       <integer name="max_depth" value="6"/></integrator>)";
   for (const char* bsdf : {R"(<bsdf type="null"/>)", R"(<bsdf type="thindielectric"/>)",
                            R"(<bsdf type="mask"><bsdf type="diffuse"/></bsdf>)",
-                           R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/><bsdf type="thindielectric"/>
-                              <bsdf type="diffuse"/></bsdf>)"}) {
+                           R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/>
+                              <bsdf type="thindielectric"/><bsdf type="diffuse"/></bsdf>)"}) {
     const std::string xml =
         mitsuba_scene(volpath + "<shape type=\"rectangle\">" + bsdf + "</shape>");
     EXPECT_NE(xml_error(xml).find("line " + std::to_string(line_of(xml, "<integrator")) +
