@@ -11,7 +11,8 @@ id="...", name="...", numbers), so that the same blocker in many scenes counts a
 
 Files that are no scene are left out of the figure: an XML file whose root element is not
 <scene> (a fragment meant for <include>), and files under a folder named `include`,
-`includes` or `fragments`, which Mitsuba's test data keeps for inclusion.
+`includes` or `fragments`, which Mitsuba's test data keeps for inclusion, and files under
+`__MACOSX` (macOS archive metadata that public copies sometimes carry: not XML).
 
 With -D name=value (repeatable), every scene is read with that parameter, as Mitsuba's command
 line gives it (`tessera-worker convert -D`, and `mi.load_file(..., name=value)`): public scenes
@@ -25,7 +26,7 @@ often leave their assets out) is converted again in a scratch copy of its FOLDER
 missing file is an explicit STAND-IN (a one-triangle mesh, a 4 x 4 grey image), until Tessera
 accepts it or refuses it for another reason: that reason is the scene's first refusal at the
 XML level. The stand-ins exist only in that scratch copy (hard links to the real files, deleted
-at exit), never in the FOLDER; scenes measured so are marked `[N stand-ins]`, and counted apart
+at exit), never in the FOLDER; scenes measured so are marked `[N stand-ins: FILES]`, and counted apart
 in the figure: their XML converts, their images cannot be rendered. With --mitsuba, Mitsuba
 loads the same copy, so both renderers are asked about the XML alone.
 
@@ -41,6 +42,7 @@ import concurrent.futures
 import os
 import re
 import shutil
+import struct
 import subprocess
 import sys
 import tempfile
@@ -48,6 +50,8 @@ import threading
 import xml.etree.ElementTree as ElementTree
 
 FRAGMENT_FOLDERS = {"include", "includes", "fragments"}
+# macOS archive metadata (AppleDouble `._name.xml` files beside copies of the scenes): not XML.
+NOT_SCENE_FOLDERS = {"__MACOSX"}
 
 
 def find_scenes(folders):
@@ -61,7 +65,7 @@ def find_scenes_in_folders(folders):
     for folder in folders:
         for directory, subfolders, files in os.walk(folder):
             subfolders.sort()
-            if FRAGMENT_FOLDERS & set(directory.split(os.sep)):
+            if (FRAGMENT_FOLDERS | NOT_SCENE_FOLDERS) & set(directory.split(os.sep)):
                 continue
             for name in sorted(files):
                 if name.lower().endswith(".xml") and is_scene(os.path.join(directory, name)):
@@ -91,7 +95,7 @@ def reason_key(reason):
     """The reason without place, identifiers and numbers (see the module doc)."""
     key = re.sub(r"^.*?: line \d+: ", "", reason)  # "<file>: line <L>: "
     key = re.sub(r' (id|name)="[^"]*"', "", key)
-    key = re.sub(r'"[^"]*\.(xml|obj|ply|serialized|exr|hdr|png|jpg|jpeg)"', '"FILE"', key,
+    key = re.sub(r'"[^"]*\.(xml|obj|ply|serialized|exr|hdr|pfm|png|jpg|jpeg)"', '"FILE"', key,
                  flags=re.IGNORECASE)
     key = re.sub(r"-?\d+(\.\d+)?(e-?\d+)?", "N", key)
     return key[:200]
@@ -160,8 +164,13 @@ class StandIns:
                 with open(path, "w") as out:
                     out.write(STAND_IN_MESHES[extension])
                 return True
+            if extension == ".pfm":
+                # OpenImageIO reads PFM but has no writer for it: 4 x 4 RGB 0.5, little-endian.
+                with open(path, "wb") as out:
+                    out.write(b"PF\n4 4\n-1.0\n" + struct.pack("<48f", *[0.5] * 48))
+                return True
             if extension in STAND_IN_IMAGES:
-                depth = "float" if extension in (".exr", ".hdr", ".pfm") else "uint8"
+                depth = "float" if extension in (".exr", ".hdr") else "uint8"
                 return subprocess.run(["oiiotool", "--pattern", "constant:color=0.5,0.5,0.5",
                                        "4x4", "3", "-d", depth, "-o", path],
                                       capture_output=True).returncode == 0
@@ -169,8 +178,9 @@ class StandIns:
 
 
 def convert_xml_only(worker, defines, scene, folder, stand_ins):
-    """(reason or None, number of stand-ins, the scene file converted last) for `scene` with its
-    missing files stood in."""
+    """(reason or None, the files stood in, the scene file converted last) for `scene` with its
+    missing files stood in. The files are those this scene lacked, relative to FOLDER; a scene
+    whose missing files another scene of the FOLDER stood in first counts one, "(shared)"."""
     reason = convert(worker, None, defines, scene)
     missing = set()  # every file this scene lacks, whether this scene or another stood it in
     copy = None
@@ -192,7 +202,7 @@ def convert_xml_only(worker, defines, scene, folder, stand_ins):
         reason = convert(worker, copy, defines, scene)
     # A scene that lacked files counts as stood in even when another scene of the same FOLDER
     # wrote the stand-ins it needed.
-    return reason, max(len(missing), 1) if copy else 0, scene
+    return reason, (sorted(missing) or ["(shared)"]) if copy else [], scene
 
 
 # Mitsuba's load_file refuses a parameter the scene never uses ("Found unused parameters"),
@@ -250,7 +260,7 @@ def main():
                     found))
             else:
                 results = list(pool.map(
-                    lambda s: (convert(args.worker, args.root, args.defines, s), 0, s), scenes))
+                    lambda s: (convert(args.worker, args.root, args.defines, s), [], s), scenes))
             # With stand-ins, Mitsuba loads the same copy (its XML, not the published assets).
             loads = list(pool.map(lambda r: mitsuba_loads(args.mitsuba, args.defines, r[2]),
                                   results)) if args.mitsuba else [None] * len(scenes)
@@ -258,15 +268,16 @@ def main():
         if stand_ins:
             stand_ins.close()
     reasons = [reason for reason, _, _ in results]
-    stood_in = [count for _, count, _ in results]
+    stood_in = [len(files) for _, files, _ in results]
+    stood_in_files = [files for _, files, _ in results]
 
     by_key = collections.Counter()
     by_key_mitsuba = collections.Counter()
     example = {}
-    for scene, reason, loaded, count in zip(scenes, reasons, loads, stood_in):
+    for scene, reason, loaded, files in zip(scenes, reasons, loads, stood_in_files):
         mark = "" if loaded is None else ("  [mitsuba loads]" if loaded else "  [mitsuba fails]")
-        if count:
-            mark += f"  [{count} stand-ins]"
+        if files:
+            mark += f"  [{len(files)} stand-ins: {', '.join(files)}]"
         if reason is None:
             print(f"accepted  {scene}{mark}")
             continue

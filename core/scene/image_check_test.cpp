@@ -5,7 +5,9 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -57,6 +59,46 @@ TEST(ImageCheck, AcceptsGoodImagesAndReportsTheirSize) {
   EXPECT_EQ(png.width, 4);
   ImageCheck hdr = check_image_bytes("sky.hdr", encode(".hdr", 8, 4, ramp(8, 4)));
   EXPECT_EQ(hdr.format, "hdr");
+}
+
+/// A PFM file (Portable Float Map) as written by hand: header, then rows bottom to top.
+std::string pfm(const char* header, const std::vector<float>& values, bool big_endian = false) {
+  std::string bytes = header;
+  for (float v : values) {
+    char b[4];
+    std::memcpy(b, &v, 4);
+    if (big_endian) std::reverse(b, b + 4);  // this machine is little-endian (x86-64)
+    bytes.append(b, 4);
+  }
+  return bytes;
+}
+
+// Public scenes light with .pfm environment maps (Mitsuba reads them as linear float images).
+// OpenImageIO reads PFM from memory; its rows are stored bottom to top, so the first value
+// stored is in the bottom row, as Mitsuba 3.9.1's Bitmap reads it too (mi.Bitmap of this 3 x 2
+// file gives rows [9..17] then [0..8]).
+TEST(ImageCheck, AcceptsPfmAndNamesPixelsTopDown) {
+  std::vector<float> values(18);
+  for (size_t i = 0; i < values.size(); ++i) values[i] = float(i);
+  ImageCheck rgb = check_image_bytes("sky.pfm", pfm("PF\n3 2\n-1.0\n", values));
+  EXPECT_EQ(rgb.width, 3);
+  EXPECT_EQ(rgb.height, 2);
+  EXPECT_EQ(rgb.channels, 3);
+  EXPECT_EQ(rgb.format, "pnm");
+  ImageCheck grey =
+      check_image_bytes("g.pfm", pfm("Pf\n3 2\n1.0\n", {0, 1, 2, 3, 4, 5}, true));
+  EXPECT_EQ(grey.channels, 1);
+  values[1] = std::numeric_limits<float>::quiet_NaN();  // stored first row: the bottom one
+  std::string nan = error_of("sky.pfm", pfm("PF\n3 2\n-1.0\n", values));
+  EXPECT_EQ(nan.rfind("sky.pfm: pixel (0, 1) channel ", 0), 0u) << nan;
+  EXPECT_NE(nan.find(" is NaN"), std::string::npos) << nan;
+  values[1] = -std::numeric_limits<float>::infinity();
+  EXPECT_NE(error_of("sky.pfm", pfm("PF\n3 2\n-1.0\n", values)).find(" is infinite"),
+            std::string::npos);
+  values[1] = 1;
+  std::string cut = error_of("sky.pfm", pfm("PF\n3 2\n-1.0\n", values).substr(0, 40));
+  EXPECT_EQ(cut.rfind("sky.pfm: ", 0), 0u) << cut;
+  EXPECT_NE(cut, "(no error)");
 }
 
 TEST(ImageCheck, RefusesBadValuesNamingThePixel) {

@@ -14,7 +14,7 @@ namespace {
 constexpr const char* kSupported =
     "Tessera supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
     "thindielectric, plastic, roughplastic, pplastic, principled, principledthin, polarizer, "
-    "blendbsdf, "
+    "blendbsdf, null, "
     "twosided, mask, bumpmap and normalmap";
 
 constexpr MitsubaColorRole kReflectance = MitsubaColorRole::reflectance;
@@ -301,6 +301,38 @@ Material read_polarizer(MitsubaPlugin& plugin, MitsubaTextures& textures) {
   return m;
 }
 
+/// Mitsuba's null BSDF (src/bsdfs/null.cpp): every hit is a null interaction, the path goes on
+/// straight with weight 1, and the surface reflects nothing; the shape still blocks shadow rays
+/// and, under the path integrator, each passage is a vertex (path.cpp counts every hit). That
+/// is exactly a mask of opacity 0 (integrator.cpp's null interaction), around a black diffuse
+/// BSDF that no path ever evaluates.
+Material read_null() {
+  Material m;
+  m.type = MaterialType::diffuse;
+  m.reflectance = TexturedColor{glm::dvec3(0), -1};
+  m.opacity = TexturedFloat{0, -1};
+  return m;
+}
+
+/// The opacity of a mask of `outer` opacity around a BSDF of `inner` opacity (a null BSDF's 0,
+/// or a nested mask's): Mitsuba's masks nest as a product (a hit is opaque when each decides
+/// so). A constant inner scales the outer one (TexturedFloat is value * texture); two textures
+/// are refused.
+TexturedFloat nested_opacity(TexturedFloat outer, const TexturedFloat& inner,
+                             const MitsubaElement& where) {
+  if (inner.is_constant()) {
+    outer.value *= inner.value;
+    return outer;
+  }
+  if (outer.is_constant()) {
+    TexturedFloat product = inner;
+    product.value *= outer.value;
+    return product;
+  }
+  fail_at(where, "a textured mask around another textured mask: Tessera takes one opacity "
+                 "texture per material");
+}
+
 /// The one BSDF nested in a wrapper (twosided, mask, bumpmap, normalmap).
 const MitsubaElement& single_nested(MitsubaPlugin& plugin) {
   std::vector<MitsubaObject> nested = plugin.take_objects("bsdf");
@@ -334,6 +366,14 @@ Material MitsubaMaterials::read_twosided(MitsubaPlugin& plugin) {
       fail_at(*side.written,
               "twosided takes only BSDFs that do not transmit light (as in Mitsuba); a "
               "dielectric (or a principled BSDF with spec_trans) is two-sided already");
+    }
+    if (!m.opacity.is_constant() || m.opacity.value != 1) {
+      // Mitsuba's mask and null BSDFs have a null (transmission) component, which its
+      // twosided refuses ("Only materials without a transmission component can be nested").
+      fail_at(*side.written,
+              "twosided takes only BSDFs that do not transmit light (as in Mitsuba); a mask or "
+              "null BSDF lets light through both sides already: put the mask around the "
+              "twosided");
     }
     m.two_sided = true;
     sides.push_back(std::move(m));
@@ -374,8 +414,8 @@ Material MitsubaMaterials::read_blend(MitsubaPlugin& plugin) {
     if (inner.two_sided || inner.back >= 0 || !inner.opacity.is_constant() ||
         inner.opacity.value != 1 || inner.normal_map >= 0 || inner.bump_map >= 0) {
       fail_at(*n.written,
-              "Tessera blends BSDFs without twosided, mask, bumpmap or normalmap inside; put "
-              "those around the blendbsdf");
+              "Tessera blends BSDFs without twosided, mask, null, bumpmap or normalmap inside; "
+              "put those around the blendbsdf");
     }
     m.blend.push_back(std::move(inner));
   }
@@ -397,7 +437,7 @@ Material MitsubaMaterials::read_wrapper(MitsubaPlugin& plugin) {
               "must be in [0, 1] (got " + format_number(opacity.value) + ")");
     }
     Material m = read(single_nested(plugin));
-    m.opacity = opacity;
+    m.opacity = nested_opacity(opacity, m.opacity, plugin.element());
     return m;
   }
   if (plugin.type() == "bumpmap") {
@@ -478,6 +518,8 @@ Material MitsubaMaterials::read(const MitsubaElement& bsdf) {
     m = read_polarizer(plugin, textures_);
   } else if (type == "blendbsdf") {
     m = read_blend(plugin);
+  } else if (type == "null") {
+    m = read_null();
   } else if (type == "twosided") {
     m = read_twosided(plugin);
   } else if (type == "mask" || type == "bumpmap" || type == "normalmap") {

@@ -216,6 +216,55 @@ TEST(MitsubaBsdf, MaskOpacityAsRgbIsTheMeanOfItsChannels) {
       <bsdf type="diffuse"/><bsdf type="conductor"/></bsdf>)").blend_weight.value, 0.3, 1e-12);
 }
 
+// Mitsuba's null BSDF (src/bsdfs/null.cpp) lets every ray through with weight 1 and reflects
+// nothing: a mask of opacity 0 (the integrator's null interaction, a vertex as in Mitsuba's path
+// integrator). Masks nest as a product of opacities; a null inside a blend is refused (Tessera
+// gives a blend one opacity), inside a twosided too, as Mitsuba refuses it.
+TEST(MitsubaBsdf, NullIsAlwaysTransparent) {
+  Material null = material_of(R"(<bsdf type="null"/>)");
+  EXPECT_TRUE(null.opacity.is_constant());
+  EXPECT_EQ(null.opacity.value, 0);
+  EXPECT_EQ(null.type, MaterialType::diffuse);
+  EXPECT_EQ(null.reflectance.value, glm::dvec3(0));
+  EXPECT_FALSE(null.transmits());
+  EXPECT_EQ(material_of(R"(<bsdf type="mask"><float name="opacity" value="0.5"/>
+      <bsdf type="null"/></bsdf>)").opacity.value, 0);
+  EXPECT_EQ(material_of(R"(<bsdf type="mask"><float name="opacity" value="0.5"/>
+      <bsdf type="mask"><float name="opacity" value="0.25"/><bsdf type="diffuse"/></bsdf>
+      </bsdf>)").opacity.value, 0.125);
+  Scene textured = parse_xml(mitsuba_scene(R"(<shape type="rectangle"><bsdf type="mask">
+      <float name="opacity" value="0.5"/><bsdf type="mask">
+      <texture type="bitmap" name="opacity"><string name="filename" value="leaf.png"/></texture>
+      <bsdf type="diffuse"/></bsdf></bsdf></shape>)"),
+                             {{"leaf.png", "x"}});
+  EXPECT_EQ(textured.materials.at(0).opacity.texture, 0);
+  EXPECT_EQ(textured.materials.at(0).opacity.value, 0.5);  // 0.5 x the texture
+  EXPECT_NE(bsdf_error(R"(<bsdf type="null"><float name="opacity" value="1"/></bsdf>)")
+                .find("<float name=\"opacity\">"),
+            std::string::npos);
+  EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/>
+      <bsdf type="null"/><bsdf type="diffuse"/></bsdf>)")
+                .find("without twosided, mask, null, bumpmap or normalmap inside"),
+            std::string::npos);
+  // Mitsuba 3.9.1's twosided refuses a null, a mask or a blend holding one ("Only materials
+  // without a transmission component can be nested"); a mask around a twosided is the way.
+  for (const char* inner : {R"(<bsdf type="null"/>)",
+                            R"(<bsdf type="mask"><bsdf type="diffuse"/></bsdf>)"}) {
+    for (const std::string& twosided :
+         {"<bsdf type=\"twosided\">" + std::string(inner) + "</bsdf>",
+          "<bsdf type=\"twosided\"><bsdf type=\"diffuse\"/>" + std::string(inner) + "</bsdf>"}) {
+      EXPECT_NE(bsdf_error(twosided).find("a mask or null BSDF lets light through both sides "
+                                          "already: put the mask around the twosided"),
+                std::string::npos)
+          << bsdf_error(twosided);
+    }
+  }
+  Material around = material_of(R"(<bsdf type="mask"><float name="opacity" value="0.3"/>
+      <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf>)");
+  EXPECT_TRUE(around.two_sided);
+  EXPECT_EQ(around.opacity.value, 0.3);
+}
+
 TEST(MitsubaBsdf, DielectricIorIsInteriorOverExterior) {
   Material m = material_of(R"(<bsdf type="dielectric"><float name="int_ior" value="1.5"/>
       <float name="ext_ior" value="1.25"/></bsdf>)");
@@ -335,7 +384,7 @@ TEST(MitsubaBsdf, UnsupportedBsdfsNameTheirLine) {
                 ": <bsdf type=\"hair\" id=\"p\">: unsupported BSDF (Tessera "
                 "supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
                 "thindielectric, plastic, roughplastic, pplastic, principled, principledthin, "
-                "polarizer, blendbsdf, twosided, mask, bumpmap and normalmap)");
+                "polarizer, blendbsdf, null, twosided, mask, bumpmap and normalmap)");
 }
 
 TEST(MitsubaBsdf, PrincipledDefaultsAreMitsubas) {
@@ -581,7 +630,7 @@ TEST(MitsubaBsdf, BlendbsdfNestsTwoBsdfs) {
   EXPECT_NE(bsdf_error(R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/>
       <bsdf type="twosided"><bsdf type="diffuse"/><bsdf type="plastic"/></bsdf>
       <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf>)")
-                .find("without twosided, mask, bumpmap or normalmap inside"),
+                .find("without twosided, mask, null, bumpmap or normalmap inside"),
             std::string::npos);
   EXPECT_NE(bsdf_error(R"(<bsdf type="twosided"><bsdf type="blendbsdf">
       <float name="weight" value="0.5"/><bsdf type="dielectric"/><bsdf type="diffuse"/></bsdf>

@@ -35,9 +35,61 @@ TEST(MitsubaEmitter, AreaEmitterDefaultsAndTextures) {
       <rgb name="radiance" value="1, -1, 1"/></emitter></shape>)"))
                 .find("each channel must be >= 0 (got -1)"),
             std::string::npos);
-  EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="rectangle"><emitter type="point"/></shape>)"))
-                .find("a shape's emitter must be \"area\""),
+}
+
+// Mitsuba adds a shape's emitter to the scene's emitters whatever its type (scene.cpp): a spot
+// written inside a shape (as in langevin-mc-rendering's scene_directional.xml) lights the scene
+// from its own to_world, the shape does not glow, and its default BSDF is black (shape.cpp).
+TEST(MitsubaEmitter, LightInsideAShapeIsALightOfTheScene) {
+  Scene s = parse_xml(mitsuba_scene(R"(<shape type="rectangle">
+      <transform name="to_world"><translate value="0, 2, 0"/></transform>
+      <emitter type="spot"><rgb name="intensity" value="17, 12, 4"/>
+        <float name="cutoff_angle" value="30"/></emitter></shape>
+      <shape type="sphere"><bsdf type="diffuse"/><emitter type="point">
+        <point name="position" value="1, 2, 3"/></emitter></shape>
+      <emitter type="directional"/>)"));
+  ASSERT_EQ(s.lights.size(), 3u);  // document order, as Mitsuba lists its emitters
+  EXPECT_EQ(s.lights[0].kind, LightKind::spot);
+  EXPECT_EQ(s.lights[0].to_world, glm::dmat4(1));  // not the shape's to_world
+  EXPECT_EQ(s.lights[0].value, glm::dvec3(17, 12, 4));
+  EXPECT_EQ(s.lights[0].cutoff_angle_deg, 30);
+  EXPECT_EQ(s.lights[1].kind, LightKind::point);
+  EXPECT_EQ(s.lights[2].kind, LightKind::directional);
+  ASSERT_EQ(s.shapes.size(), 2u);
+  for (const Shape& shape : s.shapes) {
+    EXPECT_FALSE(shape.is_emitter());
+    EXPECT_EQ(shape.emission, glm::dvec3(0));
+  }
+  EXPECT_EQ(s.materials.at(s.shapes[0].material).reflectance.value, glm::dvec3(0));
+  EXPECT_EQ(s.materials.at(s.shapes[1].material).reflectance.value, glm::dvec3(0.5));
+
+  // Still refused: two emitters, an environment inside a shape, a top-level light named by
+  // <ref> (Mitsuba would list it twice), a light inside a shapegroup's shape (Mitsuba refuses
+  // instanced emitters).
+  const std::string two = mitsuba_scene(R"(<shape type="rectangle"><emitter type="point"/>
+      <emitter type="area"/></shape>)");
+  EXPECT_NE(xml_error(two).find("line " + std::to_string(line_of(two, "<emitter type=\"area")) +
+                                ": <emitter type=\"area\">: a shape has at most one emitter"),
+            std::string::npos)
+      << xml_error(two);
+  for (const char* environment : {"constant", "envmap"}) {
+    const std::string xml = mitsuba_scene(R"(<shape type="rectangle"><emitter type=")" +
+                                          std::string(environment) + R"("/></shape>)");
+    EXPECT_NE(xml_error(xml).find(std::string("a ") + environment +
+                                  " emitter inside a shape: Mitsuba samples it as a light but "
+                                  "escaping rays do not see it"),
+              std::string::npos)
+        << xml_error(xml);
+  }
+  EXPECT_NE(xml_error(mitsuba_scene(R"(<emitter type="spot" id="s"/>
+      <shape type="rectangle"><ref id="s"/></shape>)"))
+                .find("a spot emitter named by <ref> inside a shape"),
             std::string::npos);
+  const std::string grouped = mitsuba_scene(R"(<shape type="shapegroup" id="g">
+      <shape type="sphere"><emitter type="point"/></shape></shape>
+      <shape type="instance"><ref id="g"/></shape>)");
+  EXPECT_NE(xml_error(grouped).find("a shapegroup's shapes cannot emit light"), std::string::npos)
+      << xml_error(grouped);
 }
 
 TEST(MitsubaEmitter, SpectralRadianceIsMitsubasRgb) {
@@ -185,6 +237,12 @@ TEST(MitsubaEmitter, ConstantAndEnvironmentMaps) {
   EXPECT_EQ(env.value, glm::dvec3(2));
   testing::expect_near(glm::dvec3(env.to_world[0]), glm::dvec3(0, 0, -1));
   EXPECT_EQ(s.referenced_files, std::vector<std::string>{"maps/sky.exr"});
+  // A .pfm map (a float image, as Mitsuba reads it; its bytes are checked at submit).
+  Scene pfm = parse_xml(mitsuba_scene(R"(<emitter type="envmap">
+      <string name="filename" value="sky.pfm"/></emitter>)"),
+                        {{"sky.pfm", "texels"}});
+  EXPECT_EQ(pfm.lights.at(0).file, "sky.pfm");
+  EXPECT_EQ(pfm.referenced_files, std::vector<std::string>{"sky.pfm"});
   std::string missing = mitsuba_scene(
       "<emitter type=\"envmap\">\n<string name=\"filename\" value=\"sky.exr\"/>\n</emitter>");
   EXPECT_EQ(xml_error(missing), "test.xml: line " + std::to_string(line_of(missing, "<string")) +

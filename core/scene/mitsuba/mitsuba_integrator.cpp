@@ -77,6 +77,7 @@ MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& element, const M
       result.note = "the ptracer integrator is rendered by Tessera's path tracer (the same "
                     "image, other noise)";
     } else if (type == "volpath") {
+      result.counts_null_interactions = false;
       result.note = "the volpath integrator is rendered by Tessera's path tracer (the same "
                     "image without media)";
     }

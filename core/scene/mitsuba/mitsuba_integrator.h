@@ -21,6 +21,10 @@ struct MitsubaIntegrator {
   /// bsdf_samples 0...4); `shading_samples` alone does not do it (3: 1x). The loader refuses
   /// that pair (docs/mitsuba.md, "Integrator").
   int64_t emitter_samples = 1;
+  /// False for `volpath`: it does not count null interactions (a mask's or null BSDF's
+  /// passage, a thindielectric's straight transmission) toward max_depth, as Mitsuba's path
+  /// integrator and Tessera do. The loader refuses such materials with a finite max_depth.
+  bool counts_null_interactions = true;
   /// For an integrator Tessera renders as `path`: a line saying so ("" for path itself).
   std::string note;
 };

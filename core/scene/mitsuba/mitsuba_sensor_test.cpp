@@ -343,6 +343,35 @@ TEST(MitsubaIntegrator, ThoseThatRenderThePathImageAreAccepted) {
             2);
 }
 
+// Mitsuba's volpath counts only non-null BSDF samples toward max_depth (volpath.cpp); its path
+// integrator and Tessera count every hit. With a mask, a null BSDF or a thindielectric (its
+// transmission is a null interaction) and a finite max_depth the images differ: refused, unless
+// max_depth is unbounded.
+TEST(MitsubaIntegrator, VolpathWithNullInteractionsNeedsAnUnboundedDepth) {
+  const std::string volpath = R"(<integrator type="volpath">
+      <integer name="max_depth" value="6"/></integrator>)";
+  for (const char* bsdf : {R"(<bsdf type="null"/>)", R"(<bsdf type="thindielectric"/>)",
+                           R"(<bsdf type="mask"><bsdf type="diffuse"/></bsdf>)",
+                           R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/>
+                              <bsdf type="thindielectric"/><bsdf type="diffuse"/></bsdf>)"}) {
+    const std::string xml =
+        mitsuba_scene(volpath + "<shape type=\"rectangle\">" + bsdf + "</shape>");
+    EXPECT_NE(xml_error(xml).find("line " + std::to_string(line_of(xml, "<integrator")) +
+                                  ": <integrator type=\"volpath\">: volpath with max_depth 6 "
+                                  "and material \""),
+              std::string::npos)
+        << xml_error(xml);
+    EXPECT_NE(xml_error(xml).find("write max_depth -1 or the path integrator"), std::string::npos);
+    // Unbounded, or under path, the same scene is accepted.
+    EXPECT_EQ(xml_error(mitsuba_scene(R"(<integrator type="volpath"/><shape type="rectangle">)" +
+                                      std::string(bsdf) + "</shape>")),
+              "(no error)");
+    EXPECT_EQ(xml_error(mitsuba_scene(R"(<integrator type="path"><integer name="max_depth"
+        value="6"/></integrator><shape type="rectangle">)" + std::string(bsdf) + "</shape>")),
+              "(no error)");
+  }
+}
+
 // direct_projective's primal image is Mitsuba's direct illumination (one emitter sample, MIS with
 // BSDF sampling, max_depth forced to 2 whatever is written); its options steer gradients only.
 TEST(MitsubaIntegrator, DirectProjectiveRendersAsDirect) {

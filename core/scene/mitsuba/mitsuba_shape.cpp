@@ -144,11 +144,51 @@ uint32_t read_material(MitsubaPlugin& plugin, MitsubaShapeContext& context, bool
   return context.materials.of(*bsdfs.front().element);
 }
 
-/// The shape's area emitter, if any; whether it has one.
+/// A point, spot, directional or projector emitter written inside a shape. Mitsuba's scene
+/// (scene.cpp) adds a shape's emitter to its emitters whatever the type; such a light keeps its
+/// own to_world (it does not move with the shape), a hit on the shape finds no emission (their
+/// eval() is 0), and the shape's default BSDF is black as for any shape with an emitter
+/// (shape.cpp). So it is a light of the scene like one written at the top. An environment
+/// emitter would join the sampled emitters without being the scene's environment (escaping
+/// rays would not see it): refused.
+void read_nested_light(const MitsubaObject& emitter, MitsubaShapeContext& context) {
+  const MitsubaElement& element = *emitter.element;
+  const std::string* type = element.attribute("type");
+  if (type && (*type == "constant" || *type == "envmap")) {
+    fail_at(*emitter.written,
+            "a " + *type +
+                " emitter inside a shape: Mitsuba samples it as a light but escaping rays do "
+                "not see it (it is not the scene's environment), which Tessera does not render; "
+                "put it at the top of the scene");
+  }
+  if (emitter.written->tag == "ref") {
+    // Declared at the top, it is a light of the scene there already; Mitsuba would list it
+    // twice among its emitters.
+    fail_at(*emitter.written,
+            "a " + std::string(type ? *type : "non-area") +
+                " emitter named by <ref> inside a shape: write it inside the shape or at the top "
+                "of the scene, not both");
+  }
+  context.lights.push_back(read_mitsuba_light(element, context.ids, context.files,
+                                              context.referenced_files, context.textures));
+  std::fprintf(stderr,
+               "note: %s: line %d: the %s emitter inside this shape is a light of the scene, as "
+               "in Mitsuba: it keeps its own to_world, the shape does not glow, and the shape's "
+               "default BSDF is black\n",
+               element.file.c_str(), element.line, type ? type->c_str() : "?");
+}
+
+/// The shape's emitter, if any; whether it has one. An area emitter makes the shape glow;
+/// another kind is a light of the scene (read_nested_light).
 bool read_emitter(MitsubaPlugin& plugin, MitsubaShapeContext& context, Shape& shape) {
   std::vector<MitsubaObject> emitters = plugin.take_objects("emitter");
   if (emitters.empty()) return false;
   if (emitters.size() > 1) fail_at(*emitters[1].written, "a shape has at most one emitter");
+  const std::string* type = emitters.front().element->attribute("type");
+  if (type && *type != "area") {
+    read_nested_light(emitters.front(), context);
+    return true;
+  }
   MitsubaAreaEmission emission =
       read_mitsuba_area_emitter(*emitters.front().element, context.ids, context.textures);
   shape.emission = emission.radiance;
@@ -320,8 +360,9 @@ uint32_t read_mitsuba_shape_group(const MitsubaElement& element, MitsubaShapeCon
     if (type && (*type == "instance" || *type == "shapegroup")) {
       fail_at(*member.written, "a shapegroup holds shapes, not instances or groups");
     }
+    const size_t lights_before = context.lights.size();
     Shape shape = read_mitsuba_shape(*member.element, context);
-    if (shape.is_emitter()) {
+    if (shape.is_emitter() || context.lights.size() != lights_before) {
       fail_at(*member.written, "a shapegroup's shapes cannot emit light (as in Mitsuba)");
     }
     if (mitsuba_shape_is_empty(shape)) {

@@ -23,6 +23,9 @@ struct MitsubaShapeContext {
   MitsubaTextures& textures;                   ///< textured area emitters
   std::vector<std::string>& referenced_files;  ///< mesh files read, each once
   std::vector<ShapeGroup>& groups;             ///< shape groups, read on first use
+  /// The scene's lights: a point, spot, directional or projector emitter written inside a
+  /// shape joins them, as in Mitsuba (read_mitsuba_shape).
+  std::vector<Light>& lights;
   std::map<const MitsubaElement*, uint32_t> group_index{};
 };
 
@@ -30,7 +33,10 @@ struct MitsubaShapeContext {
 /// face_normals; an OBJ's MTL files are not read, as in Mitsuba), `rectangle`, `cube`, `disk`
 /// (tessellated, with Mitsuba's uv parametrisation) and `sphere` (center, radius; it stays
 /// exact, so its to_world must be a similarity), each with to_world and flip_normals, at most
-/// one BSDF (Mitsuba's default diffuse 0.5 without one) and at most one area emitter; and
+/// one BSDF (Mitsuba's default diffuse 0.5 without one, black with an emitter) and at most one
+/// emitter: an area emitter makes the shape glow; a point, spot, directional or projector
+/// emitter is a light of the scene as Mitsuba reads it (appended to context.lights; it keeps its
+/// own to_world and the shape does not glow; constant and envmap are refused); and
 /// `instance`, which places a `shapegroup` (named through <ref>) by its to_world. Mesh files
 /// without normals get Mitsuba's vertex normals unless face_normals is true. Degenerate
 /// triangles of mesh files are dropped and counted (a mesh file whose faces are all degenerate

@@ -53,7 +53,7 @@ class SceneBuilder {
         referenced_(std::move(document.files_read)),
         textures_(ids_, files_, referenced_),
         materials_(ids_, textures_),
-        context_{ids_, files_, materials_, textures_, referenced_, groups_} {
+        context_{ids_, files_, materials_, textures_, referenced_, groups_, lights_} {
     files_.reset(document.search_folders);
     collect_references(root_, ids_, referenced_objects_);
   }
@@ -70,13 +70,14 @@ class SceneBuilder {
     check_mitsuba_clip_planes(*sensor_, shapes_);
     refuse_overweighted_delta_lights();
     Scene result;
+    result.materials = materials_.take();
+    refuse_uncounted_null_interactions(result.materials);
     result.camera = sensor_->camera;
     result.film = sensor_->film;
     result.render.spp = sensor_->spp;
     result.render.seed = sensor_->seed;
     result.render.max_depth = integrator_.max_depth;
     result.render.hide_emitters = integrator_.hide_emitters;
-    result.materials = materials_.take();
     result.textures = textures_.take();
     result.shapes = std::move(shapes_);
     result.groups = std::move(groups_);
@@ -114,6 +115,27 @@ class SceneBuilder {
                     " times too bright then, which Tessera does not reproduce (write "
                     "emitter_samples 1, or the path integrator with max_depth 2)");
       }
+    }
+  }
+
+  /// Mitsuba's volpath does not count null interactions toward max_depth (volpath.cpp counts
+  /// only non-null BSDF samples), where its path integrator and Tessera count every hit: with
+  /// a finite max_depth a scene with a mask, a null BSDF or a thindielectric (whose straight
+  /// transmission is a null interaction) renders differently. Refused, saying what to write.
+  void refuse_uncounted_null_interactions(const std::vector<Material>& materials) const {
+    if (integrator_.counts_null_interactions || integrator_.max_depth < 0) return;
+    auto null_scattering = [](const Material& m) {
+      return m.type == MaterialType::thin_glass || !m.opacity.is_constant() || m.opacity.value < 1;
+    };
+    for (const Material& m : materials) {
+      bool blended = std::any_of(m.blend.begin(), m.blend.end(), null_scattering);
+      if (!null_scattering(m) && !blended) continue;
+      fail_at(*integrator_element_,
+              "volpath with max_depth " + std::to_string(integrator_.max_depth) +
+                  " and material \"" + m.name +
+                  "\" (a mask, null BSDF or thindielectric): Mitsuba's volpath does not count "
+                  "passages through such surfaces toward max_depth, Tessera's path tracer does "
+                  "(as Mitsuba's path integrator); write max_depth -1 or the path integrator");
     }
   }
 
@@ -196,13 +218,13 @@ class SceneBuilder {
   MitsubaTextures textures_;
   MitsubaMaterials materials_;
   std::vector<ShapeGroup> groups_;
+  std::vector<Light> lights_;  // before context_, which refers to it
   MitsubaShapeContext context_;
   std::optional<MitsubaSensor> sensor_;
   int other_sensors_ = 0;  ///< sensors after the first: read, not rendered
   const MitsubaElement* integrator_element_ = nullptr;
   MitsubaIntegrator integrator_;  // Mitsuba's default integrator: path, unbounded
   std::vector<Shape> shapes_;
-  std::vector<Light> lights_;
   std::set<const MitsubaElement*> referenced_objects_;
 };
 
