@@ -356,6 +356,35 @@ TEST(MaterialExtremes, EveryNamedMetalRendersFinite) {
 
 // --- Lights ------------------------------------------------------------------------------------
 
+TEST(LightExtremes, PointAndSpotLightsLyingOnASurfaceStillLightTheScene) {
+  // A spot (and a point light) placed exactly on the floor, the spot shining up at a sphere:
+  // every shadow ray from the sphere ends at the light's position, which the floor passes
+  // through. Shadow rays to delta lights stop short of it (kDeltaShadowEnd, as Mitsuba's
+  // spawn_ray_to), so the sphere is lit; ending at the light itself left the image black
+  // (langevin-mc-rendering's scene_directional.xml).
+  for (const char* light : {R"(<emitter type="spot"><float name="cutoff_angle" value="60"/>
+      <rgb name="intensity" value="10"/>
+      <transform name="to_world"><lookat origin="0, 0, 0" target="0, 0, 1" up="0, 1, 0"/></transform>
+    </emitter>)",
+                            R"(<emitter type="point"><point name="position" value="0, 0, 0"/>
+      <rgb name="intensity" value="10"/></emitter>)"}) {
+    const SceneFolder dir("light_on_floor");
+    write_file(dir / "scene.xml", std::string(R"(<scene version="3.0.0">
+  <sensor type="perspective">
+    <float name="fov" value="40"/>
+    <transform name="to_world"><lookat origin="0, -6, 2" target="0, 0, 1" up="0, 0, 1"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
+  </sensor>
+  <shape type="rectangle"><transform name="to_world"><scale value="4"/></transform></shape>
+  <shape type="sphere"><point name="center" value="0, 0, 1.5"/><float name="radius" value="0.5"/></shape>
+  )") + light + "\n</scene>\n");
+    const Rendered r = render_file(dir / "scene.xml", 16, 16, 4);
+    expect_finite(r, "light on the floor", false);
+    EXPECT_GT(r.mean_luminance(), 1e-3) << light;
+  }
+}
+
+
 struct LightCase {
   const char* name;
   const char* shapes;  ///< extra shapes (area emitters), each `{...},`

@@ -45,8 +45,18 @@ inline float mis_weight(float pdf_a, float pdf_b) {
   return std::isfinite(w) ? w : 0.0f;
 }
 
+/// Where a shadow ray towards a point, spot or projector light ends, as a fraction of the way:
+/// Mitsuba's `Interaction::spawn_ray_to` ends every shadow ray at (1 - ShadowEpsilon) of the
+/// distance, ShadowEpsilon = 15000 * 2^-24. A delta light has no surface whose error bound could
+/// tell where it ends, and scenes put such lights on a surface (a spot on the floor, pointing
+/// up: langevin-mc-rendering's scene_directional.xml): ending at the light itself, the shadow
+/// ray would hit that surface at the light's own position and leave the scene black, where
+/// Mitsuba lights it.
+inline constexpr float kDeltaShadowEnd = 1.0f - 15000.0f * 0x1p-24f;
+
 /// Sets `q` to the shadow ray of light sample `ls` from `origin` (already offset off the
-/// surface): to the light's offset point, or unbounded for lights at infinity.
+/// surface): to the light's offset point (area lights), short of the light's position by
+/// kDeltaShadowEnd (point, spot, projector), or unbounded for lights at infinity.
 inline void set_shadow_ray(glm::vec3 origin, const LightSample& ls, ShadowQuery* q) {
   q->o = origin;
   if (std::isinf(ls.distance)) {
@@ -55,7 +65,7 @@ inline void set_shadow_ray(glm::vec3 origin, const LightSample& ls, ShadowQuery*
   } else {
     const glm::vec3 to = offset_ray_origin(ls.point, -ls.wi);
     q->d = to - origin;
-    q->t_max = 1.0f;
+    q->t_max = ls.delta ? kDeltaShadowEnd : 1.0f;
   }
 }
 
