@@ -35,9 +35,9 @@ float log_i0(float x) {
   return x > 12 ? x + 0.5f * (std::log(1.0f / (kTwoPi * x)) + 1.0f / (8.0f * x)) : std::log(i0(x));
 }
 
-/// d'Eon et al.'s longitudinal lobe M_p (Mitsuba's square_to_rough_fiber_pdf with tangent +y,
-/// kappa = 1 / v), robust for small v (Jakob's log-space form).
-float longitudinal(glm::vec3 wi_p, glm::vec3 wo, float v) {
+}  // namespace
+
+float hair_longitudinal(glm::vec3 wi_p, glm::vec3 wo, float v) {
   const float kappa = 1.0f / v;
   const float sin_i = wi_p.y, sin_o = wo.y;
   const float cos_i = safe_sqrt(1 - sin_i * sin_i), cos_o = safe_sqrt(1 - sin_o * sin_o);
@@ -47,6 +47,8 @@ float longitudinal(glm::vec3 wi_p, glm::vec3 wo, float v) {
   }
   return std::exp(-s) * i0(c) * kappa / (2.0f * std::sinh(kappa)) * (1 / kTwoPi);
 }
+
+namespace {
 
 float logistic(float x, float s) {
   x = std::abs(x);
@@ -79,12 +81,7 @@ float gamma_of(glm::vec3 w) {
 
 }  // namespace
 
-glm::vec3 hair_sigma_a(float eumelanin, float pheomelanin) {
-  return eumelanin * glm::vec3(0.419f, 0.697f, 1.37f) +
-         pheomelanin * glm::vec3(0.187f, 0.4f, 1.05f);
-}
-
-HairBsdf::HairBsdf(const HairParams& p) : sigma_a_(p.sigma_a), eta_(p.eta) {
+HairBsdf::HairBsdf(const HairInputs& p) : sigma_a_(p.sigma_a), eta_(p.eta) {
   sin_2k_alpha_[0] = std::sin(p.scale_tilt_deg * (kPi / 180.0f));
   cos_2k_alpha_[0] = safe_sqrt(1 - sin_2k_alpha_[0] * sin_2k_alpha_[0]);
   for (int i = 1; i < 3; ++i) {
@@ -171,12 +168,12 @@ void HairBsdf::eval_pdf(glm::vec3 wo, glm::vec3 wi, glm::vec3* value, float* pdf
     float sin_p = 0, cos_p = 0;
     reframe(sin_theta_o, cos_theta_o, p, &sin_p, &cos_p);
     const glm::vec3 wo_p(cos_p * cos_phi_o, sin_p, cos_p * sin_phi_o);
-    const float mn = longitudinal(wo_p, wi, v_[p]) * kTwoPi *
+    const float mn = hair_longitudinal(wo_p, wi, v_[p]) * kTwoPi *
                      azimuthal(delta_phi, p, s_, gamma_o, gamma_t);
     f += mn * a_p[p];
     if (pdf) density += mn * a_pdf[p];
   }
-  const float m_rest = longitudinal(wo, wi, v_[kPMax]);
+  const float m_rest = hair_longitudinal(wo, wi, v_[kPMax]);
   f += m_rest * a_p[kPMax];
   if (pdf) density += m_rest * a_pdf[kPMax];
   if (value) *value = std::isfinite(f.x + f.y + f.z) ? f : glm::vec3(0.0f);

@@ -10,6 +10,8 @@
 // light enters comes from wo's position around the fibre, as in Mitsuba: the BSDF is meant for
 // curves (a hit's normal then says where across the fibre it is). A single scattering event
 // stands for the whole walk through the fibre: wi may point anywhere on the sphere.
+// The model is not reciprocal (Mitsuba flags it NonSymmetric: h and the scale tilt follow wo),
+// so wo must be the direction towards the camera, Mitsuba's si.wi.
 #pragma once
 
 #include <optional>
@@ -21,24 +23,17 @@
 
 namespace tessera {
 
-/// Mitsuba's hair parameters, resolved.
-struct HairParams {
-  /// Absorption per unit fibre radius, >= 0 per channel: Mitsuba's scale * sigma_a, or
-  /// hair_sigma_a(eumelanin, pheomelanin).
-  glm::vec3 sigma_a{0.0f};
-  float eta = 1.55f;                    ///< interior / exterior index, > 0 and != 1
-  float longitudinal_roughness = 0.3f;  ///< beta_m, in [0, 1]
-  float azimuthal_roughness = 0.3f;     ///< beta_n, in [0, 1]
-  float scale_tilt_deg = 2;             ///< alpha: the cuticle scales' angle, degrees
-};
-
-/// Mitsuba's absorption of melanin concentrations (d'Eon et al. 2011, RGB variants):
-/// eumelanin (0.419, 0.697, 1.37) + pheomelanin (0.187, 0.4, 1.05).
-glm::vec3 hair_sigma_a(float eumelanin, float pheomelanin);
+/// d'Eon et al.'s longitudinal lobe as Mitsuba evaluates it (warp::square_to_rough_fiber_pdf
+/// with the fibre along +y and kappa = 1 / v): a density over the sphere of directions wi
+/// around wo, symmetric in its two directions. v > 0 is the lobe's variance; for v < 0.1 it is
+/// evaluated in log space (Jakob's form), where exp(1 / v) would overflow.
+float hair_longitudinal(glm::vec3 wi, glm::vec3 wo, float v);
 
 class HairBsdf {
  public:
-  explicit HairBsdf(const HairParams& p);
+  explicit HairBsdf(const HairInputs& p);
+  /// The BSDF of a hair material (p.type == MaterialType::hair): p.hair.
+  explicit HairBsdf(const BsdfParams& p) : HairBsdf(p.hair) {}
 
   /// f(wo, wi) |cos| as Mitsuba's eval returns it (the model's sum over p of M_p A_p N_p).
   glm::vec3 eval(glm::vec3 wo, glm::vec3 wi) const;
