@@ -125,7 +125,7 @@ TEST(HairRender, StrandsSceneMatchesMitsuba) {
   const Scene scene = load_scene_file(dir + "/tests/data/mitsuba/hair/strands.xml");
   // Two seeds: their difference per pixel gives the noise of Tessera's mean (as
   // scripts/mitsuba_sweep.py estimates it).
-  const int kSpp = 64;
+  const int kSpp = 32;
   std::array<RgbImage, 2> images;
   for (int seed = 0; seed < 2; ++seed) {
     JobOverrides overrides;
