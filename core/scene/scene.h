@@ -174,6 +174,10 @@ enum class MaterialType {
   /// straight through, scaled by specular_transmittance / 2 (Mitsuba's `transmittance`), from
   /// either side; nothing is reflected. Its theta and polarizing change no RGB image.
   polarizer,
+  /// Mitsuba's `hair` (Chiang et al. 2016): a fibre's reflection and transmission, meant for
+  /// curves; ior = interior / exterior index (!= 1), the rest in Material::hair. Two-sided by
+  /// nature: light crosses the fibre.
+  hair,
 };
 
 enum class MicrofacetDistribution { ggx, beckmann };
@@ -216,6 +220,24 @@ struct PrincipledParameters {
     }
     return false;
   }
+};
+
+/// Mitsuba's absorption of melanin concentrations (d'Eon et al. 2011, as its RGB variants take
+/// it): eumelanin (0.419, 0.697, 1.37) + pheomelanin (0.187, 0.4, 1.05), per unit radius.
+inline glm::dvec3 melanin_sigma_a(double eumelanin, double pheomelanin) {
+  return eumelanin * glm::dvec3(0.419, 0.697, 1.37) + pheomelanin * glm::dvec3(0.187, 0.4, 1.05);
+}
+
+/// A `hair` material's parameters besides its index (Material::ior), with Mitsuba's names,
+/// defaults and meaning (docs/scenes.md, "hair").
+struct HairParameters {
+  /// Absorption inside the fibre per unit fibre radius, >= 0 per channel: Mitsuba's
+  /// scale * sigma_a, or its melanin mix (melanin_sigma_a). The default is Mitsuba's: 1.3
+  /// eumelanin and 0.2 pheomelanin.
+  TexturedColor sigma_a{melanin_sigma_a(1.3, 0.2), -1};
+  double longitudinal_roughness = 0.3;  ///< beta_m, in [0, 1]
+  double azimuthal_roughness = 0.3;     ///< beta_n, in [0, 1]
+  double scale_tilt_deg = 2;            ///< alpha: the cuticle scales' tilt, degrees
 };
 
 struct Material {
@@ -268,8 +290,10 @@ struct Material {
   /// blend only: the two nested BSDFs (Mitsuba's first and second), any kind but without
   /// sidedness, mask, bump or normal map of their own (the blend carries those).
   std::vector<Material> blend;
+  /// hair only: its parameters besides ior.
+  HairParameters hair;
   /// Whether the material transmits light (glass kinds, principled with spec_trans,
-  /// principled_thin, polarizer, a blend of one): then two-sided by nature.
+  /// principled_thin, polarizer, hair, a blend of one): then two-sided by nature.
   bool transmits() const {
     if (type == MaterialType::glass || type == MaterialType::rough_glass ||
         type == MaterialType::thin_glass) {
@@ -278,7 +302,7 @@ struct Material {
     if (type == MaterialType::principled) return principled.transmits();
     // Mitsuba's principledthin always has a transmission lobe and treats both sides alike.
     if (type == MaterialType::principled_thin) return true;
-    if (type == MaterialType::polarizer) return true;
+    if (type == MaterialType::polarizer || type == MaterialType::hair) return true;
     if (type == MaterialType::blend) {
       for (const Material& m : blend) {
         if (m.transmits()) return true;

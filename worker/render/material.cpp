@@ -56,6 +56,8 @@ RenderMaterial make_render_material(const Material& m, RoughPlasticTables& table
   rp.diffuse_reflectance_sampling_rate = float(pp.diffuse_reflectance_sampling_rate);
   rp.transmits = m.type == MaterialType::principled && pp.transmits();
   r.blend_weight = scalar(m.blend_weight);
+  r.hair = {color(m.hair.sigma_a), float(m.hair.longitudinal_roughness),
+            float(m.hair.azimuthal_roughness), float(m.hair.scale_tilt_deg)};
   for (const Material& nested : m.blend) {
     r.blend.push_back(make_render_material(nested, tables));
     r.textured = r.textured || r.blend.back().textured;
@@ -71,6 +73,7 @@ RenderMaterial make_render_material(const Material& m, RoughPlasticTables& table
                m.specular_transmittance.texture >= 0 || m.alpha_u.texture >= 0 ||
                m.alpha_v.texture >= 0 || m.opacity.texture >= 0 || m.normal_map >= 0 ||
                m.bump_map >= 0 || m.ior_texture >= 0 || m.blend_weight.texture >= 0 ||
+               (m.type == MaterialType::hair && m.hair.sigma_a.texture >= 0) ||
                ((m.type == MaterialType::principled || m.type == MaterialType::principled_thin) &&
                 pp.textured());
   return r;
@@ -119,6 +122,10 @@ BsdfParams bsdf_params(const RenderMaterial& m, const TextureSet& textures, cons
     in.specular_reflectance_sampling_rate = rp.specular_reflectance_sampling_rate;
     in.specular_transmittance_sampling_rate = rp.specular_transmittance_sampling_rate;
     in.diffuse_transmittance_sampling_rate = rp.diffuse_transmittance_sampling_rate;
+  }
+  if (m.type == MaterialType::hair) {
+    p.hair = {color(m.hair.sigma_a), m.ior, m.hair.longitudinal_roughness,
+              m.hair.azimuthal_roughness, m.hair.scale_tilt_deg};
   }
   if (m.type == MaterialType::blend) {
     p.blend_weight = scalar(m.blend_weight);

@@ -41,6 +41,12 @@ struct RenderPrincipled {
   bool transmits = false;  ///< spec_trans textured or non-zero
 };
 
+/// A hair material's parameters besides its index (HairParameters).
+struct RenderHair {
+  RenderColor sigma_a;
+  float longitudinal_roughness = 0.3f, azimuthal_roughness = 0.3f, scale_tilt_deg = 2;
+};
+
 struct RenderMaterial {
   MaterialType type = MaterialType::diffuse;
   glm::vec3 albedo{0.0f};  ///< diffuse reflectance when constant (the diffuse fast path's)
@@ -69,16 +75,17 @@ struct RenderMaterial {
   RenderPrincipled principled;  ///< principled only
   RenderFloat blend_weight{0.5f, -1};  ///< blend only
   std::vector<RenderMaterial> blend;   ///< blend only: the two nested materials
+  RenderHair hair;                     ///< hair only
 
   /// Whether any parameter is a texture (the hit then needs its uv).
   bool textured = false;
-  /// Glass kinds, principled materials that transmit, thin principled ones and polarizers: both
-  /// sides are the surface, with the index inverted from the back (the BSDF handles wo below
-  /// the surface).
+  /// Glass kinds, principled materials that transmit, thin principled ones, polarizers and hair:
+  /// both sides are the surface, with the index inverted from the back (the BSDF handles wo
+  /// below the surface; hair takes wo and wi all around the fibre).
   bool dielectric() const {
     return type == MaterialType::glass || type == MaterialType::rough_glass ||
            type == MaterialType::thin_glass || type == MaterialType::principled_thin ||
-           type == MaterialType::polarizer ||
+           type == MaterialType::polarizer || type == MaterialType::hair ||
            (type == MaterialType::principled && principled.transmits) ||
            (type == MaterialType::blend && blend_transmits());
   }

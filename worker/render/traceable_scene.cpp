@@ -16,8 +16,10 @@ namespace {
 
 /// Whether a material's roughness differs along dpdu and dpdv anywhere (rough kinds with
 /// alpha_u != alpha_v or textured alphas, principled kinds with a non-zero or textured
-/// `anisotropic`, a blend holding either): its shading frame then follows dpdu.
+/// `anisotropic`, hair, a blend holding either): its shading frame then follows dpdu (hair's
+/// +y runs along the fibre: on a curve, dpdu goes around it).
 bool is_anisotropic(const Material& m) {
+  if (m.type == MaterialType::hair) return true;
   if (m.alpha_u.value != m.alpha_v.value || !m.alpha_u.is_constant() || !m.alpha_v.is_constant()) {
     return true;
   }

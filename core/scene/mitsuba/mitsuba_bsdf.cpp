@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scene/mitsuba/mitsuba_hair.h"
 #include "scene/mitsuba/mitsuba_ior.h"
 #include "scene/mitsuba/mitsuba_metals.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
@@ -14,7 +15,7 @@ namespace {
 constexpr const char* kSupported =
     "Tessera supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
     "thindielectric, plastic, roughplastic, pplastic, principled, principledthin, polarizer, "
-    "blendbsdf, null, "
+    "hair, blendbsdf, null, "
     "twosided, mask, bumpmap and normalmap";
 
 constexpr MitsubaColorRole kReflectance = MitsubaColorRole::reflectance;
@@ -516,6 +517,8 @@ Material MitsubaMaterials::read(const MitsubaElement& bsdf) {
     m = read_pplastic(plugin, textures_);
   } else if (type == "polarizer") {
     m = read_polarizer(plugin, textures_);
+  } else if (type == "hair") {
+    m = read_hair(plugin, textures_, read_relative_ior(plugin, "amber"));
   } else if (type == "blendbsdf") {
     m = read_blend(plugin);
   } else if (type == "null") {

@@ -375,16 +375,16 @@ TEST(MitsubaBsdf, TwosidedLimits) {
 
 TEST(MitsubaBsdf, UnsupportedBsdfsNameTheirLine) {
   std::string body =
-      "<bsdf type=\"diffuse\" id=\"ok\"/>\n<bsdf type=\"hair\" id=\"p\">\n"
-      "  <float name=\"roughness\" value=\"0.1\"/>\n</bsdf>";
+      "<bsdf type=\"diffuse\" id=\"ok\"/>\n<bsdf type=\"measured\" id=\"p\">\n"
+      "  <string name=\"filename\" value=\"gold.bsdf\"/>\n</bsdf>";
   std::string xml = mitsuba_scene(body);
   // Refused even when no shape uses it.
   EXPECT_EQ(xml_error(xml),
-            "test.xml: line " + std::to_string(line_of(xml, "hair")) +
-                ": <bsdf type=\"hair\" id=\"p\">: unsupported BSDF (Tessera "
+            "test.xml: line " + std::to_string(line_of(xml, "measured")) +
+                ": <bsdf type=\"measured\" id=\"p\">: unsupported BSDF (Tessera "
                 "supports diffuse, conductor, roughconductor, dielectric, roughdielectric, "
                 "thindielectric, plastic, roughplastic, pplastic, principled, principledthin, "
-                "polarizer, blendbsdf, null, twosided, mask, bumpmap and normalmap)");
+                "polarizer, hair, blendbsdf, null, twosided, mask, bumpmap and normalmap)");
 }
 
 TEST(MitsubaBsdf, PrincipledDefaultsAreMitsubas) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "scene/native/hair_material.h"
 #include "scene/scene_error.h"
 
 namespace tessera {
@@ -24,6 +25,7 @@ constexpr std::pair<const char*, MaterialType> kTypes[] = {
     {"principled_thin", MaterialType::principled_thin},
     {"pplastic", MaterialType::pplastic},
     {"polarizer", MaterialType::polarizer},
+    {"hair", MaterialType::hair},
 };
 
 /// The principled material's weights (each in [0, 1], constant or textured), in the order the
@@ -77,8 +79,8 @@ MaterialType parse_type(const JsonValue& value) {
   }
   type->fail("unknown material type \"" + printable(name) +
              "\" (expected diffuse, mirror, glass, conductor, rough_conductor, rough_glass, "
-             "thin_glass, plastic, rough_plastic, pplastic, principled, principled_thin, polarizer or "
-             "blend)");
+             "thin_glass, plastic, rough_plastic, pplastic, principled, principled_thin, polarizer, "
+             "hair or blend)");
 }
 
 bool is_rough(MaterialType t) {
@@ -94,7 +96,8 @@ bool is_plastic(MaterialType t) {
 
 /// Both sides alike by nature, as glass: no two_sided key.
 bool always_two_sided(MaterialType t) {
-  return is_glass_kind(t) || t == MaterialType::principled_thin || t == MaterialType::polarizer;
+  return is_glass_kind(t) || t == MaterialType::principled_thin || t == MaterialType::polarizer ||
+         t == MaterialType::hair;
 }
 bool has_ior(MaterialType t) {
   return is_glass_kind(t) || is_plastic(t) || t == MaterialType::principled ||
@@ -111,6 +114,7 @@ std::vector<std::string_view> keys_of(MaterialType type) {
     keys.insert(keys.end(), {"opacity", "normal_map", "bump_map", "bump_scale", "back"});
     return keys;
   }
+  if (type == MaterialType::hair) return hair_material_keys();
   if (type == MaterialType::polarizer) {
     return {"type", "transmittance", "opacity", "normal_map", "bump_map", "bump_scale", "back"};
   }
@@ -147,8 +151,8 @@ void refuse_foreign_keys(const JsonValue& value, MaterialType type) {
   };
   const bool principled_kind =
       type == MaterialType::principled || type == MaterialType::principled_thin;
-  if (!has_ior(type)) {
-    refuse("ior", "only glass kinds, plastics and principled materials have an ior");
+  if (!has_ior(type) && type != MaterialType::hair) {
+    refuse("ior", "only glass kinds, plastics, principled materials and hair have an ior");
   }
   if (!principled_kind) {
     refuse("base_color", "only principled materials have a base_color");
@@ -167,6 +171,7 @@ void refuse_foreign_keys(const JsonValue& value, MaterialType type) {
     refuse("two_sided", "a polarizer is two-sided by nature (remove this key)");
     refuse("specular_transmittance", "a polarizer calls it transmittance");
   }
+  if (type == MaterialType::hair) refuse("two_sided", "hair is two-sided by nature (remove this key)");
   if (type != MaterialType::principled_thin) {
     refuse("diff_trans", "only principled_thin materials have a diff_trans");
   }
@@ -283,6 +288,7 @@ void parse_blend(const JsonValue& value, const TextureNames& textures, Material&
 
 void parse_type_keys(const JsonValue& value, const TextureNames& textures, Material& m) {
   MaterialType type = m.type;
+  if (type == MaterialType::hair) return parse_hair_keys(value, textures, m);
   if (type == MaterialType::diffuse) {
     if (auto r = value.find("reflectance")) {
       m.reflectance = parse_textured_color(*r, textures, {0, 1});

@@ -293,7 +293,7 @@ TEST(SceneModelParse, PolarizerTakesTransmittance) {
   EXPECT_EQ(material_error(R"({"type": "polarizer", "specular_transmittance": [1, 1, 1]})"),
             "materials.m.specular_transmittance: a polarizer calls it transmittance");
   EXPECT_EQ(material_error(R"({"type": "polarizer", "ior": 1.5})"),
-            "materials.m.ior: only glass kinds, plastics and principled materials have an ior");
+            "materials.m.ior: only glass kinds, plastics, principled materials and hair have an ior");
   EXPECT_EQ(material_error(R"({"type": "polarizer", "transmittance": [1.5, 1, 1]})")
                 .rfind("materials.m.transmittance", 0),
             0u);

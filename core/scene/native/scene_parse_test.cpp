@@ -175,7 +175,7 @@ TEST(SceneParse, MaterialTypesAndDefaults) {
 
 TEST(SceneParse, MaterialKeysBelongToTheirType) {
   EXPECT_EQ(error_of(R"({"tessera": 1, "materials": {"m": {"type": "diffuse", "ior": 1.3}}})"),
-            "materials.m.ior: only glass kinds, plastics and principled materials have an ior");
+            "materials.m.ior: only glass kinds, plastics, principled materials and hair have an ior");
   EXPECT_EQ(
       error_of(R"({"tessera": 1, "materials": {"m": {"type": "mirror", "reflectance": [1,1,1]}}})"),
       "materials.m.reflectance: only diffuse materials have a reflectance");
@@ -186,7 +186,7 @@ TEST(SceneParse, MaterialKeysBelongToTheirType) {
   EXPECT_EQ(error_of(R"({"tessera": 1, "materials": {"m": {"type": "velvet"}}})"),
             "materials.m.type: unknown material type \"velvet\" (expected diffuse, mirror, glass, "
             "conductor, rough_conductor, rough_glass, thin_glass, plastic, rough_plastic, "
-            "pplastic, principled, principled_thin, polarizer or blend)");
+            "pplastic, principled, principled_thin, polarizer, hair or blend)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "materials": {"white": {"reflectance": [0.5, 1.2, 0.5]}}})"),
             "materials.white.reflectance[1]: must be in [0, 1] (got 1.2)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "materials": {"m": {"roughness": 0.1}}})"),

@@ -176,6 +176,7 @@ const char* material_type_name(MaterialType type) {
     case MaterialType::principled_thin: return "principled_thin";
     case MaterialType::pplastic: return "pplastic";
     case MaterialType::polarizer: return "polarizer";
+    case MaterialType::hair: return "hair";
   }
   return "diffuse";
 }
@@ -244,6 +245,15 @@ std::string material_type_keys(const Material& m, const Names& names, const std:
                t == MaterialType::rough_plastic || t == MaterialType::pplastic;
   std::string out;
   if (t == MaterialType::principled_thin) return principled_thin_keys(m, names, what);
+  if (t == MaterialType::hair) {
+    const HairParameters& h = m.hair;
+    return ", \"sigma_a\": " + textured_color(h.sigma_a, names, what + ".sigma_a") +
+           ", \"ior\": " + number(m.ior, what + ".ior") + ", \"longitudinal_roughness\": " +
+           number(h.longitudinal_roughness, what + ".longitudinal_roughness") +
+           ", \"azimuthal_roughness\": " +
+           number(h.azimuthal_roughness, what + ".azimuthal_roughness") +
+           ", \"scale_tilt\": " + number(h.scale_tilt_deg, what + ".scale_tilt");
+  }
   if (t == MaterialType::polarizer) {
     return ", \"transmittance\": " +
            textured_color(m.specular_transmittance, names, what + ".transmittance");
@@ -323,7 +333,7 @@ std::string material_json(const Material& m, size_t index, const Names& names) {
   std::string what = "materials." + printable(name);
   std::string body = material_body(m, names, what);
   if (!is_glass_kind(m.type) && m.type != MaterialType::principled_thin &&
-      m.type != MaterialType::polarizer &&
+      m.type != MaterialType::polarizer && m.type != MaterialType::hair &&
       !(m.two_sided && m.transmits())) {
     body += std::string(", \"two_sided\": ") + bool_text(m.two_sided);
   }

@@ -101,6 +101,10 @@ void expect_same_material(const Material& x, const Material& y) {
   EXPECT_TRUE(same_bits(p.clearcoat_sampling_rate, q.clearcoat_sampling_rate));
   EXPECT_TRUE(same_bits(p.diffuse_reflectance_sampling_rate, q.diffuse_reflectance_sampling_rate));
   expect_same(x.blend_weight, y.blend_weight);
+  expect_same(x.hair.sigma_a, y.hair.sigma_a);
+  EXPECT_TRUE(same_bits(x.hair.longitudinal_roughness, y.hair.longitudinal_roughness));
+  EXPECT_TRUE(same_bits(x.hair.azimuthal_roughness, y.hair.azimuthal_roughness));
+  EXPECT_TRUE(same_bits(x.hair.scale_tilt_deg, y.hair.scale_tilt_deg));
   ASSERT_EQ(x.blend.size(), y.blend.size());
   for (size_t i = 0; i < x.blend.size(); ++i) {
     Material a = x.blend[i], b = y.blend[i];
@@ -508,6 +512,13 @@ Scene full_model_scene() {
   Material polarizer = material("polarizer", MaterialType::polarizer);
   polarizer.specular_transmittance = {{0.8, 0.5, 0.2}, 2};
   s.materials.push_back(polarizer);
+  Material hair = material("hair", MaterialType::hair);
+  hair.ior = 1.3;
+  hair.hair.sigma_a = {{20, 0.25, 3}, 1};
+  hair.hair.longitudinal_roughness = 0.15;
+  hair.hair.azimuthal_roughness = 0.85;
+  hair.hair.scale_tilt_deg = -4.5;
+  s.materials.push_back(hair);
 
   Shape tri;
   tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

@@ -8,7 +8,7 @@ namespace {
 using Impl = std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf,
                           RoughDielectricBsdf, ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf,
                           PrincipledBsdf, BlendBsdf, PrincipledThinBsdf, PPlasticBsdf,
-                          PolarizerBsdf>;
+                          PolarizerBsdf, HairBsdf>;
 
 Impl make_impl(const BsdfParams& p) {
   switch (p.type) {
@@ -26,6 +26,7 @@ Impl make_impl(const BsdfParams& p) {
     case MaterialType::principled_thin: return PrincipledThinBsdf(p);
     case MaterialType::pplastic: return PPlasticBsdf(p);
     case MaterialType::polarizer: return PolarizerBsdf(p);
+    case MaterialType::hair: return HairBsdf(p);
   }
   return DiffuseBsdf(p);  // unreachable: every MaterialType is handled above
 }

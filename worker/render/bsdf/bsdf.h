@@ -1,6 +1,6 @@
 // The BSDF of one material at one shading point: Mitsuba 3's diffuse, conductor, roughconductor,
 // dielectric, roughdielectric, thindielectric, plastic, roughplastic, pplastic, principled,
-// principledthin, polarizer and blendbsdf behind one interface
+// principledthin, polarizer, hair and blendbsdf behind one interface
 // (docs/renderer.md, "BSDFs").
 //
 // All directions are unit vectors in the local shading frame (+z = the material's front, i.e.
@@ -8,7 +8,7 @@
 // camera) may lie on either side: one-sided materials (diffuse, conductors, plastics) are black
 // when wo or wi is below the surface (cos <= 0), as in Mitsuba; the integrator makes a
 // two-sided material by flipping the frame before calling. Dielectrics, principled materials
-// that transmit, thin principled ones and polarizers handle both sides.
+// that transmit, thin principled ones, polarizers and hair handle both sides.
 // No method returns NaN or infinity for finite unit inputs.
 #pragma once
 
@@ -23,6 +23,7 @@
 #include "render/bsdf/conductor.h"
 #include "render/bsdf/dielectric.h"
 #include "render/bsdf/diffuse.h"
+#include "render/bsdf/hair.h"
 #include "render/bsdf/plastic.h"
 #include "render/bsdf/polarizer.h"
 #include "render/bsdf/pplastic.h"
@@ -56,7 +57,7 @@ class Bsdf {
  private:
   std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf, RoughDielectricBsdf,
                ThinDielectricBsdf, PlasticBsdf, RoughPlasticBsdf, PrincipledBsdf, BlendBsdf,
-               PrincipledThinBsdf, PPlasticBsdf, PolarizerBsdf>
+               PrincipledThinBsdf, PPlasticBsdf, PolarizerBsdf, HairBsdf>
       impl_;
 };
 

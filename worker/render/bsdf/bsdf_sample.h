@@ -28,6 +28,18 @@ struct PrincipledInputs {
   float diffuse_transmittance_sampling_rate = 1;
 };
 
+/// A hair material's parameters at one shading point (HairParameters in core/scene/scene.h,
+/// with sigma_a looked up and eta = Material::ior).
+struct HairInputs {
+  /// Absorption per unit fibre radius, >= 0 per channel: Mitsuba's scale * sigma_a, or
+  /// melanin_sigma_a(eumelanin, pheomelanin).
+  glm::vec3 sigma_a{0.0f};
+  float eta = 1.55f;                    ///< interior / exterior index, > 0 and != 1
+  float longitudinal_roughness = 0.3f;  ///< beta_m, in [0, 1]
+  float azimuthal_roughness = 0.3f;     ///< beta_n, in [0, 1]
+  float scale_tilt_deg = 2;             ///< alpha: the cuticle scales' angle, degrees
+};
+
 /// One material's BSDF parameters at one shading point, textures already looked up. The names
 /// and meanings are Mitsuba 3's (core/scene/scene.h, docs/scenes.md).
 struct BsdfParams {
@@ -50,6 +62,7 @@ struct BsdfParams {
   PrincipledInputs principled;  ///< principled and principled_thin only
   float blend_weight = 0.5f;    ///< blend only: the second BSDF's weight, in [0, 1]
   std::vector<BsdfParams> blend;  ///< blend only: the two nested BSDFs
+  HairInputs hair;                ///< hair only (its eta is hair.eta, not eta)
 };
 
 /// One direction drawn by a BSDF.

@@ -66,9 +66,11 @@ struct ChiSquareResult {
 
 /// Runs the test for `bsdf` and wo with `samples` samples (delta samples are left out: pdf()
 /// covers the smooth lobes only, with the probability of choosing them included), rejecting at
-/// significance `alpha` (already corrected for the number of tests run).
-inline ChiSquareResult chi_square_test(const Bsdf& bsdf, glm::vec3 wo, uint64_t seed, int samples,
-                                       double alpha) {
+/// significance `alpha` (already corrected for the number of tests run). `B` is Bsdf or any
+/// BSDF class of worker/render/bsdf/ (sample() and pdf() with Bsdf's signatures).
+template <typename B>
+ChiSquareResult chi_square_test(const B& bsdf, glm::vec3 wo, uint64_t seed, int samples,
+                                double alpha) {
   constexpr int kTheta = 16, kPhi = 32, kSub = 16;  // bins; integration cells per bin side
   const float dtheta = kPi / kTheta, dphi = 2 * kPi / kPhi;
   std::vector<double> observed(kTheta * kPhi, 0), expected(kTheta * kPhi, 0);
