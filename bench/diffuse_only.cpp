@@ -29,6 +29,7 @@
 
 #include "render/frame.h"
 #include "render/integrator.h"
+#include "render/path_vertex.h"
 #include "render/traceable_scene.h"
 #include "render/warp.h"
 #include "scene/scene_loader.h"
@@ -58,11 +59,9 @@ float mis_weight(float pdf_a, float pdf_b) {
 bool unoccluded(const TraceableScene& scene, glm::vec3 origin, const LightSample& ls,
                 PathCounters& counters) {
   ++counters.shadow_rays;
-  if (std::isinf(ls.distance)) {
-    return !scene.occluded(origin, ls.wi, std::numeric_limits<float>::infinity());
-  }
-  const glm::vec3 to = offset_ray_origin(ls.point, -ls.wi);
-  return !scene.occluded(origin, to - origin, 1.0f);
+  ShadowQuery q;
+  path_vertex_detail::set_shadow_ray(origin, ls, &q);  // the renderer's own shadow ray, so both end it alike
+  return !scene.occluded(q.o, q.d, q.t_max);
 }
 
 glm::dvec3 diffuse_trace_path(const TraceableScene& scene, Ray ray, int max_depth,
