@@ -191,5 +191,19 @@ TEST(SdfGridShape, MitsubaErrorsNameTheElementFileAndLine) {
   EXPECT_NE(e.find("missing <string name=\"filename\">"), std::string::npos) << e;
 }
 
+TEST(SdfGridShape, MitsubaClipPlanesThatCouldHideAGridAreRefused) {
+  // The camera at (0, 0, 5) looks down -z; the grid's box spans z in [0, 1].
+  const std::string sensor = R"(<sensor type="perspective">
+    <float name="fov" value="40"/><float name="near_clip" value="4.5"/>
+    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="64"/><integer name="height" value="48"/>
+      <rfilter type="box"/></film></sensor>
+)";
+  const std::string grid = R"(<shape type="sdfgrid"><string name="filename" value="ball.vol"/></shape>)";
+  EXPECT_NE(xml_error(mitsuba_scene(grid, sensor), kFiles).find("near_clip 4.5 could hide part of"),
+            std::string::npos);
+  EXPECT_EQ(xml_error(mitsuba_scene(grid), kFiles), "(no error)");
+}
+
 }  // namespace
 }  // namespace tessera
