@@ -168,6 +168,8 @@ TEST(SdfGrid, RaysAlongCellFacesAndEdgesDoNotLeak) {
   EXPECT_EQ(checked, int(2 * n * 4 * n));
 }
 
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
 TEST(SdfGrid, SpawnedRaysNeverHitTheSurfaceTheyLeave) {
   for (double scale : {1e-4, 1.0, 1e4}) {
     Shape grid = sphere_grid(12, 0);
@@ -184,7 +186,8 @@ TEST(SdfGrid, SpawnedRaysNeverHitTheSurfaceTheyLeave) {
       const glm::vec3 d(glm::normalize(centre + 0.2 * scale * glm::dvec3(square_to_uniform_sphere({u(rng), u(rng)})) - o));
       Hit hit;
       if (!scene.intersect(Ray{glm::vec3(o), d}, &hit)) continue;
-      ASSERT_TRUE(std::isfinite(hit.sp.p_error.x + hit.sp.p_error.y + hit.sp.p_error.z));
+      ASSERT_TRUE(finite(hit.sp.p) && finite(hit.sp.p_error) && finite(hit.sp.ng) && finite(hit.ns))
+          << "scale " << scale << " ray " << i;
       for (int k = 0; k < 30; ++k) {
         const glm::vec3 w = square_to_uniform_sphere({u(rng), u(rng)});
         Hit again;
@@ -214,8 +217,6 @@ TEST(SdfGrid, SpawnedRaysNeverHitTheSurfaceTheyLeave) {
     EXPECT_GT(inward, 2000) << scale;
   }
 }
-
-bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 TEST(SdfGrid, ExtremesStayFinite) {
   std::vector<Shape> grids;
