@@ -6,6 +6,7 @@
 
 #include "farm_error.h"
 #include "scene/mesh/curve_file.h"
+#include "scene/native/sdfgrid_shape.h"
 #include "scene/mesh/ply_header.h"
 #include "scene/scene_error.h"
 
@@ -104,9 +105,22 @@ void check_scene_triangles(const Scene& scene, const FarmLimits& limits) {
     total += shape.indices.size();
     for (uint32_t points : shape.curve_sizes) segments += curve_segment_count(shape.curve_basis, points);
   }
-  if (total + segments > limits.max_triangles) {
-    over(segments ? "scene: triangle and curve segment count" : "scene: triangle count",
-         total + segments, limits.max_triangles, "--max-triangles");
+  // SDF grids: one primitive per voxel that can hold the surface (the renderer's Embree
+  // primitives), as a triangle is one; a group's grid is stored once whatever places it.
+  uint64_t sdf_voxels = 0;
+  auto count_sdf = [&](const Shape& shape) {
+    if (shape.kind == Shape::Kind::sdfgrid) {
+      sdf_voxels += sdf_surface_voxel_count(shape.sdf_resolution, shape.sdf_values);
+    }
+  };
+  for (const Shape& shape : scene.shapes) count_sdf(shape);
+  for (const ShapeGroup& group : scene.groups) {
+    for (const Shape& shape : group.shapes) count_sdf(shape);
+  }
+  if (total + segments + sdf_voxels > limits.max_triangles) {
+    const std::string what = std::string("scene: triangle") + (segments ? " and curve segment" : "") +
+                             (sdf_voxels ? " and SDF surface voxel" : "") + " count";
+    over(what, total + segments + sdf_voxels, limits.max_triangles, "--max-triangles");
   }
 }
 

@@ -361,11 +361,18 @@ enum class CurveBasis {
   bspline,  ///< uniform cubic B-spline: each 4 consecutive points make a segment; open ends
 };
 
+/// Shading normals of an SDF grid (Mitsuba's sdfgrid `normals`).
+enum class SdfNormals {
+  smooth,    ///< blend of the gradients of the 8 voxels around the nearest grid vertex
+  analytic,  ///< gradient of the trilinear interpolant (the geometric normal)
+};
+
 /// One shape of the scene in world space. Quads, boxes, tetrahedra, triangle lists and meshes
 /// are all triangle meshes here; spheres stay exact; an instance places a shape group; curves
-/// are round tubes along control points (Embree's round curves, as Mitsuba traces them).
+/// are round tubes along control points (Embree's round curves, as Mitsuba traces them); an
+/// SDF grid is the zero set of a trilinearly interpolated grid of values.
 struct Shape {
-  enum class Kind { triangles, sphere, instance, curves };
+  enum class Kind { triangles, sphere, instance, curves, sdfgrid };
   Kind kind = Kind::triangles;
 
   // Kind::triangles
@@ -388,7 +395,20 @@ struct Shape {
 
   // Kind::instance: the group's shapes placed by to_world (Embree instancing)
   uint32_t group = 0;  ///< index into Scene::groups
+  /// instance: places the group; sdfgrid: maps the grid's [0, 1]^3 to the world (a group's
+  /// grid: to the group's space). Affine, invertible.
   glm::dmat4 to_world{1.0};
+
+  // Kind::sdfgrid (Mitsuba's sdfgrid): value (x, y, z) sits at object-space point
+  // (x / (nx - 1), y / (ny - 1), z / (nz - 1)); the surface is where the trilinear interpolant
+  // of the values is 0, its front facing growing values. No uv (always (0, 0)), never emits.
+  glm::u32vec3 sdf_resolution{0, 0, 0};  ///< samples along x, y, z; each >= 2
+  /// nx * ny * nz finite values, x fastest: value(x, y, z) = sdf_values[(z * ny + y) * nx + x].
+  /// At least one voxel has corners of both signs (or a zero corner).
+  std::vector<float> sdf_values;
+  SdfNormals sdf_normals = SdfNormals::smooth;
+  /// Bundle path of the .vol file the values came from; empty = written inline.
+  std::string sdf_file;
 
   // Kind::curves: tubes of varying radius around each curve's centre line. Only their outside
   // is ever hit (a ray from inside a tube passes out of it), as in Mitsuba.

@@ -131,6 +131,34 @@ TEST(Limits, CurveSegmentsCountWithTriangles) {
   expect_refused(farm.refusal(bundle(curves("bspline", 14), {})), "--max-triangles");
 }
 
+// An SDF grid counts its voxels that can hold the surface (the renderer's primitives), a
+// group's grid once.
+TEST(Limits, SdfGridSurfaceVoxelsCountWithTriangles) {
+  FarmLimits limits;
+  limits.max_triangles = 10;
+  Farm farm(limits);
+  // n x 1 x 1 voxels (2 samples along y and z), the surface crossing each of the first k.
+  auto grid = [](int n, int k) {
+    std::string values;
+    for (int z = 0; z < 2; ++z) {
+      for (int y = 0; y < 2; ++y) {
+        for (int x = 0; x <= n; ++x) values += std::string(values.empty() ? "" : ", ") + (x <= k && x % 2 ? "-1" : "1");
+      }
+    }
+    return R"({"tessera": 1, "camera": {"position": [0,0,3], "look_at": [0,0,0], "fov": 40},
+      "film": {"width": 16, "height": 16}, "render": {"spp": 8},
+      "materials": {"white": {"type": "diffuse", "reflectance": [0.5,0.5,0.5]}},
+      "shapes": [{"type": "sdfgrid", "resolution": [)" + std::to_string(n + 1) + R"(, 2, 2], "values": [)" +
+           values + R"(], "material": "white"},
+        {"type": "quad", "vertices": [[-1,2,-1],[1,2,-1],[1,2,1],[-1,2,1]], "emission": [5,5,5]}]})";
+  };
+  // The light quad's 2 triangles + 8 of 20 voxels (samples 1, 3, 5, 7 negative) = 10.
+  EXPECT_EQ(farm.refusal(bundle(grid(20, 7), {})), "");
+  const std::string over = farm.refusal(bundle(grid(20, 9), {}));
+  expect_refused(over, "--max-triangles");
+  EXPECT_NE(over.find("scene: triangle and SDF surface voxel count 12"), std::string::npos) << over;
+}
+
 TEST(Limits, TrianglesCountedFromHeadersBeforeParsing) {
   FarmLimits limits;
   limits.max_triangles = 12;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/mat3x3.hpp>
@@ -14,11 +15,14 @@
 
 namespace tessera {
 
+class SdfGrid;
+
 struct Geometry {
   /// instance: a placed shape group (Embree instance); its shapes are in TraceableScene's group
   /// tables and `to_world` maps their space to the world.
   /// curves: Embree round curves (worker/render/geometry/curve.h).
-  enum class Kind { triangles, sphere, instance, curves };
+  /// sdfgrid: user geometry over the grid's surface bricks (worker/render/geometry/sdf_grid.h).
+  enum class Kind { triangles, sphere, instance, curves, sdfgrid };
   Kind kind = Kind::triangles;
 
   // Kind::triangles (float copies of the world-space data Embree traces)
@@ -51,6 +55,9 @@ struct Geometry {
   std::vector<glm::vec4> control_points;
   std::vector<uint32_t> segments;
   bool bspline = false;
+
+  // Kind::sdfgrid: the grid and its intersector, in the shape's space.
+  std::shared_ptr<const SdfGrid> sdf;
 
   uint32_t material = 0;
   int32_t emitter = -1;          ///< area emitter index in TraceableScene::lights(), -1 if none

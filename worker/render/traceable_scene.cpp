@@ -8,6 +8,7 @@
 #include <glm/matrix.hpp>
 
 #include "render/geometry/curve.h"
+#include "render/geometry/sdf_grid.h"
 #include "scene/scene_error.h"
 #include "sphere_intersector.h"
 
@@ -108,9 +109,10 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
       if (shape.is_emitter()) {
         throw SceneError(shape.origin + ": a shape group cannot hold an emitter");
       }
-      auto g = shape.kind == Shape::Kind::sphere   ? add_sphere(shape, gs)
-               : shape.kind == Shape::Kind::curves ? add_curves(shape, gs)
-                                                   : add_triangles(shape, gs, scene.textures);
+      auto g = shape.kind == Shape::Kind::sphere    ? add_sphere(shape, gs)
+               : shape.kind == Shape::Kind::curves  ? add_curves(shape, gs)
+               : shape.kind == Shape::Kind::sdfgrid ? add_sdfgrid(shape, gs)
+                                                    : add_triangles(shape, gs, scene.textures);
       group_geometries_.back().push_back(std::move(g));
     }
     rtcCommitScene(gs);
@@ -127,6 +129,8 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
       add_instance(shape, group_scenes_);
     } else if (shape.kind == Shape::Kind::curves) {
       geometries_.push_back(add_curves(shape, scene_));
+    } else if (shape.kind == Shape::Kind::sdfgrid) {
+      geometries_.push_back(add_sdfgrid(shape, scene_));
     } else {
       geometries_.push_back(add_triangles(shape, scene_, scene.textures));
     }
@@ -251,6 +255,19 @@ std::unique_ptr<Geometry> TraceableScene::add_curves(const Shape& shape, RTCScen
   return g;
 }
 
+std::unique_ptr<Geometry> TraceableScene::add_sdfgrid(const Shape& shape, RTCScene target) {
+  if (shape.is_emitter()) throw SceneError(shape.origin + ": an SDF grid cannot emit light");
+  auto g = std::make_unique<Geometry>();
+  g->kind = Geometry::Kind::sdfgrid;
+  g->sdf = std::make_shared<const SdfGrid>(shape);
+  g->material = shape.material;
+  RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+  attach_sdf_grid_callbacks(geom, g->sdf.get());
+  const size_t expected = target == scene_ ? geometries_.size() : group_geometries_.back().size();
+  attach(geom, target, expected, shape.origin);
+  return g;
+}
+
 void TraceableScene::add_instance(const Shape& shape, const std::vector<RTCScene>& group_scenes) {
   if (shape.group >= group_scenes.size()) {
     throw SceneError(shape.origin + ": instance of shape group " + std::to_string(shape.group) +
@@ -343,6 +360,18 @@ void TraceableScene::fill_sphere_hit(const Geometry& g, const glm::vec3& o, cons
                      : g.frame * glm::vec3(1, 0, 0) * (kPi * r);
 }
 
+void TraceableScene::fill_sdf_hit(const Geometry& g, const glm::vec3& o, const glm::vec3& d, float t,
+                                  uint32_t primitive, float voxel, Hit* hit) const {
+  const SdfGridHit h = g.sdf->hit(primitive, uint32_t(voxel), glm::dvec3(o), glm::dvec3(d), double(t));
+  hit->sp.p = h.p;
+  hit->sp.p_error = h.p_error;
+  hit->sp.ng = h.ng;
+  hit->ns = glm::dot(h.ns, h.ng) < 0 ? -h.ns : h.ns;
+  hit->uv = glm::vec2(0.0f);
+  hit->dpdu = glm::vec3(0.0f);
+  hit->dpdv = glm::vec3(0.0f);
+}
+
 // Inlined into intersect() and make_hit(), as the triangle fill is.
 [[gnu::always_inline]] inline void TraceableScene::fill_hit(const Ray& ray, uint32_t geometry_id,
                                                             uint32_t instance_id, uint32_t primitive,
@@ -359,6 +388,8 @@ void TraceableScene::fill_sphere_hit(const Geometry& g, const glm::vec3& o, cons
     fill_sphere_hit(g, ray.o, ray.d, t, hit);
   } else if (g.kind == Geometry::Kind::curves) [[unlikely]] {
     fill_curve_hit(g, ray.o, ray.d, t, primitive, b1, need_uv_, hit);
+  } else if (g.kind == Geometry::Kind::sdfgrid) [[unlikely]] {
+    fill_sdf_hit(g, ray.o, ray.d, t, primitive, b1, hit);
   } else {
     fill_triangle_hit(g, primitive, b1, b2, hit);
   }
@@ -396,7 +427,11 @@ void TraceableScene::make_hit(const Ray& ray, uint32_t geometry_id, uint32_t ins
                           : *group_geometries_[geometries_[instance_id]->group][geometry_id];
   // Embree's packet and single-ray curve intersectors round differently: a curve hit found by
   // a packet is traced again alone, so that both integrators give the same bits.
-  if (g.kind == Geometry::Kind::curves && intersect(ray, hit)) [[unlikely]] return;
+  // So are user geometries inside instances (the ray reaches them through Embree's transform):
+  // SDF grids are traced again too.
+  if ((g.kind == Geometry::Kind::curves || g.kind == Geometry::Kind::sdfgrid) && intersect(ray, hit)) [[unlikely]] {
+    return;
+  }
   fill_hit(ray, geometry_id, instance_id, primitive, t, b1, b2, hit);
 }
 
@@ -416,6 +451,9 @@ void TraceableScene::make_hit(const Ray& ray, uint32_t geometry_id, uint32_t ins
   } else if (g.kind == Geometry::Kind::curves) {
     fill_curve_hit(g, transform_point(inst.to_object, ray.o), transform_vector(inst.to_object, ray.d), t,
                    primitive, b1, need_uv_, hit);
+  } else if (g.kind == Geometry::Kind::sdfgrid) {
+    fill_sdf_hit(g, transform_point(inst.to_object, ray.o), transform_vector(inst.to_object, ray.d), t,
+                 primitive, b1, hit);
   } else {
     fill_triangle_hit(g, primitive, b1, b2, hit);
   }

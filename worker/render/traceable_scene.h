@@ -30,7 +30,8 @@ struct Hit {
   /// Mitsuba defines them: interpolated vertex uvs on meshes (barycentrics (b1, b2) without
   /// uvs, then dpdu, dpdv are the triangle's edges), (phi / 2 pi, theta / pi) on spheres in
   /// their own frame, (angle around the tube / 2 pi, v along all segments) on curves
-  /// (geometry/curve.h). dpdu may be zero at a sphere's poles.
+  /// (geometry/curve.h); (0, 0) with zero tangents on SDF grids, as in Mitsuba. dpdu may be
+  /// zero at a sphere's poles.
   glm::vec2 uv{0.0f};
   glm::vec3 dpdu{0.0f}, dpdv{0.0f};
   const Geometry* geometry = nullptr;  ///< the shape hit (a group's shape for instances)
@@ -97,10 +98,14 @@ class TraceableScene {
                                           const std::vector<Texture>& textures);
   std::unique_ptr<Geometry> add_sphere(const Shape& shape, RTCScene target);
   std::unique_ptr<Geometry> add_curves(const Shape& shape, RTCScene target);
+  std::unique_ptr<Geometry> add_sdfgrid(const Shape& shape, RTCScene target);
   void add_instance(const Shape& shape, const std::vector<RTCScene>& group_scenes);
   void attach(RTCGeometry geom, RTCScene target, size_t expected_id, const std::string& origin);
   void fill_triangle_hit(const Geometry& g, uint32_t primitive, float b1, float b2, Hit* hit) const;
   void fill_sphere_hit(const Geometry& g, const glm::vec3& o, const glm::vec3& d, float t, Hit* hit) const;
+  /// `voxel`: the hit's Embree u (geometry/sdf_grid.h).
+  void fill_sdf_hit(const Geometry& g, const glm::vec3& o, const glm::vec3& d, float t, uint32_t primitive,
+                    float voxel, Hit* hit) const;
   /// make_hit(), inlined into intersect().
   void fill_hit(const Ray& ray, uint32_t geometry_id, uint32_t instance_id, uint32_t primitive, float t,
                 float b1, float b2, Hit* hit) const;

@@ -171,6 +171,20 @@ void check_mitsuba_clip_planes(const MitsubaSensor& sensor, const std::vector<Sh
       if (far.may_meet_sphere(c, r)) refuse(shape, false);
       continue;
     }
+    if (shape.kind == Shape::Kind::sdfgrid) {
+      // The surface lies in the grid's box: the ball around its 8 corners.
+      glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+      for (int k = 0; k < 8; ++k) {
+        const glm::dvec3 p(shape.to_world * glm::dvec4(k & 1, (k >> 1) & 1, k >> 2, 1.0));
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+      }
+      const glm::dvec3 c = local(0.5 * (lo + hi));
+      const double r = 0.5 * glm::length(hi - lo) / min_scale;
+      if (!orthographic && near.may_meet_sphere(c, r)) refuse(shape, true);
+      if (far.may_meet_sphere(c, r)) refuse(shape, false);
+      continue;
+    }
     if (shape.kind == Shape::Kind::curves) {
       // The tubes lie in the ball around the control points' box, widened by the largest radius.
       glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);

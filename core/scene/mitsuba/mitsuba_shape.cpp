@@ -10,6 +10,8 @@
 #include "scene/mesh/curve_file.h"
 #include "scene/mesh/mesh_file.h"
 #include "scene/native/curve_shape.h"
+#include "scene/native/sdfgrid_shape.h"
+#include "scene/mesh/volume_grid_file.h"
 #include "scene/mitsuba/mitsuba_emitter.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
 #include "scene/mitsuba/mitsuba_shape_geometry.h"
@@ -23,7 +25,7 @@ namespace {
 
 constexpr const char* kSupported =
     "Tessera supports obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, "
-    "linearcurve, bsplinecurve, shapegroup and instance; convert other geometry to PLY";
+    "linearcurve, bsplinecurve, sdfgrid, shapegroup and instance; convert other geometry to PLY";
 
 /// The geometry of a mesh file, in object space.
 TriangleMesh load_file(MitsubaPlugin& plugin, MitsubaShapeContext& context, bool face_normals,
@@ -252,6 +254,55 @@ Shape read_curves(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
   return shape;
 }
 
+/// sdfgrid: the .vol file's values over [0, 1]^3 placed by to_world (any invertible affine
+/// map: Mitsuba warns about rotations and renders them). Mitsuba reads no flip_normals here
+/// (it refuses the property as unreferenced) and its sdfgrid cannot be an area emitter.
+Shape read_sdfgrid(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
+  Shape shape;
+  shape.kind = Shape::Kind::sdfgrid;
+  shape.origin = plugin.element().where();
+  std::optional<std::string> normals = plugin.take_string("normals");
+  if (normals && *normals == "analytic") {
+    shape.sdf_normals = SdfNormals::analytic;
+  } else if (normals && *normals != "smooth") {
+    fail_at(*plugin.property("normals"),
+            "unknown normals \"" + printable(*normals) + "\" (expected smooth or analytic)");
+  }
+  std::optional<std::string> filename = plugin.take_string("filename");
+  if (!filename) {
+    fail_at(plugin.element(), "missing <string name=\"filename\"> (Tessera reads SDF grids from .vol files)");
+  }
+  const MitsubaElement& where = *plugin.property("filename");
+  std::string path = context.files.resolve(where, *filename);
+  try {
+    set_sdf_grid(shape, parse_volume_grid_file(context.files.read(path), path), path);
+  } catch (const SceneError& e) {
+    fail_at(where, e.what());
+  }
+  std::vector<std::string>& files = context.referenced_files;
+  if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
+  if (std::optional<Transform> to_world = plugin.take_transform("to_world")) {
+    const double det = to_world->determinant();
+    if (!(std::abs(det) > 0) || !std::isfinite(det)) {
+      fail_at(*plugin.property("to_world"),
+              "an SDF grid's to_world must be invertible (determinant " + format_number(det) + ")");
+    }
+    shape.to_world = to_world->matrix();
+  }
+  if (plugin.property("flip_normals")) {
+    fail_at(*plugin.property("flip_normals"),
+            "an sdfgrid has no flip_normals (Mitsuba refuses it as an unreferenced property); "
+            "negate the grid's values instead");
+  }
+  if (!plugin.take_objects("emitter").empty()) {
+    fail_at(plugin.element(), "an sdfgrid cannot emit light (as in Mitsuba, which cannot sample it)");
+  }
+  shape.material = read_material(plugin, context, false);
+  refuse_media(plugin);
+  plugin.finish();
+  return shape;
+}
+
 Shape read_instance(MitsubaPlugin& plugin, MitsubaShapeContext& context) {
   std::vector<MitsubaObject> groups = plugin.take_objects("shape");
   if (groups.size() != 1) {
@@ -277,6 +328,7 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
   const std::string& type = plugin.type();
   if (type == "instance") return read_instance(plugin, context);
   if (type == "linearcurve" || type == "bsplinecurve") return read_curves(plugin, context);
+  if (type == "sdfgrid") return read_sdfgrid(plugin, context);
   if (type == "shapegroup") {
     fail_at(element, "a shapegroup belongs at the top of the scene (instances place it)");
   }

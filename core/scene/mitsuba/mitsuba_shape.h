@@ -37,7 +37,8 @@ struct MitsubaShapeContext {
 /// emitter: an area emitter makes the shape glow; a point, spot, directional or projector
 /// emitter is a light of the scene as Mitsuba reads it (appended to context.lights; it keeps its
 /// own to_world and the shape does not glow; constant and envmap are refused); and
-/// `instance`, which places a `shapegroup` (named through <ref>) by its to_world. Mesh files
+/// `instance`, which places a `shapegroup` (named through <ref>) by its to_world; `sdfgrid` (a
+/// `.vol` file, normals, to_world; no emitter, no flip_normals: sdfgrid_shape.h). Mesh files
 /// without normals get Mitsuba's vertex normals unless face_normals is true. Degenerate
 /// triangles of mesh files are dropped and counted (a mesh file whose faces are all degenerate
 /// gives an empty shape, see mitsuba_shape_is_empty; as a light it is refused); built-in shapes

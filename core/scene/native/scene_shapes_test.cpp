@@ -192,7 +192,7 @@ TEST(SceneShapes, EmissionIsRadianceAsGiven) {
 TEST(SceneShapes, UnknownShapeTypeAndForeignKeys) {
   EXPECT_EQ(error_of(scene_with_shapes(R"({"type": "cone", "material": "white"})")),
             "shapes[0].type: unknown shape type \"cone\" (expected quad, sphere, triangles, box, "
-            "tetrahedron, mesh, curves or instance)");
+            "tetrahedron, mesh, curves, sdfgrid or instance)");
   EXPECT_EQ(error_of(scene_with_shapes(R"({"type": "quad", "radius": 1, "material": "white"})")),
             "shapes[0].radius: unknown key (a \"quad\" shape has: type, material, emission, power, "
             "two_sided, flip_normals, transform, vertices)");

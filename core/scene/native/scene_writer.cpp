@@ -522,6 +522,25 @@ void append_attributes(std::string& out, const Shape& s, const std::string& what
   out += "\n      }";
 }
 
+/// An SDF grid's "transform" and its "file" (bundle path) or inline "resolution" and "values".
+void append_sdf_grid(std::string& out, const Shape& s, const std::string& what) {
+  out += ",\n      \"transform\": " + matrix_json(s.to_world, what);
+  if (!s.sdf_file.empty()) {
+    out += ",\n      \"file\": " + json_string(s.sdf_file);
+    return;
+  }
+  const glm::u32vec3 r = s.sdf_resolution;
+  if (uint64_t(r.x) * r.y * r.z != s.sdf_values.size()) {
+    throw SceneError(what + ": the SDF grid's values do not match its resolution");
+  }
+  out += ",\n      \"resolution\": [" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " +
+         std::to_string(r.z) + "],\n      \"values\": [";
+  for (size_t i = 0; i < s.sdf_values.size(); ++i) {
+    out += (i ? ", " : "") + number(double(s.sdf_values[i]), what);
+  }
+  out += "]";
+}
+
 std::string shape_json(const Shape& s, const std::string& what,
                        const std::vector<Material>& materials, const Names& names) {
   if (s.kind == Shape::Kind::instance) {
@@ -539,6 +558,9 @@ std::string shape_json(const Shape& s, const std::string& what,
       out += ",\n      \"frame\": [" + vec3(glm::row(s.frame, 0), what) + ", " +
              vec3(glm::row(s.frame, 1), what) + ", " + vec3(glm::row(s.frame, 2), what) + "]";
     }
+  } else if (s.kind == Shape::Kind::sdfgrid) {
+    out += std::string("\"type\": \"sdfgrid\", \"normals\": ") +
+           (s.sdf_normals == SdfNormals::smooth ? "\"smooth\"" : "\"analytic\"");
   } else if (s.kind == Shape::Kind::curves) {
     out += std::string("\"type\": \"curves\", \"basis\": ") +
            (s.curve_basis == CurveBasis::linear ? "\"linear\"" : "\"bspline\"");
@@ -546,6 +568,11 @@ std::string shape_json(const Shape& s, const std::string& what,
     out += "\"type\": \"triangles\"";
   }
   out += ", \"material\": " + json_string(names.materials[s.material]);
+  if (s.kind == Shape::Kind::sdfgrid) {
+    if (s.is_emitter()) throw SceneError(what + ": SDF grids cannot emit light");
+    append_sdf_grid(out, s, what);
+    return out + "}";
+  }
   if (s.kind == Shape::Kind::curves) {
     if (s.is_emitter()) throw SceneError(what + ": curves cannot emit light");
     append_curves(out, s, what);

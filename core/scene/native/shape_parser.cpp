@@ -6,6 +6,7 @@
 
 #include "scene/mesh/mesh_file.h"
 #include "scene/native/curve_shape.h"
+#include "scene/native/sdfgrid_shape.h"
 #include "scene/scene_error.h"
 #include "scene/native/shape_builders.h"
 #include "scene/native/shape_light.h"
@@ -260,10 +261,11 @@ void parse_shape(const JsonValue& value, ShapeContext& context, std::vector<Shap
   const std::string& type = type_value.string();
   if (type == "instance") return shapes.push_back(parse_instance(value, context));
   if (type == "curves") return shapes.push_back(parse_curve_shape(value, context));
+  if (type == "sdfgrid") return shapes.push_back(parse_sdfgrid_shape(value, context));
   std::vector<std::string_view> keys = keys_of(type);
   if (keys.empty()) {
     type_value.fail("unknown shape type \"" + printable(type) +
-                    "\" (expected quad, sphere, triangles, box, tetrahedron, mesh, curves or instance)");
+                    "\" (expected quad, sphere, triangles, box, tetrahedron, mesh, curves, sdfgrid or instance)");
   }
   value.expect_object(keys, "a \"" + type + "\" shape");
   LightSpec light = parse_light(value, context.textures);

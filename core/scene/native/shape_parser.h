@@ -27,7 +27,8 @@ struct ShapeContext {
 /// Parses one shape object (its path, e.g. "shapes[3]", is `value.path()`) and appends its
 /// Shapes in world space: one, or one per material for an OBJ mesh using its MTL materials.
 ///
-/// An "instance" shape ({"group": name, "transform"}) becomes one Shape::Kind::instance.
+/// An "instance" shape ({"group": name, "transform"}) becomes one Shape::Kind::instance;
+/// "curves" and "sdfgrid" shapes are parsed by curve_shape.h and sdfgrid_shape.h.
 /// Otherwise applies, in order: the geometry of its "type" (quad, sphere, triangles, box,
 /// tetrahedron, mesh); "transform"; "flip_normals"; degenerate triangles (an error for
 /// explicit geometry, dropped and counted for mesh files); the material ("material", else the file's MTL
