@@ -41,6 +41,13 @@ TextureSet::TextureSet(const std::vector<Texture>& textures, const FileReader& r
       case TextureKind::mesh_attribute:
         textures_.emplace_back(MeshAttributeRef{});
         break;
+      case TextureKind::volume:
+        if (t.grid) {
+          textures_.emplace_back(VolumeTexture(t.grid, t.volume_to_world, t.filter, t.wrap));
+        } else {
+          textures_.emplace_back(VolumeTexture(to_float(t.value), t.channels == 1));
+        }
+        break;
     }
   }
 }
@@ -62,11 +69,14 @@ float TextureSet::lookup_1(int32_t texture, glm::vec2 uv) const {
   if (const auto* b = std::get_if<BitmapTexture>(&e)) return b->eval_1(uv);
   if (const auto* r = std::get_if<RawConstant>(&e)) return r->eval_1(uv);
   if (std::holds_alternative<MeshAttributeRef>(e)) return 0.0f;
+  if (const auto* v = std::get_if<VolumeTexture>(&e)) return v->grid() ? 0.0f : v->eval_1(glm::vec3(0.0f));
   return mitsuba_luminance(std::get<Checkerboard>(e).eval_scalar_order(uv));
 }
 
 glm::vec3 TextureSet::lookup(int32_t texture, const TexturePoint& at) const {
-  if (!std::holds_alternative<MeshAttributeRef>(this->at(texture))) return lookup(texture, at.uv);
+  const Entry& e = this->at(texture);
+  if (const auto* v = std::get_if<VolumeTexture>(&e)) return v->eval(at.p);
+  if (!std::holds_alternative<MeshAttributeRef>(e)) return lookup(texture, at.uv);
   if (!at.attributes) return glm::vec3(0.0f);
   int channels = 0;
   const glm::vec3 v = at.attributes->eval(texture, at.primitive, at.barycentric, channels);
@@ -74,7 +84,9 @@ glm::vec3 TextureSet::lookup(int32_t texture, const TexturePoint& at) const {
 }
 
 float TextureSet::lookup_1(int32_t texture, const TexturePoint& at) const {
-  if (!std::holds_alternative<MeshAttributeRef>(this->at(texture))) return lookup_1(texture, at.uv);
+  const Entry& e = this->at(texture);
+  if (const auto* v = std::get_if<VolumeTexture>(&e)) return v->eval_1(at.p);
+  if (!std::holds_alternative<MeshAttributeRef>(e)) return lookup_1(texture, at.uv);
   if (!at.attributes) return 0.0f;
   int channels = 0;
   const glm::vec3 v = at.attributes->eval(texture, at.primitive, at.barycentric, channels);
