@@ -92,7 +92,8 @@ TEST(VolumeTextureParse, BadKeysAndValues) {
   EXPECT_EQ(error_of(volume_scene(R"({"type": "volume", "file": "g.vol", "wrap": "border"})"),
                      files),
             "textures.v.wrap: must be \"repeat\", \"mirror\" or \"clamp\" (got \"border\")");
-  EXPECT_NE(error_of(volume_scene(R"({"type": "volume", "file": "g.vol", "to_uv": [[1, 0, 0], [0, 1, 0]]})"),
+  EXPECT_NE(error_of(volume_scene(R"({"type": "volume", "file": "g.vol",
+                                      "to_uv": [[1, 0, 0], [0, 1, 0]]})"),
                      files)
                 .find("to_uv"),
             std::string::npos);
@@ -155,7 +156,8 @@ TEST(VolumeTextureParse, WriterRoundTripsGridsAndConstants) {
   }
   EXPECT_EQ(b.referenced_files, std::vector<std::string>{"g.vol"});
   EXPECT_EQ(write_scene_json(b), written);
-  EXPECT_NE(written.find(R"("plain": {"type": "volume", "file": "g.vol", "filter": "trilinear", "wrap": "clamp"})"),
+  EXPECT_NE(written.find(R"("plain": {"type": "volume", "file": "g.vol", "filter": "trilinear", )"
+                         R"("wrap": "clamp"})"),
             std::string::npos)
       << written;
 }

@@ -80,7 +80,9 @@ glm::vec3 VolumeTexture::eval(glm::vec3 p) const {
 }
 
 float VolumeTexture::eval_1(glm::vec3 p) const {
-  if (!grid_) return channels_ == 1 ? constant_.x : (constant_.x + constant_.y + constant_.z) / 3.0f;
+  if (!grid_) {
+    return channels_ == 1 ? constant_.x : (constant_.x + constant_.y + constant_.z) / 3.0f;
+  }
   const glm::vec3 v = interpolate(p);
   return channels_ == 1 ? v.x : mitsuba_luminance(v);
 }

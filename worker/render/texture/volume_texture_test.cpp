@@ -17,7 +17,8 @@ namespace tessera {
 namespace {
 
 /// A grid of resolution `res` and `channels` holding `values` (file order).
-std::shared_ptr<const VolumeGridFile> grid_of(glm::ivec3 res, int channels, std::vector<float> values) {
+std::shared_ptr<const VolumeGridFile> grid_of(glm::ivec3 res, int channels,
+                                              std::vector<float> values) {
   auto g = std::make_shared<VolumeGridFile>();
   g->resolution = glm::u32vec3(res);
   g->channels = uint32_t(channels);
@@ -31,8 +32,9 @@ std::shared_ptr<const VolumeGridFile> ramp() {
   return grid_of({2, 2, 2}, 1, {0, 1, 2, 3, 4, 5, 6, 7});
 }
 
-VolumeTexture texture(std::shared_ptr<const VolumeGridFile> g, TextureFilter f = TextureFilter::bilinear,
-                      TextureWrap w = TextureWrap::clamp, const glm::dmat4& to_world = glm::dmat4(1.0)) {
+VolumeTexture texture(std::shared_ptr<const VolumeGridFile> g,
+                      TextureFilter f = TextureFilter::bilinear, TextureWrap w = TextureWrap::clamp,
+                      const glm::dmat4& to_world = glm::dmat4(1.0)) {
   return VolumeTexture(std::move(g), to_world, f, w);
 }
 
@@ -93,7 +95,8 @@ TEST(VolumeTexture, ThreeChannels) {
   const VolumeTexture t = texture(grid_of({2, 1, 1}, 3, {1, 0, 0, 0, 1, 0.5f}));
   EXPECT_EQ(t.eval({0.5f, 0.5f, 0.5f}), glm::vec3(0.5f, 0.5f, 0.25f));
   // The scalar lookup is the luminance with Mitsuba's coefficients.
-  EXPECT_NEAR(t.eval_1({0.5f, 0.5f, 0.5f}), 0.5f * 0.212671f + 0.5f * 0.715160f + 0.25f * 0.072169f, 1e-5f);
+  EXPECT_NEAR(t.eval_1({0.5f, 0.5f, 0.5f}),
+              0.5f * 0.212671f + 0.5f * 0.715160f + 0.25f * 0.072169f, 1e-5f);
   EXPECT_EQ(t.eval({0.0f, 0.0f, 0.0f}), glm::vec3(1, 0, 0));
   const glm::vec3 last = t.eval({0.9f, 0.0f, 0.0f});  // past the last centre: voxel 1 alone
   EXPECT_NEAR(last.x, 0.0f, 1e-6f);
