@@ -174,6 +174,18 @@ TEST(MitsubaVolumeTexture, RefusalsWithMitsubasReasons) {
       </emitter></shape>)");
   EXPECT_NE(error(emitter).find("which Tessera does not read for emitters"), std::string::npos)
       << error(emitter);
+  const std::string spot = mitsuba_scene(R"(<emitter type="spot">
+      <texture type="volume" name="texture"><volume type="gridvolume" name="volume">
+        <string name="filename" value="textures/red.vol"/></volume></texture></emitter>)");
+  EXPECT_NE(error(spot).find("cannot be a light's texture (Tessera looks it up by direction or "
+                             "(u, v), with no surface point)"),
+            std::string::npos)
+      << error(spot);
+  const std::string normals = mitsuba_scene(R"(<shape type="rectangle"><bsdf type="normalmap">
+      <texture type="volume" name="normalmap"><volume type="gridvolume" name="volume">
+        <string name="filename" value="textures/red.vol"/></volume></texture>
+      <bsdf type="diffuse"/></bsdf></shape>)");
+  EXPECT_NE(error(normals).find("cannot be a normal map"), std::string::npos) << error(normals);
 }
 
 }  // namespace
