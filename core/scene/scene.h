@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,8 @@
 #include "scene/mesh/mesh_attribute.h"
 
 namespace tessera {
+
+struct VolumeGridFile;  // scene/mesh/volume_grid_file.h
 
 /// Which image axis the camera's field of view spans.
 enum class FovAxis { x, y, smaller, larger };
@@ -87,6 +90,9 @@ enum class TextureKind {
   /// Mitsuba's `mesh_attribute`: the shape's attribute `attribute` (Shape::attributes) times
   /// `scale`, interpolated at the hit as Mitsuba does (docs/scenes.md, "Mesh attributes").
   mesh_attribute,
+  /// Mitsuba's `volume`: a 3D grid (its gridvolume) or a constant (its constvolume) looked up
+  /// at the hit's world position (docs/scenes.md, "Volume textures").
+  volume,
 };
 
 /// How a bitmap's texel values map to the renderer's linear RGB.
@@ -127,6 +133,14 @@ struct Texture {
 
   /// Applied to (u, v, 1) before the lookup (Mitsuba's `to_uv`): row-major 2x3 affine map.
   glm::dmat3 to_uv{1.0};
+
+  // TextureKind::volume. A grid (`file`, its values in `grid`: 1 or 3 channels) is looked up at
+  // q = inverse(volume_to_world) * p, p the hit's world position, the grid spanning [0, 1]^3 of
+  // q; `filter` (bilinear = Mitsuba's trilinear, or nearest) and `wrap` (Mitsuba's default for
+  // volumes: clamp) act per axis. Without a grid it is a constant: `value` and `channels` as for
+  // rawconstant (a colour reads value; a scalar reads value.x for 1 channel, the mean of 3).
+  std::shared_ptr<const VolumeGridFile> grid;
+  glm::dmat4 volume_to_world{1.0};  ///< affine and invertible
 };
 
 /// A parameter that is a constant or a texture: value * texture(uv) when texture >= 0 (value

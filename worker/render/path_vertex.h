@@ -20,10 +20,11 @@
 namespace tessera {
 namespace path_vertex_detail {
 
-/// Where the hit's material looks up its textures (mesh attributes from the shape hit).
+/// Where the hit's material looks up its textures (mesh attributes from the shape hit, volume
+/// textures at the world position).
 inline TexturePoint texture_point(const Hit& hit) {
   return {hit.uv, hit.geometry ? &hit.geometry->attributes : nullptr, hit.primitive,
-          hit.barycentric};
+          hit.barycentric, hit.sp.p};
 }
 
 /// Dimension pairs per path vertex: (light choice, roulette), light point, BSDF direction,

@@ -4,7 +4,11 @@
 #include <cctype>
 #include <cmath>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "scene/native/json_value.h"
+#include "scene/scene_error.h"
+#include "scene/volume_texture_check.h"
 
 namespace tessera {
 namespace {
@@ -79,6 +83,97 @@ void read_raw_value(MitsubaPlugin& plugin, Texture& texture) {
   }
 }
 
+/// constvolume's value: a <float> (one channel), an <rgb> or <spectrum> (three channels), any
+/// finite numbers (Mitsuba 3.9.1 range-checks neither), or 1 (one channel) when absent.
+void read_constant_volume(MitsubaPlugin& plugin, Texture& texture) {
+  texture.value = glm::dvec3(1.0);
+  texture.channels = 1;
+  const MitsubaElement* written = plugin.property("value");
+  if (!written) return;
+  if (written->tag == "float" || written->tag == "integer") {
+    texture.value = glm::dvec3(*plugin.take_float("value"));
+  } else if (written->tag == "rgb" || written->tag == "spectrum") {
+    texture.value = *plugin.take_color("value", MitsubaColorRole::reflectance);
+    texture.channels = 3;
+  } else {
+    fail_at(*written, "constvolume's value is a <float>, an <rgb> or a <spectrum>");
+  }
+  for (int c = 0; c < 3; ++c) {
+    if (!std::isfinite(texture.value[c])) fail_at(*written, "must be finite");
+  }
+}
+
+/// The nested <volume> of a volume texture: gridvolume or constvolume.
+void read_volume_plugin(const MitsubaElement& element, const MitsubaIds& ids,
+                        MitsubaFileResolver& files, std::vector<std::string>& referenced_files,
+                        Texture& texture) {
+  if (element.tag != "volume") {
+    fail_at(element, "a volume texture's \"volume\" is a <volume> (gridvolume or "
+                     "constvolume), a <float> or an <rgb>");
+  }
+  MitsubaPlugin plugin(element, ids);
+  if (plugin.type() == "constvolume") {
+    read_constant_volume(plugin, texture);
+    plugin.ignore("to_world");  // a constant is the same everywhere
+    plugin.finish();
+    return;
+  }
+  if (plugin.type() != "gridvolume") {
+    fail_at(element, "unsupported volume (Tessera's volume texture reads gridvolume and "
+                     "constvolume)");
+  }
+  std::optional<std::string> filename = plugin.take_string("filename");
+  if (!filename) fail_at(element, "missing <string name=\"filename\"> (the .vol grid file)");
+  const MitsubaElement& where = *plugin.property("filename");
+  texture.file = files.resolve(where, *filename);
+  if (std::find(referenced_files.begin(), referenced_files.end(), texture.file) ==
+      referenced_files.end()) {
+    referenced_files.push_back(texture.file);
+  }
+  try {
+    texture.grid = read_volume_texture_grid(files.read(texture.file), texture.file);
+  } catch (const SceneError& e) {
+    fail_at(where, e.what());
+  }
+  std::optional<std::string> filter = plugin.take_string("filter_type");
+  texture.filter = TextureFilter::bilinear;
+  if (filter && *filter == "nearest") {
+    texture.filter = TextureFilter::nearest;
+  } else if (filter && *filter != "trilinear") {
+    fail_at(*plugin.property("filter_type"), "Invalid filter type \"" + printable(*filter) +
+                                                 "\", must be one of: \"nearest\" or "
+                                                 "\"trilinear\" (Mitsuba's message)");
+  }
+  std::optional<std::string> wrap = plugin.take_string("wrap_mode");
+  texture.wrap = TextureWrap::clamp;
+  if (wrap && *wrap == "repeat") {
+    texture.wrap = TextureWrap::repeat;
+  } else if (wrap && *wrap == "mirror") {
+    texture.wrap = TextureWrap::mirror;
+  } else if (wrap && *wrap != "clamp") {
+    fail_at(*plugin.property("wrap_mode"), "Invalid wrap mode \"" + printable(*wrap) +
+                                               "\", must be one of: \"repeat\", \"mirror\", "
+                                               "or \"clamp\" (Mitsuba's message)");
+  }
+  if (std::optional<Transform> to_world = plugin.take_transform("to_world")) {
+    texture.volume_to_world = to_world->matrix();
+  }
+  if (plugin.take_boolean("use_grid_bbox").value_or(false)) {
+    // Mitsuba maps the file's bounding box onto [0, 1]^3 before to_world.
+    const glm::dvec3 lo(texture.grid->bbox_min), extent(glm::dvec3(texture.grid->bbox_max) - lo);
+    if (!(extent.x > 0 && extent.y > 0 && extent.z > 0)) {
+      fail_at(*plugin.property("use_grid_bbox"),
+              "the grid file's bounding box is empty, so it cannot place the grid");
+    }
+    texture.volume_to_world =
+        glm::scale(glm::translate(texture.volume_to_world, lo), extent);
+  }
+  plugin.ignore("raw");        // RGB rendering: no spectral upsampling to switch off
+  plugin.ignore("accel");      // GPU texture units: the same lookups
+  plugin.ignore("max_value");  // a medium's majorant; no lookup changes
+  plugin.finish();
+}
+
 }  // namespace
 
 glm::dmat3 read_mitsuba_to_uv(MitsubaPlugin& plugin) {
@@ -138,10 +233,27 @@ Texture MitsubaTextures::read(const MitsubaElement& element) {
     texture.scale = plugin.take_float("scale").value_or(1.0);
     plugin.finish();  // no to_uv: the shape's attribute is looked up where it is hit
     return texture;
+  } else if (plugin.type() == "volume") {
+    // Mitsuba's `volume` texture: its nested <volume> (src/textures/volume.cpp).
+    texture.kind = TextureKind::volume;
+    std::optional<MitsubaObject> volume = plugin.take_named_object("volume");
+    if (!volume) {
+      if (const MitsubaElement* written = plugin.property("volume")) {
+        fail_at(*written, "The property \"volume\" has the wrong type (expected object, got " +
+                              written->tag + ") (Mitsuba's message; a constant is "
+                              "<volume type=\"constvolume\" name=\"volume\">)");
+      }
+      fail_at(element, "missing <volume name=\"volume\"> (gridvolume or constvolume; Mitsuba "
+                       "3.9.1 loads a volume texture without one and crashes at its first "
+                       "lookup)");
+    }
+    read_volume_plugin(*volume->element, ids_, files_, referenced_files_, texture);
+    plugin.finish();  // no to_uv: the point's position is looked up
+    return texture;
   } else {
     fail_at(element,
-            "unsupported texture (Tessera has bitmap, checkerboard, rawconstant and "
-            "mesh_attribute; bake others into a bitmap)");
+            "unsupported texture (Tessera has bitmap, checkerboard, rawconstant, "
+            "mesh_attribute and volume; bake others into a bitmap)");
   }
   texture.to_uv = read_mitsuba_to_uv(plugin);
   plugin.finish();
@@ -185,6 +297,14 @@ TexturedColor read_textured_color(MitsubaPlugin& plugin, std::string_view name,
   if (std::optional<MitsubaObject> texture = plugin.take_named_object(name)) {
     color.value = glm::dvec3(1);
     color.texture = textures.of(*texture->element);
+    const std::string& type = plugin.type();
+    if (textures.at(color.texture).kind == TextureKind::volume &&
+        (type == "plastic" || type == "roughplastic" || type == "pplastic")) {
+      // Mitsuba 3.9.1 throws "Texture::mean(): not implemented!" when it loads such a plastic.
+      fail_at(*texture->written, "Mitsuba's " + type + " takes the mean of its reflectances "
+                                 "when it loads, which a volume texture does not have "
+                                 "(Mitsuba: \"Texture::mean(): not implemented!\")");
+    }
     return color;
   }
   std::optional<glm::dvec3> value = plugin.take_color(name, role);

@@ -34,7 +34,14 @@ class MitsubaTextures {
   ///   to_uv.
   /// - `rawconstant`: value (a <float> or a <vector>), used as written;
   /// - `mesh_attribute`: name ("vertex_..." or "face_..."), scale (1); whether the shapes have
-  ///   the attribute is checked once the scene is read (check_mesh_attribute_use).
+  ///   the attribute is checked once the scene is read (check_mesh_attribute_use);
+  /// - `volume`: a nested <volume name="volume">, gridvolume (filename: a .vol grid of 1 or 3
+  ///   channels, read and checked here; filter_type trilinear or nearest; wrap_mode clamp,
+  ///   repeat or mirror; to_world; use_grid_bbox; raw, accel and max_value change no lookup)
+  ///   or constvolume (value: <float>, <rgb> or <spectrum>, default 1, unbounded as in
+  ///   Mitsuba); without one it is refused (Mitsuba 3.9.1 refuses a <float> or <rgb> there and
+  ///   crashes without any). Where it is used is checked once the scene is read
+  ///   (check_volume_texture_use).
   /// Throws SceneError naming the element for another kind or parameter.
   int32_t of(const MitsubaElement& texture);
 

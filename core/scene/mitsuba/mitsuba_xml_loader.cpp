@@ -17,6 +17,7 @@
 #include "scene/mitsuba/mitsuba_shape.h"
 #include "scene/mitsuba/mitsuba_texture.h"
 #include "scene/mitsuba/mitsuba_xml_document.h"
+#include "scene/volume_texture_check.h"
 
 namespace tessera {
 namespace {
@@ -84,6 +85,7 @@ class SceneBuilder {
     result.lights = std::move(lights_);
     result.referenced_files = std::move(referenced_);
     check_mesh_attribute_use(result);
+    check_volume_texture_use(result);
     if (!integrator_.note.empty()) {
       std::fprintf(stderr, "note: %s: line %d: %s\n", integrator_element_->file.c_str(),
                    integrator_element_->line, integrator_.note.c_str());

@@ -92,7 +92,7 @@ TEST(SceneModelParse, TexturesAndTexturedParameters) {
             0u);
   EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "noise"}})")),
             "textures.t.type: unknown texture type \"noise\" (expected bitmap, checkerboard, "
-            "rawconstant or mesh_attribute)");
+            "rawconstant, mesh_attribute or volume)");
   EXPECT_EQ(error_of(with(R"("textures": {"t": {"type": "bitmap", "file": "a.png",
                                                  "wrap": "tile"}})")),
             "textures.t.wrap: must be \"repeat\", \"mirror\" or \"clamp\" (got \"tile\")");

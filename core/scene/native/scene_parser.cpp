@@ -9,6 +9,7 @@
 #include "scene/native/shape_parser.h"
 #include "scene/native/texture_parser.h"
 #include "scene/scene_error.h"
+#include "scene/volume_texture_check.h"
 
 namespace tessera {
 namespace {
@@ -61,7 +62,7 @@ Scene parse_native_scene(const JsonValue& root, const FileReader& reader) {
   if (std::optional<JsonValue> render = root.find("render")) scene.render = parse_render(*render);
   TextureNames textures;
   if (std::optional<JsonValue> t = root.find("textures")) {
-    textures = parse_textures(*t, scene.textures, scene.referenced_files);
+    textures = parse_textures(*t, scene.textures, scene.referenced_files, reader);
   }
   MaterialTable materials;
   if (std::optional<JsonValue> m = root.find("materials")) parse_materials(*m, materials, textures);
@@ -77,6 +78,7 @@ Scene parse_native_scene(const JsonValue& root, const FileReader& reader) {
   }
   scene.materials = materials.take();
   check_mesh_attribute_use(scene);
+  check_volume_texture_use(scene);
   return scene;
 }
 

@@ -363,6 +363,28 @@ std::string matrix_json(const glm::dmat4& m, const std::string& what) {
   return out + "]}";
 }
 
+/// A volume texture's keys after '{': a file with its transform, filter and wrap, or a value.
+std::string volume_json(const Texture& t, const std::string& what) {
+  if (t.to_uv != glm::dmat3(1.0)) throw SceneError(what + ": a volume has no to_uv");
+  if (t.file.empty()) {
+    if (t.channels == 1 && (t.value.y != t.value.x || t.value.z != t.value.x)) {
+      throw SceneError(what + ": a one-channel constant volume holds one value");
+    }
+    return "\"type\": \"volume\", \"value\": " +
+           (t.channels == 1 ? number(t.value.x, what) : vec3(t.value, what));
+  }
+  std::string out = "\"type\": \"volume\", \"file\": " + json_string(valid_utf8(t.file));
+  if (t.volume_to_world != glm::dmat4(1.0)) {
+    out += ", \"transform\": " + matrix_json(t.volume_to_world, what);
+  }
+  return out + ", \"filter\": \"" +
+         (t.filter == TextureFilter::bilinear ? "trilinear" : "nearest") + "\", \"wrap\": \"" +
+         (t.wrap == TextureWrap::repeat   ? "repeat"
+          : t.wrap == TextureWrap::mirror ? "mirror"
+                                          : "clamp") +
+         "\"";
+}
+
 std::string texture_json(const Texture& t, size_t index, const Names& names) {
   const std::string& name = names.textures[index];
   std::string what = "textures." + printable(name);
@@ -383,6 +405,8 @@ std::string texture_json(const Texture& t, size_t index, const Names& names) {
     if (t.to_uv != glm::dmat3(1.0)) throw SceneError(what + ": a rawconstant has no to_uv");
     return out + "\"type\": \"rawconstant\", \"value\": " +
            (t.channels == 1 ? number(t.value.x, what) : vec3(t.value, what)) + "}";
+  } else if (t.kind == TextureKind::volume) {
+    return out + volume_json(t, what) + "}";
   } else if (t.kind == TextureKind::mesh_attribute) {
     if (t.to_uv != glm::dmat3(1.0)) throw SceneError(what + ": a mesh_attribute has no to_uv");
     return out + "\"type\": \"mesh_attribute\", \"attribute\": " +

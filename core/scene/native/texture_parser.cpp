@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cctype>
 
+#include "scene/native/transform_parser.h"
 #include "scene/scene_error.h"
 #include "scene/scene_loader.h"
+#include "scene/volume_texture_check.h"
 
 namespace tessera {
 namespace {
@@ -25,6 +27,8 @@ constexpr std::pair<const char*, TextureColorSpace> kColorSpaces[] = {
     {"srgb", TextureColorSpace::srgb}, {"linear", TextureColorSpace::linear}};
 constexpr std::pair<const char*, TextureFilter> kFilters[] = {
     {"bilinear", TextureFilter::bilinear}, {"nearest", TextureFilter::nearest}};
+constexpr std::pair<const char*, TextureFilter> kVolumeFilters[] = {
+    {"trilinear", TextureFilter::bilinear}, {"nearest", TextureFilter::nearest}};
 constexpr std::pair<const char*, TextureWrap> kWraps[] = {{"repeat", TextureWrap::repeat},
                                                           {"mirror", TextureWrap::mirror},
                                                           {"clamp", TextureWrap::clamp}};
@@ -66,8 +70,48 @@ glm::dvec3 ranged_rgb(const JsonValue& value, ColorRange range) {
   return rgb;
 }
 
+void add_referenced(const std::string& file, std::vector<std::string>& referenced_files) {
+  if (std::find(referenced_files.begin(), referenced_files.end(), file) ==
+      referenced_files.end()) {
+    referenced_files.push_back(file);
+  }
+}
+
+/// {"type": "volume", "file", "transform", "filter", "wrap"} or {"type": "volume", "value"}.
+void parse_volume(const JsonValue& value, Texture& texture,
+                  std::vector<std::string>& referenced_files, const FileReader& reader) {
+  texture.kind = TextureKind::volume;
+  texture.wrap = TextureWrap::clamp;  // Mitsuba's default for volumes
+  if (auto constant = value.find("value")) {
+    value.expect_object({"type", "value"}, "a constant volume");
+    if (constant->json().is_number()) {
+      texture.value = glm::dvec3(constant->number());
+      texture.channels = 1;
+    } else {
+      texture.value = constant->vec3();
+      texture.channels = 3;
+    }
+    for (int c = 0; c < 3; ++c) {
+      if (!std::isfinite(texture.value[c])) constant->fail("must be finite");
+    }
+    return;
+  }
+  value.expect_object({"type", "file", "transform", "filter", "wrap"}, "a volume");
+  JsonValue file = value.at("file");
+  texture.file = check_bundle_path(file.string(), file.path());
+  add_referenced(texture.file, referenced_files);
+  try {
+    texture.grid = read_volume_texture_grid(reader(texture.file), texture.file);
+  } catch (const SceneError& e) {
+    file.fail(e.what());
+  }
+  if (auto t = value.find("transform")) texture.volume_to_world = parse_transform(*t).matrix();
+  if (auto f = value.find("filter")) texture.filter = parse_enum(*f, kVolumeFilters);
+  if (auto w = value.find("wrap")) texture.wrap = parse_enum(*w, kWraps);
+}
+
 Texture parse_texture(const std::string& name, const JsonValue& value,
-                      std::vector<std::string>& referenced_files) {
+                      std::vector<std::string>& referenced_files, const FileReader& reader) {
   if (!value.json().is_object()) value.expect_object({}, "a texture");
   Texture texture;
   texture.name = name;
@@ -77,10 +121,7 @@ Texture parse_texture(const std::string& name, const JsonValue& value,
     value.expect_object({"type", "file", "color_space", "filter", "wrap", "to_uv"}, "a bitmap");
     JsonValue file = value.at("file");
     texture.file = check_bundle_path(file.string(), file.path());
-    if (std::find(referenced_files.begin(), referenced_files.end(), texture.file) ==
-        referenced_files.end()) {
-      referenced_files.push_back(texture.file);
-    }
+    add_referenced(texture.file, referenced_files);
     texture.color_space = default_color_space(texture.file);
     if (auto c = value.find("color_space")) texture.color_space = parse_enum(*c, kColorSpaces);
     if (auto f = value.find("filter")) texture.filter = parse_enum(*f, kFilters);
@@ -119,9 +160,13 @@ Texture parse_texture(const std::string& name, const JsonValue& value,
       if (!std::isfinite(texture.scale)) scale->fail("must be a finite number");
     }
     return texture;
+  } else if (type == "volume") {
+    parse_volume(value, texture, referenced_files, reader);
+    return texture;
   } else {
     value.at("type").fail("unknown texture type \"" + printable(type) +
-                          "\" (expected bitmap, checkerboard, rawconstant or mesh_attribute)");
+                          "\" (expected bitmap, checkerboard, rawconstant, mesh_attribute or "
+                          "volume)");
   }
   if (auto t = value.find("to_uv")) texture.to_uv = parse_to_uv(*t);
   return texture;
@@ -130,12 +175,12 @@ Texture parse_texture(const std::string& name, const JsonValue& value,
 }  // namespace
 
 TextureNames parse_textures(const JsonValue& value, std::vector<Texture>& textures,
-                            std::vector<std::string>& referenced_files) {
+                            std::vector<std::string>& referenced_files, const FileReader& reader) {
   TextureNames names;
   for (const auto& [name, texture] : value.members()) {
     if (name.empty()) texture.fail("a texture name must not be empty");
     names[name] = int32_t(textures.size());
-    textures.push_back(parse_texture(name, texture, referenced_files));
+    textures.push_back(parse_texture(name, texture, referenced_files, reader));
   }
   return names;
 }

@@ -9,6 +9,7 @@
 
 #include "scene/native/json_value.h"
 #include "scene/scene.h"
+#include "scene/scene_loader.h"
 
 namespace tessera {
 
@@ -17,11 +18,14 @@ using TextureNames = std::map<std::string, int32_t>;
 
 /// Parses "textures": an object from name to texture, appended to `textures` in file order.
 /// A texture is {"type": "bitmap", "file", "color_space", "filter", "wrap", "to_uv"} or
-/// {"type": "checkerboard", "color0", "color1", "to_uv"}. Bitmap files are checked with
-/// check_bundle_path and added to `referenced_files` (once each). Throws SceneError naming the
-/// JSON path of what is wrong.
+/// {"type": "checkerboard", "color0", "color1", "to_uv"}, {"type": "rawconstant", "value"},
+/// {"type": "mesh_attribute", "attribute", "scale"}, or {"type": "volume", "file", "transform",
+/// "filter" (trilinear, nearest), "wrap" (clamp, repeat, mirror)} or {"type": "volume",
+/// "value"}. Bitmap and volume files are checked with check_bundle_path and added to
+/// `referenced_files` (once each); a volume's grid is read through `reader` and checked
+/// (read_volume_texture_grid). Throws SceneError naming the JSON path of what is wrong.
 TextureNames parse_textures(const JsonValue& value, std::vector<Texture>& textures,
-                            std::vector<std::string>& referenced_files);
+                            std::vector<std::string>& referenced_files, const FileReader& reader);
 
 /// Limits a constant colour must respect: [min, max] per channel.
 struct ColorRange {

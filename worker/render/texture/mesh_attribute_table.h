@@ -45,13 +45,16 @@ class MeshAttributeTable {
   std::vector<glm::u32vec3> indices_;  ///< the shape's triangles (for vertex attributes)
 };
 
-/// Where a texture is looked up: the surface point's (u, v), and for mesh attributes the shape's
-/// table, the triangle and the hit's barycentrics (b1, b2). `attributes` null: none.
+/// Where a texture is looked up: the surface point's (u, v), for mesh attributes the shape's
+/// table, the triangle and the hit's barycentrics (b1, b2) (`attributes` null: none), and for
+/// volume textures the point's world position `p` (inside an instance too, as Mitsuba's
+/// instances hand their textures the world-space interaction).
 struct TexturePoint {
   glm::vec2 uv{0.0f};
   const MeshAttributeTable* attributes = nullptr;
   uint32_t primitive = 0;
   glm::vec2 barycentric{0.0f};
+  glm::vec3 p{0.0f};
 };
 
 }  // namespace tessera

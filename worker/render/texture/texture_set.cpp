@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "scene/scene_error.h"
 #include "texel_image.h"
@@ -41,6 +42,13 @@ TextureSet::TextureSet(const std::vector<Texture>& textures, const FileReader& r
       case TextureKind::mesh_attribute:
         textures_.emplace_back(MeshAttributeRef{});
         break;
+      case TextureKind::volume:
+        if (t.grid) {
+          textures_.emplace_back(VolumeTexture(t.grid, t.volume_to_world, t.filter, t.wrap));
+        } else {
+          textures_.emplace_back(VolumeTexture(to_float(t.value), t.channels == 1));
+        }
+        break;
     }
   }
 }
@@ -62,23 +70,49 @@ float TextureSet::lookup_1(int32_t texture, glm::vec2 uv) const {
   if (const auto* b = std::get_if<BitmapTexture>(&e)) return b->eval_1(uv);
   if (const auto* r = std::get_if<RawConstant>(&e)) return r->eval_1(uv);
   if (std::holds_alternative<MeshAttributeRef>(e)) return 0.0f;
+  if (const auto* v = std::get_if<VolumeTexture>(&e)) {
+    return v->grid() ? 0.0f : v->eval_1(glm::vec3(0.0f));
+  }
   return mitsuba_luminance(std::get<Checkerboard>(e).eval_scalar_order(uv));
 }
 
+// One dispatch on the kind per lookup (a surface point's lookups are the hot ones).
 glm::vec3 TextureSet::lookup(int32_t texture, const TexturePoint& at) const {
-  if (!std::holds_alternative<MeshAttributeRef>(this->at(texture))) return lookup(texture, at.uv);
-  if (!at.attributes) return glm::vec3(0.0f);
-  int channels = 0;
-  const glm::vec3 v = at.attributes->eval(texture, at.primitive, at.barycentric, channels);
-  return channels == 1 ? glm::vec3(v.x) : v;
+  return std::visit(
+      [&](const auto& t) -> glm::vec3 {
+        using T = std::decay_t<decltype(t)>;
+        if constexpr (std::is_same_v<T, VolumeTexture>) {
+          return t.eval(at.p);
+        } else if constexpr (std::is_same_v<T, MeshAttributeRef>) {
+          if (!at.attributes) return glm::vec3(0.0f);
+          int channels = 0;
+          const glm::vec3 v = at.attributes->eval(texture, at.primitive, at.barycentric, channels);
+          return channels == 1 ? glm::vec3(v.x) : v;
+        } else {
+          return t.eval(at.uv);
+        }
+      },
+      this->at(texture));
 }
 
 float TextureSet::lookup_1(int32_t texture, const TexturePoint& at) const {
-  if (!std::holds_alternative<MeshAttributeRef>(this->at(texture))) return lookup_1(texture, at.uv);
-  if (!at.attributes) return 0.0f;
-  int channels = 0;
-  const glm::vec3 v = at.attributes->eval(texture, at.primitive, at.barycentric, channels);
-  return channels == 1 ? v.x : 0.0f;
+  return std::visit(
+      [&](const auto& t) -> float {
+        using T = std::decay_t<decltype(t)>;
+        if constexpr (std::is_same_v<T, VolumeTexture>) {
+          return t.eval_1(at.p);
+        } else if constexpr (std::is_same_v<T, MeshAttributeRef>) {
+          if (!at.attributes) return 0.0f;
+          int channels = 0;
+          const glm::vec3 v = at.attributes->eval(texture, at.primitive, at.barycentric, channels);
+          return channels == 1 ? v.x : 0.0f;
+        } else if constexpr (std::is_same_v<T, Checkerboard>) {
+          return mitsuba_luminance(t.eval_scalar_order(at.uv));
+        } else {
+          return t.eval_1(at.uv);
+        }
+      },
+      this->at(texture));
 }
 
 glm::vec2 TextureSet::gradient(int32_t texture, glm::vec2 uv) const {

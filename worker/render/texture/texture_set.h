@@ -12,6 +12,7 @@
 #include "checkerboard.h"
 #include "mesh_attribute_table.h"
 #include "raw_constant.h"
+#include "volume_texture.h"
 #include "scene/scene.h"
 #include "scene/scene_loader.h"
 
@@ -48,12 +49,14 @@ class TextureSet {
   /// The scalar lookup alone (see eval(TexturedFloat)).
   float lookup_1(int32_t texture, glm::vec2 uv) const;
   /// The texture at a surface point: a mesh_attribute reads the point's shape attributes (a
-  /// 1-channel attribute as grey, a 3-channel one as RGB, 0 without the attribute), every
-  /// other kind looks up `at.uv`. The uv-only lookups above read a mesh_attribute as 0 (only
-  /// materials of shapes that have the attribute may use one; the loaders check that).
+  /// 1-channel attribute as grey, a 3-channel one as RGB, 0 without the attribute), a volume
+  /// texture the point's world position `at.p`, every other kind looks up `at.uv`. The
+  /// uv-only lookups above read a mesh_attribute as 0 and a volume grid as 0 (only materials
+  /// may use them, and materials look up surface points; the loaders check that).
   glm::vec3 lookup(int32_t texture, const TexturePoint& at) const;
   /// Scalar lookup at a surface point: a 1-channel mesh attribute's value; a 3-channel one
-  /// reads 0, as Mitsuba's eval_1 of it (Mesh::eval_attribute_1 returns 0 for another size).
+  /// reads 0, as Mitsuba's eval_1 of it (Mesh::eval_attribute_1 returns 0 for another size);
+  /// a volume texture's eval_1 at `at.p`.
   float lookup_1(int32_t texture, const TexturePoint& at) const;
   /// d/du and d/dv of the scalar lookup, for bump mapping (Mitsuba's eval_1_grad). Zero for
   /// raw constants, checkerboards and nearest-filtered bitmaps (piecewise constant; Mitsuba refuses them).
@@ -67,7 +70,8 @@ class TextureSet {
   struct MeshAttributeRef {
     glm::vec3 eval(glm::vec2 /*uv*/) const { return glm::vec3(0.0f); }
   };
-  using Entry = std::variant<BitmapTexture, Checkerboard, RawConstant, MeshAttributeRef>;
+  using Entry =
+      std::variant<BitmapTexture, Checkerboard, RawConstant, MeshAttributeRef, VolumeTexture>;
   const Entry& at(int32_t texture) const;
 
   std::vector<Entry> textures_;
