@@ -25,19 +25,10 @@ LeaseTable::LeaseTable(Database& db, JobStore& jobs, const Clock& clock, int64_t
                        IdSource new_id)
     : db_(db), units_(db), jobs_(jobs), clock_(clock), lease_ms_(lease_ms), new_id_(std::move(new_id)) {}
 
-namespace {
-
-Lease lease_of(const LeasedRow& row) {
-  return Lease{row.lease_id, row.unit_id, row.job_id, row.tile, row.batch, row.worker_id,
-               row.expires_unix_ms};
-}
-
-}  // namespace
-
 std::optional<Lease> LeaseTable::held_by(int64_t worker_id) {
-  const std::vector<LeasedRow> held = units_.leased_to(worker_id);
+  const std::vector<Lease> held = units_.leased_to(worker_id);
   if (held.empty()) return std::nullopt;
-  return lease_of(held.front());
+  return held.front();
 }
 
 std::optional<Lease> LeaseTable::grant_in_transaction(int64_t job_id, const RequeuedUnit& unit,
@@ -85,7 +76,7 @@ ReleaseOutcome LeaseTable::release(int64_t worker_id, const std::string& lease_i
                                    ReleaseReason reason, const std::string& message) {
   ReleaseOutcome outcome;
   Transaction tx(db_);
-  const std::optional<LeasedRow> held = units_.lease(worker_id, lease_id);
+  const std::optional<Lease> held = units_.lease(worker_id, lease_id);
   if (!held) return outcome;
   const int64_t unit_id = held->unit_id, job_id = held->job_id;
   const bool failed = reason == ReleaseReason::failed;
@@ -123,7 +114,7 @@ bool LeaseTable::record_failure(int64_t unit_id, int64_t job_id, int64_t worker_
 
 int LeaseTable::requeue_expiring_before(int64_t bound) {
   int count = 0;
-  for (const LeasedRow& e : units_.leases_expiring_before(bound)) {
+  for (const Lease& e : units_.leases_expiring_before(bound)) {
     if (units_.requeue(e.unit_id, e.lease_id, UnitEvent::expire, false) != 1) continue;
     ++count;
     JobsTable(db_).count_expired(e.job_id);

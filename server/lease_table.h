@@ -16,16 +16,6 @@
 
 namespace tessera::server {
 
-struct Lease {
-  std::string lease_id;
-  int64_t unit_id = 0;
-  int64_t job_id = 0;
-  uint32_t tile = 0;
-  uint32_t batch = 0;
-  int64_t worker_id = 0;
-  int64_t expires_unix_ms = 0;
-};
-
 /// Why a unit is handed back.
 enum class ReleaseReason { shutdown, failed };
 

@@ -13,8 +13,8 @@ std::string lit(UnitState state) { return "'" + std::string(to_string(state)) + 
 const std::string kLeasedColumns =
     "id, job_id, tile, batch, worker_id, lease_id, lease_expires_unix_ms";
 
-LeasedRow read_leased(const Statement& q) {
-  LeasedRow r;
+Lease read_leased(const Statement& q) {
+  Lease r;
   r.unit_id = q.int64(0);
   r.job_id = q.int64(1);
   r.tile = uint32_t(q.int64(2));
@@ -27,18 +27,18 @@ LeasedRow read_leased(const Statement& q) {
 
 }  // namespace
 
-std::vector<LeasedRow> UnitsTable::leased_to(int64_t worker_id) {
+std::vector<Lease> UnitsTable::leased_to(int64_t worker_id) {
   static const std::string sql = "SELECT " + kLeasedColumns +
                                  " FROM units INDEXED BY units_worker WHERE worker_id = ?1"
                                  " AND state = " + lit(UnitState::leased) + " ORDER BY id";
-  std::vector<LeasedRow> out;
+  std::vector<Lease> out;
   auto q = db_.prepare(sql);
   q->bind(1, worker_id);
   while (q->step()) out.push_back(read_leased(*q));
   return out;
 }
 
-std::optional<LeasedRow> UnitsTable::lease(int64_t worker_id, const std::string& lease_id) {
+std::optional<Lease> UnitsTable::lease(int64_t worker_id, const std::string& lease_id) {
   // By the unique partial index units_lease.
   static const std::string sql = "SELECT " + kLeasedColumns +
                                  " FROM units WHERE lease_id = ?1 AND worker_id = ?2 AND state = " +
@@ -49,11 +49,11 @@ std::optional<LeasedRow> UnitsTable::lease(int64_t worker_id, const std::string&
   return read_leased(*q);
 }
 
-std::vector<LeasedRow> UnitsTable::leases_expiring_before(int64_t bound) {
+std::vector<Lease> UnitsTable::leases_expiring_before(int64_t bound) {
   static const std::string sql = "SELECT " + kLeasedColumns +
                                  " FROM units INDEXED BY units_expiry WHERE state = " +
                                  lit(UnitState::leased) + " AND lease_expires_unix_ms < ?1";
-  std::vector<LeasedRow> out;
+  std::vector<Lease> out;
   auto q = db_.prepare(sql);
   q->bind(1, bound);
   while (q->step()) out.push_back(read_leased(*q));
