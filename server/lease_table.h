@@ -40,8 +40,8 @@ struct WorkerHealthPolicy {
   int workers_to_fail_unit = 3;
 };
 
-/// 128 random bits as 32 lowercase hex characters (std::random_device: the CPU's or the
-/// kernel's random source, never a seeded generator).
+/// 128 random bits as 32 lowercase hex characters (getrandom(2): the kernel's random source,
+/// never a seeded generator). Throws std::system_error when the kernel refuses.
 std::string random_lease_id();
 
 class LeaseTable {
