@@ -51,16 +51,80 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       nan_report_fraction_(config.nan_report_fraction),
       retention_days_(config.retention_days) {
   // The whole-file check only after a server stopped without its clean shutdown (a crash, a
-  // kill): a clean restart reads no page beyond the header, whatever the store's size.
-  if (!take_clean_shutdown_mark(db_, config.db_path)) check_integrity(db_, config.db_path);
+  // kill): a clean restart reads no page beyond the header, whatever the store's size. It runs
+  // beside the server, not before it: SQLite recovers from a process crash by itself (WAL), and
+  // the check, which reads the whole file (tens of seconds on a store of hundreds of MB), guards
+  // against a damaged disk or file, which it reports when it finds it.
+  // A store this start creates (no migration applied yet) has nothing to check.
+  const bool clean = take_clean_shutdown_mark(db_, config.db_path);
+  const bool created = schema_version(db_) == 0;
   migrate(db_, clock_.now_unix_ms());
   leases_.set_health_policy(config.health);
+  if (!clean && !created && config.db_path != ":memory:") {
+    std::cerr << "tessera-server: " << config.db_path
+              << " was not closed by a clean shutdown: checking it (PRAGMA quick_check) in the"
+                 " background while serving"
+              << std::endl;
+    const auto began = std::chrono::steady_clock::now();
+    check_ = std::make_unique<BackgroundIntegrityCheck>(
+        config.db_path, [this, began, path = config.db_path](IntegrityState state,
+                                                             const std::string& message) {
+          const double s =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+          if (state == IntegrityState::damaged) {
+            store_damaged(message);
+          } else if (state == IntegrityState::ok) {
+            std::cerr << "tessera-server: " << path << ": check passed (" << s << " s)"
+                      << std::endl;
+          } else if (!message.empty()) {
+            std::cerr << "tessera-server: warning: " << path << ": " << message
+                      << " (the next start checks again)" << std::endl;
+          }
+        });
+  }
 }
 
 bool Coordinator::checkpoint() {
+  // A check that ends early (or found damage) leaves no mark: the next start checks again.
+  bool checked = true;
+  if (check_) {
+    check_->stop();
+    checked = check_->state() == IntegrityState::ok;
+  }
   std::lock_guard lock(mu_);
-  leave_clean_shutdown_mark(db_);
+  if (checked) leave_clean_shutdown_mark(db_);
   return checkpoint_wal(db_);
+}
+
+void Coordinator::store_damaged(const std::string& message) {
+  std::cerr << "tessera-server: ERROR: " << message
+            << "; no more leases (uploads of leased units still commit); stop the server"
+            << std::endl;
+  changes_.stop();  // LeaseUnit answers "no work", long polls and watches end, /readyz fails
+  std::lock_guard lock(damage_mu_);  // held while the observer runs: see set_damage_observer
+  damage_ = message;
+  if (damage_observer_) damage_observer_(message);
+}
+
+std::optional<IntegrityState> Coordinator::store_check() const {
+  if (!check_) return std::nullopt;
+  return check_->state();
+}
+
+std::optional<IntegrityState> Coordinator::wait_for_store_check() const {
+  if (!check_) return std::nullopt;
+  return check_->wait();
+}
+
+std::string Coordinator::store_damage() const {
+  std::lock_guard lock(damage_mu_);
+  return damage_;
+}
+
+void Coordinator::set_damage_observer(std::function<void(const std::string&)> observer) {
+  std::lock_guard lock(damage_mu_);
+  damage_observer_ = std::move(observer);
+  if (!damage_.empty() && damage_observer_) damage_observer_(damage_);
 }
 
 StoreCounters Coordinator::store_counters() {

@@ -23,6 +23,7 @@
 #include "job_store.h"
 #include "lease_table.h"
 #include "scheduler.h"
+#include "store/integrity.h"
 #include "store/sqlite.h"
 #include "tessera/v1/job.pb.h"
 #include "tile_merger.h"
@@ -94,9 +95,12 @@ struct JobImage {
 
 class Coordinator {
  public:
-  /// Opens (creating) the database, checks it (PRAGMA quick_check) unless the last server left
-  /// it with a clean shutdown (checkpoint()), and applies migrations.
-  /// Throws StoreCorrupt for a damaged database, SqliteError for other store errors.
+  /// Opens (creating) the database and applies migrations. Unless the last server left it with
+  /// a clean shutdown (checkpoint()) or this start created it, starts the whole-file check (PRAGMA quick_check) in the
+  /// background on its own connection (BackgroundIntegrityCheck) and returns without waiting
+  /// for it: when it finds damage, the server logs it, stops leasing and is no longer ready
+  /// (store_damage(), store_ready()). Throws StoreCorrupt for a database damaged where start-up
+  /// reads it (the header, the schema), SqliteError for other store errors.
   Coordinator(const CoordinatorConfig& config, const Clock& clock);
 
   /// At server start: leases granted before are revoked (units back in the queue, counted as
@@ -173,8 +177,9 @@ class Coordinator {
   /// Graceful shutdown, first step: no more leases (LeaseUnit answers "no work"), long polls
   /// and watches end. Uploads, heartbeats and releases still work, so results in flight commit.
   void stop_leasing() { changes_.stop(); }
-  /// Last step: marks the store as shut down cleanly (the next start skips the whole-file
-  /// check) and checkpoints the WAL into the database file (PRAGMA wal_checkpoint(TRUNCATE)).
+  /// Last step: stops the background check if it still runs, marks the store as shut down
+  /// cleanly unless a check was due and did not end `ok` (so the next start checks again), and
+  /// checkpoints the WAL into the database file (PRAGMA wal_checkpoint(TRUNCATE)).
   /// Returns false when the checkpoint could not complete. Nothing may write after it.
   bool checkpoint();
 
@@ -187,7 +192,7 @@ class Coordinator {
   /// Changes the priority of a queued or running job (the scheduler reads it at the next
   /// lease). Throws FarmError: not_found, failed_precondition when the job is already final.
   JobRecord set_priority(int64_t job_id, int priority);
-  /// True when the store answers a query (for /readyz).
+  /// True when the store answers a query and no damage was found (for /readyz).
   bool store_ready();
   // ---- end of dashboard views ---------------------------------------------------------------
 
@@ -198,6 +203,19 @@ class Coordinator {
   /// Every answered upload is reported to `observer` (the dashboard's counters). Call before
   /// serving; nullptr reports nothing. The observer must outlive the coordinator's calls.
   void set_upload_observer(UploadObserver* observer) { upload_observer_ = observer; }
+
+  /// The whole-file check of this start: nullopt when none was due (the last server stopped
+  /// cleanly), else its state.
+  std::optional<IntegrityState> store_check() const;
+  /// Blocks until the check of this start has ended (tests); nullopt when none was due.
+  std::optional<IntegrityState> wait_for_store_check() const;
+  /// The damage the check found (one line naming the file and what SQLite found), or "".
+  std::string store_damage() const;
+  /// `observer` is called once with store_damage() when the check finds damage, from the
+  /// check's thread (at once, from this one, when it already has); it must not call back into
+  /// the coordinator. Replacing it (nullptr) waits for a call in progress, so an observer is
+  /// never called after it was replaced.
+  void set_damage_observer(std::function<void(const std::string&)> observer);
 
   ChangeNotifier& changes() { return changes_; }
   int64_t lease_ms() const { return leases_.lease_ms(); }
@@ -265,6 +283,13 @@ class Coordinator {
   GroupCommit<UploadCall> upload_commits_{
       [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); }};
   UploadObserver* upload_observer_ = nullptr;  ///< set before serving; may be null
+  /// The check found damage: log it, stop leasing, tell the observer (from the check's thread).
+  void store_damaged(const std::string& message);
+  mutable std::mutex damage_mu_;
+  std::string damage_;                                      ///< guarded by damage_mu_
+  std::function<void(const std::string&)> damage_observer_;  ///< guarded by damage_mu_
+  /// Last, so that it is stopped (its thread joined) before anything it calls is destroyed.
+  std::unique_ptr<BackgroundIntegrityCheck> check_;
 };
 
 }  // namespace tessera::server

@@ -98,6 +98,7 @@ JobRecord Coordinator::set_priority(int64_t job_id, int priority) {
 }
 
 bool Coordinator::store_ready() {
+  if (!store_damage().empty()) return false;
   try {
     std::lock_guard lock(mu_);
     migrations_applied(db_);

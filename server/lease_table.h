@@ -16,16 +16,6 @@
 
 namespace tessera::server {
 
-struct Lease {
-  std::string lease_id;
-  int64_t unit_id = 0;
-  int64_t job_id = 0;
-  uint32_t tile = 0;
-  uint32_t batch = 0;
-  int64_t worker_id = 0;
-  int64_t expires_unix_ms = 0;
-};
-
 /// Why a unit is handed back.
 enum class ReleaseReason { shutdown, failed };
 
@@ -50,8 +40,8 @@ struct WorkerHealthPolicy {
   int workers_to_fail_unit = 3;
 };
 
-/// 128 random bits as 32 lowercase hex characters (std::random_device: the CPU's or the
-/// kernel's random source, never a seeded generator).
+/// 128 random bits as 32 lowercase hex characters (getrandom(2): the kernel's random source,
+/// never a seeded generator). Throws std::system_error when the kernel refuses.
 std::string random_lease_id();
 
 class LeaseTable {

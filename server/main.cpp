@@ -167,6 +167,15 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
     std::cerr << "tessera-server: cannot listen on " << flags.grpc_address << "\n";
     return 1;
   }
+  // Damage found by the background check of the store (after an unclean stop) turns the
+  // standard health service to NOT_SERVING, as /readyz turns 503 (docs/reliability.md).
+  coordinator.set_damage_observer([&server](const std::string&) {
+    server->GetHealthCheckService()->SetServingStatus(false);
+  });
+  struct ObserverReset {  // before `server` goes: no call into it after that
+    ts::Coordinator& coordinator;
+    ~ObserverReset() { coordinator.set_damage_observer(nullptr); }
+  } observer_reset{coordinator};
   const std::string host = flags.grpc_address.substr(0, flags.grpc_address.rfind(':'));
   std::string security =
       flags.tls.active() ? (flags.tls.client_ca_file.empty() ? ", TLS" : ", mutual TLS") : "";

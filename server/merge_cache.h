@@ -12,12 +12,11 @@
 #pragma once
 
 #include <cstdint>
-#include <list>
-#include <map>
 #include <optional>
 #include <utility>
 
 #include "accum/accumulation.h"
+#include "byte_bounded_lru.h"
 
 namespace tessera::server {
 
@@ -35,7 +34,7 @@ class MergeCache {
   /// The coordinator's default bound (CoordinatorConfig::merge_cache_bytes, --merge-cache-mb).
   static constexpr size_t kDefaultBudgetBytes = size_t(1) << 30;
 
-  explicit MergeCache(size_t budget_bytes = kDefaultBudgetBytes) : budget_(budget_bytes) {}
+  explicit MergeCache(size_t budget_bytes = kDefaultBudgetBytes) : lru_(budget_bytes) {}
 
   /// Removes the entry of (job, tile) and returns it when it holds batches [0, next_batch);
   /// nullopt otherwise (a stale entry is dropped). The caller puts it back with put() once its
@@ -49,26 +48,16 @@ class MergeCache {
   /// Drops every entry of the job (deleted).
   void forget_job(int64_t job_id);
 
-  size_t bytes() const { return bytes_; }
-  size_t entries() const { return index_.size(); }
-  size_t budget_bytes() const { return budget_; }
+  size_t bytes() const { return lru_.bytes(); }
+  size_t entries() const { return lru_.entries(); }
+  size_t budget_bytes() const { return lru_.budget_bytes(); }
 
   /// Bytes an entry of this sum counts against the budget.
   static size_t bytes_of(const Accumulation& sum);
 
  private:
-  using Key = std::pair<int64_t, uint32_t>;
-  struct Entry {
-    Key key;
-    Tile tile;
-    size_t bytes;
-  };
-  void erase(std::list<Entry>::iterator it);
-
-  size_t budget_;
-  size_t bytes_ = 0;
-  std::list<Entry> lru_;  ///< most recently used first
-  std::map<Key, std::list<Entry>::iterator> index_;
+  using Key = std::pair<int64_t, uint32_t>;  ///< (job, tile)
+  ByteBoundedLru<Key, Tile> lru_;
 };
 
 }  // namespace tessera::server

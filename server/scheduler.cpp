@@ -37,9 +37,7 @@ std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
 std::vector<Lease> Scheduler::lease_up_to(int64_t worker_id, uint32_t max_units) {
   Transaction tx(db_);
   std::vector<Lease> out;
-  for (const LeasedRow& row : units_.leased_to(worker_id)) {
-    Lease held{row.lease_id, row.unit_id, row.job_id, row.tile, row.batch, row.worker_id,
-               row.expires_unix_ms};
+  for (Lease held : units_.leased_to(worker_id)) {
     if (const auto expires = leases_.extend_in_transaction(worker_id, held.lease_id)) {
       held.expires_unix_ms = *expires;
     }

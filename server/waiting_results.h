@@ -10,18 +10,17 @@
 #pragma once
 
 #include <cstdint>
-#include <list>
-#include <map>
 #include <optional>
 #include <tuple>
 
 #include "accum/accumulation.h"
+#include "byte_bounded_lru.h"
 
 namespace tessera::server {
 
 class WaitingResults {
  public:
-  explicit WaitingResults(size_t budget_bytes) : budget_(budget_bytes) {}
+  explicit WaitingResults(size_t budget_bytes) : lru_(budget_bytes) {}
 
   /// Keeps the decoded result of (job, tile, batch), evicting the oldest entries while the
   /// bytes exceed the budget (this one too when it alone exceeds it).
@@ -31,22 +30,12 @@ class WaitingResults {
   /// Drops every entry of the job (deleted).
   void forget_job(int64_t job_id);
 
-  size_t bytes() const { return bytes_; }
-  size_t entries() const { return index_.size(); }
+  size_t bytes() const { return lru_.bytes(); }
+  size_t entries() const { return lru_.entries(); }
 
  private:
-  using Key = std::tuple<int64_t, uint32_t, uint32_t>;
-  struct Entry {
-    Key key;
-    Accumulation result;
-    size_t bytes;
-  };
-  void erase(std::list<Entry>::iterator it);
-
-  size_t budget_;
-  size_t bytes_ = 0;
-  std::list<Entry> order_;  ///< newest first
-  std::map<Key, std::list<Entry>::iterator> index_;
+  using Key = std::tuple<int64_t, uint32_t, uint32_t>;  ///< (job, tile, batch)
+  ByteBoundedLru<Key, Accumulation> lru_;
 };
 
 }  // namespace tessera::server

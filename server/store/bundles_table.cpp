@@ -16,10 +16,9 @@ void BundlesTable::insert_once(const std::string& sha256, const std::string& sce
 }
 
 std::optional<std::string> BundlesTable::bytes(const std::string& sha256) {
-  auto q = db_.prepare("SELECT data FROM bundles WHERE sha256 = ?");
-  q->bind(1, sha256);
-  if (!q->step()) return std::nullopt;
-  return q->blob(0);
+  return db_.prepare("SELECT data FROM bundles WHERE sha256 = ?")
+      ->bind_all(sha256)
+      .first_row([](const Statement& r) { return r.blob(0); });
 }
 
 bool BundlesTable::remove_unused(const std::string& sha256) {

@@ -27,13 +27,14 @@ void FailuresTable::record(int64_t job_id, int64_t unit_id, int64_t worker_id,
 }
 
 std::vector<UnitFailure> FailuresTable::of_unit(int64_t unit_id) {
-  std::vector<UnitFailure> out;
-  auto q = db_.prepare(
-      "SELECT f.worker_id, w.name, f.failures, f.last_error FROM unit_failures f"
-      " JOIN workers w ON w.id = f.worker_id WHERE f.unit_id = ? ORDER BY f.worker_id");
-  q->bind(1, unit_id);
-  while (q->step()) out.push_back({q->int64(0), q->text(1), q->int64(2), q->text(3)});
-  return out;
+  return db_
+      .prepare(
+          "SELECT f.worker_id, w.name, f.failures, f.last_error FROM unit_failures f"
+          " JOIN workers w ON w.id = f.worker_id WHERE f.unit_id = ? ORDER BY f.worker_id")
+      ->bind_all(unit_id)
+      .rows([](const Statement& r) {
+        return UnitFailure{r.int64(0), r.text(1), r.int64(2), r.text(3)};
+      });
 }
 
 }  // namespace tessera::server

@@ -1,5 +1,6 @@
 #include "store/integrity.h"
 
+#include <chrono>
 #include <vector>
 
 namespace tessera::server {
@@ -30,6 +31,112 @@ void check_integrity(Database& db, const std::string& path) {
   if (problems.size() > 1) detail += " (and " + std::to_string(problems.size() - 1) + " more)";
   for (char& c : detail) c = c == '\n' ? ' ' : c;
   throw StoreCorrupt(corrupt_store_message(path, detail));
+}
+
+const char* integrity_state_name(IntegrityState state) {
+  switch (state) {
+    case IntegrityState::checking: return "checking";
+    case IntegrityState::ok: return "ok";
+    case IntegrityState::damaged: return "damaged";
+    case IntegrityState::interrupted: return "interrupted";
+  }
+  return "unknown";
+}
+
+BackgroundIntegrityCheck::BackgroundIntegrityCheck(std::string path, EndCallback on_end)
+    : path_(std::move(path)), on_end_(std::move(on_end)), thread_([this] { run(); }) {}
+
+BackgroundIntegrityCheck::~BackgroundIntegrityCheck() { stop(); }
+
+IntegrityState BackgroundIntegrityCheck::state() const {
+  std::lock_guard lock(mu_);
+  return state_;
+}
+
+std::string BackgroundIntegrityCheck::message() const {
+  std::lock_guard lock(mu_);
+  return message_;
+}
+
+IntegrityState BackgroundIntegrityCheck::wait() const {
+  std::unique_lock lock(mu_);
+  ended_.wait(lock, [&] { return state_ != IntegrityState::checking; });
+  return state_;
+}
+
+void BackgroundIntegrityCheck::stop() {
+  {
+    std::unique_lock lock(mu_);
+    stop_requested_ = true;
+    // An interrupt that lands between two statements is forgotten by SQLite: repeat it until the
+    // check has ended.
+    while (state_ == IntegrityState::checking) {
+      if (db_) sqlite3_interrupt(db_->handle());
+      ended_.wait_for(lock, std::chrono::milliseconds(20));
+    }
+  }
+  if (thread_.joinable()) thread_.join();
+}
+
+void BackgroundIntegrityCheck::finish(IntegrityState state, std::string message) {
+  {
+    std::lock_guard lock(mu_);
+    // After a stop request nothing the check says counts: an interrupted quick_check may
+    // report the pages it did not reach as "never used".
+    if (stop_requested_ && state != IntegrityState::ok) {
+      state = IntegrityState::interrupted;
+      message.clear();
+    }
+  }
+  // Before the state is published, so that whoever wait()s sees what the callback did.
+  if (on_end_) on_end_(state, message);
+  {
+    std::lock_guard lock(mu_);
+    state_ = state;
+    message_ = std::move(message);
+  }
+  ended_.notify_all();
+}
+
+void BackgroundIntegrityCheck::run() {
+  IntegrityState state = IntegrityState::ok;
+  std::string message;
+  try {
+    Database db(path_);
+    db.exec("PRAGMA query_only = 1");    // a reader: it can never write the store
+    db.exec("PRAGMA cache_size = -8192");  // it reads each page once: 8 MiB is plenty
+    {
+      std::lock_guard lock(mu_);
+      if (stop_requested_) {
+        state = IntegrityState::interrupted;
+      } else {
+        db_ = &db;
+      }
+    }
+    if (state != IntegrityState::interrupted) {
+      try {
+        check_integrity(db, path_);
+      } catch (const StoreCorrupt& e) {
+        state = IntegrityState::damaged;
+        message = e.what();
+      } catch (const SqliteError& e) {
+        state = IntegrityState::interrupted;
+        if (e.primary_code() != SQLITE_INTERRUPT) message = std::string("check failed: ") + e.what();
+      }
+      std::lock_guard lock(mu_);
+      db_ = nullptr;
+    }
+  } catch (const SqliteError& e) {
+    // Opening the second connection failed (the server's own open succeeded a moment ago).
+    if (is_corruption(e)) {
+      state = IntegrityState::damaged;
+      message = corrupt_store_message(path_, e.what());
+    } else {
+      state = IntegrityState::interrupted;
+      message = std::string("check failed: ") + e.what();
+    }
+  }
+  finish(state, std::move(message));
 }
 
 namespace {

@@ -2,8 +2,12 @@
 // a clean one behind (docs/reliability.md, "Worker health and shutdown").
 #pragma once
 
+#include <condition_variable>
+#include <functional>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "store/sqlite.h"
 
@@ -21,6 +25,61 @@ class StoreCorrupt : public std::runtime_error {
 /// constraints) but does not match each index against its table, which integrity_check does
 /// at O(N log N): about 2.6 times its CPU on a 68 MB store (BENCHMARKS.md, "restart").
 void check_integrity(Database& db, const std::string& path);
+
+/// What the whole-file check found so far (BackgroundIntegrityCheck::state).
+enum class IntegrityState {
+  checking,     ///< quick_check is still reading the file
+  ok,           ///< it read the whole file and found nothing
+  damaged,      ///< it found damage (message() says what); the server stops leasing
+  interrupted,  ///< stopped before it finished (shutdown): the next start checks again
+};
+
+/// "checking", "ok", "damaged", "interrupted".
+const char* integrity_state_name(IntegrityState state);
+
+/// check_integrity in the background, on its own connection to `path` (a read transaction in
+/// WAL mode: the server's writer goes on while it reads a snapshot of the file). Started after
+/// an unclean stop, so that the server serves at once instead of spending seconds per hundred
+/// MB before it listens (docs/reliability.md, "A consistent database after any crash").
+/// `on_end` is called once, from the check's thread, when the check ends: with `damaged` and
+/// the one-line message of corrupt_store_message when it found damage (or its connection met
+/// SQLITE_CORRUPT or SQLITE_NOTADB), `ok` and "", or `interrupted` (by stop(), message "", or
+/// by an error that kept it from finishing, message "check failed: ..."). It must not call
+/// back into this object. The destructor stops the check (stop()).
+class BackgroundIntegrityCheck {
+ public:
+  using EndCallback = std::function<void(IntegrityState, const std::string&)>;
+  BackgroundIntegrityCheck(std::string path, EndCallback on_end);
+  ~BackgroundIntegrityCheck();
+  BackgroundIntegrityCheck(const BackgroundIntegrityCheck&) = delete;
+  BackgroundIntegrityCheck& operator=(const BackgroundIntegrityCheck&) = delete;
+
+  IntegrityState state() const;
+  /// The damage found (corrupt_store_message), or an error that kept the check from running;
+  /// empty otherwise.
+  std::string message() const;
+  /// Blocks until the check has ended (any state but `checking`) and its `on_end` has returned,
+  /// and returns its state.
+  IntegrityState wait() const;
+  /// Interrupts the check (sqlite3_interrupt on its connection) and joins its thread: within
+  /// milliseconds, not the file's whole read. A check that had ended keeps its state; one still
+  /// reading becomes `interrupted`. Idempotent.
+  void stop();
+
+ private:
+  void run();
+  void finish(IntegrityState state, std::string message);
+
+  const std::string path_;
+  const EndCallback on_end_;
+  mutable std::mutex mu_;
+  mutable std::condition_variable ended_;
+  IntegrityState state_ = IntegrityState::checking;
+  std::string message_;
+  bool stop_requested_ = false;
+  Database* db_ = nullptr;  ///< the check's connection while it is open (guarded by mu_)
+  std::thread thread_;      ///< last: started when everything above is ready
+};
 
 /// The one-line message for a damaged store at `path`, with SQLite's `detail`.
 std::string corrupt_store_message(const std::string& path, const std::string& detail);

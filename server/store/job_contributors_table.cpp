@@ -1,6 +1,11 @@
 #include "store/job_contributors_table.h"
 
 namespace tessera::server {
+namespace {
+
+std::string read_text(const Statement& q) { return q.text(0); }
+
+}  // namespace
 
 void JobContributorsTable::add(int64_t job_id, const std::string& isa, int64_t worker_id) {
   db_.prepare(
@@ -13,20 +18,16 @@ void JobContributorsTable::add(int64_t job_id, const std::string& isa, int64_t w
 }
 
 std::vector<std::string> JobContributorsTable::isas(int64_t job_id) {
-  std::vector<std::string> out;
-  auto q = db_.prepare("SELECT DISTINCT isa FROM job_contributors WHERE job_id = ? ORDER BY isa");
-  q->bind(1, job_id);
-  while (q->step()) out.push_back(q->text(0));
-  return out;
+  return db_.prepare("SELECT DISTINCT isa FROM job_contributors WHERE job_id = ? ORDER BY isa")
+      ->bind_all(job_id)
+      .rows(read_text);
 }
 
 std::vector<std::string> JobContributorsTable::versions(int64_t job_id) {
-  std::vector<std::string> out;
-  auto q = db_.prepare(
-      "SELECT DISTINCT version FROM job_contributors WHERE job_id = ? ORDER BY version");
-  q->bind(1, job_id);
-  while (q->step()) out.push_back(q->text(0));
-  return out;
+  return db_
+      .prepare("SELECT DISTINCT version FROM job_contributors WHERE job_id = ? ORDER BY version")
+      ->bind_all(job_id)
+      .rows(read_text);
 }
 
 }  // namespace tessera::server

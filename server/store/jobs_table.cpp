@@ -85,13 +85,12 @@ JobRecord read_job(const Statement& q) {
   return r;
 }
 
+int64_t read_id(const Statement& q) { return q.int64(0); }
+
 std::optional<JobRecord> read_one(Database& db, int64_t job_id) {
   static const std::string sql =
       std::string("SELECT ") + kJobColumns + " FROM jobs j WHERE j.id = ?2";
-  auto q = db.prepare(sql);
-  q->bind(1, s(UnitState::leased)).bind(2, job_id);
-  if (!q->step()) return std::nullopt;
-  return read_job(*q);
+  return db.prepare(sql)->bind_all(s(UnitState::leased), job_id).first_row(read_job);
 }
 
 }  // namespace
@@ -101,11 +100,7 @@ std::optional<JobRecord> JobsTable::get(int64_t job_id) { return read_one(db_, j
 std::vector<JobRecord> JobsTable::newest(uint32_t limit) {
   static const std::string sql =
       std::string("SELECT ") + kJobColumns + " FROM jobs j ORDER BY j.id DESC LIMIT ?2";
-  std::vector<JobRecord> out;
-  auto q = db_.prepare(sql);
-  q->bind(1, s(UnitState::leased)).bind(2, int64_t(limit));
-  while (q->step()) out.push_back(read_job(*q));
-  return out;
+  return db_.prepare(sql)->bind_all(s(UnitState::leased), int64_t(limit)).rows(read_job);
 }
 
 std::optional<JobSpec> JobsTable::spec(int64_t job_id) {
@@ -142,32 +137,24 @@ std::optional<std::pair<JobState, std::string>> JobsTable::state_and_bundle(int6
 }
 
 std::vector<int64_t> JobsTable::unfinished() {
-  std::vector<int64_t> out;
-  auto q = db_.prepare("SELECT id FROM jobs WHERE state IN (?, ?) ORDER BY id");
-  q->bind(1, s(JobState::queued)).bind(2, s(JobState::running));
-  while (q->step()) out.push_back(q->int64(0));
-  return out;
+  return db_.prepare("SELECT id FROM jobs WHERE state IN (?, ?) ORDER BY id")
+      ->bind_all(s(JobState::queued), s(JobState::running))
+      .rows(read_id);
 }
 
 std::vector<DoneOutput> JobsTable::done_outputs() {
-  std::vector<DoneOutput> out;
-  auto q = db_.prepare("SELECT id, output_exr, output_png FROM jobs WHERE state = ? ORDER BY id");
-  q->bind(1, s(JobState::done));
-  while (q->step()) out.push_back({q->int64(0), q->text(1), q->text(2)});
-  return out;
+  return db_.prepare("SELECT id, output_exr, output_png FROM jobs WHERE state = ? ORDER BY id")
+      ->bind_all(s(JobState::done))
+      .rows([](const Statement& r) { return DoneOutput{r.int64(0), r.text(1), r.text(2)}; });
 }
 
 std::vector<int64_t> JobsTable::finished_before(int64_t before) {
-  std::vector<int64_t> out;
-  auto q = db_.prepare(
-      "SELECT id FROM jobs WHERE state IN (?, ?, ?) AND finished_unix_ms > 0"
-      " AND finished_unix_ms < ? ORDER BY id");
-  q->bind(1, s(JobState::done))
-      .bind(2, s(JobState::failed))
-      .bind(3, s(JobState::cancelled))
-      .bind(4, before);
-  while (q->step()) out.push_back(q->int64(0));
-  return out;
+  return db_
+      .prepare(
+          "SELECT id FROM jobs WHERE state IN (?, ?, ?) AND finished_unix_ms > 0"
+          " AND finished_unix_ms < ? ORDER BY id")
+      ->bind_all(s(JobState::done), s(JobState::failed), s(JobState::cancelled), before)
+      .rows(read_id);
 }
 
 std::vector<LeaseCandidate> JobsTable::lease_candidates(int64_t worker_id, int64_t now,
@@ -185,17 +172,11 @@ std::vector<LeaseCandidate> JobsTable::lease_candidates(int64_t worker_id, int64
                         WHERE f.job_id = j.id AND f.worker_id = ?4 AND f.failures >= ?5
                           AND f.last_failure_unix_ms > ?6)
       ORDER BY j.priority DESC, j.submitted_unix_ms ASC, j.id ASC)sql");
-  q->bind(1, s(JobState::queued))
-      .bind(2, s(JobState::running))
-      .bind(3, now)
-      .bind(4, worker_id)
-      .bind(5, failures_to_block)
-      .bind(6, forgiven_before);
-  std::vector<LeaseCandidate> out;
-  while (q->step()) {
-    out.push_back({q->int64(0), q->int64(1) != 0, q->int64(2) != 0, q->int64(3) != 0});
-  }
-  return out;
+  return q->bind_all(s(JobState::queued), s(JobState::running), now, worker_id, failures_to_block,
+                    forgiven_before)
+      .rows([](const Statement& r) {
+        return LeaseCandidate{r.int64(0), r.int64(1) != 0, r.int64(2) != 0, r.int64(3) != 0};
+      });
 }
 
 std::vector<int64_t> JobsTable::running_over_budget(int64_t now) {
@@ -203,10 +184,7 @@ std::vector<int64_t> JobsTable::running_over_budget(int64_t now) {
       SELECT id FROM jobs
       WHERE state = ?1 AND stop_rule = 'time' AND started_unix_ms > 0
         AND started_unix_ms + time_budget_ms <= ?2)sql");
-  q->bind(1, s(JobState::running)).bind(2, now);
-  std::vector<int64_t> out;
-  while (q->step()) out.push_back(q->int64(0));
-  return out;
+  return q->bind_all(s(JobState::running), now).rows(read_id);
 }
 
 std::map<std::string, JobStateTotals> JobsTable::totals_by_state() {

@@ -15,9 +15,7 @@ void ResultsTable::append(int64_t job_id, uint32_t tile, uint32_t batch,
 std::optional<std::string> ResultsTable::find(int64_t job_id, uint32_t tile, uint32_t batch) {
   auto q = db_.prepare(
       "SELECT accumulation FROM results WHERE job_id = ? AND tile = ? AND batch = ?");
-  q->bind(1, job_id).bind(2, tile).bind(3, batch);
-  if (!q->step()) return std::nullopt;
-  return q->blob(0);
+  return q->bind_all(job_id, tile, batch).first_row([](const Statement& r) { return r.blob(0); });
 }
 
 uint32_t ResultsTable::first_merged(int64_t job_id, uint32_t tile, uint32_t next_batch) {
@@ -68,10 +66,7 @@ std::vector<uint32_t> ResultsTable::tiles_with_merged(int64_t job_id) {
   auto q = db_.prepare(
       "SELECT t.tile FROM tiles t WHERE t.job_id = ?1 AND EXISTS (SELECT 1 FROM results r"
       " WHERE r.job_id = ?1 AND r.tile = t.tile AND r.batch < t.next_batch) ORDER BY t.tile");
-  q->bind(1, job_id);
-  std::vector<uint32_t> out;
-  while (q->step()) out.push_back(uint32_t(q->int64(0)));
-  return out;
+  return q->bind_all(job_id).rows([](const Statement& r) { return uint32_t(r.int64(0)); });
 }
 
 int64_t ResultsTable::count(int64_t job_id) {

@@ -12,7 +12,9 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
+#include <vector>
 
 namespace tessera::server {
 
@@ -50,6 +52,29 @@ class Statement {
   template <typename T>
   Statement& bind(int index, const std::optional<T>& value) {
     return value ? bind(index, *value) : bind_null(index);
+  }
+  /// Binds `values` to the parameters 1, 2, ... in order.
+  template <typename... T>
+  Statement& bind_all(const T&... values) {
+    int index = 0;
+    (bind(++index, values), ...);
+    return *this;
+  }
+
+  /// The row reader of every query in server/store/: steps through the rows and returns
+  /// `read(*this)` of each (`read` takes `const Statement&` and reads the columns it needs).
+  /// `db.prepare(sql)->bind_all(a, b).rows(read_x)` is the whole bind-step-read shape.
+  template <typename Read>
+  auto rows(Read read) -> std::vector<std::invoke_result_t<Read&, const Statement&>> {
+    std::vector<std::invoke_result_t<Read&, const Statement&>> out;
+    while (step()) out.push_back(read(std::as_const(*this)));
+    return out;
+  }
+  /// The first row as `read(*this)`; nullopt when the query returns none.
+  template <typename Read>
+  auto first_row(Read read) -> std::optional<std::invoke_result_t<Read&, const Statement&>> {
+    if (!step()) return std::nullopt;
+    return read(std::as_const(*this));
   }
 
   /// Advances: true when a row is available, false when done. Throws SqliteError.

@@ -34,8 +34,9 @@ std::optional<UnbornUnit> TileQueue::first(int64_t job_id, uint32_t noise_lookah
   auto q = db_.prepare(first_sql(noise_lookahead > 0));
   q->bind(1, job_id).bind(2, batch_limit);
   if (noise_lookahead > 0) q->bind(3, noise_lookahead);
-  if (!q->step()) return std::nullopt;
-  return UnbornUnit{uint32_t(q->int64(0)), uint32_t(q->int64(1))};
+  return q->first_row([](const Statement& r) {
+    return UnbornUnit{uint32_t(r.int64(0)), uint32_t(r.int64(1))};
+  });
 }
 
 bool TileQueue::take(int64_t job_id, uint32_t tile, uint32_t batch) {

@@ -36,19 +36,21 @@ std::vector<TileRecord> TilesTable::of_job(int64_t job_id) {
 }
 
 std::optional<TileRect> TilesTable::rect(int64_t job_id, uint32_t tile) {
-  auto q = db_.prepare("SELECT x0, y0, x1, y1 FROM tiles WHERE job_id = ? AND tile = ?");
-  q->bind(1, job_id).bind(2, tile);
-  if (!q->step()) return std::nullopt;
-  return TileRect{int(q->int64(0)), int(q->int64(1)), int(q->int64(2)), int(q->int64(3))};
+  return db_.prepare("SELECT x0, y0, x1, y1 FROM tiles WHERE job_id = ? AND tile = ?")
+      ->bind_all(job_id, tile)
+      .first_row([](const Statement& r) {
+        return TileRect{int(r.int64(0)), int(r.int64(1)), int(r.int64(2)), int(r.int64(3))};
+      });
 }
 
 std::optional<TilePosition> TilesTable::position(int64_t job_id, uint32_t tile) {
-  auto q =
-      db_.prepare("SELECT x0, y0, x1, y1, next_batch FROM tiles WHERE job_id = ? AND tile = ?");
-  q->bind(1, job_id).bind(2, tile);
-  if (!q->step()) return std::nullopt;
-  return TilePosition{{int(q->int64(0)), int(q->int64(1)), int(q->int64(2)), int(q->int64(3))},
-                      uint32_t(q->int64(4))};
+  return db_.prepare("SELECT x0, y0, x1, y1, next_batch FROM tiles WHERE job_id = ? AND tile = ?")
+      ->bind_all(job_id, tile)
+      .first_row([](const Statement& r) {
+        return TilePosition{
+            {int(r.int64(0)), int(r.int64(1)), int(r.int64(2)), int(r.int64(3))},
+            uint32_t(r.int64(4))};
+      });
 }
 
 std::optional<std::string> TilesTable::checkpoint(int64_t job_id, uint32_t tile) {

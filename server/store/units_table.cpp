@@ -13,8 +13,8 @@ std::string lit(UnitState state) { return "'" + std::string(to_string(state)) + 
 const std::string kLeasedColumns =
     "id, job_id, tile, batch, worker_id, lease_id, lease_expires_unix_ms";
 
-LeasedRow read_leased(const Statement& q) {
-  LeasedRow r;
+Lease read_leased(const Statement& q) {
+  Lease r;
   r.unit_id = q.int64(0);
   r.job_id = q.int64(1);
   r.tile = uint32_t(q.int64(2));
@@ -27,37 +27,26 @@ LeasedRow read_leased(const Statement& q) {
 
 }  // namespace
 
-std::vector<LeasedRow> UnitsTable::leased_to(int64_t worker_id) {
+std::vector<Lease> UnitsTable::leased_to(int64_t worker_id) {
   static const std::string sql = "SELECT " + kLeasedColumns +
                                  " FROM units INDEXED BY units_worker WHERE worker_id = ?1"
                                  " AND state = " + lit(UnitState::leased) + " ORDER BY id";
-  std::vector<LeasedRow> out;
-  auto q = db_.prepare(sql);
-  q->bind(1, worker_id);
-  while (q->step()) out.push_back(read_leased(*q));
-  return out;
+  return db_.prepare(sql)->bind_all(worker_id).rows(read_leased);
 }
 
-std::optional<LeasedRow> UnitsTable::lease(int64_t worker_id, const std::string& lease_id) {
+std::optional<Lease> UnitsTable::lease(int64_t worker_id, const std::string& lease_id) {
   // By the unique partial index units_lease.
   static const std::string sql = "SELECT " + kLeasedColumns +
                                  " FROM units WHERE lease_id = ?1 AND worker_id = ?2 AND state = " +
                                  lit(UnitState::leased);
-  auto q = db_.prepare(sql);
-  q->bind(1, lease_id).bind(2, worker_id);
-  if (!q->step()) return std::nullopt;
-  return read_leased(*q);
+  return db_.prepare(sql)->bind_all(lease_id, worker_id).first_row(read_leased);
 }
 
-std::vector<LeasedRow> UnitsTable::leases_expiring_before(int64_t bound) {
+std::vector<Lease> UnitsTable::leases_expiring_before(int64_t bound) {
   static const std::string sql = "SELECT " + kLeasedColumns +
                                  " FROM units INDEXED BY units_expiry WHERE state = " +
                                  lit(UnitState::leased) + " AND lease_expires_unix_ms < ?1";
-  std::vector<LeasedRow> out;
-  auto q = db_.prepare(sql);
-  q->bind(1, bound);
-  while (q->step()) out.push_back(read_leased(*q));
-  return out;
+  return db_.prepare(sql)->bind_all(bound).rows(read_leased);
 }
 
 const std::string& UnitsTable::first_requeued_sql(bool noise) {
@@ -81,8 +70,9 @@ std::optional<RequeuedUnit> UnitsTable::first_requeued(int64_t job_id, uint32_t 
   auto q = db_.prepare(first_requeued_sql(noise_lookahead > 0));
   q->bind(1, job_id).bind(2, batch_limit);
   if (noise_lookahead > 0) q->bind(3, noise_lookahead);
-  if (!q->step()) return std::nullopt;
-  return RequeuedUnit{q->int64(0), uint32_t(q->int64(1)), uint32_t(q->int64(2))};
+  return q->first_row([](const Statement& r) {
+    return RequeuedUnit{r.int64(0), uint32_t(r.int64(1)), uint32_t(r.int64(2))};
+  });
 }
 
 bool UnitsTable::any_queued_or_leased(int64_t job_id) {
@@ -95,10 +85,11 @@ bool UnitsTable::any_queued_or_leased(int64_t job_id) {
 }
 
 std::optional<std::pair<uint32_t, uint32_t>> UnitsTable::tile_batch(int64_t unit_id) {
-  auto q = db_.prepare("SELECT tile, batch FROM units WHERE id = ?1");
-  q->bind(1, unit_id);
-  if (!q->step()) return std::nullopt;
-  return std::pair(uint32_t(q->int64(0)), uint32_t(q->int64(1)));
+  return db_.prepare("SELECT tile, batch FROM units WHERE id = ?1")
+      ->bind_all(unit_id)
+      .first_row([](const Statement& r) {
+        return std::pair(uint32_t(r.int64(0)), uint32_t(r.int64(1)));
+      });
 }
 
 int UnitsTable::lease_requeued(int64_t unit_id, int64_t worker_id, const std::string& lease_id,

@@ -24,14 +24,14 @@
 
 namespace tessera::server {
 
-/// A unit's row while it is leased.
-struct LeasedRow {
+/// A unit's row while it is leased: the lease a worker holds (server/lease_table.h).
+struct Lease {
+  std::string lease_id;
   int64_t unit_id = 0;
   int64_t job_id = 0;
   uint32_t tile = 0;
   uint32_t batch = 0;
   int64_t worker_id = 0;
-  std::string lease_id;
   int64_t expires_unix_ms = 0;
 };
 
@@ -59,11 +59,11 @@ class UnitsTable {
 
   // ---- Reads ---------------------------------------------------------------------------------
   /// The leases `worker_id` holds, oldest first (by the partial index units_worker).
-  std::vector<LeasedRow> leased_to(int64_t worker_id);
+  std::vector<Lease> leased_to(int64_t worker_id);
   /// The unit `lease_id` names when it is current and held by `worker_id`; nullopt otherwise.
-  std::optional<LeasedRow> lease(int64_t worker_id, const std::string& lease_id);
+  std::optional<Lease> lease(int64_t worker_id, const std::string& lease_id);
   /// Every lease expiring before `bound` (by the partial index units_expiry).
-  std::vector<LeasedRow> leases_expiring_before(int64_t bound);
+  std::vector<Lease> leases_expiring_before(int64_t bound);
   /// The first unit of the job back in the queue in (batch, tile) order with batch <
   /// `batch_limit`; for a noise job (`noise_lookahead` > 0) also below the tile's merged prefix
   /// plus noise_lookahead. nullopt when none.

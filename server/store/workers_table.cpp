@@ -77,17 +77,14 @@ void WorkersTable::count_lost(int64_t worker_id) {
 }
 
 std::optional<WorkerRecord> WorkersTable::get(int64_t worker_id) {
-  auto q = db_.prepare(std::string(kSelect) + " WHERE w.id = ?1");
-  q->bind(1, worker_id);
-  if (!q->step()) return std::nullopt;
-  return read_worker(*q);
+  return db_.prepare(std::string(kSelect) + " WHERE w.id = ?1")
+      ->bind_all(worker_id)
+      .first_row(read_worker);
 }
 
 std::vector<WorkerRecord> WorkersTable::list() {
-  std::vector<WorkerRecord> out;
-  auto q = db_.prepare(std::string(kSelect) + " ORDER BY w.last_seen_unix_ms DESC, w.id DESC");
-  while (q->step()) out.push_back(read_worker(*q));
-  return out;
+  return db_.prepare(std::string(kSelect) + " ORDER BY w.last_seen_unix_ms DESC, w.id DESC")
+      ->rows(read_worker);
 }
 
 int64_t WorkersTable::count() {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 
 #include "accum/accumulation_codec.h"
 #include "coordinator.h"
@@ -161,6 +162,127 @@ TEST(StoreIntegrity, ADamagedStoreIsRefusedWithAClearMessage) {
   EXPECT_NE(message.find("is damaged"), std::string::npos) << message;
   EXPECT_NE(message.find(path.string()), std::string::npos) << message;
   EXPECT_NE(message.find("restore a backup"), std::string::npos) << message;
+  remove_db(path);
+}
+
+/// A store left as a crash leaves it (no clean-shutdown mark) holding `workers` worker rows,
+/// which start-up never reads, written last so that they fill the file's last pages; returns
+/// the page size.
+int64_t make_unclean_store(const std::filesystem::path& path, int workers) {
+  remove_db(path);
+  Database db(path.string());
+  migrate(db, 0);
+  {
+    Transaction t(db);
+    for (int i = 0; i < workers; ++i) {
+      db.exec(
+          "INSERT INTO workers (name, threads, isa, version, registered_unix_ms,"
+          " last_seen_unix_ms) VALUES ('worker with a long name to fill pages', 1, 'avx2',"
+          " '0', 0, 0)");
+    }
+    t.commit();
+  }
+  EXPECT_TRUE(checkpoint_wal(db));
+  auto q = db.prepare("PRAGMA page_size");
+  EXPECT_TRUE(q->step());
+  return q->int64(0);
+}
+
+CoordinatorConfig config_for(const std::filesystem::path& path) {
+  CoordinatorConfig config;
+  config.db_path = path.string();
+  config.output_dir = std::filesystem::temp_directory_path() / "tessera-check-test";
+  return config;
+}
+
+// After an unclean stop the whole-file check runs beside the server, not before it: a store
+// damaged where start-up does not read is opened and served, then the check finds the damage,
+// and the server says so (store_damage, the observer), stops leasing and is no longer ready;
+// its clean shutdown leaves no mark, so the next start checks again.
+TEST(StoreIntegrity, DamageFoundByTheBackgroundCheckStopsLeasingAndIsReported) {
+  const auto path = temp_db("background-damaged");
+  const int64_t page = make_unclean_store(path, 3000);
+  const auto size = std::filesystem::file_size(path);
+  ASSERT_GT(size, uint64_t(page) * 40);
+  {
+    // Garbage over the last 8 pages (leaves of the workers table), as a torn disk would leave.
+    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(std::streamoff(size - uint64_t(page) * 8));
+    const std::string garbage(size_t(page) * 8, '\x5a');
+    file.write(garbage.data(), std::streamsize(garbage.size()));
+  }
+  testing::FakeClock clock;
+  Coordinator coordinator(config_for(path), clock);  // start-up does not read those pages
+  EXPECT_EQ(coordinator.resume(), 0);
+  std::string observed;
+  coordinator.set_damage_observer([&](const std::string& m) { observed = m; });
+  ASSERT_EQ(coordinator.wait_for_store_check(), IntegrityState::damaged);
+  const std::string damage = coordinator.store_damage();
+  EXPECT_NE(damage.find("is damaged"), std::string::npos) << damage;
+  EXPECT_NE(damage.find(path.string()), std::string::npos) << damage;
+  EXPECT_NE(damage.find("quick_check"), std::string::npos) << damage;
+  EXPECT_EQ(observed, damage);  // set before or after the check ended: called once either way
+  EXPECT_FALSE(coordinator.store_ready());
+  EXPECT_TRUE(coordinator.changes().stopped());
+  EXPECT_TRUE(coordinator.lease_units(1, 16, std::chrono::milliseconds(0), nullptr).empty());
+  coordinator.checkpoint();  // a clean stop, but the store is damaged: no mark
+  {
+    Database db(path.string());
+    EXPECT_FALSE(take_clean_shutdown_mark(db, path.string()));
+  }
+  remove_db(path);
+}
+
+// The same store undamaged: the check passes in the background and the clean stop leaves the
+// mark; a clean start runs no check at all.
+TEST(StoreIntegrity, AHealthyStoreAfterAnUncleanStopPassesTheBackgroundCheck) {
+  const auto path = temp_db("background-healthy");
+  make_unclean_store(path, 3000);
+  testing::FakeClock clock;
+  {
+    Coordinator coordinator(config_for(path), clock);
+    coordinator.set_damage_observer([](const std::string& m) { ADD_FAILURE() << m; });
+    EXPECT_EQ(coordinator.wait_for_store_check(), IntegrityState::ok);
+    EXPECT_EQ(coordinator.store_damage(), "");
+    EXPECT_TRUE(coordinator.store_ready());
+    EXPECT_FALSE(coordinator.changes().stopped());
+    coordinator.checkpoint();
+  }
+  {
+    Coordinator coordinator(config_for(path), clock);
+    EXPECT_EQ(coordinator.store_check(), std::nullopt);  // stopped cleanly: nothing to check
+  }
+  remove_db(path);
+}
+
+// A check stopped before it ends (a shutdown right after start-up) never reports damage it did
+// not find, and leaves no mark unless it had passed: the next start checks again.
+TEST(StoreIntegrity, AStoppedCheckLeavesTheMarkOnlyWhenItHadPassed) {
+  const auto path = temp_db("background-stopped");
+  make_unclean_store(path, 3000);
+  testing::FakeClock clock;
+  std::optional<IntegrityState> state;
+  {
+    Coordinator coordinator(config_for(path), clock);
+    coordinator.checkpoint();  // stops the check wherever it is
+    state = coordinator.store_check();
+    EXPECT_EQ(coordinator.store_damage(), "");
+  }
+  ASSERT_TRUE(state == IntegrityState::ok || state == IntegrityState::interrupted)
+      << integrity_state_name(*state);
+  {
+    Database db(path.string());
+    EXPECT_EQ(take_clean_shutdown_mark(db, path.string()), state == IntegrityState::ok);
+  }
+  // Stopped before its thread opened its connection, or while it reads: the same rule.
+  for (int i = 0; i < 20; ++i) {
+    BackgroundIntegrityCheck check(path.string(), [](IntegrityState s, const std::string& m) {
+      EXPECT_NE(s, IntegrityState::damaged) << m;
+    });
+    check.stop();
+    EXPECT_NE(check.state(), IntegrityState::checking);
+    EXPECT_EQ(check.message(), "");
+  }
   remove_db(path);
 }
 

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <fstream>
+#include <iterator>
+#include <thread>
 #include <nlohmann/json.hpp>
 
 #include "farm_cluster.h"
@@ -262,6 +264,66 @@ TEST(SecurityE2E, ADamagedDatabaseIsRefusedAtStartUp) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("is damaged"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("refusing to serve it"), std::string::npos) << r.err;
+}
+
+// Damage where start-up does not read, after an unclean stop: the server listens at once, its
+// background check finds the damage, says so in its log and answers /readyz 503 (that it then
+// leases nothing is StoreIntegrity.DamageFoundByTheBackgroundCheckStopsLeasingAndIsReported);
+// stopped with SIGTERM it leaves no clean mark, so the next start checks again.
+TEST(SecurityE2E, DamageFoundByTheBackgroundCheckIsReportedWhileServing) {
+  FarmCluster farm("damaged-late");
+  farm.start_server();
+  ASSERT_EQ(farm.stop_server(SIGTERM), 0);
+  int64_t page = 0;
+  {
+    server::Database db(farm.db_path().string());
+    server::Transaction t(db);
+    for (int i = 0; i < 3000; ++i) {
+      db.exec(
+          "INSERT INTO workers (name, threads, isa, version, registered_unix_ms,"
+          " last_seen_unix_ms) VALUES ('worker with a long name to fill pages', 1, 'avx2',"
+          " '0', 0, 0)");
+    }
+    t.commit();
+    db.exec("PRAGMA user_version = 0");  // as a SIGKILL leaves it: no clean-shutdown mark
+    ASSERT_TRUE(server::checkpoint_wal(db));
+    auto q = db.prepare("PRAGMA page_size");
+    ASSERT_TRUE(q->step());
+    page = q->int64(0);
+  }
+  const auto size = std::filesystem::file_size(farm.db_path());
+  ASSERT_GT(size, uint64_t(page) * 40);
+  {
+    // The last 8 pages (leaves of the workers table, written last) overwritten with garbage.
+    std::fstream file(farm.db_path(), std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(std::streamoff(size - uint64_t(page) * 8));
+    const std::string garbage(size_t(page) * 8, '\x5a');
+    file.write(garbage.data(), std::streamsize(garbage.size()));
+  }
+  farm.start_server();  // fails the test if the server exits instead of listening
+  httplib::Client http("127.0.0.1", farm.http_port());
+  http.set_connection_timeout(10, 0);
+  http.set_read_timeout(10, 0);
+  const auto deadline = std::chrono::steady_clock::now() + kPatience;
+  int status = 0;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const httplib::Result ready = http.Get("/readyz");
+    ASSERT_TRUE(ready) << "/readyz: " << httplib::to_string(ready.error());
+    status = ready->status;
+    if (status == 503) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_EQ(status, 503);
+  EXPECT_EQ(farm.stop_server(SIGTERM), 0);
+  std::ifstream log(farm.dir() / "server-1.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("checking it (PRAGMA quick_check) in the background"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("ERROR: database " + farm.db_path().string() + " is damaged"),
+            std::string::npos)
+      << text;
+  server::Database db(farm.db_path().string());
+  EXPECT_FALSE(server::take_clean_shutdown_mark(db, farm.db_path().string()));
 }
 
 }  // namespace
