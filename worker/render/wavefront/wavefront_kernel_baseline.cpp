@@ -1,0 +1,5 @@
+// The wavefront kernel for baseline x86-64 (and any other target): wavefront_kernels.h.
+#include "render/wavefront/wavefront_kernel_includes.h"
+
+#define TESSERA_WAVEFRONT_NS wavefront_baseline
+#include "render/wavefront/wavefront_kernel.inc"
