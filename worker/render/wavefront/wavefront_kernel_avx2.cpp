@@ -6,6 +6,7 @@
 #pragma GCC push_options
 #pragma GCC target("avx2,bmi,bmi2,lzcnt,popcnt")
 #define TESSERA_WAVEFRONT_NS wavefront_avx2
+#define TESSERA_WAVEFRONT_PREDRAW 1
 #include "render/wavefront/wavefront_kernel.inc"
 #pragma GCC pop_options
 #endif
