@@ -44,11 +44,16 @@ namespace wavefront_baseline {
 void trace(const WavefrontKernelArgs& args);
 }
 #if TESSERA_WAVEFRONT_X86_KERNELS
+/// The AVX2 and AVX-512 kernels also draw Sobol pairs lane-wise (wavefront_kernel.inc's
+/// SobolLanes); draw_sobol_pairs exposes that for tests: out[i] = get2d() of samplers[i] at
+/// pair pairs[i] (each below PixelSampler::kSobolPairs), 16 lanes at a time.
 namespace wavefront_avx2 {
 void trace(const WavefrontKernelArgs& args);
+void draw_sobol_pairs(const PixelSampler* const* samplers, const uint32_t* pairs, size_t count, glm::vec2* out);
 }
 namespace wavefront_avx512 {
 void trace(const WavefrontKernelArgs& args);
+void draw_sobol_pairs(const PixelSampler* const* samplers, const uint32_t* pairs, size_t count, glm::vec2* out);
 }
 #endif
 
