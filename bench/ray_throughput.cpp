@@ -1,5 +1,6 @@
 // tessera-bench-rays SCENE [--seconds S] [--threads N] [--mode scalar|packet] [--widths 1,8,16]
-// [--rounds 3] [--isa ISA] [--spp N] [--integrator scalar|wavefront|both]:
+// [--rounds 3] [--isa ISA] [--spp N] [--integrator scalar|wavefront|both]
+// [--kernel-isa auto|baseline|avx2|avx512[,SECOND]]:
 // Embree's raw ray throughput on a scene (the limit the renderer can approach) beside the
 // renderer's own rays/s on the same scene, in the same run.
 //
@@ -16,6 +17,7 @@
 // tile, for --seconds each, and the process CPU time of every render() call is kept: the median
 // of the per-tile ratios wavefront / scalar of CPU seconds per sample compares the two under the
 // same load (on a shared machine, wall-clock rates of separate runs mostly measure the load).
+// `--kernel-isa A,B` does the same with two builds of the wavefront loop (kernel_isa.h).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -174,53 +176,53 @@ double process_cpu_seconds() {
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-/// --integrator both: scalar and wavefront renderers alternating tile by tile on the same units
-/// (each tile rendered by both, in alternating order), until each has rendered for `seconds` of
-/// wall time; prints each one's samples per CPU-second (median over tiles) and the median of the
-/// per-tile ratios.
-void compare_integrators(const Scene& scene, const JobOptions& options, uint32_t spp, double seconds) {
-  const Renderer scalar(scene, options, {}, IntegratorKind::scalar);
-  const Renderer wavefront(scene, options, {}, IntegratorKind::wavefront);
+/// Two renderers alternating tile by tile on the same units (each tile rendered by both, in
+/// alternating order), until each has rendered for `seconds` of wall time; prints each one's
+/// samples per CPU-second (median over tiles) and the median of the per-tile ratios b / a.
+/// --integrator both: a = scalar, b = wavefront; --kernel-isa A,B: the wavefront loop's
+/// builds A and B.
+void compare_renderers(const Renderer& a, const std::string& a_name, const Renderer& b, const std::string& b_name,
+                       const char* what, const JobOptions& options, uint32_t spp, double seconds) {
   const std::vector<TileRect> tiles = options.plan().tiles();
-  std::vector<double> scalar_rate, wavefront_rate, ratio;
-  double scalar_wall = 0, wavefront_wall = 0;
-  uint64_t scalar_samples = 0, wavefront_samples = 0;
-  const auto timed = [](const Renderer& r, const TileRect& tile, uint32_t b, uint32_t e, double* wall,
+  std::vector<double> a_rate, b_rate, ratio;
+  double a_wall = 0, b_wall = 0;
+  uint64_t a_samples = 0, b_samples = 0;
+  const auto timed = [](const Renderer& r, const TileRect& tile, uint32_t begin, uint32_t end, double* wall,
                         uint64_t* samples) {
     RenderStats stats;
     const double c0 = process_cpu_seconds();
     const auto t0 = std::chrono::steady_clock::now();
-    r.render(tile, b, e, &stats);
+    r.render(tile, begin, end, &stats);
     *wall += seconds_since(t0);
     *samples += stats.samples;
     return double(stats.samples) / (process_cpu_seconds() - c0);
   };
   uint32_t batch = 0;
   size_t turn = 0;
-  while (scalar_wall < seconds || wavefront_wall < seconds) {
+  while (a_wall < seconds || b_wall < seconds) {
     for (const TileRect& tile : tiles) {
-      const uint32_t b = batch * spp, e = (batch + 1) * spp;
-      double s, w;
+      const uint32_t begin = batch * spp, end = (batch + 1) * spp;
+      double ra, rb;
       if (turn++ % 2 == 0) {
-        s = timed(scalar, tile, b, e, &scalar_wall, &scalar_samples);
-        w = timed(wavefront, tile, b, e, &wavefront_wall, &wavefront_samples);
+        ra = timed(a, tile, begin, end, &a_wall, &a_samples);
+        rb = timed(b, tile, begin, end, &b_wall, &b_samples);
       } else {
-        w = timed(wavefront, tile, b, e, &wavefront_wall, &wavefront_samples);
-        s = timed(scalar, tile, b, e, &scalar_wall, &scalar_samples);
+        rb = timed(b, tile, begin, end, &b_wall, &b_samples);
+        ra = timed(a, tile, begin, end, &a_wall, &a_samples);
       }
-      scalar_rate.push_back(s);
-      wavefront_rate.push_back(w);
-      ratio.push_back(w / s);
-      if (scalar_wall >= seconds && wavefront_wall >= seconds) break;
+      a_rate.push_back(ra);
+      b_rate.push_back(rb);
+      ratio.push_back(rb / ra);
+      if (a_wall >= seconds && b_wall >= seconds) break;
     }
     ++batch;
   }
-  std::printf("integrators alternating on %zu tiles of %u spp: scalar %.3f M samples per CPU-second (%.3f M/s "
-              "wall), wavefront %.3f M samples per CPU-second (%.3f M/s wall) (medians over tiles); "
-              "wavefront / scalar per tile: median %.3f, quartiles %.3f-%.3f\n",
-              ratio.size(), spp, median(scalar_rate) / 1e6, double(scalar_samples) / scalar_wall / 1e6,
-              median(wavefront_rate) / 1e6, double(wavefront_samples) / wavefront_wall / 1e6, median(ratio),
-              quantile(ratio, 0.25), quantile(ratio, 0.75));
+  std::printf("%s alternating on %zu tiles of %u spp: %s %.3f M samples per CPU-second (%.3f M/s "
+              "wall), %s %.3f M samples per CPU-second (%.3f M/s wall) (medians over tiles); "
+              "%s / %s per tile: median %.3f, quartiles %.3f-%.3f\n",
+              what, ratio.size(), spp, a_name.c_str(), median(a_rate) / 1e6, double(a_samples) / a_wall / 1e6,
+              b_name.c_str(), median(b_rate) / 1e6, double(b_samples) / b_wall / 1e6, b_name.c_str(),
+              a_name.c_str(), median(ratio), quantile(ratio, 0.25), quantile(ratio, 0.75));
 }
 
 }  // namespace
@@ -251,6 +253,13 @@ int main(int argc, char** argv) {
   std::string integrator = "wavefront";
   app.add_option("--integrator", integrator, "The renderer's integrator (renderer.h)")
       ->check(CLI::IsMember({"scalar", "wavefront", "both"}));
+  std::vector<std::string> kernels = {"auto"};
+  app.add_option("--kernel-isa", kernels,
+                 "Instruction set of the wavefront loop (auto, baseline, avx2, avx512); two, comma-separated "
+                 "(baseline,avx512): both alternating tile by tile, their per-tile ratio printed")
+      ->delimiter(',')
+      ->expected(1, 2)
+      ->check(CLI::IsMember({"auto", "baseline", "avx2", "avx512"}));
   CLI11_PARSE(app, argc, argv);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each figure shows as soon as it is measured
   std::optional<tbb::global_control> limit;
@@ -284,12 +293,23 @@ int main(int argc, char** argv) {
               raw_rate / 1e6, raw.cpu / 1e6, rays.size(), 100.0 * double(hits) / double(passes * rays.size()));
   const double packet_cpu_rate = mode == "packet" ? packet_rates(traceable, rays, widths, seconds, rounds, scalar) : 0;
 
-  if (integrator == "both") {
-    compare_integrators(scene, options, spp, seconds);
+  const KernelIsa kernel = kernel_isa_from_name(kernels.front());
+  if (kernels.size() == 2) {
+    const Renderer a(scene, options, {}, IntegratorKind::wavefront, kernel);
+    const Renderer b(scene, options, {}, IntegratorKind::wavefront, kernel_isa_from_name(kernels.back()));
+    compare_renderers(a, "kernel " + a.kernel_isa(), b, "kernel " + b.kernel_isa(), "wavefront kernels", options,
+                      spp, seconds);
     return 0;
   }
-  const Renderer renderer(scene, options, {}, integrator_kind_from_name(integrator));
-  std::printf("renderer integrator: %s\n", integrator_kind_name(renderer.integrator()));
+  if (integrator == "both") {
+    const Renderer scalar(scene, options, {}, IntegratorKind::scalar);
+    const Renderer wavefront(scene, options, {}, IntegratorKind::wavefront, kernel);
+    compare_renderers(scalar, "scalar", wavefront, "wavefront", "integrators", options, spp, seconds);
+    return 0;
+  }
+  const Renderer renderer(scene, options, {}, integrator_kind_from_name(integrator), kernel);
+  std::printf("renderer integrator: %s, kernel %s\n", integrator_kind_name(renderer.integrator()),
+              renderer.kernel_isa().c_str());
   RenderStats stats;
   timespec cpu0, cpu1;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu0);

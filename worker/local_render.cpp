@@ -8,12 +8,14 @@
 namespace tessera {
 
 LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
-                             const std::function<void(uint64_t)>& on_progress, IntegratorKind integrator) {
+                             const std::function<void(uint64_t)>& on_progress, IntegratorKind integrator,
+                             KernelIsa kernel) {
   const auto start = std::chrono::steady_clock::now();
   LocalRenderResult result;
   result.options = options;
-  const Renderer renderer(scene, options, {}, integrator);
+  const Renderer renderer(scene, options, {}, integrator, kernel);
   result.isa = renderer.isa();
+  result.kernel_isa = renderer.kernel_isa();
   const JobPlan plan = options.plan();
   const std::vector<TileRect> tiles = plan.tiles();
   for (const TileRect& t : tiles) result.tiles.emplace_back(t);

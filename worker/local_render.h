@@ -24,6 +24,7 @@ struct LocalRenderResult {
   RenderStats stats;
   double seconds = 0;
   std::string isa;
+  std::string kernel_isa;  ///< the wavefront loop's build (Renderer::kernel_isa)
 };
 
 /// Renders the job: for each batch in order, every tile still open (in parallel), then each
@@ -31,9 +32,11 @@ struct LocalRenderResult {
 /// (judge_tile) — exactly what the farm's server does, so `spp` and `noise` jobs give the farm's
 /// bits. A `time` job starts no batch after its budget (steady clock) and keeps what is merged.
 /// `on_progress(samples_done_total)` is called after each unit, from rendering threads but
-/// never concurrently. `integrator` chooses the renderer's path order (the same bits either way).
+/// never concurrently. `integrator` chooses the renderer's path order and `kernel` the
+/// instruction set of its wavefront loop (the same bits either way).
 LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
                              const std::function<void(uint64_t)>& on_progress = {},
-                             IntegratorKind integrator = IntegratorKind::wavefront);
+                             IntegratorKind integrator = IntegratorKind::wavefront,
+                             KernelIsa kernel = KernelIsa::automatic);
 
 }  // namespace tessera

@@ -42,6 +42,7 @@ struct RenderArgs {
   tessera::JobOverrides overrides;
   int threads = 0;
   std::string integrator = "wavefront";  ///< --integrator (renderer.h's IntegratorKind)
+  std::string kernel_isa = "auto";       ///< --kernel-isa (render/wavefront/kernel_isa.h)
   bool half = false;
   bool quiet = false;
 };
@@ -66,7 +67,8 @@ int run_render(const RenderArgs& args) {
   tessera::ProgressBar bar(args.quiet ? nullptr : stderr, total);
   const tessera::LocalRenderResult result =
       tessera::render_job(scene, options, [&](uint64_t done) { bar.update(done); },
-                          tessera::integrator_kind_from_name(args.integrator));
+                          tessera::integrator_kind_from_name(args.integrator),
+                          tessera::kernel_isa_from_name(args.kernel_isa));
   bar.finish(total);
 
   const tessera::RgbImage image = tessera::resolve_image(options.width, options.height, result.tiles);
@@ -95,6 +97,7 @@ int run_render(const RenderArgs& args) {
       {"tessera:batch", std::to_string(options.batch_spp)},
       {"tessera:batch_schedule", std::string(tessera::to_string(options.batch_kind))},
       {"tessera:isa", result.isa},
+      {"tessera:kernel_isa", result.kernel_isa},
       {"tessera:estimated_relative_error", std::to_string(rel_error)},
       {"tessera:tile_error_max", std::to_string(summary.error_max)},
       {"tessera:tile_error_mean", std::to_string(summary.error_mean)},
@@ -130,7 +133,7 @@ int run_render(const RenderArgs& args) {
   std::fprintf(stderr,
                "rendered %dx%d in %.2f s (%s rule, stopped: %s): spp min %u mean %.1f max %u, "
                "%llu samples, %s samples/s, %s rays/s (%llu rays, %llu shadow rays), estimated "
-               "relative error %.4f (tiles: max %.4f, mean %.4f), NaN/Inf dropped %llu, isa %s\n",
+               "relative error %.4f (tiles: max %.4f, mean %.4f), NaN/Inf dropped %llu, isa %s, kernel %s\n",
                options.width, options.height, seconds,
                std::string(tessera::to_string(options.rule)).c_str(),
                std::string(tessera::to_string(result.reason)).c_str(), summary.spp_min,
@@ -140,7 +143,7 @@ int run_render(const RenderArgs& args) {
                static_cast<unsigned long long>(result.stats.rays),
                static_cast<unsigned long long>(result.stats.shadow_rays), rel_error,
                summary.error_max, summary.error_mean, static_cast<unsigned long long>(nan + inf),
-               result.isa.c_str());
+               result.isa.c_str(), result.kernel_isa.c_str());
   return 0;
 }
 
@@ -216,6 +219,10 @@ int main(int argc, char** argv) {
                          "scalar (one path at a time) or wavefront (a bounce of many paths at a time, rays in "
                          "Embree packets); the same bits either way (default wavefront)")
       ->check(CLI::IsMember({"scalar", "wavefront"}));
+  render_cmd->add_option("--kernel-isa", render.kernel_isa,
+                         "Instruction set of the wavefront loop: auto (TESSERA_KERNEL_ISA, else the best for "
+                         "this CPU), baseline, avx2 or avx512; the same bits on each. --isa pins Embree's")
+      ->check(CLI::IsMember({"auto", "baseline", "avx2", "avx512"}));
   render_cmd->add_flag("--half", render.half, "Write EXR as half floats (clamped to half's range)");
   render_cmd->add_flag("-q,--quiet", render.quiet, "No progress bar");
 

@@ -115,6 +115,14 @@ inline float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
 
 }  // namespace path_vertex_detail
 
+/// Dimension pairs pair + 1 (the light point) and pair + 2 (the BSDF direction) of a vertex
+/// whose pairs are Sobol pairs, drawn ahead for many paths at once (the wavefront kernels,
+/// wavefront/wavefront_kernel.inc): exactly what PixelSampler::get2d returns for them.
+struct PredrawnPairs {
+  glm::vec2 light;
+  glm::vec2 bsdf;
+};
+
 /// Shades the vertex of `path` that its ray found: `hit` is the closest hit of path.ray
 /// (TraceableScene::intersect, or the same Hit built from a packet query), nullptr when the ray
 /// escaped; it may be changed (a back face flips its normals).
@@ -135,8 +143,12 @@ inline float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
 /// Inlined into both integrators' loops (trace_path in integrator.cpp, the wavefront's lane
 /// loop), so that the shadow query and the locals stay in registers: called out of line it
 /// cost trace_path 2.4 % more instructions per sample.
+///
+/// `predrawn`, when given, holds the vertex's pairs pair + 1 and pair + 2 (the same numbers the
+/// sampler would give), and the sampler is not asked for them.
 [[gnu::always_inline]] inline bool path_vertex(const TraceableScene& scene, int max_depth, PixelSampler& sampler,
-                                               PathState& path, Hit* hit, ShadowQuery* shadow, bool* has_shadow) {
+                                               PathState& path, Hit* hit, ShadowQuery* shadow, bool* has_shadow,
+                                               const PredrawnPairs* predrawn = nullptr) {
   using namespace path_vertex_detail;
   const LightSet& lights = scene.lights();
   const TextureSet& textures = scene.textures();
@@ -237,8 +249,14 @@ inline float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
       u_choice = sampler.get2d_independent();
     }
     if (have_lights) {
-      sampler.set_pair(pair + 1);
-      const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
+      glm::vec2 u_light;
+      if (predrawn) {
+        u_light = predrawn->light;
+      } else {
+        sampler.set_pair(pair + 1);
+        u_light = sampler.get2d();
+      }
+      const LightSample ls = lights.sample(sp, u_choice.x, u_light);
       if (ls.pdf > 0) {
         const float cos_surface = glm::dot(ns, ls.wi);
         if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
@@ -251,8 +269,14 @@ inline float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
         }
       }
     }
-    sampler.set_pair(pair + 2);
-    const glm::vec3 local = square_to_cosine_hemisphere(sampler.get2d());
+    glm::vec2 u_bsdf;
+    if (predrawn) {
+      u_bsdf = predrawn->bsdf;
+    } else {
+      sampler.set_pair(pair + 2);
+      u_bsdf = sampler.get2d();
+    }
+    const glm::vec3 local = square_to_cosine_hemisphere(u_bsdf);
     wi = Frame(ns).to_world(local);
     if (glm::dot(wi, sp.ng) <= 0) return false;
     beta *= m->albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
@@ -268,8 +292,14 @@ inline float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
       u_choice = sampler.get2d_independent();
     }
     if (have_lights && bsdf.has_smooth_lobe()) {
-      sampler.set_pair(pair + 1);
-      const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
+      glm::vec2 u_light;
+      if (predrawn) {
+        u_light = predrawn->light;
+      } else {
+        sampler.set_pair(pair + 1);
+        u_light = sampler.get2d();
+      }
+      const LightSample ls = lights.sample(sp, u_choice.x, u_light);
       if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
         const glm::vec3 wi_local = frame.to_local(ls.wi);
         const glm::vec3 f = bsdf.eval(wo_local, wi_local) * (opacity * perturbation_factor(shading, ls.wi));
@@ -286,8 +316,14 @@ inline float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
     }
     sampler.set_pair(pair + 3);
     const float u_lobe = sampler.get2d().x;
-    sampler.set_pair(pair + 2);
-    const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, sampler.get2d());
+    glm::vec2 u_bsdf;
+    if (predrawn) {
+      u_bsdf = predrawn->bsdf;
+    } else {
+      sampler.set_pair(pair + 2);
+      u_bsdf = sampler.get2d();
+    }
+    const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
     if (!bs) return false;
     wi = frame.to_world(bs->wi);
     const float len2 = glm::dot(wi, wi);

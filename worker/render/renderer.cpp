@@ -98,7 +98,7 @@ const char* integrator_kind_name(IntegratorKind kind) {
 }
 
 Renderer::Renderer(const Scene& scene, const JobOptions& options, const FileReader& reader,
-                   IntegratorKind integrator)
+                   IntegratorKind integrator, KernelIsa kernel)
     : scene_(std::make_unique<TraceableScene>(scene, options.width, options.height, options.isa,
                                               reader)),
       integrator_(integrator),
@@ -106,7 +106,8 @@ Renderer::Renderer(const Scene& scene, const JobOptions& options, const FileRead
       filter_(scene.film.filter) {
   if (integrator_ == IntegratorKind::wavefront) {
     wavefront_ = std::make_unique<WavefrontIntegrator>(*scene_, options_.max_depth,
-                                                       PacketTracer::native_width(scene_->embree_device()));
+                                                       PacketTracer::native_width(scene_->embree_device()),
+                                                       kernel);
   }
 }
 
@@ -115,6 +116,8 @@ Renderer::~Renderer() = default;
 const JobOptions& Renderer::options() const { return options_; }
 
 std::string Renderer::isa() const { return scene_->isa(); }
+
+std::string Renderer::kernel_isa() const { return wavefront_ ? kernel_isa_name(wavefront_->kernel_isa()) : "-"; }
 
 Ray Renderer::camera_ray(int x, int y, PixelSampler& sampler) const {
   const glm::vec2 u_film = sampler.get2d();

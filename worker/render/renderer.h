@@ -12,6 +12,7 @@
 #include "sampler.h"
 #include "scene/scene.h"
 #include "scene/scene_loader.h"
+#include "wavefront/kernel_isa.h"
 
 namespace tessera {
 
@@ -50,9 +51,12 @@ class Renderer {
   /// Builds the render-ready scene (Embree BVH). Throws SceneError when the scene cannot be
   /// rendered (for example an Embree ISA the CPU lacks).
   /// `reader` serves the scene's referenced files (textures, environment maps) by bundle path.
-  /// `integrator` chooses the path order (the bits are the same either way).
+  /// `integrator` chooses the path order (the bits are the same either way); `kernel` the
+  /// instruction set of the wavefront order's loop (kernel_isa.h: `automatic` is
+  /// TESSERA_KERNEL_ISA or the best for the CPU; the same bits on each; throws
+  /// std::invalid_argument when the CPU lacks it).
   Renderer(const Scene& scene, const JobOptions& options, const FileReader& reader = {},
-           IntegratorKind integrator = IntegratorKind::wavefront);
+           IntegratorKind integrator = IntegratorKind::wavefront, KernelIsa kernel = KernelIsa::automatic);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
@@ -67,6 +71,8 @@ class Renderer {
   /// The instruction set Embree uses, for provenance ("avx2", ...).
   std::string isa() const;
   IntegratorKind integrator() const { return integrator_; }
+  /// The wavefront loop's instruction set ("avx512", ...), "-" for the scalar integrator.
+  std::string kernel_isa() const;
 
  private:
   Accumulation render_scalar(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,

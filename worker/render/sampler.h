@@ -232,6 +232,13 @@ class PixelSampler {
   /// Skips to a fixed pair index, so that each path vertex starts at a known dimension.
   void set_pair(uint32_t pair) { pair_ = pair; }
 
+  /// What get2d() computes a Sobol pair from, for code that draws many samplers' pairs at once
+  /// (the wavefront kernels): pair p's hash is mix64(pixel_key_value() ^ (p + pair_offset())), and
+  /// index_reversed() is reverse_bits32 of the sample index.
+  uint64_t pixel_key_value() const { return pixel_key_; }
+  uint64_t pair_offset() const { return pair_offset_; }
+  uint32_t index_reversed() const { return index_reversed_; }
+
  private:
   /// hash_combine(pixel_key_, pair), with the part that depends on the pixel alone computed
   /// once per sample (wrapping sums regroup exactly).

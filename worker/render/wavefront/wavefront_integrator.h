@@ -9,8 +9,11 @@
 #include "render/ray.h"
 #include "render/sampler.h"
 #include "render/traceable_scene.h"
+#include "render/wavefront/kernel_isa.h"
 
 namespace tessera {
+
+struct WavefrontKernelArgs;  // wavefront_kernels.h
 
 /// Traces a group of paths breadth-first: every live path's next ray in Embree packets of the
 /// chosen width, each live path's vertex shaded as its packet comes back (path_vertex.h, the
@@ -25,6 +28,9 @@ namespace tessera {
 /// render before). Live paths are packed in path order at each bounce, so which paths share a
 /// packet depends only on the group.
 ///
+/// The loop runs in one of several builds of the same source, one per instruction set
+/// (wavefront_kernels.h, kernel_isa.h), all with the same bits.
+///
 /// Thread-safe for const use: each trace() call works in its caller's Workspace.
 class WavefrontIntegrator {
  public:
@@ -36,7 +42,11 @@ class WavefrontIntegrator {
 
   /// `scene` must outlive the integrator; `packet_width` is 1 (TraceableScene's single-ray
   /// queries), 4, 8 or 16 (Embree's packets); throws std::invalid_argument otherwise.
-  WavefrontIntegrator(const TraceableScene& scene, int max_depth, int packet_width);
+  /// `kernel` picks the build of the loop (resolve_kernel_isa: `automatic` reads
+  /// TESSERA_KERNEL_ISA, else takes the best for the CPU); throws std::invalid_argument when
+  /// this CPU or build lacks it.
+  WavefrontIntegrator(const TraceableScene& scene, int max_depth, int packet_width,
+                      KernelIsa kernel = KernelIsa::automatic);
 
   /// Traces every path of `paths` to its end: path i starts as PathState{camera ray} and uses
   /// samplers[i] (past its camera pairs, as trace_path's); its estimate ends in
@@ -45,16 +55,15 @@ class WavefrontIntegrator {
   void trace(std::vector<PathState>& paths, std::vector<PixelSampler>& samplers, PathCounters& counters,
              Workspace& workspace) const;
 
- private:
-  void trace_single(std::vector<PathState>& paths, std::vector<PixelSampler>& samplers, PathCounters& counters,
-                    Workspace& workspace) const;
-  template <int K>
-  void trace_packets(std::vector<PathState>& paths, std::vector<PixelSampler>& samplers, PathCounters& counters,
-                     Workspace& workspace) const;
+  /// The kernel trace() runs (never `automatic`).
+  KernelIsa kernel_isa() const { return kernel_isa_; }
 
+ private:
   const TraceableScene& scene_;
   int max_depth_;
   int width_;
+  KernelIsa kernel_isa_;
+  void (*kernel_)(const WavefrontKernelArgs&);
 };
 
 }  // namespace tessera

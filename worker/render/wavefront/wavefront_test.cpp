@@ -3,6 +3,7 @@
 // (materials, textures, masks, bump maps, instances, environment, spot and projector lights),
 // with 1 and 2 threads.
 #include <cctype>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,7 @@
 #include "render/renderer.h"
 #include "render/test_scenes.h"
 #include "render/traceable_scene.h"
+#include "render/wavefront/kernel_isa.h"
 #include "render/wavefront/wavefront_integrator.h"
 #include "scene/scene_loader.h"
 
@@ -175,6 +177,62 @@ INSTANTIATE_TEST_SUITE_P(
                       "tests/data/mitsuba/docs/scenes/bsdf_twosided_cbox.xml",
                       "tests/data/mitsuba/docs/scenes/shape_bsplinecurve_parameterization.xml",
                       "tests/data/mitsuba/docs/scenes/shape_linearcurve_basic.xml"),
+    [](const ::testing::TestParamInfo<const char*>& info) {
+      std::string name = info.param;
+      name = name.substr(name.rfind('/') + 1);
+      for (char& c : name) {
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      }
+      return name;
+    });
+
+/// Every build of the wavefront loop this machine runs (kernel_isa.h) gives the baseline
+/// build's bits, with 1 and 2 threads, Embree pinned to one instruction set for all of them
+/// (the widest this CPU has, so packets of 16 on AVX-512 machines). A machine without AVX-512
+/// tests baseline and AVX2 only; the test prints which it ran.
+class WavefrontKernelScenes : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(WavefrontKernelScenes, EveryKernelGivesTheBaselineBits) {
+  const Scene scene = load_scene_file(kSource + "/" + GetParam());
+  JobOverrides overrides;
+  overrides.width = 24;
+  overrides.height = 18;
+  overrides.spp = 8;
+  overrides.seed = 5;
+  overrides.isa = __builtin_cpu_supports("avx512f")  ? "avx512"
+                  : __builtin_cpu_supports("avx2") ? "avx2"
+                                                   : "sse4.2";
+  const JobOptions options = resolve_job_options(scene, overrides);
+  const Renderer baseline(scene, options, {}, IntegratorKind::wavefront, KernelIsa::baseline);
+  ASSERT_EQ(baseline.kernel_isa(), "baseline");
+  const TileRect tile{0, 0, 24, 18};
+  Accumulation expected;
+  tbb::task_arena(1).execute([&] { expected = baseline.render(tile, 4, 8); });
+  std::string tested = "baseline";
+  for (const KernelIsa isa : {KernelIsa::baseline, KernelIsa::avx2, KernelIsa::avx512}) {
+    if (!kernel_isa_supported(isa)) continue;
+    const Renderer renderer(scene, options, {}, IntegratorKind::wavefront, isa);
+    ASSERT_EQ(renderer.kernel_isa(), kernel_isa_name(isa));
+    Accumulation one_thread, two_threads;
+    tbb::task_arena(1).execute([&] { one_thread = renderer.render(tile, 4, 8); });
+    tbb::task_arena(2).execute([&] { two_threads = renderer.render(tile, 4, 8); });
+    const std::string what = std::string(GetParam()) + ", kernel " + kernel_isa_name(isa) + ", Embree " +
+                             renderer.isa();
+    expect_same(expected, one_thread, what + ", 1 thread");
+    expect_same(expected, two_threads, what + ", 2 threads");
+    if (isa != KernelIsa::baseline) tested += std::string(", ") + kernel_isa_name(isa);
+  }
+  RecordProperty("kernels", tested);
+  std::printf("kernels tested: %s (Embree %s)\n", tested.c_str(), baseline.isa().c_str());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    RepositoryAndMitsubaScenes, WavefrontKernelScenes,
+    ::testing::Values("scenes/cornell.json", "scenes/cornell-sphere.json", "scenes/hexroom.json",
+                      "scenes/bunny.json", "tests/data/mitsuba/bitmap_texture.xml", "tests/data/mitsuba/envmap.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_dielectric_glass.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_roughconductor_textured_carbon.xml",
+                      "tests/data/mitsuba/docs/scenes/bsdf_roughdielectric_rough.xml"),
     [](const ::testing::TestParamInfo<const char*>& info) {
       std::string name = info.param;
       name = name.substr(name.rfind('/') + 1);

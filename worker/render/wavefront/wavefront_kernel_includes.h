@@ -1,0 +1,11 @@
+// Every header wavefront_kernel.inc uses, included by each kernel's translation unit before its
+// `#pragma GCC target` (wavefront_kernels.h says why).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "render/embree_packet.h"
+#include "render/path_vertex.h"
+#include "render/wavefront/wavefront_kernels.h"
