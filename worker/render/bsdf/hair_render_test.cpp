@@ -9,14 +9,13 @@
 
 #include <array>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "accum/film.h"
 #include "job/job_options.h"
 #include "local_render.h"
 #include "render/renderer.h"
+#include "render/mitsuba_mean_test_support.h"
 #include "render/test_statistics.h"
 #include "scene/scene_loader.h"
 
@@ -93,77 +92,16 @@ TEST(HairRender, PigmentsDarkenAndExtremesStayFinite) {
   }
 }
 
-/// Per channel: the mean of `image` without a 2-pixel border (as mitsuba_hair_scene.py takes
-/// Mitsuba's).
-std::array<double, 3> inner_mean(const RgbImage& image) {
-  std::array<double, 3> sum{0, 0, 0};
-  int n = 0;
-  for (int y = 2; y < image.height - 2; ++y) {
-    for (int x = 2; x < image.width - 2; ++x, ++n) {
-      for (int c = 0; c < 3; ++c) sum[c] += image.rgb[(size_t(y) * image.width + x) * 3 + c];
-    }
-  }
-  for (double& v : sum) v /= n;
-  return sum;
-}
-
 TEST(HairRender, StrandsSceneMatchesMitsuba) {
   const std::string dir = std::string(TESSERA_SOURCE_DIR);
-  std::ifstream in(dir + "/worker/render/bsdf/mitsuba_hair_scene.txt");
-  ASSERT_TRUE(in) << "cannot read mitsuba_hair_scene.txt";
-  std::array<double, 3> mitsuba{}, mitsuba_se{};
-  int channels = 0;
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream row(line);
-    std::string name;
-    ASSERT_TRUE(row >> name >> mitsuba[channels] >> mitsuba_se[channels]) << line;
-    ++channels;
-  }
-  ASSERT_EQ(channels, 3);
-
+  const auto means = mitsuba_mean::read_mitsuba_means(dir + "/worker/render/bsdf/mitsuba_hair_scene.txt");
+  ASSERT_EQ(means.count(""), 1u);
   const Scene scene = load_scene_file(dir + "/tests/data/mitsuba/hair/strands.xml");
-  // Two seeds: their difference per pixel gives the noise of Tessera's mean (as
-  // scripts/mitsuba_sweep.py estimates it).
-  const int kSpp = 32;
-  std::array<RgbImage, 2> images;
-  for (int seed = 0; seed < 2; ++seed) {
-    JobOverrides overrides;
-    overrides.spp = kSpp;
-    overrides.seed = uint64_t(seed);
-    const JobOptions options = resolve_job_options(scene, overrides);
-    ASSERT_EQ(options.width, 48);
-    ASSERT_EQ(options.height, 64);
-    ASSERT_EQ(options.max_depth, 16);
-    const LocalRenderResult result = render_job(scene, options);
-    for (const Accumulation& t : result.tiles) {
-      EXPECT_EQ(t.nan_dropped + t.inf_dropped, 0u);
-    }
-    images[seed] = resolve_image(options.width, options.height, result.tiles);
-  }
-  const std::array<double, 3> a = inner_mean(images[0]), b = inner_mean(images[1]);
-  std::array<double, 3> diff2{0, 0, 0};
-  int n = 0;
-  for (int y = 2; y < 62; ++y) {
-    for (int x = 2; x < 46; ++x, ++n) {
-      for (int c = 0; c < 3; ++c) {
-        const size_t i = (size_t(y) * 48 + x) * 3 + c;
-        const double d = double(images[0].rgb[i]) - images[1].rgb[i];
-        diff2[c] += d * d;
-      }
-    }
-  }
-  for (int c = 0; c < 3; ++c) {
-    const double tessera = 0.5 * (a[c] + b[c]);
-    // Variance of one render's mean is mean((a - b)^2) / (2 n); of the two renders' mean, half.
-    const double tessera_var = diff2[c] / n / (2.0 * n) / 2.0;
-    const double sigma = std::sqrt(tessera_var + mitsuba_se[c] * mitsuba_se[c]);
-    const double delta = std::abs(tessera - mitsuba[c]);
-    // scripts/mitsuba_sweep.py's rule: within 4 sigma or 1 %.
-    EXPECT_TRUE(delta <= 4 * sigma || delta <= 0.01 * mitsuba[c])
-        << "channel " << c << ": Tessera " << tessera << ", Mitsuba " << mitsuba[c] << " ("
-        << 100 * (tessera - mitsuba[c]) / mitsuba[c] << " %, " << delta / sigma << " sigma)";
-  }
+  const JobOptions options = resolve_job_options(scene, {});
+  ASSERT_EQ(options.width, 48);
+  ASSERT_EQ(options.height, 64);
+  ASSERT_EQ(options.max_depth, 16);
+  mitsuba_mean::expect_mean_matches_mitsuba(scene, 32, 2, means.at(""), "strands.xml");
 }
 
 }  // namespace
