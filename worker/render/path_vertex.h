@@ -123,6 +123,16 @@ struct PredrawnPairs {
   glm::vec2 bsdf;
 };
 
+namespace path_vertex_detail {
+/// Dimension pair `pair` of the path's sampler, or `*predrawn` when the kernel drew it ahead
+/// (the same numbers: PredrawnPairs); the sampler is not asked then.
+inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const glm::vec2* predrawn) {
+  if (predrawn) return *predrawn;
+  sampler.set_pair(pair);
+  return sampler.get2d();
+}
+}  // namespace path_vertex_detail
+
 /// Shades the vertex of `path` that its ray found: `hit` is the closest hit of path.ray
 /// (TraceableScene::intersect, or the same Hit built from a packet query), nullptr when the ray
 /// escaped; it may be changed (a back face flips its normals).
@@ -249,13 +259,8 @@ struct PredrawnPairs {
       u_choice = sampler.get2d_independent();
     }
     if (have_lights) {
-      glm::vec2 u_light;
-      if (predrawn) {
-        u_light = predrawn->light;
-      } else {
-        sampler.set_pair(pair + 1);
-        u_light = sampler.get2d();
-      }
+      const glm::vec2 u_light =
+          pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
       const LightSample ls = lights.sample(sp, u_choice.x, u_light);
       if (ls.pdf > 0) {
         const float cos_surface = glm::dot(ns, ls.wi);
@@ -269,13 +274,7 @@ struct PredrawnPairs {
         }
       }
     }
-    glm::vec2 u_bsdf;
-    if (predrawn) {
-      u_bsdf = predrawn->bsdf;
-    } else {
-      sampler.set_pair(pair + 2);
-      u_bsdf = sampler.get2d();
-    }
+    const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
     const glm::vec3 local = square_to_cosine_hemisphere(u_bsdf);
     wi = Frame(ns).to_world(local);
     if (glm::dot(wi, sp.ng) <= 0) return false;
@@ -292,13 +291,8 @@ struct PredrawnPairs {
       u_choice = sampler.get2d_independent();
     }
     if (have_lights && bsdf.has_smooth_lobe()) {
-      glm::vec2 u_light;
-      if (predrawn) {
-        u_light = predrawn->light;
-      } else {
-        sampler.set_pair(pair + 1);
-        u_light = sampler.get2d();
-      }
+      const glm::vec2 u_light =
+          pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
       const LightSample ls = lights.sample(sp, u_choice.x, u_light);
       if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
         const glm::vec3 wi_local = frame.to_local(ls.wi);
@@ -316,13 +310,7 @@ struct PredrawnPairs {
     }
     sampler.set_pair(pair + 3);
     const float u_lobe = sampler.get2d().x;
-    glm::vec2 u_bsdf;
-    if (predrawn) {
-      u_bsdf = predrawn->bsdf;
-    } else {
-      sampler.set_pair(pair + 2);
-      u_bsdf = sampler.get2d();
-    }
+    const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
     const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
     if (!bs) return false;
     wi = frame.to_world(bs->wi);
