@@ -19,28 +19,14 @@ Usage, from the repository root (Mitsuba 3.9.1):
 """
 import argparse
 import os
-import subprocess
 import sys
-import tempfile
 
-import numpy as np
-import mitsuba as mi
-
-mi.set_variant("scalar_rgb")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from mitsuba_scene_means import mitsuba_mean, report, tessera_mean  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENE = os.path.normpath(os.path.join(HERE, "../../../tests/data/mitsuba/hair/strands.xml"))
 SPP, SEEDS, BORDER = 1024, 4, 2
-
-
-def inner_mean(image):
-    a = np.array(image, dtype=np.float64)[BORDER:-BORDER, BORDER:-BORDER, :3]
-    return a.reshape(-1, 3).mean(axis=0)
-
-
-def mean_and_error(means):
-    means = np.array(means)
-    return means.mean(axis=0), means.std(axis=0, ddof=1) / np.sqrt(len(means))
 
 
 def main():
@@ -48,31 +34,15 @@ def main():
     ap.add_argument("--worker", help="tessera-worker: render with Tessera too and compare")
     ap.add_argument("--spp", type=int, default=SPP)
     args = ap.parse_args()
-    scene = mi.load_file(SCENE, spp=args.spp)
-    m_mean, m_err = mean_and_error([inner_mean(mi.render(scene, seed=s)) for s in range(SEEDS)])
+    m_mean, m_err = mitsuba_mean(SCENE, args.spp, SEEDS, BORDER)
     print("# Mitsuba 3.9.1 (scalar_rgb), tests/data/mitsuba/hair/strands.xml at 48 x 64, "
           f"{SEEDS} seeds x {args.spp} spp, mean per channel without a {BORDER}-px border, "
           "written by mitsuba_hair_scene.py.")
     print("# Columns: channel mean standard_error")
     for c, name in enumerate("rgb"):
         print(f"{name} {m_mean[c]:.7g} {m_err[c]:.3g}")
-    if not args.worker:
-        return
-    t_means = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for s in range(SEEDS):
-            out = os.path.join(tmp, f"t{s}.exr")
-            subprocess.run([args.worker, "render", SCENE, "-q", "--spp", str(args.spp),
-                            "--seed", str(s), "-o", out], check=True)
-            t_means.append(inner_mean(mi.Bitmap(out)))
-    t_mean, t_err = mean_and_error(t_means)
-    rel = (t_mean - m_mean) / m_mean
-    sigmas = np.abs(t_mean - m_mean) / np.sqrt(m_err ** 2 + t_err ** 2)
-    for c, name in enumerate("rgb"):
-        verdict = "ok" if sigmas[c] <= 4 or abs(rel[c]) <= 0.01 else "MISMATCH"
-        print(f"# {name}: Tessera {t_mean[c]:.6f} +- {t_err[c]:.2g}, Mitsuba {m_mean[c]:.6f} +- "
-              f"{m_err[c]:.2g}: {100 * rel[c]:+.3f} % ({sigmas[c]:.1f} sigma) {verdict}",
-              file=sys.stderr)
+    if args.worker:
+        report("", tessera_mean(args.worker, SCENE, args.spp, SEEDS, BORDER), (m_mean, m_err))
 
 
 if __name__ == "__main__":

@@ -20,29 +20,15 @@ Usage, from the repository root (Mitsuba 3.9.1):
 """
 import argparse
 import os
-import subprocess
 import sys
-import tempfile
 
-import numpy as np
-import mitsuba as mi
-
-mi.set_variant("scalar_rgb")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from mitsuba_scene_means import mitsuba_mean, report, tessera_mean  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 FOLDER = os.path.normpath(os.path.join(HERE, "../../../tests/data/mitsuba/sdfgrid"))
 SCENES = ["torus_smooth", "torus_analytic"]
 SPP, SEEDS, BORDER = 1024, 4, 2
-
-
-def inner_mean(image):
-    a = np.array(image, dtype=np.float64)[BORDER:-BORDER, BORDER:-BORDER, :3]
-    return a.reshape(-1, 3).mean(axis=0)
-
-
-def mean_and_error(means):
-    means = np.array(means)
-    return means.mean(axis=0), means.std(axis=0, ddof=1) / np.sqrt(len(means))
 
 
 def main():
@@ -56,27 +42,11 @@ def main():
     print("# Columns: scene channel mean standard_error")
     for name in SCENES:
         path = os.path.join(FOLDER, name + ".xml")
-        scene = mi.load_file(path, spp=args.spp)
-        m_mean, m_err = mean_and_error([inner_mean(mi.render(scene, seed=s)) for s in range(SEEDS)])
+        m_mean, m_err = mitsuba_mean(path, args.spp, SEEDS, BORDER)
         for c, ch in enumerate("rgb"):
             print(f"{name} {ch} {m_mean[c]:.7g} {m_err[c]:.3g}", flush=True)
-        if not args.worker:
-            continue
-        t_means = []
-        with tempfile.TemporaryDirectory() as tmp:
-            for s in range(SEEDS):
-                out = os.path.join(tmp, f"t{s}.exr")
-                subprocess.run([args.worker, "render", path, "-q", "--spp", str(args.spp),
-                                "--seed", str(s), "-o", out], check=True)
-                t_means.append(inner_mean(mi.Bitmap(out)))
-        t_mean, t_err = mean_and_error(t_means)
-        rel = (t_mean - m_mean) / m_mean
-        sigmas = np.abs(t_mean - m_mean) / np.sqrt(m_err ** 2 + t_err ** 2)
-        for c, ch in enumerate("rgb"):
-            verdict = "ok" if sigmas[c] <= 4 or abs(rel[c]) <= 0.01 else "MISMATCH"
-            print(f"# {name} {ch}: Tessera {t_mean[c]:.6f} +- {t_err[c]:.2g}, Mitsuba {m_mean[c]:.6f} +- "
-                  f"{m_err[c]:.2g}: {100 * rel[c]:+.3f} % ({sigmas[c]:.1f} sigma) {verdict}",
-                  file=sys.stderr)
+        if args.worker:
+            report(name, tessera_mean(args.worker, path, args.spp, SEEDS, BORDER), (m_mean, m_err))
 
 
 if __name__ == "__main__":
