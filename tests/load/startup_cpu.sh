@@ -40,7 +40,8 @@ for round in $(seq "$rounds"); do
   done
 done | tee "$tmp/lines"
 for s in "$@"; do
-  grep -F "$s round" "$tmp/lines" | awk -v s="$s" '{w[NR]=$5; c[NR]=$11} END {
-    n=asort(w); asort(c); printf "%s: median wall %.3f s, median cpu (schedstat) %.3f s over %d starts\n", s, w[int((n+1)/2)], c[int((n+1)/2)], n}'
+  wall=$(grep -F "$s round" "$tmp/lines" | awk '{print $5}' | sort -g | awk '{v[NR]=$1} END {print v[int((NR+1)/2)]}')
+  cpu=$(grep -F "$s round" "$tmp/lines" | awk '{print $11}' | sort -g | awk '{v[NR]=$1} END {print v[int((NR+1)/2)]}')
+  echo "$s: median wall $wall s, median cpu (schedstat) $cpu s over $rounds starts"
 done
 echo "load: $(cat /proc/loadavg)"
