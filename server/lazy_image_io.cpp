@@ -17,6 +17,7 @@
 #include <string>
 
 #include "image_io_table.h"
+#include "lazy_image_io.h"
 
 // The module's bytes (TESSERA_IMAGE_MODULE: its path at build time). ccache does not cache a
 // file with .incbin, so a changed module is always embedded again.
@@ -74,6 +75,8 @@ const server::ImageIoTable& image_io() {
 }
 
 }  // namespace
+
+void server::load_image_module() { image_io(); }
 
 void write_image(const RgbImage& image, const std::filesystem::path& path,
                  const ImageWriteOptions& options) {
