@@ -3,7 +3,8 @@
 // ones and links OpenImageIO. Loading OpenImageIO maps about 260 shared libraries (its codecs'
 // dependencies: GDAL, OpenCV, GDCM, ffmpeg ...), about 0.5 s of CPU and most of the server's
 // start-up (BENCHMARKS.md, "Start-up: where the time goes (branch dash8)"); the server needs it
-// only for a job's images and a bundle's textures, so it loads it then (server/lazy_image_io.cpp).
+// only for a job's images and a bundle's textures, so it loads it after it listens, on a thread
+// of its own, or at the first image call if that comes first (server/lazy_image_io.cpp).
 #pragma once
 
 #include <cstdint>

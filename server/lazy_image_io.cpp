@@ -1,7 +1,7 @@
 // tessera-server's image functions (image/image_output.h, scene/image_check.h): each forwards to
-// the image module (server/image_io_table.h), loaded on the first call, so that the server maps
-// OpenImageIO's ~260 libraries when it first writes a job's image or checks a bundle's texture,
-// not before it listens. The module is embedded in the executable (a container copies one
+// the image module (server/image_io_table.h), loaded by the first call (or load_image_module,
+// which main calls on a thread once it listens), so that the server maps OpenImageIO's ~260
+// libraries after it listens, not before. The module is embedded in the executable (a container copies one
 // file) and loaded from an anonymous memory file (memfd_create).
 //
 // Linked into the executable before tessera_core, these definitions keep the linker from taking
