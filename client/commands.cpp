@@ -69,6 +69,13 @@ v1::JobInfo follow(JobClient& client, uint64_t job_id, bool json_lines) {
   return last;
 }
 
+/// One line on stderr when the server's last answer said its store is damaged (status, list).
+void warn_store_damage(const JobClient& client) {
+  if (client.store_damage().empty()) return;
+  std::cerr << "tessera: warning: the server hands out no more work: "
+            << client.store_damage() << " (docs/reliability.md)\n";
+}
+
 /// 0 when done; else prints why and returns 1.
 int final_status(const v1::JobInfo& job) {
   switch (job.state()) {
@@ -174,7 +181,14 @@ int submit(const GlobalOptions& g, const SubmitOptions& s) {
 int status(const GlobalOptions& g, uint64_t job_id) {
   return guarded([&] {
     JobClient client = connect(g);
-    const v1::JobInfo job = client.get(job_id);
+    v1::JobInfo job;
+    try {
+      job = client.get(job_id);
+    } catch (const ClientError&) {
+      warn_store_damage(client);  // the damage may be why the call failed
+      throw;
+    }
+    warn_store_damage(client);
     if (g.json) {
       std::cout << to_json(job).dump() << std::endl;
       return 0;
@@ -268,7 +282,14 @@ int cancel(const GlobalOptions& g, uint64_t job_id) {
 int list(const GlobalOptions& g) {
   return guarded([&] {
     JobClient client = connect(g);
-    const v1::ListJobsResponse jobs = client.list(0);
+    v1::ListJobsResponse jobs;
+    try {
+      jobs = client.list(0);
+    } catch (const ClientError&) {
+      warn_store_damage(client);  // the damage may be why the call failed
+      throw;
+    }
+    warn_store_damage(client);
     if (g.json) {
       nlohmann::json out = nlohmann::json::array();
       for (const auto& job : jobs.jobs()) out.push_back(to_json(job));

@@ -25,6 +25,13 @@ void check(const grpc::Status& status, const std::string& server) {
   throw ClientError(wire::status_line(status));
 }
 
+/// The server's damage report from a call's trailing metadata (job_service.proto), or "".
+std::string store_damage_of(const grpc::ClientContext& context) {
+  const auto& trailers = context.GetServerTrailingMetadata();
+  const auto it = trailers.find(wire::kStoreDamageMetadata);
+  return it == trailers.end() ? "" : std::string(it->second.data(), it->second.size());
+}
+
 }  // namespace
 
 std::string state_name(v1::JobState state) { return wire::job_state_name(state); }
@@ -59,7 +66,9 @@ v1::JobInfo JobClient::get(uint64_t job_id) {
   v1::GetJobRequest request;
   request.set_job_id(job_id);
   v1::JobInfo response;
-  check(stub_->GetJob(&context, request, &response), server_);
+  const grpc::Status status = stub_->GetJob(&context, request, &response);
+  store_damage_ = store_damage_of(context);
+  check(status, server_);
   return response;
 }
 
@@ -69,7 +78,9 @@ v1::ListJobsResponse JobClient::list(uint32_t limit) {
   v1::ListJobsRequest request;
   request.set_limit(limit);
   v1::ListJobsResponse response;
-  check(stub_->ListJobs(&context, request, &response), server_);
+  const grpc::Status status = stub_->ListJobs(&context, request, &response);
+  store_damage_ = store_damage_of(context);
+  check(status, server_);
   return response;
 }
 

@@ -34,6 +34,10 @@ class JobClient {
   v1::GetImageResponse image(uint64_t job_id, v1::ImageFormat format);
   v1::ListWorkersResponse workers();
 
+  /// What the last get() or list() answer said of the server's store: its one-line damage
+  /// report when the server found its database damaged (it hands out no more work), else "".
+  const std::string& store_damage() const { return store_damage_; }
+
   /// Streams the job's updates to `on_update` until the job is final; returns the last one.
   /// Each stream call has a deadline (kWatchSegment); when it passes, the watch continues with
   /// a new call, so a watch may last as long as the job; a server restart is ridden out.
@@ -50,6 +54,7 @@ class JobClient {
   std::string token_;
   std::chrono::milliseconds timeout_;
   std::unique_ptr<v1::JobService::Stub> stub_;
+  std::string store_damage_;
 };
 
 /// "queued", "running", "done", "failed", "cancelled".

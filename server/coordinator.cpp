@@ -111,6 +111,11 @@ std::optional<IntegrityState> Coordinator::store_check() const {
   return check_->state();
 }
 
+std::optional<double> Coordinator::store_check_progress() const {
+  if (!check_) return std::nullopt;
+  return check_->progress();
+}
+
 std::optional<IntegrityState> Coordinator::wait_for_store_check() const {
   if (!check_) return std::nullopt;
   return check_->wait();

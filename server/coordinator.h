@@ -207,6 +207,9 @@ class Coordinator {
   /// The whole-file check of this start: nullopt when none was due (the last server stopped
   /// cleanly), else its state.
   std::optional<IntegrityState> store_check() const;
+  /// How much of the file the check has read, 0..1 (BackgroundIntegrityCheck::progress);
+  /// nullopt when none was due.
+  std::optional<double> store_check_progress() const;
   /// Blocks until the check of this start has ended (tests); nullopt when none was due.
   std::optional<IntegrityState> wait_for_store_check() const;
   /// The damage the check found (one line naming the file and what SQLite found), or "".

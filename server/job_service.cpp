@@ -4,6 +4,7 @@
 
 #include "proto_convert.h"
 #include "rpc_guard.h"
+#include "wire/rpc_channel.h"
 
 namespace tessera::server {
 namespace {
@@ -30,6 +31,15 @@ std::string client_of(const grpc::ServerContext& context) {
   return peer;
 }
 
+/// Tells the client that the store is damaged (job_service.proto: trailing metadata
+/// wire::kStoreDamageMetadata), once the check found damage; metadata values are printable ASCII.
+void tell_store_damage(const Coordinator& coordinator, grpc::ServerContext& context) {
+  std::string damage = coordinator.store_damage();
+  if (damage.empty()) return;
+  for (char& c : damage) c = c < 0x20 || c > 0x7e ? '?' : c;
+  context.AddTrailingMetadata(wire::kStoreDamageMetadata, damage);
+}
+
 }  // namespace
 
 grpc::Status JobServiceImpl::SubmitJob(grpc::ServerContext* context,
@@ -45,6 +55,7 @@ grpc::Status JobServiceImpl::SubmitJob(grpc::ServerContext* context,
 grpc::Status JobServiceImpl::GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request,
                                     v1::JobInfo* response) {
   return guarded(auth_, *context, "GetJob", [&] {
+    tell_store_damage(coordinator_, *context);
     *response = to_proto(coordinator_.job(job_id_of(request->job_id())));
     return grpc::Status::OK;
   });
@@ -54,6 +65,7 @@ grpc::Status JobServiceImpl::ListJobs(grpc::ServerContext* context,
                                       const v1::ListJobsRequest* request,
                                       v1::ListJobsResponse* response) {
   return guarded(auth_, *context, "ListJobs", [&] {
+    tell_store_damage(coordinator_, *context);
     const uint32_t limit = request->limit() == 0 ? 1000 : request->limit();
     for (const JobRecord& job : coordinator_.jobs(limit)) *response->add_jobs() = to_proto(job);
     return grpc::Status::OK;

@@ -17,6 +17,7 @@
 #include "dashboard/farm_metrics.h"
 #include "dashboard/http_server.h"
 #include "job_service.h"
+#include "lazy_image_io.h"
 #include "lease_reaper.h"
 #include "cli/host_port.h"
 #include "cli/usage_exit.h"
@@ -213,6 +214,21 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   if (!flags.http_port_file.empty()) write_port_file(flags.http_port_file, http_port);
   // Last: the gRPC port file tells scripts that both listeners are up.
   if (!flags.port_file.empty()) write_port_file(flags.port_file, port);
+  // OpenImageIO's ~260 libraries are most of what start-up would cost (BENCHMARKS.md, "Issue
+  // 14: start-up, where the time goes"): loaded now, beside serving, so that the first preview
+  // does not wait for them. Joined before serve() returns (never unloaded mid-exit).
+  std::thread image_module_loader([] {
+    try {
+      ts::load_image_module();
+    } catch (const std::exception& e) {
+      std::cerr << "tessera-server: warning: " << e.what() << " (tried again at the first image)"
+                << std::endl;
+    }
+  });
+  struct JoinLoader {
+    std::thread& thread;
+    ~JoinLoader() { thread.join(); }
+  } join_loader{image_module_loader};
 
   const auto reap_period = std::chrono::milliseconds(
       std::clamp<int64_t>(coordinator.lease_ms() / 4, 50, 1000));

@@ -21,6 +21,11 @@ inline constexpr int kMaxMessageBytes = 1 << 30;
 inline constexpr int kKeepaliveTimeMs = 30'000;
 inline constexpr int kKeepaliveTimeoutMs = 10'000;
 
+/// Trailing metadata of JobService's GetJob and ListJobs answers while the server's store is
+/// damaged (its background check found damage, so it hands out no more work): the one-line
+/// damage report, printable ASCII (proto/tessera/v1/job_service.proto). Absent otherwise.
+inline constexpr char kStoreDamageMetadata[] = "tessera-store-damage";
+
 /// A plain-TCP channel to `address` ("host:port") with keepalive and the message size limits.
 /// The bearer token is per call (prepare_context), so the channel itself carries no secret.
 std::shared_ptr<grpc::Channel> make_channel(const std::string& address);

@@ -14,6 +14,7 @@
 #include "coordinator.h"
 #include "dashboard/farm_metrics.h"
 #include "dashboard/prometheus_text.h"
+#include "dashboard/store_status.h"
 #include "dashboard_assets.h"
 #include "farm_error.h"
 #include "job_output.h"
@@ -114,7 +115,9 @@ class Api {
     return json{{"jobs", list},
                 {"server_time_unix_ms", now},
                 {"token_required", !config_.token.empty()},
-                {"samples_per_s", metrics_.farm_samples_per_s()}};
+                {"samples_per_s", metrics_.farm_samples_per_s()},
+                // The page polls this list: every page shows the store's banner from it.
+                {"store", store_json(store_status(coordinator_))}};
   }
 
   json job_detail(int64_t id) {
@@ -156,13 +159,22 @@ class Api {
 
   std::string metrics_text() {
     FarmSnapshotForMetrics s;
-    s.totals = coordinator_.totals();
-    for (const WorkerRecord& w : coordinator_.workers()) s.workers_online += coordinator_.online(w);
+    s.store = store_status(coordinator_);
+    try {
+      s.totals = coordinator_.totals();
+      for (const WorkerRecord& w : coordinator_.workers()) s.workers_online += coordinator_.online(w);
+    } catch (const SqliteError&) {
+      // A damaged store may not answer the totals' queries: the store's gauges (which need no
+      // query) must still say so, so /metrics leaves out only the families read from it.
+      if (!s.store.damaged()) throw;
+      s.store_readable = false;
+    }
     const FarmMetrics& m = metrics_;
     s.samples_per_s = m.farm_samples_per_s();
     s.results_accepted = m.results_accepted();
     s.results_dropped_session = m.results_dropped();
     s.merge = m.merge_latency();
+    s.store = store_status(coordinator_);
     return prometheus_text(s);
   }
 
@@ -424,6 +436,9 @@ void install_dashboard_routes(httplib::Server& http, Coordinator& coordinator,
                 send_json(res, 200, api->job_summary(job, api->coordinator().clock().now_unix_ms()));
               });
             });
+  http.Get("/api/store", [api](const httplib::Request&, httplib::Response& res) {
+    api->guarded(res, [&] { send_json(res, 200, store_json(store_status(api->coordinator()))); });
+  });
   http.Get("/api/workers", [api](const httplib::Request&, httplib::Response& res) {
     api->guarded(res, [&] { send_json(res, 200, api->workers()); });
   });

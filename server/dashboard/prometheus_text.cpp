@@ -41,25 +41,28 @@ class Writer {
 
 std::string prometheus_text(const FarmSnapshotForMetrics& s) {
   Writer w;
-  w.family("tessera_jobs", "gauge", "Jobs in the store by state.");
-  for (const auto& [state, count] : s.totals.jobs_by_state) {
-    w.sample("tessera_jobs", "state=\"" + state + "\"", std::to_string(count));
+  // Read from the store: left out when a damaged store cannot answer (store_readable).
+  if (s.store_readable) {
+    w.family("tessera_jobs", "gauge", "Jobs in the store by state.");
+    for (const auto& [state, count] : s.totals.jobs_by_state) {
+      w.sample("tessera_jobs", "state=\"" + state + "\"", std::to_string(count));
+    }
+    w.single("tessera_units_leased", "gauge",
+             "Work units leased to workers right now.",
+             s.totals.units_leased_now);
+    w.single("tessera_units_done_total", "counter",
+             "Work units whose result was accepted, over every job in the store.",
+             s.totals.units_done);
+    w.single("tessera_units_expired_total", "counter",
+             "Leases that expired or were revoked at a restart (units rendered again), all jobs.",
+             s.totals.leases_expired);
+    w.single("tessera_results_dropped_total", "counter",
+             "Results dropped for a stale or duplicate lease, over every job in the store.",
+             s.totals.results_dropped);
+    w.single("tessera_samples_merged_total", "counter",
+             "Pixel samples merged, over every job in the store.",
+             s.totals.samples_merged);
   }
-  w.single("tessera_units_leased", "gauge",
-           "Work units leased to workers right now.",
-           s.totals.units_leased_now);
-  w.single("tessera_units_done_total", "counter",
-           "Work units whose result was accepted, over every job in the store.",
-           s.totals.units_done);
-  w.single("tessera_units_expired_total", "counter",
-           "Leases that expired or were revoked at a restart (units rendered again), all jobs.",
-           s.totals.leases_expired);
-  w.single("tessera_results_dropped_total", "counter",
-           "Results dropped for a stale or duplicate lease, over every job in the store.",
-           s.totals.results_dropped);
-  w.single("tessera_samples_merged_total", "counter",
-           "Pixel samples merged, over every job in the store.",
-           s.totals.samples_merged);
   w.family("tessera_results_received_total", "counter",
            "Results answered by this server process, by outcome (accepted or dropped).");
   w.sample("tessera_results_received_total", "outcome=\"accepted\"",
@@ -69,10 +72,20 @@ std::string prometheus_text(const FarmSnapshotForMetrics& s) {
   w.family("tessera_samples_per_second", "gauge",
            "Pixel samples accepted per second over the last 10 seconds.");
   w.sample("tessera_samples_per_second", "", number(s.samples_per_s));
-  w.family("tessera_workers", "gauge", "Registered workers, online (seen within 3 leases) or not.");
-  w.sample("tessera_workers", "state=\"online\"", std::to_string(s.workers_online));
-  w.sample("tessera_workers", "state=\"offline\"",
-           std::to_string(s.totals.workers - s.workers_online));
+  if (s.store_readable) {
+    w.family("tessera_workers", "gauge", "Registered workers, online (seen within 3 leases) or not.");
+    w.sample("tessera_workers", "state=\"online\"", std::to_string(s.workers_online));
+    w.sample("tessera_workers", "state=\"offline\"",
+             std::to_string(s.totals.workers - s.workers_online));
+  }
+  // The store (docs/reliability.md, "A consistent database after any crash"): alert on
+  // tessera_store_damaged == 1; the server then hands out no more work.
+  w.single("tessera_store_damaged", "gauge",
+           "1 when the background check of the database found damage (leasing stopped), else 0.",
+           s.store.damaged() ? 1 : 0);
+  w.single("tessera_store_check_running", "gauge",
+           "1 while the database is checked (PRAGMA quick_check) after an unclean stop, else 0.",
+           s.store.checking() ? 1 : 0);
   w.family("tessera_merge_latency_seconds", "histogram",
            "Time from receiving a result to its commit (decode, lock, compare-and-set, merge).");
   for (size_t i = 0; i < FarmMetrics::kMergeBuckets.size(); ++i) {

@@ -6,6 +6,7 @@
 
 #include "coordinator.h"
 #include "dashboard/farm_metrics.h"
+#include "dashboard/store_status.h"
 
 namespace tessera::server {
 
@@ -16,6 +17,10 @@ struct FarmSnapshotForMetrics {
   uint64_t results_accepted = 0;          ///< since the server started
   uint64_t results_dropped_session = 0;   ///< since the server started
   FarmMetrics::MergeHistogram merge;
+  StoreStatus store;  ///< tessera_store_damaged, tessera_store_check_running
+  /// False when the store is damaged where `totals` and the worker counts are read: their
+  /// families are left out (the store's gauges and this process's counters remain).
+  bool store_readable = true;
 };
 
 std::string prometheus_text(const FarmSnapshotForMetrics& s);

@@ -1,5 +1,6 @@
 #include "store/integrity.h"
 
+#include <algorithm>
 #include <chrono>
 #include <vector>
 
@@ -58,6 +59,13 @@ std::string BackgroundIntegrityCheck::message() const {
   return message_;
 }
 
+double BackgroundIntegrityCheck::progress() const {
+  if (state() == IntegrityState::ok) return 1.0;
+  const int64_t total = pages_total_.load();
+  if (total <= 0) return 0.0;
+  return std::min(1.0, double(pages_read_.load()) / double(total));
+}
+
 IntegrityState BackgroundIntegrityCheck::wait() const {
   std::unique_lock lock(mu_);
   ended_.wait(lock, [&] { return state_ != IntegrityState::checking; });
@@ -105,6 +113,26 @@ void BackgroundIntegrityCheck::run() {
     Database db(path_);
     db.exec("PRAGMA query_only = 1");    // a reader: it can never write the store
     db.exec("PRAGMA cache_size = -8192");  // it reads each page once: 8 MiB is plenty
+    {
+      auto q = db.prepare("PRAGMA page_count");
+      if (q->step()) pages_total_ = q->int64(0);
+    }
+    // Progress (progress()): SQLite calls the handler on the check's own thread, between VM
+    // steps, so the connection's counters are read where they are written.
+    struct Probe {
+      sqlite3* db;
+      std::atomic<int64_t>* pages_read;
+    } probe{db.handle(), &pages_read_};
+    sqlite3_progress_handler(
+        db.handle(), 4096,
+        [](void* arg) {
+          const auto* p = static_cast<const Probe*>(arg);
+          int misses = 0, highwater = 0;
+          sqlite3_db_status(p->db, SQLITE_DBSTATUS_CACHE_MISS, &misses, &highwater, 0);
+          p->pages_read->store(misses);
+          return 0;  // go on
+        },
+        &probe);
     {
       std::lock_guard lock(mu_);
       if (stop_requested_) {

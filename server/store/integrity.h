@@ -2,6 +2,7 @@
 // a clean one behind (docs/reliability.md, "Worker health and shutdown").
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <functional>
 #include <mutex>
@@ -58,6 +59,11 @@ class BackgroundIntegrityCheck {
   /// The damage found (corrupt_store_message), or an error that kept the check from running;
   /// empty otherwise.
   std::string message() const;
+  /// How much of the file the check has read, 0..1: the pages its connection has read from the
+  /// file (SQLite's cache misses, sampled every few thousand VM steps) over the file's page count
+  /// when it began; quick_check reads each page about once. 1 once it passed; 0 before it began
+  /// reading. For the dashboard's "checking the database" banner (docs/dashboard.md).
+  double progress() const;
   /// Blocks until the check has ended (any state but `checking`) and its `on_end` has returned,
   /// and returns its state.
   IntegrityState wait() const;
@@ -78,6 +84,8 @@ class BackgroundIntegrityCheck {
   std::string message_;
   bool stop_requested_ = false;
   Database* db_ = nullptr;  ///< the check's connection while it is open (guarded by mu_)
+  std::atomic<int64_t> pages_total_{0};  ///< PRAGMA page_count when the check began
+  std::atomic<int64_t> pages_read_{0};   ///< the check connection's cache misses so far
   std::thread thread_;      ///< last: started when everything above is ready
 };
 

@@ -143,6 +143,13 @@ TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
   EXPECT_TRUE(summary["relative_error"].is_number());
   EXPECT_GT(summary["relative_error"].get<double>(), 0.0);
   EXPECT_FALSE(list["token_required"].get<bool>());
+  // A new store: no check was due, nothing damaged, and the CLI warns of nothing.
+  EXPECT_EQ(list["store"], (json{{"state", "ok"}, {"check", "none"}, {"check_progress", nullptr},
+                                 {"damage", ""}, {"leasing", true}}));
+  EXPECT_EQ(get_json("/api/store"), list["store"]);
+  const CommandResult listed = farm_->cli({"list"});
+  EXPECT_EQ(listed.exit_code, 0) << listed.err;
+  EXPECT_EQ(listed.err, "");
 
   const json detail = get_json(job_path);
   ASSERT_EQ(detail["tiles"].size(), 4u);  // 16x16 in 8x8 tiles
@@ -256,6 +263,7 @@ TEST_F(DashboardApi, EveryReadAndChangeNeedsTheTokenButThePageAndProbes) {
 
   const std::vector<std::string> guarded = {"/api/jobs", job_path, job_path + "/preview.png",
                                             job_path + "/image.exr", "/api/workers", "/metrics",
+                                            "/api/store",
                                             "/api/jobs/999", "/api/nothing"};
   for (const std::string& path : guarded) {
     SCOPED_TRACE(path);

@@ -1,9 +1,17 @@
 // Unit tests of the dashboard's pieces that need no server: the metrics recorder on a fake
-// clock and the Prometheus text.
+// clock, the Prometheus text, and the store's status (JSON and gauges; a coordinator on a
+// damaged store).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "coordinator.h"
+#include "damaged_store.h"
 #include "dashboard/farm_metrics.h"
 #include "dashboard/prometheus_text.h"
+#include "dashboard/store_status.h"
 #include "fake_clock.h"
 
 namespace tessera::server {
@@ -59,6 +67,105 @@ TEST(PrometheusText, EveryFamilyHasHelpTypeAndSamples) {
   EXPECT_NE(text.find("tessera_merge_latency_seconds_bucket{le=\"0.0025\"} 4\n"), std::string::npos);
   EXPECT_NE(text.find("tessera_merge_latency_seconds_bucket{le=\"+Inf\"} 4\n"), std::string::npos);
   EXPECT_EQ(text.back(), '\n');
+  // A healthy store, no check running.
+  EXPECT_NE(text.find("# TYPE tessera_store_damaged gauge\ntessera_store_damaged 0\n"),
+            std::string::npos);
+  EXPECT_NE(text.find("# TYPE tessera_store_check_running gauge\ntessera_store_check_running 0\n"),
+            std::string::npos);
+}
+
+// The three states the page shows a banner for (or none), in /api/store's JSON and the gauges.
+TEST(StoreStatus, CheckingAndDamagedReadTheSameInTheJsonAndTheGauges) {
+  using nlohmann::json;
+  StoreStatus none;
+  EXPECT_EQ(store_json(none), (json{{"state", "ok"}, {"check", "none"}, {"check_progress", nullptr},
+                                    {"damage", ""}, {"leasing", true}}));
+
+  StoreStatus checking;
+  checking.check = "checking";
+  checking.check_progress = 0.25;
+  EXPECT_EQ(store_json(checking)["state"], "checking");
+  EXPECT_EQ(store_json(checking)["check_progress"], 0.25);
+  FarmSnapshotForMetrics s;
+  s.store = checking;
+  std::string text = prometheus_text(s);
+  EXPECT_NE(text.find("tessera_store_check_running 1\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("tessera_store_damaged 0\n"), std::string::npos) << text;
+
+  StoreStatus damaged;
+  damaged.check = "damaged";
+  damaged.check_progress = 0.9;
+  damaged.damage = "database x.db is damaged (PRAGMA quick_check: ...)";
+  damaged.leasing = false;
+  const json j = store_json(damaged);
+  EXPECT_EQ(j["state"], "damaged");
+  EXPECT_EQ(j["damage"], damaged.damage);
+  EXPECT_EQ(j["leasing"], false);
+  s.store = damaged;
+  text = prometheus_text(s);
+  EXPECT_NE(text.find("tessera_store_check_running 0\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("tessera_store_damaged 1\n"), std::string::npos) << text;
+}
+
+// A coordinator started on a store damaged where start-up does not read: its status says
+// "checking" or already "damaged" at first, "damaged" once the check ended, with SQLite's
+// words, leasing stopped, and how far the check had read (the pages its connection read).
+TEST(StoreStatus, ACoordinatorOnADamagedStoreReportsTheCheckAndItsDamage) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("tessera-store-status-" + std::to_string(::getpid()) + ".db");
+  const auto remove_db = [&] {
+    for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path.string() + suffix);
+  };
+  remove_db();
+  testing::fill_and_damage_store(path);
+  testing::FakeClock clock;
+  CoordinatorConfig config;
+  config.db_path = path.string();
+  config.output_dir = std::filesystem::temp_directory_path() / "tessera-store-status-test";
+  {
+    Coordinator coordinator(config, clock);
+    const StoreStatus first = store_status(coordinator);
+    EXPECT_TRUE(first.check == "checking" || first.check == "damaged") << first.check;
+    ASSERT_EQ(coordinator.wait_for_store_check(), IntegrityState::damaged);
+    const StoreStatus s = store_status(coordinator);
+    EXPECT_EQ(s.summary(), "damaged");
+    EXPECT_EQ(s.check, "damaged");
+    EXPECT_NE(s.damage.find("is damaged"), std::string::npos) << s.damage;
+    EXPECT_NE(s.damage.find(path.string()), std::string::npos) << s.damage;
+    EXPECT_FALSE(s.leasing);
+    ASSERT_TRUE(s.check_progress.has_value());
+    EXPECT_GT(*s.check_progress, 0.0);  // the probe counted the pages read before the damage
+    EXPECT_LE(*s.check_progress, 1.0);
+  }
+  remove_db();
+}
+
+// A healthy store after an unclean stop: the check passes and reads as 100 %.
+TEST(StoreStatus, APassedCheckReadsAsWholeAndOk) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("tessera-store-status-ok-" + std::to_string(::getpid()) + ".db");
+  const auto remove_db = [&] {
+    for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path.string() + suffix);
+  };
+  remove_db();
+  {
+    Database db(path.string());
+    migrate(db, 0);  // a store a server created, then left without a clean stop
+  }
+  testing::FakeClock clock;
+  CoordinatorConfig config;
+  config.db_path = path.string();
+  config.output_dir = std::filesystem::temp_directory_path() / "tessera-store-status-test";
+  {
+    Coordinator coordinator(config, clock);
+    ASSERT_EQ(coordinator.wait_for_store_check(), IntegrityState::ok);
+    const StoreStatus s = store_status(coordinator);
+    EXPECT_EQ(s.summary(), "ok");
+    EXPECT_EQ(s.check, "ok");
+    EXPECT_EQ(s.check_progress, 1.0);
+    EXPECT_TRUE(s.leasing);
+  }
+  remove_db();
 }
 
 }  // namespace

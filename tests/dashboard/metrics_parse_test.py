@@ -83,6 +83,10 @@ def main():
             assert value("tessera_results_received", outcome="accepted") == units
             assert value("tessera_samples_per_second") > 0
             assert value("tessera_workers", state="online") == 1
+            # A new store: no check was due, nothing damaged.
+            assert families["tessera_store_damaged"].type == "gauge"
+            assert value("tessera_store_damaged") == 0
+            assert value("tessera_store_check_running") == 0
             latency = families["tessera_merge_latency_seconds"]
             assert latency.type == "histogram"
             buckets = [s for s in latency.samples if s.name.endswith("_bucket")]

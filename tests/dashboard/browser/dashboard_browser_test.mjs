@@ -4,7 +4,8 @@
 //     with the token) changes at least twice while it renders, it reaches 100 %, its provenance
 //     reads as words and plain numbers; a second job is cancelled from the page;
 //  2. a farm with 50 jobs and 32 registered workers: every row listed, the page still quick; a
-//     failed job's reason shows above its images;
+//     failed job's reason shows above its images; the store's banner while its check runs and
+//     when it found damage (escaped, above the job list);
 //  3. the same page at a phone's viewport: no sideways scrolling of the page.
 // Screenshots go to $ARTIFACTS. Waits are bounded by a generous patience, never timed.
 // Environment: TESSERA_BIN_DIR, TESSERA_SOURCE_DIR, TOOLS_DIR (setup.sh), ARTIFACTS,
@@ -224,6 +225,45 @@ try {
     check(!previewBox || errorBox.y < previewBox.y, 'the reason comes before the images');
     await failing.screenshot({ path: path.join(ARTIFACTS, 'dashboard-failed.png') });
     await failing.close();
+
+    // The store's banner on every page: none for this healthy store; amber while the check after
+    // an unclean stop runs, red when it found damage. /api/store answers as the server does in
+    // those states (tests/dashboard/store_damage_e2e_test.cpp checks the server's side on a
+    // really damaged store).
+    const storePage = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+    let store = null;  // null: the server's own answer
+    await storePage.route('**/api/store', async (route) => {
+      const response = await route.fetch();
+      await route.fulfill({ response, json: store || await response.json() });
+    });
+    await storePage.goto(`${farm.http}/?poll=200`);
+    await until('50 job rows beside the store banner', async () =>
+      (await storePage.locator('#jobs tbody tr').count()) === 50);
+    check(await storePage.locator('#store-banner').isHidden(), 'no store banner for a healthy store');
+    store = { state: 'checking', check: 'checking', check_progress: 0.42, damage: '', leasing: true };
+    await storePage.locator('#store-banner.banner-checking').waitFor({ state: 'visible', timeout: PATIENCE_MS });
+    const checking = await storePage.locator('#store-banner').textContent();
+    check(checking.includes('Checking the database after an unclean stop (42.0 % read)'),
+          `the check and its progress are shown (${checking})`);
+    const damage = 'database /var/farm/tessera.db is damaged (PRAGMA quick_check: <b>Tree 7 page 4242</b> ' +
+                   'cell 3: invalid page number 99999 (and 2 more)); refusing to serve it: restore a backup';
+    store = { state: 'damaged', check: 'damaged', check_progress: 0.8, damage, leasing: false };
+    await storePage.locator('#store-banner.banner-damaged').waitFor({ state: 'visible', timeout: PATIENCE_MS });
+    const damaged = await storePage.locator('#store-banner').textContent();
+    check(damaged.includes('The database is damaged') && damaged.includes(damage),
+          `SQLite's words are shown as text (${damaged})`);
+    check((await storePage.locator('#store-banner b').count()) === 0, 'the damage is escaped, never markup');
+    check(damaged.includes('stopped leasing') && damaged.includes('.recover') &&
+          damaged.includes('docs/reliability.md'), `what stopped and what to do (${damaged})`);
+    const storeBox = await storePage.locator('#store-banner').boundingBox();
+    const jobsBox = await storePage.locator('#jobs').boundingBox();
+    check(storeBox.y < jobsBox.y, 'the banner comes before the job list');
+    const colour = await storePage.locator('#store-banner').evaluate((e) => getComputedStyle(e).borderTopColor);
+    check(colour === 'rgb(248, 81, 73)', `the damaged banner is red (${colour})`);
+    await storePage.screenshot({ path: path.join(ARTIFACTS, 'dashboard-store-damaged.png') });
+    store = null;
+    await storePage.locator('#store-banner').waitFor({ state: 'hidden', timeout: PATIENCE_MS });
+    await storePage.close();
 
     const phone = await browser.newContext({ viewport: { width: 390, height: 844 },
                                               deviceScaleFactor: 2, isMobile: true, hasTouch: true });
