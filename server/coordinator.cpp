@@ -431,7 +431,7 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
     const uint64_t seen = changes_.version();
     std::vector<LeasedUnit> units;
     {
-      std::lock_guard lock(mu_);
+      PriorityMutex::Urgent lock(mu_);
       touch_or_throw(worker_id, call);
       std::map<int64_t, JobSpec> specs;  // one read per job, not per unit
       for (const Lease& lease : scheduler_.lease_up_to(worker_id, std::max(1u, max_units))) {
@@ -455,7 +455,7 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
 }
 
 std::optional<int64_t> Coordinator::heartbeat(int64_t worker_id, const std::string& lease_id) {
-  std::lock_guard lock(mu_);
+  PriorityMutex::Urgent lock(mu_);
   touch_or_throw(worker_id);
   return leases_.heartbeat(worker_id, lease_id);
 }
@@ -466,7 +466,7 @@ std::vector<std::optional<int64_t>> Coordinator::heartbeat_all(
     throw invalid("a heartbeat names " + std::to_string(lease_ids.size()) +
                   " leases; at most " + std::to_string(kMaxLeasesPerHeartbeat) + " per call");
   }
-  std::lock_guard lock(mu_);
+  PriorityMutex::Urgent lock(mu_);
   touch_or_throw(worker_id);
   return leases_.heartbeat_all(worker_id, lease_ids);
 }
@@ -568,7 +568,8 @@ void Coordinator::commit_upload(UploadCall& call) {
 }
 
 void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
-  std::lock_guard lock(mu_);
+  // Leases first: this group's transaction starts once no lease or heartbeat waits for mu_.
+  PriorityMutex::Deferring lock(mu_);
   if (calls.size() == 1) {
     commit_upload(*calls.front());
   } else {

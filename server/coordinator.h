@@ -19,6 +19,7 @@
 #include "clock.h"
 #include "farm_limits.h"
 #include "group_commit.h"
+#include "priority_mutex.h"
 #include "job_output.h"
 #include "job_store.h"
 #include "lease_table.h"
@@ -254,7 +255,9 @@ class Coordinator {
   void commit_upload(UploadCall& call);
 
   const Clock& clock_;
-  std::mutex mu_;  ///< guards db_ and every component below
+  /// Guards db_ and every component below. Leases and heartbeats take it Urgent, upload groups
+  /// Deferring (server/priority_mutex.h), everything else plainly.
+  PriorityMutex mu_;
   Database db_;
   JobStore jobs_;
   WorkerRegistry workers_;
@@ -280,8 +283,13 @@ class Coordinator {
   double retention_days_;
   int64_t last_retention_unix_ms_ = 0;  ///< guarded by mu_
   ChangeNotifier changes_;
+  /// Results committed together at most (GroupCommit's bound): what a lease waiting for mu_
+  /// queues behind, at most one such group (mu_ is a PriorityMutex: leases and heartbeats take it
+  /// Urgent, upload groups Deferring).
+  static constexpr size_t kResultsPerCommit = 64;
   GroupCommit<UploadCall> upload_commits_{
-      [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); }};
+      [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); },
+      [](const UploadCall& call) { return call.uploads->size(); }, kResultsPerCommit};
   UploadObserver* upload_observer_ = nullptr;  ///< set before serving; may be null
   /// The check found damage: log it, stop leasing, tell the observer (from the check's thread).
   void store_damaged(const std::string& message);
