@@ -40,15 +40,18 @@ class GroupCommit {
 
   /// Returns once `call` was committed, alone or with the calls waiting beside it.
   void run(Call& call) {
-    Waiter me{&call, false, nullptr};
+    Waiter me;
+    me.call = &call;
     std::unique_lock lock(mu_);
     queue_.push_back(&me);
     for (;;) {
-      cv_.wait(lock, [&] { return me.done || !committing_; });
+      // Each call sleeps on its own condition: a finished group wakes its calls and the next
+      // leader only, not every call waiting (with 256 workers uploading, waking all of them
+      // after each bounded group cost more CPU than the group saved).
+      me.cv.wait(lock, [&] { return me.done || (!committing_ && queue_.front() == &me); });
       if (me.done) break;
-      // No commit in progress: this call leads the group of the calls waiting now, oldest
-      // first, up to the weight bound (the queue holds only calls not yet committed; when older
-      // calls fill the group, this one is left for a later group and waits again).
+      // No commit in progress and this call is the oldest waiting: it leads the group of the
+      // calls waiting now, oldest first (itself among them), up to the weight bound.
       committing_ = true;
       std::vector<Waiter*> group = take_group();
       lock.unlock();
@@ -65,11 +68,12 @@ class GroupCommit {
       for (Waiter* w : group) {
         w->done = true;
         w->error = error;
+        if (w != &me) w->cv.notify_one();
       }
       ++groups_;
       calls_ += group.size();
       committing_ = false;
-      cv_.notify_all();
+      if (!queue_.empty()) queue_.front()->cv.notify_one();  // the next group's leader
     }
     if (me.error) std::rethrow_exception(me.error);
   }
@@ -87,9 +91,10 @@ class GroupCommit {
 
  private:
   struct Waiter {
-    Call* call;
+    Call* call = nullptr;
     bool done = false;
     std::exception_ptr error;
+    std::condition_variable cv;  ///< woken when done, or when it is to lead the next group
   };
 
   /// The oldest waiting calls within the weight bound (at least one), removed from the queue.
@@ -112,7 +117,6 @@ class GroupCommit {
   Weight weight_;  ///< empty: groups unbounded
   size_t max_weight_ = 0;
   std::mutex mu_;
-  std::condition_variable cv_;
   std::vector<Waiter*> queue_;  ///< calls not committed yet, in arrival order
   bool committing_ = false;
   uint64_t groups_ = 0, calls_ = 0;
