@@ -9,7 +9,8 @@
 # BIN_DIR holds tessera-bench-merge and tessera_load_tests (the same ones measure every server);
 # each SERVER_BIN (default BIN_DIR/tessera-server) runs in turn within each round (alternating).
 # ROUNDS (default 3), WORKERS (default "64 256"), UNITS (the job sizes, default "4096 16384") and
-# LOAD_TEST (default 1; 0 skips tessera_load_tests) change the sizes.
+# LOAD_TEST (default 1; 0 skips tessera_load_tests) change the sizes. SUMMARIZE=LOG prints the
+# medians of the `server=...` lines of an earlier run's output LOG without running anything.
 #
 # Server CPU per result, three ways (tessera-bench-merge reads /proc/PID/stat):
 #   listen s       the server's CPU at listening: the fixed cost of a start (exec, dynamic
@@ -40,7 +41,12 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
 echo "capacity.sh: $(date -u '+%F %T') UTC, $(nproc) CPUs, load $(cut -d' ' -f1-3 /proc/loadavg)"
-for round in $(seq 1 "$rounds"); do
+if [ -n "${SUMMARIZE:-}" ]; then
+  grep '^server=' "$SUMMARIZE" >"$tmp/bench" || true
+  rounds=$(sed -n 's/.* round=\([0-9]*\) .*/\1/p' "$tmp/bench" | sort -n | tail -1)
+  load_test=0
+fi
+for round in $( [ -n "${SUMMARIZE:-}" ] || seq 1 "$rounds"); do
   for n in $workers; do
     for u in $small $large; do
       for i in "${!servers[@]}"; do
@@ -76,7 +82,7 @@ echo "medians over $rounds round(s); tile 32, 16 units per call; job sizes $smal
 for i in "${!servers[@]}"; do
   for n in $workers; do
     awk -v srv="$i" -v n="$n" -v small="$small" -v large="$large" -v name="${servers[$i]}" '
-      function kv(s, key,   m) { return match(s, " " key "=[^ ]+") ? substr(s, RSTART + length(key) + 2, RLENGTH - length(key) - 2) : "" }
+      function kv(s, key) { s = " " s; return match(s, " " key "=[^ ]+") ? substr(s, RSTART + length(key) + 2, RLENGTH - length(key) - 2) : "" }
       function med(a, k,   i, j, t) {
         for (i = 1; i <= k; i++) for (j = i + 1; j <= k; j++) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
         return k == 0 ? "-" : (k % 2 ? a[(k + 1) / 2] : (a[k / 2] + a[k / 2 + 1]) / 2)
@@ -84,10 +90,10 @@ for i in "${!servers[@]}"; do
       kv($0, "server") == srv && kv($0, "workers") == n {
         r = kv($0, "round"); ok = ok && kv($0, "checks") == "passed" && kv($0, "cut_off") == "0"
         if (kv($0, "units") + 0 >= large) {
-          nl++; rate[nl] = kv($0, "merged_per_s"); p99[nl] = kv($0, "lease_p99_ms")
-          run[nl] = kv($0, "cpu_run_ms_per_res"); listen[nl] = kv($0, "cpu_listen_s")
-          big_cpu[r] = kv($0, "cpu_run_s"); big_acc[r] = kv($0, "accepted")
-        } else { small_cpu[r] = kv($0, "cpu_run_s"); small_acc[r] = kv($0, "accepted") }
+          nl++; rate[nl] = kv($0, "merged_per_s") + 0; p99[nl] = kv($0, "lease_p99_ms") + 0
+          run[nl] = kv($0, "cpu_run_ms_per_res") + 0; listen[nl] = kv($0, "cpu_listen_s") + 0
+          big_cpu[r] = kv($0, "cpu_run_s") + 0; big_acc[r] = kv($0, "accepted") + 0
+        } else { small_cpu[r] = kv($0, "cpu_run_s") + 0; small_acc[r] = kv($0, "accepted") + 0 }
         rounds[r] = 1
       }
       BEGIN { ok = 1 }
