@@ -425,13 +425,25 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
                                                  const std::function<bool()>& cancelled) {
   const auto deadline = std::chrono::steady_clock::now() + wait;
   const uint64_t call = begin_call();
+  bool first_look = true;
   for (;;) {
     if (changes_.stopped()) return {};  // shutting down: no new leases
     // Read the version before looking, so a change made while we look wakes the wait below.
     const uint64_t seen = changes_.version();
     std::vector<LeasedUnit> units;
     {
-      PriorityMutex::Urgent lock(mu_);
+      // The call's first look goes before upload groups (PriorityMutex::Urgent); a long poll
+      // looking again after a wake-up does not: at a job's end every upload wakes every idle
+      // worker's poll, and letting that herd go first held the uploads back (BENCHMARKS.md,
+      // "Issue 14: server capacity (branch farm8)").
+      std::optional<PriorityMutex::Urgent> urgent;
+      std::unique_lock<PriorityMutex> plain(mu_, std::defer_lock);
+      if (first_look) {
+        urgent.emplace(mu_);
+      } else {
+        plain.lock();
+      }
+      first_look = false;
       touch_or_throw(worker_id, call);
       std::map<int64_t, JobSpec> specs;  // one read per job, not per unit
       for (const Lease& lease : scheduler_.lease_up_to(worker_id, std::max(1u, max_units))) {
