@@ -282,7 +282,14 @@ class Coordinator {
   int64_t touch_interval_ms() const { return std::min<int64_t>(1000, leases_.lease_ms() / 8); }
   double retention_days_;
   int64_t last_retention_unix_ms_ = 0;  ///< guarded by mu_
-  ChangeNotifier changes_;
+  ChangeNotifier changes_;  ///< anything a watcher shows changed (WatchJob, the dashboard)
+  /// A unit may have become leasable: wakes long-polling LeaseUnit calls (a subset of changes_).
+  ChangeNotifier work_;
+  /// Notifies changes_, and work_ too when `work` (the change may let a unit be leased).
+  void notify_changed(bool work) {
+    changes_.notify();
+    if (work) work_.notify();
+  }
   /// Results committed together at most (GroupCommit's bound): what a lease waiting for mu_
   /// queues behind, at most one such group (mu_ is a PriorityMutex: leases and heartbeats take it
   /// Urgent, upload groups Deferring).

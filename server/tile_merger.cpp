@@ -240,6 +240,7 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, Accumulatio
                                                " changed during its merge");
     }
     outcome.merged = tally.results;
+    outcome.frees_work = c->rule == StopRule::noise && tally.results > 0;
   }
   Staged::Accepted& a = staged.accepted[r.job_id];
   ++a.units;

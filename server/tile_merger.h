@@ -51,6 +51,9 @@ struct AcceptOutcome {
   uint32_t merged = 0;        ///< results merged by this call (this one and waiting successors)
   uint64_t samples = 0;       ///< pixel samples the accepted result holds (NaN/Inf excluded)
   bool job_complete = false;  ///< no unit of the job is queued or leased: ready to finish
+  /// A merge moved a noise tile's prefix, so units past it may be leasable now (the lookahead
+  /// window, store/tile_queue.h): idle workers are woken only then after an upload.
+  bool frees_work = false;
 };
 
 class TileMerger {
