@@ -292,8 +292,10 @@ class Coordinator {
   }
   /// Results committed together at most (GroupCommit's bound): what a lease waiting for mu_
   /// queues behind, at most one such group (mu_ is a PriorityMutex: leases and heartbeats take it
-  /// Urgent, upload groups Deferring).
-  static constexpr size_t kResultsPerCommit = 64;
+  /// Urgent, upload groups Deferring). 64 cost more server CPU per result with 256 workers
+  /// uploading 16 results per call (smaller groups, more commits and wake-ups) than it saved in
+  /// lease latency; 1024 did not (BENCHMARKS.md, "Issue 14: server capacity (branch farm8)").
+  static constexpr size_t kResultsPerCommit = 1024;
   GroupCommit<UploadCall> upload_commits_{
       [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); },
       [](const UploadCall& call) { return call.uploads->size(); }, kResultsPerCommit};
