@@ -188,6 +188,9 @@ class ServerProcess {
     std::ifstream in(port_file);
     in >> port_;
     if (port_ <= 0) throw BenchError("bad port file " + port_file.string());
+    // The fixed cost of a run's start (exec, dynamic linking, opening the store, gRPC set-up):
+    // the server writes the port file once both listeners are up.
+    cpu_at_listening_s_ = cpu_seconds(pid_);
   }
 
   ~ServerProcess() {
@@ -208,6 +211,8 @@ class ServerProcess {
   ServerProcess& operator=(const ServerProcess&) = delete;
 
   pid_t pid() const { return pid_; }
+  /// User + system CPU seconds the server had used when its port file appeared.
+  double cpu_at_listening_s() const { return cpu_at_listening_s_; }
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
   std::string log_text() const {
     std::ifstream in(log_);
@@ -241,6 +246,7 @@ class ServerProcess {
   fs::path log_;
   pid_t pid_ = -1;
   int port_ = 0;
+  double cpu_at_listening_s_ = 0;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -371,13 +377,22 @@ struct WorkerTally {
 struct RunResult {
   RunConfig config;
   uint32_t units_total = 0;
+  uint32_t per_call = 1;
   bool cut_off = false;  ///< the time bound stopped the run before the job finished
   double client_s = 0;   ///< workers released -> last accepted result
   double server_s = 0;   ///< job started_unix_ms -> finished_unix_ms
   double client_rate = 0, server_rate = 0;
   double lease_p50 = 0, lease_p99 = 0, upload_p50 = 0, upload_p99 = 0, upload_max = 0;
   double accum_bytes = 0, proto_bytes = 0;
-  double server_cpu_ms = 0, client_cpu_ms = 0;  ///< per accepted result
+  /// Server CPU per accepted result from the clock's start (every worker registered) to the
+  /// job's end: the run's cost without the server's start-up (but with the job's submit-side
+  /// share and its output at the end; tests/load/capacity.sh takes the marginal cost per
+  /// result as the difference of two job sizes).
+  double server_cpu_ms = 0, client_cpu_ms = 0;
+  double server_cpu_life_ms = 0;  ///< server CPU from exec to the job's end, per accepted result
+  double server_cpu_listen_s = 0;  ///< server CPU at listening (exec to port file), seconds
+  double server_cpu_run_s = 0;     ///< server CPU from the clock's start to the job's end, seconds
+  uint64_t accepted = 0;           ///< results accepted (the divisor of the per-result figures)
   double early_fraction = 0;
   double final_upload_ms = 0;  ///< the last accepted upload: it completed the job (output write)
   std::string load_before, load_after;
@@ -655,6 +670,7 @@ RunResult run_once(const Options& options, const RunConfig& config, const fs::pa
   auto jobs = v1::JobService::NewStub(control);
   const uint64_t job_id = submit_job(*jobs, options, plan);
   r.units_total = uint32_t(plan.tile_count()) * plan.batch_count();
+  r.per_call = options.per_call;
 
   RunShared shared(r.units_total);
   shared.job_id = job_id;
@@ -734,7 +750,11 @@ RunResult run_once(const Options& options, const RunConfig& config, const fs::pa
   r.upload_max = upload_ms.empty() ? 0 : *std::max_element(upload_ms.begin(), upload_ms.end());
   r.accum_bytes = bank.mean_bytes();
   r.proto_bytes = results ? double(proto_bytes) / double(results) : 0;
+  r.accepted = accepted;
+  r.server_cpu_listen_s = server.cpu_at_listening_s();
+  r.server_cpu_run_s = server_cpu1 - server_cpu0;
   r.server_cpu_ms = accepted ? (server_cpu1 - server_cpu0) * 1000.0 / double(accepted) : 0;
+  r.server_cpu_life_ms = accepted ? server_cpu1 * 1000.0 / double(accepted) : 0;
   r.client_cpu_ms = accepted ? (client_cpu1 - client_cpu0) * 1000.0 / double(accepted) : 0;
   r.early_fraction = results ? double(early) / double(results) : 0;
   check_final(job, shared, accepted, dropped, r);
@@ -762,18 +782,30 @@ std::string config_name(const RunConfig& c) {
 void print_header() {
   std::printf(
       "tile b   N chan   | units  res/s(client) merged/s(server) | lease p50/p99 ms | upload "
-      "p50/p99/max ms | accum B  proto B/res | srv CPU ms/res cli CPU ms/res | early%% | ok\n");
+      "p50/p99/max ms | accum B  proto B/res | srv CPU ms/res cli CPU ms/res | srv CPU s listen, "
+      "ms/res life | early%% | ok\n");
 }
 
 void print_row(const RunResult& r, const char* label) {
   std::printf(
       "%s | %5u %10.0f %12.0f      | %6.2f %7.2f   | %6.2f %7.2f %7.1f  | %7.0f %9.0f  | %8.2f "
-      "%12.2f      | %5.1f | %s%s\n",
+      "%12.2f      | %8.3f %8.2f         | %5.1f | %s%s\n",
       config_name(r.config).c_str(), r.units_total, r.client_rate, r.server_rate, r.lease_p50,
       r.lease_p99, r.upload_p50, r.upload_p99, r.upload_max, r.accum_bytes, r.proto_bytes,
-      r.server_cpu_ms, r.client_cpu_ms, 100.0 * r.early_fraction, r.problems.empty() ? "yes" : "NO",
-      r.cut_off ? " (cut off)" : "");
-  if (label[0]) std::printf("    %s\n", label);
+      r.server_cpu_ms, r.client_cpu_ms, r.server_cpu_listen_s, r.server_cpu_life_ms,
+      100.0 * r.early_fraction, r.problems.empty() ? "yes" : "NO", r.cut_off ? " (cut off)" : "");
+  if (label[0]) {
+    std::printf("    %s\n", label);
+    // One line per run for scripts (tests/load/capacity.sh): key=value, no spaces in values.
+    std::printf(
+        "    run: tile=%d workers=%d per_call=%u units=%u accepted=%llu merged_per_s=%.1f "
+        "lease_p99_ms=%.2f cpu_listen_s=%.4f cpu_run_s=%.4f cpu_life_ms_per_res=%.4f "
+        "cpu_run_ms_per_res=%.4f checks=%s cut_off=%d\n",
+        r.config.tile, r.config.workers, r.per_call, r.units_total,
+        static_cast<unsigned long long>(r.accepted), r.server_rate, r.lease_p99,
+        r.server_cpu_listen_s, r.server_cpu_run_s, r.server_cpu_life_ms, r.server_cpu_ms,
+        r.problems.empty() ? "passed" : "FAILED", r.cut_off ? 1 : 0);
+  }
   std::fflush(stdout);
 }
 
@@ -789,7 +821,9 @@ RunResult median_of(const std::vector<RunResult>& runs) {
        {&RunResult::client_rate, &RunResult::server_rate, &RunResult::lease_p50,
         &RunResult::lease_p99, &RunResult::upload_p50, &RunResult::upload_p99,
         &RunResult::upload_max, &RunResult::accum_bytes, &RunResult::proto_bytes,
-        &RunResult::server_cpu_ms, &RunResult::client_cpu_ms, &RunResult::early_fraction}) {
+        &RunResult::server_cpu_ms, &RunResult::client_cpu_ms, &RunResult::early_fraction,
+        &RunResult::server_cpu_life_ms, &RunResult::server_cpu_listen_s,
+        &RunResult::server_cpu_run_s}) {
     med(f);
   }
   m.cut_off = false;
@@ -937,7 +971,12 @@ int main(int argc, char** argv) {
         "the last merge; the server stamps finished before writing the output).\n"
         "proto B/res: protobuf payloads of LeaseUnit request+reply and UploadResult "
         "request+reply (no gRPC/HTTP2 framing). early%%: uploads sent before the tile's "
-        "previous batch was acknowledged (stored as pending, merged later).\n");
+        "previous batch was acknowledged (stored as pending, merged later).\n"
+        "srv CPU ms/res: the server's CPU from the clock's start (every worker registered) to the "
+        "job's end per accepted result; srv CPU s listen: its CPU at listening (exec, linking, "
+        "store, gRPC set-up: a fixed cost of the run);\n"
+        "ms/res life: its CPU from exec to the job's end per result (start-up included). The "
+        "marginal cost per result is the difference of two job sizes (tests/load/capacity.sh).\n");
     return ok ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tessera-bench-merge: %s\n", e.what());

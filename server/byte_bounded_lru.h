@@ -26,12 +26,18 @@ class ByteBoundedLru {
   /// Stores `value` under `key` as the most recently stored entry, counting `bytes` against the
   /// budget (an entry already under `key` is replaced), then evicts the least recently stored
   /// entries while the bytes exceed the budget: `value` itself too when it alone exceeds it.
-  void put(const Key& key, Value value, size_t bytes) {
+  /// `evicted(key)` is called for each entry evicted so (not for one replaced under `key`).
+  template <typename Evicted = void (*)(const Key&)>
+  void put(const Key& key, Value value, size_t bytes, Evicted evicted = [](const Key&) {}) {
     if (const auto found = index_.find(key); found != index_.end()) erase(found->second);
     order_.push_front(Entry{key, std::move(value), bytes});
     index_[key] = order_.begin();
     bytes_ += bytes;
-    while (bytes_ > budget_ && !order_.empty()) erase(std::prev(order_.end()));
+    while (bytes_ > budget_ && !order_.empty()) {
+      const auto last = std::prev(order_.end());
+      evicted(last->key);
+      erase(last);
+    }
   }
 
   /// Removes the entry of `key` and returns its value; nullopt when there is none.

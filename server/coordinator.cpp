@@ -101,6 +101,7 @@ void Coordinator::store_damaged(const std::string& message) {
             << "; no more leases (uploads of leased units still commit); stop the server"
             << std::endl;
   changes_.stop();  // LeaseUnit answers "no work", long polls and watches end, /readyz fails
+  work_.stop();
   std::lock_guard lock(damage_mu_);  // held while the observer runs: see set_damage_observer
   damage_ = message;
   if (damage_observer_) damage_observer_(message);
@@ -170,7 +171,7 @@ int Coordinator::resume() {
     }
     if (record) rewrite_missing_output(*record);
   }
-  changes_.notify();
+  notify_changed(true);
   return int(unfinished.size());
 }
 
@@ -224,7 +225,7 @@ JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobReques
     JobClientsTable(db_).add(id, client);
     record = *jobs_.get(id);
   }
-  changes_.notify();
+  notify_changed(true);
   return record;
 }
 
@@ -259,7 +260,7 @@ JobRecord Coordinator::cancel(int64_t job_id) {
     }
     record = *jobs_.get(job_id);
   }
-  changes_.notify();
+  notify_changed(true);
   return record;
 }
 
@@ -290,7 +291,7 @@ void Coordinator::remove(int64_t job_id) {
     std::error_code ec;
     if (!file.empty()) std::filesystem::remove(file, ec);
   }
-  changes_.notify();
+  notify_changed(true);
 }
 
 int Coordinator::apply_retention() {
@@ -392,7 +393,7 @@ int64_t Coordinator::register_worker(const WorkerRegistration& info) {
     std::lock_guard lock(mu_);
     id = workers_.register_worker(info, clock_.now_unix_ms());
   }
-  changes_.notify();
+  notify_changed(true);
   return id;
 }
 
@@ -430,13 +431,25 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
                                                  const std::function<bool()>& cancelled) {
   const auto deadline = std::chrono::steady_clock::now() + wait;
   const uint64_t call = begin_call();
+  bool first_look = true;
   for (;;) {
     if (changes_.stopped()) return {};  // shutting down: no new leases
     // Read the version before looking, so a change made while we look wakes the wait below.
-    const uint64_t seen = changes_.version();
+    const uint64_t seen = work_.version();
     std::vector<LeasedUnit> units;
     {
-      std::lock_guard lock(mu_);
+      // The call's first look goes before upload groups (PriorityMutex::Urgent); a long poll
+      // looking again after a wake-up does not: at a job's end every upload wakes every idle
+      // worker's poll, and letting that herd go first held the uploads back (BENCHMARKS.md,
+      // "Issue 14: server capacity (branch farm8)").
+      std::optional<PriorityMutex::Urgent> urgent;
+      std::unique_lock<PriorityMutex> plain(mu_, std::defer_lock);
+      if (first_look) {
+        urgent.emplace(mu_);
+      } else {
+        plain.lock();
+      }
+      first_look = false;
       touch_or_throw(worker_id, call);
       std::map<int64_t, JobSpec> specs;  // one read per job, not per unit
       for (const Lease& lease : scheduler_.lease_up_to(worker_id, std::max(1u, max_units))) {
@@ -449,18 +462,18 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
       }
     }
     if (!units.empty()) {
-      changes_.notify();
+      notify_changed(false);  // progress (the job may have started); no work for others
       return units;
     }
     const auto now = std::chrono::steady_clock::now();
     if (now >= deadline || changes_.stopped() || (cancelled && cancelled())) return {};
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now);
-    changes_.wait(seen, std::min(left, std::chrono::milliseconds(250)));
+    work_.wait(seen, std::min(left, std::chrono::milliseconds(250)));
   }
 }
 
 std::optional<int64_t> Coordinator::heartbeat(int64_t worker_id, const std::string& lease_id) {
-  std::lock_guard lock(mu_);
+  PriorityMutex::Urgent lock(mu_);
   touch_or_throw(worker_id);
   return leases_.heartbeat(worker_id, lease_id);
 }
@@ -471,7 +484,7 @@ std::vector<std::optional<int64_t>> Coordinator::heartbeat_all(
     throw invalid("a heartbeat names " + std::to_string(lease_ids.size()) +
                   " leases; at most " + std::to_string(kMaxLeasesPerHeartbeat) + " per call");
   }
-  std::lock_guard lock(mu_);
+  PriorityMutex::Urgent lock(mu_);
   touch_or_throw(worker_id);
   return leases_.heartbeat_all(worker_id, lease_ids);
 }
@@ -545,14 +558,19 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - received).count();
   std::set<int64_t> complete;
+  bool frees_work = false;
   for (size_t i = 0; i < results.size(); ++i) {
     if (upload_observer_) {
       upload_observer_->record_result(results[i].worker_id, results[i].job_id,
                                       outcomes[i].accepted, outcomes[i].samples, seconds);
     }
     if (outcomes[i].job_complete) complete.insert(results[i].job_id);
+    frees_work = frees_work || outcomes[i].frees_work;
   }
-  changes_.notify();
+  // Progress for watchers; idle workers' long polls only when a merge may have let a unit be
+  // leased (a noise tile's lookahead moved): at a job's end every upload used to wake every
+  // idle worker's poll for nothing.
+  notify_changed(frees_work);
   for (int64_t id : complete) finish_job(id);
   return outcomes;
 }
@@ -573,7 +591,8 @@ void Coordinator::commit_upload(UploadCall& call) {
 }
 
 void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
-  std::lock_guard lock(mu_);
+  // Leases first: this group's transaction starts once no lease or heartbeat waits for mu_.
+  PriorityMutex::Deferring lock(mu_);
   if (calls.size() == 1) {
     commit_upload(*calls.front());
   } else {
@@ -614,7 +633,7 @@ ReleaseOutcome Coordinator::release(int64_t worker_id, const std::string& lease_
     touch_or_throw(worker_id);
     outcome = leases_.release(worker_id, lease_id, reason, message);
   }
-  changes_.notify();
+  notify_changed(true);
   return outcome;
 }
 
@@ -626,7 +645,7 @@ int Coordinator::expire_leases() {
     expired = leases_.expire_due();
     out_of_time = scheduler_.enforce_time_budgets();
   }
-  if (expired > 0) changes_.notify();
+  if (expired > 0) notify_changed(true);
   for (int64_t id : out_of_time) finish_job(id);
   return expired;
 }
@@ -663,7 +682,7 @@ void Coordinator::finish_job(int64_t job_id) {
     finishing_.erase(job_id);
     jobs_.finish(job_id, files.exr.string(), files.png.string(), now);
   }
-  changes_.notify();
+  notify_changed(true);
 }
 
 void Coordinator::rewrite_missing_output(const JobRecord& record) {

@@ -19,6 +19,7 @@
 #include "clock.h"
 #include "farm_limits.h"
 #include "group_commit.h"
+#include "priority_mutex.h"
 #include "job_output.h"
 #include "job_store.h"
 #include "lease_table.h"
@@ -257,7 +258,9 @@ class Coordinator {
   void commit_upload(UploadCall& call);
 
   const Clock& clock_;
-  std::mutex mu_;  ///< guards db_ and every component below
+  /// Guards db_ and every component below. Leases and heartbeats take it Urgent, upload groups
+  /// Deferring (server/priority_mutex.h), everything else plainly.
+  PriorityMutex mu_;
   Database db_;
   JobStore jobs_;
   WorkerRegistry workers_;
@@ -282,9 +285,23 @@ class Coordinator {
   int64_t touch_interval_ms() const { return std::min<int64_t>(1000, leases_.lease_ms() / 8); }
   double retention_days_;
   int64_t last_retention_unix_ms_ = 0;  ///< guarded by mu_
-  ChangeNotifier changes_;
+  ChangeNotifier changes_;  ///< anything a watcher shows changed (WatchJob, the dashboard)
+  /// A unit may have become leasable: wakes long-polling LeaseUnit calls (a subset of changes_).
+  ChangeNotifier work_;
+  /// Notifies changes_, and work_ too when `work` (the change may let a unit be leased).
+  void notify_changed(bool work) {
+    changes_.notify();
+    if (work) work_.notify();
+  }
+  /// Results committed together at most (GroupCommit's bound): what a lease waiting for mu_
+  /// queues behind, at most one such group (mu_ is a PriorityMutex: leases and heartbeats take it
+  /// Urgent, upload groups Deferring). 64 cost more server CPU per result with 256 workers
+  /// uploading 16 results per call (smaller groups, more commits and wake-ups) than it saved in
+  /// lease latency; 1024 did not (BENCHMARKS.md, "Issue 14: server capacity (branch farm8)").
+  static constexpr size_t kResultsPerCommit = 1024;
   GroupCommit<UploadCall> upload_commits_{
-      [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); }};
+      [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); },
+      [](const UploadCall& call) { return call.uploads->size(); }, kResultsPerCommit};
   UploadObserver* upload_observer_ = nullptr;  ///< set before serving; may be null
   /// The check found damage: log it, stop leasing, tell the observer (from the check's thread).
   void store_damaged(const std::string& message);

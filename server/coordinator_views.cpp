@@ -93,7 +93,7 @@ JobRecord Coordinator::set_priority(int64_t job_id, int priority) {
     }
     record = std::move(*found);
   }
-  changes_.notify();
+  notify_changed(true);
   return record;
 }
 

@@ -7,9 +7,16 @@
 // `commit` receives the calls of one group in arrival order and records each call's answer in
 // the call itself (Call holds its input and its outcome). Should it throw, every call of the
 // group gets that exception from run().
+//
+// A group is bounded: it takes waiting calls in arrival order while their weight (`weight`,
+// e.g. the results a call carries) stays within `max_weight`, and always at least one call; the
+// calls left over wait for the next group. The store's lock is held for one group's
+// transaction, so the bound is what a lease waiting for that lock can queue behind
+// (coordinator.h, "leases before uploads").
 #pragma once
 
 #include <condition_variable>
+#include <cstddef>
 #include <cstdint>
 #include <exception>
 #include <functional>
@@ -23,21 +30,30 @@ template <typename Call>
 class GroupCommit {
  public:
   using Commit = std::function<void(const std::vector<Call*>&)>;
+  using Weight = std::function<size_t(const Call&)>;
 
+  /// Unbounded groups: every call waiting joins the next.
   explicit GroupCommit(Commit commit) : commit_(std::move(commit)) {}
+  /// Groups of at most `max_weight` (each call weighs `weight(call)`; a heavier call goes alone).
+  GroupCommit(Commit commit, Weight weight, size_t max_weight)
+      : commit_(std::move(commit)), weight_(std::move(weight)), max_weight_(max_weight) {}
 
   /// Returns once `call` was committed, alone or with the calls waiting beside it.
   void run(Call& call) {
-    Waiter me{&call, false, nullptr};
+    Waiter me;
+    me.call = &call;
     std::unique_lock lock(mu_);
     queue_.push_back(&me);
-    cv_.wait(lock, [&] { return me.done || !committing_; });
-    if (!me.done) {
-      // No commit in progress: this call leads the group of every call waiting now (itself
-      // among them, since the queue holds only calls not yet committed).
+    for (;;) {
+      // Each call sleeps on its own condition: a finished group wakes its calls and the next
+      // leader only, not every call waiting (with 256 workers uploading, waking all of them
+      // after each bounded group cost more CPU than the group saved).
+      me.cv.wait(lock, [&] { return me.done || (!committing_ && queue_.front() == &me); });
+      if (me.done) break;
+      // No commit in progress and this call is the oldest waiting: it leads the group of the
+      // calls waiting now, oldest first (itself among them), up to the weight bound.
       committing_ = true;
-      std::vector<Waiter*> group;
-      group.swap(queue_);
+      std::vector<Waiter*> group = take_group();
       lock.unlock();
       std::vector<Call*> calls;
       calls.reserve(group.size());
@@ -52,11 +68,12 @@ class GroupCommit {
       for (Waiter* w : group) {
         w->done = true;
         w->error = error;
+        if (w != &me) w->cv.notify_one();
       }
       ++groups_;
       calls_ += group.size();
       committing_ = false;
-      cv_.notify_all();
+      if (!queue_.empty()) queue_.front()->cv.notify_one();  // the next group's leader
     }
     if (me.error) std::rethrow_exception(me.error);
   }
@@ -74,14 +91,32 @@ class GroupCommit {
 
  private:
   struct Waiter {
-    Call* call;
+    Call* call = nullptr;
     bool done = false;
     std::exception_ptr error;
+    std::condition_variable cv;  ///< woken when done, or when it is to lead the next group
   };
 
+  /// The oldest waiting calls within the weight bound (at least one), removed from the queue.
+  /// Requires mu_.
+  std::vector<Waiter*> take_group() {
+    size_t n = queue_.size();
+    if (weight_) {
+      size_t total = 0;
+      for (n = 0; n < queue_.size(); ++n) {
+        total += weight_(*queue_[n]->call);
+        if (n > 0 && total > max_weight_) break;
+      }
+    }
+    std::vector<Waiter*> group(queue_.begin(), queue_.begin() + std::ptrdiff_t(n));
+    queue_.erase(queue_.begin(), queue_.begin() + std::ptrdiff_t(n));
+    return group;
+  }
+
   Commit commit_;
+  Weight weight_;  ///< empty: groups unbounded
+  size_t max_weight_ = 0;
   std::mutex mu_;
-  std::condition_variable cv_;
   std::vector<Waiter*> queue_;  ///< calls not committed yet, in arrival order
   bool committing_ = false;
   uint64_t groups_ = 0, calls_ = 0;

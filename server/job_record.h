@@ -68,7 +68,7 @@ struct TileRecord {
   uint32_t next_batch = 0;    ///< batches [0, next_batch) are merged
   uint32_t spp = 0;           ///< samples per pixel merged: the schedule's end of next_batch - 1
   std::string accumulation;   ///< encode_accumulation bytes; empty = nothing merged yet
-  double error = 0;           ///< estimated relative error after the last merge
+  double error = 0;           ///< estimated relative error of the merged tile (TileProgress)
   StopReason finished = StopReason::none;  ///< the verdict that closed the tile; none = open
 };
 

@@ -1,11 +1,14 @@
 #include "tile_merger.h"
 
+#include <bit>
 #include <optional>
 #include <vector>
 
 #include "accum/accumulation_codec.h"
+#include "accum/film.h"
 #include "farm_error.h"
 #include "job/job_plan.h"
+#include "job/tile_verdict.h"
 #include "job/stopping_rule.h"
 #include "job_state.h"
 #include "job_store.h"
@@ -60,42 +63,62 @@ void TileMerger::close_tile(int64_t job_id, uint32_t tile, uint32_t next_batch) 
 }
 
 AcceptOutcome TileMerger::accept(const UnitResult& r, const Accumulation& decoded) {
-  return accept_all({Upload{&r, &decoded}}).front();
+  Accumulation copy = decoded;  // accept_all may keep it (a waiting result)
+  return accept_all({Upload{&r, &copy}}).front();
+}
+
+bool TileMerger::may_wait_in_store(int64_t job_id, uint32_t tile) {
+  if (jobs_seen_.insert(job_id).second) {
+    for (const uint32_t t : ResultsTable(db_).tiles_with_rows(job_id)) {
+      store_only_.emplace(job_id, t);
+    }
+  }
+  return store_only_.contains({job_id, tile});
 }
 
 std::vector<AcceptOutcome> TileMerger::accept_all(const std::vector<Upload>& uploads) {
   Staged staged;
   std::vector<AcceptOutcome> outcomes;
   outcomes.reserve(uploads.size());
-  Transaction tx(db_);
-  std::map<int64_t, bool> complete;  // per job of the call: no unit queued or leased
-  for (const Upload& u : uploads) {
-    outcomes.push_back(accept_in_transaction(*u.result, *u.decoded, staged));
-    complete.try_emplace(u.result->job_id, false);
+  try {
+    Transaction tx(db_);
+    std::map<int64_t, bool> complete;  // per job of the call: no unit queued or leased
+    for (const Upload& u : uploads) {
+      outcomes.push_back(accept_in_transaction(*u.result, *u.decoded, staged));
+      complete.try_emplace(u.result->job_id, false);
+    }
+    for (const auto& [worker_id, d] : staged.delivered) {
+      WorkersTable(db_).count_delivered(worker_id, d.units, d.samples, d.nan, d.inf);
+    }
+    for (const auto& [job_id, a] : staged.accepted) {
+      JobsTable(db_).count_accepted(job_id, a.units, a.merged);
+    }
+    // Asked once per job after the call's last result, not after each.
+    for (auto& [job_id, done] : complete) done = !units_left(db_, job_id);
+    for (size_t i = 0; i < uploads.size(); ++i) {
+      outcomes[i].job_complete = complete.at(uploads[i].result->job_id);
+    }
+    tx.commit();
+  } catch (...) {
+    // Rolled back: the waiting results this transaction took from memory are waiting again,
+    // in the store only.
+    store_only_.insert(staged.taken.begin(), staged.taken.end());
+    throw;
   }
-  for (const auto& [worker_id, d] : staged.delivered) {
-    WorkersTable(db_).count_delivered(worker_id, d.units, d.samples, d.nan, d.inf);
-  }
-  for (const auto& [job_id, a] : staged.accepted) {
-    JobsTable(db_).count_accepted(job_id, a.units, a.merged);
-  }
-  // Asked once per job after the call's last result, not after each.
-  for (auto& [job_id, done] : complete) done = !units_left(db_, job_id);
-  for (size_t i = 0; i < uploads.size(); ++i) {
-    outcomes[i].job_complete = complete.at(uploads[i].result->job_id);
-  }
-  tx.commit();
   // Only committed sums go to the cache (an exception above leaves them out: they are rebuilt
   // from the store next time).
   for (auto& [key, tile] : staged.tiles) cache_.put(key.first, key.second, std::move(tile));
   for (auto& [key, result] : staged.waiting) {
-    waiting_.put(std::get<0>(key), std::get<1>(key), std::get<2>(key), std::move(result));
+    for (const auto& tile : waiting_.put(std::get<0>(key), std::get<1>(key), std::get<2>(key),
+                                         std::move(*result))) {
+      store_only_.insert(tile);  // evicted: its row is in the store only
+    }
   }
   contributors_.insert(staged.contributors.begin(), staged.contributors.end());
   return outcomes;
 }
 
-AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accumulation& decoded,
+AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, Accumulation& decoded,
                                                 Staged& staged) {
   AcceptOutcome outcome;
   std::optional<MergeCache::Tile> cached;  // the tile's sum while this call merges into it
@@ -140,7 +163,7 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
     // Earlier batches of this tile are missing: keep the result, durably, until they come. Its
     // row stays where it is when it merges (store/results_table.h).
     results.append(r.job_id, r.tile, r.batch, r.encoded);
-    staged.waiting.insert_or_assign({r.job_id, r.tile, r.batch}, decoded);
+    staged.waiting.insert_or_assign({r.job_id, r.tile, r.batch}, &decoded);
   } else {
     // Merge this batch, then every waiting successor, strictly in batch order, judging the
     // tile by the job's stopping rule after each (determinism contract rule 4): once it is
@@ -152,33 +175,54 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
     const Accumulation* batch = &decoded;
     Accumulation successor;
     TileVerdict verdict;
+    bool error_read = false;  // the last verdict computed the tile's error
     for (;;) {
       tile.merge(*batch);
       tally.add(*batch, c->plan.batch_end(next) - c->plan.batch_begin(next));
       ++next;
-      verdict = judge_tile(c->rule, c->noise_target, tile, next, c->plan.batch_count(),
-                           c->plan.batch_end(next - 1));
+      // The error only where the rule reads it (a noise tile from 16 spp on); where it is only
+      // stored, it is computed once below.
+      const uint32_t spp = c->plan.batch_end(next - 1);
+      error_read = verdict_reads_error(c->rule, spp);
+      verdict = judge_tile_given_error(c->rule, c->noise_target,
+                                       error_read ? estimate_relative_error(tile) : 0.0, next,
+                                       c->plan.batch_count(), spp);
       if (verdict.finished) break;
       // The waiting successor: decoded in memory when this transaction or an earlier one kept
       // it (WaitingResults), else its row read back and decoded.
       if (const auto it = staged.waiting.find({r.job_id, r.tile, next});
           it != staged.waiting.end()) {
-        successor = std::move(it->second);
+        batch = it->second;  // this transaction's upload: merged in place, not copied
         staged.waiting.erase(it);
         ++waiting_hits_;
       } else if (std::optional<Accumulation> kept = waiting_.take(r.job_id, r.tile, next)) {
         successor = std::move(*kept);
+        batch = &successor;
+        staged.taken.emplace(r.job_id, r.tile);
         ++waiting_hits_;
+      } else if (!may_wait_in_store(r.job_id, r.tile)) {
+        break;  // not arrived: every waiting result of this tile is in memory
       } else {
         std::optional<std::string> row = results.find(r.job_id, r.tile, next);
         if (!row) break;
         successor = decode_accumulation(*row);
+        batch = &successor;
       }
       ++waiting_merged_;
-      batch = &successor;
     }
     cached->next_batch = next;
-    if (verdict.finished || next - cached->checkpointed >= checkpoint_every_) {
+    const bool checkpoint = verdict.finished || next - cached->checkpointed >= checkpoint_every_;
+    // The stored error (status, the output's provenance): after every merge where the rule
+    // reads it, else at each checkpoint (so exact when the tile ends) and when the tile's spp
+    // reaches a power of two; in between the tile keeps the one stored last. Computing it for
+    // every merged batch cost 2-4 % of the server's CPU (BENCHMARKS.md, issue 14 sections).
+    std::optional<double> error;
+    if (error_read) {
+      error = verdict.relative_error;
+    } else if (checkpoint || std::has_single_bit(c->plan.schedule().spp_after(next))) {
+      error = estimate_relative_error(tile);
+    }
+    if (checkpoint) {
       // Checkpoint: the sum becomes the stored tile; the rows it covers (the successors merged
       // here among them) go, and this result is never written.
       write_checkpoint(r.job_id, r.tile, tile, next);
@@ -189,14 +233,14 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, const Accum
       results.append(r.job_id, r.tile, r.batch, r.encoded);
     }
     if (verdict.finished) close_tile(r.job_id, r.tile, next);
-    const TileProgress progress{next, verdict.relative_error, verdict.reason,
-                                c->plan.schedule().spp_after(next)};
+    const TileProgress progress{next, error, verdict.reason, c->plan.schedule().spp_after(next)};
     if (!TilesTable(db_).advance(r.job_id, r.tile, c->next_batch, progress)) {
       throw FarmError(ErrorCode::internal, "tile " + std::to_string(r.tile) + " of job " +
                                                std::to_string(r.job_id) +
                                                " changed during its merge");
     }
     outcome.merged = tally.results;
+    outcome.frees_work = c->rule == StopRule::noise && tally.results > 0;
   }
   Staged::Accepted& a = staged.accepted[r.job_id];
   ++a.units;

@@ -51,6 +51,9 @@ struct AcceptOutcome {
   uint32_t merged = 0;        ///< results merged by this call (this one and waiting successors)
   uint64_t samples = 0;       ///< pixel samples the accepted result holds (NaN/Inf excluded)
   bool job_complete = false;  ///< no unit of the job is queued or leased: ready to finish
+  /// A merge moved a noise tile's prefix, so units past it may be leasable now (the lookahead
+  /// window, store/tile_queue.h): idle workers are woken only then after an upload.
+  bool frees_work = false;
 };
 
 class TileMerger {
@@ -78,7 +81,10 @@ class TileMerger {
   /// A result and its decoded accumulation, for accept_all.
   struct Upload {
     const UnitResult* result;
-    const Accumulation* decoded;
+    /// Once the transaction has committed, accept_all moves the sums of a result kept waiting
+    /// into WaitingResults (no copy of its decoded tile); its other fields (rect, nan_dropped,
+    /// inf_dropped) stay. Untouched when accept_all throws, so the call can be retried.
+    Accumulation* decoded;
   };
   /// Accepts several results in one transaction (group commit), each exactly as accept() would
   /// in that order; outcome i answers uploads[i]. All or nothing on errors: a FarmError from one
@@ -94,6 +100,8 @@ class TileMerger {
   void forget_job(int64_t job_id) {
     cache_.forget_job(job_id);
     waiting_.forget_job(job_id);
+    jobs_seen_.erase(job_id);
+    std::erase_if(store_only_, [job_id](const auto& key) { return key.first == job_id; });
     std::erase_if(contributors_, [job_id](const Contributor& c) { return c.job_id == job_id; });
   }
 
@@ -117,8 +125,9 @@ class TileMerger {
   struct Staged {
     std::map<std::pair<int64_t, uint32_t>, MergeCache::Tile> tiles;
     std::set<Contributor> contributors;
-    /// Results this transaction stored as waiting, decoded: (job, tile, batch) -> result.
-    std::map<std::tuple<int64_t, uint32_t, uint32_t>, Accumulation> waiting;
+    /// Results this transaction stored as waiting, decoded: (job, tile, batch) -> the upload's
+    /// accumulation (moved into WaitingResults once the transaction has committed).
+    std::map<std::tuple<int64_t, uint32_t, uint32_t>, Accumulation*> waiting;
     /// The counters of the transaction's accepted results, per worker and per job, added to
     /// the store once each before it commits (one UPDATE per worker and job, not per result).
     struct Delivered {
@@ -130,10 +139,13 @@ class TileMerger {
     };
     std::map<int64_t, Delivered> delivered;  ///< by worker id
     std::map<int64_t, Accepted> accepted;    ///< by job id
+    /// Tiles whose waiting results this transaction took from waiting_: should it roll back,
+    /// their rows are waiting again but not in memory (store_only_).
+    std::set<std::pair<int64_t, uint32_t>> taken;
   };
 
   /// accept() inside the caller's transaction; what it merged goes to `staged`.
-  AcceptOutcome accept_in_transaction(const UnitResult& result, const Accumulation& decoded,
+  AcceptOutcome accept_in_transaction(const UnitResult& result, Accumulation& decoded,
                                       Staged& staged);
 
   /// The tile's sum of batches [0, next_batch): from `staged` (merged earlier in this
@@ -150,10 +162,20 @@ class TileMerger {
   /// its waiting results.
   void close_tile(int64_t job_id, uint32_t tile, uint32_t next_batch);
 
+  /// Whether a waiting result of (job, tile) may be in the store but not in WaitingResults, so
+  /// that a successor missing from memory must be looked for in the results table. False means
+  /// it has not arrived: the merge stops without a statement. The first accept of a job in
+  /// this process marks every tile of it with rows in `results` (left by an earlier run).
+  bool may_wait_in_store(int64_t job_id, uint32_t tile);
+
   Database& db_;
   const Clock& clock_;
   MergeCache cache_;
   WaitingResults waiting_;
+  /// Tiles whose waiting rows may be missing from waiting_: rows from before this process,
+  /// entries evicted from waiting_, entries taken from it by a transaction that rolled back.
+  std::set<std::pair<int64_t, uint32_t>> store_only_;
+  std::set<int64_t> jobs_seen_;  ///< jobs whose earlier rows are in store_only_
   uint64_t waiting_merged_ = 0, waiting_hits_ = 0;
   std::set<Contributor> contributors_;
   uint32_t checkpoint_every_;

@@ -4,9 +4,15 @@
 
 namespace tessera::server {
 
-void WaitingResults::put(int64_t job_id, uint32_t tile, uint32_t batch, Accumulation result) {
+std::vector<std::pair<int64_t, uint32_t>> WaitingResults::put(int64_t job_id, uint32_t tile,
+                                                              uint32_t batch,
+                                                              Accumulation result) {
   const size_t bytes = MergeCache::bytes_of(result);
-  lru_.put({job_id, tile, batch}, std::move(result), bytes);
+  std::vector<std::pair<int64_t, uint32_t>> evicted;
+  lru_.put({job_id, tile, batch}, std::move(result), bytes, [&](const Key& key) {
+    evicted.emplace_back(std::get<0>(key), std::get<1>(key));
+  });
+  return evicted;
 }
 
 std::optional<Accumulation> WaitingResults::take(int64_t job_id, uint32_t tile, uint32_t batch) {

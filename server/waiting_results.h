@@ -12,6 +12,8 @@
 #include <cstdint>
 #include <optional>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "accum/accumulation.h"
 #include "byte_bounded_lru.h"
@@ -23,8 +25,10 @@ class WaitingResults {
   explicit WaitingResults(size_t budget_bytes) : lru_(budget_bytes) {}
 
   /// Keeps the decoded result of (job, tile, batch), evicting the oldest entries while the
-  /// bytes exceed the budget (this one too when it alone exceeds it).
-  void put(int64_t job_id, uint32_t tile, uint32_t batch, Accumulation result);
+  /// bytes exceed the budget (this one too when it alone exceeds it). Returns the (job, tile)
+  /// of each entry evicted: their rows are now only in the store.
+  std::vector<std::pair<int64_t, uint32_t>> put(int64_t job_id, uint32_t tile, uint32_t batch,
+                                                Accumulation result);
   /// Removes and returns the entry of (job, tile, batch); nullopt when there is none.
   std::optional<Accumulation> take(int64_t job_id, uint32_t tile, uint32_t batch);
   /// Drops every entry of the job (deleted).

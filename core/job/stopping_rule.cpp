@@ -1,6 +1,7 @@
 #include "job/stopping_rule.h"
 
 #include "accum/film.h"
+#include "job/tile_verdict.h"
 
 namespace tessera {
 
@@ -69,9 +70,20 @@ std::optional<QualityPreset> find_preset(std::string_view name) {
 
 TileVerdict judge_tile(StopRule rule, double noise_target, const Accumulation& merged,
                        uint32_t merged_batches, uint32_t batch_count, uint32_t spp_merged) {
+  return judge_tile_given_error(rule, noise_target, estimate_relative_error(merged),
+                                merged_batches, batch_count, spp_merged);
+}
+
+bool verdict_reads_error(StopRule rule, uint32_t spp_merged) {
+  return rule == StopRule::noise && spp_merged >= kNoiseMinSpp;
+}
+
+TileVerdict judge_tile_given_error(StopRule rule, double noise_target, double relative_error,
+                                   uint32_t merged_batches, uint32_t batch_count,
+                                   uint32_t spp_merged) {
   TileVerdict v;
-  v.relative_error = estimate_relative_error(merged);
-  if (rule == StopRule::noise && spp_merged >= kNoiseMinSpp && v.relative_error <= noise_target) {
+  v.relative_error = relative_error;
+  if (verdict_reads_error(rule, spp_merged) && v.relative_error <= noise_target) {
     v.finished = true;
     v.reason = StopReason::noise_target;
   } else if (merged_batches >= batch_count) {

@@ -8,7 +8,7 @@ void ResultsTable::append(int64_t job_id, uint32_t tile, uint32_t batch,
       ->bind(1, job_id)
       .bind(2, tile)
       .bind(3, batch)
-      .bind_blob(4, encoded)
+      .bind_blob_borrowed(4, encoded)  // `encoded` outlives the run
       .run();
 }
 
@@ -66,6 +66,11 @@ std::vector<uint32_t> ResultsTable::tiles_with_merged(int64_t job_id) {
   auto q = db_.prepare(
       "SELECT t.tile FROM tiles t WHERE t.job_id = ?1 AND EXISTS (SELECT 1 FROM results r"
       " WHERE r.job_id = ?1 AND r.tile = t.tile AND r.batch < t.next_batch) ORDER BY t.tile");
+  return q->bind_all(job_id).rows([](const Statement& r) { return uint32_t(r.int64(0)); });
+}
+
+std::vector<uint32_t> ResultsTable::tiles_with_rows(int64_t job_id) {
+  auto q = db_.prepare("SELECT DISTINCT tile FROM results WHERE job_id = ? ORDER BY tile");
   return q->bind_all(job_id).rows([](const Statement& r) { return uint32_t(r.int64(0)); });
 }
 

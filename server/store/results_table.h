@@ -62,6 +62,10 @@ class ResultsTable {
   /// The job's tiles with merged rows outside their checkpoint (tile numbers, ascending).
   std::vector<uint32_t> tiles_with_merged(int64_t job_id);
 
+  /// The job's tiles with any row (merged or waiting), ascending: what a merger starting on
+  /// the job may find waiting in the store (TileMerger::may_wait_in_store).
+  std::vector<uint32_t> tiles_with_rows(int64_t job_id);
+
   /// Rows of the job (merged and waiting), for tests and checks.
   int64_t count(int64_t job_id);
 

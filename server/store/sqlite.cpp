@@ -49,6 +49,15 @@ Statement& Statement::bind_blob(int index, std::string_view bytes) {
   return *this;
 }
 
+Statement& Statement::bind_blob_borrowed(int index, std::string_view bytes) {
+  static constexpr char kEmpty = 0;
+  check(db_,
+        sqlite3_bind_blob64(stmt_.get(), index, bytes.empty() ? &kEmpty : bytes.data(),
+                            bytes.size(), SQLITE_STATIC),
+        "bind");
+  return *this;
+}
+
 Statement& Statement::bind_null(int index) {
   check(db_, sqlite3_bind_null(stmt_.get(), index), "bind");
   return *this;
@@ -129,10 +138,12 @@ void Database::exec(std::string_view sql) {
   }
 }
 
-StatementUse Database::prepare(const std::string& sql) {
+StatementUse Database::prepare(std::string_view sql) {
+  // Looked up by the view: a cached statement costs no std::string (nor its allocation).
   auto it = cache_.find(sql);
   if (it == cache_.end()) {
-    it = cache_.emplace(sql, std::make_unique<Statement>(db_.get(), sql, &statements_)).first;
+    it = cache_.emplace(std::string(sql), std::make_unique<Statement>(db_.get(), sql, &statements_))
+             .first;
   }
   it->second->reset();
   return StatementUse(*it->second);

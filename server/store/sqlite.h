@@ -48,6 +48,11 @@ class Statement {
   Statement& bind(int index, const char* text) { return bind(index, std::string_view(text)); }
   Statement& bind(int index, const std::string& text) { return bind(index, std::string_view(text)); }
   Statement& bind_blob(int index, std::string_view bytes);
+  /// bind_blob without SQLite's copy of the bytes: they must stay alive and unchanged until the
+  /// statement has run and its StatementUse is gone (which clears the bindings). For the
+  /// `db.prepare(sql)->bind...(bytes).run()` shape with `bytes` owned by the caller (an accepted
+  /// result's 19 KB at 32-px tiles: BENCHMARKS.md, issue 14, "memmove").
+  Statement& bind_blob_borrowed(int index, std::string_view bytes);
   Statement& bind_null(int index);
   template <typename T>
   Statement& bind(int index, const std::optional<T>& value) {
@@ -148,7 +153,7 @@ class Database {
 
   /// A statement prepared once per connection and reused (bindings cleared). Do not hold two
   /// uses of the same SQL text at once.
-  StatementUse prepare(const std::string& sql);
+  StatementUse prepare(std::string_view sql);
 
   /// Counters since the connection opened.
   StoreCounters counters() const;

@@ -70,7 +70,7 @@ int64_t TilesTable::count_finished_by(int64_t job_id, StopReason reason) {
 bool TilesTable::advance(int64_t job_id, uint32_t tile, uint32_t from_next_batch,
                          const TileProgress& p) {
   db_.prepare(
-         "UPDATE tiles SET next_batch = ?, error = ?, finished = ?, spp = ?"
+         "UPDATE tiles SET next_batch = ?, error = COALESCE(?, error), finished = ?, spp = ?"
          " WHERE job_id = ? AND tile = ? AND next_batch = ?")
       ->bind(1, p.next_batch)
       .bind(2, p.error)
@@ -85,7 +85,7 @@ bool TilesTable::advance(int64_t job_id, uint32_t tile, uint32_t from_next_batch
 
 void TilesTable::write_checkpoint(int64_t job_id, uint32_t tile, const std::string& encoded) {
   db_.prepare("UPDATE tiles SET accumulation = ? WHERE job_id = ? AND tile = ?")
-      ->bind_blob(1, encoded)
+      ->bind_blob_borrowed(1, encoded)  // `encoded` outlives the run
       .bind(2, job_id)
       .bind(3, tile)
       .run();

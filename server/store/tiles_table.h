@@ -24,7 +24,9 @@ struct TilePosition {
 /// What a merge leaves on a tile (TilesTable::advance).
 struct TileProgress {
   uint32_t next_batch = 0;    ///< batches [0, next_batch) merged
-  double error = 0;           ///< estimated relative error after the last merge
+  /// Estimated relative error of the merged tile; nullopt keeps the stored one (the merger
+  /// computes it only where the rule reads it or at checkpoints: server/tile_merger.cpp).
+  std::optional<double> error;
   StopReason finished = StopReason::none;  ///< the verdict that closed it; none = open
   uint32_t spp = 0;           ///< samples per pixel merged
 };

@@ -87,7 +87,7 @@ TEST_F(StoreCost, LeaseAndAcceptUseFewStatementsAndNoneIsCompiledAgain) {
   std::printf("statements per lease %.2f, per accepted result %.2f\n", per_lease, per_upload);
   EXPECT_EQ(reprepares, 0u);
   EXPECT_LE(per_lease, 10.5);
-  EXPECT_LE(per_upload, 12.5);
+  EXPECT_LE(per_upload, 11.5);
 }
 
 // Batched calls: 16 leases in one call, 16 results in one transaction (BEGIN and COMMIT once,
@@ -123,7 +123,7 @@ TEST_F(StoreCost, BatchedCallsCostFewerStatementsPerResult) {
   std::printf("batches of 16: statements per leased unit %.2f, per accepted result %.2f\n",
               per_lease, per_upload);
   EXPECT_LE(per_lease, 6.0);
-  EXPECT_LE(per_upload, 6.5);
+  EXPECT_LE(per_upload, 5.25);
 }
 
 TEST_F(StoreCost, RowsVisitedPerCycleDoNotGrowWithTheUnitsDone) {

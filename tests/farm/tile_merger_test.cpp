@@ -1,10 +1,12 @@
 // Accepting results: the compare-and-set on the lease id, and the in-order merge per tile.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <filesystem>
 #include <unistd.h>
 
 #include "accum/accumulation_codec.h"
+#include "accum/film.h"
 #include "farm_error.h"
 #include "store_fixture.h"
 
@@ -91,6 +93,80 @@ TEST(TileMerger, ResultsArriving201MergeAs012) {
   auto q = f.db.prepare("SELECT COUNT(*) FROM results");
   ASSERT_TRUE(q->step());
   EXPECT_EQ(q->int64(0), 0);
+}
+
+// The tile's stored error is computed where the rule reads it (noise tiles from 16 spp on), at
+// checkpoints and when the tile's spp reaches a power of two, not after every merged batch: in
+// between the tile keeps the value stored last (server/tile_merger.cpp). Merging every batch
+// and computing it each time would store the error at 3 spp below.
+TEST(TileMerger, TheErrorIsComputedOnlyWhereReadOrStored) {
+  StoreFixture f;
+  const int64_t job = f.make_job(4, 4, 4, 10, 1);  // one tile, 10 batches of 1 spp (spp rule)
+  const int64_t w = f.make_worker();
+  const auto stored_error = [&] {
+    auto q = f.db.prepare("SELECT error FROM tiles WHERE job_id = ? AND tile = 0");
+    q->bind(1, job);
+    EXPECT_TRUE(q->step());
+    return q->real(0);
+  };
+  Accumulation sum(kTile);
+  std::vector<double> error_at;  // error_at[n]: the estimate after n merged batches
+  error_at.push_back(0);
+  int kept_older = 0;  // merges after which the stored error was an older estimate
+  for (uint32_t b = 0; b < 10; ++b) {
+    const Accumulation batch = StoreFixture::synthetic(kTile, b, 1);
+    const Lease l = *f.scheduler.lease_next(w);
+    ASSERT_EQ(l.batch, b);
+    ASSERT_TRUE(f.merger.accept(result_for(l, batch), batch).accepted);
+    sum.merge(batch);
+    error_at.push_back(estimate_relative_error(sum));
+    const uint32_t n = b + 1;  // batches merged = spp
+    // Stored at 1, 2, 4, 8 spp (powers of two; 8 is also the first checkpoint) and at 10 (the
+    // tile ends); at 3 the value of 2, at 5-7 the value of 4, at 9 the value of 8.
+    const uint32_t last_stored = n == 10 ? 10 : std::bit_floor(n);
+    EXPECT_EQ(stored_error(), error_at[last_stored]) << "after " << n << " batches";
+    if (error_at[n] != error_at[last_stored]) ++kept_older;
+  }
+  // The test means something only where the estimate changed in between: at 3 spp at least.
+  EXPECT_NE(error_at[3], error_at[2]);
+  EXPECT_GE(kept_older, 1);
+  EXPECT_EQ(f.tiles(job)[0].finished, StopReason::spp_reached);
+}
+
+// A merge looks for the next batch in the store only where a waiting row may be missing from
+// memory (TileMerger::may_wait_in_store). A transaction that took a waiting result from memory
+// and then rolled back leaves that row waiting in the store only: the next merge must still
+// find it there. Without the rollback's mark the tile would stop at batch 2 for good, with
+// batch 2 accepted and never merged.
+TEST(TileMerger, AWaitingResultTakenByARolledBackTransactionIsStillMerged) {
+  StoreFixture f;
+  const int64_t job = f.make_job(8, 4, 4, 4, 1);  // two tiles, 4 batches of 1 spp
+  const int64_t w = f.make_worker("w"), other = f.make_worker("other");
+  std::vector<Accumulation> batch;
+  for (uint32_t b = 0; b < 4; ++b) batch.push_back(StoreFixture::synthetic(kTile, b, 1));
+
+  const Lease l0 = lease_unit(f, w, 0, 0);
+  ASSERT_EQ(f.merger.accept(result_for(l0, batch[0]), batch[0]).merged, 1u);
+  const Lease l2 = lease_unit(f, w, 0, 2);
+  ASSERT_EQ(f.merger.accept(result_for(l2, batch[2]), batch[2]).merged, 0u);  // waits for 1
+
+  // One transaction: batch 1 of tile 0 (merges 1, then the waiting 2 from memory) and a result
+  // for tile 1 that does not cover its tile: the whole call is refused and rolled back.
+  const Lease l1 = lease_unit(f, w, 0, 1);
+  const Lease bad_lease = lease_unit(f, other, 1, 0);
+  const UnitResult r1 = result_for(l1, batch[1]);
+  Accumulation acc1 = batch[1];
+  Accumulation wrong = StoreFixture::synthetic(kTile, 0, 1);  // tile 0's rectangle, not tile 1's
+  const UnitResult bad = result_for(bad_lease, wrong);
+  EXPECT_THROW(f.merger.accept_all({{&r1, &acc1}, {&bad, &wrong}}), FarmError);
+  EXPECT_EQ(f.tiles(job)[0].next_batch, 1u);
+
+  // The lease of batch 1 is still current: delivered again, it merges 1 and then 2, which is
+  // now in the store only.
+  const AcceptOutcome again = f.merger.accept(r1, batch[1]);
+  EXPECT_TRUE(again.accepted);
+  EXPECT_EQ(again.merged, 2u);
+  EXPECT_EQ(f.tiles(job)[0].next_batch, 3u);
 }
 
 TEST(TileMerger, StaleLeaseResultIsDroppedAndCounted) {

@@ -14,14 +14,17 @@
 // TESSERA_LOAD_PER_CALL, default 16, and one UploadResults for every unit it holds).
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 #include "accum/accumulation.h"
@@ -39,6 +42,21 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 namespace fs = std::filesystem;
+
+/// User + system CPU seconds of process `pid` so far (/proc/PID/stat fields 14 and 15).
+double cpu_seconds(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  std::getline(in, line);
+  const size_t close = line.rfind(')');  // the command name may contain spaces
+  if (close == std::string::npos) return 0;
+  std::istringstream fields(line.substr(close + 2));
+  std::string field;
+  for (int i = 3; i <= 13; ++i) fields >> field;
+  double utime = 0, stime = 0;
+  fields >> utime >> stime;
+  return (utime + stime) / double(sysconf(_SC_CLK_TCK));
+}
 
 int env_int(const char* name, int fallback) {
   const char* v = std::getenv(name);
@@ -245,6 +263,7 @@ void run_load(uint32_t per_call) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   const std::string address = "127.0.0.1:" + std::to_string(std::stoi(e2e::read_text(port_file)));
+  const double cpu_at_listening = cpu_seconds(server->pid());  // a start's fixed cost
   auto job_stub = v1::JobService::NewStub(wire::make_channel(address));
 
   Shared shared;
@@ -300,6 +319,7 @@ void run_load(uint32_t per_call) {
     if (!all_done) std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - t_submit).count();
+  const double cpu_at_end = cpu_seconds(server->pid());
   shared.stop = true;
   for (auto& t : threads) t.join();
   ASSERT_TRUE(shared.error.empty()) << shared.error;
@@ -350,7 +370,9 @@ void run_load(uint32_t per_call) {
             << shared.lease_ms.size() << "): p50 " << percentile(shared.lease_ms, 50) << " ms, p99 "
             << percentile(shared.lease_ms, 99) << " ms, max "
             << percentile(shared.lease_ms, 100) << " ms; empty long polls " << shared.no_work
-            << std::endl;
+            << "; server CPU " << cpu_at_listening << " s at listening, "
+            << 1000.0 * (cpu_at_end - cpu_at_listening) / double(std::max<uint64_t>(total, 1))
+            << " ms per result after (submits, leases, uploads, outputs)" << std::endl;
   ::testing::Test::RecordProperty("lease_p99_ms", std::to_string(percentile(shared.lease_ms, 99)));
   server.reset();
   if (!::testing::Test::HasFailure()) fs::remove_all(dir);

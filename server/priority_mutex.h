@@ -1,0 +1,70 @@
+// A mutex with a lane for short calls that must not queue behind long work (issue 14, lease
+// p99). The coordinator guards its store with it: a lease or heartbeat (one short transaction)
+// takes it `Urgent`, an upload group (up to Coordinator::kResultsPerCommit results in one
+// transaction) takes it `Deferring`, and every other call takes it plainly (lock/unlock, so
+// std::lock_guard works). A Deferring lock is granted only while no Urgent caller waits: an
+// urgent call waits for at most the work in progress, never for the uploads queued behind it.
+// Urgent callers cannot starve deferring ones for long: each worker makes one call at a time and
+// each urgent call is short.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+
+namespace tessera::server {
+
+class PriorityMutex {
+ public:
+  void lock() { mu_.lock(); }
+  void unlock() { mu_.unlock(); }
+
+  /// Held for a short call: counted as waiting until it holds the mutex, so that no deferring
+  /// lock is granted meanwhile; on release, wakes the deferring lockers waiting for their turn.
+  class Urgent {
+   public:
+    explicit Urgent(PriorityMutex& m) : m_(m) {
+      m_.urgent_waiting_.fetch_add(1);
+      m_.mu_.lock();
+      m_.urgent_waiting_.fetch_sub(1);
+    }
+    ~Urgent() {
+      m_.mu_.unlock();
+      m_.turns_.notify_all();
+    }
+    Urgent(const Urgent&) = delete;
+    Urgent& operator=(const Urgent&) = delete;
+
+   private:
+    PriorityMutex& m_;
+  };
+
+  /// Held for long work: granted once no Urgent caller waits (re-checked under the mutex).
+  class Deferring {
+   public:
+    explicit Deferring(PriorityMutex& m) : lock_(m.mu_, std::defer_lock) {
+      m.deferring_waiting_.fetch_add(1);
+      lock_.lock();
+      m.turns_.wait(lock_, [&] { return m.urgent_waiting_.load() == 0; });
+      m.deferring_waiting_.fetch_sub(1);
+    }
+    Deferring(const Deferring&) = delete;
+    Deferring& operator=(const Deferring&) = delete;
+
+   private:
+    std::unique_lock<std::mutex> lock_;
+  };
+
+  /// Urgent callers waiting for the mutex (tests line calls up with these).
+  int urgent_waiting() const { return urgent_waiting_.load(); }
+  /// Deferring callers that hold or wait for the mutex and have not been granted it yet.
+  int deferring_waiting() const { return deferring_waiting_.load(); }
+
+ private:
+  std::mutex mu_;
+  std::condition_variable turns_;
+  std::atomic<int> urgent_waiting_{0};
+  std::atomic<int> deferring_waiting_{0};
+};
+
+}  // namespace tessera::server
