@@ -299,6 +299,10 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       const float pdf = mix.pdf(wi, cos_n, cone);
       beta *= m->albedo * (cos_n * kInvPi / pdf);  // f cos / pdf_mix, f = albedo / pi
       bsdf_pdf = pdf * opacity;
+      // Russian roulette weighs the throughput as the cosine sample would have left it: a
+      // bounce toward a target carries a small beta by design, and ending it for that would
+      // undo what aiming it gained (measured: docs/renderer.md).
+      path.eta_scale *= pdf / (cos_n * kInvPi);
     }
     ray.o = origin;
   } else {

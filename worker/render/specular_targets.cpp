@@ -107,16 +107,7 @@ SpecularTarget shape_sphere(const Geometry& g, const glm::mat4* to_world) {
 SpecularTargets::SpecularTargets(const std::vector<ShapeRef>& shapes, const std::vector<RenderMaterial>& materials,
                                  float scene_radius) {
   // TESSERA_SPECULAR_TARGETS=off: no targets (for tests that compare against the cosine alone).
-  if (const char* env = std::getenv("TESSERA_SPECULAR_TARGETS")) {
-    const std::string v = env;
-    if (v == "off") return;
-    if (!v.empty() && v[0] == 's') {
-      split_by_angle = true;
-      total_probability = std::stof(v.substr(1));
-    } else if (!v.empty()) {
-      total_probability = std::stof(v);
-    }
-  }
+  if (const char* env = std::getenv("TESSERA_SPECULAR_TARGETS"); env && std::string(env) == "off") return;
   for (const ShapeRef& s : shapes) {
     const Geometry& g = *s.geometry;
     if (g.material >= materials.size() || !purely_specular(materials[g.material], materials)) continue;

@@ -32,11 +32,11 @@ class SpecularTargets {
   /// sphere's is left out: a glass box around everything, or a mirror wall, fills most of
   /// the hemisphere anyway, where the cosine-weighted bounce already finds it.
   static constexpr float kMaxSceneFraction = 0.5f;
-  /// The probability of a bounce toward the targets in all, shared equally among the targets
-  /// a vertex can see (the rule and the alternatives measured: docs/renderer.md).
-  static constexpr float kTargetProbability = 0.5f;
-  float total_probability = kTargetProbability;
-  bool split_by_angle = false;
+  /// The rule for the probability of a bounce toward each target (TargetMixture::init): this
+  /// factor times the target's share of the cosine-weighted bounce...
+  static constexpr float kMassFactor = 1.0f;
+  /// ... and at most this in all, so that the cosine keeps half of the bounces.
+  static constexpr float kMaxTargetProbability = 0.5f;
 
   SpecularTargets() = default;
   /// The targets among `shapes` (each: its Geometry, already in world space except that an

@@ -62,7 +62,7 @@ SpecularTargets targets_of(const std::vector<SpecularTarget>& spheres) {
 
 /// Beside (at the horizon), above, and partly below the horizon of normal +z at the origin.
 std::vector<SpecularTarget> three_spheres() {
-  return {{{2.0f, 0.0f, 0.3f}, 0.9f}, {{0.4f, 0.3f, 2.0f}, 1.0f}, {{-1.0f, 1.5f, -0.4f}, 0.8f}};
+  return {{{2.0f, 0.0f, 0.3f}, 0.9f}, {{0.4f, 0.3f, 2.0f}, 1.0f}, {{-1.0f, 1.5f, 0.3f}, 0.8f}};
 }
 
 TEST(SpecularTargets, MixtureSamplesItsPdf) {
@@ -120,11 +120,12 @@ TEST(SpecularTargets, NoConeForASphereHoldingThePointOrBelowTheHorizon) {
   TargetMixture mix;
   // The point inside: no cone.
   EXPECT_FALSE(mix.init(targets_of({{{0.2f, 0.0f, 0.1f}, 0.5f}}), glm::vec3(0.0f), n));
-  // Wholly below the horizon: none either; touching it from below: none.
+  // Wholly below the horizon, or its centre below it: none either.
   EXPECT_FALSE(mix.init(targets_of({{{0.0f, 1.0f, -2.0f}, 0.5f}}), glm::vec3(0.0f), n));
+  EXPECT_FALSE(mix.init(targets_of({{{0.0f, 2.0f, -0.1f}, 0.5f}}), glm::vec3(0.0f), n));
   // One inside, one outside: only the outside one is sampled, never a direction toward the
   // sphere holding the point other than through the cosine strategy's hemisphere.
-  const SpecularTarget inside{{0.0f, 0.0f, 0.2f}, 0.5f}, outside{{3.0f, 0.0f, 1.0f}, 0.5f};
+  const SpecularTarget inside{{0.0f, 0.0f, 0.2f}, 0.5f}, outside{{1.5f, 0.0f, 1.0f}, 0.8f};
   ASSERT_TRUE(mix.init(targets_of({inside, outside}), glm::vec3(0.0f), n));
   ASSERT_EQ(mix.count(), 1);
   std::mt19937_64 rng(3);
@@ -140,7 +141,7 @@ TEST(SpecularTargets, NoConeForASphereHoldingThePointOrBelowTheHorizon) {
     EXPECT_EQ(cone, 0);
     EXPECT_GE(glm::dot(mix.sample_cone(cone, u), axis), cos_max - 1e-5f);
   }
-  EXPECT_GT(cone_samples, 4000);
+  EXPECT_GT(cone_samples, 1000);  // p = 0.23 here
 }
 
 TEST(SpecularTargets, BoundingSphereHoldsEveryPointAndIsTight) {

@@ -24,42 +24,53 @@ namespace tessera {
 /// cosine strategy is, and never more than 1 / (1 - sum p_k) times the cosine sample's weight.
 class TargetMixture {
  public:
-  /// The cones of `targets` seen from `p` with unit normal `n`; a target whose sphere holds p,
-  /// or lies wholly below n's horizon, gets none. Returns whether any cone is left (the
-  /// mixture is then used; else the vertex samples the cosine alone).
+  /// The cones of `targets` seen from `p` with unit normal `n`, and their probabilities: a
+  /// target whose sphere holds p, or whose centre lies on or below n's horizon (the cone at
+  /// least half below it), gets none. Returns whether any cone is left (the mixture is then
+  /// used; else the vertex samples the cosine alone).
+  ///
+  /// The rule for p_k (docs/renderer.md, "Bounces toward glass and mirrors"): kMassFactor times
+  /// the cone's share of the cosine strategy, q_k = solid_angle_k cos(axis) / pi, scaled down so
+  /// that sum p_k <= kMaxTargetProbability. A small cone's density is so raised about
+  /// (1 + kMassFactor)-fold at a cost of 1 / (1 - sum p_k) elsewhere, and sum p_k stays small
+  /// where the targets are small; a cone the cosine already finds often gains less.
   bool init(const SpecularTargets& targets, glm::vec3 p, glm::vec3 n) {
     count_ = 0;
+    float sum_p = 0;
     for (int i = 0; i < targets.size(); ++i) {
       const SpecularTarget& t = targets[i];
       const glm::vec3 d = t.center - p;
       const float dist2 = glm::dot(d, d);
       const float r2 = t.radius * t.radius;
-      if (!(dist2 > r2)) continue;                // p inside the sphere
-      if (glm::dot(d, n) <= -t.radius) continue;  // the whole cone below the horizon
-      Cone& c = cones_[count_++];
+      if (!(dist2 > r2)) continue;  // p inside the sphere
       const float inv_dist = 1.0f / std::sqrt(dist2);
-      c.axis = d * inv_dist;
+      const glm::vec3 axis = d * inv_dist;
+      const float cos_axis = glm::dot(axis, n);
+      if (!(cos_axis > 0)) continue;  // at least half the cone below the horizon
+      Cone& c = cones_[count_++];
+      c.axis = axis;
       const float sin2 = r2 / dist2;
       // 1 - cos theta_max = sin^2 / (1 + cos): no cancellation for small cones.
       c.one_minus_cos = sin2 / (1.0f + std::sqrt(1.0f - sin2));
       c.cos_max = 1.0f - c.one_minus_cos;
+      // q_k = 2 pi (1 - cos theta_max) cos(axis) / pi.
+      c.p = SpecularTargets::kMassFactor * (2.0f * c.one_minus_cos * cos_axis);
+      sum_p += c.p;
     }
     if (count_ == 0) return false;
-    const float total = targets.total_probability;
-    float sum_w = 0;
-    for (int k = 0; k < count_; ++k) {
-      cones_[k].p = targets.split_by_angle ? std::sqrt(cones_[k].one_minus_cos) : 1.0f;
-      sum_w += cones_[k].p;
-    }
+    const float scale = sum_p > SpecularTargets::kMaxTargetProbability
+                            ? SpecularTargets::kMaxTargetProbability / sum_p
+                            : 1.0f;
     float cdf = 0;
     for (int k = 0; k < count_; ++k) {
-      cones_[k].p = total * (cones_[k].p / sum_w);
-      cdf += cones_[k].p;
-      cones_[k].cdf = cdf;
-      cones_[k].density = cones_[k].p / (2.0f * kPi * cones_[k].one_minus_cos);
+      Cone& c = cones_[k];
+      c.p *= scale;
+      cdf += c.p;
+      c.cdf = cdf;
+      c.density = c.p / (2.0f * kPi * c.one_minus_cos);
     }
-    p_targets_ = total;
-    p_cosine_ = 1.0f - total;
+    p_targets_ = cdf;
+    p_cosine_ = 1.0f - cdf;
     return true;
   }
 
