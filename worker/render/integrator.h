@@ -29,7 +29,7 @@ struct PathState {
   Ray ray;                    ///< the ray to trace next (unit direction)
   glm::dvec3 radiance{0.0};   ///< the estimate so far
   glm::vec3 beta{1.0f};       ///< throughput
-  float eta_scale = 1.0f;     ///< product of eta^2 over refractions, undone for roulette
+  float eta_scale = 1.0f;     ///< undone for roulette: eta^2 of refractions, bounce mixture pdf / cosine pdf
   float prev_pdf = 0;         ///< solid-angle pdf of the BSDF sample that made `ray`
   SurfacePoint prev_sp{};     ///< where `ray` started
   int vertex = 0;             ///< the vertex `ray` will find (0 = the camera ray's hit)

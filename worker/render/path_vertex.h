@@ -13,6 +13,7 @@
 #include "bsdf/bsdf.h"
 #include "frame.h"
 #include "integrator.h"
+#include "target_mixture.h"
 #include "texture/shading_normal.h"
 #include "texture/texture_set.h"
 #include "warp.h"
@@ -254,6 +255,10 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
     // albedo. Both the shadow ray and the bounce leave on the front side.
     const glm::vec3 ns = hit->ns;
     const glm::vec3 origin = offset_ray_origin(sp, sp.ng);
+    // Bounces toward the scene's glass and mirrors (specular_targets.h): a scene without them
+    // pays this one branch.
+    TargetMixture mix;
+    const bool mixture = !scene.specular_targets().empty() && mix.init(scene.specular_targets(), sp.p, ns);
     if (roulette || have_lights) {
       sampler.set_pair(pair);
       u_choice = sampler.get2d_independent();
@@ -265,7 +270,10 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       if (ls.pdf > 0) {
         const float cos_surface = glm::dot(ns, ls.wi);
         if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
-          const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, cos_surface * (opacity * kInvPi));
+          // The bounce's density toward ls.wi: the mixture's when it has cones here.
+          const float w = ls.delta   ? 1.0f
+                          : mixture ? mis_weight(ls.pdf, mix.pdf(ls.wi, cos_surface) * opacity)
+                                    : mis_weight(ls.pdf, cos_surface * (opacity * kInvPi));
           set_shadow_ray(origin, ls, shadow);
           // (albedo / pi) cos Le / pdf, in double so tiny, bright lights cannot overflow.
           shadow->contribution = glm::dvec3(beta) * glm::dvec3(m->albedo) * glm::dvec3(ls.radiance) *
@@ -275,11 +283,27 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       }
     }
     const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
-    const glm::vec3 local = square_to_cosine_hemisphere(u_bsdf);
-    wi = Frame(ns).to_world(local);
-    if (glm::dot(wi, sp.ng) <= 0) return false;
-    beta *= m->albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
-    bsdf_pdf = local.z * kInvPi * opacity;
+    if (!mixture) {
+      const glm::vec3 local = square_to_cosine_hemisphere(u_bsdf);
+      wi = Frame(ns).to_world(local);
+      if (glm::dot(wi, sp.ng) <= 0) return false;
+      beta *= m->albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
+      bsdf_pdf = local.z * kInvPi * opacity;
+    } else {
+      // The strategy from pair + 3's x, which this path leaves free (a mask takes its y).
+      sampler.set_pair(pair + 3);
+      const int cone = mix.choose(sampler.get2d().x);
+      wi = cone < 0 ? Frame(ns).to_world(square_to_cosine_hemisphere(u_bsdf)) : mix.sample_cone(cone, u_bsdf);
+      const float cos_n = glm::dot(wi, ns);
+      if (!(cos_n > 0) || glm::dot(wi, sp.ng) <= 0) return false;
+      const float pdf = mix.pdf(wi, cos_n, cone);
+      beta *= m->albedo * (cos_n * kInvPi / pdf);  // f cos / pdf_mix, f = albedo / pi
+      bsdf_pdf = pdf * opacity;
+      // Russian roulette weighs the throughput as the cosine sample would have left it: a
+      // bounce toward a target carries a small beta by design, and ending it for that would
+      // undo what aiming it gained (measured: docs/renderer.md).
+      path.eta_scale *= pdf / (cos_n * kInvPi);
+    }
     ray.o = origin;
   } else {
     const ShadingFrame shading = shading_frame(*hit, *m, textures, scene.has_uv(), wo);

@@ -160,6 +160,15 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
       area_emitters, scene.lights, files,
       [textures](int32_t texture, glm::vec2 uv) { return textures->lookup(texture, uv); },
       scene_radius);
+  std::vector<SpecularTargets::ShapeRef> shapes;
+  for (const auto& g : geometries_) {
+    if (g->kind != Geometry::Kind::instance) {
+      shapes.push_back({g.get(), nullptr});
+    } else {
+      for (const auto& member : group_geometries_[g->group]) shapes.push_back({member.get(), &g->to_world});
+    }
+  }
+  specular_targets_ = SpecularTargets(shapes, materials_, scene_radius);
 }
 
 void TraceableScene::release() {

@@ -18,6 +18,7 @@
 #include "scene/scene.h"
 #include "scene/scene_loader.h"
 #include "bsdf/rough_plastic_tables.h"
+#include "specular_targets.h"
 #include "texture/texture_set.h"
 
 namespace tessera {
@@ -71,6 +72,8 @@ class TraceableScene {
   /// Every light: area emitters, point, spot, directional and environment lights.
   const LightSet& lights() const { return *lights_; }
   const TextureSet& textures() const { return *textures_; }
+  /// The purely specular shapes that diffuse vertices aim some bounces at (specular_targets.h).
+  const SpecularTargets& specular_targets() const { return specular_targets_; }
   /// Mitsuba's hide_emitters (RenderSettings).
   bool hide_emitters() const { return hide_emitters_; }
   /// Whether hits carry uv, dpdu and dpdv (only when the scene uses them).
@@ -124,6 +127,7 @@ class TraceableScene {
   std::vector<std::vector<std::unique_ptr<Geometry>>> group_geometries_;
   std::unique_ptr<TextureSet> textures_;
   std::unique_ptr<LightSet> lights_;
+  SpecularTargets specular_targets_;
   bool hide_emitters_ = false;
   std::string isa_;
   std::string device_error_;

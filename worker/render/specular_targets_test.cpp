@@ -1,0 +1,234 @@
+// Specular targets (specular_targets.h): which shapes become targets, their bounding spheres, the
+// mixture's sampling against its pdf (chi-square), its normalisation, and a glass scene rendered
+// with and without the mixture agreeing in its mean.
+#include "target_mixture.h"
+
+#include <cstdlib>
+#include <optional>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "bsdf/chi_square.h"
+#include "renderer.h"
+#include "scene/scene_loader.h"
+#include "test_scenes.h"
+#include "test_statistics.h"
+#include "traceable_scene.h"
+
+namespace tessera {
+namespace {
+
+const std::string kSource = TESSERA_SOURCE_DIR;
+
+/// Sets TESSERA_SPECULAR_TARGETS for this scope (the renderer reads it when it builds a scene).
+class ScopedTargetsEnv {
+ public:
+  explicit ScopedTargetsEnv(const char* value) { setenv("TESSERA_SPECULAR_TARGETS", value, 1); }
+  ~ScopedTargetsEnv() { unsetenv("TESSERA_SPECULAR_TARGETS"); }
+};
+
+/// A mixture at the origin with normal +z, through the chi-square harness's BSDF interface:
+/// u_lobe picks the strategy, u the direction; wo is unused.
+struct MixtureAsBsdf {
+  TargetMixture mix;
+  std::optional<BsdfSample> sample(glm::vec3, float u_lobe, glm::vec2 u) const {
+    const int cone = mix.choose(u_lobe);
+    BsdfSample s;
+    s.wi = cone < 0 ? square_to_cosine_hemisphere(u) : mix.sample_cone(cone, u);
+    s.pdf = mix.pdf(s.wi, s.wi.z, cone);
+    return s;
+  }
+  float pdf(glm::vec3, glm::vec3 wi) const { return mix.pdf(wi, wi.z); }
+};
+
+/// Targets from spheres given directly (centre, radius) in a scene of radius 100.
+SpecularTargets targets_of(const std::vector<SpecularTarget>& spheres) {
+  std::vector<std::unique_ptr<Geometry>> geometries;
+  std::vector<SpecularTargets::ShapeRef> refs;
+  std::vector<RenderMaterial> materials(1);
+  materials[0].type = MaterialType::glass;
+  for (const SpecularTarget& t : spheres) {
+    auto g = std::make_unique<Geometry>();
+    g->kind = Geometry::Kind::sphere;
+    g->center = glm::dvec3(t.center);
+    g->radius = t.radius;
+    refs.push_back({g.get(), nullptr});
+    geometries.push_back(std::move(g));
+  }
+  return SpecularTargets(refs, materials, 100.0f);
+}
+
+/// Beside (at the horizon), above, and partly below the horizon of normal +z at the origin.
+std::vector<SpecularTarget> three_spheres() {
+  return {{{2.0f, 0.0f, 0.3f}, 0.9f}, {{0.4f, 0.3f, 2.0f}, 1.0f}, {{-1.0f, 1.5f, 0.3f}, 0.8f}};
+}
+
+TEST(SpecularTargets, MixtureSamplesItsPdf) {
+  const std::vector<SpecularTarget> spheres = three_spheres();
+  int tests = 0;
+  uint64_t seed = 7;
+  // Each sphere alone, then all three.
+  for (int i = 0; i <= 3; ++i) {
+    const std::vector<SpecularTarget> chosen =
+        i < 3 ? std::vector<SpecularTarget>{spheres[size_t(i)]} : spheres;
+    const SpecularTargets targets = targets_of(chosen);
+    MixtureAsBsdf m;
+    ASSERT_TRUE(m.mix.init(targets, glm::vec3(0.0f), glm::vec3(0, 0, 1)));
+    ASSERT_EQ(m.mix.count(), int(chosen.size()));
+    const test::ChiSquareResult r = test::chi_square_test(m, glm::vec3(0, 0, 1), seed++, 200000, 0.01 / 4);
+    EXPECT_TRUE(r.passed) << "case " << i << ": " << r.message;
+    ++tests;
+  }
+  EXPECT_EQ(tests, 4);
+}
+
+/// The integral of pdf over directions with z > z_min, by the midpoint rule on a fine
+/// (theta, phi) grid.
+double integrate_pdf(const TargetMixture& mix, float z_min) {
+  constexpr int kTheta = 1200, kPhi = 2400;
+  const double dtheta = kPi / kTheta, dphi = 2 * kPi / kPhi;
+  double sum = 0;
+  for (int a = 0; a < kTheta; ++a) {
+    const double theta = (a + 0.5) * dtheta;
+    double ring = 0;
+    for (int b = 0; b < kPhi; ++b) {
+      const glm::vec3 w = test::spherical(float(theta), float((b + 0.5) * dphi));
+      if (w.z > z_min) ring += mix.pdf(w, w.z);
+    }
+    sum += ring * std::sin(theta);
+  }
+  return sum * dtheta * dphi;
+}
+
+TEST(SpecularTargets, PdfIntegratesToOne) {
+  // Cones above the horizon: 1 over the hemisphere. With one partly below: 1 over the sphere
+  // (the cone's lower part is where its samples go below the surface, weight 0).
+  const std::vector<SpecularTarget> spheres = three_spheres();
+  TargetMixture above;
+  ASSERT_TRUE(above.init(targets_of({spheres[1], {{-1.5f, -1.0f, 1.2f}, 0.3f}}), glm::vec3(0.0f),
+                         glm::vec3(0, 0, 1)));
+  EXPECT_NEAR(integrate_pdf(above, 0.0f), 1.0, 2e-3);
+  TargetMixture all;
+  ASSERT_TRUE(all.init(targets_of(spheres), glm::vec3(0.0f), glm::vec3(0, 0, 1)));
+  EXPECT_NEAR(integrate_pdf(all, -2.0f), 1.0, 2e-3);
+}
+
+TEST(SpecularTargets, NoConeForASphereHoldingThePointOrBelowTheHorizon) {
+  const glm::vec3 n(0, 0, 1);
+  TargetMixture mix;
+  // The point inside: no cone.
+  EXPECT_FALSE(mix.init(targets_of({{{0.2f, 0.0f, 0.1f}, 0.5f}}), glm::vec3(0.0f), n));
+  // Wholly below the horizon, or its centre below it: none either.
+  EXPECT_FALSE(mix.init(targets_of({{{0.0f, 1.0f, -2.0f}, 0.5f}}), glm::vec3(0.0f), n));
+  EXPECT_FALSE(mix.init(targets_of({{{0.0f, 2.0f, -0.1f}, 0.5f}}), glm::vec3(0.0f), n));
+  // One inside, one outside: only the outside one is sampled, never a direction toward the
+  // sphere holding the point other than through the cosine strategy's hemisphere.
+  const SpecularTarget inside{{0.0f, 0.0f, 0.2f}, 0.5f}, outside{{1.5f, 0.0f, 1.0f}, 0.8f};
+  ASSERT_TRUE(mix.init(targets_of({inside, outside}), glm::vec3(0.0f), n));
+  ASSERT_EQ(mix.count(), 1);
+  std::mt19937_64 rng(3);
+  const glm::vec3 axis = glm::normalize(outside.center);
+  const float cos_max = std::sqrt(1.0f - outside.radius * outside.radius / glm::dot(outside.center, outside.center));
+  int cone_samples = 0;
+  for (int i = 0; i < 10000; ++i) {
+    const float u_strategy = test::u01(rng);
+    const glm::vec2 u(test::u01(rng), test::u01(rng));
+    const int cone = mix.choose(u_strategy);
+    if (cone < 0) continue;
+    ++cone_samples;
+    EXPECT_EQ(cone, 0);
+    EXPECT_GE(glm::dot(mix.sample_cone(cone, u), axis), cos_max - 1e-5f);
+  }
+  EXPECT_GT(cone_samples, 1000);  // p = 0.23 here
+}
+
+TEST(SpecularTargets, BoundingSphereHoldsEveryPointAndIsTight) {
+  // Points on a unit sphere around (1, 2, 3): Ritter's sphere is within 5 % of it.
+  std::vector<glm::vec3> points;
+  for (int a = 1; a < 20; ++a) {
+    for (int b = 0; b < 40; ++b) {
+      points.push_back(glm::vec3(1, 2, 3) + test::spherical(kPi * a / 20, 2 * kPi * b / 40));
+    }
+  }
+  const SpecularTarget s = bounding_sphere(points);
+  for (const glm::vec3& p : points) EXPECT_LE(glm::length(p - s.center), s.radius);
+  EXPECT_LT(s.radius, 1.05f);
+  // A cube's corners: the box's sphere.
+  std::vector<glm::vec3> corners;
+  for (int i = 0; i < 8; ++i) corners.push_back({(i & 1) ? 1.f : -1.f, (i & 2) ? 1.f : -1.f, (i & 4) ? 1.f : -1.f});
+  const SpecularTarget c = bounding_sphere(corners);
+  for (const glm::vec3& p : corners) EXPECT_LE(glm::length(p - c.center), c.radius);
+  EXPECT_NEAR(c.radius, std::sqrt(3.0f), 1e-5f);
+}
+
+TEST(SpecularTargets, TheBenchmarkScenesTargetTheirGlassAndMirrors) {
+  struct Case {
+    const char* file;
+    int targets;
+  };
+  // hexroom: the mirror sphere, the glass sphere, the mirror tetrahedron; cornell-sphere: its
+  // mirror and glass spheres (meshes); the Cornell box: none.
+  for (const Case c : {Case{"hexroom.json", 3}, Case{"cornell-sphere.json", 2}, Case{"cornell.json", 0}}) {
+    const TraceableScene scene(load_scene_file(kSource + "/scenes/" + c.file), 16, 16, "");
+    EXPECT_EQ(scene.specular_targets().size(), c.targets) << c.file;
+  }
+  const ScopedTargetsEnv off("off");
+  const TraceableScene scene(load_scene_file(kSource + "/scenes/hexroom.json"), 16, 16, "");
+  EXPECT_TRUE(scene.specular_targets().empty());
+}
+
+TEST(SpecularTargets, ASphereAroundTheWholeSceneIsNoTarget) {
+  Scene s;
+  const uint32_t white = test::add_diffuse(s, {0.5, 0.5, 0.5});
+  const uint32_t glass = test::add_material(s, MaterialType::glass);
+  s.shapes.push_back(test::quad({-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1}, white));
+  s.shapes.push_back(test::sphere({0, 0, 0}, 5, glass));
+  s.shapes.push_back(test::sphere({0, 0.5, 0}, 0.2, glass));
+  s.camera.position = {0, 1, 3};
+  s.camera.look_at = {0, 0, 0};
+  const TraceableScene scene(s, 8, 8, "");
+  ASSERT_EQ(scene.specular_targets().size(), 1);
+  EXPECT_NEAR(scene.specular_targets()[0].radius, 0.2f, 1e-6f);
+}
+
+TEST(SpecularTargets, GlassSceneMeanIsTheSameWithAndWithoutTheMixture) {
+  // cornell-sphere, small: the mixture changes which directions diffuse points sample, never the
+  // expected image. Compared per 8x8 block (the caustic under the glass sphere, what the mirror
+  // shows) and as a whole, each within 5 standard errors.
+  const Scene s = load_scene_file(kSource + "/scenes/cornell-sphere.json");
+  constexpr int kSize = 32, kBlock = 8;
+  const uint32_t spp = 256;
+  const auto render = [&](bool mixture) {
+    const ScopedTargetsEnv env(mixture ? "" : "off");
+    const Renderer renderer(s, test::test_job(kSize, kSize, spp));
+    return renderer.render({0, 0, kSize, kSize}, 0, spp);
+  };
+  const Accumulation with = render(true), without = render(false);
+  EXPECT_TRUE(test::all_finite(with));
+  const test::Estimate ew = test::mean_luminance(with), eo = test::mean_luminance(without);
+  std::printf("with the mixture %.6f (SE %.1e), without %.6f (SE %.1e)\n", ew.mean, ew.se, eo.mean, eo.se);
+  EXPECT_NEAR(ew.mean, eo.mean, test::tolerance(ew, eo));
+  for (int by = 0; by < kSize; by += kBlock) {
+    for (int bx = 0; bx < kSize; bx += kBlock) {
+      test::Estimate a, b;
+      for (int y = by; y < by + kBlock; ++y) {
+        for (int x = bx; x < bx + kBlock; ++x) {
+          const test::Estimate pa = test::pixel_luminance(with, size_t(y * kSize + x));
+          const test::Estimate pb = test::pixel_luminance(without, size_t(y * kSize + x));
+          a.mean += pa.mean / (kBlock * kBlock);
+          b.mean += pb.mean / (kBlock * kBlock);
+          a.se += pa.se * pa.se;
+          b.se += pb.se * pb.se;
+        }
+      }
+      a.se = std::sqrt(a.se) / (kBlock * kBlock);
+      b.se = std::sqrt(b.se) / (kBlock * kBlock);
+      EXPECT_NEAR(a.mean, b.mean, test::tolerance(a, b)) << "block at " << bx << ", " << by;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tessera

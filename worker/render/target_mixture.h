@@ -1,0 +1,122 @@
+// The one-sample mixture of bounce directions at a diffuse vertex: cosine-weighted, or uniform
+// in the cone of one of the scene's specular targets (specular_targets.h; docs/renderer.md,
+// "Bounces toward glass and mirrors"). Inlined into path_vertex (path_vertex.h), so the scalar
+// integrator and every wavefront kernel run the same arithmetic.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "frame.h"
+#include "specular_targets.h"
+#include "warp.h"
+
+namespace tessera {
+
+/// The mixture at one diffuse point: with probability p_k, a direction uniform in the cone
+/// subtended by target k; with probability 1 - sum p_k, a cosine-weighted one around the normal.
+/// pdf(w) = (1 - sum p_k) cos / pi + sum_k p_k [w in cone k] / solid_angle_k (solid angle
+/// density), so f cos / pdf weighs every strategy by the balance heuristic: unbiased wherever the
+/// cosine strategy is, and never more than 1 / (1 - sum p_k) times the cosine sample's weight.
+class TargetMixture {
+ public:
+  /// The cones of `targets` seen from `p` with unit normal `n`, and their probabilities: a
+  /// target whose sphere holds p, or whose centre lies on or below n's horizon (the cone at
+  /// least half below it), gets none. Returns whether any cone is left (the mixture is then
+  /// used; else the vertex samples the cosine alone).
+  ///
+  /// The rule for p_k (docs/renderer.md, "Bounces toward glass and mirrors"): kMassFactor times
+  /// the cone's share of the cosine strategy, q_k = solid_angle_k cos(axis) / pi, scaled down so
+  /// that sum p_k <= kMaxTargetProbability. A small cone's density is so raised about
+  /// (1 + kMassFactor)-fold at a cost of 1 / (1 - sum p_k) elsewhere, and sum p_k stays small
+  /// where the targets are small; a cone the cosine already finds often gains less.
+  bool init(const SpecularTargets& targets, glm::vec3 p, glm::vec3 n) {
+    count_ = 0;
+    float sum_p = 0;
+    for (int i = 0; i < targets.size(); ++i) {
+      const SpecularTarget& t = targets[i];
+      const glm::vec3 d = t.center - p;
+      const float dist2 = glm::dot(d, d);
+      const float r2 = t.radius * t.radius;
+      if (!(dist2 > r2)) continue;  // p inside the sphere
+      const float inv_dist = 1.0f / std::sqrt(dist2);
+      const glm::vec3 axis = d * inv_dist;
+      const float cos_axis = glm::dot(axis, n);
+      if (!(cos_axis > 0)) continue;  // at least half the cone below the horizon
+      Cone& c = cones_[count_++];
+      c.axis = axis;
+      const float sin2 = r2 / dist2;
+      // 1 - cos theta_max = sin^2 / (1 + cos): no cancellation for small cones.
+      c.one_minus_cos = sin2 / (1.0f + std::sqrt(1.0f - sin2));
+      c.cos_max = 1.0f - c.one_minus_cos;
+      // q_k = 2 pi (1 - cos theta_max) cos(axis) / pi.
+      c.p = SpecularTargets::kMassFactor * (2.0f * c.one_minus_cos * cos_axis);
+      sum_p += c.p;
+    }
+    if (count_ == 0) return false;
+    const float scale = sum_p > SpecularTargets::kMaxTargetProbability
+                            ? SpecularTargets::kMaxTargetProbability / sum_p
+                            : 1.0f;
+    float cdf = 0;
+    for (int k = 0; k < count_; ++k) {
+      Cone& c = cones_[k];
+      c.p *= scale;
+      cdf += c.p;
+      c.cdf = cdf;
+      c.density = c.p / (2.0f * kPi * c.one_minus_cos);
+    }
+    p_targets_ = cdf;
+    p_cosine_ = 1.0f - cdf;
+    return true;
+  }
+
+  /// The strategy of u_strategy in [0, 1): a cone's index, or -1 for the cosine.
+  int choose(float u_strategy) const {
+    if (u_strategy >= p_targets_) return -1;
+    for (int k = 0; k + 1 < count_; ++k) {
+      if (u_strategy < cones_[k].cdf) return k;
+    }
+    return count_ - 1;
+  }
+
+  /// A direction uniform in cone k (solid angle density 1 / solid_angle_k), from u in [0, 1)^2.
+  glm::vec3 sample_cone(int k, glm::vec2 u) const {
+    const Cone& c = cones_[k];
+    const float cos_theta = 1.0f - u.x * c.one_minus_cos;
+    const float sin_theta = std::sqrt(std::max(0.0f, (1.0f - cos_theta) * (1.0f + cos_theta)));
+    const float phi = 2.0f * kPi * u.y;
+    const glm::vec3 local(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
+    return Frame(c.axis).to_world(local);
+  }
+
+  /// pdf(w) for a unit w with cos_n = dot(w, n). `sampled_cone`: the cone w was drawn from
+  /// (counted as holding w whatever rounding says of its edge), or -1.
+  float pdf(glm::vec3 w, float cos_n, int sampled_cone = -1) const {
+    float pdf = cos_n > 0 ? p_cosine_ * (cos_n * kInvPi) : 0.0f;
+    for (int k = 0; k < count_; ++k) {
+      if (k == sampled_cone || glm::dot(w, cones_[k].axis) >= cones_[k].cos_max) pdf += cones_[k].density;
+    }
+    return pdf;
+  }
+
+  int count() const { return count_; }
+
+ private:
+  struct Cone {
+    glm::vec3 axis;       ///< unit, toward the sphere's centre
+    float one_minus_cos;  ///< 1 - cos theta_max
+    float cos_max;
+    float p;              ///< p_k, the probability of this cone's strategy
+    float cdf;            ///< p_0 + ... + p_k
+    float density;        ///< p_k / solid_angle_k
+  };
+  Cone cones_[SpecularTargets::kMaxTargets];
+  int count_ = 0;
+  float p_targets_ = 0, p_cosine_ = 1;
+};
+
+}  // namespace tessera
