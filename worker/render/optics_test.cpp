@@ -1,5 +1,8 @@
 // Fresnel, reflection and refraction, and a chi-square test of cosine-hemisphere sampling.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -124,6 +127,54 @@ TEST(CosineHemisphere, PassesAChiSquareTest) {
   }
   const double p = chi_square_p_value(chi2, kThetaBins * kPhiBins - 1);
   EXPECT_GT(p, 1e-3) << "chi2 " << chi2;
+}
+
+TEST(SinCosQuarterPi, WithinOneUlpOfTheExactValues) {
+  // Every 997th float of [0, pi/4] (about a million, subnormals to pi/4), both signs:
+  // square_to_concentric_disk's angles; the polynomials must stay within 1 ulp (measured on
+  // every 64th float: 0.73 for sin, 0.97 for cos).
+  const float limit = kPi / 4.0f;
+  uint32_t limit_bits;
+  std::memcpy(&limit_bits, &limit, sizeof limit_bits);
+  double worst_sin = 0, worst_cos = 0;
+  for (uint32_t bits = 1; bits <= limit_bits; bits += 997) {
+    for (const uint32_t sign : {0u, 0x80000000u}) {
+      const uint32_t signed_bits = bits | sign;
+      float x;
+      std::memcpy(&x, &signed_bits, sizeof x);
+      float s, c;
+      sincos_quarter_pi(x, &s, &c);
+      const float exact_s = float(std::sin(double(x))), exact_c = float(std::cos(double(x)));
+      const double ulp_s = std::nextafter(std::abs(exact_s), 1.0f) - std::abs(exact_s);
+      const double ulp_c = std::nextafter(exact_c, 2.0f) - exact_c;
+      worst_sin = std::max(worst_sin, std::abs(double(s) - std::sin(double(x))) / ulp_s);
+      worst_cos = std::max(worst_cos, std::abs(double(c) - std::cos(double(x))) / ulp_c);
+    }
+  }
+  EXPECT_LE(worst_sin, 1.0);
+  EXPECT_LE(worst_cos, 1.0);
+}
+
+TEST(ConcentricDisk, MatchesTheExactMapInEverySector) {
+  // The map with libm's sin and cos in double, on a grid of the square: the same points to
+  // within a few float ulps, in all eight sectors (both branches, both signs).
+  for (int i = 0; i < 64; ++i) {
+    for (int j = 0; j < 64; ++j) {
+      const glm::vec2 u((float(i) + 0.37f) / 64.0f, (float(j) + 0.61f) / 64.0f);
+      const double ox = 2.0 * u.x - 1.0, oy = 2.0 * u.y - 1.0;
+      double r, theta;
+      if (std::abs(ox) > std::abs(oy)) {
+        r = ox;
+        theta = (M_PI / 4) * (oy / ox);
+      } else {
+        r = oy;
+        theta = M_PI / 2 - (M_PI / 4) * (ox / oy);
+      }
+      const glm::vec2 d = square_to_concentric_disk(u);
+      EXPECT_NEAR(d.x, r * std::cos(theta), 4e-7) << u.x << " " << u.y;
+      EXPECT_NEAR(d.y, r * std::sin(theta), 4e-7) << u.x << " " << u.y;
+    }
+  }
 }
 
 TEST(CosineHemisphere, PdfIntegratesToOne) {

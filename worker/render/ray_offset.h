@@ -56,7 +56,7 @@ struct SurfacePoint {
 
 /// next_float_up(v) when offset > 0, next_float_down(v) when offset < 0, else v (a NaN offset
 /// included): the same bits as those two, without their branches (the ray origin's hot path).
-inline float next_float_away(float v, float offset) {
+[[gnu::always_inline]] inline float next_float_away(float v, float offset) {
   // On the bits, so that the compiler needs no branch: |x| in [1, 0x7f800000] is a nonzero
   // number (not NaN), and a value counts as positive when v > 0 would be true.
   const uint32_t vb = std::bit_cast<uint32_t>(v), ob = std::bit_cast<uint32_t>(offset);
@@ -75,7 +75,7 @@ inline float next_float_away(float v, float offset) {
 
 /// The origin for a ray leaving `sp` in direction w: p pushed along the geometric normal, to
 /// the side w points to, past the error box, then rounded one more ulp away.
-inline glm::vec3 offset_ray_origin(const SurfacePoint& sp, glm::vec3 w) {
+[[gnu::always_inline]] inline glm::vec3 offset_ray_origin(const SurfacePoint& sp, glm::vec3 w) {
   const float d = glm::dot(glm::abs(sp.ng), sp.p_error);
   glm::vec3 offset = d * sp.ng;
   if (glm::dot(w, sp.ng) < 0) offset = -offset;

@@ -304,46 +304,6 @@ void TraceableScene::add_instance(const Shape& shape, const std::vector<RTCScene
   geometries_.push_back(std::move(g));
 }
 
-// Inlined into intersect(): a call per closest hit costs more than the hit record itself.
-[[gnu::always_inline]] inline void TraceableScene::fill_triangle_hit(const Geometry& g, uint32_t primitive,
-                                                                     float b1, float b2, Hit* hit) const {
-  const glm::u32vec3 tri = g.indices[primitive];
-  // References, not copies: GCC otherwise moves each vertex through the stack.
-  const glm::vec3 &p0 = g.positions[tri.x], &p1 = g.positions[tri.y], &p2 = g.positions[tri.z];
-  const float b0 = 1.0f - b1 - b2;
-  hit->barycentric = {b1, b2};
-  hit->sp.p = b0 * p0 + b1 * p1 + b2 * p2;
-  hit->sp.p_error = glm::vec3(g.point_errors[primitive]);
-  hit->sp.ng = g.face_normals[primitive];
-  if (g.normals.empty()) {
-    hit->ns = hit->sp.ng;
-  } else {
-    glm::vec3 ns = b0 * g.normals[tri.x] + b1 * g.normals[tri.y] + b2 * g.normals[tri.z];
-    const float len = glm::length(ns);
-    ns = len > 0 ? ns / len : hit->sp.ng;
-    hit->ns = glm::dot(ns, hit->sp.ng) < 0 ? -ns : ns;
-  }
-  if (!need_uv_) return;
-  const glm::vec3 e1 = p1 - p0, e2 = p2 - p0;
-  if (g.uvs.empty()) {
-    hit->uv = {b1, b2};
-    hit->dpdu = e1;
-    hit->dpdv = e2;
-    return;
-  }
-  const glm::vec2 uv0 = g.uvs[tri.x], duv0 = g.uvs[tri.y] - uv0, duv1 = g.uvs[tri.z] - uv0;
-  hit->uv = uv0 + b1 * duv0 + b2 * duv1;
-  const float det = duv0.x * duv1.y - duv0.y * duv1.x;
-  if (det != 0 && std::isfinite(1.0f / det)) {
-    const float inv = 1.0f / det;
-    hit->dpdu = (duv1.y * e1 - duv0.y * e2) * inv;
-    hit->dpdv = (duv0.x * e2 - duv1.x * e1) * inv;
-  } else {
-    hit->dpdu = e1;
-    hit->dpdv = e2;
-  }
-}
-
 void TraceableScene::fill_sphere_hit(const Geometry& g, const glm::vec3& o, const glm::vec3& d,
                                      float t, Hit* hit) const {
   // Re-project the hit onto the sphere in double: the point is then accurate to float
@@ -429,8 +389,8 @@ bool TraceableScene::intersect(const Ray& ray, Hit* hit) const {
   return true;
 }
 
-void TraceableScene::make_hit(const Ray& ray, uint32_t geometry_id, uint32_t instance_id, uint32_t primitive,
-                              float t, float b1, float b2, Hit* hit) const {
+void TraceableScene::make_hit_other(const Ray& ray, uint32_t geometry_id, uint32_t instance_id, uint32_t primitive,
+                                    float t, float b1, float b2, Hit* hit) const {
   const Geometry& g = instance_id == RTC_INVALID_GEOMETRY_ID
                           ? *geometries_[geometry_id]
                           : *group_geometries_[geometries_[instance_id]->group][geometry_id];

@@ -2,12 +2,14 @@
 // from the editable Scene description.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <embree3/rtcore.h>
+#include <glm/geometric.hpp>
 
 #include "camera.h"
 #include "light/light_set.h"
@@ -62,8 +64,23 @@ class TraceableScene {
   /// instID[0]; RTC_INVALID_GEOMETRY_ID when not instanced), `primitive`, `t` (tfar) and the
   /// barycentrics `b1`, `b2` (hit u, v). The same fields give the same bits as intersect().
   /// `geometry_id` must not be RTC_INVALID_GEOMETRY_ID.
-  void make_hit(const Ray& ray, uint32_t geometry_id, uint32_t instance_id, uint32_t primitive, float t,
-                float b1, float b2, Hit* hit) const;
+  ///
+  /// Inline for a triangle that is not instanced (the common case, built into each wavefront
+  /// kernel's instruction set); every other hit goes out of line (make_hit_other).
+  [[gnu::always_inline]] void make_hit(const Ray& ray, uint32_t geometry_id, uint32_t instance_id,
+                                       uint32_t primitive, float t, float b1, float b2, Hit* hit) const {
+    if (instance_id == RTC_INVALID_GEOMETRY_ID) {
+      const Geometry& g = *geometries_[geometry_id];
+      if (g.kind == Geometry::Kind::triangles) {
+        hit->geometry = &g;
+        hit->primitive = primitive;
+        hit->geometry_id = geometry_id;
+        fill_triangle_hit(g, primitive, b1, b2, hit);
+        return;
+      }
+    }
+    make_hit_other(ray, geometry_id, instance_id, primitive, t, b1, b2, hit);
+  }
   /// True when something blocks o + t d for t in [0, t_max].
   bool occluded(glm::vec3 o, glm::vec3 d, float t_max) const;
 
@@ -104,6 +121,10 @@ class TraceableScene {
   std::unique_ptr<Geometry> add_sdfgrid(const Shape& shape, RTCScene target);
   void add_instance(const Shape& shape, const std::vector<RTCScene>& group_scenes);
   void attach(RTCGeometry geom, RTCScene target, size_t expected_id, const std::string& origin);
+  /// make_hit() for every hit but a triangle that is not instanced.
+  void make_hit_other(const Ray& ray, uint32_t geometry_id, uint32_t instance_id, uint32_t primitive,
+                      float t, float b1, float b2, Hit* hit) const;
+  /// Inline (defined below the class): make_hit(), intersect() and fill_instance_hit().
   void fill_triangle_hit(const Geometry& g, uint32_t primitive, float b1, float b2, Hit* hit) const;
   void fill_sphere_hit(const Geometry& g, const glm::vec3& o, const glm::vec3& d, float t, Hit* hit) const;
   /// `voxel`: the hit's Embree u (geometry/sdf_grid.h).
@@ -134,5 +155,46 @@ class TraceableScene {
   /// Whether anything reads a hit's uv, dpdu, dpdv (textures, anisotropic roughness).
   bool need_uv_ = false;
 };
+
+// Inlined into intersect() and make_hit(): a call per closest hit costs more than the hit record
+// itself.
+[[gnu::always_inline]] inline void TraceableScene::fill_triangle_hit(const Geometry& g, uint32_t primitive,
+                                                                     float b1, float b2, Hit* hit) const {
+  const glm::u32vec3 tri = g.indices[primitive];
+  // References, not copies: GCC otherwise moves each vertex through the stack.
+  const glm::vec3 &p0 = g.positions[tri.x], &p1 = g.positions[tri.y], &p2 = g.positions[tri.z];
+  const float b0 = 1.0f - b1 - b2;
+  hit->barycentric = {b1, b2};
+  hit->sp.p = b0 * p0 + b1 * p1 + b2 * p2;
+  hit->sp.p_error = glm::vec3(g.point_errors[primitive]);
+  hit->sp.ng = g.face_normals[primitive];
+  if (g.normals.empty()) {
+    hit->ns = hit->sp.ng;
+  } else {
+    glm::vec3 ns = b0 * g.normals[tri.x] + b1 * g.normals[tri.y] + b2 * g.normals[tri.z];
+    const float len = glm::length(ns);
+    ns = len > 0 ? ns / len : hit->sp.ng;
+    hit->ns = glm::dot(ns, hit->sp.ng) < 0 ? -ns : ns;
+  }
+  if (!need_uv_) return;
+  const glm::vec3 e1 = p1 - p0, e2 = p2 - p0;
+  if (g.uvs.empty()) {
+    hit->uv = {b1, b2};
+    hit->dpdu = e1;
+    hit->dpdv = e2;
+    return;
+  }
+  const glm::vec2 uv0 = g.uvs[tri.x], duv0 = g.uvs[tri.y] - uv0, duv1 = g.uvs[tri.z] - uv0;
+  hit->uv = uv0 + b1 * duv0 + b2 * duv1;
+  const float det = duv0.x * duv1.y - duv0.y * duv1.x;
+  if (det != 0 && std::isfinite(1.0f / det)) {
+    const float inv = 1.0f / det;
+    hit->dpdu = (duv1.y * e1 - duv0.y * e2) * inv;
+    hit->dpdv = (duv0.x * e2 - duv1.x * e1) * inv;
+  } else {
+    hit->dpdu = e1;
+    hit->dpdv = e2;
+  }
+}
 
 }  // namespace tessera

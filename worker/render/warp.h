@@ -13,23 +13,37 @@ namespace tessera {
 inline constexpr float kPi = 3.14159265358979323846f;
 inline constexpr float kInvPi = 0.31830988618379067154f;
 
+/// sin(x) and cos(x) for x in [-pi/4, pi/4], from Cephes' single-precision minimax polynomials
+/// (sinf.c, cosf.c: within about 1 ulp of the exact values there). Ours rather than libm's
+/// sinf/cosf so that every caller, scalar or lane-wise, and every kernel instruction set gets the
+/// same bits from plain IEEE multiplies and adds (-ffp-contract=off: no fused multiply-add), and
+/// so that the hot cosine-weighted direction needs no call into libm (BENCHMARKS.md, "Cost per
+/// sample, cost8").
+[[gnu::always_inline]] inline void sincos_quarter_pi(float x, float* sin_x, float* cos_x) {
+  const float z = x * x;
+  *sin_x = ((-1.9515295891e-4f * z + 8.3321608736e-3f) * z - 1.6666654611e-1f) * z * x + x;
+  *cos_x = ((2.443315711809948e-5f * z - 1.388731625493765e-3f) * z + 4.166664568298827e-2f) * z * z -
+           0.5f * z + 1.0f;
+}
+
 /// Shirley-Chiu concentric map of [0,1)^2 onto the unit disk (area preserving, low distortion).
-inline glm::vec2 square_to_concentric_disk(glm::vec2 u) {
+/// The angle is pi/4 (o.y / o.x) in the sectors where |o.x| > |o.y|, else pi/2 - pi/4 (o.x / o.y),
+/// whose cosine and sine are the sine and cosine of pi/4 (o.x / o.y): one sincos_quarter_pi either
+/// way.
+[[gnu::always_inline]] inline glm::vec2 square_to_concentric_disk(glm::vec2 u) {
   const glm::vec2 o = 2.0f * u - glm::vec2(1.0f);
   if (o.x == 0.0f && o.y == 0.0f) return {0.0f, 0.0f};
-  float r, theta;
+  float s, c;
   if (std::abs(o.x) > std::abs(o.y)) {
-    r = o.x;
-    theta = (kPi / 4.0f) * (o.y / o.x);
-  } else {
-    r = o.y;
-    theta = (kPi / 2.0f) - (kPi / 4.0f) * (o.x / o.y);
+    sincos_quarter_pi((kPi / 4.0f) * (o.y / o.x), &s, &c);
+    return {o.x * c, o.x * s};
   }
-  return {r * std::cos(theta), r * std::sin(theta)};
+  sincos_quarter_pi((kPi / 4.0f) * (o.x / o.y), &s, &c);
+  return {o.y * s, o.y * c};
 }
 
 /// Cosine-weighted direction on the hemisphere around +z (Malley's method): pdf = cos(theta)/pi.
-inline glm::vec3 square_to_cosine_hemisphere(glm::vec2 u) {
+[[gnu::always_inline]] inline glm::vec3 square_to_cosine_hemisphere(glm::vec2 u) {
   const glm::vec2 d = square_to_concentric_disk(u);
   const float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));
   return {d.x, d.y, z};

@@ -121,26 +121,6 @@ std::optional<AreaLight::Rectangle> AreaLight::find_rectangle(const Geometry& g)
   return r;
 }
 
-AreaLight::PointSample AreaLight::rectangle_point(float a, float b) const {
-  // Barycentric weights of (a, b) on the near triangle (corner, x, y) or the far one
-  // (opposite, x, y): the interpolation of a triangle's points, so the point lies on what
-  // Embree traces and carries that triangle's error bound and uvs.
-  const Geometry& g = *g_;
-  const Rectangle& r = *rectangle_;
-  const bool near = a + b <= 1.0f;
-  const uint32_t tri = near ? r.near : r.far;
-  const uint32_t v0 = near ? r.v_corner : r.v_opposite;
-  const float w0 = near ? 1.0f - a - b : a + b - 1.0f;
-  const float wx = near ? a : 1.0f - b;
-  const float wy = near ? b : 1.0f - a;
-  PointSample s;
-  s.sp.p = w0 * g.positions[v0] + wx * g.positions[r.v_x] + wy * g.positions[r.v_y];
-  s.sp.p_error = glm::vec3(g.point_errors[tri]);
-  s.sp.ng = g.face_normals[tri];
-  if (!g.uvs.empty()) s.uv = w0 * g.uvs[v0] + wx * g.uvs[r.v_x] + wy * g.uvs[r.v_y];
-  return s;
-}
-
 bool AreaLight::outside_sphere(glm::vec3 ref) const {
   // Clearly outside: a point on the sphere itself (the emitter's own surface, an enclosure's
   // inside) sees the sphere's far side, not the near cap the cone covers, and rounding may put
@@ -180,52 +160,6 @@ AreaLight::PointSample AreaLight::sample_point(glm::vec2 u) const {
   return s;
 }
 
-namespace {
-
-/// The light sample towards ps from ref: by solid angle with density solid_angle_pdf (> 0),
-/// or by area (solid_angle_pdf == 0).
-[[gnu::always_inline]] inline LightSample towards(const AreaLight& light, glm::vec3 ref,
-                                                  const AreaLight::PointSample& ps,
-                                                  float solid_angle_pdf) {
-  LightSample s;
-  const glm::vec3 to_light = ps.sp.p - ref;
-  const float dist2 = glm::dot(to_light, to_light);
-  if (!(dist2 > 0)) return s;
-  const float distance = std::sqrt(dist2);
-  const glm::vec3 wi = to_light / distance;
-  const float cos_light = std::abs(glm::dot(ps.sp.ng, wi));
-  const glm::vec3 le = light.emitted(ps.uv, ps.sp.ng, -wi);
-  if (!(cos_light > 0) || le == glm::vec3(0.0f)) return s;
-  s.wi = wi;
-  s.distance = distance;
-  s.radiance = le;
-  s.pdf = solid_angle_pdf > 0 ? solid_angle_pdf : dist2 / (cos_light * light.area());
-  s.point = ps.sp;
-  return s;
-}
-
-}  // namespace
-
-LightSample AreaLight::sample(glm::vec3 ref, glm::vec2 u) const {
-  if (!(area_ > 0)) return {};
-  if (sampling_ == Sampling::rectangle) {
-    // solid_angle_sampled and behind, on one difference vector.
-    // Most points lie in front of the light and more than its diagonal off its plane: by area,
-    // from dn alone.
-    const Rectangle& r = *rectangle_;
-    const glm::vec3 d = ref - r.center;
-    const float dn = glm::dot(d, r.normal);
-    if (dn < 0 || !r.beyond_diagonal_of_plane(dn)) {
-      const float d2 = glm::dot(d, d);
-      if (r.behind(d2, dn)) return {};
-      if (r.by_solid_angle(d2, dn)) return sample_solid_angle(ref, u);
-    }
-  } else if (sampling_ == Sampling::sphere_cone && outside_sphere(ref)) {
-    return sample_solid_angle(ref, u);
-  }
-  return towards(*this, ref, sample_point(u), 0.0f);
-}
-
 LightSample AreaLight::sample_solid_angle(glm::vec3 ref, glm::vec2 u) const {
   const Geometry& g = *g_;
   PointSample ps;
@@ -248,7 +182,7 @@ LightSample AreaLight::sample_solid_angle(glm::vec3 ref, glm::vec2 u) const {
     }
   }
   if (!(solid_angle_pdf > 0)) return {};
-  return towards(*this, ref, ps, solid_angle_pdf);
+  return towards(ref, ps, solid_angle_pdf);
 }
 
 glm::vec3 AreaLight::textured_emission(glm::vec2 uv) const {

@@ -50,7 +50,27 @@ class AreaLight {
   /// rectangle when solid_angle_sampled(ref); otherwise by area, d^2 / (|cos| area). pdf 0
   /// when the point sends nothing towards ref (its back, a black texel) or lies on ref, and
   /// at once, with nothing drawn, where ref is behind() the light.
-  LightSample sample(glm::vec3 ref, glm::vec2 u) const;
+  /// Inline (LightSet::sample, the path vertex's hot path); solid-angle sampling and meshes
+  /// other than rectangles go out of line.
+  [[gnu::always_inline]] LightSample sample(glm::vec3 ref, glm::vec2 u) const {
+    if (!(area_ > 0)) return {};
+    if (sampling_ == Sampling::rectangle) {
+      // solid_angle_sampled and behind, on one difference vector.
+      // Most points lie in front of the light and more than its diagonal off its plane: by area,
+      // from dn alone.
+      const Rectangle& r = *rectangle_;
+      const glm::vec3 d = ref - r.center;
+      const float dn = glm::dot(d, r.normal);
+      if (dn < 0 || !r.beyond_diagonal_of_plane(dn)) {
+        const float d2 = glm::dot(d, d);
+        if (r.behind(d2, dn)) return {};
+        if (r.by_solid_angle(d2, dn)) return sample_solid_angle(ref, u);
+      }
+      return towards(ref, rectangle_point(u.x, u.y), 0.0f);  // sample_point(u) for a rectangle
+    }
+    if (sampling_ == Sampling::sphere_cone && outside_sphere(ref)) return sample_solid_angle(ref, u);
+    return towards(ref, sample_point(u), 0.0f);
+  }
   /// Whether sample() draws points by solid angle from ref: for a sphere when ref lies outside
   /// it by more than 1e-3 of its radius (+ 1e-5 of |centre|: points on the sphere itself see
   /// its inside); for a rectangle when ref is at least 1e-5 of the rectangle's diagonal off its
@@ -76,7 +96,7 @@ class AreaLight {
   /// Radiance leaving the surface point with front-facing normal ng and texture coordinates
   /// uv towards w: emission * texture(uv) when w is on the front (or emission is two-sided),
   /// 0 otherwise.
-  glm::vec3 emitted(glm::vec2 uv, glm::vec3 ng, glm::vec3 w) const {
+  [[gnu::always_inline]] glm::vec3 emitted(glm::vec2 uv, glm::vec3 ng, glm::vec3 w) const {
     // Inline: every light sample and every path that hits an emitter asks.
     const Geometry& g = *g_;
     if (!(glm::dot(ng, w) > 0) && !g.two_sided_emission) return glm::vec3(0.0f);
@@ -140,7 +160,44 @@ class AreaLight {
   /// sample() by solid angle (solid_angle_sampled(ref)).
   LightSample sample_solid_angle(glm::vec3 ref, glm::vec2 u) const;
   /// The point of the rectangle at (a, b) in [0,1]^2: corner + a ex + b ey.
-  PointSample rectangle_point(float a, float b) const;
+  [[gnu::always_inline]] PointSample rectangle_point(float a, float b) const {
+    // Barycentric weights of (a, b) on the near triangle (corner, x, y) or the far one
+    // (opposite, x, y): the interpolation of a triangle's points, so the point lies on what
+    // Embree traces and carries that triangle's error bound and uvs.
+    const Geometry& g = *g_;
+    const Rectangle& r = *rectangle_;
+    const bool near = a + b <= 1.0f;
+    const uint32_t tri = near ? r.near : r.far;
+    const uint32_t v0 = near ? r.v_corner : r.v_opposite;
+    const float w0 = near ? 1.0f - a - b : a + b - 1.0f;
+    const float wx = near ? a : 1.0f - b;
+    const float wy = near ? b : 1.0f - a;
+    PointSample s;
+    s.sp.p = w0 * g.positions[v0] + wx * g.positions[r.v_x] + wy * g.positions[r.v_y];
+    s.sp.p_error = glm::vec3(g.point_errors[tri]);
+    s.sp.ng = g.face_normals[tri];
+    if (!g.uvs.empty()) s.uv = w0 * g.uvs[v0] + wx * g.uvs[r.v_x] + wy * g.uvs[r.v_y];
+    return s;
+  }
+  /// The light sample towards ps from ref: by solid angle with density solid_angle_pdf (> 0),
+  /// or by area (solid_angle_pdf == 0).
+  [[gnu::always_inline]] LightSample towards(glm::vec3 ref, const PointSample& ps, float solid_angle_pdf) const {
+    LightSample s;
+    const glm::vec3 to_light = ps.sp.p - ref;
+    const float dist2 = glm::dot(to_light, to_light);
+    if (!(dist2 > 0)) return s;
+    const float distance = std::sqrt(dist2);
+    const glm::vec3 wi = to_light / distance;
+    const float cos_light = std::abs(glm::dot(ps.sp.ng, wi));
+    const glm::vec3 le = emitted(ps.uv, ps.sp.ng, -wi);
+    if (!(cos_light > 0) || le == glm::vec3(0.0f)) return s;
+    s.wi = wi;
+    s.distance = distance;
+    s.radiance = le;
+    s.pdf = solid_angle_pdf > 0 ? solid_angle_pdf : dist2 / (cos_light * area_);
+    s.point = ps.sp;
+    return s;
+  }
 
   const Geometry* g_;
   std::optional<Rectangle> rectangle_;

@@ -3,12 +3,18 @@
 #pragma once
 
 #include <array>
+#include <cmath>
+#include <cstring>
 #include <cstddef>
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <vector>
 
 #include "render/light/light_bounds.h"
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 namespace tessera {
 
@@ -44,6 +50,8 @@ class LightImportance {
   /// Writes every light's importance at p (unit geometric normal n, either side; n == 0: a point
   /// in a medium) into importance[0 .. size()) and returns their sum, added in light order
   /// (0 when no light can reach p). `importance` must hold kMaxLights floats.
+  /// Inline (below: the light picker's hot path, built into each wavefront kernel's
+  /// instruction set); more than one block goes out of line.
   float evaluate_all(const glm::vec3& p, const glm::vec3& n, float* importance) const;
   /// Light i's importance at p: bit for bit evaluate_all's importance[i].
   float evaluate(uint32_t i, const glm::vec3& p, const glm::vec3& n) const;
@@ -71,5 +79,105 @@ class LightImportance {
   uint32_t block_count_ = 0;
   uint32_t count_ = 0;
 };
+
+
+namespace light_importance_detail {
+
+// GCC's vector extensions: +, -, *, / and comparisons lane by lane, IEEE in every lane, on
+// whatever vector unit the target has (or none). -ffp-contract=off keeps a * b + c two
+// roundings, as in the scalar code.
+using Float4 = float __attribute__((vector_size(16)));
+using Mask4 = int32_t __attribute__((vector_size(16)));
+
+[[gnu::always_inline]] inline Float4 load(const float* v) {
+  Float4 r;
+  std::memcpy(&r, v, sizeof r);
+  return r;
+}
+[[gnu::always_inline]] inline Mask4 load(const int32_t* v) {
+  Mask4 r;
+  std::memcpy(&r, v, sizeof r);
+  return r;
+}
+[[gnu::always_inline]] inline Float4 splat(float x) { return Float4{x, x, x, x}; }
+
+/// Correctly rounded in every lane (sqrtps, or the scalar sqrt lane by lane): the same bits.
+[[gnu::always_inline]] inline Float4 sqrt4(Float4 x) {
+#if defined(__SSE__)
+  return _mm_sqrt_ps(x);
+#else
+  return Float4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
+#endif
+}
+[[gnu::always_inline]] inline Float4 abs4(Float4 x) {
+  Mask4 bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  bits &= 0x7fffffff;
+  std::memcpy(&x, &bits, sizeof x);
+  return x;
+}
+/// max(x, lo) lane by lane; lo where x is NaN.
+[[gnu::always_inline]] inline Float4 at_least(Float4 x, Float4 lo) { return x > lo ? x : lo; }
+/// min(x, hi) lane by lane.
+[[gnu::always_inline]] inline Float4 at_most(Float4 x, Float4 hi) { return x < hi ? x : hi; }
+
+/// The importance of the block's four lights at p (normal n, has_n: n != 0). Written once,
+/// called by evaluate_all and evaluate alike, so a lane's bits never depend on the caller.
+[[gnu::always_inline]] inline Float4 block_importance(const LightImportance::Block& b, Float4 px,
+                                                      Float4 py, Float4 pz, Float4 nx, Float4 ny,
+                                                      Float4 nz, bool has_n) {
+  const Float4 zero = splat(0.0f), one = splat(1.0f);
+  const Float4 dx = px - load(b.cx), dy = py - load(b.cy), dz = pz - load(b.cz);
+  const Float4 d2 = dx * dx + dy * dy + dz * dz;
+  const Float4 r2 = load(b.radius2);
+  const Float4 inv_dist = one / sqrt4(d2);
+  // theta_b: the half-angle the bounding sphere subtends at p.
+  const Float4 sin_b = load(b.radius) * inv_dist;
+  const Float4 cos_b = sqrt4(at_least(d2 - r2, zero)) * inv_dist;
+
+  // At the light: theta_x = max(0, theta_w - theta_o), the smallest angle between a normal and
+  // the direction to p's centre, then minus theta_b, compared with theta_e.
+  Float4 cos_w = (load(b.wx) * dx + load(b.wy) * dy + load(b.wz) * dz) * inv_dist;
+  cos_w = load(b.two_sided) ? abs4(cos_w) : cos_w;
+  const Float4 cos_o = load(b.cos_o), sin_o = load(b.sin_o);
+  const Float4 sin_w = sqrt4(at_least(one - cos_w * cos_w, zero));
+  const Mask4 outside_cone = cos_w < cos_o;
+  const Float4 cos_x = outside_cone ? cos_w * cos_o + sin_w * sin_o : one;
+  const Float4 sin_x = outside_cone ? sin_w * cos_o - cos_w * sin_o : zero;
+  const Float4 cos_light = cos_x >= cos_b ? one : cos_x * cos_b + sin_x * sin_b;
+  Float4 importance = load(b.phi) * cos_light / d2;
+
+  // At p: the smallest angle between its normal (either side) and a direction to the light.
+  if (has_n) {
+    const Float4 cos_i = abs4((nx * dx + ny * dy + nz * dz) * inv_dist);
+    const Float4 sin_i = sqrt4(at_least(one - cos_i * cos_i, zero));
+    const Float4 cos_p = cos_i >= cos_b ? one : cos_i * cos_b + sin_i * sin_b;
+    importance *= at_least(cos_p, splat(1e-3f));
+  }
+  importance = at_most(at_least(importance, load(b.min_importance)),
+                       splat(LightImportance::kMaxImportance));
+  // Unreachable only where the bound says so by more than float rounding (cos_e holds
+  // cos theta_e - kReachSlack); a NaN (from an infinite distance) reaches.
+  const Mask4 unreachable = cos_light <= load(b.cos_e);
+  importance = unreachable ? zero : importance;
+  // Inside the bounds there is no angle to bound (lights at infinity: always inside).
+  return d2 <= r2 ? load(b.inside) : importance;
+}
+
+}  // namespace light_importance_detail
+
+[[gnu::always_inline]] inline float LightImportance::evaluate_all(const glm::vec3& p, const glm::vec3& n,
+                                                                  float* importance) const {
+  using namespace light_importance_detail;
+  const bool has_n = n.x != 0 || n.y != 0 || n.z != 0;  // else a point in a medium
+  if (block_count_ != 1) return evaluate_blocks(p, n, has_n, importance);
+  // Up to four lights (the benchmark scenes): one block, no loop, nothing kept on the stack.
+  const Float4 v = block_importance(blocks_[0], splat(p.x), splat(p.y), splat(p.z), splat(n.x),
+                                    splat(n.y), splat(n.z), has_n);
+  std::memcpy(importance, &v, sizeof v);
+  float sum = 0;
+  for (uint32_t i = 0; i < count_; ++i) sum += v[i];
+  return sum;
+}
 
 }  // namespace tessera

@@ -19,28 +19,6 @@ LightPicker::LightPicker(std::vector<LightBounds> bounds, const std::vector<doub
   if (bounds.size() >= 2 && bounds.size() <= kMaxPerPoint) importance_ = LightImportance(bounds);
 }
 
-uint32_t LightPicker::pick_per_point(float u, const SurfacePoint& ref, float* pmf,
-                                     float* sum) const {
-  std::array<float, kMaxPerPoint> importance;
-  const float total = importance_.evaluate_all(ref.p, ref.ng, importance.data());
-  if (sum) *sum = total;
-  *pmf = 0;
-  if (!(total > 0)) return 0;
-  // The first light whose cumulative importance exceeds u * total; lights of importance 0 are
-  // never chosen (if rounding carries u * total past the sum, the last light with any).
-  const float target = u * total;
-  float cumulative = 0;
-  uint32_t chosen = 0;
-  for (uint32_t i = 0; i < importance_.size(); ++i) {
-    if (!(importance[i] > 0)) continue;
-    chosen = i;
-    cumulative += importance[i];
-    if (target < cumulative) break;
-  }
-  *pmf = importance[chosen] / total;
-  return chosen;
-}
-
 float LightPicker::importance_sum(const SurfacePoint& ref) const {
   if (!per_point()) return kUnknownSum;
   std::array<float, kMaxPerPoint> importance;

@@ -1,6 +1,7 @@
 // Choosing which light a shading point samples.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -32,7 +33,7 @@ class LightPicker {
   /// light can reach ref (every importance 0), returns 0 with *pmf = 0. If `sum` is given, the
   /// sum of the importances at ref goes there (kUnknownSum when picking by power), for pmf()
   /// at the same ref. Must not be called without lights.
-  uint32_t pick(float u, const SurfacePoint& ref, float* pmf, float* sum = nullptr) const {
+  [[gnu::always_inline]] uint32_t pick(float u, const SurfacePoint& ref, float* pmf, float* sum = nullptr) const {
     // By power inline: a scene of one light pays nothing for picking per point, nor for
     // searching a distribution of one.
     if (!per_point()) {
@@ -68,5 +69,27 @@ class LightPicker {
   /// over their sum, rounded to float: 1 - 2^-24 for some weights).
   bool single_ = false;
 };
+
+[[gnu::always_inline]] inline uint32_t LightPicker::pick_per_point(float u, const SurfacePoint& ref, float* pmf,
+                                     float* sum) const {
+  std::array<float, kMaxPerPoint> importance;
+  const float total = importance_.evaluate_all(ref.p, ref.ng, importance.data());
+  if (sum) *sum = total;
+  *pmf = 0;
+  if (!(total > 0)) return 0;
+  // The first light whose cumulative importance exceeds u * total; lights of importance 0 are
+  // never chosen (if rounding carries u * total past the sum, the last light with any).
+  const float target = u * total;
+  float cumulative = 0;
+  uint32_t chosen = 0;
+  for (uint32_t i = 0; i < importance_.size(); ++i) {
+    if (!(importance[i] > 0)) continue;
+    chosen = i;
+    cumulative += importance[i];
+    if (target < cumulative) break;
+  }
+  *pmf = importance[chosen] / total;
+  return chosen;
+}
 
 }  // namespace tessera

@@ -106,15 +106,13 @@ LightSet::LightSet(const std::vector<const Geometry*>& area_emitters,
                         powers_of(lights_, double(scene_radius)));
 }
 
-LightSample LightSet::sample(const SurfacePoint& ref, float u_pick, glm::vec2 u) const {
-  if (lights_.empty()) return {};
-  float pick_pmf = 0, pick_sum = LightPicker::kUnknownSum;
-  const uint32_t index = picker_.pick(u_pick, ref, &pick_pmf, &pick_sum);
+LightSample LightSet::sample_other(uint32_t index, float pick_pmf, float pick_sum,
+                                   const SurfacePoint& ref, glm::vec2 u) const {
   LightSample s = std::visit(
       [&](const auto& l) -> LightSample {
         using T = std::decay_t<decltype(l)>;
         if constexpr (std::is_same_v<T, AreaLight>) {
-          return l.sample(ref.p, u);
+          return l.sample(ref.p, u);  // not reached: sample() handles area lights
         } else if constexpr (std::is_same_v<T, PointLight> || std::is_same_v<T, SpotLight> ||
                              std::is_same_v<T, ProjectorLight>) {
           return l.sample(ref.p);

@@ -54,7 +54,21 @@ class LightSet {
   /// (environment(), pdf_environment()), so that the same density weighs a BSDF-sampled ray
   /// escaping along wi. LightSample::pick_sum carries the picker's work at ref to pdf_area and
   /// pdf_environment.
-  LightSample sample(const SurfacePoint& ref, float u_pick, glm::vec2 u) const;
+  ///
+  /// Inline, with area lights in line too (AreaLight::sample): the path vertex calls it for
+  /// every diffuse hit, so it is built into each wavefront kernel's instruction set
+  /// (docs/renderer.md, "Kernels per instruction set"); other lights go out of line.
+  [[gnu::always_inline]] LightSample sample(const SurfacePoint& ref, float u_pick, glm::vec2 u) const {
+    if (lights_.empty()) return {};
+    float pick_pmf = 0, pick_sum = LightPicker::kUnknownSum;
+    const uint32_t index = picker_.pick(u_pick, ref, &pick_pmf, &pick_sum);
+    if (index >= area_count_) return sample_other(index, pick_pmf, pick_sum, ref, u);
+    LightSample s = std::get_if<AreaLight>(&lights_[index])->sample(ref.p, u);  // area lights first
+    s.pdf *= pick_pmf;
+    if (!(s.pdf > 0)) return {};
+    s.pick_sum = pick_sum;
+    return s;
+  }
 
   /// Radiance leaving an emitting surface point of geometry g (primitive, uv; ng its
   /// front-facing unit geometric normal) towards w. 0 for a geometry that does not emit.
@@ -81,6 +95,10 @@ class LightSet {
   using AnyLight =
       std::variant<AreaLight, PointLight, SpotLight, DirectionalLight, ConstantLight, EnvmapLight,
                    ProjectorLight>;
+
+  /// sample() for light `index` (not an area light), picked with probability pick_pmf.
+  LightSample sample_other(uint32_t index, float pick_pmf, float pick_sum, const SurfacePoint& ref,
+                           glm::vec2 u) const;
 
   /// Solid-angle density of environment light i (constant or envmap) for direction d.
   float environment_pdf(uint32_t i, glm::vec3 d) const;
