@@ -1,6 +1,7 @@
 #include "specular_targets.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -102,12 +103,17 @@ SpecularTarget shape_sphere(const Geometry& g, const glm::mat4* to_world) {
   return bounding_sphere(world);
 }
 
+/// How many SpecularTargets::DisabledForTest are alive.
+std::atomic<int> disabled_for_test{0};
+
 }  // namespace
+
+SpecularTargets::DisabledForTest::DisabledForTest() { disabled_for_test.fetch_add(1); }
+SpecularTargets::DisabledForTest::~DisabledForTest() { disabled_for_test.fetch_sub(1); }
 
 SpecularTargets::SpecularTargets(const std::vector<ShapeRef>& shapes, const std::vector<RenderMaterial>& materials,
                                  float scene_radius) {
-  // TESSERA_SPECULAR_TARGETS=off: no targets (for tests that compare against the cosine alone).
-  if (const char* env = std::getenv("TESSERA_SPECULAR_TARGETS"); env && std::string(env) == "off") return;
+  if (disabled_for_test.load(std::memory_order_relaxed) > 0) return;
   for (const ShapeRef& s : shapes) {
     const Geometry& g = *s.geometry;
     if (g.material >= materials.size() || !purely_specular(materials[g.material], materials)) continue;

@@ -42,14 +42,24 @@ class SpecularTargets {
   /// The targets among `shapes` (each: its Geometry, already in world space except that an
   /// instance's shapes are passed with their instance's to_world) whose material in
   /// `materials` is purely specular. `scene_radius`: the radius of the scene's bounding sphere.
-  /// The environment variable TESSERA_SPECULAR_TARGETS=off gives no targets (a switch for
-  /// tests that compare the mixture with the cosine alone).
+  /// While a DisabledForTest lives, there are no targets (tests that compare the mixture with
+  /// the cosine alone). Nothing outside a test binary can switch it: no flag or environment
+  /// variable reaches it, so every worker of a farm builds the same targets (the determinism
+  /// contract, docs/design.md).
   struct ShapeRef {
     const Geometry* geometry;
     const glm::mat4* to_world;  ///< nullptr: the geometry is in world space
   };
   SpecularTargets(const std::vector<ShapeRef>& shapes, const std::vector<RenderMaterial>& materials,
                   float scene_radius);
+
+  class DisabledForTest {
+   public:
+    DisabledForTest();
+    ~DisabledForTest();
+    DisabledForTest(const DisabledForTest&) = delete;
+    DisabledForTest& operator=(const DisabledForTest&) = delete;
+  };
 
   bool empty() const { return targets_.empty(); }
   int size() const { return int(targets_.size()); }

@@ -22,12 +22,6 @@ namespace {
 
 const std::string kSource = TESSERA_SOURCE_DIR;
 
-/// Sets TESSERA_SPECULAR_TARGETS for this scope (the renderer reads it when it builds a scene).
-class ScopedTargetsEnv {
- public:
-  explicit ScopedTargetsEnv(const char* value) { setenv("TESSERA_SPECULAR_TARGETS", value, 1); }
-  ~ScopedTargetsEnv() { unsetenv("TESSERA_SPECULAR_TARGETS"); }
-};
 
 /// A mixture at the origin with normal +z, through the chi-square harness's BSDF interface:
 /// u_lobe picks the strategy, u the direction; wo is unused.
@@ -174,7 +168,7 @@ TEST(SpecularTargets, TheBenchmarkScenesTargetTheirGlassAndMirrors) {
     const TraceableScene scene(load_scene_file(kSource + "/scenes/" + c.file), 16, 16, "");
     EXPECT_EQ(scene.specular_targets().size(), c.targets) << c.file;
   }
-  const ScopedTargetsEnv off("off");
+  const SpecularTargets::DisabledForTest off;
   const TraceableScene scene(load_scene_file(kSource + "/scenes/hexroom.json"), 16, 16, "");
   EXPECT_TRUE(scene.specular_targets().empty());
 }
@@ -201,7 +195,8 @@ TEST(SpecularTargets, GlassSceneMeanIsTheSameWithAndWithoutTheMixture) {
   constexpr int kSize = 32, kBlock = 8;
   const uint32_t spp = 256;
   const auto render = [&](bool mixture) {
-    const ScopedTargetsEnv env(mixture ? "" : "off");
+    std::optional<SpecularTargets::DisabledForTest> off;
+    if (!mixture) off.emplace();
     const Renderer renderer(s, test::test_job(kSize, kSize, spp));
     return renderer.render({0, 0, kSize, kSize}, 0, spp);
   };
