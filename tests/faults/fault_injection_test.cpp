@@ -239,10 +239,16 @@ TEST(Faults, ServerSigkilledWhileCommittingResultsAndRestarted) {
       // between result transactions.
       std::this_thread::sleep_for(
           std::chrono::microseconds(std::uniform_int_distribution<int>(0, 20000)(rng)));
+      // The workers are stopped across the restart so that the look below sees the store as the
+      // restarted server left it: a worker reconnecting first would hold fresh leases (a race
+      // that failed this test in CI). Their uploads already in flight still reach the server
+      // before the kill.
+      for (int w = 0; w < 3; ++w) farm.worker(w).signal(SIGSTOP);
       farm.kill_server();
       ++kills;
-      farm.start_server();  // same database and port; the workers reconnect by themselves
+      farm.start_server();  // same database and port
       const v1::JobInfo after = farm.job(id);
+      for (int w = 0; w < 3; ++w) farm.worker(w).signal(SIGCONT);  // they reconnect by themselves
       // Nothing accepted before the kill is lost (more may have been accepted after the look).
       EXPECT_GE(after.counters().units_done(), before.counters().units_done());
       EXPECT_GE(after.counters().results_merged(), before.counters().results_merged());
