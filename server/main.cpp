@@ -274,9 +274,10 @@ CLI::Option* limit_option(CLI::App& app, const std::string& name, T& target, con
 
 int main(int argc, char** argv) {
   // gRPC locks absl::Mutex many times per call. The distribution's Abseil is built without
-  // NDEBUG, so each lock also updated Abseil's global lock-order graph (its deadlock detector,
-  // about 5 % of the server's CPU under load: BENCHMARKS.md, "Issue 14: server capacity (branch
-  // farm9)"). The server's own locks are std::mutex; nothing here relies on that detector.
+  // NDEBUG, so each lock also updated Abseil's global lock-order graph (its deadlock detector:
+  // GraphCycles was 0.5-2.5 % of the server's CPU in the profiles of BENCHMARKS.md, "Issue 14:
+  // server capacity (branch farm9)"). The server's own locks are std::mutex; nothing here relies
+  // on that detector.
   absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
   CLI::App app{"tessera-server: the render farm's coordinator (gRPC API, SQLite job store)"};
   Flags flags;
