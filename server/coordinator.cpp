@@ -138,6 +138,11 @@ StoreCounters Coordinator::store_counters() {
   return db_.counters();
 }
 
+uint64_t Coordinator::empty_looks_reused() {
+  std::lock_guard lock(mu_);
+  return empty_looks_reused_;
+}
+
 int Coordinator::resume() {
   // Start-up reads the leased units (by their partial index), one row per job and index probes:
   // no other unit row and no tile (BENCHMARKS.md, "restart").
@@ -426,6 +431,33 @@ std::optional<LeasedUnit> Coordinator::lease(int64_t worker_id, std::chrono::mil
   return std::move(units.front());
 }
 
+std::vector<LeasedUnit> Coordinator::look_for_units(int64_t worker_id, uint32_t max_units,
+                                                    uint64_t work_version) {
+  const int64_t now = clock_.now_unix_ms();
+  const auto last = empty_looks_.find(worker_id);
+  if (last != empty_looks_.end() && last->second.work_version == work_version &&
+      now >= last->second.unix_ms && now - last->second.unix_ms < kEmptyLookReuseMs) {
+    ++empty_looks_reused_;
+    return {};  // nothing that could make a unit leasable happened since its last look
+  }
+  std::vector<LeasedUnit> units;
+  std::map<int64_t, JobSpec> specs;  // one read per job, not per unit
+  for (const Lease& lease : scheduler_.lease_up_to(worker_id, std::max(1u, max_units))) {
+    auto spec = specs.find(lease.job_id);
+    if (spec == specs.end()) spec = specs.emplace(lease.job_id, *jobs_.spec(lease.job_id)).first;
+    const JobPlan plan = spec->second.options.plan();
+    units.push_back(LeasedUnit{lease, *jobs_.tile_rect(lease.job_id, lease.tile),
+                               plan.batch_begin(lease.batch), plan.batch_end(lease.batch),
+                               spec->second.options, spec->second.bundle_sha256});
+  }
+  if (units.empty()) {
+    empty_looks_[worker_id] = EmptyLook{work_version, now};
+  } else if (last != empty_looks_.end()) {
+    empty_looks_.erase(last);
+  }
+  return units;
+}
+
 std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max_units,
                                                  std::chrono::milliseconds wait,
                                                  const std::function<bool()>& cancelled) {
@@ -451,15 +483,7 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
       }
       first_look = false;
       touch_or_throw(worker_id, call);
-      std::map<int64_t, JobSpec> specs;  // one read per job, not per unit
-      for (const Lease& lease : scheduler_.lease_up_to(worker_id, std::max(1u, max_units))) {
-        auto spec = specs.find(lease.job_id);
-        if (spec == specs.end()) spec = specs.emplace(lease.job_id, *jobs_.spec(lease.job_id)).first;
-        const JobPlan plan = spec->second.options.plan();
-        units.push_back(LeasedUnit{lease, *jobs_.tile_rect(lease.job_id, lease.tile),
-                                   plan.batch_begin(lease.batch), plan.batch_end(lease.batch),
-                                   spec->second.options, spec->second.bundle_sha256});
-      }
+      units = look_for_units(worker_id, max_units, seen);
     }
     if (!units.empty()) {
       notify_changed(false);  // progress (the job may have started); no work for others

@@ -200,6 +200,12 @@ class Coordinator {
   /// What the store has executed since the server started (StoreCounters): the statements a
   /// lease or an accepted result costs (tests/farm/store_cost_test.cpp, BENCHMARKS.md).
   StoreCounters store_counters();
+  /// Lease looks answered without the store since the server started: the worker's previous
+  /// look found nothing and nothing that could make a unit leasable happened since
+  /// (kEmptyLookReuseMs; tests and BENCHMARKS.md).
+  uint64_t empty_looks_reused();
+  /// How long an empty look answers for the same worker while nothing notifies work_.
+  static constexpr int64_t kEmptyLookReuseMs = 1000;
 
   /// Every answered upload is reported to `observer` (the dashboard's counters). Call before
   /// serving; nullptr reports nothing. The observer must outlive the coordinator's calls.
@@ -288,6 +294,24 @@ class Coordinator {
   ChangeNotifier changes_;  ///< anything a watcher shows changed (WatchJob, the dashboard)
   /// A unit may have become leasable: wakes long-polling LeaseUnit calls (a subset of changes_).
   ChangeNotifier work_;
+  /// A worker's last look that found no unit (it held none and none was leasable to it): the
+  /// work_ version read before that look, and when (clock_). A look at the same version within
+  /// kEmptyLookReuseMs finds nothing either and is answered without the store: every event
+  /// that can make a unit leasable notifies work_; what time alone can change (a worker's
+  /// failure block lapsing) is seen at most that much later. Idle workers' long polls looked
+  /// into the store at every wake-up (BENCHMARKS.md, "Issue 14: server capacity (branch
+  /// farm9)"). Guarded by mu_.
+  struct EmptyLook {
+    uint64_t work_version = 0;
+    int64_t unix_ms = 0;
+  };
+  std::map<int64_t, EmptyLook> empty_looks_;
+  uint64_t empty_looks_reused_ = 0;  ///< looks answered by empty_looks_ (guarded by mu_)
+  /// One look for `worker_id`'s units (Scheduler::lease_up_to), or none when its last look at
+  /// `work_version` (work_'s version read before this look) found nothing less than
+  /// kEmptyLookReuseMs ago. Requires mu_.
+  std::vector<LeasedUnit> look_for_units(int64_t worker_id, uint32_t max_units,
+                                         uint64_t work_version);
   /// Notifies changes_, and work_ too when `work` (the change may let a unit be leased).
   void notify_changed(bool work) {
     changes_.notify();

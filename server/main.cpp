@@ -1,6 +1,7 @@
 // tessera-server: the farm's coordinator (docs/farm.md). gRPC for clients and workers, SQLite
 // store, scheduler, leases, in-order merge, image output. Security (tokens, TLS, limits) is
 // described in docs/security.md; shutdown and worker health in docs/reliability.md.
+#include <absl/synchronization/mutex.h>
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
@@ -219,7 +220,13 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   // does not wait for them. Joined before serve() returns (never unloaded mid-exit).
   std::thread image_module_loader([] {
     try {
+      const auto began = std::chrono::steady_clock::now();
       ts::load_image_module();
+      // tests/load/load_test.cpp waits for this line: the server's CPU after it is what serving
+      // costs, without the module's load.
+      std::cout << "tessera-server: image module loaded ("
+                << std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count()
+                << " s)" << std::endl;
     } catch (const std::exception& e) {
       std::cerr << "tessera-server: warning: " << e.what() << " (tried again at the first image)"
                 << std::endl;
@@ -266,6 +273,12 @@ CLI::Option* limit_option(CLI::App& app, const std::string& name, T& target, con
 }  // namespace
 
 int main(int argc, char** argv) {
+  // gRPC locks absl::Mutex many times per call. The distribution's Abseil is built without
+  // NDEBUG, so each lock also updated Abseil's global lock-order graph (its deadlock detector:
+  // GraphCycles was 0.5-2.5 % of the server's CPU in the profiles of BENCHMARKS.md, "Issue 14:
+  // server capacity (branch farm9)"). The server's own locks are std::mutex; nothing here relies
+  // on that detector.
+  absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
   CLI::App app{"tessera-server: the render farm's coordinator (gRPC API, SQLite job store)"};
   Flags flags;
   app.add_option("--grpc", flags.grpc_address, "gRPC listen address HOST:PORT (port 0: any free)")

@@ -147,5 +147,61 @@ TEST_F(StoreCost, RowsVisitedPerCycleDoNotGrowWithTheUnitsDone) {
   EXPECT_LT(late, 1.5 * early);
 }
 
+// An idle worker's long poll looks again at every wake-up; while nothing that could make a unit
+// leasable happened (work_ unchanged), a look within Coordinator::kEmptyLookReuseMs of the
+// worker's last empty look is answered without the store (BENCHMARKS.md, "Issue 14: server
+// capacity (branch farm9)").
+TEST_F(StoreCost, AnIdleWorkersLooksAgainCostNoStatementWhileNothingChanged) {
+  const int64_t worker = farm_->register_worker({"w", 4, "avx2", "test"});
+  const auto look = [&] {
+    return farm_->lease_units(worker, 16, std::chrono::milliseconds(0), [] { return false; });
+  };
+  EXPECT_TRUE(look().empty());  // a look in the store: no job
+  const StoreCounters before = farm_->store_counters();
+  const uint64_t reused_before = farm_->empty_looks_reused();
+  for (int i = 0; i < 9; ++i) {
+    clock_.advance(Coordinator::kEmptyLookReuseMs / 10);
+    EXPECT_TRUE(look().empty());
+  }
+  EXPECT_EQ(farm_->store_counters().statements - before.statements, 0u);
+  EXPECT_EQ(farm_->empty_looks_reused() - reused_before, 9u);
+  // Past the reuse period the store is asked again (what only time changes, such as a
+  // worker's failure block lapsing, is seen then).
+  clock_.advance(Coordinator::kEmptyLookReuseMs / 10);
+  const StoreCounters again = farm_->store_counters();
+  EXPECT_TRUE(look().empty());
+  EXPECT_GT(farm_->store_counters().statements - again.statements, 0u);
+}
+
+// Whatever may make a unit leasable notifies the coordinator's work notifier, and a look after
+// it asks the store at once, within the reuse period: here a submit and a release.
+TEST_F(StoreCost, AnEmptyLookIsNotReusedOnceWorkMayHaveAppeared) {
+  const int64_t worker = farm_->register_worker({"w", 4, "avx2", "test"});
+  const int64_t other = farm_->register_worker({"o", 4, "avx2", "test"});
+  const auto look = [&](int64_t w, uint32_t n) {
+    return farm_->lease_units(w, n, std::chrono::milliseconds(0), [] { return false; });
+  };
+  EXPECT_TRUE(look(worker, 1).empty());
+  submit(1);  // 64 tiles, one unit each
+  const std::vector<LeasedUnit> mine = look(worker, 1);
+  ASSERT_EQ(mine.size(), 1u);  // the submit is seen at once, not after kEmptyLookReuseMs
+  ASSERT_EQ(look(other, 63).size(), 63u);
+  const LeasedUnit& u = mine.front();
+  ASSERT_TRUE(farm_->upload(testing::result_for(
+                                u.lease, testing::StoreFixture::synthetic(
+                                             u.rect, u.lease.batch, u.sample_end - u.sample_begin)))
+                  .accepted);
+  EXPECT_TRUE(look(worker, 1).empty());  // every unit is done or leased to `other`
+  EXPECT_TRUE(look(worker, 1).empty());  // ... and this look was answered from memory
+  const std::vector<LeasedUnit> held = look(other, 63);  // its leases, handed again
+  ASSERT_EQ(held.size(), 63u);
+  ASSERT_TRUE(farm_->release(other, held.front().lease.lease_id, ReleaseReason::shutdown,
+                             "stopping")
+                  .released);
+  const std::vector<LeasedUnit> back = look(worker, 1);  // the same instant
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back.front().lease.tile, held.front().lease.tile);
+}
+
 }  // namespace
 }  // namespace tessera::server
