@@ -86,7 +86,7 @@ class TargetMixture {
   }
 
   /// The strategy of u_strategy in [0, 1): a cone's index, or -1 for the cosine.
-  [[gnu::always_inline]] int choose(float u_strategy) const {
+  int choose(float u_strategy) const {
     if (u_strategy >= p_targets_) return -1;
     for (int k = 0; k + 1 < count_; ++k) {
       if (u_strategy < cones_[k].cdf) return k;
@@ -98,7 +98,7 @@ class TargetMixture {
   /// the concentric disk's point (x, y) at radius r gives 1 - cos theta = r^2 (1 - cos theta_max)
   /// (uniform in the cap, as r^2 is uniform) and the azimuth of (x, y), so sin theta (x, y) / r =
   /// (x, y) sqrt((1 - cos theta_max)(2 - r^2 (1 - cos theta_max))): no sine, cosine or division.
-  [[gnu::always_inline]] glm::vec3 sample_cone(int k, glm::vec2 u) const {
+  glm::vec3 sample_cone(int k, glm::vec2 u) const {
     const Cone& c = cones_[k];
     const glm::vec2 disk = square_to_concentric_disk(u);
     const float one_minus_cos = glm::dot(disk, disk) * c.one_minus_cos;
@@ -109,7 +109,7 @@ class TargetMixture {
 
   /// pdf(w) for a unit w with cos_n = dot(w, n). `sampled_cone`: the cone w was drawn from
   /// (counted as holding w whatever rounding says of its edge), or -1.
-  [[gnu::always_inline]] float pdf(glm::vec3 w, float cos_n, int sampled_cone = -1) const {
+  float pdf(glm::vec3 w, float cos_n, int sampled_cone = -1) const {
     float pdf = cos_n > 0 ? p_cosine_ * (cos_n * kInvPi) : 0.0f;
     for (int k = 0; k < count_; ++k) {
       if (k == sampled_cone || glm::dot(w, cones_[k].axis) >= cones_[k].cos_max) pdf += cones_[k].density;
