@@ -292,7 +292,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
     } else {
       // The strategy from pair + 3's x, which this path leaves free (a mask takes its y).
       sampler.set_pair(pair + 3);
-      const int cone = mix.choose(sampler.get2d().x);
+      const int cone = mix.choose(sampler.get2d_x());
       wi = cone < 0 ? Frame(ns).to_world(square_to_cosine_hemisphere(u_bsdf)) : mix.sample_cone(cone, u_bsdf);
       const float cos_n = glm::dot(wi, ns);
       if (!(cos_n > 0) || glm::dot(wi, sp.ng) <= 0) return false;
@@ -333,7 +333,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       }
     }
     sampler.set_pair(pair + 3);
-    const float u_lobe = sampler.get2d().x;
+    const float u_lobe = sampler.get2d_x();
     const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
     const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
     if (!bs) return false;

@@ -1,5 +1,6 @@
 // Rays spawned off surfaces never hit the surface they leave, at any scene scale (the shape of
 // pbrt-v4's Reintersect tests in shapes_test.cpp).
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -104,6 +105,67 @@ TEST_P(Reintersect, SpheresAreNotHitAgainLeavingAndHitOnTheFarSideEntering) {
   }
   EXPECT_GT(outward, 10000);
   EXPECT_GT(inward, 10000);
+}
+
+/// The crossings of o + t d with the sphere in long double, from the unit direction (the
+/// textbook stable form): the reference for intersect_sphere's.
+bool reference_crossings(const glm::dvec3& c, double r, const glm::dvec3& o, const glm::dvec3& d,
+                         long double* t0, long double* t1) {
+  const long double dx = d.x, dy = d.y, dz = d.z;
+  const long double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+  const long double ux = dx / len, uy = dy / len, uz = dz / len;
+  const long double fx = (long double)o.x - c.x, fy = (long double)o.y - c.y, fz = (long double)o.z - c.z;
+  const long double b = fx * ux + fy * uy + fz * uz;
+  const long double lx = fx - b * ux, ly = fy - b * uy, lz = fz - b * uz;
+  const long double disc = (long double)r * r - (lx * lx + ly * ly + lz * lz);
+  if (disc < 0) return false;
+  const long double s = std::sqrt(disc);
+  *t0 = (-b - s) / len;
+  *t1 = (-b + s) / len;
+  return true;
+}
+
+TEST(SphereIntersect, RootsAreAccurateForAnyDirectionLength) {
+  // Directions of length 1e-3 to 1e3 (intersect_sphere does not normalise them), from near and
+  // far origins (up to 1e4 radii), some grazing the silhouette: each root within a few hundred
+  // double ulps of the long-double reference, relative to the distance scale |f| / |d|, plus
+  // what the discriminant's own rounding (about eps r^2) moves a root of a grazing ray by.
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int hits = 0, misses = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const double r = std::pow(10.0, -3.0 + 5.0 * u(rng));
+    const glm::dvec3 c = random_point(rng, 1e3);
+    const glm::dvec3 away(square_to_uniform_sphere({float(u(rng)), float(u(rng))}));
+    const glm::dvec3 o = c + away * (r * std::pow(10.0, 0.01 + 4.0 * u(rng)));
+    // Toward a point at up to 1.02 radii from the centre, off the line from o to the centre.
+    const glm::dvec3 side(square_to_uniform_sphere({float(u(rng)), float(u(rng))}));
+    const glm::dvec3 aim = c + glm::normalize(glm::cross(side, away) + 1e-9 * side) * (r * 1.2 * u(rng));
+    const glm::dvec3 d = glm::normalize(aim - o) * std::pow(10.0, -3.0 + 6.0 * u(rng));
+    double t0 = 0, t1 = 0;
+    long double r0 = 0, r1 = 0;
+    const bool found = intersect_sphere(c, r, o, d, &t0, &t1);
+    const bool expected = reference_crossings(c, r, o, d, &r0, &r1);
+    const double scale = (glm::length(o - c) + r) / glm::length(d);
+    if (found != expected) {
+      // Only a ray that grazes the sphere within rounding may disagree.
+      const double chord = found ? t1 - t0 : double(r1 - r0);
+      EXPECT_LT(std::abs(chord), 1e-6 * scale) << "trial " << trial;
+      continue;
+    }
+    if (!found) {
+      ++misses;
+      continue;
+    }
+    ++hits;
+    EXPECT_LE(t0, t1);
+    const double len = glm::length(d), half_chord = double(r1 - r0) / 2;
+    const double tolerance = 1e-13 * scale + 1e-14 * r * r / (half_chord * len * len);
+    EXPECT_NEAR(t0, double(r0), tolerance) << "trial " << trial;
+    EXPECT_NEAR(t1, double(r1), tolerance) << "trial " << trial;
+  }
+  EXPECT_GT(hits, 10000);
+  EXPECT_GT(misses, 1000);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scales, Reintersect, ::testing::Values(1e-3, 1.0, 1e4));

@@ -207,6 +207,16 @@ class PixelSampler {
     return {to_unit_float(uint32_t(yx)), to_unit_float(uint32_t(yx >> 32))};
   }
 
+  /// get2d().x alone, with the same bits (and the same step to the next pair): for the
+  /// decisions that take one number (a BSDF's lobe, the bounce mixture's strategy;
+  /// path_vertex.h), without y's scramble and reversal.
+  float get2d_x() {
+    if (pair_ >= kSobolPairs) return get2d_independent().x;
+    const uint64_t h = pair_hash(pair_++);
+    const uint64_t dim1_shuffled = unreverse_with_sobol_dim1(laine_karras_hash(index_reversed_, shuffle_seed(h)));
+    return to_unit_float(reverse_bits32(laine_karras_hash(uint32_t(dim1_shuffled), x_seed(h))));
+  }
+
   /// get2d() by its definition, without the algebra (for tests).
   glm::vec2 get2d_reference() {
     const uint64_t h = hash_combine(pixel_key_, pair_++);

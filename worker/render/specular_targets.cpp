@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 
 #include <glm/mat3x3.hpp>
 #include <string>
@@ -128,6 +129,21 @@ SpecularTargets::SpecularTargets(const std::vector<ShapeRef>& shapes, const std:
                      [](const SpecularTarget& a, const SpecularTarget& b) { return a.radius > b.radius; });
     targets_.resize(size_t(kMaxTargets));
   }
+  for (size_t i = 0; i < targets_.size(); ++i) {
+    lanes_.cx[i] = targets_[i].center.x;
+    lanes_.cy[i] = targets_[i].center.y;
+    lanes_.cz[i] = targets_[i].center.z;
+    lanes_.r2[i] = targets_[i].radius * targets_[i].radius;
+  }
+}
+
+SpecularTargets::Lanes SpecularTargets::empty_lanes() {
+  Lanes l;
+  for (int i = 0; i < kMaxTargets; ++i) {
+    l.cx[i] = l.cy[i] = l.cz[i] = 0.0f;
+    l.r2[i] = std::numeric_limits<float>::infinity();
+  }
+  return l;
 }
 
 }  // namespace tessera

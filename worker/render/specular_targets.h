@@ -65,8 +65,22 @@ class SpecularTargets {
   int size() const { return int(targets_.size()); }
   const SpecularTarget& operator[](int i) const { return targets_[size_t(i)]; }
 
+  /// The targets' centres and radii squared as arrays (TargetMixture::init reads them at every
+  /// diffuse vertex; r^2 computed once here). Entries past size() have r2 = infinity, so that
+  /// no point lies outside them.
+  struct Lanes {
+    alignas(32) float cx[kMaxTargets];
+    alignas(32) float cy[kMaxTargets];
+    alignas(32) float cz[kMaxTargets];
+    alignas(32) float r2[kMaxTargets];
+  };
+  const Lanes& lanes() const { return lanes_; }
+
  private:
   std::vector<SpecularTarget> targets_;
+  Lanes lanes_ = empty_lanes();
+
+  static Lanes empty_lanes();
 };
 
 /// Whether every lobe of `m` (and of its back material) is a delta: mirror, smooth conductor,

@@ -7,25 +7,41 @@
 
 namespace tessera {
 
+namespace {
+
+// intersect_sphere's body, inlined into the Embree callbacks (called out of line it cost the
+// hexroom's callbacks a call and the vectors' round trip through memory per lane).
+[[gnu::always_inline]] inline bool sphere_roots(const glm::dvec3& center, double radius, const glm::dvec3& o,
+                                                const glm::dvec3& d, double* t0, double* t1) {
+  // Haines et al.'s form without normalising d (one division and one square root fewer per
+  // ray, and a miss costs one division): with a = |d|^2, b = f.d and l = f - (b / a) d, the
+  // discriminant b^2 - a c equals a (r^2 - |l|^2), whose second factor is the squared distance
+  // from the centre to the line, computed from the closest point rather than as |f|^2 - b^2 / a,
+  // which cancels catastrophically for far-away rays. Then q = -b - sign(b) sqrt(a (r^2 - |l|^2))
+  // and the roots are q / a and c / q, each free of cancellation.
+  const double a = glm::dot(d, d);
+  if (!(a > 0)) return false;
+  const double inv_a = 1.0 / a;
+  const glm::dvec3 f = o - center;
+  const double b = glm::dot(f, d);
+  const glm::dvec3 l = f - (b * inv_a) * d;
+  const double r2 = radius * radius;
+  const double disc = r2 - glm::dot(l, l);
+  if (disc < 0) return false;
+  const double c = glm::dot(f, f) - r2;
+  const double q = -b - std::copysign(std::sqrt(a * disc), b);
+  double a0 = q * inv_a, a1 = q == 0 ? 0 : c / q;
+  if (a0 > a1) std::swap(a0, a1);
+  *t0 = a0;
+  *t1 = a1;
+  return true;
+}
+
+}  // namespace
+
 bool intersect_sphere(const glm::dvec3& center, double radius, const glm::dvec3& o,
                       const glm::dvec3& d, double* t0, double* t1) {
-  const double len = glm::length(d);
-  if (!(len > 0)) return false;
-  const glm::dvec3 dh = d / len;
-  const glm::dvec3 f = o - center;
-  const double b = glm::dot(f, dh);
-  // The squared distance from the centre to the line, computed from the closest point rather
-  // than as |f|^2 - b^2, which cancels catastrophically for far-away rays.
-  const glm::dvec3 l = f - b * dh;
-  const double disc = radius * radius - glm::dot(l, l);
-  if (disc < 0) return false;
-  const double c = glm::dot(f, f) - radius * radius;
-  const double q = -b - std::copysign(std::sqrt(disc), b);
-  double a0 = q, a1 = q == 0 ? 0 : c / q;
-  if (a0 > a1) std::swap(a0, a1);
-  *t0 = a0 / len;
-  *t1 = a1 / len;
-  return true;
+  return sphere_roots(center, radius, o, d, t0, t1);
 }
 
 namespace {
@@ -53,9 +69,10 @@ void sphere_bounds(const RTCBoundsFunctionArguments* args) {
 }
 
 /// The nearest crossing of o + t d with t in (tnear, tfar], or NaN.
-double nearest_crossing(const Geometry* s, const glm::dvec3& o, const glm::dvec3& d, float tnear, float tfar) {
+[[gnu::always_inline]] inline double nearest_crossing(const Geometry* s, const glm::dvec3& o, const glm::dvec3& d,
+                                                     float tnear, float tfar) {
   double t0, t1;
-  if (!intersect_sphere(s->center, s->radius, o, d, &t0, &t1)) return NAN;
+  if (!sphere_roots(s->center, s->radius, o, d, &t0, &t1)) return NAN;
   if (t0 > tnear && t0 <= tfar) return t0;
   if (t1 > tnear && t1 <= tfar) return t1;
   return NAN;

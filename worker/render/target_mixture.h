@@ -35,39 +35,50 @@ class TargetMixture {
   /// (1 + kMassFactor)-fold at a cost of 1 / (1 - sum p_k) elsewhere, and sum p_k stays small
   /// where the targets are small; a cone the cosine already finds often gains less.
   bool init(const SpecularTargets& targets, glm::vec3 p, glm::vec3 n) {
+    // At every diffuse vertex of a scene with targets, so kept cheap (BENCHMARKS.md, "Cost per
+    // sample, branch cost9"): the horizon test first, on the unnormalised direction (no square
+    // root for a target behind the surface), r^2 precomputed per scene, one square root and one
+    // division for the axis, and no division for the density (p_k / solid_angle_k reduces to
+    // kMassFactor cos(axis) scale / pi).
+    const SpecularTargets::Lanes& t = targets.lanes();
     count_ = 0;
     float sum_p = 0;
-    for (int i = 0; i < targets.size(); ++i) {
-      const SpecularTarget& t = targets[i];
-      const glm::vec3 d = t.center - p;
+    const int size = targets.size();
+    for (int i = 0; i < size; ++i) {
+      const glm::vec3 d(t.cx[i] - p.x, t.cy[i] - p.y, t.cz[i] - p.z);
+      const float dn = glm::dot(d, n);
+      if (!(dn > 0)) continue;  // the centre on or below the horizon: at least half the cone below it
       const float dist2 = glm::dot(d, d);
-      const float r2 = t.radius * t.radius;
+      const float r2 = t.r2[i];
       if (!(dist2 > r2)) continue;  // p inside the sphere
       const float inv_dist = 1.0f / std::sqrt(dist2);
-      const glm::vec3 axis = d * inv_dist;
-      const float cos_axis = glm::dot(axis, n);
-      if (!(cos_axis > 0)) continue;  // at least half the cone below the horizon
-      Cone& c = cones_[count_++];
-      c.axis = axis;
-      const float sin2 = r2 / dist2;
+      const float sin2 = std::min(r2 * (inv_dist * inv_dist), 1.0f);
       // 1 - cos theta_max = sin^2 / (1 + cos): no cancellation for small cones.
-      c.one_minus_cos = sin2 / (1.0f + std::sqrt(1.0f - sin2));
-      c.cos_max = 1.0f - c.one_minus_cos;
+      const float one_minus_cos = sin2 / (1.0f + std::sqrt(1.0f - sin2));
+      const float cos_axis = dn * inv_dist;
       // q_k = 2 pi (1 - cos theta_max) cos(axis) / pi.
-      c.p = SpecularTargets::kMassFactor * (2.0f * c.one_minus_cos * cos_axis);
-      sum_p += c.p;
+      const float q = SpecularTargets::kMassFactor * (2.0f * one_minus_cos * cos_axis);
+      if (!(q > 0)) continue;  // a cone too small for float: never chosen, so never counted
+      Cone& c = cones_[count_++];
+      c.axis = d * inv_dist;
+      c.one_minus_cos = one_minus_cos;
+      c.cos_max = 1.0f - one_minus_cos;
+      c.cos_axis = cos_axis;
+      c.p = q;
+      sum_p += q;
     }
     if (count_ == 0) return false;
     const float scale = sum_p > SpecularTargets::kMaxTargetProbability
                             ? SpecularTargets::kMaxTargetProbability / sum_p
                             : 1.0f;
+    // p_k / solid_angle_k = kMassFactor 2 (1 - cos) cos(axis) scale / (2 pi (1 - cos)).
+    const float density_factor = SpecularTargets::kMassFactor * kInvPi * scale;
     float cdf = 0;
     for (int k = 0; k < count_; ++k) {
       Cone& c = cones_[k];
-      c.p *= scale;
-      cdf += c.p;
+      cdf += c.p * scale;
       c.cdf = cdf;
-      c.density = c.p / (2.0f * kPi * c.one_minus_cos);
+      c.density = c.cos_axis * density_factor;
     }
     p_targets_ = cdf;
     p_cosine_ = 1.0f - cdf;
@@ -83,13 +94,16 @@ class TargetMixture {
     return count_ - 1;
   }
 
-  /// A direction uniform in cone k (solid angle density 1 / solid_angle_k), from u in [0, 1)^2.
+  /// A direction uniform in cone k (solid angle density 1 / solid_angle_k), from u in [0, 1)^2:
+  /// the concentric disk's point (x, y) at radius r gives 1 - cos theta = r^2 (1 - cos theta_max)
+  /// (uniform in the cap, as r^2 is uniform) and the azimuth of (x, y), so sin theta (x, y) / r =
+  /// (x, y) sqrt((1 - cos theta_max)(2 - r^2 (1 - cos theta_max))): no sine, cosine or division.
   glm::vec3 sample_cone(int k, glm::vec2 u) const {
     const Cone& c = cones_[k];
-    const float cos_theta = 1.0f - u.x * c.one_minus_cos;
-    const float sin_theta = std::sqrt(std::max(0.0f, (1.0f - cos_theta) * (1.0f + cos_theta)));
-    const float phi = 2.0f * kPi * u.y;
-    const glm::vec3 local(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
+    const glm::vec2 disk = square_to_concentric_disk(u);
+    const float one_minus_cos = glm::dot(disk, disk) * c.one_minus_cos;
+    const float scale = std::sqrt(std::max(0.0f, c.one_minus_cos * (2.0f - one_minus_cos)));
+    const glm::vec3 local(disk.x * scale, disk.y * scale, 1.0f - one_minus_cos);
     return Frame(c.axis).to_world(local);
   }
 
@@ -110,7 +124,8 @@ class TargetMixture {
     glm::vec3 axis;       ///< unit, toward the sphere's centre
     float one_minus_cos;  ///< 1 - cos theta_max
     float cos_max;
-    float p;              ///< p_k, the probability of this cone's strategy
+    float cos_axis;       ///< cos of the axis to the normal
+    float p;              ///< p_k before scaling to sum p_k <= kMaxTargetProbability
     float cdf;            ///< p_0 + ... + p_k
     float density;        ///< p_k / solid_angle_k
   };
