@@ -39,7 +39,9 @@ fi
 
 if [ "${TESSERA_SKIP_SANITIZERS:-0}" != "1" ]; then
   phase "sanitizer build (ASan + UBSan)"
-  BUILD_DIR="$ROOT/build-asan" "$ROOT/scripts/build.sh" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTESSERA_SANITIZE=ON -DTESSERA_BUILD_BENCH=OFF -DTESSERA_BUILD_LONG_SUITES=OFF
+  BUILD_DIR="$ROOT/build-asan" "$ROOT/scripts/build.sh" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTESSERA_SANITIZE=ON -DTESSERA_BUILD_BENCH=OFF -DTESSERA_BUILD_LONG_SUITES=OFF -DTESSERA_TEST_SHARDS=ON
+  # The unit-test binaries run as a few gtest shards each (cmake/TesseraTests.cmake): one
+  # process per test spent most of this phase in the dynamic loader.
   phase "sanitizer tests"
   (cd "$ROOT/build-asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
      LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizers/lsan.supp:print_suppressions=0" \
