@@ -1,23 +1,33 @@
-# tessera_unit_tests(TARGET SHARDS N [PROPERTIES prop value ...])
+# How the GoogleTest binaries the sanitizer pass runs (every test not labelled slow, faults or
+# load: "the short suites") are registered with ctest.
 #
-# Registers a GoogleTest binary of many short tests with ctest.
+# tessera_unit_tests(TARGET [SHARDS N] [PROPERTIES prop value ...])
+#   A binary of many short tests. By default each gtest test is its own ctest test
+#   (gtest_discover_tests), so `ctest -R Name` runs one. With -DTESSERA_TEST_SHARDS=ON
+#   (scripts/test.sh's sanitizer build) the binary is registered as N ctest tests instead,
+#   `TARGET.shard-I-of-N`, each running every N-th test in one process through GoogleTest's own
+#   sharding (GTEST_TOTAL_SHARDS / GTEST_SHARD_INDEX). Why: a process that links OpenImageIO
+#   spends about 0.45 s in the dynamic loader before main (about 260 libraries; 0.7 s under the
+#   sanitizers), which was most of the time of the sanitizer pass's 900 short tests. A failing
+#   shard's output names the failing test; run it alone with `bin/TARGET --gtest_filter=Suite.Name`.
+#   Every binary registered here passes run whole in one process.
 #
-# By default each gtest test is its own ctest test (gtest_discover_tests), so `ctest -R Name`
-# runs one. With -DTESSERA_TEST_SHARDS=ON (scripts/test.sh's sanitizer build) the binary is
-# registered as N ctest tests instead, `TARGET.shard-I-of-N`, each running every N-th test in one
-# process through GoogleTest's own sharding (GTEST_TOTAL_SHARDS / GTEST_SHARD_INDEX). Why: a
-# process that links OpenImageIO spends about 0.45 s in the dynamic loader before main (about
-# 260 libraries; 0.7 s under the sanitizers), which was most of the time of the sanitizer pass's
-# 900 short tests. A failing shard's output names the failing test; run it alone with
-# `bin/TARGET --gtest_filter=Suite.Name`.
+# tessera_e2e_tests(TARGET [PROPERTIES prop value ...])
+#   A binary of long tests that each start their own servers and processes: always a ctest test
+#   per gtest test.
 #
-# Only binaries whose tests are independent of one another in one process belong here (every
-# GoogleTest binary should be; the end-to-end and fault suites keep one process per test because
-# each of their tests is long and starts its own servers).
+# With -DTESSERA_BUILD_SHORT_SUITES=OFF (scripts/test.sh's release build, which runs only the long
+# suites) both leave TARGET out of `all` and register nothing; `ninja TARGET` still builds it.
 option(TESSERA_TEST_SHARDS "Run each unit-test binary as a few shards instead of a process per test" OFF)
+option(TESSERA_BUILD_SHORT_SUITES "Build the test binaries not labelled slow, faults or load" ON)
 include(GoogleTest)
+
 function(tessera_unit_tests target)
   cmake_parse_arguments(ARG "" "SHARDS" "PROPERTIES" ${ARGN})
+  if(NOT TESSERA_BUILD_SHORT_SUITES)
+    set_target_properties(${target} PROPERTIES EXCLUDE_FROM_ALL TRUE)
+    return()
+  endif()
   if(NOT ARG_SHARDS)
     set(ARG_SHARDS 1)
   endif()
@@ -32,4 +42,13 @@ function(tessera_unit_tests target)
   else()
     gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES ${ARG_PROPERTIES})
   endif()
+endfunction()
+
+function(tessera_e2e_tests target)
+  cmake_parse_arguments(ARG "" "" "PROPERTIES" ${ARGN})
+  if(NOT TESSERA_BUILD_SHORT_SUITES)
+    set_target_properties(${target} PROPERTIES EXCLUDE_FROM_ALL TRUE)
+    return()
+  endif()
+  gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES ${ARG_PROPERTIES})
 endfunction()
