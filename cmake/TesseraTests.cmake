@@ -36,7 +36,7 @@ function(tessera_unit_tests target)
     foreach(i RANGE ${last})
       set(name "${target}.shard-${i}-of-${ARG_SHARDS}")
       add_test(NAME ${name} COMMAND $<TARGET_FILE:${target}>)
-      set_tests_properties(${name} PROPERTIES
+      set_tests_properties(${name} PROPERTIES COST 50
         ENVIRONMENT "GTEST_TOTAL_SHARDS=${ARG_SHARDS};GTEST_SHARD_INDEX=${i}" ${ARG_PROPERTIES})
     endforeach()
   else()
@@ -50,5 +50,7 @@ function(tessera_e2e_tests target)
     set_target_properties(${target} PROPERTIES EXCLUDE_FROM_ALL TRUE)
     return()
   endif()
-  gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES ${ARG_PROPERTIES})
+  # COST: with no timings from an earlier run (CI's clean checkout), `ctest -j` starts the tests
+  # of higher cost first, so these long ones do not come last and leave a core idle at the end.
+  gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES COST 100 ${ARG_PROPERTIES})
 endfunction()
