@@ -510,6 +510,8 @@ void Coordinator::look_for_all(const std::vector<LeaseCall*>& calls) {
   PriorityMutex::Urgent lock(mu_);
   ++lease_groups_;
   for (LeaseCall* c : calls) {
+    // Shutting down (or the store found damaged) while the call waited: no new leases.
+    if (changes_.stopped()) break;
     try {
       touch_or_throw(c->worker_id, c->call);
       c->units = look_for_units(c->worker_id, c->max_units, c->work_version);
