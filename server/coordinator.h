@@ -342,9 +342,10 @@ class Coordinator {
     changes_.notify();
     if (work) work_.notify();
   }
-  /// Results committed together at most (GroupCommit's bound): what a lease waiting for mu_
-  /// queues behind, at most one such group (mu_ is a PriorityMutex: leases and heartbeats take it
-  /// Urgent, upload groups Deferring). 64 cost more server CPU per result with 256 workers
+  /// Results committed together at most (GroupCommit's bound). A lease waiting for mu_ queues
+  /// behind at most one call of such a group: mu_ is a PriorityMutex (leases and heartbeats take
+  /// it Urgent, upload groups Deferring) and a group yields to them between its calls
+  /// (commit_uploads). 64 cost more server CPU per result with 256 workers
   /// uploading 16 results per call (smaller groups, more commits and wake-ups) than it saved in
   /// lease latency; 1024 did not (BENCHMARKS.md, "Issue 14: server capacity (branch farm8)").
   static constexpr size_t kResultsPerCommit = 1024;
