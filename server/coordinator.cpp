@@ -138,6 +138,16 @@ StoreCounters Coordinator::store_counters() {
   return db_.counters();
 }
 
+uint64_t Coordinator::upload_yields() {
+  std::lock_guard lock(mu_);
+  return upload_yields_;
+}
+
+uint64_t Coordinator::lease_groups() {
+  std::lock_guard lock(mu_);
+  return lease_groups_;
+}
+
 uint64_t Coordinator::empty_looks_reused() {
   std::lock_guard lock(mu_);
   return empty_looks_reused_;
@@ -469,22 +479,22 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
     // Read the version before looking, so a change made while we look wakes the wait below.
     const uint64_t seen = work_.version();
     std::vector<LeasedUnit> units;
-    {
-      // The call's first look goes before upload groups (PriorityMutex::Urgent); a long poll
-      // looking again after a wake-up does not: at a job's end every upload wakes every idle
-      // worker's poll, and letting that herd go first held the uploads back (BENCHMARKS.md,
-      // "Issue 14: server capacity (branch farm8)").
-      std::optional<PriorityMutex::Urgent> urgent;
-      std::unique_lock<PriorityMutex> plain(mu_, std::defer_lock);
-      if (first_look) {
-        urgent.emplace(mu_);
-      } else {
-        plain.lock();
-      }
-      first_look = false;
+    if (first_look) {
+      // The call's first look goes before upload groups (PriorityMutex::Urgent), together with
+      // every other first look waiting meanwhile: one lock hold for all of them (look_for_all).
+      LeaseCall look{worker_id, max_units, call, seen, {}, {}};
+      lease_looks_.run(look);
+      if (look.error) std::rethrow_exception(look.error);
+      units = std::move(look.units);
+    } else {
+      // A long poll looking again after a wake-up does not go first: at a job's end every
+      // upload wakes every idle worker's poll, and letting that herd go first held the uploads
+      // back (BENCHMARKS.md, "Issue 14: server capacity (branch farm8)").
+      std::lock_guard lock(mu_);
       touch_or_throw(worker_id, call);
       units = look_for_units(worker_id, max_units, seen);
     }
+    first_look = false;
     if (!units.empty()) {
       notify_changed(false);  // progress (the job may have started); no work for others
       return units;
@@ -493,6 +503,21 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
     if (now >= deadline || changes_.stopped() || (cancelled && cancelled())) return {};
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now);
     work_.wait(seen, std::min(left, std::chrono::milliseconds(250)));
+  }
+}
+
+void Coordinator::look_for_all(const std::vector<LeaseCall*>& calls) {
+  PriorityMutex::Urgent lock(mu_);
+  ++lease_groups_;
+  for (LeaseCall* c : calls) {
+    // Shutting down (or the store found damaged) while the call waited: no new leases.
+    if (changes_.stopped()) break;
+    try {
+      touch_or_throw(c->worker_id, c->call);
+      c->units = look_for_units(c->worker_id, c->max_units, c->work_version);
+    } catch (...) {
+      c->error = std::current_exception();  // this call's own (an unknown worker): not the others'
+    }
   }
 }
 
@@ -615,26 +640,41 @@ void Coordinator::commit_upload(UploadCall& call) {
 }
 
 void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
-  // Leases first: this group's transaction starts once no lease or heartbeat waits for mu_.
+  // Leases first: this group's transaction starts once no lease or heartbeat waits for mu_, and
+  // it ends early, between two calls, when one comes to wait meanwhile: the calls left commit in
+  // the next transaction, after the lease. A lease then waits for at most one call's results
+  // (at most 64), not for the whole group (up to kResultsPerCommit; BENCHMARKS.md, "Issue 14:
+  // lease latency (branch farm10)").
   PriorityMutex::Deferring lock(mu_);
-  if (calls.size() == 1) {
-    commit_upload(*calls.front());
-  } else {
+  const auto lease_waits = [this] { return mu_.urgent_waiting() > 0; };
+  size_t next = 0;  // the first call not committed yet
+  while (next < calls.size()) {
+    if (next > 0) {
+      lock.yield();  // the leases and heartbeats waiting go first
+      ++upload_yields_;
+    }
+    if (next + 1 == calls.size()) {
+      commit_upload(*calls[next++]);
+      break;
+    }
     std::vector<TileMerger::Upload> all;
-    for (const UploadCall* c : calls) {
-      all.insert(all.end(), c->uploads->begin(), c->uploads->end());
+    std::vector<size_t> ends;
+    for (size_t c = next; c < calls.size(); ++c) {
+      all.insert(all.end(), calls[c]->uploads->begin(), calls[c]->uploads->end());
+      ends.push_back(all.size());
     }
     try {
-      const std::vector<AcceptOutcome> outcomes = merger_.accept_all(all);
-      size_t next = 0;
-      for (UploadCall* c : calls) {
-        c->outcomes.assign(outcomes.begin() + ptrdiff_t(next),
-                           outcomes.begin() + ptrdiff_t(next + c->uploads->size()));
-        next += c->uploads->size();
+      const std::vector<AcceptOutcome> outcomes = merger_.accept_calls(all, ends, lease_waits);
+      size_t used = 0;
+      while (used < outcomes.size()) {
+        UploadCall* c = calls[next++];
+        c->outcomes.assign(outcomes.begin() + ptrdiff_t(used),
+                           outcomes.begin() + ptrdiff_t(used + c->uploads->size()));
+        used += c->uploads->size();
       }
     } catch (...) {
-      // Rolled back: each call again on its own, so that only the call at fault is refused.
-      for (UploadCall* c : calls) commit_upload(*c);
+      // Rolled back: each call left on its own, so that only the call at fault is refused.
+      for (; next < calls.size(); ++next) commit_upload(*calls[next]);
     }
   }
   for (const UploadCall* c : calls) {

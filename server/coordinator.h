@@ -200,6 +200,12 @@ class Coordinator {
   /// What the store has executed since the server started (StoreCounters): the statements a
   /// lease or an accepted result costs (tests/farm/store_cost_test.cpp, BENCHMARKS.md).
   StoreCounters store_counters();
+  /// Times an upload group ended its transaction between two calls because a lease or heartbeat
+  /// waited for the store (commit_uploads), since the server started (tests, BENCHMARKS.md).
+  uint64_t upload_yields();
+  /// Lock holds that served the first looks of LeaseUnit calls (look_for_all): fewer than the
+  /// calls when several waited for the store at once (tests, BENCHMARKS.md).
+  uint64_t lease_groups();
   /// Lease looks answered without the store since the server started: the worker's previous
   /// look found nothing and nothing that could make a unit leasable happened since
   /// (kEmptyLookReuseMs; tests and BENCHMARKS.md).
@@ -306,6 +312,25 @@ class Coordinator {
     int64_t unix_ms = 0;
   };
   std::map<int64_t, EmptyLook> empty_looks_;
+  uint64_t upload_yields_ = 0;  ///< guarded by mu_
+  uint64_t lease_groups_ = 0;   ///< guarded by mu_
+  /// The first look of one LeaseUnit call: its question, then its answer or error.
+  struct LeaseCall {
+    int64_t worker_id = 0;
+    uint32_t max_units = 1;
+    uint64_t call = 0;          ///< begin_call() of the LeaseUnit call
+    uint64_t work_version = 0;  ///< work_'s version read before the look
+    std::vector<LeasedUnit> units;
+    std::exception_ptr error;
+  };
+  /// The first looks of every LeaseUnit call waiting, in arrival order, in one hold of mu_
+  /// (Urgent): a lease that arrives while others wait for the store joins them, so N waiting
+  /// leases cost one hand-over of the lock, not N (each a wake-up of a thread on a busy machine;
+  /// BENCHMARKS.md, "Issue 14: lease latency (branch farm10)"). Each call gets its own units or
+  /// error, exactly as alone.
+  void look_for_all(const std::vector<LeaseCall*>& calls);
+  GroupCommit<LeaseCall> lease_looks_{
+      [this](const std::vector<LeaseCall*>& calls) { look_for_all(calls); }};
   uint64_t empty_looks_reused_ = 0;  ///< looks answered by empty_looks_ (guarded by mu_)
   /// One look for `worker_id`'s units (Scheduler::lease_up_to), or none when its last look at
   /// `work_version` (work_'s version read before this look) found nothing less than
@@ -317,9 +342,10 @@ class Coordinator {
     changes_.notify();
     if (work) work_.notify();
   }
-  /// Results committed together at most (GroupCommit's bound): what a lease waiting for mu_
-  /// queues behind, at most one such group (mu_ is a PriorityMutex: leases and heartbeats take it
-  /// Urgent, upload groups Deferring). 64 cost more server CPU per result with 256 workers
+  /// Results committed together at most (GroupCommit's bound). A lease waiting for mu_ queues
+  /// behind at most one call of such a group: mu_ is a PriorityMutex (leases and heartbeats take
+  /// it Urgent, upload groups Deferring) and a group yields to them between its calls
+  /// (commit_uploads). 64 cost more server CPU per result with 256 workers
   /// uploading 16 results per call (smaller groups, more commits and wake-ups) than it saved in
   /// lease latency; 1024 did not (BENCHMARKS.md, "Issue 14: server capacity (branch farm8)").
   static constexpr size_t kResultsPerCommit = 1024;

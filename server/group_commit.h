@@ -10,9 +10,9 @@
 //
 // A group is bounded: it takes waiting calls in arrival order while their weight (`weight`,
 // e.g. the results a call carries) stays within `max_weight`, and always at least one call; the
-// calls left over wait for the next group. The store's lock is held for one group's
-// transaction, so the bound is what a lease waiting for that lock can queue behind
-// (coordinator.h, "leases before uploads").
+// calls left over wait for the next group. The coordinator's upload groups hold the store's
+// lock for the group's transaction but give way to a waiting lease between two calls
+// (Coordinator::commit_uploads); its lease looks are groups too (Coordinator::look_for_all).
 #pragma once
 
 #include <condition_variable>

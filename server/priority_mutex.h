@@ -42,16 +42,24 @@ class PriorityMutex {
   /// Held for long work: granted once no Urgent caller waits (re-checked under the mutex).
   class Deferring {
    public:
-    explicit Deferring(PriorityMutex& m) : lock_(m.mu_, std::defer_lock) {
-      m.deferring_waiting_.fetch_add(1);
-      lock_.lock();
-      m.turns_.wait(lock_, [&] { return m.urgent_waiting_.load() == 0; });
-      m.deferring_waiting_.fetch_sub(1);
+    explicit Deferring(PriorityMutex& m) : m_(m), lock_(m.mu_, std::defer_lock) { take(); }
+    /// Lets the urgent callers waiting now go first: releases the mutex and takes it again once
+    /// none waits (at once when none does). A long holder calls it between steps of its work.
+    void yield() {
+      lock_.unlock();
+      take();
     }
     Deferring(const Deferring&) = delete;
     Deferring& operator=(const Deferring&) = delete;
 
    private:
+    void take() {
+      m_.deferring_waiting_.fetch_add(1);
+      lock_.lock();
+      m_.turns_.wait(lock_, [&] { return m_.urgent_waiting_.load() == 0; });
+      m_.deferring_waiting_.fetch_sub(1);
+    }
+    PriorityMutex& m_;
     std::unique_lock<std::mutex> lock_;
   };
 

@@ -77,15 +77,26 @@ bool TileMerger::may_wait_in_store(int64_t job_id, uint32_t tile) {
 }
 
 std::vector<AcceptOutcome> TileMerger::accept_all(const std::vector<Upload>& uploads) {
+  return accept_calls(uploads, {uploads.size()}, {});
+}
+
+std::vector<AcceptOutcome> TileMerger::accept_calls(const std::vector<Upload>& uploads,
+                                                    const std::vector<size_t>& ends,
+                                                    const std::function<bool()>& stop) {
   Staged staged;
   std::vector<AcceptOutcome> outcomes;
   outcomes.reserve(uploads.size());
   try {
     Transaction tx(db_);
-    std::map<int64_t, bool> complete;  // per job of the call: no unit queued or leased
+    std::map<int64_t, bool> complete;  // per job of the calls: no unit queued or leased
+    size_t call = 0;  // the call of the next upload: [ends[call - 1], ends[call])
     for (const Upload& u : uploads) {
       outcomes.push_back(accept_in_transaction(*u.result, *u.decoded, staged));
       complete.try_emplace(u.result->job_id, false);
+      if (call < ends.size() && outcomes.size() == ends[call]) {
+        ++call;
+        if (call < ends.size() && stop && stop()) break;  // the others in a later transaction
+      }
     }
     for (const auto& [worker_id, d] : staged.delivered) {
       WorkersTable(db_).count_delivered(worker_id, d.units, d.samples, d.nan, d.inf);
@@ -95,7 +106,7 @@ std::vector<AcceptOutcome> TileMerger::accept_all(const std::vector<Upload>& upl
     }
     // Asked once per job after the call's last result, not after each.
     for (auto& [job_id, done] : complete) done = !units_left(db_, job_id);
-    for (size_t i = 0; i < uploads.size(); ++i) {
+    for (size_t i = 0; i < outcomes.size(); ++i) {
       outcomes[i].job_complete = complete.at(uploads[i].result->job_id);
     }
     tx.commit();

@@ -18,6 +18,7 @@
 
 #include <compare>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -90,6 +91,15 @@ class TileMerger {
   /// in that order; outcome i answers uploads[i]. All or nothing on errors: a FarmError from one
   /// result rolls back the whole call.
   std::vector<AcceptOutcome> accept_all(const std::vector<Upload>& uploads);
+  /// accept_all of several calls' uploads, which may stop between two calls: `ends` are the
+  /// calls' ends in `uploads` (increasing, the last one uploads.size()). After each call but the
+  /// last, `stop()` is asked; when it says true the transaction commits with the calls so far and
+  /// the others are left untouched for the caller to accept in a later transaction. Returns the
+  /// outcomes of the uploads accepted: a prefix of `uploads`, whole calls, at least one call.
+  /// The coordinator stops when a lease waits for the store (issue 14, lease p99).
+  std::vector<AcceptOutcome> accept_calls(const std::vector<Upload>& uploads,
+                                          const std::vector<size_t>& ends,
+                                          const std::function<bool()>& stop);
 
   /// Writes every tile of the job whose sum is not all in tiles.accumulation (merged results
   /// appended since its last checkpoint) as its checkpoint, in one transaction. Call before

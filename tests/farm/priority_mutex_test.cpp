@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -36,6 +37,32 @@ TEST(PriorityMutex, AnUrgentCallerGoesBeforeADeferringOneThatWaitedLonger) {
     upload.join();
     ASSERT_EQ(order, (std::vector<std::string>{"lease", "upload"})) << "round " << round;
   }
+}
+
+TEST(PriorityMutex, ADeferringHolderThatYieldsLetsTheWaitingUrgentCallerGoFirst) {
+  // An upload group yields between two calls (Coordinator::commit_uploads): a lease waiting
+  // then runs before the group's next transaction, not after the whole group.
+  for (int round = 0; round < 50; ++round) {
+    PriorityMutex m;
+    std::vector<std::string> order;  // appended under the mutex
+    std::optional<PriorityMutex::Deferring> group(std::in_place, m);
+    order.push_back("upload 1");
+    std::thread lease([&] {
+      PriorityMutex::Urgent lock(m);
+      order.push_back("lease");
+    });
+    while (m.urgent_waiting() != 1) std::this_thread::yield();
+    group->yield();
+    order.push_back("upload 2");
+    group.reset();
+    lease.join();
+    ASSERT_EQ(order, (std::vector<std::string>{"upload 1", "lease", "upload 2"})) << "round "
+                                                                                   << round;
+  }
+  PriorityMutex m;
+  PriorityMutex::Deferring alone(m);
+  alone.yield();  // nobody waits: it keeps going at once
+  EXPECT_EQ(m.deferring_waiting(), 0);
 }
 
 TEST(PriorityMutex, ADeferringCallerProceedsWhenNoUrgentOneWaits) {

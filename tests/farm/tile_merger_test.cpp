@@ -169,6 +169,54 @@ TEST(TileMerger, AWaitingResultTakenByARolledBackTransactionIsStillMerged) {
   EXPECT_EQ(f.tiles(job)[0].next_batch, 3u);
 }
 
+// An upload group ends its transaction between two calls when a lease waits for the store
+// (Coordinator::commit_uploads): accept_calls asks `stop` after each call but the last, commits
+// the calls so far, and leaves the others' leases current for the next transaction.
+TEST(TileMerger, AcceptCallsStopsBetweenCallsAndLeavesTheOthersForTheNextTransaction) {
+  StoreFixture f;
+  const int64_t job = f.make_job(8, 4, 4, 4, 1);  // two tiles, 4 batches of 1 spp
+  // (A worker holds one lease at a time here: one worker per unit.)
+  const int64_t w = f.make_worker("w"), w1 = f.make_worker("w1"), v = f.make_worker("v");
+  const Accumulation b0 = StoreFixture::synthetic(kTile, 0, 1);
+  const Accumulation b1 = StoreFixture::synthetic(kTile, 1, 1);
+  const Accumulation t1 = StoreFixture::synthetic(TileRect{4, 0, 8, 4}, 0, 1);
+  const Lease l0 = lease_unit(f, w, 0, 0), l1 = lease_unit(f, w1, 0, 1);
+  const Lease m0 = lease_unit(f, v, 1, 0);
+  const UnitResult r0 = result_for(l0, b0), r1 = result_for(l1, b1), s0 = result_for(m0, t1);
+  Accumulation a0 = b0, a1 = b1, c0 = t1;
+  // Two calls: two results of tile 0, then one of tile 1.
+  const std::vector<TileMerger::Upload> uploads{{&r0, &a0}, {&r1, &a1}, {&s0, &c0}};
+  int asked = 0;
+  const std::vector<AcceptOutcome> first =
+      f.merger.accept_calls(uploads, {2, 3}, [&] { return ++asked > 0; });
+  EXPECT_EQ(asked, 1);  // after the first call only, never after the last
+  ASSERT_EQ(first.size(), 2u);  // the whole first call, nothing of the second
+  EXPECT_TRUE(first[0].accepted && first[1].accepted);
+  EXPECT_EQ(f.tiles(job)[0].next_batch, 2u);
+  EXPECT_EQ(f.tiles(job)[1].next_batch, 0u);  // v's result untouched: its lease still current
+  // The rest, in the next transaction: accepted exactly as it would have been.
+  const std::vector<AcceptOutcome> rest =
+      f.merger.accept_calls({uploads[2]}, {1}, [&] { return ++asked > 0; });
+  ASSERT_EQ(rest.size(), 1u);
+  EXPECT_TRUE(rest[0].accepted);
+  EXPECT_EQ(rest[0].merged, 1u);
+  EXPECT_EQ(asked, 1);  // a single call: nothing to stop between
+  EXPECT_EQ(f.tiles(job)[1].next_batch, 1u);
+
+  // Not stopped: every call in one transaction.
+  const Lease l2 = lease_unit(f, f.make_worker("w2"), 0, 2);
+  const Lease m1 = lease_unit(f, f.make_worker("v1"), 1, 1);
+  const Accumulation b2 = StoreFixture::synthetic(kTile, 2, 1);
+  const Accumulation t1b = StoreFixture::synthetic(TileRect{4, 0, 8, 4}, 1, 1);
+  const UnitResult r2 = result_for(l2, b2), s1 = result_for(m1, t1b);
+  Accumulation a2 = b2, c1 = t1b;
+  const std::vector<AcceptOutcome> all =
+      f.merger.accept_calls({{&r2, &a2}, {&s1, &c1}}, {1, 2}, [] { return false; });
+  EXPECT_EQ(all.size(), 2u);
+  EXPECT_EQ(f.tiles(job)[0].next_batch, 3u);
+  EXPECT_EQ(f.tiles(job)[1].next_batch, 2u);
+}
+
 TEST(TileMerger, StaleLeaseResultIsDroppedAndCounted) {
   StoreFixture f;
   const int64_t job = f.make_job(4, 4, 4, 1, 1);
