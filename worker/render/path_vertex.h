@@ -119,9 +119,13 @@ inline float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
 /// Dimension pairs pair + 1 (the light point) and pair + 2 (the BSDF direction) of a vertex
 /// whose pairs are Sobol pairs, drawn ahead for many paths at once (the wavefront kernels,
 /// wavefront/wavefront_kernel.inc): exactly what PixelSampler::get2d returns for them.
+/// `bsdf_cosine` is square_to_cosine_hemisphere(bsdf) (warp.h), computed lane-wise with the
+/// same operations in the same order (wavefront_kernel.inc's cosine_lanes): a diffuse vertex
+/// takes it instead of warping the pair itself.
 struct PredrawnPairs {
   glm::vec2 light;
   glm::vec2 bsdf;
+  glm::vec3 bsdf_cosine;
 };
 
 namespace path_vertex_detail {
@@ -284,7 +288,9 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
     }
     const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
     if (!mixture) {
-      const glm::vec3 local = square_to_cosine_hemisphere(u_bsdf);
+      // The cosine-weighted direction in the normal's frame, warped lane-wise with the pair when
+      // the kernel drew it.
+      const glm::vec3 local = predrawn ? predrawn->bsdf_cosine : square_to_cosine_hemisphere(u_bsdf);
       wi = Frame(ns).to_world(local);
       if (glm::dot(wi, sp.ng) <= 0) return false;
       beta *= m->albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
@@ -293,7 +299,9 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       // The strategy from pair + 3's x, which this path leaves free (a mask takes its y).
       sampler.set_pair(pair + 3);
       const int cone = mix.choose(sampler.get2d_x());
-      wi = cone < 0 ? Frame(ns).to_world(square_to_cosine_hemisphere(u_bsdf)) : mix.sample_cone(cone, u_bsdf);
+      wi = cone >= 0  ? mix.sample_cone(cone, u_bsdf)
+           : predrawn ? Frame(ns).to_world(predrawn->bsdf_cosine)
+                      : Frame(ns).to_world(square_to_cosine_hemisphere(u_bsdf));
       const float cos_n = glm::dot(wi, ns);
       if (!(cos_n > 0) || glm::dot(wi, sp.ng) <= 0) return false;
       const float pdf = mix.pdf(wi, cos_n, cone);

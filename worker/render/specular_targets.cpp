@@ -115,32 +115,35 @@ SpecularTargets::DisabledForTest::~DisabledForTest() { disabled_for_test.fetch_s
 SpecularTargets::SpecularTargets(const std::vector<ShapeRef>& shapes, const std::vector<RenderMaterial>& materials,
                                  float scene_radius) {
   if (disabled_for_test.load(std::memory_order_relaxed) > 0) return;
+  std::vector<SpecularTarget> targets;
   for (const ShapeRef& s : shapes) {
     const Geometry& g = *s.geometry;
     if (g.material >= materials.size() || !purely_specular(materials[g.material], materials)) continue;
     const SpecularTarget t = shape_sphere(g, s.to_world);
     if (!(t.radius > 0) || !std::isfinite(t.radius)) continue;
     if (scene_radius > 0 && t.radius > kMaxSceneFraction * scene_radius) continue;
-    targets_.push_back(t);
+    targets.push_back(t);
   }
-  if (targets_.size() > size_t(kMaxTargets)) {
+  if (targets.size() > size_t(kMaxTargets)) {
     // The largest spheres are kept: they subtend the largest cones from most of the scene.
-    std::stable_sort(targets_.begin(), targets_.end(),
+    std::stable_sort(targets.begin(), targets.end(),
                      [](const SpecularTarget& a, const SpecularTarget& b) { return a.radius > b.radius; });
-    targets_.resize(size_t(kMaxTargets));
+    targets.resize(size_t(kMaxTargets));
   }
-  for (size_t i = 0; i < targets_.size(); ++i) {
-    lanes_.cx[i] = targets_[i].center.x;
-    lanes_.cy[i] = targets_[i].center.y;
-    lanes_.cz[i] = targets_[i].center.z;
-    lanes_.r2[i] = targets_[i].radius * targets_[i].radius;
+  count_ = int(targets.size());
+  for (size_t i = 0; i < targets.size(); ++i) {
+    lanes_.cx[i] = targets[i].center.x;
+    lanes_.cy[i] = targets[i].center.y;
+    lanes_.cz[i] = targets[i].center.z;
+    lanes_.r[i] = targets[i].radius;
+    lanes_.r2[i] = targets[i].radius * targets[i].radius;
   }
 }
 
 SpecularTargets::Lanes SpecularTargets::empty_lanes() {
   Lanes l;
   for (int i = 0; i < kMaxTargets; ++i) {
-    l.cx[i] = l.cy[i] = l.cz[i] = 0.0f;
+    l.cx[i] = l.cy[i] = l.cz[i] = l.r[i] = 0.0f;
     l.r2[i] = std::numeric_limits<float>::infinity();
   }
   return l;

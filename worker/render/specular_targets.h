@@ -61,23 +61,27 @@ class SpecularTargets {
     DisabledForTest& operator=(const DisabledForTest&) = delete;
   };
 
-  bool empty() const { return targets_.empty(); }
-  int size() const { return int(targets_.size()); }
-  const SpecularTarget& operator[](int i) const { return targets_[size_t(i)]; }
+  bool empty() const { return count_ == 0; }
+  int size() const { return count_; }
+  /// Target i (0 <= i < size()), read back from lanes().
+  SpecularTarget operator[](int i) const {
+    return {glm::vec3(lanes_.cx[i], lanes_.cy[i], lanes_.cz[i]), lanes_.r[i]};
+  }
 
-  /// The targets' centres and radii squared as arrays (TargetMixture::init reads them at every
-  /// diffuse vertex; r^2 computed once here). Entries past size() have r2 = infinity, so that
-  /// no point lies outside them.
+  /// The targets, the only store of them: centres, radii and radii squared as arrays
+  /// (TargetMixture::init reads them at every diffuse vertex; r^2 computed once here). Entries
+  /// past size() have r2 = infinity, so that no point lies outside them.
   struct Lanes {
     alignas(32) float cx[kMaxTargets];
     alignas(32) float cy[kMaxTargets];
     alignas(32) float cz[kMaxTargets];
     alignas(32) float r2[kMaxTargets];
+    alignas(32) float r[kMaxTargets];
   };
   const Lanes& lanes() const { return lanes_; }
 
  private:
-  std::vector<SpecularTarget> targets_;
+  int count_ = 0;
   Lanes lanes_ = empty_lanes();
 
   static Lanes empty_lanes();

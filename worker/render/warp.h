@@ -18,9 +18,11 @@ inline constexpr float kInvPi = 0.31830988618379067154f;
 /// sinf/cosf so that every caller, scalar or lane-wise, and every kernel instruction set gets the
 /// same bits from plain IEEE multiplies and adds (-ffp-contract=off: no fused multiply-add), and
 /// so that the hot cosine-weighted direction needs no call into libm (BENCHMARKS.md, "Cost per
-/// sample, cost8").
-[[gnu::always_inline]] inline void sincos_quarter_pi(float x, float* sin_x, float* cos_x) {
-  const float z = x * x;
+/// sample, cost8"). A template so that the wavefront kernels' lane-wise copy (F a GCC vector of
+/// floats: wavefront/wavefront_kernel.inc) runs this very expression, operation for operation.
+template <typename F>
+[[gnu::always_inline]] inline void sincos_quarter_pi(F x, F* sin_x, F* cos_x) {
+  const F z = x * x;
   *sin_x = ((-1.9515295891e-4f * z + 8.3321608736e-3f) * z - 1.6666654611e-1f) * z * x + x;
   *cos_x = ((2.443315711809948e-5f * z - 1.388731625493765e-3f) * z + 4.166664568298827e-2f) * z * z -
            0.5f * z + 1.0f;

@@ -1,6 +1,7 @@
 // Choosing the wavefront loop's build: names, the CPU check, TESSERA_KERNEL_ISA, errors.
 #include "render/wavefront/kernel_isa.h"
 
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -9,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "render/sampler.h"
+#include "render/warp.h"
 #include "render/wavefront/wavefront_kernels.h"
 
 namespace tessera {
@@ -110,6 +112,45 @@ TEST(KernelIsa, LaneWiseSobolPairsAreTheSamplersBits) {
       }
     }
     EXPECT_EQ(out[count].x, -1.0f) << kernel_isa_name(isa) << ": wrote past the count";
+  }
+}
+
+/// The AVX2 and AVX-512 kernels' lane-wise cosine-weighted directions (cosine_lanes) are
+/// square_to_cosine_hemisphere's bits at every width: the disk's centre (u = 0.5, 0.5), its
+/// sector edges (|o.x| = |o.y|) and axes, u at 0 and just below 1, then 4,000 random pairs and
+/// every 24-bit grid value of one line; a count that leaves a partial last group of lanes.
+TEST(KernelIsa, LaneWiseCosineDirectionsAreTheScalarBits) {
+  std::vector<glm::vec2> u = {{0.5f, 0.5f}, {0.0f, 0.0f}, {0.25f, 0.25f}, {0.75f, 0.25f}, {0.25f, 0.75f},
+                              {0.5f, 0.0f}, {0.0f, 0.5f}, {0.99999994f, 0.5f}, {0.5f, 0.99999994f},
+                              {0.99999994f, 0.99999994f}, {0.5f, 0.50000006f}, {0.49999997f, 0.5f}};
+  uint32_t state = 12345;
+  const auto uniform = [&state] {
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) * 0x1p-24f;
+  };
+  for (int i = 0; i < 4000; ++i) u.emplace_back(uniform(), uniform());
+  for (uint32_t k = 0; k < (1u << 24); k += 4099) u.emplace_back(float(k) * 0x1p-24f, 0.3f);
+  const size_t count = u.size() - 3;  // not a multiple of 16
+  std::vector<glm::vec3> expected(count);
+  for (size_t i = 0; i < count; ++i) expected[i] = square_to_cosine_hemisphere(u[i]);
+  const auto kernels = {std::pair{KernelIsa::avx2, &wavefront_avx2::cosine_directions},
+                        std::pair{KernelIsa::avx512, &wavefront_avx512::cosine_directions}};
+  for (const auto& [isa, directions] : kernels) {
+    if (!kernel_isa_supported(isa)) continue;
+    for (const int width : {4, 8, 16}) {
+      std::vector<glm::vec3> out(count + 1, glm::vec3(-1.0f));
+      directions(u.data(), count, width, out.data());
+      int differences = 0;
+      for (size_t i = 0; i < count && differences < 5; ++i) {
+        if (std::memcmp(&out[i], &expected[i], sizeof(glm::vec3)) != 0) {
+          ++differences;
+          ADD_FAILURE() << kernel_isa_name(isa) << " width " << width << ", u (" << u[i].x << ", " << u[i].y
+                        << "): (" << out[i].x << ", " << out[i].y << ", " << out[i].z << ") against ("
+                        << expected[i].x << ", " << expected[i].y << ", " << expected[i].z << ")";
+        }
+      }
+      EXPECT_EQ(out[count].x, -1.0f) << kernel_isa_name(isa) << " width " << width << ": wrote past the count";
+    }
   }
 }
 #endif

@@ -3,8 +3,11 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
+
+#include <immintrin.h>
 
 #include "render/embree_packet.h"
 #include "render/path_vertex.h"

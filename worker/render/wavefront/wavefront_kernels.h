@@ -47,13 +47,18 @@ void trace(const WavefrontKernelArgs& args);
 /// The AVX2 and AVX-512 kernels also draw Sobol pairs lane-wise (wavefront_kernel.inc's
 /// SobolLanes); draw_sobol_pairs exposes that for tests: out[i] = get2d() of samplers[i] at
 /// pair pairs[i] (each below PixelSampler::kSobolPairs), 16 lanes at a time.
+/// They also warp the BSDF pairs they draw to cosine-weighted directions lane-wise
+/// (wavefront_kernel.inc's cosine_lanes); cosine_directions exposes that for tests:
+/// out[i] = square_to_cosine_hemisphere(u[i]), `width` (4, 8 or 16) lanes at a time.
 namespace wavefront_avx2 {
 void trace(const WavefrontKernelArgs& args);
 void draw_sobol_pairs(const PixelSampler* const* samplers, const uint32_t* pairs, size_t count, glm::vec2* out);
+void cosine_directions(const glm::vec2* u, size_t count, int width, glm::vec3* out);
 }
 namespace wavefront_avx512 {
 void trace(const WavefrontKernelArgs& args);
 void draw_sobol_pairs(const PixelSampler* const* samplers, const uint32_t* pairs, size_t count, glm::vec2* out);
+void cosine_directions(const glm::vec2* u, size_t count, int width, glm::vec3* out);
 }
 #endif
 
