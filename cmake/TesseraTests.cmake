@@ -22,12 +22,18 @@ option(TESSERA_TEST_SHARDS "Run each unit-test binary as a few shards instead of
 option(TESSERA_BUILD_SHORT_SUITES "Build the test binaries not labelled slow, faults or load" ON)
 include(GoogleTest)
 
-function(tessera_unit_tests target)
-  cmake_parse_arguments(ARG "" "SHARDS" "PROPERTIES" ${ARGN})
+# Without the short suites: TARGET out of `all`, and the calling function returns (a macro's
+# return() leaves its caller).
+macro(_tessera_leave_out_unless_short_suites target)
   if(NOT TESSERA_BUILD_SHORT_SUITES)
     set_target_properties(${target} PROPERTIES EXCLUDE_FROM_ALL TRUE)
     return()
   endif()
+endmacro()
+
+function(tessera_unit_tests target)
+  cmake_parse_arguments(ARG "" "SHARDS" "PROPERTIES" ${ARGN})
+  _tessera_leave_out_unless_short_suites(${target})
   if(NOT ARG_SHARDS)
     set(ARG_SHARDS 1)
   endif()
@@ -46,10 +52,7 @@ endfunction()
 
 function(tessera_e2e_tests target)
   cmake_parse_arguments(ARG "" "" "PROPERTIES" ${ARGN})
-  if(NOT TESSERA_BUILD_SHORT_SUITES)
-    set_target_properties(${target} PROPERTIES EXCLUDE_FROM_ALL TRUE)
-    return()
-  endif()
+  _tessera_leave_out_unless_short_suites(${target})
   # COST: with no timings from an earlier run (CI's clean checkout), `ctest -j` starts the tests
   # of higher cost first, so these long ones do not come last and leave a core idle at the end.
   gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES COST 100 ${ARG_PROPERTIES})
