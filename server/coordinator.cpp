@@ -138,16 +138,6 @@ StoreCounters Coordinator::store_counters() {
   return db_.counters();
 }
 
-uint64_t Coordinator::upload_yields() {
-  std::lock_guard lock(mu_);
-  return upload_yields_;
-}
-
-uint64_t Coordinator::lease_groups() {
-  std::lock_guard lock(mu_);
-  return lease_groups_;
-}
-
 uint64_t Coordinator::empty_looks_reused() {
   std::lock_guard lock(mu_);
   return empty_looks_reused_;
@@ -508,7 +498,6 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
 
 void Coordinator::look_for_all(const std::vector<LeaseCall*>& calls) {
   PriorityMutex::Urgent lock(mu_);
-  ++lease_groups_;
   for (LeaseCall* c : calls) {
     // Shutting down (or the store found damaged) while the call waited: no new leases.
     if (changes_.stopped()) break;
@@ -651,7 +640,6 @@ void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
   while (next < calls.size()) {
     if (next > 0) {
       lock.yield();  // the leases and heartbeats waiting go first
-      ++upload_yields_;
     }
     if (next + 1 == calls.size()) {
       commit_upload(*calls[next++]);

@@ -200,12 +200,6 @@ class Coordinator {
   /// What the store has executed since the server started (StoreCounters): the statements a
   /// lease or an accepted result costs (tests/farm/store_cost_test.cpp, BENCHMARKS.md).
   StoreCounters store_counters();
-  /// Times an upload group ended its transaction between two calls because a lease or heartbeat
-  /// waited for the store (commit_uploads), since the server started (tests, BENCHMARKS.md).
-  uint64_t upload_yields();
-  /// Lock holds that served the first looks of LeaseUnit calls (look_for_all): fewer than the
-  /// calls when several waited for the store at once (tests, BENCHMARKS.md).
-  uint64_t lease_groups();
   /// Lease looks answered without the store since the server started: the worker's previous
   /// look found nothing and nothing that could make a unit leasable happened since
   /// (kEmptyLookReuseMs; tests and BENCHMARKS.md).
@@ -312,8 +306,6 @@ class Coordinator {
     int64_t unix_ms = 0;
   };
   std::map<int64_t, EmptyLook> empty_looks_;
-  uint64_t upload_yields_ = 0;  ///< guarded by mu_
-  uint64_t lease_groups_ = 0;   ///< guarded by mu_
   /// The first look of one LeaseUnit call: its question, then its answer or error.
   struct LeaseCall {
     int64_t worker_id = 0;
