@@ -128,7 +128,7 @@ class DocumentReader {
  public:
   DocumentReader(const FileReader& reader, const std::string& file_name,
                  const std::string& root_name)
-      : reader_(reader), resolver_(reader, folder_of(file_name), root_name) {}
+      : resolver_(reader, folder_of(file_name), root_name) {}
 
   MitsubaDocument read(std::string_view xml, const std::string& file_name) {
     pugi::xml_document document;
@@ -289,7 +289,6 @@ class DocumentReader {
     resolver_.reset(search);
   }
 
-  const FileReader& reader_;
   MitsubaFileResolver resolver_;
   Parameters parameters_;
   std::vector<std::string> include_stack_;  ///< the scene file, then the includes being read

@@ -132,7 +132,10 @@ void expect_wavefront_equals_scalar(const Scene& scene, const std::string& name,
   const Renderer scalar(scene, options, {}, IntegratorKind::scalar);
   const Renderer wavefront(scene, options, {}, IntegratorKind::wavefront);
   ASSERT_EQ(wavefront.integrator(), IntegratorKind::wavefront);
-  for (const auto& [tile, begin] : {std::pair{TileRect{0, 0, 24, 18}, 0u}, std::pair{TileRect{5, 3, 21, 17}, spp}}) {
+  for (const auto& [tile_at, begin_at] : {std::pair{TileRect{0, 0, 24, 18}, 0u}, std::pair{TileRect{5, 3, 21, 17}, spp}}) {
+    // Copies: clang 14, the sanitizer build's compiler, cannot capture structured bindings.
+    const TileRect tile = tile_at;
+    const uint32_t begin = begin_at;
     RenderStats scalar_stats, wavefront_stats;
     const Accumulation expected = scalar.render(tile, begin, begin + spp, &scalar_stats);
     Accumulation one_thread, two_threads;
