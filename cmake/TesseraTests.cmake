@@ -20,7 +20,21 @@
 # suites) both leave TARGET out of `all` and register nothing; `ninja TARGET` still builds it.
 option(TESSERA_TEST_SHARDS "Run each unit-test binary as a few shards instead of a process per test" OFF)
 option(TESSERA_BUILD_SHORT_SUITES "Build the test binaries not labelled slow, faults or load" ON)
+option(TESSERA_UNITY_TESTS "Compile each test binary's sources a few files per translation unit" OFF)
 include(GoogleTest)
+
+# With -DTESSERA_UNITY_TESTS=ON (scripts/test.sh's sanitizer build) a unit-test binary's sources are
+# compiled UNITY_BATCH files to a translation unit (CMake's unity build), so the headers every
+# test file includes (GoogleTest, the scene and render headers) are parsed and instantiated once
+# per batch instead of once per file. The test files keep their helpers in anonymous namespaces
+# with names of their own, so that any of them can share a translation unit.
+set(TESSERA_UNITY_BATCH 8 CACHE STRING "Test files per translation unit with TESSERA_UNITY_TESTS")
+macro(_tessera_unity target)
+  if(TESSERA_UNITY_TESTS)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON
+                          UNITY_BUILD_BATCH_SIZE ${TESSERA_UNITY_BATCH})
+  endif()
+endmacro()
 
 # Without the short suites: TARGET out of `all`, and the calling function returns (a macro's
 # return() leaves its caller).
@@ -34,6 +48,7 @@ endmacro()
 function(tessera_unit_tests target)
   cmake_parse_arguments(ARG "" "SHARDS" "PROPERTIES" ${ARGN})
   _tessera_leave_out_unless_short_suites(${target})
+  _tessera_unity(${target})
   if(NOT ARG_SHARDS)
     set(ARG_SHARDS 1)
   endif()

@@ -8,7 +8,7 @@
 namespace tessera::cli {
 namespace {
 
-std::string error_of(const std::string& path) {
+std::string output_path_error(const std::string& path) {
   try {
     check_output_path(path, {".exr", ".png"});
   } catch (const std::runtime_error& e) {
@@ -20,15 +20,15 @@ std::string error_of(const std::string& path) {
 TEST(OutputPath, AcceptsAWritableFolderAndRefusesTheRestBeforeAnyWork) {
   const auto dir = std::filesystem::temp_directory_path() / "tessera_output_path_test";
   std::filesystem::create_directories(dir / "x.png");
-  EXPECT_EQ(error_of((dir / "a.exr").string()), "(accepted)");
-  EXPECT_EQ(error_of((dir / "A.PNG").string()), "(accepted)");
-  EXPECT_EQ(error_of("relative.png"), "(accepted)");
-  EXPECT_EQ(error_of("/nonexistent/dir/x.png"),
+  EXPECT_EQ(output_path_error((dir / "a.exr").string()), "(accepted)");
+  EXPECT_EQ(output_path_error((dir / "A.PNG").string()), "(accepted)");
+  EXPECT_EQ(output_path_error("relative.png"), "(accepted)");
+  EXPECT_EQ(output_path_error("/nonexistent/dir/x.png"),
             "-o /nonexistent/dir/x.png: folder /nonexistent/dir does not exist");
-  EXPECT_EQ(error_of((dir / "x.png").string()), "-o " + (dir / "x.png").string() + ": is a folder");
-  EXPECT_EQ(error_of((dir / "x.png" / "y.tiff").string()),
+  EXPECT_EQ(output_path_error((dir / "x.png").string()), "-o " + (dir / "x.png").string() + ": is a folder");
+  EXPECT_EQ(output_path_error((dir / "x.png" / "y.tiff").string()),
             "-o " + (dir / "x.png" / "y.tiff").string() + ": the output must end in .exr or .png");
-  EXPECT_EQ(error_of("/etc/passwd/x.png"), "-o /etc/passwd/x.png: /etc/passwd is not a folder");
+  EXPECT_EQ(output_path_error("/etc/passwd/x.png"), "-o /etc/passwd/x.png: /etc/passwd is not a folder");
   std::filesystem::remove_all(dir);
 }
 

@@ -82,7 +82,7 @@ Scene scene() {
   return s;
 }
 
-std::string error_of(const JobOverrides& o) {
+std::string resolve_error(const JobOverrides& o) {
   try {
     resolve_job_options(scene(), o);
   } catch (const std::invalid_argument& e) {
@@ -138,35 +138,35 @@ TEST(ResolveStoppingRule, PresetsArePlainRules) {
 TEST(ResolveStoppingRule, BadValuesAndClashesNameTheFlag) {
   JobOverrides o;
   o.noise = -1;
-  EXPECT_EQ(error_of(o), "--noise: must be > 0 (got -1)");
+  EXPECT_EQ(resolve_error(o), "--noise: must be > 0 (got -1)");
   o.noise = std::nan("");
-  EXPECT_EQ(error_of(o), "--noise: must be > 0 (got nan)");
+  EXPECT_EQ(resolve_error(o), "--noise: must be > 0 (got nan)");
   o = {};
   o.time_s = 0;
-  EXPECT_EQ(error_of(o), "--time: must be > 0 (got 0)");
+  EXPECT_EQ(resolve_error(o), "--time: must be > 0 (got 0)");
   o = {};
   o.noise = 0.1;
   o.max_spp = 0;
-  EXPECT_EQ(error_of(o), "--max-spp: must be in [1, 2147483648] (got 0)");
+  EXPECT_EQ(resolve_error(o), "--max-spp: must be in [1, 2147483648] (got 0)");
   o = {};
   o.spp = 16;
   o.noise = 0.1;
-  EXPECT_EQ(error_of(o), "--spp and --noise are mutually exclusive: give one stopping rule");
+  EXPECT_EQ(resolve_error(o), "--spp and --noise are mutually exclusive: give one stopping rule");
   o = {};
   o.time_s = 5;
   o.preset = "final";
-  EXPECT_EQ(error_of(o), "--time and --preset are mutually exclusive: give one stopping rule");
+  EXPECT_EQ(resolve_error(o), "--time and --preset are mutually exclusive: give one stopping rule");
   o = {};
   o.spp = 16;
   o.max_spp = 64;
-  EXPECT_EQ(error_of(o), "--max-spp: only with --noise, --time or a noise preset");
+  EXPECT_EQ(resolve_error(o), "--max-spp: only with --noise, --time or a noise preset");
   o = {};
   o.preset = "best";
-  EXPECT_EQ(error_of(o),
+  EXPECT_EQ(resolve_error(o),
             "--preset: unknown preset \"best\" (use draft, preview, final, reference)");
   o.preset = "draft";
   o.max_spp = 64;
-  EXPECT_EQ(error_of(o),
+  EXPECT_EQ(resolve_error(o),
             "--max-spp: only with --noise, --time or a noise preset (draft is 16 spp)");
 }
 

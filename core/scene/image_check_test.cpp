@@ -32,7 +32,7 @@ std::string encode(const std::string& extension, int width, int height,
   return std::string(buffer.begin(), buffer.end());
 }
 
-std::string error_of(const std::string& path, const std::string& bytes) {
+std::string check_error(const std::string& path, const std::string& bytes) {
   try {
     check_image_bytes(path, bytes);
   } catch (const SceneError& e) {
@@ -89,14 +89,14 @@ TEST(ImageCheck, AcceptsPfmAndNamesPixelsTopDown) {
       check_image_bytes("g.pfm", pfm("Pf\n3 2\n1.0\n", {0, 1, 2, 3, 4, 5}, true));
   EXPECT_EQ(grey.channels, 1);
   values[1] = std::numeric_limits<float>::quiet_NaN();  // stored first row: the bottom one
-  std::string nan = error_of("sky.pfm", pfm("PF\n3 2\n-1.0\n", values));
+  std::string nan = check_error("sky.pfm", pfm("PF\n3 2\n-1.0\n", values));
   EXPECT_EQ(nan.rfind("sky.pfm: pixel (0, 1) channel ", 0), 0u) << nan;
   EXPECT_NE(nan.find(" is NaN"), std::string::npos) << nan;
   values[1] = -std::numeric_limits<float>::infinity();
-  EXPECT_NE(error_of("sky.pfm", pfm("PF\n3 2\n-1.0\n", values)).find(" is infinite"),
+  EXPECT_NE(check_error("sky.pfm", pfm("PF\n3 2\n-1.0\n", values)).find(" is infinite"),
             std::string::npos);
   values[1] = 1;
-  std::string cut = error_of("sky.pfm", pfm("PF\n3 2\n-1.0\n", values).substr(0, 40));
+  std::string cut = check_error("sky.pfm", pfm("PF\n3 2\n-1.0\n", values).substr(0, 40));
   EXPECT_EQ(cut.rfind("sky.pfm: ", 0), 0u) << cut;
   EXPECT_NE(cut, "(no error)");
 }
@@ -104,33 +104,33 @@ TEST(ImageCheck, AcceptsPfmAndNamesPixelsTopDown) {
 TEST(ImageCheck, RefusesBadValuesNamingThePixel) {
   std::vector<float> pixels = ramp(4, 3);
   pixels[(2 * 4 + 1) * 3 + 2] = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_EQ(error_of("env.exr", encode(".exr", 4, 3, pixels)),
+  EXPECT_EQ(check_error("env.exr", encode(".exr", 4, 3, pixels)),
             "env.exr: pixel (1, 2) channel B is NaN (nan); images must hold finite values >= 0");
   pixels = ramp(4, 3);
   pixels[1] = std::numeric_limits<float>::infinity();
-  EXPECT_EQ(error_of("env.exr", encode(".exr", 4, 3, pixels)),
+  EXPECT_EQ(check_error("env.exr", encode(".exr", 4, 3, pixels)),
             "env.exr: pixel (0, 0) channel G is infinite (inf); images must hold finite values "
             ">= 0");
   pixels = ramp(4, 3);
   pixels[3 * 3] = -0.5f;
-  EXPECT_EQ(error_of("env.exr", encode(".exr", 4, 3, pixels)),
+  EXPECT_EQ(check_error("env.exr", encode(".exr", 4, 3, pixels)),
             "env.exr: pixel (3, 0) channel R is negative (-0.500000); images must hold finite "
             "values >= 0");
 }
 
 TEST(ImageCheck, RefusesWhatIsNotAnImage) {
-  EXPECT_EQ(error_of("a.png", ""), "a.png: empty file, not an image");
-  std::string not_png = error_of("a.png", "this is text, not a PNG file");
+  EXPECT_EQ(check_error("a.png", ""), "a.png: empty file, not an image");
+  std::string not_png = check_error("a.png", "this is text, not a PNG file");
   EXPECT_EQ(not_png.rfind("a.png: cannot be read as an image (", 0), 0u) << not_png;
-  std::string unknown = error_of("a.xyz", "whatever");
+  std::string unknown = check_error("a.xyz", "whatever");
   EXPECT_EQ(unknown.rfind("a.xyz: cannot be read as an image (", 0), 0u) << unknown;
   // Cut short: the header survives, the pixels do not.
   std::string exr = encode(".exr", 64, 64, ramp(64, 64));
-  std::string cut = error_of("t.exr", exr.substr(0, exr.size() / 2));
+  std::string cut = check_error("t.exr", exr.substr(0, exr.size() / 2));
   EXPECT_EQ(cut.rfind("t.exr: ", 0), 0u) << cut;
   EXPECT_NE(cut, "(no error)");
   std::string png = encode(".png", 64, 64, ramp(64, 64), OIIO::TypeDesc::UINT8);
-  std::string cut_png = error_of("t.png", png.substr(0, png.size() / 2));
+  std::string cut_png = check_error("t.png", png.substr(0, png.size() / 2));
   EXPECT_EQ(cut_png.rfind("t.png: ", 0), 0u) << cut_png;
   EXPECT_NE(cut_png, "(no error)");
 }

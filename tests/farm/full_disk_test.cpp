@@ -34,17 +34,6 @@ struct Disk {
   }
 };
 
-v1::SceneBundle tiny_bundle() {
-  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/tiny.json");
-  const std::string text((std::istreambuf_iterator<char>(in)), {});
-  v1::SceneBundle bundle;
-  bundle.set_scene_file("tiny.json");
-  auto* file = bundle.add_files();
-  file->set_path("tiny.json");
-  file->set_data(text);
-  return bundle;
-}
-
 /// Renders nothing: delivers synthetic results for every unit until the job is done.
 void complete(Coordinator& farm, int64_t job_id) {
   const int64_t worker = farm.register_worker({"w", 1, "avx2", "test"});
@@ -80,7 +69,7 @@ TEST(FullDisk, AJobStaysDoneAndItsFilesAreWrittenByTheNextGetOrStart) {
     options.set_spp(4);
     options.set_tile_size(8);
     options.set_batch_spp(2);
-    id = farm.submit(tiny_bundle(), options, 0, "test").id;
+    id = farm.submit(testing::tiny_bundle(), options, 0, "test").id;
     disk.full = true;
     complete(farm, id);
     EXPECT_GT(disk.refused, 0);

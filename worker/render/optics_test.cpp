@@ -11,6 +11,7 @@
 #include "fresnel.h"
 #include "frame.h"
 #include "warp.h"
+#include "render/light/light_test_support.h"
 
 namespace tessera {
 namespace {
@@ -90,12 +91,7 @@ TEST(Frame, IsOrthonormalForAnyNormal) {
   }
 }
 
-/// Upper tail probability of the chi-square distribution (Wilson-Hilferty approximation).
-double chi_square_p_value(double chi2, int dof) {
-  const double k = dof;
-  const double z = (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
-  return 0.5 * std::erfc(z / std::sqrt(2.0));
-}
+using test::chi_square_p_value;
 
 TEST(CosineHemisphere, PassesAChiSquareTest) {
   constexpr int kThetaBins = 10, kPhiBins = 20, kSamples = 200000;

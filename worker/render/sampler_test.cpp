@@ -8,6 +8,8 @@
 #include <glm/common.hpp>
 #include <gtest/gtest.h>
 
+#include "render/light/light_test_support.h"
+
 namespace tessera {
 namespace {
 
@@ -28,12 +30,7 @@ bool is_net(const std::vector<glm::vec2>& pts) {
   return true;
 }
 
-/// Upper tail probability of the chi-square distribution (Wilson-Hilferty approximation).
-double chi_square_p_value(double chi2, int dof) {
-  const double k = dof;
-  const double z = (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
-  return 0.5 * std::erfc(z / std::sqrt(2.0));
-}
+using test::chi_square_p_value;
 
 /// The p-value of n points (from point(k), k < n) against the uniform density on [0, 1)^2,
 /// by a chi-square test over 8 x 8 cells.

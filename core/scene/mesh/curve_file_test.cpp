@@ -11,7 +11,7 @@
 namespace tessera {
 namespace {
 
-std::string error_of(std::string_view text, CurveBasis basis = CurveBasis::linear) {
+std::string curve_error(std::string_view text, CurveBasis basis = CurveBasis::linear) {
   try {
     parse_curve_file(text, "hair/c.txt", basis);
   } catch (const SceneError& e) {
@@ -63,10 +63,10 @@ TEST(CurveFile, RoundsToFloatAsMitsuba) {
 }
 
 TEST(CurveFile, TooFewPointsNamesTheCurvesFirstLine) {
-  EXPECT_EQ(error_of("0 0 0 1\n1 0 0 1\n\n2 0 0 1\n"),
+  EXPECT_EQ(curve_error("0 0 0 1\n1 0 0 1\n\n2 0 0 1\n"),
             "hair/c.txt: line 4: a linear curve needs at least 2 control points (this one has 1; "
             "an empty line starts a new curve)");
-  EXPECT_EQ(error_of("0 0 0 1\n1 0 0 1\n2 0 0 1\n", CurveBasis::bspline),
+  EXPECT_EQ(curve_error("0 0 0 1\n1 0 0 1\n2 0 0 1\n", CurveBasis::bspline),
             "hair/c.txt: line 1: a B-spline curve needs at least 4 control points (this one has "
             "3; an empty line starts a new curve)");
   // Four points make one B-spline segment.
@@ -76,32 +76,32 @@ TEST(CurveFile, TooFewPointsNamesTheCurvesFirstLine) {
 }
 
 TEST(CurveFile, BadLinesNameFileAndLine) {
-  EXPECT_EQ(error_of("0 0 0 1\n1 0 0\n"),
+  EXPECT_EQ(curve_error("0 0 0 1\n1 0 0\n"),
             "hair/c.txt: line 2: \"1 0 0\": expected four numbers \"x y z radius\" (Mitsuba's "
             "curve format)");
-  EXPECT_EQ(error_of("0 0 0 1\n1 0 x 1\n"),
+  EXPECT_EQ(curve_error("0 0 0 1\n1 0 x 1\n"),
             "hair/c.txt: line 2: \"1 0 x 1\": expected four numbers \"x y z radius\" (Mitsuba's "
             "curve format)");
-  EXPECT_EQ(error_of("0 0 0 1\n1,0,0,1\n"),
+  EXPECT_EQ(curve_error("0 0 0 1\n1,0,0,1\n"),
             "hair/c.txt: line 2: \"1,0,0,1\": expected four numbers \"x y z radius\" (Mitsuba's "
             "curve format)");
-  EXPECT_EQ(error_of("0 0 0 1 5\n1 0 0 1\n"),
+  EXPECT_EQ(curve_error("0 0 0 1 5\n1 0 0 1\n"),
             "hair/c.txt: line 1: \"0 0 0 1 5\": more than four numbers \"x y z radius\" on a line");
-  EXPECT_EQ(error_of("# comment\n"),
+  EXPECT_EQ(curve_error("# comment\n"),
             "hair/c.txt: line 1: \"# comment\": expected four numbers \"x y z radius\" (Mitsuba's "
             "curve format)");
-  EXPECT_EQ(error_of("0 0 0 1\n1 0 0 -0.5\n"),
+  EXPECT_EQ(curve_error("0 0 0 1\n1 0 0 -0.5\n"),
             "hair/c.txt: line 2: the radius must be finite and >= 0 (got -0.5)");
-  EXPECT_EQ(error_of("0 0 0 1\n1 0 0 nan\n"),
+  EXPECT_EQ(curve_error("0 0 0 1\n1 0 0 nan\n"),
             "hair/c.txt: line 2: the radius must be finite and >= 0 (got nan)");
-  EXPECT_EQ(error_of("0 inf 0 1\n1 0 0 1\n"), "hair/c.txt: line 1: the position is not finite");
-  EXPECT_EQ(error_of("0 1e39 0 1\n1 0 0 1\n"),
+  EXPECT_EQ(curve_error("0 inf 0 1\n1 0 0 1\n"), "hair/c.txt: line 1: the position is not finite");
+  EXPECT_EQ(curve_error("0 1e39 0 1\n1 0 0 1\n"),
             "hair/c.txt: line 1: \"0 1e39 0 1\": a number out of float range");
 }
 
 TEST(CurveFile, EmptyFileIsRefused) {
-  EXPECT_EQ(error_of(""), "hair/c.txt: no control points (an empty curve file)");
-  EXPECT_EQ(error_of("\n  \n\r\n"), "hair/c.txt: no control points (an empty curve file)");
+  EXPECT_EQ(curve_error(""), "hair/c.txt: no control points (an empty curve file)");
+  EXPECT_EQ(curve_error("\n  \n\r\n"), "hair/c.txt: no control points (an empty curve file)");
 }
 
 }  // namespace

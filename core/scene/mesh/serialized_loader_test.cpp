@@ -91,7 +91,7 @@ ShapeSpec quad(double z) {
   return s;
 }
 
-std::string error_of(const std::string& bytes, int shape_index = 0) {
+std::string serialized_error(const std::string& bytes, int shape_index = 0) {
   try {
     load_serialized_mesh(bytes, "m.serialized", shape_index, true);
   } catch (const SceneError& e) {
@@ -148,7 +148,7 @@ TEST(SerializedLoader, ShapeIndexFindsEachShapeInVersions3And4) {
       EXPECT_EQ(m.mesh.positions[0].z, index) << "version " << version;
       EXPECT_EQ(m.shape_name, version == 4 ? shapes[index].name : "");
     }
-    EXPECT_EQ(error_of(file, 3),
+    EXPECT_EQ(serialized_error(file, 3),
               "m.serialized: shape_index 3 out of range (the file holds 3 shapes)");
   }
 }
@@ -169,14 +169,14 @@ TEST(SerializedLoader, UnusableNormalsAreDropped) {
 
 TEST(SerializedLoader, RefusesBrokenFilesNamingThem) {
   std::string good = file_bytes({quad(0)});
-  EXPECT_EQ(error_of("\x1c"), "m.serialized: truncated: no serialized file header");
-  EXPECT_EQ(error_of("PK\x03\x04" + good.substr(4)),
+  EXPECT_EQ(serialized_error("\x1c"), "m.serialized: truncated: no serialized file header");
+  EXPECT_EQ(serialized_error("PK\x03\x04" + good.substr(4)),
             "m.serialized: not a Mitsuba serialized mesh (bad magic number)");
   std::string v5 = good;
   v5[2] = 5;
-  EXPECT_EQ(error_of(v5),
+  EXPECT_EQ(serialized_error(v5),
             "m.serialized: unsupported serialized format version 5 (expected 3 or 4)");
-  EXPECT_EQ(error_of(good, -1), "m.serialized: shape_index must be >= 0 (got -1)");
+  EXPECT_EQ(serialized_error(good, -1), "m.serialized: shape_index must be >= 0 (got -1)");
 
   // The compressed stream cut short: the triangle indices are missing.
   std::string raw_shape = shape_bytes(quad(0), 4);
@@ -188,39 +188,39 @@ TEST(SerializedLoader, RefusesBrokenFilesNamingThem) {
     body = b.data;  // no indices at all
   }
   std::string cut = raw_shape.substr(0, 4) + compress(body);
-  EXPECT_EQ(error_of(cut),
+  EXPECT_EQ(serialized_error(cut),
             "m.serialized: truncated: the compressed data ends in the triangle indices");
-  std::string short_file = error_of(good.substr(0, 20));
+  std::string short_file = serialized_error(good.substr(0, 20));
   EXPECT_EQ(short_file.rfind("m.serialized: truncated", 0), 0u) << short_file;
   std::string corrupt = good;
   for (size_t i = 8; i < 20; ++i) corrupt[i] = char(0xff);
-  EXPECT_NE(error_of(corrupt).find("m.serialized: "), std::string::npos);
-  EXPECT_NE(error_of(corrupt), "(no error)");
+  EXPECT_NE(serialized_error(corrupt).find("m.serialized: "), std::string::npos);
+  EXPECT_NE(serialized_error(corrupt), "(no error)");
 }
 
 TEST(SerializedLoader, RefusesBadValues) {
   ShapeSpec s = quad(0);
   s.indices[4] = 4;
-  EXPECT_EQ(error_of(file_bytes({s})),
+  EXPECT_EQ(serialized_error(file_bytes({s})),
             "m.serialized: triangle 1: vertex index 4 out of range (4 vertices)");
   s = quad(0);
   s.positions[7] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(error_of(file_bytes({s})), "m.serialized: vertex 2: position is not finite");
+  EXPECT_EQ(serialized_error(file_bytes({s})), "m.serialized: vertex 2: position is not finite");
   s = quad(0);
   s.flags |= 0x2;
   s.uvs = {0, 0, 1, 0, 1, std::numeric_limits<double>::infinity(), 0, 1};
-  EXPECT_EQ(error_of(file_bytes({s})), "m.serialized: vertex 2: texture coordinate is not finite");
+  EXPECT_EQ(serialized_error(file_bytes({s})), "m.serialized: vertex 2: texture coordinate is not finite");
 }
 
 TEST(SerializedLoader, RefusesCountsBeforeAllocating) {
   Bytes b;
   b.put<uint32_t>(0x1000).text("").put<uint64_t>(uint64_t(1) << 40).put<uint64_t>(1);
   std::string huge = std::string("\x1c\x04\x04\x00", 4) + compress(b.data);
-  EXPECT_EQ(error_of(huge), "m.serialized: 1099511627776 vertices (at most 100000000)");
+  EXPECT_EQ(serialized_error(huge), "m.serialized: 1099511627776 vertices (at most 100000000)");
   Bytes c;
   c.put<uint32_t>(0x2000).text("").put<uint64_t>(50'000'000).put<uint64_t>(50'000'000);
   std::string big = std::string("\x1c\x04\x04\x00", 4) + compress(c.data);
-  EXPECT_NE(error_of(big).find("cannot fit in"), std::string::npos) << error_of(big);
+  EXPECT_NE(serialized_error(big).find("cannot fit in"), std::string::npos) << serialized_error(big);
 }
 
 TEST(SerializedLoader, BadDictionaryIsNamed) {
@@ -228,10 +228,10 @@ TEST(SerializedLoader, BadDictionaryIsNamed) {
   // Point the second entry into the middle of the first shape.
   uint64_t wrong = 7;
   std::memcpy(file.data() + file.size() - 4 - 8, &wrong, 8);
-  EXPECT_EQ(error_of(file, 1), "m.serialized: no shape header at offset 7 (bad shape dictionary)");
+  EXPECT_EQ(serialized_error(file, 1), "m.serialized: no shape header at offset 7 (bad shape dictionary)");
   uint32_t many = 1'000'000;
   std::memcpy(file.data() + file.size() - 4, &many, 4);
-  EXPECT_EQ(error_of(file, 1),
+  EXPECT_EQ(serialized_error(file, 1),
             "m.serialized: shape dictionary of 1000000 shapes does not fit in the file");
 }
 

@@ -38,7 +38,7 @@ std::string vol_bytes(int32_t nx, int32_t ny, int32_t nz, int32_t channels,
   return out;
 }
 
-std::string error_of(const std::string& bytes) {
+std::string grid_error(const std::string& bytes) {
   try {
     parse_volume_grid_file(bytes, "grids/a.vol");
   } catch (const SceneError& e) {
@@ -73,51 +73,51 @@ TEST(VolumeGridFile, NegativeValuesAndTrailingBytesAreKept) {
 }
 
 TEST(VolumeGridFile, RefusesBadHeaders) {
-  EXPECT_EQ(error_of("VO"),
+  EXPECT_EQ(grid_error("VO"),
             "grids/a.vol: not a Mitsuba volume grid file (it must start with \"VOL\")");
-  EXPECT_EQ(error_of("PLY\3rest"),
+  EXPECT_EQ(grid_error("PLY\3rest"),
             "grids/a.vol: not a Mitsuba volume grid file (it must start with \"VOL\")");
-  EXPECT_EQ(error_of(vol_bytes(1, 1, 1, 1, {0}, 2)),
+  EXPECT_EQ(grid_error(vol_bytes(1, 1, 1, 1, {0}, 2)),
             "grids/a.vol: volume grid file version 2; Mitsuba 3 and Tessera read version 3 only");
-  EXPECT_EQ(error_of(vol_bytes(1, 1, 1, 1, {0}).substr(0, 30)),
+  EXPECT_EQ(grid_error(vol_bytes(1, 1, 1, 1, {0}).substr(0, 30)),
             "grids/a.vol: the file ends inside its 48-byte header (30 bytes)");
-  EXPECT_EQ(error_of(vol_bytes(1, 1, 1, 1, {0}, 3, 2)),
+  EXPECT_EQ(grid_error(vol_bytes(1, 1, 1, 1, {0}, 3, 2)),
             "grids/a.vol: volume grid encoding 2; only 1 (float32) is read, as in Mitsuba 3");
-  EXPECT_EQ(error_of(vol_bytes(4, 0, 1, 1, {})),
+  EXPECT_EQ(grid_error(vol_bytes(4, 0, 1, 1, {})),
             "grids/a.vol: the grid's y resolution is 0; it must be at least 1");
-  EXPECT_EQ(error_of(vol_bytes(1, 1, -3, 1, {})),
+  EXPECT_EQ(grid_error(vol_bytes(1, 1, -3, 1, {})),
             "grids/a.vol: the grid's z resolution is -3; it must be at least 1");
-  EXPECT_EQ(error_of(vol_bytes(1, 1, 1, 0, {})),
+  EXPECT_EQ(grid_error(vol_bytes(1, 1, 1, 0, {})),
             "grids/a.vol: the grid has 0 channels; it must have at least 1");
 }
 
 TEST(VolumeGridFile, RefusesGridsOverTheLimitBeforeReadingThem) {
   // 2^30 values claimed by a 48-byte file: refused by the count, nothing allocated.
-  EXPECT_EQ(error_of(vol_bytes(1024, 1024, 1024, 1, {})),
+  EXPECT_EQ(grid_error(vol_bytes(1024, 1024, 1024, 1, {})),
             "grids/a.vol: the grid holds more than 268435456 values (1024 x 1024 x 1024 x 1 "
             "channels), the most a grid file may hold");
   // The product of four int32 resolutions (2^124) does not wrap around to a small count.
-  EXPECT_EQ(error_of(vol_bytes(2147483647, 2147483647, 2147483647, 2147483647, {})),
+  EXPECT_EQ(grid_error(vol_bytes(2147483647, 2147483647, 2147483647, 2147483647, {})),
             "grids/a.vol: the grid holds more than 268435456 values (2147483647 x 2147483647 x "
             "2147483647 x 2147483647 channels), the most a grid file may hold");
-  EXPECT_EQ(error_of(vol_bytes(65536, 65536, 65536, 1, {})),
+  EXPECT_EQ(grid_error(vol_bytes(65536, 65536, 65536, 1, {})),
             "grids/a.vol: the grid holds more than 268435456 values (65536 x 65536 x 65536 x 1 "
             "channels), the most a grid file may hold");
 }
 
 TEST(VolumeGridFile, RefusesTruncatedFiles) {
-  EXPECT_EQ(error_of(vol_bytes(2, 2, 2, 1, {1, 2, 3, 4, 5, 6, 7})),
+  EXPECT_EQ(grid_error(vol_bytes(2, 2, 2, 1, {1, 2, 3, 4, 5, 6, 7})),
             "grids/a.vol: the file ends after 7 of its 8 values (truncated)");
 }
 
 TEST(VolumeGridFile, RefusesNonFiniteValuesNamingTheVoxel) {
   std::vector<float> values(2 * 2 * 2 * 3, 1.f);
   values[((1 * 2 + 0) * 2 + 1) * 3 + 2] = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_EQ(error_of(vol_bytes(2, 2, 2, 3, values)),
+  EXPECT_EQ(grid_error(vol_bytes(2, 2, 2, 3, values)),
             "grids/a.vol: voxel (1, 0, 1) channel 2 is NaN; grid values must be finite");
   values.assign(values.size(), 0.f);
   values[3] = -std::numeric_limits<float>::infinity();
-  EXPECT_EQ(error_of(vol_bytes(2, 2, 2, 3, values)),
+  EXPECT_EQ(grid_error(vol_bytes(2, 2, 2, 3, values)),
             "grids/a.vol: voxel (1, 0, 0) channel 0 is infinite; grid values must be finite");
 }
 

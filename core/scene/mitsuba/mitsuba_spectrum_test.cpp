@@ -15,7 +15,7 @@ glm::dvec3 rgb(const std::string& value, MitsubaColorRole role) {
   return color.value_or(glm::dvec3(-1));
 }
 
-std::string error_of(const std::string& value) {
+std::string spectrum_error(const std::string& value) {
   std::string error;
   EXPECT_FALSE(mitsuba_spectrum_to_rgb(value, MitsubaColorRole::reflectance, error));
   return error;
@@ -52,10 +52,10 @@ TEST(MitsubaSpectrum, ClampsAsMitsuba) {
 }
 
 TEST(MitsubaSpectrum, BadSpectraAreRefused) {
-  EXPECT_NE(error_of("400:0.1, 300:0.2").find("wavelengths must increase"), std::string::npos);
-  EXPECT_NE(error_of("500:0.5").find("at least two wavelength:value pairs"), std::string::npos);
-  EXPECT_NE(error_of("red").find("\"red\" is not a wavelength:value pair"), std::string::npos);
-  EXPECT_NE(error_of("400:x, 500:1").find("is not a wavelength:value pair"), std::string::npos);
+  EXPECT_NE(spectrum_error("400:0.1, 300:0.2").find("wavelengths must increase"), std::string::npos);
+  EXPECT_NE(spectrum_error("500:0.5").find("at least two wavelength:value pairs"), std::string::npos);
+  EXPECT_NE(spectrum_error("red").find("\"red\" is not a wavelength:value pair"), std::string::npos);
+  EXPECT_NE(spectrum_error("400:x, 500:1").find("is not a wavelength:value pair"), std::string::npos);
 }
 
 }  // namespace

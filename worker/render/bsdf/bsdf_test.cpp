@@ -13,7 +13,6 @@
 namespace tessera::test {
 namespace {
 
-bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 /// The energy a sample carries: its weight without the radiance compression 1 / eta^2 of a
 /// refraction, so that a lossless interface conserves it exactly.

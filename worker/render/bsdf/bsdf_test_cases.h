@@ -1,6 +1,7 @@
 // Test support: the grid of BSDF parameters and outgoing directions the BSDF tests run over.
 #pragma once
 
+#include <cmath>
 #include <deque>
 #include <string>
 #include <vector>
@@ -11,6 +12,8 @@
 #include "render/bsdf/chi_square.h"
 
 namespace tessera::test {
+
+inline bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 /// mitsuba_blend.py's CASES, in its order: a rough conductor and a diffuse BSDF (0.3), a rough
 /// dielectric and a diffuse BSDF (0.6, eta on the blend for the reciprocity test), and a blend

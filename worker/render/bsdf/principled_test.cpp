@@ -19,7 +19,6 @@
 namespace tessera::test {
 namespace {
 
-bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 TEST(PrincipledEval, MatchesMitsuba3PointValues) {
   const std::string path =

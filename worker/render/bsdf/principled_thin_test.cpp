@@ -21,10 +21,9 @@
 namespace tessera::test {
 namespace {
 
-bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 /// Reads the 16 parameter columns of a row of mitsuba_principled_thin*.txt.
-bool read_params(std::istream& s, BsdfParams* p) {
+bool read_thin_params(std::istream& s, BsdfParams* p) {
   p->type = MaterialType::principled_thin;
   PrincipledInputs& q = p->principled;
   s >> p->reflectance.x >> p->reflectance.y >> p->reflectance.z >> q.roughness >> q.anisotropic >>
@@ -50,7 +49,7 @@ TEST(PrincipledThinEval, MatchesMitsuba3PointValues) {
     BsdfParams p;
     glm::vec3 wo, wi, expected;
     float expected_pdf = 0;
-    ASSERT_TRUE(read_params(s, &p)) << "line " << line;
+    ASSERT_TRUE(read_thin_params(s, &p)) << "line " << line;
     s >> wo.x >> wo.y >> wo.z >> wi.x >> wi.y >> wi.z >> expected.x >> expected.y >> expected.z >>
         expected_pdf;
     ASSERT_TRUE(s) << "mitsuba_principled_thin.txt line " << line << ": expected 26 columns";
@@ -88,7 +87,7 @@ TEST(PrincipledThinAlbedo, MatchesMitsuba3WithinOnePercent) {
     BsdfParams p;
     float cos_theta_o = 0;
     glm::dvec3 expected, expected_se;
-    ASSERT_TRUE(read_params(s, &p)) << "line " << line;
+    ASSERT_TRUE(read_thin_params(s, &p)) << "line " << line;
     s >> cos_theta_o >> expected.x >> expected.y >> expected.z >> expected_se.x >> expected_se.y >>
         expected_se.z;
     ASSERT_TRUE(s) << "mitsuba_principled_thin_albedo.txt line " << line << ": expected 23 columns";
@@ -116,7 +115,7 @@ TEST(PrincipledThinSample, MatchesMitsuba3ForTheSameRandomNumbers) {
     BsdfParams p;
     glm::vec3 wo, wi, weight;
     float u_lobe, u_x, u_y, pdf;
-    ASSERT_TRUE(read_params(s, &p)) << "line " << line;
+    ASSERT_TRUE(read_thin_params(s, &p)) << "line " << line;
     s >> wo.x >> wo.y >> wo.z >> u_lobe >> u_x >> u_y >> wi.x >> wi.y >> wi.z >> weight.x >>
         weight.y >> weight.z >> pdf;
     ASSERT_TRUE(s) << "mitsuba_principled_thin_sample.txt line " << line << ": expected 29 columns";

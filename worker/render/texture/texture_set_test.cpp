@@ -354,7 +354,7 @@ struct MitsubaLookup {
 
 /// Lookups by Mitsuba 3 itself (worker/render/texture/mitsuba_reference.py), over the same
 /// images as these tests make.
-const MitsubaLookup kMitsuba[] = {
+const MitsubaLookup kMitsubaLookups[] = {
 #include "mitsuba_reference.inc"
 };
 
@@ -399,7 +399,7 @@ TEST(TextureSet, MatchesMitsubaLookups) {
     return std::abs(a - b) <= rel * std::max(1.0f, std::abs(b));
   };
   int compared = 0;
-  for (const MitsubaLookup& m : kMitsuba) {
+  for (const MitsubaLookup& m : kMitsubaLookups) {
     const glm::vec2 uv(m.u, m.v);
     const glm::vec3 c = set.lookup(m.config, uv);
     const std::string where = "config " + std::to_string(m.config) + " uv " + std::to_string(m.u) +
