@@ -37,6 +37,14 @@ constexpr uint32_t kPairsPerVertex = 4;
 /// Russian roulette starts at this vertex (0 = the camera ray's hit).
 constexpr int kRouletteVertex = 3;
 constexpr float kMaxSurvival = 0.95f;
+/// Roulette spares this many consecutive delta vertices (mirror, smooth glass): a specular
+/// vertex does not branch, and light through glass onto a diffuse point (the caustic paths,
+/// about three quarters of cornell-sphere's and hexroom's variance) was rouletted at the glass
+/// with survival of about the diffuse albedo, which multiplied those rare, bright samples by
+/// 1 / albedo. Past this many in a row roulette applies again, so a path trapped by total
+/// internal reflection (throughput 1) still ends. Measured: BENCHMARKS.md, "Issue 13: where the
+/// glass scenes' error lives (branch shade11)".
+constexpr int kFreeSpecularVertices = 4;
 
 inline float max_component(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 
@@ -152,8 +160,8 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
 /// Lambertian surfaces get next-event estimation (one emitter chosen by power, one point on it
 /// by area, one shadow ray) plus a cosine-weighted bounce; other BSDFs combine both strategies
 /// by multiple importance sampling. Russian roulette from the third bounce on, survival
-/// min(max(beta * eta^2), 0.95): unbiased, and a path trapped by total internal reflection still
-/// ends. `max_depth` follows Mitsuba (path segments including the camera ray; -1 = unbounded).
+/// min(max(beta * eta^2), 0.95), except at the first kFreeSpecularVertices delta vertices in a
+/// row: unbiased, and a path trapped by total internal reflection still ends. `max_depth` follows Mitsuba (path segments including the camera ray; -1 = unbounded).
 ///
 /// Inlined into both integrators' loops (trace_path in integrator.cpp, the wavefront's lane
 /// loop), so that the shadow query and the locals stay in registers: called out of line it
@@ -360,7 +368,8 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
   }
   if (!(max_component(beta) > 0)) return false;
 
-  if (roulette) {
+  path.specular_run = sampled_delta ? path.specular_run + 1 : 0;
+  if (roulette && !(sampled_delta && path.specular_run <= kFreeSpecularVertices)) {
     const float survival = std::min(max_component(beta) * path.eta_scale, kMaxSurvival);
     if (u_choice.y >= survival) return false;
     beta /= survival;
