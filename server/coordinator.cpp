@@ -64,9 +64,9 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
   migrate(db_, clock_.now_unix_ms());
   leases_.set_health_policy(config.health);
   book_.set_health_policy(config.health);
-  // The lease book: every worker and each unfinished job as stored (resume() revokes the
-  // stored leases and loads the jobs again).
-  for (const WorkerRecord& w : workers_.list()) book_.add_worker(w.id);
+  // The lease book: each unfinished job as stored (resume() revokes the stored leases in both).
+  // Workers are learnt at registration, or at their first call after a start (touch_in_memory):
+  // start-up reads no worker row.
   for (int64_t id : jobs_.unfinished()) reload_job(id);
   if (!clean && !created && config.db_path != ":memory:") {
     std::cerr << "tessera-server: " << config.db_path
@@ -418,8 +418,14 @@ void Coordinator::touch_in_memory(int64_t worker_id, uint64_t call) {
     }
   }
   if (!book_.knows_worker(worker_id)) {
-    throw FarmError(ErrorCode::failed_precondition,
-                    "no worker " + std::to_string(worker_id) + ": register again");
+    // Its first call since the server started (or an unknown id): the one lease or heartbeat
+    // of a worker that asks the store.
+    StoreLock lock(*this);
+    if (!workers_.get(worker_id)) {
+      throw FarmError(ErrorCode::failed_precondition,
+                      "no worker " + std::to_string(worker_id) + ": register again");
+    }
+    book_.add_worker(worker_id);
   }
   book_.touch(worker_id, clock_.now_unix_ms());  // last_seen written by the next flush
 }
