@@ -13,6 +13,8 @@
 #include "store/integrity.h"
 #include "store/job_clients_table.h"
 #include "store/migrations.h"
+#include "store/units_table.h"
+#include "store/workers_table.h"
 #include "wire/job_options_wire.h"
 #include "wire/scene_bundle.h"
 #include "wire/sha256.h"
@@ -44,6 +46,7 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       jobs_(db_),
       workers_(db_),
       leases_(db_, jobs_, clock_, config.lease_ms),
+      book_(clock_, config.lease_ms),
       scheduler_(db_, leases_, clock_),
       merger_(db_, clock_, config.merge_cache_bytes),
       output_(config.output_dir, config.output_writer),
@@ -60,6 +63,11 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
   const bool created = schema_version(db_) == 0;
   migrate(db_, clock_.now_unix_ms());
   leases_.set_health_policy(config.health);
+  book_.set_health_policy(config.health);
+  // The lease book: each unfinished job as stored (resume() revokes the stored leases in both).
+  // Workers are learnt at registration, or at their first call after a start (touch_in_memory):
+  // start-up reads no worker row.
+  for (int64_t id : jobs_.unfinished()) reload_job(id);
   if (!clean && !created && config.db_path != ":memory:") {
     std::cerr << "tessera-server: " << config.db_path
               << " was not closed by a clean shutdown: checking it (PRAGMA quick_check) in the"
@@ -91,7 +99,7 @@ bool Coordinator::checkpoint() {
     check_->stop();
     checked = check_->state() == IntegrityState::ok;
   }
-  std::lock_guard lock(mu_);
+  StoreLock lock(*this);
   if (checked) leave_clean_shutdown_mark(db_);
   return checkpoint_wal(db_);
 }
@@ -134,13 +142,8 @@ void Coordinator::set_damage_observer(std::function<void(const std::string&)> ob
 }
 
 StoreCounters Coordinator::store_counters() {
-  std::lock_guard lock(mu_);
+  std::lock_guard lock(mu_);  // no flush: reading the counters runs no statement
   return db_.counters();
-}
-
-uint64_t Coordinator::empty_looks_reused() {
-  std::lock_guard lock(mu_);
-  return empty_looks_reused_;
 }
 
 int Coordinator::resume() {
@@ -148,14 +151,15 @@ int Coordinator::resume() {
   // no other unit row and no tile (BENCHMARKS.md, "restart").
   std::vector<int64_t> unfinished;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     leases_.revoke_all();
+    book_.revoke_all();  // the same in the book, loaded by the constructor
     unfinished = jobs_.unfinished();
   }
   for (int64_t id : unfinished) {
     bool complete = false;
     {
-      std::lock_guard lock(mu_);
+      StoreLock lock(*this);
       complete = !units_left(db_, id);
     }
     // finish_job checks the job is running; a queued job has units left anyway.
@@ -164,14 +168,14 @@ int Coordinator::resume() {
   // Done jobs whose output could not be written (a full disk) get their files now.
   std::vector<DoneOutput> done;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     done = jobs_.done_outputs();
   }
   for (const DoneOutput& d : done) {
     if (std::filesystem::exists(d.exr) && std::filesystem::exists(d.png)) continue;
     std::optional<JobRecord> record;
     {
-      std::lock_guard lock(mu_);
+      StoreLock lock(*this);
       record = jobs_.get(d.job_id);
     }
     if (record) rewrite_missing_output(*record);
@@ -215,7 +219,7 @@ JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobReques
   job.priority = priority;
   JobRecord record;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     const uint64_t quota = limits_.max_queued_jobs_per_client;
     if (quota > 0) {
       const uint64_t active = JobClientsTable(db_).unfinished_of(client);
@@ -229,13 +233,14 @@ JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobReques
     const int64_t id = jobs_.create(job, clock_.now_unix_ms());
     JobClientsTable(db_).add(id, client);
     record = *jobs_.get(id);
+    reload_job(id);
   }
   notify_changed(true);
   return record;
 }
 
 JobRecord Coordinator::job(int64_t job_id) {
-  std::lock_guard lock(mu_);
+  StoreLock lock(*this);
   std::optional<JobRecord> record = jobs_.get(job_id);
   if (!record) throw job_not_found(job_id);
   record->read_unix_ms = clock_.now_unix_ms();
@@ -243,7 +248,7 @@ JobRecord Coordinator::job(int64_t job_id) {
 }
 
 std::vector<JobRecord> Coordinator::jobs(uint32_t limit) {
-  std::lock_guard lock(mu_);
+  StoreLock lock(*this);
   std::vector<JobRecord> out = jobs_.list(limit);
   for (JobRecord& r : out) r.read_unix_ms = clock_.now_unix_ms();
   return out;
@@ -252,7 +257,7 @@ std::vector<JobRecord> Coordinator::jobs(uint32_t limit) {
 JobRecord Coordinator::cancel(int64_t job_id) {
   JobRecord record;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     switch (jobs_.cancel(job_id, clock_.now_unix_ms())) {
       case CancelOutcome::not_found: throw job_not_found(job_id);
       case CancelOutcome::already_final: {
@@ -263,6 +268,7 @@ JobRecord Coordinator::cancel(int64_t job_id) {
       }
       case CancelOutcome::cancelled: break;
     }
+    book_.drop_job(job_id);  // its units and leases were cancelled in the store
     record = *jobs_.get(job_id);
   }
   notify_changed(true);
@@ -272,7 +278,7 @@ JobRecord Coordinator::cancel(int64_t job_id) {
 void Coordinator::remove(int64_t job_id) {
   std::optional<JobRecord> record;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     record = jobs_.get(job_id);
     if (!record) throw job_not_found(job_id);
     if (finishing_.contains(job_id)) {
@@ -288,6 +294,7 @@ void Coordinator::remove(int64_t job_id) {
       case DeleteOutcome::deleted: break;
     }
     merger_.forget_job(job_id);
+    book_.drop_job(job_id);
     tile_rects_.erase(tile_rects_.lower_bound({job_id, 0}),
                       tile_rects_.lower_bound({job_id + 1, 0}));
   }
@@ -302,7 +309,7 @@ void Coordinator::remove(int64_t job_id) {
 int Coordinator::apply_retention() {
   std::vector<int64_t> old;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     const int64_t now = clock_.now_unix_ms();
     if (retention_days_ <= 0 || now - last_retention_unix_ms_ < 60'000) return 0;
     last_retention_unix_ms_ = now;
@@ -325,7 +332,7 @@ JobImage Coordinator::image(int64_t job_id, const std::string& format) {
   JobRecord record;
   std::vector<TileRecord> tiles;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     std::optional<JobRecord> found = jobs_.get(job_id);
     if (!found) throw job_not_found(job_id);
     record = std::move(*found);
@@ -350,7 +357,7 @@ JobImage Coordinator::image(int64_t job_id, const std::string& format) {
     }
   }
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     merger_.checkpoint_job(job_id);  // the merged sums, not just the last checkpoints
     tiles = jobs_.tiles(job_id);
   }
@@ -362,7 +369,7 @@ JobImage Coordinator::image(int64_t job_id, const std::string& format) {
 }
 
 std::vector<WorkerRecord> Coordinator::workers() {
-  std::lock_guard lock(mu_);
+  StoreLock lock(*this);
   std::vector<WorkerRecord> list = workers_.list();
   for (WorkerRecord& w : list) w.health_warning = health_warning(w, nan_report_fraction_);
   return list;
@@ -395,11 +402,87 @@ void Coordinator::deregister(int64_t worker_id) {
 int64_t Coordinator::register_worker(const WorkerRegistration& info) {
   int64_t id = 0;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     id = workers_.register_worker(info, clock_.now_unix_ms());
+    book_.add_worker(id);
   }
   notify_changed(true);
   return id;
+}
+
+void Coordinator::touch_in_memory(int64_t worker_id, uint64_t call) {
+  {
+    std::lock_guard lock(departed_mu_);
+    if (const auto it = departed_.find(worker_id); it != departed_.end() && call >= it->second) {
+      departed_.erase(it);
+    }
+  }
+  if (!book_.knows_worker(worker_id)) {
+    // Its first call since the server started (or an unknown id): the one lease or heartbeat
+    // of a worker that asks the store.
+    StoreLock lock(*this);
+    if (!workers_.get(worker_id)) {
+      throw FarmError(ErrorCode::failed_precondition,
+                      "no worker " + std::to_string(worker_id) + ": register again");
+    }
+    book_.add_worker(worker_id);
+  }
+  book_.touch(worker_id, clock_.now_unix_ms());  // last_seen written by the next flush
+}
+
+void Coordinator::flush_leases() {
+  std::vector<LeaseBook::Grant> grants = book_.take_journal();
+  std::map<int64_t, int64_t> touches = book_.take_touches();
+  if (grants.empty() && touches.empty()) return;
+  std::vector<std::optional<int64_t>> unit_ids;
+  unit_ids.reserve(grants.size());
+  try {
+    Transaction tx(db_);
+    std::map<int64_t, int64_t> started;  // job -> its first lease written here
+    for (const LeaseBook::Grant& g : grants) {
+      const std::optional<int64_t> unit = leases_.record_grant(g.lease, g.unborn);
+      if (!unit && g.unborn) {
+        // Its tile closed or its job ended after the book granted it: the result will be
+        // dropped as a cancelled unit's (UnitsTable::insert_cancelled).
+        try {
+          UnitsTable(db_).insert_cancelled(g.lease.job_id, g.lease.tile, g.lease.batch);
+        } catch (const SqliteError&) {
+          // The job is gone (deleted): its result is refused as an unknown unit's.
+        }
+      }
+      if (unit) started.try_emplace(g.lease.job_id, g.at_unix_ms);
+      unit_ids.push_back(unit);
+    }
+    JobsTable jobs(db_);
+    for (const auto& [job_id, at] : started) jobs.start(job_id, at);  // queued -> running
+    for (const auto& [worker_id, at] : touches) {
+      int64_t& written = touched_unix_ms_[worker_id];
+      if (at - written < touch_interval_ms()) continue;
+      WorkersTable(db_).touch(worker_id, at);  // in this transaction
+      written = at;
+    }
+    tx.commit();
+  } catch (...) {
+    book_.restore_journal(std::move(grants));
+    for (const auto& [worker_id, at] : touches) book_.touch(worker_id, at);
+    throw;
+  }
+  const std::vector<Lease> orphans = book_.recorded(grants, unit_ids);
+  if (!orphans.empty()) {
+    // Not expected: the book forgot a lease the store took. Back to the queue at once, so that
+    // no unit stays leased with nobody to expire it.
+    std::cerr << "tessera-server: warning: " << orphans.size()
+              << " lease(s) written after the lease book dropped them: requeued" << std::endl;
+    for (const Lease& l : leases_.expire(orphans)) reload_job(l.job_id);
+  }
+}
+
+void Coordinator::reload_job(int64_t job_id) {
+  if (std::optional<LeaseBookJob> job = load_lease_book_job(db_, jobs_, job_id)) {
+    book_.put_job(std::move(*job));
+  } else {
+    book_.drop_job(job_id);
+  }
 }
 
 void Coordinator::touch_or_throw(int64_t worker_id, uint64_t call) {
@@ -431,60 +514,19 @@ std::optional<LeasedUnit> Coordinator::lease(int64_t worker_id, std::chrono::mil
   return std::move(units.front());
 }
 
-std::vector<LeasedUnit> Coordinator::look_for_units(int64_t worker_id, uint32_t max_units,
-                                                    uint64_t work_version) {
-  const int64_t now = clock_.now_unix_ms();
-  const auto last = empty_looks_.find(worker_id);
-  if (last != empty_looks_.end() && last->second.work_version == work_version &&
-      now >= last->second.unix_ms && now - last->second.unix_ms < kEmptyLookReuseMs) {
-    ++empty_looks_reused_;
-    return {};  // nothing that could make a unit leasable happened since its last look
-  }
-  std::vector<LeasedUnit> units;
-  std::map<int64_t, JobSpec> specs;  // one read per job, not per unit
-  for (const Lease& lease : scheduler_.lease_up_to(worker_id, std::max(1u, max_units))) {
-    auto spec = specs.find(lease.job_id);
-    if (spec == specs.end()) spec = specs.emplace(lease.job_id, *jobs_.spec(lease.job_id)).first;
-    const JobPlan plan = spec->second.options.plan();
-    units.push_back(LeasedUnit{lease, *jobs_.tile_rect(lease.job_id, lease.tile),
-                               plan.batch_begin(lease.batch), plan.batch_end(lease.batch),
-                               spec->second.options, spec->second.bundle_sha256});
-  }
-  if (units.empty()) {
-    empty_looks_[worker_id] = EmptyLook{work_version, now};
-  } else if (last != empty_looks_.end()) {
-    empty_looks_.erase(last);
-  }
-  return units;
-}
-
 std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max_units,
                                                  std::chrono::milliseconds wait,
                                                  const std::function<bool()>& cancelled) {
+  // From the lease book alone: no store lock, no statement (the grants reach the store with
+  // the next store operation: flush_leases).
   const auto deadline = std::chrono::steady_clock::now() + wait;
   const uint64_t call = begin_call();
-  bool first_look = true;
   for (;;) {
     if (changes_.stopped()) return {};  // shutting down: no new leases
     // Read the version before looking, so a change made while we look wakes the wait below.
     const uint64_t seen = work_.version();
-    std::vector<LeasedUnit> units;
-    if (first_look) {
-      // The call's first look goes before upload groups (PriorityMutex::Urgent), together with
-      // every other first look waiting meanwhile: one lock hold for all of them (look_for_all).
-      LeaseCall look{worker_id, max_units, call, seen, {}, {}};
-      lease_looks_.run(look);
-      if (look.error) std::rethrow_exception(look.error);
-      units = std::move(look.units);
-    } else {
-      // A long poll looking again after a wake-up does not go first: at a job's end every
-      // upload wakes every idle worker's poll, and letting that herd go first held the uploads
-      // back (BENCHMARKS.md, "Issue 14: server capacity (branch farm8)").
-      std::lock_guard lock(mu_);
-      touch_or_throw(worker_id, call);
-      units = look_for_units(worker_id, max_units, seen);
-    }
-    first_look = false;
+    touch_in_memory(worker_id, call);
+    std::vector<LeasedUnit> units = book_.lease_up_to(worker_id, std::max(1u, max_units));
     if (!units.empty()) {
       notify_changed(false);  // progress (the job may have started); no work for others
       return units;
@@ -496,24 +538,9 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
   }
 }
 
-void Coordinator::look_for_all(const std::vector<LeaseCall*>& calls) {
-  PriorityMutex::Urgent lock(mu_);
-  for (LeaseCall* c : calls) {
-    // Shutting down (or the store found damaged) while the call waited: no new leases.
-    if (changes_.stopped()) break;
-    try {
-      touch_or_throw(c->worker_id, c->call);
-      c->units = look_for_units(c->worker_id, c->max_units, c->work_version);
-    } catch (...) {
-      c->error = std::current_exception();  // this call's own (an unknown worker): not the others'
-    }
-  }
-}
-
 std::optional<int64_t> Coordinator::heartbeat(int64_t worker_id, const std::string& lease_id) {
-  PriorityMutex::Urgent lock(mu_);
-  touch_or_throw(worker_id);
-  return leases_.heartbeat(worker_id, lease_id);
+  touch_in_memory(worker_id, begin_call());
+  return book_.extend(worker_id, lease_id);
 }
 
 std::vector<std::optional<int64_t>> Coordinator::heartbeat_all(
@@ -522,16 +549,18 @@ std::vector<std::optional<int64_t>> Coordinator::heartbeat_all(
     throw invalid("a heartbeat names " + std::to_string(lease_ids.size()) +
                   " leases; at most " + std::to_string(kMaxLeasesPerHeartbeat) + " per call");
   }
-  PriorityMutex::Urgent lock(mu_);
-  touch_or_throw(worker_id);
-  return leases_.heartbeat_all(worker_id, lease_ids);
+  touch_in_memory(worker_id, begin_call());
+  std::vector<std::optional<int64_t>> out;
+  out.reserve(lease_ids.size());
+  for (const std::string& id : lease_ids) out.push_back(book_.extend(worker_id, id));
+  return out;
 }
 
 std::string Coordinator::bundle(const std::string& sha256) {
   if (!wire::is_sha256_hex(sha256)) {
     throw invalid("bundle hash must be 64 lowercase hex characters (got \"" + sha256 + "\")");
   }
-  std::lock_guard lock(mu_);
+  StoreLock lock(*this);
   std::optional<std::string> bytes = jobs_.bundle_bytes(sha256);
   if (!bytes) throw FarmError(ErrorCode::not_found, "no bundle " + sha256);
   return std::move(*bytes);
@@ -563,7 +592,7 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
   // more pixels than the tile is refused before anything is decompressed.
   std::vector<int64_t> tile_pixels;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     touch_or_throw(results.front().worker_id);
     for (size_t i = 0; i < results.size(); ++i) {
       const UnitResult& r = results[i];
@@ -639,7 +668,14 @@ void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
   size_t next = 0;  // the first call not committed yet
   while (next < calls.size()) {
     if (next > 0) {
-      lock.yield();  // the leases and heartbeats waiting go first
+      lock.yield();  // the callers waiting Urgent go first
+    }
+    // The leases answered so far reach the store before their results (flush_leases).
+    try {
+      flush_leases();
+    } catch (...) {
+      for (; next < calls.size(); ++next) calls[next]->error = std::current_exception();
+      break;
     }
     if (next + 1 == calls.size()) {
       commit_upload(*calls[next++]);
@@ -665,6 +701,18 @@ void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
       for (; next < calls.size(); ++next) commit_upload(*calls[next]);
     }
   }
+  // The lease book follows: accepted (or dropped) leases end; a merge moves its tile's prefix
+  // (a noise tile's lookahead) or closes the tile. Still under mu_, so no store operation sees
+  // the book behind the store.
+  for (const UploadCall* c : calls) {
+    if (c->error) continue;
+    for (size_t i = 0; i < c->uploads->size(); ++i) {
+      const UnitResult& r = *(*c->uploads)[i].result;
+      const AcceptOutcome& o = c->outcomes[i];
+      if (o.accepted) book_.ended(r.lease_id);
+      if (o.tile_next_batch) book_.tile_merged(r.job_id, r.tile, *o.tile_next_batch, o.tile_closed);
+    }
+  }
   for (const UploadCall* c : calls) {
     if (c->error) continue;
     for (size_t i = 0; i < c->uploads->size(); ++i) {
@@ -681,9 +729,11 @@ ReleaseOutcome Coordinator::release(int64_t worker_id, const std::string& lease_
                                     ReleaseReason reason, const std::string& message) {
   ReleaseOutcome outcome;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     touch_or_throw(worker_id);
+    const std::optional<Lease> held = book_.find(worker_id, lease_id);
     outcome = leases_.release(worker_id, lease_id, reason, message);
+    if (held) reload_job(held->job_id);  // its unit queued again, a failure block, or failed
   }
   notify_changed(true);
   return outcome;
@@ -693,8 +743,16 @@ int Coordinator::expire_leases() {
   int expired = 0;
   std::vector<int64_t> out_of_time;
   {
-    std::lock_guard lock(mu_);
-    expired = leases_.expire_due();
+    StoreLock lock(*this);
+    // Expiry is the lease book's (heartbeats extend leases there): its due leases go back to
+    // the queue in the store, then in the book.
+    const std::vector<Lease> due = book_.due(clock_.now_unix_ms());
+    if (!due.empty()) {
+      const std::vector<Lease> requeued = leases_.expire(due);
+      expired = int(requeued.size());
+      for (const Lease& l : requeued) book_.requeued(l);
+      for (const Lease& l : due) book_.ended(l.lease_id);  // not current in the store either
+    }
     out_of_time = scheduler_.enforce_time_budgets();
   }
   if (expired > 0) notify_changed(true);
@@ -706,7 +764,7 @@ void Coordinator::finish_job(int64_t job_id) {
   JobRecord record;
   std::vector<TileRecord> tiles;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     std::optional<JobRecord> found = jobs_.get(job_id);
     if (!found || found->state != JobState::running || finishing_.contains(job_id)) return;
     // Why it stopped goes into the output's provenance: settle before reading the record.
@@ -730,9 +788,9 @@ void Coordinator::finish_job(int64_t job_id) {
               << " `tessera get " << job_id << "` or server start" << std::endl;
   }
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     finishing_.erase(job_id);
-    jobs_.finish(job_id, files.exr.string(), files.png.string(), now);
+    if (jobs_.finish(job_id, files.exr.string(), files.png.string(), now)) book_.drop_job(job_id);
   }
   notify_changed(true);
 }
@@ -744,7 +802,7 @@ void Coordinator::rewrite_missing_output(const JobRecord& record) {
   }
   std::vector<TileRecord> tiles;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     merger_.checkpoint_job(record.id);
     tiles = jobs_.tiles(record.id);
   }

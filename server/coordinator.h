@@ -1,7 +1,9 @@
 // The farm's coordinator: one object owning the store and the components that act on it (job
 // store, worker registry, lease table, scheduler, merger, output), serialising every store
-// operation behind one mutex over one SQLite connection. The gRPC services translate protos and
-// call it; it decodes results, parses scenes and encodes images outside the lock.
+// operation behind one mutex over one SQLite connection. Leases and heartbeats are answered
+// from memory (server/lease_book.h) without that mutex; the leases granted are written to the
+// store before any other store operation (flush_leases). The gRPC services translate protos
+// and call it; it decodes results, parses scenes and encodes images outside the lock.
 #pragma once
 
 #include <atomic>
@@ -22,6 +24,7 @@
 #include "priority_mutex.h"
 #include "job_output.h"
 #include "job_store.h"
+#include "lease_book.h"
 #include "lease_table.h"
 #include "scheduler.h"
 #include "store/integrity.h"
@@ -48,15 +51,6 @@ struct CoordinatorConfig {
   size_t merge_cache_bytes = MergeCache::kDefaultBudgetBytes;
   /// Writes the output files (empty: write_image); tests inject a full disk here.
   ImageFileWriter output_writer;
-};
-
-/// A unit leased to a worker, with what it needs to render it.
-struct LeasedUnit {
-  Lease lease;
-  TileRect rect;
-  uint32_t sample_begin = 0, sample_end = 0;
-  JobOptions options;
-  std::string bundle_sha256;
 };
 
 /// A tile of a job as the dashboard shows it (Coordinator::tile_map).
@@ -200,12 +194,14 @@ class Coordinator {
   /// What the store has executed since the server started (StoreCounters): the statements a
   /// lease or an accepted result costs (tests/farm/store_cost_test.cpp, BENCHMARKS.md).
   StoreCounters store_counters();
-  /// Lease looks answered without the store since the server started: the worker's previous
-  /// look found nothing and nothing that could make a unit leasable happened since
-  /// (kEmptyLookReuseMs; tests and BENCHMARKS.md).
-  uint64_t empty_looks_reused();
-  /// How long an empty look answers for the same worker while nothing notifies work_.
-  static constexpr int64_t kEmptyLookReuseMs = 1000;
+  /// Leases granted from memory since the server started, and those of them void when written
+  /// to the store (their job ended or tile closed first): tests and BENCHMARKS.md.
+  uint64_t leases_granted() { return book_.granted(); }
+  uint64_t leases_voided() { return book_.voided(); }
+  /// Times the store's lock was taken since the server started (tests: a lease takes it none).
+  uint64_t store_lock_acquisitions() const { return mu_.acquisitions(); }
+  /// Leases the book holds now (tests).
+  size_t leases_held() { return book_.leases_held(); }
 
   /// Every answered upload is reported to `observer` (the dashboard's counters). Call before
   /// serving; nullptr reports nothing. The observer must outlive the coordinator's calls.
@@ -237,6 +233,25 @@ class Coordinator {
   /// Writes a done job's output files again when one is missing (a full disk when it finished,
   /// or a file removed since). Failures are logged: the image stays in the store.
   void rewrite_missing_output(const JobRecord& record);
+  /// mu_, with the lease book's journal written to the store first (flush_leases): whatever
+  /// the holder reads or changes in the store sees every lease answered before it.
+  class StoreLock {
+   public:
+    explicit StoreLock(Coordinator& c) : lock_(c.mu_) { c.flush_leases(); }
+
+   private:
+    std::lock_guard<PriorityMutex> lock_;
+  };
+  /// Writes the leases the book granted since the last call (and the workers' last calls) in
+  /// one transaction; a lease the store refuses is void. Requires mu_. On a store error the
+  /// journal is kept for the next call and the error is thrown.
+  void flush_leases();
+  /// The book's copy of the job, read again from the store (rare events: release, expiry,
+  /// submit, resume). Requires mu_ and the journal written.
+  void reload_job(int64_t job_id);
+  /// A lease or heartbeat's check of the worker, in memory: departed_, the book's known
+  /// workers (FarmError(failed_precondition) for an unknown one), its last call recorded.
+  void touch_in_memory(int64_t worker_id, uint64_t call);
   /// Marks the worker seen by a call; throws FarmError(failed_precondition) for an unknown one.
   /// `call` is the call's number (begin_call(), taken when the call began): a call that began
   /// before the worker deregistered — a long poll still waiting — does not bring it back online.
@@ -264,13 +279,16 @@ class Coordinator {
   void commit_upload(UploadCall& call);
 
   const Clock& clock_;
-  /// Guards db_ and every component below. Leases and heartbeats take it Urgent, upload groups
-  /// Deferring (server/priority_mutex.h), everything else plainly.
+  /// Guards db_ and every component below but book_. Upload groups take it Deferring
+  /// (server/priority_mutex.h), everything else plainly; leases and heartbeats do not take it.
   PriorityMutex mu_;
   Database db_;
   JobStore jobs_;
   WorkerRegistry workers_;
   LeaseTable leases_;
+  /// The leasable units and live leases in memory (own mutex; taken inside mu_, never the
+  /// other way round).
+  LeaseBook book_;
   Scheduler scheduler_;
   TileMerger merger_;
   JobOutput output_;
@@ -294,50 +312,14 @@ class Coordinator {
   ChangeNotifier changes_;  ///< anything a watcher shows changed (WatchJob, the dashboard)
   /// A unit may have become leasable: wakes long-polling LeaseUnit calls (a subset of changes_).
   ChangeNotifier work_;
-  /// A worker's last look that found no unit (it held none and none was leasable to it): the
-  /// work_ version read before that look, and when (clock_). A look at the same version within
-  /// kEmptyLookReuseMs finds nothing either and is answered without the store: every event
-  /// that can make a unit leasable notifies work_; what time alone can change (a worker's
-  /// failure block lapsing) is seen at most that much later. Idle workers' long polls looked
-  /// into the store at every wake-up (BENCHMARKS.md, "Issue 14: server capacity (branch
-  /// farm9)"). Guarded by mu_.
-  struct EmptyLook {
-    uint64_t work_version = 0;
-    int64_t unix_ms = 0;
-  };
-  std::map<int64_t, EmptyLook> empty_looks_;
-  /// The first look of one LeaseUnit call: its question, then its answer or error.
-  struct LeaseCall {
-    int64_t worker_id = 0;
-    uint32_t max_units = 1;
-    uint64_t call = 0;          ///< begin_call() of the LeaseUnit call
-    uint64_t work_version = 0;  ///< work_'s version read before the look
-    std::vector<LeasedUnit> units;
-    std::exception_ptr error;
-  };
-  /// The first looks of every LeaseUnit call waiting, in arrival order, in one hold of mu_
-  /// (Urgent): a lease that arrives while others wait for the store joins them, so N waiting
-  /// leases cost one hand-over of the lock, not N (each a wake-up of a thread on a busy machine;
-  /// BENCHMARKS.md, "Issue 14: lease latency (branch farm10)"). Each call gets its own units or
-  /// error, exactly as alone.
-  void look_for_all(const std::vector<LeaseCall*>& calls);
-  GroupCommit<LeaseCall> lease_looks_{
-      [this](const std::vector<LeaseCall*>& calls) { look_for_all(calls); }};
-  uint64_t empty_looks_reused_ = 0;  ///< looks answered by empty_looks_ (guarded by mu_)
-  /// One look for `worker_id`'s units (Scheduler::lease_up_to), or none when its last look at
-  /// `work_version` (work_'s version read before this look) found nothing less than
-  /// kEmptyLookReuseMs ago. Requires mu_.
-  std::vector<LeasedUnit> look_for_units(int64_t worker_id, uint32_t max_units,
-                                         uint64_t work_version);
   /// Notifies changes_, and work_ too when `work` (the change may let a unit be leased).
   void notify_changed(bool work) {
     changes_.notify();
     if (work) work_.notify();
   }
-  /// Results committed together at most (GroupCommit's bound). A lease waiting for mu_ queues
-  /// behind at most one call of such a group: mu_ is a PriorityMutex (leases and heartbeats take
-  /// it Urgent, upload groups Deferring) and a group yields to them between its calls
-  /// (commit_uploads). 64 cost more server CPU per result with 256 workers
+  /// Results committed together at most (GroupCommit's bound). A group yields between its calls
+  /// to whoever waits for mu_ Urgent (commit_uploads; leases took it so before they moved to
+  /// the lease book, and nothing does now). 64 cost more server CPU per result with 256 workers
   /// uploading 16 results per call (smaller groups, more commits and wake-ups) than it saved in
   /// lease latency; 1024 did not (BENCHMARKS.md, "Issue 14: server capacity (branch farm8)").
   static constexpr size_t kResultsPerCommit = 1024;

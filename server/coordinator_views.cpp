@@ -30,7 +30,7 @@ TileMap Coordinator::tile_map(int64_t job_id) {
   JobRecord job;
   std::vector<TileRecord> tiles;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     std::optional<JobRecord> found = jobs_.get(job_id);
     if (!found) throw FarmError(ErrorCode::not_found, "no job " + std::to_string(job_id));
     job = std::move(*found);
@@ -65,7 +65,7 @@ FarmTotals Coordinator::totals() {
                      JobState::cancelled}) {
     totals.jobs_by_state[std::string(to_string(s))] = 0;
   }
-  std::lock_guard lock(mu_);
+  StoreLock lock(*this);
   for (const auto& [state, sums] : JobsTable(db_).totals_by_state()) {
     totals.jobs_by_state[state] = sums.jobs;
     totals.units_done += sums.units_done;
@@ -81,7 +81,7 @@ FarmTotals Coordinator::totals() {
 JobRecord Coordinator::set_priority(int64_t job_id, int priority) {
   JobRecord record;
   {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     // Compare-and-set on the state: a job that ends meanwhile keeps its recorded priority.
     const bool changed = JobsTable(db_).set_priority(job_id, priority);
     std::optional<JobRecord> found = jobs_.get(job_id);
@@ -91,6 +91,7 @@ JobRecord Coordinator::set_priority(int64_t job_id, int priority) {
                       "job " + std::to_string(job_id) + " is already " +
                           std::string(to_string(found->state)));
     }
+    book_.set_priority(job_id, priority);
     record = std::move(*found);
   }
   notify_changed(true);
@@ -100,7 +101,7 @@ JobRecord Coordinator::set_priority(int64_t job_id, int priority) {
 bool Coordinator::store_ready() {
   if (!store_damage().empty()) return false;
   try {
-    std::lock_guard lock(mu_);
+    StoreLock lock(*this);
     migrations_applied(db_);
     return true;
   } catch (const SqliteError&) {

@@ -63,6 +63,32 @@ std::optional<Lease> LeaseTable::grant_unborn_in_transaction(int64_t job_id, uin
   return Lease{lease_id, unit_id, job_id, tile, batch, worker_id, expires};
 }
 
+std::optional<int64_t> LeaseTable::record_grant(const Lease& lease, bool unborn) {
+  if (unborn) {
+    if (!TileQueue(db_).take(lease.job_id, lease.tile, lease.batch)) return std::nullopt;
+    return units_.insert_leased(lease.job_id, lease.tile, lease.batch, lease.worker_id,
+                                lease.lease_id, lease.expires_unix_ms);
+  }
+  if (units_.lease_requeued(lease.unit_id, lease.worker_id, lease.lease_id,
+                            lease.expires_unix_ms) != 1) {
+    return std::nullopt;
+  }
+  return lease.unit_id;
+}
+
+std::vector<Lease> LeaseTable::expire(const std::vector<Lease>& leases) {
+  std::vector<Lease> done;
+  Transaction tx(db_);
+  for (const Lease& e : leases) {
+    if (units_.requeue(e.unit_id, e.lease_id, UnitEvent::expire, false) != 1) continue;
+    done.push_back(e);
+    JobsTable(db_).count_expired(e.job_id);
+    WorkersTable(db_).count_lost(e.worker_id);
+  }
+  tx.commit();
+  return done;
+}
+
 std::optional<int64_t> LeaseTable::extend_in_transaction(int64_t worker_id,
                                                          const std::string& lease_id) {
   const int64_t expires = clock_.now_unix_ms() + lease_ms_;

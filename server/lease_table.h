@@ -73,6 +73,18 @@ class LeaseTable {
   std::optional<Lease> grant_unborn_in_transaction(int64_t job_id, uint32_t tile, uint32_t batch,
                                                    int64_t worker_id);
 
+  /// Writes a lease granted in memory (server/lease_book.h) to the store: for an unborn unit
+  /// (`unborn`) TileQueue::take and the row born leased, else the requeued row `lease.unit_id`
+  /// queued -> leased; with the lease's own id and expiry. Call inside a transaction. Returns
+  /// the unit's id, or nullopt when the store no longer had the unit leasable (the lease is
+  /// then void).
+  std::optional<int64_t> record_grant(const Lease& lease, bool unborn);
+
+  /// Each of `leases` (current in the store: unit, lease id) -> queued, counted as expired per
+  /// job and lost per worker, in one transaction. Returns the leases it requeued (a lease no
+  /// longer current is left out).
+  std::vector<Lease> expire(const std::vector<Lease>& leases);
+
   /// Pushes the expiry of a current lease to now + lease_ms. Call inside a transaction.
   /// nullopt when `lease_id` is not the current lease of a unit held by `worker_id`.
   std::optional<int64_t> extend_in_transaction(int64_t worker_id, const std::string& lease_id);

@@ -1,8 +1,8 @@
 // A mutex with a lane for short calls that must not queue behind long work (issue 14, lease
-// p99). The coordinator guards its store with it: a lease or heartbeat (one short transaction)
-// takes it `Urgent`, an upload group (up to Coordinator::kResultsPerCommit results in one
-// transaction) takes it `Deferring`, and every other call takes it plainly (lock/unlock, so
-// std::lock_guard works). A Deferring lock is granted only while no Urgent caller waits: an
+// p99). The coordinator guards its store with it: an upload group (up to
+// Coordinator::kResultsPerCommit results in one transaction) takes it `Deferring`, and every
+// other call takes it plainly (lock/unlock, so std::lock_guard works); leases and heartbeats,
+// which took it `Urgent`, no longer take it (server/lease_book.h). A Deferring lock is granted only while no Urgent caller waits: an
 // urgent call waits for at most the work in progress, never for the uploads queued behind it.
 // Urgent callers cannot starve deferring ones for long: each worker makes one call at a time and
 // each urgent call is short.
@@ -10,13 +10,17 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <cstdint>
 #include <mutex>
 
 namespace tessera::server {
 
 class PriorityMutex {
  public:
-  void lock() { mu_.lock(); }
+  void lock() {
+    mu_.lock();
+    acquisitions_.fetch_add(1, std::memory_order_relaxed);
+  }
   void unlock() { mu_.unlock(); }
 
   /// Held for a short call: counted as waiting until it holds the mutex, so that no deferring
@@ -26,6 +30,7 @@ class PriorityMutex {
     explicit Urgent(PriorityMutex& m) : m_(m) {
       m_.urgent_waiting_.fetch_add(1);
       m_.mu_.lock();
+      m_.acquisitions_.fetch_add(1, std::memory_order_relaxed);
       m_.urgent_waiting_.fetch_sub(1);
     }
     ~Urgent() {
@@ -57,6 +62,7 @@ class PriorityMutex {
       m_.deferring_waiting_.fetch_add(1);
       lock_.lock();
       m_.turns_.wait(lock_, [&] { return m_.urgent_waiting_.load() == 0; });
+      m_.acquisitions_.fetch_add(1, std::memory_order_relaxed);
       m_.deferring_waiting_.fetch_sub(1);
     }
     PriorityMutex& m_;
@@ -65,6 +71,8 @@ class PriorityMutex {
 
   /// Urgent callers waiting for the mutex (tests line calls up with these).
   int urgent_waiting() const { return urgent_waiting_.load(); }
+  /// Times the mutex was taken, in any lane (tests count a call's acquisitions).
+  uint64_t acquisitions() const { return acquisitions_.load(std::memory_order_relaxed); }
   /// Deferring callers that hold or wait for the mutex and have not been granted it yet.
   int deferring_waiting() const { return deferring_waiting_.load(); }
 
@@ -73,6 +81,7 @@ class PriorityMutex {
   std::condition_variable turns_;
   std::atomic<int> urgent_waiting_{0};
   std::atomic<int> deferring_waiting_{0};
+  std::atomic<uint64_t> acquisitions_{0};
 };
 
 }  // namespace tessera::server

@@ -252,6 +252,8 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, Accumulatio
     }
     outcome.merged = tally.results;
     outcome.frees_work = c->rule == StopRule::noise && tally.results > 0;
+    outcome.tile_next_batch = next;
+    outcome.tile_closed = verdict.finished;
   }
   Staged::Accepted& a = staged.accepted[r.job_id];
   ++a.units;

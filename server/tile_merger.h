@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <tuple>
@@ -55,6 +56,10 @@ struct AcceptOutcome {
   /// A merge moved a noise tile's prefix, so units past it may be leasable now (the lookahead
   /// window, store/tile_queue.h): idle workers are woken only then after an upload.
   bool frees_work = false;
+  /// When the result merged: its tile's merged prefix after the merge, and whether the
+  /// stopping rule closed the tile (the lease book follows both: server/lease_book.h).
+  std::optional<uint32_t> tile_next_batch;
+  bool tile_closed = false;
 };
 
 class TileMerger {

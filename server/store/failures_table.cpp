@@ -37,4 +37,14 @@ std::vector<UnitFailure> FailuresTable::of_unit(int64_t unit_id) {
       });
 }
 
+std::vector<JobWorkerFailures> FailuresTable::of_job(int64_t job_id) {
+  return db_
+      .prepare("SELECT worker_id, failures, last_failure_unix_ms FROM job_worker_failures"
+               " WHERE job_id = ?")
+      ->bind_all(job_id)
+      .rows([](const Statement& r) {
+        return JobWorkerFailures{r.int64(0), r.int64(1), r.int64(2)};
+      });
+}
+
 }  // namespace tessera::server

@@ -20,6 +20,13 @@ struct UnitFailure {
   std::string last_error;
 };
 
+/// A worker's count of recent failures on a job (job_worker_failures).
+struct JobWorkerFailures {
+  int64_t worker_id = 0;
+  int64_t failures = 0;
+  int64_t last_failure_unix_ms = 0;
+};
+
 class FailuresTable {
  public:
   explicit FailuresTable(Database& db) : db_(db) {}
@@ -31,6 +38,8 @@ class FailuresTable {
               int64_t now_unix_ms, int64_t forgiven_before_unix_ms);
   /// The unit's failures, one entry per worker, by worker id.
   std::vector<UnitFailure> of_unit(int64_t unit_id);
+  /// Every worker's failures on the job (the lease book's blocks: server/lease_book.h).
+  std::vector<JobWorkerFailures> of_job(int64_t job_id);
 
  private:
   Database& db_;

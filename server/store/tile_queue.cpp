@@ -83,6 +83,15 @@ int64_t TileQueue::skip_after_first_batch(int64_t job_id) {
   return lower_lease_end(job_id, std::nullopt, "MAX(next_lease, 1)");
 }
 
+std::vector<TileQueueRow> TileQueue::rows(int64_t job_id) {
+  return db_
+      .prepare("SELECT tile, next_lease, lease_end FROM tile_queue WHERE job_id = ? ORDER BY tile")
+      ->bind_all(job_id)
+      .rows([](const Statement& r) {
+        return TileQueueRow{uint32_t(r.int64(0)), uint32_t(r.int64(1)), uint32_t(r.int64(2))};
+      });
+}
+
 bool TileQueue::any_open(int64_t job_id) {
   auto q = db_.prepare(
       "SELECT 1 FROM tile_queue WHERE job_id = ? AND next_lease < lease_end LIMIT 1");

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "store/sqlite.h"
 
@@ -20,6 +21,13 @@ namespace tessera::server {
 struct UnbornUnit {
   uint32_t tile = 0;
   uint32_t batch = 0;
+};
+
+/// A tile's row of unborn units: batches [next_lease, lease_end) have no row yet.
+struct TileQueueRow {
+  uint32_t tile = 0;
+  uint32_t next_lease = 0;
+  uint32_t lease_end = 0;
 };
 
 class TileQueue {
@@ -52,6 +60,9 @@ class TileQueue {
   /// The time rule past the budget: UnitEvent::skip of every unborn unit of a batch > 0 (batch
   /// 0 of every tile is still leased). Returns how many units that skipped.
   int64_t skip_after_first_batch(int64_t job_id);
+
+  /// Every row of the job, by tile (the lease book loads them: server/lease_book.h).
+  std::vector<TileQueueRow> rows(int64_t job_id);
 
   /// True when some unit of the job has no row yet (and may still be leased).
   bool any_open(int64_t job_id);

@@ -53,6 +53,16 @@ std::optional<TilePosition> TilesTable::position(int64_t job_id, uint32_t tile) 
       });
 }
 
+std::vector<TilePosition> TilesTable::positions(int64_t job_id) {
+  return db_.prepare("SELECT x0, y0, x1, y1, next_batch FROM tiles WHERE job_id = ? ORDER BY tile")
+      ->bind_all(job_id)
+      .rows([](const Statement& r) {
+        return TilePosition{
+            {int(r.int64(0)), int(r.int64(1)), int(r.int64(2)), int(r.int64(3))},
+            uint32_t(r.int64(4))};
+      });
+}
+
 std::optional<std::string> TilesTable::checkpoint(int64_t job_id, uint32_t tile) {
   auto q = db_.prepare("SELECT accumulation FROM tiles WHERE job_id = ? AND tile = ?");
   q->bind(1, job_id).bind(2, tile);

@@ -42,6 +42,9 @@ class TilesTable {
   std::vector<TileRecord> of_job(int64_t job_id);
   std::optional<TileRect> rect(int64_t job_id, uint32_t tile);
   std::optional<TilePosition> position(int64_t job_id, uint32_t tile);
+  /// Every tile's rectangle and merged prefix, in tile order (no checkpoint bytes): what the
+  /// lease book (server/lease_book.h) loads of a job.
+  std::vector<TilePosition> positions(int64_t job_id);
   /// The checkpoint's encode_accumulation bytes; nullopt when nothing was checkpointed.
   std::optional<std::string> checkpoint(int64_t job_id, uint32_t tile);
   /// How many of the job's tiles were closed by `reason`.

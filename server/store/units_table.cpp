@@ -75,6 +75,25 @@ std::optional<RequeuedUnit> UnitsTable::first_requeued(int64_t job_id, uint32_t 
   });
 }
 
+std::vector<LiveUnit> UnitsTable::live(int64_t job_id) {
+  std::vector<LiveUnit> out;
+  for (const UnitState state : {UnitState::queued, UnitState::leased}) {
+    const std::string sql = "SELECT " + kLeasedColumns + " FROM units WHERE job_id = ?1 AND state = " +
+                            lit(state) + " ORDER BY batch, tile";
+    auto q = db_.prepare(sql);
+    q->bind(1, job_id);
+    while (q->step()) {
+      LiveUnit u;
+      u.unit_id = q->int64(0);
+      u.tile = uint32_t(q->int64(2));
+      u.batch = uint32_t(q->int64(3));
+      if (state == UnitState::leased) u.lease = read_leased(*q);
+      out.push_back(std::move(u));
+    }
+  }
+  return out;
+}
+
 bool UnitsTable::any_queued_or_leased(int64_t job_id) {
   static const std::string sql = "SELECT 1 FROM units WHERE job_id = ?1 AND state IN (" +
                                  lit(UnitState::queued) + ", " + lit(UnitState::leased) +
@@ -120,6 +139,13 @@ int64_t UnitsTable::insert_leased(int64_t job_id, uint32_t tile, uint32_t batch,
       .bind(6, expires_unix_ms)
       .run();
   return db_.last_insert_rowid();
+}
+
+void UnitsTable::insert_cancelled(int64_t job_id, uint32_t tile, uint32_t batch) {
+  static const std::string sql =
+      "INSERT OR IGNORE INTO units (job_id, tile, batch, state) VALUES (?1, ?2, ?3, " +
+      lit(UnitState::cancelled) + ")";
+  db_.prepare(sql)->bind(1, job_id).bind(2, tile).bind(3, batch).run();
 }
 
 int UnitsTable::extend(int64_t worker_id, const std::string& lease_id, int64_t expires_unix_ms) {

@@ -53,6 +53,14 @@ struct UnitForResult {
   bool cancelled = false;     ///< cancelled (its job ended, or the stopping rule skipped it)
 };
 
+/// A unit row that is queued or leased (UnitsTable::live): `lease` is set when leased.
+struct LiveUnit {
+  int64_t unit_id = 0;
+  uint32_t tile = 0;
+  uint32_t batch = 0;
+  std::optional<Lease> lease;
+};
+
 class UnitsTable {
  public:
   explicit UnitsTable(Database& db) : db_(db) {}
@@ -69,6 +77,9 @@ class UnitsTable {
   /// plus noise_lookahead. nullopt when none.
   std::optional<RequeuedUnit> first_requeued(int64_t job_id, uint32_t noise_lookahead,
                                              int64_t batch_limit);
+  /// The job's rows that are queued or leased, in (batch, tile) order (by the units_queue
+  /// index): what the lease book loads of a job (server/lease_book.h).
+  std::vector<LiveUnit> live(int64_t job_id);
   /// True when a unit of the job with a row is queued or leased.
   bool any_queued_or_leased(int64_t job_id);
   /// The unit (job, tile, batch) with its tile and job, in one join; nullopt when it has no row.
@@ -86,6 +97,10 @@ class UnitsTable {
   /// TileQueue::take, in the same transaction). Returns the new unit's id.
   int64_t insert_leased(int64_t job_id, uint32_t tile, uint32_t batch, int64_t worker_id,
                      const std::string& lease_id, int64_t expires_unix_ms);
+  /// A lease granted in memory that the store refused (server/lease_book.h: its tile closed or
+  /// its job ended first): the unit's row, born cancelled, so that the lease's result is
+  /// dropped as a cancelled unit's. Nothing when the row exists.
+  void insert_cancelled(int64_t job_id, uint32_t tile, uint32_t batch);
   /// A heartbeat: the current lease's expiry moves to at least `expires_unix_ms`.
   int extend(int64_t worker_id, const std::string& lease_id, int64_t expires_unix_ms);
   /// UnitEvent::accept: leased -> done on the current lease of `worker_id` (the row keeps the

@@ -1,0 +1,201 @@
+// The lease book: the leasable units and the live leases of the unfinished jobs, in memory, so
+// that a LeaseUnit or Heartbeat call takes no store lock and runs no SQL statement (issue 14,
+// lease p99). A lease need not be durable: after a server crash every lease is void
+// (docs/reliability.md), so the store learns of a lease after it was answered. The book keeps a
+// journal of the leases it granted, which the coordinator writes to the store in one
+// transaction before any other store operation (Coordinator::flush_leases): whatever reads or
+// changes the store sees every lease answered before it, and a result is accepted by the
+// store's compare-and-set on its lease exactly as before.
+//
+// The book is loaded from the store at start-up and per job at the events that change a job's
+// leasable units in ways the book cannot follow alone (submit, release, expiry, a failure
+// block); it follows the frequent ones itself (a lease, a heartbeat, an accepted result, a
+// merge that moves a noise tile's prefix or closes a tile) and drops a job that ends. A lease
+// the store no longer accepts when its journal entry is written (the job was cancelled, the
+// tile closed, between the book's grant and the store's event) is void: the book forgets it,
+// its heartbeat is answered not valid, and its result is dropped as a cancelled unit's.
+//
+// Scheduling is Scheduler's, in memory: jobs by priority (higher first), then age; in the first
+// job the worker is not blocked from, its first leasable unit in (batch, tile) order, a unit
+// back from a lease or one without a row alike; a `time` job past its budget gets batch 0 only;
+// a `noise` tile is leased at most Scheduler::kNoiseLookahead batches past its merged prefix.
+// Each pick is O(log n) in the job's tiles and leases.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "accum/tile_rect.h"
+#include "clock.h"
+#include "job_record.h"
+#include "job_store.h"
+#include "lease_table.h"
+#include "store/failures_table.h"
+#include "store/sqlite.h"
+#include "store/tile_queue.h"
+#include "store/tiles_table.h"
+#include "store/units_table.h"
+
+namespace tessera::server {
+
+/// A unit leased to a worker, with what it needs to render it.
+struct LeasedUnit {
+  Lease lease;
+  TileRect rect;
+  uint32_t sample_begin = 0, sample_end = 0;
+  JobOptions options;
+  std::string bundle_sha256;
+};
+
+/// What the book loads of one unfinished job (load_lease_book_job).
+struct LeaseBookJob {
+  int64_t job_id = 0;
+  JobState state = JobState::queued;
+  int priority = 0;
+  int64_t submitted_unix_ms = 0;
+  int64_t started_unix_ms = 0;
+  JobSpec spec;
+  std::vector<TilePosition> tiles;           ///< every tile, in order
+  std::vector<TileQueueRow> queue;           ///< the unborn units of each tile
+  std::vector<LiveUnit> units;               ///< rows queued or leased
+  std::vector<JobWorkerFailures> failures;   ///< per worker, for blocks
+};
+
+/// Reads what the book keeps of `job_id` from the store (call under the store's lock, after
+/// the book's journal was written). nullopt when the job is unknown or final.
+std::optional<LeaseBookJob> load_lease_book_job(Database& db, JobStore& jobs, int64_t job_id);
+
+class LeaseBook {
+ public:
+  using IdSource = std::function<std::string()>;
+
+  LeaseBook(const Clock& clock, int64_t lease_ms, IdSource new_id = random_lease_id);
+
+  int64_t lease_ms() const { return lease_ms_; }
+  void set_health_policy(const WorkerHealthPolicy& policy);
+
+  // ---- Workers ----------------------------------------------------------------------------
+  void add_worker(int64_t worker_id);
+  bool knows_worker(int64_t worker_id);
+  /// The worker called at `now_unix_ms` (its last_seen is written with the journal).
+  void touch(int64_t worker_id, int64_t now_unix_ms);
+  /// The calls recorded by touch() since the last take, worker -> latest time.
+  std::map<int64_t, int64_t> take_touches();
+
+  // ---- Jobs -------------------------------------------------------------------------------
+  /// Puts (or replaces) the job as the store has it; the journal's leases of the job granted
+  /// since the store was read are applied again (or void, when the store's state no longer has
+  /// their unit leasable). A final job is dropped.
+  void put_job(LeaseBookJob job);
+  /// The job ended (cancelled, failed, done, deleted): its units and leases are forgotten.
+  void drop_job(int64_t job_id);
+  void set_priority(int64_t job_id, int priority);
+  /// A merge moved the tile's prefix to `next_batch` (a noise tile's lookahead moves with it);
+  /// `closed`: the stopping rule closed the tile (its later units and leases were skipped).
+  void tile_merged(int64_t job_id, uint32_t tile, uint32_t next_batch, bool closed);
+
+  // ---- Leases -----------------------------------------------------------------------------
+  /// Every lease the worker holds (expiry extended) and new ones up to `max_units`, picked as
+  /// Scheduler::lease_up_to picks (see the file comment). Empty: no work.
+  std::vector<LeasedUnit> lease_up_to(int64_t worker_id, uint32_t max_units);
+  /// A heartbeat: the lease's new expiry, nullopt when it is not current for the worker.
+  std::optional<int64_t> extend(int64_t worker_id, const std::string& lease_id);
+  /// The lease `lease_id` of `worker_id`, when current.
+  std::optional<Lease> find(int64_t worker_id, const std::string& lease_id);
+  /// The lease ended in the store (its result accepted or dropped): forgotten.
+  void ended(const std::string& lease_id);
+  /// Leases whose expiry is before `now_unix_ms`, all written to the store (unit ids known).
+  std::vector<Lease> due(int64_t now_unix_ms);
+  /// The store requeued the lease's unit (expired or released): the unit is leasable again.
+  void requeued(const Lease& lease);
+  size_t leases_held();
+  /// Every lease the store has written -> its unit queued again (the store's revoke_all at
+  /// start-up: LeaseTable::revoke_all).
+  void revoke_all();
+
+  // ---- The journal ------------------------------------------------------------------------
+  /// A lease granted and not yet written to the store.
+  struct Grant {
+    Lease lease;          ///< unit_id is 0 for an unborn unit until written
+    bool unborn = false;  ///< the unit had no row (store/tile_queue.h)
+    int64_t at_unix_ms = 0;  ///< when granted (a queued job starts then)
+  };
+  /// Takes the journal, oldest first (empty: nothing to write).
+  std::vector<Grant> take_journal();
+  /// Puts `grants` back before any newer ones (their transaction failed).
+  void restore_journal(std::vector<Grant> grants);
+  /// The grants were written: `unit_ids[i]` is grants[i]'s unit, or nullopt when the store
+  /// refused it (the lease is void and forgotten).
+  /// Returns the grants the store took whose lease the book no longer holds (none unless the
+  /// book and the store diverged): the caller hands them back to the queue.
+  std::vector<Lease> recorded(const std::vector<Grant>& grants,
+                              const std::vector<std::optional<int64_t>>& unit_ids);
+
+  /// Counters for tests and BENCHMARKS.md: leases granted, and leases void at their write.
+  uint64_t granted();
+  uint64_t voided();
+
+ private:
+  struct Tile {
+    uint32_t next_lease = 0, lease_end = 0, next_batch = 0;
+  };
+  struct Job {
+    int64_t id = 0;
+    JobState state = JobState::queued;
+    int priority = 0;
+    int64_t submitted_unix_ms = 0, started_unix_ms = 0;
+    bool noise = false;
+    int64_t time_budget_ms = 0;  ///< > 0 for a `time` job
+    JobSpec spec;
+    JobPlan plan;
+    std::vector<TileRect> rects;
+    std::vector<Tile> tiles;
+    /// (next_lease, tile) of every tile whose next unborn unit is leasable (below lease_end and,
+    /// for a noise job, within the lookahead of its merged prefix).
+    std::set<std::pair<uint32_t, uint32_t>> open;
+    /// Units back in the queue: (batch, tile, unit id).
+    std::set<std::tuple<uint32_t, uint32_t, int64_t>> requeued;
+    /// Live leases of the job: (tile, batch) -> lease id.
+    std::map<std::pair<uint32_t, uint32_t>, std::string> leased;
+    /// Failures per worker: (count, last failure time).
+    std::map<int64_t, std::pair<int64_t, int64_t>> failures;
+  };
+  using OrderKey = std::tuple<int, int64_t, int64_t>;  ///< (-priority, submitted, id)
+  static OrderKey order_key(const Job& j) { return {-j.priority, j.submitted_unix_ms, j.id}; }
+
+  bool eligible(const Job& job, uint32_t tile) const;
+  /// Removes tile's entry from job.open; call before changing the tile, then reopen().
+  void unopen(Job& job, uint32_t tile);
+  void reopen(Job& job, uint32_t tile);
+  bool blocked(const Job& job, int64_t worker_id, int64_t now) const;
+  /// Grants the job's first leasable unit to the worker, or nullopt. Requires mu_.
+  std::optional<Lease> grant_next(Job& job, int64_t worker_id, int64_t now);
+  void add_lease(const Lease& lease);
+  void remove_lease(const std::string& lease_id);
+  LeasedUnit leased_unit(const Job& job, const Lease& lease) const;
+
+  const Clock& clock_;
+  int64_t lease_ms_;
+  IdSource new_id_;
+  std::mutex mu_;  ///< guards everything below (never held while the store is used)
+  WorkerHealthPolicy policy_;
+  std::set<int64_t> workers_;
+  std::map<int64_t, int64_t> touches_;
+  std::map<int64_t, Job> jobs_;
+  std::set<OrderKey> order_;
+  std::map<std::string, Lease> leases_;                     ///< by lease id
+  std::map<int64_t, std::vector<std::string>> by_worker_;   ///< in grant order
+  std::set<std::pair<int64_t, std::string>> by_expiry_;
+  std::vector<Grant> journal_;
+  uint64_t granted_ = 0, voided_ = 0;
+};
+
+}  // namespace tessera::server

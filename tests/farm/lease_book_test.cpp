@@ -1,0 +1,239 @@
+// Leases answered from memory (server/lease_book.h, issue 14 lease p99): a LeaseUnit or
+// Heartbeat call takes no store lock and runs no statement; the book stays in step with the
+// store across a restart, expiry, cancel and delete; a grant the store no longer allows is void.
+// Counts (lock acquisitions, statements, units), never times.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <set>
+
+#include "coordinator.h"
+#include "fake_clock.h"
+#include "lease_book.h"
+#include "store_fixture.h"
+
+namespace tessera::server {
+namespace {
+
+using testing::tiny_bundle;
+
+/// A 32x32 job in 8x8 tiles (16 tiles) of `spp` batches of 1 spp.
+v1::JobRequestOptions options_of(uint32_t spp) {
+  v1::JobRequestOptions options;
+  options.set_width(32);
+  options.set_height(32);
+  options.set_tile_size(8);
+  options.set_spp(spp);
+  options.set_batch_spp(1);
+  return options;
+}
+
+class LeaseBookTest : public ::testing::Test {
+ protected:
+  LeaseBookTest() {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("tessera-lease-book-test-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    config_.db_path = (dir_ / "farm.db").string();
+    config_.output_dir = dir_ / "outputs";
+    config_.lease_ms = 30'000;
+    farm_.emplace(config_, clock_);
+    farm_->resume();
+  }
+  ~LeaseBookTest() override {
+    farm_.reset();
+    std::filesystem::remove_all(dir_);
+  }
+
+  std::vector<LeasedUnit> look(int64_t worker, uint32_t n) {
+    return farm_->lease_units(worker, n, std::chrono::milliseconds(0), [] { return false; });
+  }
+  UnitResult result(const LeasedUnit& u) {
+    return testing::result_for(u.lease, testing::StoreFixture::synthetic(
+                                            u.rect, u.lease.batch, u.sample_end - u.sample_begin));
+  }
+  /// A server crash and start: the coordinator is dropped without its clean shutdown.
+  void restart() {
+    farm_.reset();
+    farm_.emplace(config_, clock_);
+    farm_->resume();
+  }
+
+  std::filesystem::path dir_;
+  testing::FakeClock clock_;
+  CoordinatorConfig config_;
+  std::optional<Coordinator> farm_;
+};
+
+using Unit = std::pair<uint32_t, uint32_t>;  // (tile, batch)
+
+std::set<Unit> units_of(const std::vector<LeasedUnit>& units) {
+  std::set<Unit> out;
+  for (const LeasedUnit& u : units) out.insert({u.lease.tile, u.lease.batch});
+  return out;
+}
+
+TEST_F(LeaseBookTest, ALeaseAndAHeartbeatTakeNoStoreLockAndRunNoStatement) {
+  farm_->submit(tiny_bundle(), options_of(4), 0, "c");
+  const int64_t worker = farm_->register_worker({"w", 4, "avx2", "test"});
+  const int64_t idle = farm_->register_worker({"i", 4, "avx2", "test"});
+  const uint64_t locks = farm_->store_lock_acquisitions();
+  const uint64_t statements = farm_->store_counters().statements;
+  // Units without a row, the job's start, the same leases handed again, heartbeats, and an
+  // idle worker's empty looks.
+  const std::vector<LeasedUnit> first = look(worker, 16);
+  ASSERT_EQ(first.size(), 16u);
+  ASSERT_EQ(look(worker, 16).size(), 16u);  // the same 16, expiry extended
+  ASSERT_EQ(look(worker, 32).size(), 32u);
+  for (const LeasedUnit& u : first) {
+    EXPECT_TRUE(farm_->heartbeat(worker, u.lease.lease_id).has_value());
+  }
+  EXPECT_EQ(look(idle, 32).size(), 32u);  // the last 32
+  EXPECT_EQ(look(idle, 32).size(), 32u);  // its own, again
+  EXPECT_EQ(farm_->store_lock_acquisitions() - locks, 1u)
+      << "only the store_counters() read above takes the store's lock";
+  EXPECT_EQ(farm_->store_counters().statements - statements, 0u);
+  // The leases reach the store with its next operation: every result is accepted.
+  std::vector<UnitResult> results;
+  for (const LeasedUnit& u : first) results.push_back(result(u));
+  for (const AcceptOutcome& o : farm_->upload_all(results)) EXPECT_TRUE(o.accepted) << o.reason;
+}
+
+TEST_F(LeaseBookTest, AfterARestartEveryLeaseIsVoidAndItsUnitIsLeasedAgain) {
+  const int64_t job = farm_->submit(tiny_bundle(), options_of(2), 0, "c").id;  // 32 units
+  const int64_t a = farm_->register_worker({"a", 4, "avx2", "test"});
+  const std::vector<LeasedUnit> written = look(a, 8);
+  ASSERT_EQ(written.size(), 8u);
+  // One result: its call writes the 8 leases to the store first.
+  ASSERT_TRUE(farm_->upload(result(written.front())).accepted);
+  const std::vector<LeasedUnit> unwritten = look(a, 16);  // 7 held + 9 new, never written
+  ASSERT_EQ(unwritten.size(), 16u);
+  restart();
+  // The 7 written leases were revoked (counted as expired), the 9 others never reached the
+  // store: all 31 units not merged are leasable again, each once.
+  const int64_t b = farm_->register_worker({"b", 4, "avx2", "test"});
+  const std::vector<LeasedUnit> again = look(b, 64);
+  EXPECT_EQ(again.size(), 31u);
+  EXPECT_EQ(units_of(again).size(), 31u);
+  EXPECT_FALSE(units_of(again).contains({written.front().lease.tile, 0}));
+  EXPECT_EQ(farm_->job(job).counters.leases_expired, 7u);
+  // The old worker's leases are gone: heartbeats not valid, results dropped (not merged twice).
+  EXPECT_FALSE(farm_->heartbeat(a, unwritten.back().lease.lease_id).has_value());
+  const AcceptOutcome late = farm_->upload(result(unwritten[1]));
+  EXPECT_FALSE(late.accepted);
+  std::vector<UnitResult> results;
+  for (const LeasedUnit& u : again) results.push_back(result(u));
+  for (const AcceptOutcome& o : farm_->upload_all(results)) EXPECT_TRUE(o.accepted) << o.reason;
+  EXPECT_EQ(farm_->job(job).state, JobState::done);
+}
+
+TEST_F(LeaseBookTest, AnExpiredLeaseGoesBackToTheQueueAndAHeartbeatKeepsOneAlive) {
+  farm_->submit(tiny_bundle(), options_of(1), 0, "c");  // 16 units
+  const int64_t a = farm_->register_worker({"a", 4, "avx2", "test"});
+  const int64_t b = farm_->register_worker({"b", 4, "avx2", "test"});
+  const std::vector<LeasedUnit> held = look(a, 4);
+  ASSERT_EQ(held.size(), 4u);
+  ASSERT_EQ(look(b, 12).size(), 12u);
+  clock_.advance(config_.lease_ms / 2);
+  // A keeps its first lease alive; the three others lapse.
+  ASSERT_TRUE(farm_->heartbeat(a, held[0].lease.lease_id).has_value());
+  clock_.advance(config_.lease_ms / 2 + 1);
+  EXPECT_EQ(farm_->expire_leases(), 12 + 3);  // b's 12 (it never heartbeated) and a's 3
+  EXPECT_TRUE(farm_->heartbeat(a, held[0].lease.lease_id).has_value());
+  EXPECT_FALSE(farm_->heartbeat(a, held[1].lease.lease_id).has_value());
+  const int64_t c = farm_->register_worker({"c", 4, "avx2", "test"});
+  const std::vector<LeasedUnit> again = look(c, 64);
+  EXPECT_EQ(again.size(), 15u);
+  EXPECT_FALSE(units_of(again).contains({held[0].lease.tile, held[0].lease.batch}));
+  EXPECT_TRUE(units_of(again).contains({held[1].lease.tile, held[1].lease.batch}));
+  EXPECT_FALSE(farm_->upload(result(held[1])).accepted);  // a's expired lease
+  EXPECT_TRUE(farm_->upload(result(held[0])).accepted);   // the one it kept alive
+}
+
+TEST_F(LeaseBookTest, CancelAndDeleteWhileLeasedEndTheLeases) {
+  const int64_t job = farm_->submit(tiny_bundle(), options_of(2), 0, "c").id;
+  const int64_t a = farm_->register_worker({"a", 4, "avx2", "test"});
+  const std::vector<LeasedUnit> written = look(a, 4);
+  ASSERT_TRUE(farm_->upload(result(written[0])).accepted);  // the 4 leases are in the store
+  const std::vector<LeasedUnit> held = look(a, 8);           // 3 written, 5 only in the book
+  ASSERT_EQ(held.size(), 8u);
+  farm_->cancel(job);
+  EXPECT_TRUE(look(a, 8).empty());  // nothing held, nothing leasable
+  EXPECT_EQ(farm_->leases_held(), 0u);
+  for (const LeasedUnit& u : held) {
+    EXPECT_FALSE(farm_->heartbeat(a, u.lease.lease_id).has_value());
+    const AcceptOutcome o = farm_->upload(result(u));
+    EXPECT_FALSE(o.accepted);  // dropped as a cancelled unit's, not an error
+  }
+  const uint64_t lost = farm_->workers().front().units_lost;
+  EXPECT_EQ(lost, 0u);  // a cancelled unit is not the worker's loss
+  farm_->remove(job);
+  EXPECT_TRUE(look(a, 8).empty());
+  // A new job leases from the start.
+  farm_->submit(tiny_bundle(), options_of(1), 0, "c");
+  EXPECT_EQ(look(a, 64).size(), 16u);
+}
+
+TEST_F(LeaseBookTest, PriorityAndAFailureBlockAreFollowed) {
+  const int64_t low = farm_->submit(tiny_bundle(), options_of(1), 0, "c").id;
+  const int64_t high = farm_->submit(tiny_bundle(), options_of(1), 0, "c").id;
+  farm_->set_priority(high, 5);
+  const int64_t a = farm_->register_worker({"a", 4, "avx2", "test"});
+  const std::vector<LeasedUnit> two = look(a, 2);
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_EQ(two[0].lease.job_id, high);
+  // Two failures on `high` block `a` from it (WorkerHealthPolicy::failures_to_block).
+  for (const LeasedUnit& u : two) {
+    ASSERT_TRUE(farm_->release(a, u.lease.lease_id, ReleaseReason::failed, "boom").released);
+  }
+  const std::vector<LeasedUnit> next = look(a, 1);
+  ASSERT_EQ(next.size(), 1u);
+  EXPECT_EQ(next[0].lease.job_id, low);
+  const int64_t b = farm_->register_worker({"b", 4, "avx2", "test"});
+  const std::vector<LeasedUnit> theirs = look(b, 1);
+  ASSERT_EQ(theirs.size(), 1u);
+  EXPECT_EQ(theirs[0].lease.job_id, high);  // the released units, first in (batch, tile) order
+  EXPECT_EQ(theirs[0].lease.tile, two[0].lease.tile);
+}
+
+// The book on its own: a grant made after the store's state was read is applied again when the
+// job is put again, or void when the store's new state no longer has its unit leasable.
+TEST(LeaseBook, AGrantTheStoreNoLongerAllowsIsVoidWhenTheJobIsPutAgain) {
+  testing::FakeClock clock;
+  LeaseBook book(clock, 1000);
+  book.add_worker(1);
+  LeaseBookJob job;
+  job.job_id = 7;
+  job.state = JobState::running;
+  job.spec.options.width = 16;
+  job.spec.options.height = 8;
+  job.spec.options.tile_size = 8;
+  job.spec.options.spp = 4;
+  job.spec.options.batch_spp = 1;
+  job.tiles = {{{0, 0, 8, 8}, 0}, {{8, 0, 16, 8}, 0}};
+  job.queue = {{0, 0, 4}, {1, 0, 4}};
+  book.put_job(job);
+  const std::vector<LeasedUnit> got = book.lease_up_to(1, 2);
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(got[0].lease.tile, 0u);
+  EXPECT_EQ(got[1].lease.tile, 1u);
+  // The store, read before either grant was written: tile 0 still open, tile 1 closed.
+  job.queue = {{0, 0, 4}, {1, 0, 0}};
+  book.put_job(job);
+  EXPECT_EQ(book.voided(), 1u);
+  EXPECT_TRUE(book.extend(1, got[0].lease.lease_id).has_value());
+  EXPECT_FALSE(book.extend(1, got[1].lease.lease_id).has_value());
+  const std::vector<LeaseBook::Grant> journal = book.take_journal();
+  ASSERT_EQ(journal.size(), 1u);
+  EXPECT_EQ(journal[0].lease.lease_id, got[0].lease.lease_id);
+  // Tile 0's next unit is batch 1 (the kept grant took batch 0).
+  const std::vector<LeasedUnit> next = book.lease_up_to(1, 2);
+  ASSERT_EQ(next.size(), 2u);
+  EXPECT_EQ(next[1].lease.tile, 0u);
+  EXPECT_EQ(next[1].lease.batch, 1u);
+}
+
+}  // namespace
+}  // namespace tessera::server
