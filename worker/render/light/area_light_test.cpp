@@ -179,7 +179,7 @@ TEST(AreaLight, RectangleSamplesMatchPdfChiSquare) {
     };
     const auto pdf = [&](glm::vec3 d) { return planar_pdf(light, g, ref, d); };
     const test::DirectionBins bins = bins_towards(ref, center, g.positions, 12, 16);
-    const test::ChiSquareResult r = test::chi_square_directions(bins, 100000, sample, pdf);
+    const test::DirectionChiSquareResult r = test::chi_square_directions(bins, 100000, sample, pdf);
     EXPECT_GT(r.p_value, test::kChiSquareLevel) << "distance " << distance << ": " << r.detail;
   }
 }
@@ -211,7 +211,7 @@ TEST(AreaLight, RectangleByAreaSamplesMatchPdfChiSquare) {
     };
     const auto pdf = [&](glm::vec3 d) { return planar_pdf(light, g, ref, d); };
     const test::DirectionBins bins = bins_towards(ref, center, g.positions, 12, 16);
-    const test::ChiSquareResult r = test::chi_square_directions(bins, 100000, sample, pdf);
+    const test::DirectionChiSquareResult r = test::chi_square_directions(bins, 100000, sample, pdf);
     EXPECT_GT(r.p_value, test::kChiSquareLevel) << "ref " << ref.x << " " << ref.y << " " << ref.z << ": " << r.detail;
   }
 }
@@ -361,7 +361,7 @@ TEST(AreaLight, TriangleSamplesMatchPdfChiSquare) {
     if (p.x < -1 || p.x > 1 || p.y < -1 || p.y > 0.5f) return 0;
     return light.pdf(ref, p, {0, 0, -1});
   };
-  const test::ChiSquareResult r = test::chi_square_directions(bins, 100000, sample, pdf);
+  const test::DirectionChiSquareResult r = test::chi_square_directions(bins, 100000, sample, pdf);
   EXPECT_GT(r.p_value, test::kChiSquareLevel) << r.detail;
 }
 
@@ -396,7 +396,7 @@ TEST(AreaLight, SphereSamplesMatchPdfChiSquare) {
     const glm::vec3 p = glm::vec3(glm::dvec3(ref) + glm::dvec3(d) * (-b - std::sqrt(disc)));
     return light.pdf(ref, p, glm::normalize(p - glm::vec3(g.center)));
   };
-  const test::ChiSquareResult r = test::chi_square_directions(bins, 100000, sample, pdf);
+  const test::DirectionChiSquareResult r = test::chi_square_directions(bins, 100000, sample, pdf);
   EXPECT_GT(r.p_value, test::kChiSquareLevel) << r.detail;
 }
 

@@ -93,7 +93,7 @@ TEST(EnvmapLight, SamplingMatchesPdfChiSquare) {
     if (!(pdf > 0)) return std::nullopt;
     return d;
   };
-  const test::ChiSquareResult r = test::chi_square_directions(
+  const test::DirectionChiSquareResult r = test::chi_square_directions(
       bins, 200000, sample, [&](glm::vec3 d) { return double(env.pdf(d)); });
   EXPECT_GT(r.p_value, test::kChiSquareLevel) << r.detail;
 }
@@ -111,7 +111,7 @@ TEST(EnvmapLight, ChiSquareRejectsAWrongDensity) {
     float pdf = 0;
     return env.sample(u.next2(), &pdf);
   };
-  const test::ChiSquareResult r =
+  const test::DirectionChiSquareResult r =
       test::chi_square_directions(test::envmap_cell_bins(w, h, 1), 20000, sample,
                                   [&](glm::vec3 d) { return double(wrong.pdf(d)); });
   EXPECT_LT(r.p_value, test::kChiSquareLevel) << r.detail;

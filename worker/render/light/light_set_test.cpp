@@ -246,7 +246,7 @@ TEST(LightSet, EnvironmentMixtureMatchesPdfChiSquare) {
     if (!(s.pdf > 0)) return std::nullopt;
     return s.wi;
   };
-  const test::ChiSquareResult r =
+  const test::DirectionChiSquareResult r =
       test::chi_square_directions(test::envmap_cell_bins(8, 5, 2), 100000, sample,
                                   [&](glm::vec3 d) {
                                     return double(set.pdf_environment(kRef, d));

@@ -69,7 +69,7 @@ struct DirectionBins {
   }
 };
 
-struct ChiSquareResult {
+struct DirectionChiSquareResult {
   double chi2 = 0;
   int dof = 0;
   double p_value = 0;
@@ -82,7 +82,7 @@ struct ChiSquareResult {
 /// n * (1 - integral over all bins).
 /// Bins expecting fewer than 5 are pooled (among them the bins that the integration grid
 /// sees as empty though a silhouette crosses them).
-inline ChiSquareResult chi_square_directions(
+inline DirectionChiSquareResult chi_square_directions(
     const DirectionBins& bins, int n, const std::function<std::optional<glm::vec3>()>& sample,
     const std::function<double(glm::vec3)>& pdf) {
   constexpr int kSub = 32;
@@ -131,7 +131,7 @@ inline ChiSquareResult chi_square_directions(
     }
     observed[bin] += 1;
   }
-  ChiSquareResult r;
+  DirectionChiSquareResult r;
   double pooled_expected = 0, pooled_observed = 0;
   std::ostringstream worst;
   int reported = 0;  // the first few bins off by more than 4 sigma
