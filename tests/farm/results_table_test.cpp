@@ -81,7 +81,7 @@ TEST(ResultsTable, AnAcceptedResultIsWrittenOnce) {
   for (;;) {
     std::vector<Lease> round;
     for (int i = 0; i < 12; ++i) {
-      if (const auto l = f.scheduler.lease_next(f.make_worker())) round.push_back(*l);
+      if (const auto l = f.book.lease_next(f.make_worker())) round.push_back(*l);
     }
     if (round.empty()) break;
     std::shuffle(round.begin(), round.end(), rng);
