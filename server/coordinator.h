@@ -280,6 +280,8 @@ class Coordinator {
   const Clock& clock_;
   /// Guards db_ and every component below but book_. Upload groups take it Deferring
   /// (server/priority_mutex.h), everything else plainly; leases and heartbeats do not take it.
+  /// A plain caller waits for at most PriorityMutex::kDeferringTurns group transactions (each
+  /// group's start and each yield() is one) beyond the one in progress.
   PriorityMutex mu_;
   Database db_;
   JobStore jobs_;
