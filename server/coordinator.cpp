@@ -47,7 +47,6 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       workers_(db_),
       leases_(db_, jobs_, clock_, config.lease_ms),
       book_(clock_, config.lease_ms),
-      scheduler_(db_, leases_, clock_),
       merger_(db_, clock_, config.merge_cache_bytes),
       output_(config.output_dir, config.output_writer),
       limits_(config.limits),
@@ -435,26 +434,9 @@ void Coordinator::flush_leases() {
   std::map<int64_t, int64_t> touches = book_.take_touches();
   if (grants.empty() && touches.empty()) return;
   std::vector<std::optional<int64_t>> unit_ids;
-  unit_ids.reserve(grants.size());
   try {
     Transaction tx(db_);
-    std::map<int64_t, int64_t> started;  // job -> its first lease written here
-    for (const LeaseBook::Grant& g : grants) {
-      const std::optional<int64_t> unit = leases_.record_grant(g.lease, g.unborn);
-      if (!unit && g.unborn) {
-        // Its tile closed or its job ended after the book granted it: the result will be
-        // dropped as a cancelled unit's (UnitsTable::insert_cancelled).
-        try {
-          UnitsTable(db_).insert_cancelled(g.lease.job_id, g.lease.tile, g.lease.batch);
-        } catch (const SqliteError&) {
-          // The job is gone (deleted): its result is refused as an unknown unit's.
-        }
-      }
-      if (unit) started.try_emplace(g.lease.job_id, g.at_unix_ms);
-      unit_ids.push_back(unit);
-    }
-    JobsTable jobs(db_);
-    for (const auto& [job_id, at] : started) jobs.start(job_id, at);  // queued -> running
+    unit_ids = write_grants(db_, leases_, grants);
     for (const auto& [worker_id, at] : touches) {
       int64_t& written = touched_unix_ms_[worker_id];
       if (at - written < touch_interval_ms()) continue;
@@ -746,14 +728,8 @@ int Coordinator::expire_leases() {
     StoreLock lock(*this);
     // Expiry is the lease book's (heartbeats extend leases there): its due leases go back to
     // the queue in the store, then in the book.
-    const std::vector<Lease> due = book_.due(clock_.now_unix_ms());
-    if (!due.empty()) {
-      const std::vector<Lease> requeued = leases_.expire(due);
-      expired = int(requeued.size());
-      for (const Lease& l : requeued) book_.requeued(l);
-      for (const Lease& l : due) book_.ended(l.lease_id);  // not current in the store either
-    }
-    out_of_time = scheduler_.enforce_time_budgets();
+    expired = expire_due_leases(book_, leases_, clock_.now_unix_ms());
+    out_of_time = leases_.enforce_time_budgets();
   }
   if (expired > 0) notify_changed(true);
   for (int64_t id : out_of_time) finish_job(id);

@@ -26,7 +26,6 @@
 #include "job_store.h"
 #include "lease_book.h"
 #include "lease_table.h"
-#include "scheduler.h"
 #include "store/integrity.h"
 #include "store/sqlite.h"
 #include "tessera/v1/job.pb.h"
@@ -139,7 +138,7 @@ class Coordinator {
   /// FarmError(failed_precondition) for an unknown worker id (register again).
   std::optional<LeasedUnit> lease(int64_t worker_id, std::chrono::milliseconds wait,
                                   const std::function<bool()>& cancelled);
-  /// Several units in one call (Scheduler::lease_up_to): every lease the worker holds and new
+  /// Several units in one call (LeaseBook::lease_up_to): every lease the worker holds and new
   /// ones up to `max_units`, waiting as lease() does while there are none. Empty: no work.
   std::vector<LeasedUnit> lease_units(int64_t worker_id, uint32_t max_units,
                                       std::chrono::milliseconds wait,
@@ -281,6 +280,8 @@ class Coordinator {
   const Clock& clock_;
   /// Guards db_ and every component below but book_. Upload groups take it Deferring
   /// (server/priority_mutex.h), everything else plainly; leases and heartbeats do not take it.
+  /// A plain caller waits for at most PriorityMutex::kDeferringTurns group transactions (each
+  /// group's start and each yield() is one) beyond the one in progress.
   PriorityMutex mu_;
   Database db_;
   JobStore jobs_;
@@ -289,7 +290,6 @@ class Coordinator {
   /// The leasable units and live leases in memory (own mutex; taken inside mu_, never the
   /// other way round).
   LeaseBook book_;
-  Scheduler scheduler_;
   TileMerger merger_;
   JobOutput output_;
   mutable std::mutex departed_mu_;

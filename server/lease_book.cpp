@@ -4,7 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "scheduler.h"
+#include "store/jobs_table.h"
+
 
 namespace tessera::server {
 
@@ -34,7 +35,7 @@ LeaseBook::LeaseBook(const Clock& clock, int64_t lease_ms, IdSource new_id)
 
 void LeaseBook::set_health_policy(const WorkerHealthPolicy& policy) {
   std::lock_guard lock(mu_);
-  policy_ = policy;
+  scheduler_.set_block_policy(policy.failures_to_block, policy.forgive_ms);
 }
 
 void LeaseBook::add_worker(int64_t worker_id) {
@@ -56,18 +57,6 @@ void LeaseBook::touch(int64_t worker_id, int64_t now_unix_ms) {
 std::map<int64_t, int64_t> LeaseBook::take_touches() {
   std::lock_guard lock(mu_);
   return std::exchange(touches_, {});
-}
-
-bool LeaseBook::eligible(const Job& job, uint32_t tile) const {
-  const Tile& t = job.tiles[tile];
-  if (t.next_lease >= t.lease_end) return false;
-  return !job.noise || t.next_lease < t.next_batch + Scheduler::kNoiseLookahead;
-}
-
-void LeaseBook::unopen(Job& job, uint32_t tile) { job.open.erase({job.tiles[tile].next_lease, tile}); }
-
-void LeaseBook::reopen(Job& job, uint32_t tile) {
-  if (eligible(job, tile)) job.open.insert({job.tiles[tile].next_lease, tile});
 }
 
 void LeaseBook::add_lease(const Lease& lease) {
@@ -106,43 +95,43 @@ void LeaseBook::put_job(LeaseBookJob in) {
       }
     }
     for (const auto& [key, id] : std::map(old->second.leased)) remove_lease(id);
-    order_.erase(order_key(old->second));
     jobs_.erase(old);
   }
+  scheduler_.drop_job(in.job_id);
   if (in.state != JobState::queued && in.state != JobState::running) return;
-  Job job;
-  job.id = in.job_id;
-  job.state = in.state;
-  job.priority = in.priority;
-  job.submitted_unix_ms = in.submitted_unix_ms;
-  job.started_unix_ms = in.started_unix_ms;
-  job.noise = in.spec.options.rule == StopRule::noise;
+  Scheduler::Job policy;
+  policy.id = in.job_id;
+  policy.priority = in.priority;
+  policy.submitted_unix_ms = in.submitted_unix_ms;
+  policy.running = in.state == JobState::running;
+  policy.started_unix_ms = policy.running ? in.started_unix_ms : 0;
+  policy.noise = in.spec.options.rule == StopRule::noise;
   if (in.spec.options.rule == StopRule::time) {
-    job.time_budget_ms = std::llround(in.spec.options.time_budget_s * 1000.0);
+    policy.time_budget_ms = std::llround(in.spec.options.time_budget_s * 1000.0);
   }
+  Job job;
   job.spec = std::move(in.spec);
   job.plan = job.spec.options.plan();
-  job.tiles.resize(in.tiles.size());
+  policy.tiles.resize(in.tiles.size());
   for (size_t t = 0; t < in.tiles.size(); ++t) {
     job.rects.push_back(in.tiles[t].rect);
-    job.tiles[t].next_batch = in.tiles[t].next_batch;
+    policy.tiles[t].next_batch = in.tiles[t].next_batch;
   }
   for (const TileQueueRow& q : in.queue) {
-    if (q.tile >= job.tiles.size()) continue;
-    job.tiles[q.tile].next_lease = q.next_lease;
-    job.tiles[q.tile].lease_end = q.lease_end;
+    if (q.tile >= policy.tiles.size()) continue;
+    policy.tiles[q.tile].next_lease = q.next_lease;
+    policy.tiles[q.tile].lease_end = q.lease_end;
   }
   for (const JobWorkerFailures& f : in.failures) {
-    job.failures[f.worker_id] = {f.failures, f.last_failure_unix_ms};
+    policy.failures[f.worker_id] = {f.failures, f.last_failure_unix_ms};
   }
-  for (uint32_t t = 0; t < job.tiles.size(); ++t) reopen(job, t);
-  const auto [it, inserted] = jobs_.emplace(job.id, std::move(job));
-  Job& j = it->second;
   for (const LiveUnit& u : in.units) {
-    if (!u.lease) {
-      j.requeued.insert({u.batch, u.tile, u.unit_id});
-      continue;
-    }
+    if (!u.lease) policy.requeued.push_back({u.batch, u.tile, u.unit_id});
+  }
+  scheduler_.put_job(policy);
+  jobs_.emplace(in.job_id, std::move(job));
+  for (const LiveUnit& u : in.units) {
+    if (!u.lease) continue;
     Lease l = *u.lease;
     if (const auto e = extended.find(l.lease_id); e != extended.end()) {
       l.expires_unix_ms = std::max(l.expires_unix_ms, e->second);
@@ -152,33 +141,16 @@ void LeaseBook::put_job(LeaseBookJob in) {
   // The leases granted since the store was read: again, when the store's state still has their
   // unit leasable (they are written by the next flush); otherwise void.
   for (auto g = journal_.begin(); g != journal_.end();) {
-    if (g->lease.job_id != j.id) {
+    if (g->lease.job_id != in.job_id) {
       ++g;
       continue;
     }
     const Lease& l = g->lease;
-    bool ok = false;
-    if (l.tile < j.tiles.size()) {
-      if (g->unborn) {
-        Tile& t = j.tiles[l.tile];
-        ok = t.next_lease == l.batch && l.batch < t.lease_end;
-        if (ok) {
-          unopen(j, l.tile);
-          ++t.next_lease;
-          reopen(j, l.tile);
-        }
-      } else {
-        ok = j.requeued.erase({l.batch, l.tile, l.unit_id}) > 0;
-      }
-    }
-    if (!ok) {
+    const Scheduler::Pick unit{l.job_id, l.tile, l.batch, g->unborn ? 0 : l.unit_id, g->unborn};
+    if (!scheduler_.take(unit, g->at_unix_ms)) {
       ++voided_;
       g = journal_.erase(g);
       continue;
-    }
-    if (j.state == JobState::queued) {
-      j.state = JobState::running;
-      j.started_unix_ms = g->at_unix_ms;
     }
     Lease kept = l;
     if (const auto e = extended.find(l.lease_id); e != extended.end()) {
@@ -187,101 +159,36 @@ void LeaseBook::put_job(LeaseBookJob in) {
     add_lease(kept);
     ++g;
   }
-  order_.insert(order_key(j));
 }
 
 void LeaseBook::drop_job(int64_t job_id) {
   std::lock_guard lock(mu_);
+  scheduler_.drop_job(job_id);
   const auto it = jobs_.find(job_id);
   if (it == jobs_.end()) return;
   for (const auto& [key, id] : std::map(it->second.leased)) remove_lease(id);
-  order_.erase(order_key(it->second));
   jobs_.erase(it);
 }
 
 void LeaseBook::set_priority(int64_t job_id, int priority) {
   std::lock_guard lock(mu_);
-  const auto it = jobs_.find(job_id);
-  if (it == jobs_.end()) return;
-  order_.erase(order_key(it->second));
-  it->second.priority = priority;
-  order_.insert(order_key(it->second));
+  scheduler_.set_priority(job_id, priority);
 }
 
 void LeaseBook::tile_merged(int64_t job_id, uint32_t tile, uint32_t next_batch, bool closed) {
   std::lock_guard lock(mu_);
+  scheduler_.tile_merged(job_id, tile, next_batch, closed);
   const auto it = jobs_.find(job_id);
-  if (it == jobs_.end() || tile >= it->second.tiles.size()) return;
+  if (!closed || it == jobs_.end()) return;
+  // The store skipped the tile's queued and leased units and closed its unborn ones
+  // (TileMerger::close_tile); leases granted since its flush are void when written.
   Job& job = it->second;
-  Tile& t = job.tiles[tile];
-  unopen(job, tile);
-  t.next_batch = std::max(t.next_batch, next_batch);
-  if (closed) {
-    // The store skipped the tile's queued and leased units and closed its unborn ones
-    // (TileMerger::close_tile); leases granted since its flush are void when written.
-    t.lease_end = std::min(t.lease_end, t.next_lease);
-    for (auto r = job.requeued.begin(); r != job.requeued.end();) {
-      r = std::get<1>(*r) == tile ? job.requeued.erase(r) : std::next(r);
-    }
-    std::vector<std::string> ids;
-    for (auto l = job.leased.lower_bound({tile, 0});
-         l != job.leased.end() && l->first.first == tile; ++l) {
-      ids.push_back(l->second);
-    }
-    for (const std::string& id : ids) remove_lease(id);
+  std::vector<std::string> ids;
+  for (auto l = job.leased.lower_bound({tile, 0}); l != job.leased.end() && l->first.first == tile;
+       ++l) {
+    ids.push_back(l->second);
   }
-  reopen(job, tile);
-}
-
-bool LeaseBook::blocked(const Job& job, int64_t worker_id, int64_t now) const {
-  const auto f = job.failures.find(worker_id);
-  return f != job.failures.end() && f->second.first >= policy_.failures_to_block &&
-         f->second.second > now - policy_.forgive_ms;
-}
-
-std::optional<Lease> LeaseBook::grant_next(Job& job, int64_t worker_id, int64_t now) {
-  // Past its budget a time job gets batch 0 only: every tile gets its first batch.
-  const bool over_budget = job.time_budget_ms > 0 && job.started_unix_ms > 0 &&
-                           job.started_unix_ms + job.time_budget_ms <= now;
-  const uint32_t limit = over_budget ? 1 : std::numeric_limits<uint32_t>::max();
-  std::optional<std::tuple<uint32_t, uint32_t, int64_t>> requeued;
-  for (const auto& r : job.requeued) {
-    const auto [batch, tile, unit_id] = r;
-    if (batch >= limit) break;
-    if (job.noise && batch >= job.tiles[tile].next_batch + Scheduler::kNoiseLookahead) continue;
-    requeued = r;
-    break;
-  }
-  std::optional<std::pair<uint32_t, uint32_t>> unborn;
-  if (!job.open.empty() && job.open.begin()->first < limit) unborn = *job.open.begin();
-  if (!requeued && !unborn) return std::nullopt;
-  // The earlier of the two in (batch, tile) order.
-  const bool fresh = unborn && (!requeued || *unborn < std::pair(std::get<0>(*requeued),
-                                                                std::get<1>(*requeued)));
-  Lease lease;
-  lease.lease_id = new_id_();
-  lease.job_id = job.id;
-  lease.worker_id = worker_id;
-  lease.expires_unix_ms = now + lease_ms_;
-  if (fresh) {
-    lease.batch = unborn->first;
-    lease.tile = unborn->second;
-    unopen(job, lease.tile);
-    ++job.tiles[lease.tile].next_lease;
-    reopen(job, lease.tile);
-  } else {
-    std::tie(lease.batch, lease.tile, lease.unit_id) = *requeued;
-    job.requeued.erase(*requeued);
-  }
-  if (job.state == JobState::queued) {
-    // queued -> running on the first lease (written with the journal: JobsTable::start).
-    job.state = JobState::running;
-    job.started_unix_ms = now;
-  }
-  add_lease(lease);
-  journal_.push_back(Grant{lease, fresh, now});
-  ++granted_;
-  return lease;
+  for (const std::string& id : ids) remove_lease(id);
 }
 
 LeasedUnit LeaseBook::leased_unit(const Job& job, const Lease& lease) const {
@@ -308,16 +215,20 @@ std::vector<LeasedUnit> LeaseBook::lease_up_to(int64_t worker_id, uint32_t max_u
     }
   }
   max_units = std::max(1u, max_units);
-  for (const OrderKey& key : order_) {
-    if (out.size() >= max_units) break;
-    Job& job = jobs_.at(std::get<2>(key));
-    if (job.open.empty() && job.requeued.empty()) continue;
-    if (blocked(job, worker_id, now)) continue;
-    while (out.size() < max_units) {
-      const std::optional<Lease> lease = grant_next(job, worker_id, now);
-      if (!lease) break;
-      out.push_back(leased_unit(job, *lease));
-    }
+  if (out.size() >= max_units) return out;
+  for (const Scheduler::Pick& p : scheduler_.pick(worker_id, now, max_units - out.size())) {
+    Lease lease;
+    lease.lease_id = new_id_();
+    lease.unit_id = p.unit_id;
+    lease.job_id = p.job_id;
+    lease.tile = p.tile;
+    lease.batch = p.batch;
+    lease.worker_id = worker_id;
+    lease.expires_unix_ms = now + lease_ms_;
+    add_lease(lease);
+    journal_.push_back(Grant{lease, p.unborn, now});
+    ++granted_;
+    out.push_back(leased_unit(jobs_.at(p.job_id), lease));
   }
   return out;
 }
@@ -360,9 +271,7 @@ std::vector<Lease> LeaseBook::due(int64_t now_unix_ms) {
 void LeaseBook::requeued(const Lease& lease) {
   std::lock_guard lock(mu_);
   remove_lease(lease.lease_id);
-  const auto it = jobs_.find(lease.job_id);
-  if (it == jobs_.end()) return;
-  it->second.requeued.insert({lease.batch, lease.tile, lease.unit_id});
+  scheduler_.requeued(lease.job_id, {lease.batch, lease.tile, lease.unit_id});
 }
 
 void LeaseBook::revoke_all() {
@@ -373,9 +282,7 @@ void LeaseBook::revoke_all() {
   }
   for (const Lease& l : all) {
     remove_lease(l.lease_id);
-    if (const auto it = jobs_.find(l.job_id); it != jobs_.end()) {
-      it->second.requeued.insert({l.batch, l.tile, l.unit_id});
-    }
+    scheduler_.requeued(l.job_id, {l.batch, l.tile, l.unit_id});
   }
 }
 
@@ -414,6 +321,37 @@ std::vector<Lease> LeaseBook::recorded(const std::vector<Grant>& grants,
     }
   }
   return orphans;
+}
+
+std::vector<std::optional<int64_t>> write_grants(Database& db, LeaseTable& leases,
+                                                 const std::vector<LeaseBook::Grant>& grants) {
+  std::vector<std::optional<int64_t>> unit_ids;
+  unit_ids.reserve(grants.size());
+  std::map<int64_t, int64_t> started;  // job -> its first lease written here
+  for (const LeaseBook::Grant& g : grants) {
+    const std::optional<int64_t> unit = leases.record_grant(g.lease, g.unborn);
+    if (!unit && g.unborn) {
+      try {
+        UnitsTable(db).insert_cancelled(g.lease.job_id, g.lease.tile, g.lease.batch);
+      } catch (const SqliteError&) {
+        // The job is gone (deleted): its result is refused as an unknown unit's.
+      }
+    }
+    if (unit) started.try_emplace(g.lease.job_id, g.at_unix_ms);
+    unit_ids.push_back(unit);
+  }
+  JobsTable jobs(db);
+  for (const auto& [job_id, at] : started) jobs.start(job_id, at);  // queued -> running
+  return unit_ids;
+}
+
+int expire_due_leases(LeaseBook& book, LeaseTable& leases, int64_t now_unix_ms) {
+  const std::vector<Lease> due = book.due(now_unix_ms);
+  if (due.empty()) return 0;
+  const std::vector<Lease> requeued = leases.expire(due);
+  for (const Lease& l : requeued) book.requeued(l);
+  for (const Lease& l : due) book.ended(l.lease_id);  // not current in the store either
+  return int(requeued.size());
 }
 
 uint64_t LeaseBook::granted() {

@@ -15,11 +15,9 @@
 // tile closed, between the book's grant and the store's event) is void: the book forgets it,
 // its heartbeat is answered not valid, and its result is dropped as a cancelled unit's.
 //
-// Scheduling is Scheduler's, in memory: jobs by priority (higher first), then age; in the first
-// job the worker is not blocked from, its first leasable unit in (batch, tile) order, a unit
-// back from a lease or one without a row alike; a `time` job past its budget gets batch 0 only;
-// a `noise` tile is leased at most Scheduler::kNoiseLookahead batches past its merged prefix.
-// Each pick is O(log n) in the job's tiles and leases.
+// Which unit a lease gets is the scheduling policy's (server/scheduler.h), which the book keeps
+// in step with the store; the book adds the leases themselves (ids, expiry, the worker's held
+// leases) and their journal. Each pick is O(log n) in the job's tiles and leases.
 #pragma once
 
 #include <cstdint>
@@ -38,6 +36,7 @@
 #include "job_record.h"
 #include "job_store.h"
 #include "lease_table.h"
+#include "scheduler.h"
 #include "store/failures_table.h"
 #include "store/sqlite.h"
 #include "store/tile_queue.h"
@@ -103,8 +102,8 @@ class LeaseBook {
   void tile_merged(int64_t job_id, uint32_t tile, uint32_t next_batch, bool closed);
 
   // ---- Leases -----------------------------------------------------------------------------
-  /// Every lease the worker holds (expiry extended) and new ones up to `max_units`, picked as
-  /// Scheduler::lease_up_to picks (see the file comment). Empty: no work.
+  /// Every lease the worker holds (expiry extended) and new ones up to `max_units`, picked by
+  /// the scheduling policy (Scheduler::pick). Empty: no work.
   std::vector<LeasedUnit> lease_up_to(int64_t worker_id, uint32_t max_units);
   /// A heartbeat: the lease's new expiry, nullopt when it is not current for the worker.
   std::optional<int64_t> extend(int64_t worker_id, const std::string& lease_id);
@@ -144,40 +143,14 @@ class LeaseBook {
   uint64_t voided();
 
  private:
-  struct Tile {
-    uint32_t next_lease = 0, lease_end = 0, next_batch = 0;
-  };
   struct Job {
-    int64_t id = 0;
-    JobState state = JobState::queued;
-    int priority = 0;
-    int64_t submitted_unix_ms = 0, started_unix_ms = 0;
-    bool noise = false;
-    int64_t time_budget_ms = 0;  ///< > 0 for a `time` job
     JobSpec spec;
     JobPlan plan;
     std::vector<TileRect> rects;
-    std::vector<Tile> tiles;
-    /// (next_lease, tile) of every tile whose next unborn unit is leasable (below lease_end and,
-    /// for a noise job, within the lookahead of its merged prefix).
-    std::set<std::pair<uint32_t, uint32_t>> open;
-    /// Units back in the queue: (batch, tile, unit id).
-    std::set<std::tuple<uint32_t, uint32_t, int64_t>> requeued;
     /// Live leases of the job: (tile, batch) -> lease id.
     std::map<std::pair<uint32_t, uint32_t>, std::string> leased;
-    /// Failures per worker: (count, last failure time).
-    std::map<int64_t, std::pair<int64_t, int64_t>> failures;
   };
-  using OrderKey = std::tuple<int, int64_t, int64_t>;  ///< (-priority, submitted, id)
-  static OrderKey order_key(const Job& j) { return {-j.priority, j.submitted_unix_ms, j.id}; }
 
-  bool eligible(const Job& job, uint32_t tile) const;
-  /// Removes tile's entry from job.open; call before changing the tile, then reopen().
-  void unopen(Job& job, uint32_t tile);
-  void reopen(Job& job, uint32_t tile);
-  bool blocked(const Job& job, int64_t worker_id, int64_t now) const;
-  /// Grants the job's first leasable unit to the worker, or nullopt. Requires mu_.
-  std::optional<Lease> grant_next(Job& job, int64_t worker_id, int64_t now);
   void add_lease(const Lease& lease);
   void remove_lease(const std::string& lease_id);
   LeasedUnit leased_unit(const Job& job, const Lease& lease) const;
@@ -186,16 +159,29 @@ class LeaseBook {
   int64_t lease_ms_;
   IdSource new_id_;
   std::mutex mu_;  ///< guards everything below (never held while the store is used)
-  WorkerHealthPolicy policy_;
+  Scheduler scheduler_;
   std::set<int64_t> workers_;
   std::map<int64_t, int64_t> touches_;
   std::map<int64_t, Job> jobs_;
-  std::set<OrderKey> order_;
   std::map<std::string, Lease> leases_;                     ///< by lease id
   std::map<int64_t, std::vector<std::string>> by_worker_;   ///< in grant order
   std::set<std::pair<int64_t, std::string>> by_expiry_;
   std::vector<Grant> journal_;
   uint64_t granted_ = 0, voided_ = 0;
 };
+
+/// Writes `grants` (LeaseBook::take_journal) to the store: each unit leased with the grant's
+/// id and expiry (LeaseTable::record_grant), each job of a lease written started (queued ->
+/// running at its grant's time). A grant of an unborn unit the store refuses (its tile closed or
+/// its job ended after the book granted it) leaves a cancelled row, so that its result is
+/// dropped as a cancelled unit's. Call inside a transaction. Returns the unit ids to hand to
+/// LeaseBook::recorded.
+std::vector<std::optional<int64_t>> write_grants(Database& db, LeaseTable& leases,
+                                                 const std::vector<LeaseBook::Grant>& grants);
+
+/// The book's due leases (expiry is the book's: heartbeats extend leases there) back to the
+/// queue, in the store and then in the book. Requires the journal written. Returns how many
+/// the store requeued.
+int expire_due_leases(LeaseBook& book, LeaseTable& leases, int64_t now_unix_ms);
 
 }  // namespace tessera::server

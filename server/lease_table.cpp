@@ -40,29 +40,6 @@ LeaseTable::LeaseTable(Database& db, JobStore& jobs, const Clock& clock, int64_t
                        IdSource new_id)
     : db_(db), units_(db), jobs_(jobs), clock_(clock), lease_ms_(lease_ms), new_id_(std::move(new_id)) {}
 
-std::optional<Lease> LeaseTable::held_by(int64_t worker_id) {
-  const std::vector<Lease> held = units_.leased_to(worker_id);
-  if (held.empty()) return std::nullopt;
-  return held.front();
-}
-
-std::optional<Lease> LeaseTable::grant_in_transaction(int64_t job_id, const RequeuedUnit& unit,
-                                                      int64_t worker_id) {
-  const std::string lease_id = new_id_();
-  const int64_t expires = clock_.now_unix_ms() + lease_ms_;
-  if (units_.lease_requeued(unit.unit_id, worker_id, lease_id, expires) != 1) return std::nullopt;
-  return Lease{lease_id, unit.unit_id, job_id, unit.tile, unit.batch, worker_id, expires};
-}
-
-std::optional<Lease> LeaseTable::grant_unborn_in_transaction(int64_t job_id, uint32_t tile,
-                                                             uint32_t batch, int64_t worker_id) {
-  if (!TileQueue(db_).take(job_id, tile, batch)) return std::nullopt;
-  const std::string lease_id = new_id_();
-  const int64_t expires = clock_.now_unix_ms() + lease_ms_;
-  const int64_t unit_id = units_.insert_leased(job_id, tile, batch, worker_id, lease_id, expires);
-  return Lease{lease_id, unit_id, job_id, tile, batch, worker_id, expires};
-}
-
 std::optional<int64_t> LeaseTable::record_grant(const Lease& lease, bool unborn) {
   if (unborn) {
     if (!TileQueue(db_).take(lease.job_id, lease.tile, lease.batch)) return std::nullopt;
@@ -87,30 +64,6 @@ std::vector<Lease> LeaseTable::expire(const std::vector<Lease>& leases) {
   }
   tx.commit();
   return done;
-}
-
-std::optional<int64_t> LeaseTable::extend_in_transaction(int64_t worker_id,
-                                                         const std::string& lease_id) {
-  const int64_t expires = clock_.now_unix_ms() + lease_ms_;
-  if (units_.extend(worker_id, lease_id, expires) != 1) return std::nullopt;
-  return expires;
-}
-
-std::optional<int64_t> LeaseTable::heartbeat(int64_t worker_id, const std::string& lease_id) {
-  Transaction tx(db_);
-  const auto expires = extend_in_transaction(worker_id, lease_id);
-  tx.commit();
-  return expires;
-}
-
-std::vector<std::optional<int64_t>> LeaseTable::heartbeat_all(
-    int64_t worker_id, const std::vector<std::string>& lease_ids) {
-  std::vector<std::optional<int64_t>> out;
-  out.reserve(lease_ids.size());
-  Transaction tx(db_);
-  for (const std::string& id : lease_ids) out.push_back(extend_in_transaction(worker_id, id));
-  tx.commit();
-  return out;
 }
 
 ReleaseOutcome LeaseTable::release(int64_t worker_id, const std::string& lease_id,
@@ -164,11 +117,22 @@ int LeaseTable::requeue_expiring_before(int64_t bound) {
   return count;
 }
 
-int LeaseTable::expire_due() {
+std::vector<int64_t> LeaseTable::enforce_time_budgets() {
+  const int64_t now = clock_.now_unix_ms();
   Transaction tx(db_);
-  const int count = requeue_expiring_before(clock_.now_unix_ms());
+  JobsTable jobs(db_);
+  const std::vector<int64_t> over = jobs.running_over_budget(now);
+  std::vector<int64_t> complete;
+  for (int64_t job_id : over) {
+    // Batch 0 is never skipped: every tile gets it, even after the budget.
+    const int64_t skipped_rows = units_.skip_queued_after_first_batch(job_id);
+    // ...and so are those without a row yet.
+    const int64_t n = skipped_rows + TileQueue(db_).skip_after_first_batch(job_id);
+    jobs.count_budget_reached(job_id, n, now);
+    if (!units_left(db_, job_id)) complete.push_back(job_id);
+  }
   tx.commit();
-  return count;
+  return complete;
 }
 
 int LeaseTable::revoke_all() {

@@ -1,4 +1,6 @@
-// Leases on work units: ids, expiry on an injected clock, heartbeats, hand-backs and expiry.
+// Leases on work units in the store: a grant of the lease book written (server/lease_book.h),
+// hand-backs, expiry and the time rule's skips. Which unit is leased is Scheduler's
+// (server/scheduler.h); heartbeats are the book's alone.
 // A lease is current while its unit is 'leased' with that lease_id; every change is a
 // compare-and-set on (unit, lease_id, state), so a superseded lease can never change anything.
 #pragma once
@@ -57,22 +59,6 @@ class LeaseTable {
   /// Failures before this time no longer block a worker (now - forgive_ms).
   int64_t forgiven_before_unix_ms() const { return clock_.now_unix_ms() - policy_.forgive_ms; }
 
-  /// The lease `worker_id` holds, if any (a worker holds at most one).
-  std::optional<Lease> held_by(int64_t worker_id);
-
-  /// queued -> leased for `worker_id` with a fresh id, expiring at now + lease_ms, of the
-  /// requeued unit `unit` of `job_id`. Call inside a transaction. nullopt when the unit was not
-  /// queued (someone else won the compare-and-set).
-  std::optional<Lease> grant_in_transaction(int64_t job_id, const RequeuedUnit& unit,
-                                            int64_t worker_id);
-
-  /// The lease event on a unit without a row (store/tile_queue.h): inserts the row of batch
-  /// `batch` of `tile`, leased to `worker_id` with a fresh id, and moves the tile's next_lease
-  /// on. Call inside a transaction. nullopt when `batch` is not the tile's next unborn batch
-  /// (someone else won the compare-and-set).
-  std::optional<Lease> grant_unborn_in_transaction(int64_t job_id, uint32_t tile, uint32_t batch,
-                                                   int64_t worker_id);
-
   /// Writes a lease granted in memory (server/lease_book.h) to the store: for an unborn unit
   /// (`unborn`) TileQueue::take and the row born leased, else the requeued row `lease.unit_id`
   /// queued -> leased; with the lease's own id and expiry. Call inside a transaction. Returns
@@ -85,25 +71,19 @@ class LeaseTable {
   /// longer current is left out).
   std::vector<Lease> expire(const std::vector<Lease>& leases);
 
-  /// Pushes the expiry of a current lease to now + lease_ms. Call inside a transaction.
-  /// nullopt when `lease_id` is not the current lease of a unit held by `worker_id`.
-  std::optional<int64_t> extend_in_transaction(int64_t worker_id, const std::string& lease_id);
-
-  /// extend_in_transaction in its own transaction.
-  std::optional<int64_t> heartbeat(int64_t worker_id, const std::string& lease_id);
-  /// heartbeat() of each of `lease_ids` in one transaction; answer i is lease i's.
-  std::vector<std::optional<int64_t>> heartbeat_all(int64_t worker_id,
-                                                    const std::vector<std::string>& lease_ids);
-
   /// leased -> queued. With ReleaseReason::failed the failure counts against the worker on that
   /// job (blocking it at policy.failures_to_block) and against the unit (failing the job, with
   /// every worker's reason, once policy.workers_to_fail_unit different workers failed it).
   ReleaseOutcome release(int64_t worker_id, const std::string& lease_id, ReleaseReason reason,
                          const std::string& message);
 
-  /// Every lease whose expiry is before now -> queued, counted per job (leases_expired) and per
-  /// worker (units_lost). Returns how many expired.
-  int expire_due();
+  /// The time rule's bookkeeping, called periodically (Coordinator::expire_leases): every
+  /// running `time` job past its budget is marked (budget_reached_unix_ms) and its queued units
+  /// of batches > 0 skipped (UnitEvent::skip; units back from an expired lease are skipped on
+  /// the next call; batch 0 is leased again, whatever the time: Scheduler). Leased units are
+  /// awaited: their results merge if their batch prefix is complete. Returns the ids of such
+  /// jobs with no unit queued or leased left: ready to settle and finish.
+  std::vector<int64_t> enforce_time_budgets();
 
   /// Every lease -> queued, counted as expired: at server start, leases granted before the
   /// restart are void (their workers may be gone; their results will be dropped as stale).

@@ -1,99 +1,167 @@
 #include "scheduler.h"
 
+#include <algorithm>
+#include <iterator>
 #include <limits>
-#include <string>
-
-#include "store/jobs_table.h"
-#include "store/tile_queue.h"
 
 namespace tessera::server {
 
-std::optional<Scheduler::Pick> Scheduler::first_unit(int64_t job_id, bool noise,
-                                                     bool over_budget) {
+Scheduler::OrderKey Scheduler::order_key(const Job& j) {
+  return {-j.priority, j.submitted_unix_ms, j.id};
+}
+
+void Scheduler::set_block_policy(int failures_to_block, int64_t forgive_ms) {
+  failures_to_block_ = failures_to_block;
+  forgive_ms_ = forgive_ms;
+}
+
+bool Scheduler::eligible(const State& s, uint32_t tile) const {
+  const Tile& t = s.job.tiles[tile];
+  if (t.next_lease >= t.lease_end) return false;
+  return !s.job.noise || t.next_lease < t.next_batch + kNoiseLookahead;
+}
+
+void Scheduler::unopen(State& s, uint32_t tile) { s.open.erase({s.job.tiles[tile].next_lease, tile}); }
+
+void Scheduler::reopen(State& s, uint32_t tile) {
+  if (eligible(s, tile)) s.open.insert({s.job.tiles[tile].next_lease, tile});
+}
+
+void Scheduler::put_job(const Job& job) {
+  drop_job(job.id);
+  State s;
+  s.job = job;
+  for (const Requeued& r : job.requeued) {
+    if (r.tile < job.tiles.size()) s.requeued.insert(r);
+  }
+  s.job.requeued.clear();
+  for (uint32_t t = 0; t < s.job.tiles.size(); ++t) reopen(s, t);
+  order_.insert(order_key(s.job));
+  jobs_.emplace(job.id, std::move(s));
+}
+
+void Scheduler::drop_job(int64_t job_id) {
+  const auto it = jobs_.find(job_id);
+  if (it == jobs_.end()) return;
+  order_.erase(order_key(it->second.job));
+  jobs_.erase(it);
+}
+
+void Scheduler::set_priority(int64_t job_id, int priority) {
+  const auto it = jobs_.find(job_id);
+  if (it == jobs_.end()) return;
+  order_.erase(order_key(it->second.job));
+  it->second.job.priority = priority;
+  order_.insert(order_key(it->second.job));
+}
+
+void Scheduler::tile_merged(int64_t job_id, uint32_t tile, uint32_t next_batch, bool closed) {
+  const auto it = jobs_.find(job_id);
+  if (it == jobs_.end() || tile >= it->second.job.tiles.size()) return;
+  State& s = it->second;
+  Tile& t = s.job.tiles[tile];
+  unopen(s, tile);
+  t.next_batch = std::max(t.next_batch, next_batch);
+  if (closed) {
+    t.lease_end = std::min(t.lease_end, t.next_lease);
+    for (auto r = s.requeued.begin(); r != s.requeued.end();) {
+      r = r->tile == tile ? s.requeued.erase(r) : std::next(r);
+    }
+  }
+  reopen(s, tile);
+}
+
+void Scheduler::requeued(int64_t job_id, const Requeued& unit) {
+  const auto it = jobs_.find(job_id);
+  if (it == jobs_.end() || unit.tile >= it->second.job.tiles.size()) return;
+  it->second.requeued.insert(unit);
+}
+
+bool Scheduler::blocked(const State& s, int64_t worker_id, int64_t now) const {
+  const auto f = s.job.failures.find(worker_id);
+  return f != s.job.failures.end() && f->second.first >= failures_to_block_ &&
+         f->second.second > now - forgive_ms_;
+}
+
+void Scheduler::start(State& s, int64_t at) {
+  if (s.job.running) return;
+  s.job.running = true;  // queued -> running on its first lease (JobsTable::start)
+  s.job.started_unix_ms = at;
+}
+
+bool Scheduler::pick_one(State& s, int64_t now, Pick& out) {
   // Past its budget a time job gets batch 0 only: every tile gets its first batch.
-  const int64_t batch_limit = over_budget ? int64_t(1) : std::numeric_limits<int64_t>::max();
-  std::optional<Pick> requeued;
-  if (const std::optional<RequeuedUnit> u =
-          units_.first_requeued(job_id, noise ? kNoiseLookahead : 0, batch_limit)) {
-    requeued = Pick{u->unit_id, u->tile, u->batch};
+  // (started_unix_ms > 0: as JobsTable::running_over_budget decides it in the store.)
+  const bool over_budget = s.job.time_budget_ms > 0 && s.job.running &&
+                           s.job.started_unix_ms > 0 &&
+                           s.job.started_unix_ms + s.job.time_budget_ms <= now;
+  const uint32_t limit = over_budget ? 1 : std::numeric_limits<uint32_t>::max();
+  const Requeued* requeued = nullptr;
+  for (const Requeued& r : s.requeued) {
+    if (r.batch >= limit) break;
+    if (s.job.noise && r.batch >= s.job.tiles[r.tile].next_batch + kNoiseLookahead) continue;
+    requeued = &r;
+    break;
   }
-  // The first unit without a row; the earlier of the two in (batch, tile) order goes first.
-  const std::optional<UnbornUnit> unborn =
-      TileQueue(db_).first(job_id, noise ? kNoiseLookahead : 0, batch_limit);
-  if (!unborn) return requeued;
-  const Pick fresh{std::nullopt, unborn->tile, unborn->batch};
-  if (!requeued) return fresh;
-  const bool fresh_first = std::pair(fresh.batch, fresh.tile) < std::pair(requeued->batch,
-                                                                          requeued->tile);
-  return fresh_first ? fresh : requeued;
+  const std::pair<uint32_t, uint32_t>* unborn = nullptr;
+  if (!s.open.empty() && s.open.begin()->first < limit) unborn = &*s.open.begin();
+  if (!requeued && !unborn) return false;
+  // The earlier of the two in (batch, tile) order.
+  const bool fresh =
+      unborn && (!requeued || *unborn < std::pair(requeued->batch, requeued->tile));
+  out = Pick{};
+  out.job_id = s.job.id;
+  if (fresh) {
+    out.batch = unborn->first;
+    out.tile = unborn->second;
+    out.unborn = true;
+    const uint32_t tile = out.tile;
+    unopen(s, tile);
+    ++s.job.tiles[tile].next_lease;
+    reopen(s, tile);
+  } else {
+    out.batch = requeued->batch;
+    out.tile = requeued->tile;
+    out.unit_id = requeued->unit_id;
+    s.requeued.erase(*requeued);
+  }
+  start(s, now);
+  return true;
 }
 
-std::optional<Lease> Scheduler::lease_next(int64_t worker_id) {
-  std::vector<Lease> leases = lease_up_to(worker_id, 1);
-  if (leases.empty()) return std::nullopt;
-  return leases.front();
-}
-
-std::vector<Lease> Scheduler::lease_up_to(int64_t worker_id, uint32_t max_units) {
-  Transaction tx(db_);
-  std::vector<Lease> out;
-  for (Lease held : units_.leased_to(worker_id)) {
-    if (const auto expires = leases_.extend_in_transaction(worker_id, held.lease_id)) {
-      held.expires_unix_ms = *expires;
-    }
-    out.push_back(held);
+std::vector<Scheduler::Pick> Scheduler::pick(int64_t worker_id, int64_t now_unix_ms, size_t n) {
+  std::vector<Pick> out;
+  for (const OrderKey& key : order_) {
+    if (out.size() >= n) break;
+    State& s = jobs_.at(std::get<2>(key));
+    if (s.open.empty() && s.requeued.empty()) continue;
+    if (blocked(s, worker_id, now_unix_ms)) continue;
+    Pick p;
+    while (out.size() < n && pick_one(s, now_unix_ms, p)) out.push_back(p);
   }
-  if (out.size() >= max_units) {
-    tx.commit();
-    return out;
-  }
-  // The jobs that may lease, in scheduling order (the jobs_schedule index); few at a time.
-  JobsTable jobs(db_);
-  std::vector<LeaseCandidate> candidates =
-      jobs.lease_candidates(worker_id, clock_.now_unix_ms(),
-                            leases_.health_policy().failures_to_block,
-                            leases_.forgiven_before_unix_ms());
-  bool changed = false;
-  for (LeaseCandidate& c : candidates) {
-    while (out.size() < max_units) {
-      const std::optional<Pick> pick = first_unit(c.job_id, c.noise, c.over_budget);
-      if (!pick) break;
-      std::optional<Lease> lease =
-          pick->unit_id
-              ? leases_.grant_in_transaction(c.job_id, {*pick->unit_id, pick->tile, pick->batch},
-                                             worker_id)
-              : leases_.grant_unborn_in_transaction(c.job_id, pick->tile, pick->batch, worker_id);
-      if (!lease) break;  // lost the compare-and-set: cannot happen under the coordinator's lock
-      changed = true;
-      out.push_back(*lease);
-      if (c.queued) {
-        // queued -> running on the first lease; a running job stays running (JobEvent::start).
-        jobs.start(c.job_id, clock_.now_unix_ms());
-        c.queued = false;
-      }
-    }
-    if (out.size() >= max_units) break;
-  }
-  if (changed || !out.empty()) tx.commit();  // else rolls back: nothing written
   return out;
 }
 
-std::vector<int64_t> Scheduler::enforce_time_budgets() {
-  const int64_t now = clock_.now_unix_ms();
-  Transaction tx(db_);
-  JobsTable jobs(db_);
-  const std::vector<int64_t> over = jobs.running_over_budget(now);
-  std::vector<int64_t> complete;
-  for (int64_t job_id : over) {
-    // Batch 0 is never skipped: every tile gets it, even after the budget.
-    const int64_t skipped_rows = units_.skip_queued_after_first_batch(job_id);
-    // ...and so are those without a row yet.
-    const int64_t n = skipped_rows + TileQueue(db_).skip_after_first_batch(job_id);
-    jobs.count_budget_reached(job_id, n, now);
-    if (!units_left(db_, job_id)) complete.push_back(job_id);
+bool Scheduler::take(const Pick& unit, int64_t at_unix_ms) {
+  const auto it = jobs_.find(unit.job_id);
+  if (it == jobs_.end() || unit.tile >= it->second.job.tiles.size()) return false;
+  State& s = it->second;
+  if (unit.unborn) {
+    Tile& t = s.job.tiles[unit.tile];
+    if (t.next_lease != unit.batch || unit.batch >= t.lease_end) return false;
+    unopen(s, unit.tile);
+    ++t.next_lease;
+    reopen(s, unit.tile);
+  } else if (s.requeued.erase({unit.batch, unit.tile, unit.unit_id}) == 0) {
+    return false;
   }
-  tx.commit();
-  return complete;
+  start(s, at_unix_ms);
+  return true;
+}
+
+int64_t Scheduler::started_unix_ms(int64_t job_id) const {
+  const auto it = jobs_.find(job_id);
+  return it == jobs_.end() ? 0 : it->second.job.started_unix_ms;
 }
 
 }  // namespace tessera::server

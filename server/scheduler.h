@@ -1,20 +1,28 @@
-// Hands out work units. Jobs are walked by priority (higher first), then age (older first); in
-// the first job with a unit to give, two indexed queries (units back in the queue, and units
-// not created yet: store/tile_queue.h) take its first queued unit by (batch, tile), so a job's tiles progress together (a preview that sharpens evenly) and each tile's
-// batches arrive roughly in merge order: batch b+1 of a job is leased once no batch <= b of it is
-// left unleased, without waiting for results (no barrier). The stopping rules act here too: a
-// `time` job past its budget gets only what is left of batch 0 (every tile gets its first batch,
-// nothing else starts), and a `noise` tile is leased at most kNoiseLookahead batches past its
-// merged prefix (speculation the rule may waste, never a change of bits: see tile_merger.h).
+// The scheduling policy: which unit a worker leases next. SQL-free and in memory; the lease book
+// (server/lease_book.h) keeps one and the server leases through it, so this file is the one
+// home of the rules (docs/farm.md, "Scheduling"):
+// - jobs by priority (higher first), then age (older first), then id;
+// - a worker blocked from a job (WorkerHealthPolicy: failures_to_block failures there, the last
+//   within forgive_ms) gets none of its units;
+// - within a job, its first leasable unit in (batch, tile) order, a unit back from a lease (with
+//   its row) or one not created yet (store/tile_queue.h) alike: a job's tiles progress together
+//   (a preview that sharpens evenly) and batch b+1 is leased once no batch <= b is left unleased,
+//   without waiting for results (no barrier);
+// - a `time` job past its budget (started + budget <= now) gets what is left of batch 0 only:
+//   every tile gets its first batch, nothing else starts;
+// - a `noise` tile is leased at most kNoiseLookahead batches past its merged prefix
+//   (speculation the rule may waste, never a change of bits: see tile_merger.h).
+// Each pick is O(log n) in the job's tiles and units back in the queue. Not thread-safe: the
+// book calls it under its own mutex.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
-#include <optional>
+#include <map>
+#include <set>
+#include <tuple>
+#include <utility>
 #include <vector>
-
-#include "job_store.h"
-#include "lease_table.h"
-#include "store/sqlite.h"
 
 namespace tessera::server {
 
@@ -23,41 +31,88 @@ class Scheduler {
   /// A noise tile with batches [0, next_batch) merged is leased batches < next_batch + this.
   static constexpr uint32_t kNoiseLookahead = 2;
 
-  Scheduler(Database& db, LeaseTable& leases, const Clock& clock)
-      : db_(db), leases_(leases), clock_(clock) {}
+  /// A tile's units: batches [next_lease, lease_end) have no row yet (TileQueueRow), and
+  /// batches [0, next_batch) are merged (its prefix).
+  struct Tile {
+    uint32_t next_lease = 0, lease_end = 0, next_batch = 0;
+  };
+  /// A unit back in the queue, with its row.
+  struct Requeued {
+    uint32_t batch = 0, tile = 0;
+    int64_t unit_id = 0;
+    auto operator<=>(const Requeued&) const = default;
+  };
+  /// What the policy needs of a queued or running job.
+  struct Job {
+    int64_t id = 0;
+    int priority = 0;
+    int64_t submitted_unix_ms = 0;
+    /// 0 while the job is queued; its first pick starts it (queued -> running).
+    int64_t started_unix_ms = 0;
+    bool running = false;
+    bool noise = false;          ///< StopRule::noise: the lookahead applies
+    int64_t time_budget_ms = 0;  ///< > 0 for a StopRule::time job
+    std::vector<Tile> tiles;
+    std::vector<Requeued> requeued;
+    /// Failures per worker: (count, last failure time).
+    std::map<int64_t, std::pair<int64_t, int64_t>> failures;
+  };
+  /// A unit picked for a worker: unit_id 0 and `unborn` when it has no row yet.
+  struct Pick {
+    int64_t job_id = 0;
+    uint32_t tile = 0, batch = 0;
+    int64_t unit_id = 0;
+    bool unborn = false;
+    bool operator==(const Pick&) const = default;
+  };
 
-  /// The worker's lease. Idempotent: a worker that already holds a lease gets the same lease
-  /// (same id, expiry extended) — a retried call after a lost reply leases nothing new. Otherwise
-  /// leases the first queued unit of a queued/running job the worker is not blocked from (for a
-  /// `time` job past its budget, started_unix_ms + budget <= now, a unit of batch 0 only), and
-  /// starts the job (queued -> running). nullopt when there is no work: a normal answer.
-  std::optional<Lease> lease_next(int64_t worker_id);
+  /// WorkerHealthPolicy's blocking half (server/lease_table.h).
+  void set_block_policy(int failures_to_block, int64_t forgive_ms);
 
-  /// Several leases in one transaction: every lease the worker holds (expiry extended: a
-  /// retried call after a lost reply leases nothing twice) and new ones, picked as lease_next
-  /// picks, until it holds `max_units`. Empty when it holds none and there is no work.
-  std::vector<Lease> lease_up_to(int64_t worker_id, uint32_t max_units);
+  /// Puts (or replaces) a job. A job that is neither queued nor running is not put: drop it.
+  void put_job(const Job& job);
+  void drop_job(int64_t job_id);
+  void set_priority(int64_t job_id, int priority);
+  /// A merge moved the tile's prefix to `next_batch` (a noise tile's lookahead moves with it);
+  /// `closed`: the stopping rule closed the tile, none of its units is leased any more.
+  void tile_merged(int64_t job_id, uint32_t tile, uint32_t next_batch, bool closed);
+  /// A leased unit came back to the queue (its lease expired or was released).
+  void requeued(int64_t job_id, const Requeued& unit);
 
-  /// The time rule's bookkeeping, called periodically (and before answering a lease): every
-  /// running `time` job past its budget is marked (budget_reached_unix_ms) and its queued units
-  /// of batches > 0 skipped (UnitEvent::skip; units back from an expired lease are skipped on
-  /// the next call; batch 0 is leased again, whatever the time). Leased units are awaited: their results merge if their batch prefix is complete. Returns
-  /// the ids of such jobs with no unit queued or leased left: ready to settle and finish.
-  std::vector<int64_t> enforce_time_budgets();
+  /// Up to `n` units for `worker_id` at `now_unix_ms`, taken (never picked again unless
+  /// requeued), in the order above; the job of the first starts at `now_unix_ms` if queued.
+  std::vector<Pick> pick(int64_t worker_id, int64_t now_unix_ms, size_t n);
+  /// Takes the given unit, picked earlier (the book applies its unwritten grants again after a
+  /// job was put again): false when the job no longer has it leasable.
+  bool take(const Pick& unit, int64_t at_unix_ms);
+
+  /// For tests: the job's start time as the policy sees it (0: queued or unknown).
+  int64_t started_unix_ms(int64_t job_id) const;
 
  private:
-  /// A leasable unit: with its row (unit_id) or without one yet (store/tile_queue.h).
-  struct Pick {
-    std::optional<int64_t> unit_id;
-    uint32_t tile = 0, batch = 0;
+  struct State {
+    Job job;
+    /// (next_lease, tile) of every tile whose next unborn unit is leasable (below lease_end
+    /// and, for a noise job, within the lookahead of its merged prefix).
+    std::set<std::pair<uint32_t, uint32_t>> open;
+    std::set<Requeued> requeued;
   };
-  /// The first leasable unit of `job_id` in (batch, tile) order, or nullopt.
-  std::optional<Pick> first_unit(int64_t job_id, bool noise, bool over_budget);
+  using OrderKey = std::tuple<int, int64_t, int64_t>;  ///< (-priority, submitted, id)
+  static OrderKey order_key(const Job& j);
 
-  Database& db_;
-  UnitsTable units_{db_};
-  LeaseTable& leases_;
-  const Clock& clock_;
+  bool eligible(const State& s, uint32_t tile) const;
+  /// Removes tile's entry from s.open; call before changing the tile, then reopen().
+  void unopen(State& s, uint32_t tile);
+  void reopen(State& s, uint32_t tile);
+  bool blocked(const State& s, int64_t worker_id, int64_t now) const;
+  /// The job's first leasable unit, taken, or false.
+  bool pick_one(State& s, int64_t now, Pick& out);
+  static void start(State& s, int64_t at);
+
+  int failures_to_block_ = 2;
+  int64_t forgive_ms_ = 600'000;
+  std::map<int64_t, State> jobs_;
+  std::set<OrderKey> order_;
 };
 
 }  // namespace tessera::server

@@ -157,28 +157,6 @@ std::vector<int64_t> JobsTable::finished_before(int64_t before) {
       .rows(read_id);
 }
 
-std::vector<LeaseCandidate> JobsTable::lease_candidates(int64_t worker_id, int64_t now,
-                                                        int failures_to_block,
-                                                        int64_t forgiven_before) {
-  // By the jobs_schedule index; few jobs are queued or running at a time.
-  auto q = db_.prepare(R"sql(
-      SELECT j.id, j.stop_rule = 'noise',
-             j.stop_rule = 'time' AND j.started_unix_ms > 0
-               AND j.started_unix_ms + j.time_budget_ms <= ?3,
-             j.state = ?1
-      FROM jobs j
-      WHERE j.state IN (?1, ?2)
-        AND NOT EXISTS (SELECT 1 FROM job_worker_failures f
-                        WHERE f.job_id = j.id AND f.worker_id = ?4 AND f.failures >= ?5
-                          AND f.last_failure_unix_ms > ?6)
-      ORDER BY j.priority DESC, j.submitted_unix_ms ASC, j.id ASC)sql");
-  return q->bind_all(s(JobState::queued), s(JobState::running), now, worker_id, failures_to_block,
-                    forgiven_before)
-      .rows([](const Statement& r) {
-        return LeaseCandidate{r.int64(0), r.int64(1) != 0, r.int64(2) != 0, r.int64(3) != 0};
-      });
-}
-
 std::vector<int64_t> JobsTable::running_over_budget(int64_t now) {
   auto q = db_.prepare(R"sql(
       SELECT id FROM jobs

@@ -16,14 +16,6 @@
 
 namespace tessera::server {
 
-/// A job that may lease, as the scheduler sees it (JobsTable::lease_candidates).
-struct LeaseCandidate {
-  int64_t job_id = 0;
-  bool noise = false;        ///< stop rule `noise`: leases look at most a few batches ahead
-  bool over_budget = false;  ///< stop rule `time` and its budget spent: batch 0 only
-  bool queued = false;       ///< still queued: its first lease starts it
-};
-
 /// What the merge of one result (and its waiting successors) adds to the job's counters.
 struct MergedCounts {
   uint32_t results = 0;           ///< results merged (0: the result waits for its predecessor)
@@ -55,11 +47,6 @@ class JobsTable {
   std::vector<DoneOutput> done_outputs();
   /// Ids of final jobs that finished before `before_unix_ms`, oldest first.
   std::vector<int64_t> finished_before(int64_t before_unix_ms);
-  /// Queued and running jobs in scheduling order (priority, then age), without those where
-  /// `worker_id` failed at least `failures_to_block` times since `forgiven_before_unix_ms`.
-  std::vector<LeaseCandidate> lease_candidates(int64_t worker_id, int64_t now_unix_ms,
-                                               int failures_to_block,
-                                               int64_t forgiven_before_unix_ms);
   /// Running time jobs whose budget (from their first lease) is spent at `now_unix_ms`.
   std::vector<int64_t> running_over_budget(int64_t now_unix_ms);
   /// Sums per state name (states without jobs absent).

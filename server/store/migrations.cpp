@@ -246,6 +246,27 @@ INSERT INTO results (job_id, tile, batch, accumulation)
 DROP TABLE merged_results;
 DROP TABLE pending_results;
 )sql"},
+      {9, "results as a rowid table: the blobs out of the key's b-tree", R"sql(
+-- Migration 8's `results` was WITHOUT ROWID: its b-tree is keyed by the whole row, so every
+-- interior cell held a copy of a ~19 KB blob on overflow pages, and each insert or lookup
+-- copied blobs together to compare keys (a third of the store's CPU per accepted result in a
+-- profile: BENCHMARKS.md, "Issue 14: scheduling policy, fair lock, CPU per result"). Here the
+-- rows live in a rowid table (blobs only in its leaves) and (job_id, tile, batch) is a unique
+-- index of three integers. Every row moves over unchanged.
+CREATE TABLE results_by_rowid (
+  id           INTEGER PRIMARY KEY,
+  job_id       INTEGER NOT NULL,
+  tile         INTEGER NOT NULL,
+  batch        INTEGER NOT NULL,
+  accumulation BLOB NOT NULL,             -- encode_accumulation, as uploaded
+  FOREIGN KEY (job_id, tile) REFERENCES tiles (job_id, tile) ON DELETE CASCADE
+);
+INSERT INTO results_by_rowid (job_id, tile, batch, accumulation)
+  SELECT job_id, tile, batch, accumulation FROM results ORDER BY job_id, tile, batch;
+DROP TABLE results;
+ALTER TABLE results_by_rowid RENAME TO results;
+CREATE UNIQUE INDEX results_key ON results (job_id, tile, batch);
+)sql"},
   };
   return kMigrations;
 }

@@ -12,33 +12,6 @@ void TileQueue::create(int64_t job_id, uint32_t tiles, uint32_t batch_count) {
   }
 }
 
-const char* TileQueue::first_sql(bool noise) {
-  // Both walk the partial index tile_queue_open (job_id, next_lease, tile) in order and stop at
-  // the first row that qualifies (EXPLAIN QUERY PLAN is checked in tests/farm). The noise form
-  // looks up each candidate's merged prefix by the tile's primary key.
-  static constexpr const char* kUniform = R"sql(
-      SELECT q.tile, q.next_lease FROM tile_queue q
-      WHERE q.job_id = ?1 AND q.next_lease < q.lease_end AND q.next_lease < ?2
-      ORDER BY q.next_lease, q.tile LIMIT 1)sql";
-  static constexpr const char* kNoise = R"sql(
-      SELECT q.tile, q.next_lease FROM tile_queue q
-      CROSS JOIN tiles t ON t.job_id = q.job_id AND t.tile = q.tile
-      WHERE q.job_id = ?1 AND q.next_lease < q.lease_end AND q.next_lease < ?2
-        AND q.next_lease < t.next_batch + ?3
-      ORDER BY q.next_lease, q.tile LIMIT 1)sql";
-  return noise ? kNoise : kUniform;
-}
-
-std::optional<UnbornUnit> TileQueue::first(int64_t job_id, uint32_t noise_lookahead,
-                                           int64_t batch_limit) {
-  auto q = db_.prepare(first_sql(noise_lookahead > 0));
-  q->bind(1, job_id).bind(2, batch_limit);
-  if (noise_lookahead > 0) q->bind(3, noise_lookahead);
-  return q->first_row([](const Statement& r) {
-    return UnbornUnit{uint32_t(r.int64(0)), uint32_t(r.int64(1))};
-  });
-}
-
 bool TileQueue::take(int64_t job_id, uint32_t tile, uint32_t batch) {
   db_.prepare(
          "UPDATE tile_queue SET next_lease = next_lease + 1"

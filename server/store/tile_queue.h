@@ -17,12 +17,6 @@
 
 namespace tessera::server {
 
-/// A unit without a row: batch `batch` (= the tile's next_lease) of `tile`.
-struct UnbornUnit {
-  uint32_t tile = 0;
-  uint32_t batch = 0;
-};
-
 /// A tile's row of unborn units: batches [next_lease, lease_end) have no row yet.
 struct TileQueueRow {
   uint32_t tile = 0;
@@ -37,12 +31,6 @@ class TileQueue {
   /// At submit: every tile [0, tiles) of `job_id` has batches [0, batch_count) to lease.
   /// The tiles' rows must exist (foreign key). Call inside a transaction.
   void create(int64_t job_id, uint32_t tiles, uint32_t batch_count);
-
-  /// The first unit without a row of `job_id` in (batch, tile) order whose batch is below
-  /// `batch_limit`; for a noise job (`noise_lookahead` > 0) also below the tile's merged
-  /// prefix (tiles.next_batch) plus noise_lookahead. nullopt when there is none.
-  std::optional<UnbornUnit> first(int64_t job_id, uint32_t noise_lookahead,
-                                  int64_t batch_limit);
 
   /// UnitEvent::lease on an unborn unit, the compare-and-set half: next_lease batch -> batch
   /// + 1. False when another lease took it first (or the tile was closed). Call inside the
@@ -66,10 +54,6 @@ class TileQueue {
 
   /// True when some unit of the job has no row yet (and may still be leased).
   bool any_open(int64_t job_id);
-
-  /// The query of first() (?1 job, ?2 batch limit, ?3 noise lookahead), public so tests can
-  /// check its plan: an index walk, no sort.
-  static const char* first_sql(bool noise);
 
  private:
   /// Lowers lease_end to `new_end` (an SQL expression of the row, at least next_lease) in the

@@ -27,13 +27,6 @@ Lease read_leased(const Statement& q) {
 
 }  // namespace
 
-std::vector<Lease> UnitsTable::leased_to(int64_t worker_id) {
-  static const std::string sql = "SELECT " + kLeasedColumns +
-                                 " FROM units INDEXED BY units_worker WHERE worker_id = ?1"
-                                 " AND state = " + lit(UnitState::leased) + " ORDER BY id";
-  return db_.prepare(sql)->bind_all(worker_id).rows(read_leased);
-}
-
 std::optional<Lease> UnitsTable::lease(int64_t worker_id, const std::string& lease_id) {
   // By the unique partial index units_lease.
   static const std::string sql = "SELECT " + kLeasedColumns +
@@ -47,32 +40,6 @@ std::vector<Lease> UnitsTable::leases_expiring_before(int64_t bound) {
                                  " FROM units INDEXED BY units_expiry WHERE state = " +
                                  lit(UnitState::leased) + " AND lease_expires_unix_ms < ?1";
   return db_.prepare(sql)->bind_all(bound).rows(read_leased);
-}
-
-const std::string& UnitsTable::first_requeued_sql(bool noise) {
-  // Both walk the units_queue index (job_id, state, batch, tile) in order and stop at the first
-  // row that qualifies: no sort, no scan of the job's other queued units (EXPLAIN QUERY PLAN is
-  // checked in tests/farm). The noise form looks up each candidate's tile by its primary key;
-  // CROSS JOIN keeps units as the outer loop.
-  static const std::string uniform =
-      "SELECT u.id, u.tile, u.batch FROM units u WHERE u.job_id = ?1 AND u.state = " +
-      lit(UnitState::queued) + " AND u.batch < ?2 ORDER BY u.batch, u.tile LIMIT 1";
-  static const std::string noisy =
-      "SELECT u.id, u.tile, u.batch FROM units u"
-      " CROSS JOIN tiles t ON t.job_id = u.job_id AND t.tile = u.tile"
-      " WHERE u.job_id = ?1 AND u.state = " + lit(UnitState::queued) +
-      " AND u.batch < ?2 AND u.batch < t.next_batch + ?3 ORDER BY u.batch, u.tile LIMIT 1";
-  return noise ? noisy : uniform;
-}
-
-std::optional<RequeuedUnit> UnitsTable::first_requeued(int64_t job_id, uint32_t noise_lookahead,
-                                                       int64_t batch_limit) {
-  auto q = db_.prepare(first_requeued_sql(noise_lookahead > 0));
-  q->bind(1, job_id).bind(2, batch_limit);
-  if (noise_lookahead > 0) q->bind(3, noise_lookahead);
-  return q->first_row([](const Statement& r) {
-    return RequeuedUnit{r.int64(0), uint32_t(r.int64(1)), uint32_t(r.int64(2))};
-  });
 }
 
 std::vector<LiveUnit> UnitsTable::live(int64_t job_id) {
@@ -146,14 +113,6 @@ void UnitsTable::insert_cancelled(int64_t job_id, uint32_t tile, uint32_t batch)
       "INSERT OR IGNORE INTO units (job_id, tile, batch, state) VALUES (?1, ?2, ?3, " +
       lit(UnitState::cancelled) + ")";
   db_.prepare(sql)->bind(1, job_id).bind(2, tile).bind(3, batch).run();
-}
-
-int UnitsTable::extend(int64_t worker_id, const std::string& lease_id, int64_t expires_unix_ms) {
-  static const std::string sql =
-      "UPDATE units SET lease_expires_unix_ms = MAX(lease_expires_unix_ms, ?1)"
-      " WHERE lease_id = ?2 AND worker_id = ?3 AND state = " + lit(UnitState::leased);
-  db_.prepare(sql)->bind(1, expires_unix_ms).bind(2, lease_id).bind(3, worker_id).run();
-  return db_.changes();
 }
 
 int UnitsTable::accept(int64_t unit_id, int64_t worker_id, const std::string& lease_id) {

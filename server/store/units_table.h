@@ -36,12 +36,6 @@ struct Lease {
 };
 
 /// A unit back in the queue (it has a row: an earlier lease expired or was handed back).
-struct RequeuedUnit {
-  int64_t unit_id = 0;
-  uint32_t tile = 0;
-  uint32_t batch = 0;
-};
-
 /// A unit with what judging its result needs of its tile and job (UnitsTable::for_result).
 struct UnitForResult {
   int64_t unit_id = 0;
@@ -66,17 +60,10 @@ class UnitsTable {
   explicit UnitsTable(Database& db) : db_(db) {}
 
   // ---- Reads ---------------------------------------------------------------------------------
-  /// The leases `worker_id` holds, oldest first (by the partial index units_worker).
-  std::vector<Lease> leased_to(int64_t worker_id);
   /// The unit `lease_id` names when it is current and held by `worker_id`; nullopt otherwise.
   std::optional<Lease> lease(int64_t worker_id, const std::string& lease_id);
   /// Every lease expiring before `bound` (by the partial index units_expiry).
   std::vector<Lease> leases_expiring_before(int64_t bound);
-  /// The first unit of the job back in the queue in (batch, tile) order with batch <
-  /// `batch_limit`; for a noise job (`noise_lookahead` > 0) also below the tile's merged prefix
-  /// plus noise_lookahead. nullopt when none.
-  std::optional<RequeuedUnit> first_requeued(int64_t job_id, uint32_t noise_lookahead,
-                                             int64_t batch_limit);
   /// The job's rows that are queued or leased, in (batch, tile) order (by the units_queue
   /// index): what the lease book loads of a job (server/lease_book.h).
   std::vector<LiveUnit> live(int64_t job_id);
@@ -101,8 +88,6 @@ class UnitsTable {
   /// its job ended first): the unit's row, born cancelled, so that the lease's result is
   /// dropped as a cancelled unit's. Nothing when the row exists.
   void insert_cancelled(int64_t job_id, uint32_t tile, uint32_t batch);
-  /// A heartbeat: the current lease's expiry moves to at least `expires_unix_ms`.
-  int extend(int64_t worker_id, const std::string& lease_id, int64_t expires_unix_ms);
   /// UnitEvent::accept: leased -> done on the current lease of `worker_id` (the row keeps the
   /// worker that delivered it).
   int accept(int64_t unit_id, int64_t worker_id, const std::string& lease_id);
@@ -115,10 +100,6 @@ class UnitsTable {
   int64_t cancel_job(int64_t job_id);
   /// The time rule past the budget: UnitEvent::skip of the job's queued units of batches > 0.
   int64_t skip_queued_after_first_batch(int64_t job_id);
-
-  /// The query of first_requeued (?1 job, ?2 batch limit, ?3 noise lookahead), public so tests
-  /// can check its plan: an index walk, no sort.
-  static const std::string& first_requeued_sql(bool noise);
 
  private:
   /// The one statement that ends leases: `event` on every unit in state `from` matching

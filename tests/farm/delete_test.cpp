@@ -33,7 +33,7 @@ TEST(DeleteJob, OnlyFinalJobsAndEverythingOfThemGoes) {
   StoreFixture f;
   const int64_t job = f.make_job(8, 8, 4, 4, 2);  // 4 tiles x 2 batches
   EXPECT_EQ(f.jobs.remove(job), DeleteOutcome::not_final);  // queued
-  const Lease l = *f.scheduler.lease_next(f.make_worker());
+  const Lease l = *f.book.lease_next(f.make_worker());
   const Accumulation acc = StoreFixture::synthetic({0, 0, 4, 4}, 0, 2);
   ASSERT_TRUE(f.merger.accept(result_for(l, acc), acc).accepted);
   EXPECT_EQ(f.jobs.remove(job), DeleteOutcome::not_final);  // running
@@ -77,7 +77,7 @@ TEST(DeleteJob, ReturnsItsSpace) {
   const int64_t worker = f.make_worker();
   const std::vector<TileRecord> tiles = f.tiles(job);
   for (int i = 0; i < 512; ++i) {
-    const Lease l = *f.scheduler.lease_next(worker);
+    const Lease l = *f.book.lease_next(worker);
     const Accumulation acc = StoreFixture::synthetic(tiles[l.tile].rect, l.batch, 1);
     ASSERT_TRUE(f.merger.accept(result_for(l, acc), acc).accepted);
   }
@@ -94,7 +94,7 @@ TEST(DeleteJob, FinishedBeforeListsOnlyOldFinalJobs) {
   const int64_t old_job = f.make_job(4, 4, 4, 1, 1);
   const int64_t running = f.make_job(4, 4, 4, 1, 1);
   f.jobs.cancel(old_job, 1'000);
-  f.scheduler.lease_next(f.make_worker());  // the cancelled job is passed over: starts `running`
+  f.book.lease_next(f.make_worker());  // the cancelled job is passed over: starts `running`
   EXPECT_EQ(f.jobs.get(running)->state, JobState::running);
   EXPECT_EQ(f.jobs.finished_before(2'000), std::vector<int64_t>{old_job});
   EXPECT_TRUE(f.jobs.finished_before(1'000).empty());

@@ -67,7 +67,7 @@ std::vector<std::string> run_job(Make make, int restart_every, size_t* max_unche
   for (;;) {
     std::vector<Lease> round;
     for (int i = 0; i < 6; ++i) {
-      if (const auto l = f.scheduler.lease_next(f.make_worker())) round.push_back(*l);
+      if (const auto l = f.book.lease_next(f.make_worker())) round.push_back(*l);
     }
     if (round.empty()) break;
     std::shuffle(round.begin(), round.end(), rng);
@@ -127,7 +127,7 @@ TEST(MergeCheckpoints, MemoryStaysWithinTheBudget) {
   const size_t one_tile = MergeCache::bytes_of(Accumulation(TileRect{0, 0, 8, 8}));
   TileMerger merger(f.db, f.clock, 5 * one_tile);
   const std::vector<TileRecord> rects = f.jobs.tiles(job);
-  while (const auto l = f.scheduler.lease_next(f.make_worker())) {
+  while (const auto l = f.book.lease_next(f.make_worker())) {
     const Accumulation acc = StoreFixture::synthetic(rects[l->tile].rect, l->batch, 1);
     ASSERT_TRUE(merger.accept(result_for(*l, acc), acc).accepted);
     EXPECT_LE(merger.cache().bytes(), 5 * one_tile);
@@ -148,12 +148,12 @@ TEST(MergeCheckpoints, AGapInTheMergedResultsIsAnError) {
   const int64_t job = f.make_job(4, 4, 4, 20, 1);
   TileMerger merger(f.db, f.clock, 0, 10);  // no cache: every merge reads the rows
   for (int i = 0; i < 3; ++i) {
-    const Lease l = *f.scheduler.lease_next(f.make_worker());
+    const Lease l = *f.book.lease_next(f.make_worker());
     const Accumulation acc = StoreFixture::synthetic({0, 0, 4, 4}, l.batch, 1);
     ASSERT_TRUE(merger.accept(result_for(l, acc), acc).accepted);
   }
   f.db.prepare("DELETE FROM results WHERE job_id = ? AND batch = 1")->bind(1, job).run();
-  const Lease l = *f.scheduler.lease_next(f.make_worker());
+  const Lease l = *f.book.lease_next(f.make_worker());
   const Accumulation acc = StoreFixture::synthetic({0, 0, 4, 4}, l.batch, 1);
   EXPECT_THROW(merger.accept(result_for(l, acc), acc), FarmError);
 }

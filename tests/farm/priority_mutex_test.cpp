@@ -89,5 +89,33 @@ TEST(PriorityMutex, ADeferringCallerProceedsWhenNoUrgentOneWaits) {
   EXPECT_EQ(m.deferring_waiting(), 0);
 }
 
+// A plain caller (GetJob, submit, the dashboard) waits for at most K deferring grants (upload
+// groups' transactions), however many groups queue back to back. Counted: the group yields
+// (a new grant each time) until the plain caller has had the mutex.
+TEST(PriorityMutex, APlainCallerWaitsForAtMostKDeferringGrants) {
+  for (const int k : {1, 3}) {
+    // Repeated: std::mutex alone lets the holder that unlocks and locks again win most times.
+    for (int round = 0; round < 20; ++round) {
+      PriorityMutex m(k);
+      std::optional<PriorityMutex::Deferring> group(std::in_place, m);
+      int grants = 0;      // deferring grants since the plain caller began to wait (under m)
+      int seen = -1;       // `grants` when the plain caller got the mutex (under m)
+      std::thread plain([&] {
+        std::lock_guard lock(m);
+        seen = grants;
+      });
+      while (m.plain_waiting() != 1) std::this_thread::yield();
+      for (int i = 0; i < 1000 && seen < 0; ++i) {
+        group->yield();  // back to back, as a stream of upload groups
+        if (seen < 0) ++grants;
+      }
+      group.reset();
+      plain.join();
+      ASSERT_GE(seen, 0) << "K " << k << ", round " << round << ": starved for 1000 grants";
+      ASSERT_LE(seen, k) << "K " << k << ", round " << round;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace tessera::server

@@ -48,7 +48,7 @@ TEST(Progressive, EveryRoundSharpensEveryTile) {
   std::vector<uint32_t> before = tile_spp(f, job);
   for (uint32_t round = 0; round < record.batch_count; ++round) {
     for (uint32_t i = 0; i < record.tile_count; ++i) {
-      const Lease l = *f.scheduler.lease_next(w);
+      const Lease l = *f.book.lease_next(w);
       ASSERT_EQ(l.batch, round) << "breadth first: round " << round << " unit " << i;
       const uint32_t samples = schedule.end(l.batch) - schedule.begin(l.batch);
       const TileRect rect = *f.jobs.tile_rect(job, l.tile);
@@ -74,7 +74,7 @@ TEST(Progressive, NextBatchLeasedWithoutWaitingForResults) {
   StoreFixture f;
   const int64_t job = make_default_job(f);
   std::vector<Lease> held;
-  for (int i = 0; i < 10; ++i) held.push_back(*f.scheduler.lease_next(f.make_worker()));
+  for (int i = 0; i < 10; ++i) held.push_back(*f.book.lease_next(f.make_worker()));
   for (int i = 0; i < 9; ++i) EXPECT_EQ(held[size_t(i)].batch, 0u);
   EXPECT_EQ(held[9].batch, 1u);
   EXPECT_EQ(held[9].tile, 0u);

@@ -81,7 +81,7 @@ TEST(ResultsTable, AnAcceptedResultIsWrittenOnce) {
   for (;;) {
     std::vector<Lease> round;
     for (int i = 0; i < 12; ++i) {
-      if (const auto l = f.scheduler.lease_next(f.make_worker())) round.push_back(*l);
+      if (const auto l = f.book.lease_next(f.make_worker())) round.push_back(*l);
     }
     if (round.empty()) break;
     std::shuffle(round.begin(), round.end(), rng);
@@ -156,6 +156,47 @@ TEST(ResultsTable, MigrationMovesMergedAndPendingRows) {
   EXPECT_EQ(decode_accumulation(jobs.tiles(job)[0].accumulation), expected);
   EXPECT_EQ(results.count(job), 1);  // batch 3 still waits
   EXPECT_EQ(results.find(job, 0, 3), encode_accumulation(batch[3]));
+}
+
+// Migration 9 moves `results` into a rowid table (blobs out of the key's b-tree, the key a
+// unique index of integers): every row moves over unchanged and a duplicate is still refused.
+TEST(ResultsTable, Migration9KeepsEveryRowAndTheKeyUnique) {
+  Database db(":memory:");
+  ASSERT_EQ(migrate(db, 0, 8), 8);
+  JobStore jobs(db);
+  NewJob nj;
+  nj.bundle_sha256 = std::string(64, 'r');
+  nj.scene_file = "s.json";
+  nj.bundle_bytes = "b";
+  nj.options.width = 8;
+  nj.options.height = nj.options.tile_size = 4;
+  nj.options.spp = 4;
+  nj.options.batch_spp = 1;
+  const int64_t job = jobs.create(nj, 0);
+  const TileRect rect{0, 0, 4, 4};
+  ResultsTable results(db);
+  for (uint32_t tile : {1u, 0u}) {
+    for (uint32_t b : {3u, 1u, 2u}) {
+      results.append(job, tile, b, encode_accumulation(StoreFixture::synthetic(rect, b + tile, 1)));
+    }
+  }
+  migrate(db, 0);
+  EXPECT_EQ(count_rows(db, "SELECT COUNT(*) FROM sqlite_schema WHERE name = 'results' AND"
+                           " sql NOT LIKE '%WITHOUT ROWID%'"),
+            1);
+  EXPECT_EQ(results.count(job), 6);
+  for (uint32_t tile : {0u, 1u}) {
+    for (uint32_t b : {1u, 2u, 3u}) {
+      EXPECT_EQ(results.find(job, tile, b),
+                encode_accumulation(StoreFixture::synthetic(rect, b + tile, 1)));
+    }
+  }
+  EXPECT_EQ(results.first_merged(job, 1, 3), 1u);
+  EXPECT_THROW(results.append(job, 0, 2, "again"), SqliteError);  // one row per result
+  EXPECT_EQ(results.count(job), 6);
+  jobs.cancel(job, 0);
+  jobs.remove(job);  // the rows go with the job's tiles (ON DELETE CASCADE)
+  EXPECT_EQ(count_rows(db, "SELECT COUNT(*) FROM results"), 0);
 }
 
 }  // namespace

@@ -62,14 +62,14 @@ TileRect rect_of(uint32_t tile) { return {int(4 * tile), 0, int(4 * tile + 4), 4
 TEST(TimeRule, NoLeaseAfterTheBudgetInFlightUnitsAreAwaited) {
   StoreFixture f;
   const int64_t job = make_rule_job(f, StopRule::time, 2, 64, /*budget_s=*/5);  // 2 x 4 units
-  const Lease first = *f.scheduler.lease_next(f.make_worker("a"));  // the budget starts here
+  const Lease first = *f.book.lease_next(f.make_worker("a"));  // the budget starts here
   f.clock.advance(4'999);
-  const Lease second = *f.scheduler.lease_next(f.make_worker("b"));
-  EXPECT_TRUE(f.scheduler.enforce_time_budgets().empty());
+  const Lease second = *f.book.lease_next(f.make_worker("b"));
+  EXPECT_TRUE(f.leases.enforce_time_budgets().empty());
   f.clock.advance(1);  // exactly at the budget
-  EXPECT_EQ(f.scheduler.lease_next(f.make_worker("c")), std::nullopt);
+  EXPECT_EQ(f.book.lease_next(f.make_worker("c")), std::nullopt);
   // The bookkeeping skips the queued units; the two in flight keep the job open.
-  EXPECT_TRUE(f.scheduler.enforce_time_budgets().empty());
+  EXPECT_TRUE(f.leases.enforce_time_budgets().empty());
   JobRecord r = *f.jobs.get(job);
   EXPECT_EQ(r.counters.units_skipped, 6u);
   EXPECT_EQ(r.budget_reached_unix_ms, f.clock.now_unix_ms());
@@ -95,29 +95,29 @@ TEST(TimeRule, BudgetCountsFromTheFirstLeaseNotFromSubmission) {
   StoreFixture f;
   make_rule_job(f, StopRule::time, 1, 64, 5);
   f.clock.advance(60'000);  // queued for a minute: not part of the budget
-  EXPECT_TRUE(f.scheduler.lease_next(f.make_worker()));
+  EXPECT_TRUE(f.book.lease_next(f.make_worker()));
   f.clock.advance(4'000);
-  EXPECT_TRUE(f.scheduler.lease_next(f.make_worker("b")));
+  EXPECT_TRUE(f.book.lease_next(f.make_worker("b")));
 }
 
 TEST(TimeRule, AnExpiredLeaseAfterTheBudgetIsSkippedAndTheJobFinishes) {
   StoreFixture f;
   const int64_t job = make_rule_job(f, StopRule::time, 1, 32, 1);  // 1 tile x 2 batches
-  const Lease l0 = *f.scheduler.lease_next(f.make_worker());
-  const Lease l1 = *f.scheduler.lease_next(f.make_worker("b"));
+  const Lease l0 = *f.book.lease_next(f.make_worker());
+  const Lease l1 = *f.book.lease_next(f.make_worker("b"));
   EXPECT_EQ(l1.batch, 1u);
   f.clock.advance(1'000);
-  EXPECT_TRUE(f.scheduler.enforce_time_budgets().empty());  // both in flight
+  EXPECT_TRUE(f.leases.enforce_time_budgets().empty());  // both in flight
   f.clock.advance(StoreFixture::kLeaseMs + 1);
-  EXPECT_EQ(f.leases.expire_due(), 2);                                       // back to queued ...
-  EXPECT_EQ(f.scheduler.enforce_time_budgets(), std::vector<int64_t>{});     // batch 0 kept
+  EXPECT_EQ(f.book.expire_due(), 2);                                       // back to queued ...
+  EXPECT_EQ(f.leases.enforce_time_budgets(), std::vector<int64_t>{});     // batch 0 kept
   EXPECT_EQ(f.jobs.get(job)->counters.units_skipped, 1u);                    // batch 1 skipped
   EXPECT_FALSE(f.merger.accept(result_for(l1, smooth(rect_of(0))), smooth(rect_of(0))).accepted);
   // Batch 0 is leased again after the budget: a time job never leaves a tile black.
-  const Lease again = *f.scheduler.lease_next(f.make_worker("c"));
+  const Lease again = *f.book.lease_next(f.make_worker("c"));
   EXPECT_EQ(again.batch, 0u);
   EXPECT_FALSE(f.merger.accept(result_for(l0, smooth(rect_of(0))), smooth(rect_of(0))).accepted);
-  EXPECT_EQ(f.scheduler.lease_next(f.make_worker("d")), std::nullopt);
+  EXPECT_EQ(f.book.lease_next(f.make_worker("d")), std::nullopt);
   EXPECT_TRUE(
       f.merger.accept(result_for(again, smooth(rect_of(0))), smooth(rect_of(0))).job_complete);
   EXPECT_EQ(f.jobs.settle(job), StopReason::time_budget);
@@ -132,21 +132,21 @@ TEST(TimeRule, BatchZeroOfEveryTileCompletesNothingStartsAfterTheBudget) {
   const int64_t job = make_rule_job(f, StopRule::time, tiles, 64, /*budget_s=*/2);
   const int64_t w = f.make_worker("only");
   // One worker, one unit at a time; the first unit alone takes longer than the budget.
-  const Lease first = *f.scheduler.lease_next(w);
+  const Lease first = *f.book.lease_next(w);
   f.clock.advance(3'000);
   EXPECT_TRUE(f.merger.accept(result_for(first, smooth(rect_of(first.tile))),
                               smooth(rect_of(first.tile)))
                   .accepted);
-  EXPECT_TRUE(f.scheduler.enforce_time_budgets().empty());
+  EXPECT_TRUE(f.leases.enforce_time_budgets().empty());
   std::vector<uint32_t> leased_tiles{first.tile};
   for (;;) {
-    const std::optional<Lease> l = f.scheduler.lease_next(w);
+    const std::optional<Lease> l = f.book.lease_next(w);
     if (!l) break;
     EXPECT_EQ(l->batch, 0u) << "a batch started after the budget";
     leased_tiles.push_back(l->tile);
     f.clock.advance(1'000);
     f.merger.accept(result_for(*l, smooth(rect_of(l->tile))), smooth(rect_of(l->tile)));
-    f.scheduler.enforce_time_budgets();
+    f.leases.enforce_time_budgets();
   }
   EXPECT_EQ(leased_tiles.size(), tiles);
   EXPECT_TRUE(f.jobs.get(job)->complete);
@@ -159,7 +159,7 @@ TEST(TimeRule, BatchZeroOfEveryTileCompletesNothingStartsAfterTheBudget) {
 TEST(TimeRule, AJobDoneBeforeItsBudgetReportsTheCap) {
   StoreFixture f;
   const int64_t job = make_rule_job(f, StopRule::time, 1, 16, 100);  // one unit
-  const Lease l = *f.scheduler.lease_next(f.make_worker());
+  const Lease l = *f.book.lease_next(f.make_worker());
   EXPECT_TRUE(f.merger.accept(result_for(l, smooth(rect_of(0))), smooth(rect_of(0))).job_complete);
   EXPECT_EQ(f.jobs.settle(job), StopReason::max_spp);
 }
@@ -170,7 +170,7 @@ TEST(NoiseRule, LeasesAtMostTwoBatchesAheadOfTheMergedPrefix) {
   std::vector<std::pair<uint32_t, uint32_t>> order;
   std::vector<Lease> held;
   for (;;) {
-    const std::optional<Lease> l = f.scheduler.lease_next(f.make_worker());
+    const std::optional<Lease> l = f.book.lease_next(f.make_worker());
     if (!l) break;
     order.emplace_back(l->batch, l->tile);
     held.push_back(*l);
@@ -179,7 +179,7 @@ TEST(NoiseRule, LeasesAtMostTwoBatchesAheadOfTheMergedPrefix) {
   // Merging tile 0's batch 0 (noisy: not finished) opens its batch 2.
   const Accumulation n0 = noisy(rect_of(0));
   EXPECT_TRUE(f.merger.accept(result_for(held[0], n0), n0).accepted);
-  const Lease next = *f.scheduler.lease_next(f.make_worker());
+  const Lease next = *f.book.lease_next(f.make_worker());
   EXPECT_EQ(next.tile, 0u);
   EXPECT_EQ(next.batch, 2u);
 }
@@ -188,7 +188,7 @@ TEST(NoiseRule, ATileMeetingItsTargetStopsAndWastesOnlySpeculation) {
   StoreFixture f;
   const int64_t job = make_rule_job(f, StopRule::noise, 2, 64, 0, 0.02);  // 2 tiles x 4 batches
   std::vector<Lease> held;
-  for (int i = 0; i < 4; ++i) held.push_back(*f.scheduler.lease_next(f.make_worker()));
+  for (int i = 0; i < 4; ++i) held.push_back(*f.book.lease_next(f.make_worker()));
   // held: (t0,b0) (t1,b0) (t0,b1) (t1,b1). Tile 0's batch 1 arrives first and waits.
   const Accumulation s0 = smooth(rect_of(0));
   EXPECT_TRUE(f.merger.accept(result_for(held[2], s0), s0).accepted);
@@ -206,7 +206,7 @@ TEST(NoiseRule, ATileMeetingItsTargetStopsAndWastesOnlySpeculation) {
   EXPECT_TRUE(f.merger.accept(result_for(held[3], n1), n1).accepted);
   AcceptOutcome last;
   for (;;) {
-    const std::optional<Lease> l = f.scheduler.lease_next(f.make_worker());
+    const std::optional<Lease> l = f.book.lease_next(f.make_worker());
     if (!l) break;
     EXPECT_EQ(l->tile, 1u);
     last = f.merger.accept(result_for(*l, n1), n1);
@@ -224,8 +224,8 @@ TEST(NoiseRule, ATileMeetingItsTargetStopsAndWastesOnlySpeculation) {
 TEST(NoiseRule, ALeasedUnitOfAFinishedTileIsDroppedWhenItReturns) {
   StoreFixture f;
   const int64_t job = make_rule_job(f, StopRule::noise, 1, 64, 0, 0.02);
-  const Lease b0 = *f.scheduler.lease_next(f.make_worker());
-  const Lease b1 = *f.scheduler.lease_next(f.make_worker());
+  const Lease b0 = *f.book.lease_next(f.make_worker());
+  const Lease b1 = *f.book.lease_next(f.make_worker());
   const Accumulation s0 = smooth(rect_of(0));
   EXPECT_TRUE(f.merger.accept(result_for(b0, s0), s0).job_complete);
   const AcceptOutcome late = f.merger.accept(result_for(b1, s0), s0);
@@ -241,7 +241,7 @@ TEST(NoiseRule, MergedBatchesDoNotDependOnArrivalOrder) {
     StoreFixture f;
     const int64_t job = make_rule_job(f, StopRule::noise, 1, 64, 0, 0.3);
     std::vector<Lease> held;
-    for (int i = 0; i < 2; ++i) held.push_back(*f.scheduler.lease_next(f.make_worker()));
+    for (int i = 0; i < 2; ++i) held.push_back(*f.book.lease_next(f.make_worker()));
     // Error 0.26 at 16 spp is under the 0.3 target: the tile finishes at batch 0, and batch 1
     // is wasted whether it arrived before or after.
     const Accumulation n = noisy(rect_of(0));
@@ -281,33 +281,6 @@ TEST(Migration2, UpgradesAVersion1StoreKeepingItsJobs) {
   EXPECT_EQ(r.stop_reason, StopReason::none);
   EXPECT_EQ(r.reached.spp_max, 4u);
   EXPECT_EQ(jobs.tiles(1).at(0).finished, StopReason::none);
-}
-
-TEST(SchedulerQuery, FirstUnitWalksTheIndexWithoutSorting) {
-  StoreFixture f;
-  for (bool noise : {false, true}) {
-    auto q =
-        f.db.prepare(std::string("EXPLAIN QUERY PLAN ") + UnitsTable::first_requeued_sql(noise));
-    q->bind(1, int64_t(1)).bind(2, int64_t(1));
-    if (noise) q->bind(3, int64_t(2));
-    std::string plan;
-    while (q->step()) plan += q->text(3) + "\n";
-    EXPECT_EQ(plan.find("TEMP B-TREE"), std::string::npos) << plan;
-    EXPECT_NE(plan.find("units_queue"), std::string::npos) << plan;
-  }
-}
-
-TEST(SchedulerQuery, FirstUnbornUnitWalksTheIndexWithoutSorting) {
-  StoreFixture f;
-  for (bool noise : {false, true}) {
-    auto q = f.db.prepare(std::string("EXPLAIN QUERY PLAN ") + TileQueue::first_sql(noise));
-    q->bind(1, int64_t(1)).bind(2, int64_t(1));
-    if (noise) q->bind(3, int64_t(2));
-    std::string plan;
-    while (q->step()) plan += q->text(3) + "\n";
-    EXPECT_EQ(plan.find("TEMP B-TREE"), std::string::npos) << plan;
-    EXPECT_NE(plan.find("tile_queue_open"), std::string::npos) << plan;
-  }
 }
 
 // Start-up revokes the last run's leases by the partial index on leased units: it reads no

@@ -4,14 +4,17 @@
 
 #include <fstream>
 #include <iterator>
+#include <optional>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "accum/accumulation.h"
 #include "accum/accumulation_codec.h"
 #include "fake_clock.h"
 #include "job_store.h"
+#include "lease_book.h"
 #include "lease_table.h"
-#include "scheduler.h"
 #include "store/migrations.h"
 #include "store/sqlite.h"
 #include "tessera/v1/job.pb.h"
@@ -44,6 +47,80 @@ inline UnitResult result_for(const Lease& lease, const Accumulation& acc) {
   return r;
 }
 
+/// Leases as the server leases them (Coordinator::lease_units, then flush_leases): picked by
+/// the lease book's scheduling policy (server/scheduler.h) and written to the store at once.
+/// The book reads every unfinished job again from the store before each call, as the
+/// coordinator's reload_job does at the events it cannot follow alone, so that a test may change
+/// the store directly (cancel, release, merge, skip) between calls.
+class BookLeaser {
+ public:
+  BookLeaser(Database& db, JobStore& jobs, LeaseTable& leases, const Clock& clock,
+             LeaseBook::IdSource ids = random_lease_id)
+      : db_(db), jobs_(jobs), leases_(leases), clock_(clock),
+        book_(clock, leases.lease_ms(), std::move(ids)) {}
+
+  /// Every lease the worker holds and new ones up to `max_units` (LeaseBook::lease_up_to), as
+  /// written to the store (unit ids known).
+  std::vector<Lease> lease_up_to(int64_t worker_id, uint32_t max_units) {
+    sync();
+    const std::vector<LeasedUnit> units = book_.lease_up_to(worker_id, max_units);
+    std::vector<LeaseBook::Grant> grants = book_.take_journal();
+    if (!grants.empty()) {
+      Transaction tx(db_);
+      const std::vector<std::optional<int64_t>> ids = write_grants(db_, leases_, grants);
+      tx.commit();
+      book_.recorded(grants, ids);
+    }
+    std::vector<Lease> out;
+    for (const LeasedUnit& u : units) {
+      if (const std::optional<Lease> l = book_.find(worker_id, u.lease.lease_id)) out.push_back(*l);
+    }
+    return out;
+  }
+  /// One lease: the first the worker holds, or a new one; nullopt when there is no work.
+  std::optional<Lease> lease_next(int64_t worker_id) {
+    const std::vector<Lease> leases = lease_up_to(worker_id, 1);
+    if (leases.empty()) return std::nullopt;
+    return leases.front();
+  }
+  /// A heartbeat (Coordinator::heartbeat): the lease's new expiry, nullopt when not current.
+  std::optional<int64_t> heartbeat(int64_t worker_id, const std::string& lease_id) {
+    sync();
+    return book_.extend(worker_id, lease_id);
+  }
+  /// The leases due now back to the queue (Coordinator::expire_leases); how many.
+  int expire_due() {
+    sync();
+    return expire_due_leases(book_, leases_, clock_.now_unix_ms());
+  }
+  LeaseBook& book() { return book_; }
+
+ private:
+  void sync() {
+    book_.set_health_policy(leases_.health_policy());
+    std::set<int64_t> live;
+    for (const int64_t id : jobs_.unfinished()) {
+      live.insert(id);
+      if (std::optional<LeaseBookJob> job = load_lease_book_job(db_, jobs_, id)) {
+        book_.put_job(std::move(*job));
+      } else {
+        book_.drop_job(id);
+      }
+    }
+    for (const int64_t id : known_) {
+      if (!live.contains(id)) book_.drop_job(id);
+    }
+    known_ = std::move(live);
+  }
+
+  Database& db_;
+  JobStore& jobs_;
+  LeaseTable& leases_;
+  const Clock& clock_;
+  LeaseBook book_;
+  std::set<int64_t> known_;
+};
+
 struct StoreFixture {
   static constexpr int64_t kLeaseMs = 10'000;
 
@@ -52,7 +129,8 @@ struct StoreFixture {
   JobStore jobs{db};
   WorkerRegistry workers{db};
   LeaseTable leases{db, jobs, clock, kLeaseMs, [this] { return "lease-" + std::to_string(++lease_counter); }};
-  Scheduler scheduler{db, leases, clock};
+  BookLeaser book{db, jobs, leases, clock,
+                  [this] { return "lease-" + std::to_string(++lease_counter); }};
   TileMerger merger{db, clock};
   int lease_counter = 0;
 

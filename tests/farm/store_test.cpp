@@ -96,7 +96,7 @@ TEST(Sqlite, LeaseIdIsSetExactlyWhenLeased) {
   const int64_t job = f.make_job(8, 8, 8, 1, 1);
   // A unit's row is born leased, with its lease id; released, it is queued without one.
   const int64_t worker = f.make_worker();
-  const Lease lease = *f.scheduler.lease_next(worker);
+  const Lease lease = *f.book.lease_next(worker);
   ASSERT_TRUE(f.leases.release(worker, lease.lease_id, ReleaseReason::shutdown, "").released);
   EXPECT_THROW(f.db.prepare("UPDATE units SET state = 'leased' WHERE job_id = ?")->bind(1, job).run(),
                SqliteError);
@@ -204,7 +204,7 @@ TEST(JobStore, ASubmitWritesRowsPerTileNotPerUnit) {
   EXPECT_EQ(rows(f.db, "units"), 0);
   const int64_t w = f.make_worker();
   for (uint32_t i = 0; i < 6; ++i) {
-    const Lease l = *f.scheduler.lease_next(w);
+    const Lease l = *f.book.lease_next(w);
     EXPECT_EQ(l.batch, i / 4);
     EXPECT_EQ(l.tile, i % 4);
     const Accumulation acc = StoreFixture::synthetic(f.tiles(id)[l.tile].rect, l.batch, 1);
@@ -214,7 +214,7 @@ TEST(JobStore, ASubmitWritesRowsPerTileNotPerUnit) {
   // Cancelling ends the units without a row too: nothing is left to lease, the job is final.
   ASSERT_EQ(f.jobs.cancel(id, 0), CancelOutcome::cancelled);
   EXPECT_FALSE(units_left(f.db, id));
-  EXPECT_EQ(f.scheduler.lease_next(w), std::nullopt);
+  EXPECT_EQ(f.book.lease_next(w), std::nullopt);
 }
 
 // A store written before lazy units (schema 5) has a row for every unit of its jobs. After the
@@ -265,7 +265,7 @@ TEST(JobStore, JobsStoredWithEveryUnitRowKeepWorkingAfterTheMigration) {
   JobStore jobs(db);
   WorkerRegistry workers(db);
   LeaseTable leases(db, jobs, clock, 10'000);
-  Scheduler scheduler(db, leases, clock);
+  testing::BookLeaser scheduler(db, jobs, leases, clock);
   TileMerger merger(db, clock);
   EXPECT_EQ(leases.revoke_all(), 1);  // as at start-up: (0, 1) back in the queue
   std::vector<std::pair<uint32_t, uint32_t>> order;
@@ -330,7 +330,7 @@ TEST(JobStore, CancelRevokesUnitsAndIsFinal) {
   StoreFixture f;
   const int64_t job = f.make_job(16, 16, 8, 4, 2);
   const int64_t worker = f.make_worker();
-  const std::optional<Lease> lease = f.scheduler.lease_next(worker);
+  const std::optional<Lease> lease = f.book.lease_next(worker);
   ASSERT_TRUE(lease);
   EXPECT_EQ(f.jobs.cancel(job, f.clock.now_unix_ms()), CancelOutcome::cancelled);
   EXPECT_EQ(f.jobs.get(job)->state, JobState::cancelled);
@@ -338,8 +338,8 @@ TEST(JobStore, CancelRevokesUnitsAndIsFinal) {
   EXPECT_EQ(f.jobs.cancel(job, 0), CancelOutcome::already_final);
   EXPECT_EQ(f.jobs.cancel(job + 100, 0), CancelOutcome::not_found);
   // The revoked lease cannot be extended, and no unit of the job is handed out any more.
-  EXPECT_EQ(f.leases.heartbeat(worker, lease->lease_id), std::nullopt);
-  EXPECT_EQ(f.scheduler.lease_next(worker), std::nullopt);
+  EXPECT_EQ(f.book.heartbeat(worker, lease->lease_id), std::nullopt);
+  EXPECT_EQ(f.book.lease_next(worker), std::nullopt);
   EXPECT_EQ(f.jobs.unfinished(), std::vector<int64_t>{});
 }
 
@@ -362,7 +362,7 @@ TEST(WorkerRegistry, RegistersTouchesAndShowsTheLeasedUnit) {
   EXPECT_TRUE(f.workers.touch(a, f.clock.now_unix_ms()));
   EXPECT_FALSE(f.workers.touch(b + 10, f.clock.now_unix_ms()));
   const int64_t job = f.make_job(8, 8, 8, 1, 1);
-  ASSERT_TRUE(f.scheduler.lease_next(a));
+  ASSERT_TRUE(f.book.lease_next(a));
   const std::vector<WorkerRecord> all = f.workers.list();
   ASSERT_EQ(all.size(), 2u);
   EXPECT_EQ(all[0].id, a);  // most recently seen first

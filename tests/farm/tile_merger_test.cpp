@@ -21,7 +21,7 @@ using testing::result_for;
 Lease lease_unit(StoreFixture& f, int64_t worker, uint32_t tile, uint32_t batch) {
   std::vector<Lease> blockers;
   for (;;) {
-    const std::optional<Lease> l = f.scheduler.lease_next(f.make_worker("helper"));
+    const std::optional<Lease> l = f.book.lease_next(f.make_worker("helper"));
     if (!l) {
       ADD_FAILURE() << "unit tile " << tile << " batch " << batch << " is not queued";
       return {};
@@ -32,7 +32,7 @@ Lease lease_unit(StoreFixture& f, int64_t worker, uint32_t tile, uint32_t batch)
     }
     blockers.push_back(*l);
   }
-  const Lease got = *f.scheduler.lease_next(worker);
+  const Lease got = *f.book.lease_next(worker);
   EXPECT_EQ(got.tile, tile);
   EXPECT_EQ(got.batch, batch);
   for (const Lease& b : blockers) {
@@ -115,7 +115,7 @@ TEST(TileMerger, TheErrorIsComputedOnlyWhereReadOrStored) {
   int kept_older = 0;  // merges after which the stored error was an older estimate
   for (uint32_t b = 0; b < 10; ++b) {
     const Accumulation batch = StoreFixture::synthetic(kTile, b, 1);
-    const Lease l = *f.scheduler.lease_next(w);
+    const Lease l = *f.book.lease_next(w);
     ASSERT_EQ(l.batch, b);
     ASSERT_TRUE(f.merger.accept(result_for(l, batch), batch).accepted);
     sum.merge(batch);
@@ -221,10 +221,10 @@ TEST(TileMerger, StaleLeaseResultIsDroppedAndCounted) {
   StoreFixture f;
   const int64_t job = f.make_job(4, 4, 4, 1, 1);
   const int64_t slow = f.make_worker("slow"), fast = f.make_worker("fast");
-  const Lease stale = *f.scheduler.lease_next(slow);
+  const Lease stale = *f.book.lease_next(slow);
   f.clock.advance(StoreFixture::kLeaseMs + 1);
-  ASSERT_EQ(f.leases.expire_due(), 1);
-  const Lease current = *f.scheduler.lease_next(fast);
+  ASSERT_EQ(f.book.expire_due(), 1);
+  const Lease current = *f.book.lease_next(fast);
   ASSERT_EQ(current.unit_id, stale.unit_id);
 
   const Accumulation acc = StoreFixture::synthetic(kTile, 0, 1);
@@ -249,18 +249,18 @@ TEST(TileMerger, AnotherWorkersLeaseIdIsNotEnough) {
   StoreFixture f;
   f.make_job(4, 4, 4, 1, 1);
   const int64_t owner = f.make_worker("owner"), thief = f.make_worker("thief");
-  Lease lease = *f.scheduler.lease_next(owner);
+  Lease lease = *f.book.lease_next(owner);
   const Accumulation acc = StoreFixture::synthetic(kTile, 0, 1);
   lease.worker_id = thief;
   EXPECT_FALSE(f.merger.accept(result_for(lease, acc), acc).accepted);
-  EXPECT_TRUE(f.leases.heartbeat(owner, lease.lease_id));
+  EXPECT_TRUE(f.book.heartbeat(owner, lease.lease_id));
 }
 
 TEST(TileMerger, ResultsOfACancelledJobAreDropped) {
   StoreFixture f;
   const int64_t job = f.make_job(4, 4, 4, 1, 1);
   const int64_t worker = f.make_worker();
-  const Lease lease = *f.scheduler.lease_next(worker);
+  const Lease lease = *f.book.lease_next(worker);
   f.jobs.cancel(job, 0);
   const Accumulation acc = StoreFixture::synthetic(kTile, 0, 1);
   EXPECT_FALSE(f.merger.accept(result_for(lease, acc), acc).accepted);
@@ -273,7 +273,7 @@ TEST(TileMerger, ResultsOfACancelledJobAreDropped) {
 TEST(TileMerger, RefusesAResultThatDoesNotFitTheUnit) {
   StoreFixture f;
   const int64_t job = f.make_job(8, 4, 4, 2, 2);
-  const Lease lease = *f.scheduler.lease_next(f.make_worker());
+  const Lease lease = *f.book.lease_next(f.make_worker());
   ASSERT_EQ(lease.tile, 0u);
   const Accumulation wrong_tile = StoreFixture::synthetic({4, 0, 8, 4}, 0, 2);
   try {
@@ -294,7 +294,7 @@ TEST(TileMerger, RefusesAResultThatDoesNotFitTheUnit) {
 TEST(TileMerger, UnknownUnitIsNotFound) {
   StoreFixture f;
   f.make_job(4, 4, 4, 1, 1);
-  Lease lease = *f.scheduler.lease_next(f.make_worker());
+  Lease lease = *f.book.lease_next(f.make_worker());
   lease.batch = 7;
   const Accumulation acc = StoreFixture::synthetic(kTile, 0, 1);
   try {
@@ -321,7 +321,7 @@ TEST(TileMerger, PendingResultsSurviveARestart) {
     JobStore jobs(db);
     WorkerRegistry workers(db);
     LeaseTable leases(db, jobs, clock, 1000);
-    Scheduler scheduler(db, leases, clock);
+    testing::BookLeaser scheduler(db, jobs, leases, clock);
     TileMerger merger(db, clock);
     NewJob nj;
     nj.bundle_sha256 = std::string(64, 'e');
@@ -347,7 +347,7 @@ TEST(TileMerger, PendingResultsSurviveARestart) {
     JobStore jobs(db);
     WorkerRegistry workers(db);
     LeaseTable leases(db, jobs, clock, 1000);
-    Scheduler scheduler(db, leases, clock);
+    testing::BookLeaser scheduler(db, jobs, leases, clock);
     TileMerger merger(db, clock);
     EXPECT_EQ(leases.revoke_all(), 2);  // what the server does at start
     const int64_t w = workers.register_worker({"after", 1, "", ""}, 0);

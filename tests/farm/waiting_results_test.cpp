@@ -51,7 +51,7 @@ std::pair<std::vector<std::string>, std::pair<uint64_t, uint64_t>> run(size_t ca
   for (;;) {
     std::vector<Lease> round;
     for (int i = 0; i < 10; ++i) {
-      if (const auto l = f.scheduler.lease_next(f.make_worker())) round.push_back(*l);
+      if (const auto l = f.book.lease_next(f.make_worker())) round.push_back(*l);
     }
     if (round.empty()) break;
     std::shuffle(round.begin(), round.end(), rng);

@@ -21,7 +21,7 @@ using testing::StoreFixture;
 /// Leases the worker's next unit and delivers a result of `spp` samples per pixel of which
 /// `nan` and `inf` were dropped in all.
 void deliver(StoreFixture& f, int64_t worker, uint32_t spp, uint64_t nan, uint64_t inf) {
-  const Lease lease = *f.scheduler.lease_next(worker);
+  const Lease lease = *f.book.lease_next(worker);
   const TileRect rect = *f.jobs.tile_rect(lease.job_id, lease.tile);
   Accumulation acc = StoreFixture::synthetic(rect, lease.batch, spp);
   acc.nan_dropped = nan;
