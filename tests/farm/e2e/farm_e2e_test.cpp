@@ -132,8 +132,27 @@ TEST(FarmE2E, ServerKilledMidJobResumesWithoutLosingOrDoubleMerging) {
   farm.kill_server();
   ASSERT_LT(before.progress(), 1.0) << "the job ended before the kill: the test proves nothing";
 
-  farm.start_server();  // same database, same port: the workers reconnect by themselves
-  const v1::JobInfo resumed = farm.job(id);
+  // The workers are stopped while the new server starts and is first asked: a worker that
+  // reconnected before the look below could hold a fresh lease, which units_leased would count
+  // (a race, the likely cause of this test's one failure, in a loaded sanitizer run whose
+  // output was lost). Continued afterwards, they reconnect by themselves.
+  struct Paused {
+    FarmCluster& farm;
+    explicit Paused(FarmCluster& f) : farm(f) {
+      farm.worker(0).signal(SIGSTOP);
+      farm.worker(1).signal(SIGSTOP);
+    }
+    ~Paused() {
+      farm.worker(0).signal(SIGCONT);
+      farm.worker(1).signal(SIGCONT);
+    }
+  };
+  v1::JobInfo resumed;
+  {
+    const Paused paused(farm);
+    farm.start_server();  // same database, same port
+    resumed = farm.job(id);
+  }
   // Every result accepted before the kill is still there (more may have been accepted between
   // the last look and the kill, never fewer).
   EXPECT_GE(resumed.counters().units_done(), before.counters().units_done());
