@@ -15,6 +15,19 @@ namespace {
 using testing::StoreFixture;
 using testing::result_for;
 
+/// A job of 4-px tiles, `width` x 4 px, 4 spp in batches of 1, for the migration tests.
+int64_t create_migrated_job(JobStore& jobs, char sha_digit, uint32_t width) {
+  NewJob nj;
+  nj.bundle_sha256 = std::string(64, sha_digit);
+  nj.scene_file = "s.json";
+  nj.bundle_bytes = "b";
+  nj.options.width = width;
+  nj.options.height = nj.options.tile_size = 4;
+  nj.options.spp = 4;
+  nj.options.batch_spp = 1;
+  return jobs.create(nj, 0);
+}
+
 int64_t count_rows(Database& db, const std::string& sql) {
   auto q = db.prepare(sql);
   EXPECT_TRUE(q->step());
@@ -114,14 +127,7 @@ TEST(ResultsTable, MigrationMovesMergedAndPendingRows) {
   Database db(":memory:");
   ASSERT_EQ(migrate(db, 0, 7), 7);
   JobStore jobs(db);
-  NewJob nj;
-  nj.bundle_sha256 = std::string(64, 'm');
-  nj.scene_file = "s.json";
-  nj.bundle_bytes = "b";
-  nj.options.width = nj.options.height = nj.options.tile_size = 4;
-  nj.options.spp = 4;
-  nj.options.batch_spp = 1;
-  const int64_t job = jobs.create(nj, 0);
+  const int64_t job = create_migrated_job(jobs, 'm', 4);
   const TileRect rect{0, 0, 4, 4};
   std::vector<Accumulation> batch;
   for (uint32_t b = 0; b < 4; ++b) batch.push_back(StoreFixture::synthetic(rect, b, 1));
@@ -164,15 +170,7 @@ TEST(ResultsTable, Migration9KeepsEveryRowAndTheKeyUnique) {
   Database db(":memory:");
   ASSERT_EQ(migrate(db, 0, 8), 8);
   JobStore jobs(db);
-  NewJob nj;
-  nj.bundle_sha256 = std::string(64, 'r');
-  nj.scene_file = "s.json";
-  nj.bundle_bytes = "b";
-  nj.options.width = 8;
-  nj.options.height = nj.options.tile_size = 4;
-  nj.options.spp = 4;
-  nj.options.batch_spp = 1;
-  const int64_t job = jobs.create(nj, 0);
+  const int64_t job = create_migrated_job(jobs, 'r', 8);
   const TileRect rect{0, 0, 4, 4};
   ResultsTable results(db);
   for (uint32_t tile : {1u, 0u}) {
