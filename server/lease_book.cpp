@@ -6,7 +6,6 @@
 
 #include "store/jobs_table.h"
 
-
 namespace tessera::server {
 
 std::optional<LeaseBookJob> load_lease_book_job(Database& db, JobStore& jobs, int64_t job_id) {

@@ -34,7 +34,8 @@ struct PathState {
   SurfacePoint prev_sp{};     ///< where `ray` started
   int vertex = 0;             ///< the vertex `ray` will find (0 = the camera ray's hit)
   bool prev_delta = true;     ///< `ray` is the camera ray, or perfectly specular / null scattering
-  int specular_run = 0;       ///< consecutive delta vertices the path has just scattered at (roulette spares the first few)
+  /// Consecutive delta vertices the path has just scattered at (roulette spares the first few).
+  int specular_run = 0;
 };
 
 /// A shadow ray a vertex asks for: when nothing blocks o + t d for t in [0, t_max]

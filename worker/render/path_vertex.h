@@ -161,7 +161,8 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
 /// by area, one shadow ray) plus a cosine-weighted bounce; other BSDFs combine both strategies
 /// by multiple importance sampling. Russian roulette from the third bounce on, survival
 /// min(max(beta * eta^2), 0.95), except at the first kFreeSpecularVertices delta vertices in a
-/// row: unbiased, and a path trapped by total internal reflection still ends. `max_depth` follows Mitsuba (path segments including the camera ray; -1 = unbounded).
+/// row: unbiased, and a path trapped by total internal reflection still ends. `max_depth`
+/// follows Mitsuba (path segments including the camera ray; -1 = unbounded).
 ///
 /// Inlined into both integrators' loops (trace_path in integrator.cpp, the wavefront's lane
 /// loop), so that the shadow query and the locals stay in registers: called out of line it
