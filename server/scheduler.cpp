@@ -27,6 +27,12 @@ void Scheduler::reopen(State& s, uint32_t tile) {
   if (eligible(s, tile)) s.open.insert({s.job.tiles[tile].next_lease, tile});
 }
 
+void Scheduler::lease_unborn(State& s, uint32_t tile) {
+  unopen(s, tile);
+  ++s.job.tiles[tile].next_lease;
+  reopen(s, tile);
+}
+
 void Scheduler::put_job(const Job& job) {
   drop_job(job.id);
   State s;
@@ -115,10 +121,7 @@ bool Scheduler::pick_one(State& s, int64_t now, Pick& out) {
     out.batch = unborn->first;
     out.tile = unborn->second;
     out.unborn = true;
-    const uint32_t tile = out.tile;
-    unopen(s, tile);
-    ++s.job.tiles[tile].next_lease;
-    reopen(s, tile);
+    lease_unborn(s, out.tile);
   } else {
     out.batch = requeued->batch;
     out.tile = requeued->tile;
@@ -147,11 +150,9 @@ bool Scheduler::take(const Pick& unit, int64_t at_unix_ms) {
   if (it == jobs_.end() || unit.tile >= it->second.job.tiles.size()) return false;
   State& s = it->second;
   if (unit.unborn) {
-    Tile& t = s.job.tiles[unit.tile];
+    const Tile& t = s.job.tiles[unit.tile];
     if (t.next_lease != unit.batch || unit.batch >= t.lease_end) return false;
-    unopen(s, unit.tile);
-    ++t.next_lease;
-    reopen(s, unit.tile);
+    lease_unborn(s, unit.tile);
   } else if (s.requeued.erase({unit.batch, unit.tile, unit.unit_id}) == 0) {
     return false;
   }

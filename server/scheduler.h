@@ -104,6 +104,8 @@ class Scheduler {
   /// Removes tile's entry from s.open; call before changing the tile, then reopen().
   void unopen(State& s, uint32_t tile);
   void reopen(State& s, uint32_t tile);
+  /// Leases the tile's next unborn unit: moves its next_lease on, keeping s.open in step.
+  void lease_unborn(State& s, uint32_t tile);
   bool blocked(const State& s, int64_t worker_id, int64_t now) const;
   /// The job's first leasable unit, taken, or false.
   bool pick_one(State& s, int64_t now, Pick& out);
