@@ -9,6 +9,7 @@
 
 #include "render/geometry/curve.h"
 #include "render/geometry/sdf_grid.h"
+#include "render/warp.h"
 #include "scene/scene_error.h"
 #include "sphere_intersector.h"
 
@@ -33,8 +34,6 @@ bool is_anisotropic(const Material& m) {
   }
   return false;
 }
-
-constexpr float kPi = 3.14159265358979323846f;
 
 void on_device_error(void* user, RTCError code, const char* message) {
   auto* out = static_cast<std::string*>(user);

@@ -12,6 +12,7 @@ namespace tessera {
 
 inline constexpr float kPi = 3.14159265358979323846f;
 inline constexpr float kInvPi = 0.31830988618379067154f;
+inline constexpr double kPiD = 3.14159265358979323846;
 
 /// sin(x) and cos(x) for x in [-pi/4, pi/4], from Cephes' single-precision minimax polynomials
 /// (sinf.c, cosf.c: within about 1 ulp of the exact values there). Ours rather than libm's

@@ -6,11 +6,11 @@
 #include <glm/geometric.hpp>
 
 #include "render/bsdf/fresnel.h"
+#include "render/warp.h"
 
 namespace tessera {
 namespace {
 
-constexpr float kPi = 3.14159265358979323846f;
 constexpr float kTwoPi = 6.28318530717958647692f;
 
 float safe_sqrt(float x) { return std::sqrt(std::max(x, 0.0f)); }

@@ -13,7 +13,8 @@ namespace {
 constexpr float kInvSqrtPi = 0.56418958354775628695f;
 
 float sqr(float x) { return x * x; }
-float safe_sqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
+/// sqrt(max(0, x)): 0 for a negative x and for NaN (hair.cpp's safe_sqrt keeps NaN).
+float sqrt_clamped(float x) { return std::sqrt(std::max(0.0f, x)); }
 
 }  // namespace
 
@@ -112,13 +113,13 @@ std::pair<glm::vec3, float> Microfacet::sample(glm::vec3 wi, glm::vec2 u) const 
       const float tan2 = alpha2 * u.x / (1.0f - u.x);
       cos_theta = 1.0f / std::sqrt(1.0f + tan2);
     }
-    const float sin_theta = safe_sqrt(1.0f - cos_theta * cos_theta);
+    const float sin_theta = sqrt_clamped(1.0f - cos_theta * cos_theta);
     const glm::vec3 m(cos_phi * sin_theta, sin_phi * sin_theta, cos_theta);
     return {m, pdf(wi, m)};
   }
   // Stretch wi to the unit-roughness configuration, sample the slopes there, unstretch.
   const glm::vec3 wi_p = glm::normalize(glm::vec3(alpha_u_ * wi.x, alpha_v_ * wi.y, wi.z));
-  const float sin_theta = safe_sqrt(1.0f - wi_p.z * wi_p.z);
+  const float sin_theta = sqrt_clamped(1.0f - wi_p.z * wi_p.z);
   float cos_phi = 1.0f, sin_phi = 0.0f;
   if (sin_theta > 0.0f) {
     cos_phi = std::clamp(wi_p.x / sin_theta, -1.0f, 1.0f);
@@ -134,7 +135,7 @@ std::pair<glm::vec3, float> Microfacet::sample(glm::vec3 wi, glm::vec2 u) const 
 glm::vec2 Microfacet::sample_visible_11(float cos_theta_i, glm::vec2 u) const {
   if (type_ == MicrofacetDistribution::beckmann) {
     // Jakob's numerical inversion of the visible-slope CDF (Mitsuba's sample_visible_11).
-    const float tan_theta_i = safe_sqrt(1.0f - cos_theta_i * cos_theta_i) / cos_theta_i;
+    const float tan_theta_i = sqrt_clamped(1.0f - cos_theta_i * cos_theta_i) / cos_theta_i;
     const float cot_theta_i = 1.0f / tan_theta_i;
     const float maxval = std::erf(cot_theta_i);
     u = glm::clamp(u, glm::vec2(1e-6f), glm::vec2(1.0f - 1e-6f));
@@ -152,9 +153,9 @@ glm::vec2 Microfacet::sample_visible_11(float cos_theta_i, glm::vec2 u) const {
   // by the incident angle (Heitz's construction, as Mitsuba writes it).
   glm::vec2 p = square_to_concentric_disk(u);
   const float s = 0.5f * (1.0f + cos_theta_i);
-  p.y = (1.0f - s) * safe_sqrt(1.0f - p.x * p.x) + s * p.y;
-  const float z = safe_sqrt(1.0f - glm::dot(p, p));
-  const float sin_theta_i = safe_sqrt(1.0f - cos_theta_i * cos_theta_i);
+  p.y = (1.0f - s) * sqrt_clamped(1.0f - p.x * p.x) + s * p.y;
+  const float z = sqrt_clamped(1.0f - glm::dot(p, p));
+  const float sin_theta_i = sqrt_clamped(1.0f - cos_theta_i * cos_theta_i);
   const float norm = 1.0f / (sin_theta_i * p.y + cos_theta_i * z);
   return glm::vec2(cos_theta_i * p.y - sin_theta_i * z, p.x) * norm;
 }

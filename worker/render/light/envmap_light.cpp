@@ -16,8 +16,6 @@
 namespace tessera {
 namespace {
 
-constexpr double kPiD = 3.14159265358979323846;
-
 std::string where(const Light& light) { return light.origin + ": " + light.file; }
 
 float srgb_to_linear(float c) {

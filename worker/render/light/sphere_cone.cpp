@@ -4,10 +4,10 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
+#include "render/warp.h"
+
 namespace tessera {
 namespace {
-constexpr double kPiD = 3.14159265358979323846;
-
 /// Frame's basis (Duff et al. 2017) in double: s and t orthogonal to the unit vector n.
 void orthonormal_basis(glm::dvec3 n, glm::dvec3* s, glm::dvec3* t) {
   const double sign = std::copysign(1.0, n.z);

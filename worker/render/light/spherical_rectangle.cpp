@@ -5,10 +5,10 @@
 #include <complex>
 #include <glm/geometric.hpp>
 
+#include "render/warp.h"
+
 namespace tessera {
 namespace {
-
-constexpr double kPiD = 3.14159265358979323846;
 
 /// a b, written out: std::complex's operator* checks for infinities and NaN through a libgcc
 /// call.
