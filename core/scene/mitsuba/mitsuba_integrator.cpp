@@ -63,6 +63,31 @@ void read_direct_projective(MitsubaPlugin& integrator, MitsubaIntegrator& result
                 "Tessera's path tracer with max_depth 2 (its gradient options are ignored)";
 }
 
+/// moment: Mitsuba 3.9.1 writes the first nested integrator's picture to the film's R, G, B
+/// (bit for bit the image that integrator renders alone, same seed: measured on mitsuba-data's
+/// tests/scenes/spot_light/test_spot_direct.xml) and adds AOV channels, each nested
+/// integrator's X, Y, Z and their second moments (m2_*). Tessera renders that picture and
+/// writes no AOV channels; the note says so.
+MitsubaIntegrator read_moment(MitsubaPlugin& integrator, const MitsubaIds& ids) {
+  const std::vector<MitsubaObject> nested = integrator.take_objects("integrator");
+  if (nested.empty()) {
+    fail_at(integrator.element(),
+            "the moment integrator needs a nested integrator (its picture is the first one's)");
+  }
+  MitsubaIntegrator result = read_mitsuba_integrator(*nested.front().element, ids);
+  const std::string* first = nested.front().element->attribute("type");
+  result.note = "the moment integrator's picture is its first nested integrator's (" +
+                (first ? *first : std::string("?")) + ")" +
+                (result.note.empty() ? std::string() : ": " + result.note) +
+                "; its AOV channels (each nested integrator's X, Y, Z and second moments "
+                "m2_*) are not written";
+  // The moment integrator samples its nested integrators itself, so its own hide_emitters
+  // changes no channel.
+  integrator.ignore("hide_emitters");
+  integrator.finish();
+  return result;
+}
+
 }  // namespace
 
 MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& element, const MitsubaIds& ids) {
@@ -91,10 +116,13 @@ MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& element, const M
                   "(direct illumination only)";
   } else if (type == "direct_projective") {
     read_direct_projective(integrator, result);
-  } else if (type == "aov" || type == "moment" || type == "stokes" || type == "depth") {
+  } else if (type == "moment") {
+    return read_moment(integrator, ids);
+  } else if (type == "aov" || type == "stokes" || type == "depth") {
     fail_at(element,
             "this integrator makes another kind of image than a rendered picture (Tessera "
-            "renders path, ptracer, volpath without media, direct and direct_projective)");
+            "renders path, ptracer, volpath without media, direct, direct_projective and "
+            "moment's first nested integrator)");
   } else if (type == "volpathmis" || type == "prbvolpath") {
     fail_at(element,
             "integrators for participating media are not supported (Tessera renders path, "

@@ -42,10 +42,13 @@ struct MitsubaIntegrator {
 ///   image is `direct`'s, max_depth forced to 2): hide_emitters; max_depth and rr_depth checked
 ///   and ignored; its gradient options (sppc, sppp, sppi, guiding, guiding_proj,
 ///   guiding_rounds, project_seed) accepted, their enumerations checked.
+/// - `moment`: its R, G, B are its first nested integrator's picture, read as that integrator
+///   (any of the above); its AOV channels (X, Y, Z and second moments) are not written, and the
+///   note says so.
 /// rr_depth is accepted and ignored: Tessera's Russian roulette is unbiased too, so where it
 /// starts changes the noise, not the image. Integrators that make another kind of image (aov,
-/// moment, stokes, depth, ...) or need media are refused, as are max_depth 0 or < -1, with
-/// SceneError naming the element.
+/// stokes, depth, ...) or need media are refused, as are max_depth 0 or < -1, with SceneError
+/// naming the element.
 MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& integrator,
                                           const MitsubaIds& ids);
 

@@ -472,6 +472,46 @@ TEST(MitsubaIntegrator, PathDepthAndFlags) {
       std::string::npos);
 }
 
+// moment's R, G, B are its first nested integrator's picture (Mitsuba 3.9.1: bit for bit that
+// integrator's image alone, same seed); its AOV channels are not written.
+TEST(MitsubaIntegrator, MomentRendersItsFirstNestedIntegrator) {
+  auto with_integrator = [](const std::string& integrator) {
+    return parse_xml(mitsuba_scene(integrator));
+  };
+  Scene s = with_integrator(R"(<integrator type="moment"><integrator type="path">
+      <integer name="max_depth" value="5"/><boolean name="hide_emitters" value="true"/>
+      </integrator></integrator>)");
+  EXPECT_EQ(s.render.max_depth, 5);
+  EXPECT_TRUE(s.render.hide_emitters);
+  EXPECT_EQ(with_integrator(R"(<integrator type="moment"><integrator type="direct"/>
+      <integrator type="path"/></integrator>)")
+                .render.max_depth,
+            2);
+  EXPECT_EQ(with_integrator(R"(<integrator type="moment"><integrator type="path"/>
+      <integrator type="direct"/></integrator>)")
+                .render.max_depth,
+            -1);
+  // The moment integrator's own hide_emitters changes nothing: its nested integrators sample.
+  EXPECT_FALSE(with_integrator(R"(<integrator type="moment">
+      <boolean name="hide_emitters" value="true"/><integrator type="path"/></integrator>)")
+                   .render.hide_emitters);
+  auto error = [](const std::string& integrator) { return xml_error(mitsuba_scene(integrator)); };
+  EXPECT_NE(error(R"(<integrator type="moment"/>)").find("needs a nested integrator"),
+            std::string::npos);
+  EXPECT_NE(error(R"(<integrator type="moment"><integrator type="bdpt"/></integrator>)")
+                .find("<integrator type=\"bdpt\">: unsupported integrator"),
+            std::string::npos)
+      << error(R"(<integrator type="moment"><integrator type="bdpt"/></integrator>)");
+  EXPECT_NE(error(R"(<integrator type="moment"><integrator type="path">
+      <integer name="max_depth" value="0"/></integrator></integrator>)")
+                .find("must be -1 (unbounded) or >= 1 (got 0)"),
+            std::string::npos);
+  EXPECT_NE(error(R"(<integrator type="moment"><integer name="max_depth" value="3"/>
+      <integrator type="path"/></integrator>)")
+                .find("max_depth"),
+            std::string::npos);
+}
+
 TEST(MitsubaClipPlanes, AcceptedWhenTheyHideNothing) {
   // The camera at z = 5 looks at a rectangle at the origin: nothing nearer than 4, nothing
   // farther than 6.
