@@ -1,6 +1,7 @@
 // The one-sample mixture of bounce directions at a diffuse vertex: cosine-weighted, or uniform
-// in the cone of one of the scene's specular targets (specular_targets.h; docs/renderer.md,
-// "Bounces toward glass and mirrors"). Inlined into path_vertex (path_vertex.h), so the scalar
+// in the cone of one of the scene's specular targets or of a lamp's image in one
+// (specular_targets.h; docs/renderer.md, "Bounces toward glass and mirrors" and "Bounces aimed
+// at the lamps' images"). Inlined into path_vertex (path_vertex.h), so the scalar
 // integrator and every wavefront kernel run the same arithmetic.
 #pragma once
 
@@ -34,6 +35,10 @@ class TargetMixture {
   /// that sum p_k <= kMaxTargetProbability. A small cone's density is so raised about
   /// (1 + kMassFactor)-fold at a cost of 1 / (1 - sum p_k) elsewhere, and sum p_k stays small
   /// where the targets are small; a cone the cosine already finds often gains less.
+  ///
+  /// Then each lamp image (SpecularTargets::images) whose gate p passes, which does not hold p,
+  /// and whose line from p passes its window: a cone toward the image, or toward 2p - I when the
+  /// image lies behind p as seen from the target, with p_k = mass q_k (the same cap).
   bool init(const SpecularTargets& targets, glm::vec3 p, glm::vec3 n) {
     // At every diffuse vertex of a scene with targets, so kept cheap (BENCHMARKS.md, "Cost per
     // sample, branch cost9"): the horizon test first, on the unnormalised direction (no square
