@@ -12,6 +12,7 @@
 
 #include "geometry.h"
 #include "material.h"
+#include "warp.h"
 
 namespace tessera {
 
@@ -86,6 +87,13 @@ SpecularTarget bounding_sphere(const std::vector<glm::vec3>& points) {
 
 namespace {
 
+bool finite(const SpecularImage& i) {
+  const float sum = i.center.x + i.center.y + i.center.z + i.radius + i.gate_normal.x + i.gate_normal.y +
+                    i.gate_normal.z + i.gate_offset + i.window_center.x + i.window_center.y + i.window_center.z +
+                    i.window_radius;
+  return std::isfinite(sum) && i.radius > 0 && i.window_radius > 0;
+}
+
 /// The world-space bounding sphere of a shape, or radius 0 when its kind has none here.
 SpecularTarget shape_sphere(const Geometry& g, const glm::mat4* to_world) {
   if (g.kind == Geometry::Kind::sphere) {
@@ -107,7 +115,145 @@ SpecularTarget shape_sphere(const Geometry& g, const glm::mat4* to_world) {
 /// How many SpecularTargets::DisabledForTest are alive.
 std::atomic<int> disabled_for_test{0};
 
+float luminance(glm::vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+/// The world-space area of a shape (spheres and triangle meshes; 0 for other kinds).
+float shape_area(const Geometry& g, const glm::mat4* to_world) {
+  if (g.kind == Geometry::Kind::sphere) {
+    const SpecularTarget s = shape_sphere(g, to_world);
+    return 4.0f * kPi * s.radius * s.radius;
+  }
+  if (g.kind != Geometry::Kind::triangles) return 0.0f;
+  double area = 0;
+  for (const glm::u32vec3& tri : g.indices) {
+    glm::vec3 v[3];
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3 p = g.positions[tri[k]];
+      v[k] = to_world ? glm::vec3(*to_world * glm::vec4(p, 1.0f)) : p;
+    }
+    area += 0.5 * glm::length(glm::cross(glm::dvec3(v[1] - v[0]), glm::dvec3(v[2] - v[0])));
+  }
+  return float(area);
+}
+
 }  // namespace
+
+std::vector<std::vector<glm::vec3>> SpecularTargets::flat_faces(const Geometry& g, const glm::mat4* to_world) {
+  std::vector<std::vector<glm::vec3>> faces;
+  if (g.kind != Geometry::Kind::triangles || g.indices.empty() ||
+      g.indices.size() > size_t(kMaxFlatTriangles)) {
+    return faces;
+  }
+  // Triangles in one plane (a quad's two) make one face: unit normals within 1e-4 of each other
+  // (either sign) and offsets within 1e-4 of the shape's size.
+  std::vector<glm::dvec3> normals;
+  std::vector<double> offsets;
+  const double size = std::max(1e-30, double(shape_sphere(g, to_world).radius));
+  for (const glm::u32vec3& tri : g.indices) {
+    glm::vec3 v[3];
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3 p = g.positions[tri[k]];
+      v[k] = to_world ? glm::vec3(*to_world * glm::vec4(p, 1.0f)) : p;
+    }
+    const glm::dvec3 c = glm::cross(glm::dvec3(v[1] - v[0]), glm::dvec3(v[2] - v[0]));
+    const double len = glm::length(c);
+    if (!(len > 0)) continue;  // degenerate: no plane
+    const glm::dvec3 n = c / len;
+    const double o = glm::dot(n, glm::dvec3(v[0]));
+    size_t f = 0;
+    for (; f < faces.size(); ++f) {
+      const double cos_nn = glm::dot(n, normals[f]);
+      if (std::abs(cos_nn) > 1 - 1e-4 && std::abs(o * (cos_nn > 0 ? 1 : -1) - offsets[f]) < 1e-4 * size) break;
+    }
+    if (f == faces.size()) {
+      faces.emplace_back();
+      normals.push_back(n);
+      offsets.push_back(o);
+    }
+    faces[f].insert(faces[f].end(), v, v + 3);
+  }
+  return faces;
+}
+
+std::optional<SpecularImage> ball_lens_image(glm::vec3 center, float radius, float ior, glm::vec3 lamp,
+                                             float lamp_radius) {
+  const glm::vec3 to_lamp = lamp - center;
+  const float d = glm::length(to_lamp);
+  if (!(d > radius) || !(radius > 0) || !(ior > 0) || !(lamp_radius >= 0)) return std::nullopt;
+  const glm::vec3 a = to_lamp / d;
+  SpecularImage image;
+  if (ior == 1.0f) {
+    // f infinite: the lamp itself.
+    image.center = lamp;
+    image.radius = lamp_radius;
+  } else {
+    const float f = ior * radius / (2.0f * (ior - 1.0f));
+    if (!(std::abs(d - f) > 1e-3f * d)) return std::nullopt;  // the image at infinity
+    const float d_i = f * d / (d - f);
+    image.center = center - a * d_i;
+    image.radius = std::abs(d_i) / d * lamp_radius + SpecularTargets::kLensAberration * radius;
+  }
+  image.gate_normal = -a;
+  image.gate_offset = glm::dot(-a, center);
+  image.window_center = center;
+  image.window_radius = radius;
+  if (!finite(image)) return std::nullopt;
+  return image;
+}
+
+std::optional<SpecularImage> convex_mirror_image(glm::vec3 center, float radius, glm::vec3 lamp, float lamp_radius) {
+  const glm::vec3 to_lamp = lamp - center;
+  const float d = glm::length(to_lamp);
+  if (!(d > radius) || !(radius > 0) || !(lamp_radius >= 0)) return std::nullopt;
+  const glm::vec3 a = to_lamp / d;
+  // From the vertex (the surface point facing the lamp): object distance d - R, f = -R / 2,
+  // image distance f (d - R) / (d - R - f), negative: behind the surface, inside the sphere.
+  const float object = d - radius;
+  const float f = -0.5f * radius;
+  const float d_i = f * object / (object - f);
+  SpecularImage image;
+  image.center = center + a * (radius + d_i);
+  image.radius = std::abs(d_i) / object * lamp_radius + SpecularTargets::kMirrorAberration * radius;
+  image.gate_normal = a;
+  image.gate_offset = glm::dot(a, center);
+  image.window_center = center;
+  image.window_radius = radius;
+  if (!finite(image)) return std::nullopt;
+  return image;
+}
+
+std::optional<SpecularImage> flat_mirror_image(const std::vector<glm::vec3>& face, glm::vec3 inside, glm::vec3 lamp,
+                                               float lamp_radius) {
+  if (face.size() < 3 || !(lamp_radius >= 0)) return std::nullopt;
+  // The plane of the face's largest triangle fan (its vertices are in one plane).
+  glm::dvec3 c(0.0);
+  for (size_t i = 2; i < face.size(); ++i) {
+    const glm::dvec3 ci = glm::cross(glm::dvec3(face[i - 1] - face[0]), glm::dvec3(face[i] - face[0]));
+    if (glm::dot(ci, ci) > glm::dot(c, c)) c = ci;
+  }
+  const double len = glm::length(c);
+  if (!(len > 0)) return std::nullopt;  // degenerate: no area
+  glm::vec3 n(c / len);
+  float offset = glm::dot(n, face[0]);
+  float s = glm::dot(n, lamp) - offset;
+  if (s < 0) {
+    n = -n;
+    offset = -offset;
+    s = -s;
+  }
+  if (!(s > 0)) return std::nullopt;  // the lamp's centre on the plane
+  if (glm::dot(n, inside) - offset > 1e-4f * std::abs(s)) return std::nullopt;  // seen from inside
+  const SpecularTarget window = bounding_sphere(face);
+  SpecularImage image;
+  image.center = lamp - 2.0f * s * n;
+  image.radius = lamp_radius;
+  image.gate_normal = n;
+  image.gate_offset = offset;
+  image.window_center = window.center;
+  image.window_radius = window.radius;
+  if (!finite(image)) return std::nullopt;
+  return image;
+}
 
 SpecularTargets::DisabledForTest::DisabledForTest() { disabled_for_test.fetch_add(1); }
 SpecularTargets::DisabledForTest::~DisabledForTest() { disabled_for_test.fetch_sub(1); }
@@ -115,28 +261,94 @@ SpecularTargets::DisabledForTest::~DisabledForTest() { disabled_for_test.fetch_s
 SpecularTargets::SpecularTargets(const std::vector<ShapeRef>& shapes, const std::vector<RenderMaterial>& materials,
                                  float scene_radius) {
   if (disabled_for_test.load(std::memory_order_relaxed) > 0) return;
-  std::vector<SpecularTarget> targets;
+  std::vector<Candidate> targets;
+  std::vector<Lamp> lamps;
   for (const ShapeRef& s : shapes) {
     const Geometry& g = *s.geometry;
+    if (g.emission.x > 0 || g.emission.y > 0 || g.emission.z > 0) {
+      const SpecularTarget t = shape_sphere(g, s.to_world);
+      const float power = luminance(g.emission) * shape_area(g, s.to_world) * (g.two_sided_emission ? 2.0f : 1.0f);
+      if (t.radius > 0 && std::isfinite(t.radius) && power > 0 && std::isfinite(power)) lamps.push_back({t, power});
+    }
     if (g.material >= materials.size() || !purely_specular(materials[g.material], materials)) continue;
     const SpecularTarget t = shape_sphere(g, s.to_world);
     if (!(t.radius > 0) || !std::isfinite(t.radius)) continue;
     if (scene_radius > 0 && t.radius > kMaxSceneFraction * scene_radius) continue;
-    targets.push_back(t);
+    targets.push_back({t, &g, s.to_world, &materials[g.material]});
   }
   if (targets.size() > size_t(kMaxTargets)) {
     // The largest spheres are kept: they subtend the largest cones from most of the scene.
     std::stable_sort(targets.begin(), targets.end(),
-                     [](const SpecularTarget& a, const SpecularTarget& b) { return a.radius > b.radius; });
+                     [](const Candidate& a, const Candidate& b) { return a.sphere.radius > b.sphere.radius; });
     targets.resize(size_t(kMaxTargets));
   }
   count_ = int(targets.size());
   for (size_t i = 0; i < targets.size(); ++i) {
-    lanes_.cx[i] = targets[i].center.x;
-    lanes_.cy[i] = targets[i].center.y;
-    lanes_.cz[i] = targets[i].center.z;
-    lanes_.r[i] = targets[i].radius;
-    lanes_.r2[i] = targets[i].radius * targets[i].radius;
+    lanes_.cx[i] = targets[i].sphere.center.x;
+    lanes_.cy[i] = targets[i].sphere.center.y;
+    lanes_.cz[i] = targets[i].sphere.center.z;
+    lanes_.r[i] = targets[i].sphere.radius;
+    lanes_.r2[i] = targets[i].sphere.radius * targets[i].sphere.radius;
+  }
+  build_images(targets, lamps);
+}
+
+void SpecularTargets::build_images(const std::vector<Candidate>& targets, const std::vector<Lamp>& lamps) {
+  struct Scored {
+    SpecularImage image;
+    float score;
+  };
+  std::vector<Scored> all;
+  // The fraction of a lamp's light that a disc of radius r at distance d, tilted by cos_tilt,
+  // intercepts: pi r^2 cos_tilt / (4 pi d^2), capped at one half.
+  const auto intercepted = [](float r, float d, float cos_tilt) {
+    return std::min(0.5f, r * r * cos_tilt / (4.0f * d * d));
+  };
+  for (const Lamp& lamp : lamps) {
+    for (const Candidate& t : targets) {
+      const MaterialType type = t.material->type;
+      const bool refracts = type == MaterialType::glass || type == MaterialType::thin_glass;
+      const float d = glm::length(lamp.sphere.center - t.sphere.center);
+      if (!(d > 0)) continue;
+      if (refracts) {
+        // Thin glass bends nothing: its image is the lamp itself (a lens of index 1).
+        const float ior = type == MaterialType::glass ? t.material->ior : 1.0f;
+        if (auto image = ball_lens_image(t.sphere.center, t.sphere.radius, ior, lamp.sphere.center, lamp.sphere.radius)) {
+          all.push_back({*image, lamp.power * intercepted(t.sphere.radius, d, 1.0f)});
+        }
+        continue;
+      }
+      const std::vector<std::vector<glm::vec3>> faces = flat_faces(*t.geometry, t.to_world);
+      if (faces.empty()) {
+        if (auto image = convex_mirror_image(t.sphere.center, t.sphere.radius, lamp.sphere.center, lamp.sphere.radius)) {
+          all.push_back({*image, lamp.power * intercepted(t.sphere.radius, d, 1.0f)});
+        }
+        continue;
+      }
+      glm::vec3 inside(0.0f);
+      size_t n = 0;
+      for (const auto& face : faces) {
+        for (const glm::vec3& v : face) inside += v;
+        n += face.size();
+      }
+      inside /= float(n);
+      for (const auto& face : faces) {
+        if (auto image = flat_mirror_image(face, inside, lamp.sphere.center, lamp.sphere.radius)) {
+          const glm::vec3 to_lamp = lamp.sphere.center - image->window_center;
+          const float dist = glm::length(to_lamp);
+          if (!(dist > 0)) continue;
+          const float cos_tilt = glm::dot(image->gate_normal, to_lamp) / dist;
+          all.push_back({*image, lamp.power * intercepted(image->window_radius, dist, cos_tilt)});
+        }
+      }
+    }
+  }
+  // Largest score first; equal scores keep the order of lamps, then targets, then faces.
+  std::stable_sort(all.begin(), all.end(), [](const Scored& a, const Scored& b) { return a.score > b.score; });
+  image_count_ = int(std::min(all.size(), size_t(kMaxImages)));
+  for (int i = 0; i < image_count_; ++i) {
+    images_[i] = all[size_t(i)].image;
+    images_[i].mass = kImageMassFactor;
   }
 }
 

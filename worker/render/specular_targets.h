@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -20,6 +21,23 @@ struct RenderMaterial;
 struct SpecularTarget {
   glm::vec3 center{0.0f};
   float radius = 0;
+};
+
+/// The image of one emitter's bounding sphere formed by one target (a ball lens, a convex
+/// mirror, a flat mirror face), in world space: the sphere (center, radius) the emitter's light
+/// seems to come from, seen through the target. Used at a diffuse point x only where
+/// dot(gate_normal, x) > gate_offset (x on the side where the target can carry the emitter's
+/// light) and where the line from x through the image passes the window (the target's bounding
+/// sphere, or a mirror face's). docs/renderer.md, "Bounces aimed at the lamps' images".
+struct SpecularImage {
+  glm::vec3 center{0.0f};
+  float radius = 0;
+  glm::vec3 gate_normal{0.0f};
+  float gate_offset = 0;
+  glm::vec3 window_center{0.0f};
+  float window_radius = 0;
+  /// Multiplies the cone's share of the cosine strategy (TargetMixture::init).
+  float mass = 0;
 };
 
 /// The targets of one scene, built once from it (TraceableScene) and read-only afterwards.
@@ -37,6 +55,25 @@ class SpecularTargets {
   static constexpr float kMassFactor = 1.0f;
   /// ... and at most this in all, so that the cosine keeps half of the bounces.
   static constexpr float kMaxTargetProbability = 0.5f;
+  /// At most this many lamp images (emitter, target pairs): each costs a diffuse vertex a gate
+  /// test, and a few dozen instructions where it passes. Beyond it the images with the largest
+  /// score (the emitter's power times the fraction of it the target intercepts) are kept.
+  static constexpr int kMaxImages = 8;
+  /// An image's cone gets this many times its share of the cosine strategy: it carries a
+  /// lamp's radiance, where a bounding sphere's cone mostly shows what the glass refracts of
+  /// the room (measured: docs/renderer.md).
+  static constexpr float kImageMassFactor = 4.0f;
+  /// The margin added to a ball lens's image radius for its spherical aberration, as a
+  /// fraction of the lens's radius (measured: docs/renderer.md).
+  static constexpr float kLensAberration = 0.1f;
+  /// The margin added to a convex mirror's image radius, as a fraction of its radius: the
+  /// Gaussian image moves off-axis by up to R sin(t/2) (1 - cos(t/2)) for a point at angle t
+  /// from the lamp's axis, 0.21 R at the gate's 90 degrees.
+  static constexpr float kMirrorAberration = 0.21f;
+  /// A triangle mirror with at most this many triangles is a set of flat faces, each making
+  /// its own image; a larger one (a tessellated sphere) is a convex mirror of its bounding
+  /// sphere.
+  static constexpr int kMaxFlatTriangles = 16;
 
   SpecularTargets() = default;
   /// The targets among `shapes` (each: its Geometry, already in world space except that an
@@ -50,6 +87,7 @@ class SpecularTargets {
     const Geometry* geometry;
     const glm::mat4* to_world;  ///< nullptr: the geometry is in world space
   };
+  /// The emitters among `shapes` (those with emission) get images through the targets.
   SpecularTargets(const std::vector<ShapeRef>& shapes, const std::vector<RenderMaterial>& materials,
                   float scene_radius);
 
@@ -80,9 +118,32 @@ class SpecularTargets {
   };
   const Lanes& lanes() const { return lanes_; }
 
+  /// The flat faces of a triangle mirror (each: the world-space vertices of its triangles that
+  /// share one plane), or none when it has more than kMaxFlatTriangles triangles (a curved
+  /// mirror, modelled by its bounding sphere) or is no triangle mesh.
+  static std::vector<std::vector<glm::vec3>> flat_faces(const Geometry& g, const glm::mat4* to_world);
+
+  int image_count() const { return image_count_; }
+  /// The lamp images, at most kMaxImages, largest score first.
+  const SpecularImage* images() const { return images_; }
+
  private:
   int count_ = 0;
   Lanes lanes_ = empty_lanes();
+  int image_count_ = 0;
+  SpecularImage images_[kMaxImages];
+
+  struct Candidate {
+    SpecularTarget sphere;
+    const Geometry* geometry;
+    const glm::mat4* to_world;
+    const RenderMaterial* material;
+  };
+  struct Lamp {
+    SpecularTarget sphere;
+    float power;  ///< luminance of the emission times the area (a score, not watts)
+  };
+  void build_images(const std::vector<Candidate>& targets, const std::vector<Lamp>& lamps);
 
   static Lanes empty_lanes();
 };
@@ -96,5 +157,31 @@ bool purely_specular(const RenderMaterial& m, const std::vector<RenderMaterial>&
 /// guess from the extremes along x, y and z, grown to take in every point; then the sphere of
 /// the axis-aligned box if that is smaller). Empty input: radius 0 at the origin.
 SpecularTarget bounding_sphere(const std::vector<glm::vec3>& points);
+
+/// The image of the sphere (lamp, lamp_radius) formed by a ball lens (center, radius) of
+/// index `ior` (interior over exterior; 1 = no lens: the lamp itself), by Gaussian optics: both
+/// principal planes at the centre, focal length f = n R / (2 (n - 1)), image distance
+/// d_i = f d / (d - f) on the far side (negative: a virtual image on the lamp's side), radius
+/// |d_i| / d lamp_radius plus kLensAberration R. Gate: the far side of the lens's centre from
+/// the lamp. Empty when the lamp's centre lies inside the lens, or within 0.1 % of the focal
+/// distance (the image at infinity), or when anything is not finite.
+std::optional<SpecularImage> ball_lens_image(glm::vec3 center, float radius, float ior, glm::vec3 lamp,
+                                             float lamp_radius);
+
+/// The Gaussian virtual image of the sphere (lamp, lamp_radius) in a convex mirror sphere
+/// (center, radius): f = -R / 2 from the surface point facing the lamp, radius magnified plus
+/// kMirrorAberration R. Gate: the lamp's side of the plane through the centre. Empty when the
+/// lamp's centre lies inside the mirror's sphere or anything is not finite.
+std::optional<SpecularImage> convex_mirror_image(glm::vec3 center, float radius, glm::vec3 lamp,
+                                                 float lamp_radius);
+
+/// The mirror image of the sphere (lamp, lamp_radius) through the plane of a flat mirror face
+/// (its vertices `face`, all in one plane), radius lamp_radius. The face's normal is the one
+/// toward the lamp; `inside`, a point of the shape the face bounds (its vertices' centroid),
+/// must not lie in front of it (the lamp sees the face from outside). Gate: in front of the
+/// plane. Window: the face's bounding sphere. Empty for a degenerate face (no area), a lamp
+/// centre on or behind the plane, or anything not finite.
+std::optional<SpecularImage> flat_mirror_image(const std::vector<glm::vec3>& face, glm::vec3 inside, glm::vec3 lamp,
+                                               float lamp_radius);
 
 }  // namespace tessera

@@ -3,7 +3,9 @@
 // with and without the mixture agreeing in its mean.
 #include "target_mixture.h"
 
+#include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <optional>
 #include <random>
 #include <string>
@@ -57,6 +59,172 @@ SpecularTargets targets_of(const std::vector<SpecularTarget>& spheres) {
 /// Beside (at the horizon), above, and partly below the horizon of normal +z at the origin.
 std::vector<SpecularTarget> three_spheres() {
   return {{{2.0f, 0.0f, 0.3f}, 0.9f}, {{0.4f, 0.3f, 2.0f}, 1.0f}, {{-1.0f, 1.5f, 0.3f}, 0.8f}};
+}
+
+double integrate_pdf(const TargetMixture& mix, float z_min);
+
+/// A scene's worth of targets with lamps: glass and mirror spheres, flat mirror triangles and
+/// spherical lamps, given directly (materials: 0 glass of IOR 1.5, 1 a diffuse lamp, 2 mirror).
+struct LampScene {
+  std::vector<std::unique_ptr<Geometry>> geometries;
+  std::vector<SpecularTargets::ShapeRef> refs;
+  std::vector<RenderMaterial> materials = std::vector<RenderMaterial>(3);
+  LampScene() {
+    materials[0].type = MaterialType::glass;
+    materials[0].ior = 1.5f;
+    materials[2].type = MaterialType::mirror;
+  }
+  Geometry& add_sphere(glm::vec3 center, float radius, uint32_t material) {
+    auto g = std::make_unique<Geometry>();
+    g->kind = Geometry::Kind::sphere;
+    g->center = glm::dvec3(center);
+    g->radius = radius;
+    g->material = material;
+    refs.push_back({g.get(), nullptr});
+    geometries.push_back(std::move(g));
+    return *geometries.back();
+  }
+  void add_lamp(glm::vec3 center, float radius) { add_sphere(center, radius, 1).emission = glm::vec3(10.0f); }
+  void add_mirror_triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    auto g = std::make_unique<Geometry>();
+    g->positions = {a, b, c};
+    g->indices = {glm::u32vec3(0, 1, 2)};
+    g->material = 2;
+    refs.push_back({g.get(), nullptr});
+    geometries.push_back(std::move(g));
+  }
+  SpecularTargets targets() const { return SpecularTargets(refs, materials, 100.0f); }
+};
+
+/// Seen from the origin with normal +z: a glass sphere above with a lamp beyond it (a real
+/// image between the point and the lens), a mirror sphere to the side lit from above, and a
+/// flat mirror triangle facing a second lamp.
+LampScene lamps_glass_and_mirrors() {
+  LampScene s;
+  s.add_sphere({0.3f, 0.0f, 2.0f}, 0.5f, 0);
+  s.add_lamp({0.6f, 0.2f, 6.0f}, 0.3f);
+  s.add_sphere({-1.5f, 0.5f, 0.8f}, 0.4f, 2);
+  s.add_lamp({-2.5f, 1.0f, 4.0f}, 0.2f);
+  s.add_mirror_triangle({1.5f, -1.0f, 0.2f}, {1.5f, 1.0f, 0.2f}, {1.8f, 0.0f, 1.6f});
+  return s;
+}
+
+TEST(SpecularTargets, LampImagesAreSampledByTheirPdf) {
+  const LampScene scene = lamps_glass_and_mirrors();
+  const SpecularTargets targets = scene.targets();
+  ASSERT_EQ(targets.size(), 3);
+  ASSERT_GE(targets.image_count(), 3);
+  MixtureAsBsdf m;
+  ASSERT_TRUE(m.mix.init(targets, glm::vec3(0.0f), glm::vec3(0, 0, 1)));
+  // The glass's, the mirror sphere's and at least one image cone.
+  ASSERT_GE(m.mix.count(), 4);
+  const test::ChiSquareResult r = test::chi_square_test(m, glm::vec3(0, 0, 1), 11, 400000, 0.01);
+  EXPECT_TRUE(r.passed) << r.message;
+  // A tilted normal: cones partly below the horizon.
+  MixtureAsBsdf tilted;
+  ASSERT_TRUE(tilted.mix.init(targets, glm::vec3(0.0f), glm::normalize(glm::vec3(0.6f, 0.0f, 0.8f))));
+  const test::ChiSquareResult rt = test::chi_square_test(tilted, glm::vec3(0, 0, 1), 12, 400000, 0.01);
+  EXPECT_TRUE(rt.passed) << rt.message;
+}
+
+TEST(SpecularTargets, PdfWithLampImagesIntegratesToOne) {
+  const LampScene scene = lamps_glass_and_mirrors();
+  const SpecularTargets targets = scene.targets();
+  TargetMixture mix;
+  ASSERT_TRUE(mix.init(targets, glm::vec3(0.0f), glm::vec3(0, 0, 1)));
+  ASSERT_GE(mix.count(), 4);
+  // Every cone's centre is above the horizon, but a cone may reach below it: the whole sphere.
+  EXPECT_NEAR(integrate_pdf(mix, -2.0f), 1.0, 2e-3);
+}
+
+TEST(SpecularTargets, BallLensImageByGaussianOptics) {
+  // n = 1.5, R = 0.5: f = 0.75. Lamp at distance 4 on +z: d_i = 0.75 * 4 / 3.25.
+  const glm::vec3 c(0.0f, 0.0f, 2.0f), lamp(0.0f, 0.0f, 6.0f);
+  const auto real = ball_lens_image(c, 0.5f, 1.5f, lamp, 0.3f);
+  ASSERT_TRUE(real);
+  const float d_i = 0.75f * 4.0f / 3.25f;
+  EXPECT_NEAR(real->center.z, 2.0f - d_i, 1e-5f);
+  EXPECT_NEAR(real->radius, d_i / 4.0f * 0.3f + SpecularTargets::kLensAberration * 0.5f, 1e-5f);
+  // The gate: the far side of the lens's centre from the lamp.
+  EXPECT_GT(glm::dot(real->gate_normal, glm::vec3(0.0f)), real->gate_offset);
+  EXPECT_LT(glm::dot(real->gate_normal, glm::vec3(0.0f, 0.0f, 4.0f)), real->gate_offset);
+  // Inside the focal length (d = 0.6 < f): a virtual image on the lamp's side, beyond the lamp.
+  const auto virt = ball_lens_image(c, 0.5f, 1.5f, c + glm::vec3(0.0f, 0.0f, 0.6f), 0.05f);
+  ASSERT_TRUE(virt);
+  EXPECT_GT(virt->center.z, 2.6f);
+  EXPECT_TRUE(std::isfinite(virt->radius));
+  // At the focal distance: the image at infinity, none.
+  EXPECT_FALSE(ball_lens_image(c, 0.5f, 1.5f, c + glm::vec3(0.0f, 0.75f, 0.0f), 0.05f));
+  // IOR 1: the lamp itself.
+  const auto same = ball_lens_image(c, 0.5f, 1.0f, lamp, 0.3f);
+  ASSERT_TRUE(same);
+  EXPECT_EQ(same->center, lamp);
+  EXPECT_EQ(same->radius, 0.3f);
+  // The lamp inside the lens, or on its centre: none.
+  EXPECT_FALSE(ball_lens_image(c, 0.5f, 1.5f, c + glm::vec3(0.1f, 0.0f, 0.0f), 0.05f));
+  EXPECT_FALSE(ball_lens_image(c, 0.5f, 1.5f, c, 0.05f));
+}
+
+TEST(SpecularTargets, MirrorImages) {
+  // Convex mirror R = 1 at the origin, lamp at distance 3 on +y: object distance 2 from the
+  // vertex, f = -0.5, d_i = -0.5 * 2 / 2.5 = -0.4: the image at y = 1 - 0.4.
+  const auto convex = convex_mirror_image(glm::vec3(0.0f), 1.0f, {0.0f, 3.0f, 0.0f}, 0.2f);
+  ASSERT_TRUE(convex);
+  EXPECT_NEAR(convex->center.y, 0.6f, 1e-5f);
+  EXPECT_NEAR(convex->radius, 0.2f * 0.4f / 2.0f + SpecularTargets::kMirrorAberration, 1e-5f);
+  EXPECT_FALSE(convex_mirror_image(glm::vec3(0.0f), 1.0f, {0.0f, 0.5f, 0.0f}, 0.2f));  // lamp inside
+  // A flat face in the plane z = 0: the lamp mirrored through it, the same radius; the gate is
+  // the lamp's side, whichever way the face winds.
+  const std::vector<glm::vec3> face = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}};
+  const auto flat = flat_mirror_image(face, glm::vec3(0.2f, 0.2f, -0.5f), {0.3f, 0.4f, 2.0f}, 0.25f);
+  ASSERT_TRUE(flat);
+  EXPECT_EQ(flat->center, glm::vec3(0.3f, 0.4f, -2.0f));
+  EXPECT_EQ(flat->radius, 0.25f);
+  EXPECT_GT(glm::dot(flat->gate_normal, glm::vec3(0.0f, 0.0f, 1.0f)), flat->gate_offset);
+  // Seen from inside the shape the face bounds (the lamp on the inner side): none.
+  EXPECT_FALSE(flat_mirror_image(face, glm::vec3(0.2f, 0.2f, 0.5f), {0.3f, 0.4f, 2.0f}, 0.25f));
+  // The lamp's centre on the plane, a degenerate face: none.
+  EXPECT_FALSE(flat_mirror_image(face, glm::vec3(0.2f, 0.2f, -0.5f), {3.0f, 4.0f, 0.0f}, 0.25f));
+  EXPECT_FALSE(flat_mirror_image({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}, glm::vec3(0.0f, 0.0f, -1.0f), {0.0f, 0.0f, 2.0f}, 0.25f));
+}
+
+TEST(SpecularTargets, ImageConesOnlyWhereTheTargetCarriesTheLamp) {
+  // A lens at z = 2, its lamp at z = 6: the image cone exists below the lens (gate), points
+  // toward the lens (the real image beyond the point: aimed at 2p - I), and not above it.
+  LampScene s;
+  s.add_sphere({0.0f, 0.0f, 2.0f}, 0.5f, 0);
+  s.add_lamp({0.0f, 0.0f, 6.0f}, 0.3f);
+  const SpecularTargets targets = s.targets();
+  ASSERT_EQ(targets.image_count(), 1);
+  const SpecularImage& image = targets.images()[0];
+  ASSERT_LT(image.center.z + image.radius, 1.4f);
+  ASSERT_GT(image.center.z, 0.5f);
+  TargetMixture mix;
+  // Between the lens (z >= 1.5) and the image: two cones, the image's axis toward the lens (+z).
+  const glm::vec3 between(0.0f, 0.0f, 1.45f);
+  ASSERT_TRUE(mix.init(targets, between, glm::vec3(0, 0, 1)));
+  EXPECT_EQ(mix.count(), 2);
+  // Far off to the side, the line through the image misses the lens: only the bounding cone.
+  ASSERT_TRUE(mix.init(targets, glm::vec3(4.0f, 0.0f, 0.0f), glm::normalize(glm::vec3(-1, 0, 1))));
+  EXPECT_EQ(mix.count(), 1);
+  // On the lamp's side of the lens, facing it: only the bounding cone.
+  ASSERT_TRUE(mix.init(targets, glm::vec3(0.5f, 0.0f, 3.0f), glm::vec3(0, 0, -1)));
+  EXPECT_EQ(mix.count(), 1);
+  // Inside the image's sphere: none of it.
+  ASSERT_TRUE(mix.init(targets, image.center, glm::vec3(0, 0, 1)));
+  EXPECT_EQ(mix.count(), 1);
+  // Below the image the cone aims at the image itself, again toward the lens.
+  ASSERT_TRUE(mix.init(targets, glm::vec3(0.0f, 0.0f, -1.0f), glm::vec3(0, 0, 1)));
+  EXPECT_EQ(mix.count(), 2);
+  // Directions sampled from the image cone of a point between the lens and the image point up,
+  // toward the lens, with a finite pdf.
+  ASSERT_TRUE(mix.init(targets, between, glm::vec3(0, 0, 1)));
+  std::mt19937_64 rng(5);
+  for (int i = 0; i < 1000; ++i) {
+    const glm::vec3 w = mix.sample_cone(1, {test::u01(rng), test::u01(rng)});
+    EXPECT_GT(w.z, 0.8f);
+    EXPECT_TRUE(std::isfinite(mix.pdf(w, w.z, 1)));
+  }
 }
 
 TEST(SpecularTargets, MixtureSamplesItsPdf) {
@@ -164,9 +332,20 @@ TEST(SpecularTargets, TheBenchmarkScenesTargetTheirGlassAndMirrors) {
   };
   // hexroom: the mirror sphere, the glass sphere, the mirror tetrahedron; cornell-sphere: its
   // mirror and glass spheres (meshes); the Cornell box: none.
+  // Lamp images: hexroom's three lamps through the glass sphere, in the mirror sphere and in
+  // the tetrahedron's faces, more than kMaxImages; cornell-sphere's one lamp in each sphere.
+  struct Images {
+    const char* file;
+    int images;
+  };
   for (const Case c : {Case{"hexroom.json", 3}, Case{"cornell-sphere.json", 2}, Case{"cornell.json", 0}}) {
     const TraceableScene scene(load_scene_file(kSource + "/scenes/" + c.file), 16, 16, "");
     EXPECT_EQ(scene.specular_targets().size(), c.targets) << c.file;
+  }
+  for (const Images c : {Images{"hexroom.json", SpecularTargets::kMaxImages}, Images{"cornell-sphere.json", 2},
+                         Images{"cornell.json", 0}}) {
+    const TraceableScene scene(load_scene_file(kSource + "/scenes/" + c.file), 16, 16, "");
+    EXPECT_EQ(scene.specular_targets().image_count(), c.images) << c.file;
   }
   const SpecularTargets::DisabledForTest off;
   const TraceableScene scene(load_scene_file(kSource + "/scenes/hexroom.json"), 16, 16, "");

@@ -1,6 +1,7 @@
 // The one-sample mixture of bounce directions at a diffuse vertex: cosine-weighted, or uniform
-// in the cone of one of the scene's specular targets (specular_targets.h; docs/renderer.md,
-// "Bounces toward glass and mirrors"). Inlined into path_vertex (path_vertex.h), so the scalar
+// in the cone of one of the scene's specular targets or of a lamp's image in one
+// (specular_targets.h; docs/renderer.md, "Bounces toward glass and mirrors" and "Bounces aimed
+// at the lamps' images"). Inlined into path_vertex (path_vertex.h), so the scalar
 // integrator and every wavefront kernel run the same arithmetic.
 #pragma once
 
@@ -34,6 +35,10 @@ class TargetMixture {
   /// that sum p_k <= kMaxTargetProbability. A small cone's density is so raised about
   /// (1 + kMassFactor)-fold at a cost of 1 / (1 - sum p_k) elsewhere, and sum p_k stays small
   /// where the targets are small; a cone the cosine already finds often gains less.
+  ///
+  /// Then each lamp image (SpecularTargets::images) whose gate p passes, which does not hold p,
+  /// and whose line from p passes its window: a cone toward the image, or toward 2p - I when the
+  /// image lies behind p as seen from the target, with p_k = mass q_k (the same cap).
   bool init(const SpecularTargets& targets, glm::vec3 p, glm::vec3 n) {
     // At every diffuse vertex of a scene with targets, so kept cheap (BENCHMARKS.md, "Cost per
     // sample, branch cost9"): the horizon test first, on the unnormalised direction (no square
@@ -64,6 +69,42 @@ class TargetMixture {
       c.one_minus_cos = one_minus_cos;
       c.cos_max = 1.0f - one_minus_cos;
       c.cos_axis = cos_axis;
+      c.mass = SpecularTargets::kMassFactor;
+      c.p = q;
+      sum_p += q;
+    }
+    const int images = targets.image_count();
+    const SpecularImage* image = targets.images();
+    for (int j = 0; j < images; ++j) {
+      const SpecularImage& im = image[j];
+      if (!(glm::dot(im.gate_normal, p) > im.gate_offset)) continue;  // the wrong side of the target
+      glm::vec3 d = im.center - p;
+      const glm::vec3 e = im.window_center - p;
+      // The light comes from the target: when the image lies behind p as seen from it (a real
+      // image beyond p), the direction is toward the point 2p - I.
+      if (glm::dot(d, e) < 0) d = -d;
+      const float dn = glm::dot(d, n);
+      if (!(dn > 0)) continue;
+      const float dist2 = glm::dot(d, d);
+      const float r2 = im.radius * im.radius;
+      if (!(dist2 > r2)) continue;  // p inside the image's sphere
+      const float inv_dist = 1.0f / std::sqrt(dist2);
+      // The window: the line from p along d passes the target's sphere, widened by the image
+      // cone's radius at the target's distance t.
+      const float t = glm::dot(e, d) * inv_dist;
+      const float reach = im.window_radius + im.radius * t * inv_dist;
+      if (!(glm::dot(e, e) - t * t <= reach * reach)) continue;
+      const float sin2 = std::min(r2 * (inv_dist * inv_dist), 1.0f);
+      const float one_minus_cos = sin2 / (1.0f + std::sqrt(1.0f - sin2));
+      const float cos_axis = dn * inv_dist;
+      const float q = im.mass * (2.0f * one_minus_cos * cos_axis);
+      if (!(q > 0)) continue;
+      Cone& c = cones_[count_++];
+      c.axis = d * inv_dist;
+      c.one_minus_cos = one_minus_cos;
+      c.cos_max = 1.0f - one_minus_cos;
+      c.cos_axis = cos_axis;
+      c.mass = im.mass;
       c.p = q;
       sum_p += q;
     }
@@ -71,14 +112,14 @@ class TargetMixture {
     const float scale = sum_p > SpecularTargets::kMaxTargetProbability
                             ? SpecularTargets::kMaxTargetProbability / sum_p
                             : 1.0f;
-    // p_k / solid_angle_k = kMassFactor 2 (1 - cos) cos(axis) scale / (2 pi (1 - cos)).
-    const float density_factor = SpecularTargets::kMassFactor * kInvPi * scale;
+    // p_k / solid_angle_k = mass_k 2 (1 - cos) cos(axis) scale / (2 pi (1 - cos)).
+    const float density_factor = kInvPi * scale;
     float cdf = 0;
     for (int k = 0; k < count_; ++k) {
       Cone& c = cones_[k];
       cdf += c.p * scale;
       c.cdf = cdf;
-      c.density = c.cos_axis * density_factor;
+      c.density = (c.mass * c.cos_axis) * density_factor;
     }
     p_targets_ = cdf;
     p_cosine_ = 1.0f - cdf;
@@ -125,11 +166,12 @@ class TargetMixture {
     float one_minus_cos;  ///< 1 - cos theta_max
     float cos_max;
     float cos_axis;       ///< cos of the axis to the normal
+    float mass;           ///< the factor on the cone's share of the cosine strategy
     float p;              ///< p_k before scaling to sum p_k <= kMaxTargetProbability
     float cdf;            ///< p_0 + ... + p_k
     float density;        ///< p_k / solid_angle_k
   };
-  Cone cones_[SpecularTargets::kMaxTargets];
+  Cone cones_[SpecularTargets::kMaxTargets + SpecularTargets::kMaxImages];
   int count_ = 0;
   float p_targets_ = 0, p_cosine_ = 1;
 };
