@@ -120,6 +120,48 @@ TEST(DirectLighting, IrradianceUnderASquareLightMatchesTheClosedForm) {
   EXPECT_NEAR(acc.rgb[0] / acc.count[0], expected, 0.003 * expected);
 }
 
+// Mitsuba's mask on the same floor: a camera ray passes through with probability 1 - opacity
+// and sees nothing below (black), else the floor reflects all its light, so the pixel is opacity
+// times the opaque floor's. Both shading paths: the plain Lambertian one (constant opacity) and
+// the general one (opacity from a texture). Counting opacity twice in the light sample gave
+// opacity^2 times: half and a quarter of the answer here.
+TEST(DirectLighting, AMaskedFloorReflectsOpacityTimesTheLight) {
+  const double h = 1.5, half = 1.0, rho = 0.6, le = 3.0;
+  const double e_over_le = 4.0 * corner_irradiance_over_le(half, half, h);
+  for (const double opacity : {0.5, 0.25}) {
+    for (const bool textured : {false, true}) {
+      Scene s;
+      const uint32_t floor_m = test::add_diffuse(s, {rho, rho, rho});
+      const uint32_t light_m = test::add_diffuse(s, {0, 0, 0});
+      if (textured) {
+        Texture t;
+        t.name = "opacity";
+        t.origin = "test";
+        t.kind = TextureKind::rawconstant;
+        t.value = {opacity, opacity, opacity};
+        t.channels = 1;
+        s.textures.push_back(t);
+        s.materials[floor_m].opacity = {1.0, 0};
+      } else {
+        s.materials[floor_m].opacity = {opacity, -1};
+      }
+      s.shapes.push_back(test::quad({-50, 0, 50}, {50, 0, 50}, {50, 0, -50}, {-50, 0, -50}, floor_m));
+      Shape light = test::quad({-half, h, -half}, {half, h, -half}, {half, h, half}, {-half, h, half},
+                               light_m);
+      light.emission = {le, le, le};
+      s.shapes.push_back(light);
+      s.camera.position = {4.0, 0.5, 0.0};
+      s.camera.look_at = {0, 0, 0};
+      s.camera.fov_deg = 0.01;
+      const double expected = opacity * rho / M_PI * le * e_over_le;
+      const Renderer renderer(s, small_job(1, 1, 1 << 16, 2));
+      const Accumulation acc = renderer.render({0, 0, 1, 1}, 0, 1 << 16);
+      EXPECT_NEAR(acc.rgb[0] / acc.count[0], expected, 0.01 * expected)
+          << "opacity " << opacity << (textured ? ", textured" : ", constant");
+    }
+  }
+}
+
 TEST(DirectLighting, NoEmittersRendersBlackAndTracesNoShadowRays) {
   Scene s;
   const uint32_t m = test::add_diffuse(s, {0.8, 0.8, 0.8});

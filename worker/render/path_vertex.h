@@ -221,7 +221,12 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
 
   // Mitsuba's mask: with probability 1 - opacity the hit is a null interaction, the path goes
   // straight on (a vertex all the same, as in Mitsuba); shadow rays see the surface as opaque,
-  // and light through it arrives by this null scattering with full weight.
+  // and light through it arrives by this null scattering with full weight. Past this point the
+  // vertex was chosen with probability opacity, so its light sample and bounce are the nested
+  // material's, weighed by f alone (not opacity f: that would count opacity twice, an image
+  // darker by the factor opacity wherever it is fractional); the densities given to MIS
+  // (light sample here, BSDF hit at the next vertex) are both opacity times the nested
+  // material's, as Mitsuba's mask reports them, so the two weights still add to one.
   float opacity = 1;
   if (m->masked()) {
     opacity = m->opacity.texture < 0
@@ -290,7 +295,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
           set_shadow_ray(origin, ls, shadow);
           // (albedo / pi) cos Le / pdf, in double so tiny, bright lights cannot overflow.
           shadow->contribution = glm::dvec3(beta) * glm::dvec3(m->albedo) * glm::dvec3(ls.radiance) *
-                                 (double(opacity) * double(cos_surface) * double(kInvPi) * double(w) / double(ls.pdf));
+                                 (double(cos_surface) * double(kInvPi) * double(w) / double(ls.pdf));
           *has_shadow = true;
         }
       }
@@ -337,7 +342,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       const LightSample ls = lights.sample(sp, u_choice.x, u_light);
       if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
         const glm::vec3 wi_local = frame.to_local(ls.wi);
-        const glm::vec3 f = bsdf.eval(wo_local, wi_local) * (opacity * perturbation_factor(shading, ls.wi));
+        const glm::vec3 f = bsdf.eval(wo_local, wi_local) * perturbation_factor(shading, ls.wi);
         // A reflection must leave on the side it arrived from, geometrically too.
         const bool leaks = !m->dielectric() && glm::dot(sp.ng, ls.wi) <= 0;
         if (f != glm::vec3(0.0f) && !leaks) {
