@@ -50,7 +50,14 @@ BIN, WORK, SCENE = os.environ["BIN"], os.environ["WORK"], os.environ["SCENE"]
 RUNS, SIZE, SPP = int(os.environ["RUNS"]), os.environ["SIZE"], os.environ["SPP"]
 BATCH, SEED0 = os.environ["BATCH"], int(os.environ["SEED0"])
 TICK = os.sysconf("SC_CLK_TCK")
-signal.signal(signal.SIGTERM, lambda *_: sys.exit("farm_overhead: terminated"))  # runs `finally`
+running = []  # the child run_child waits for, ended with us
+
+def terminated(*_):
+    for p in running:
+        p.kill()
+    sys.exit("farm_overhead: terminated")  # runs `finally`: the server and worker stop
+
+signal.signal(signal.SIGTERM, terminated)
 
 def job_options(seed):
     opts = ["--width", SIZE, "--height", SIZE, "--spp", SPP, "--seed", str(seed)]
@@ -66,7 +73,9 @@ def run_child(argv, **kw):
     """Runs argv to its end; (wall s, user + sys s of the child and its children)."""
     t0 = time.monotonic()
     p = subprocess.Popen(argv, **kw)
+    running.append(p)
     _, status, usage = os.wait4(p.pid, 0)
+    running.remove(p)
     wall = time.monotonic() - t0
     p.returncode = os.waitstatus_to_exitcode(status)
     if p.returncode != 0:
