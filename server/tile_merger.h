@@ -106,9 +106,9 @@ class TileMerger {
                                           const std::vector<size_t>& ends,
                                           const std::function<bool()>& stop);
 
-  /// Writes every tile of the job whose sum is not all in tiles.accumulation (merged results
+  /// Writes every tile of the job whose sum is not all in its checkpoint (merged results
   /// appended since its last checkpoint) as its checkpoint, in one transaction. Call before
-  /// reading tiles.accumulation (JobStore::tiles): output, previews, tile maps.
+  /// reading the checkpoints (JobStore::tiles): output, previews, tile maps.
   void checkpoint_job(int64_t job_id);
 
   /// Drops the job's tiles from memory (it was deleted).

@@ -10,6 +10,8 @@
 #include <random>
 #include <string>
 
+#include <zstd.h>
+
 namespace tessera {
 namespace {
 
@@ -142,6 +144,29 @@ TEST(AccumulationCodecTest, EncodingIsDeterministic) {
 }
 
 // Reports bytes per pixel for a 64x64 tile of noisy sums (36 bytes/pixel uncompressed).
+// The bytes of format version 1 inside the zstd frame (header copy, counters, byte-shuffled
+// planes) are fixed: an old worker's upload must decode on a new server and the reverse. The
+// hashes were taken from the byte-by-byte shuffle (main 8479b6a) before the planes were moved
+// 8 values at a time (transpose8x8); the frame itself is not pinned (another zstd version may
+// compress the same payload differently).
+TEST(AccumulationCodecTest, ThePayloadIsFormatVersion1ByteForByte) {
+  const auto payload_hash = [](const std::string& encoded) {
+    constexpr size_t kHeaderSize = 51;
+    const unsigned long long size =
+        ZSTD_getFrameContentSize(encoded.data() + kHeaderSize, encoded.size() - kHeaderSize);
+    EXPECT_EQ(size, 147516u);  // 44 + 16 + 64 x 64 x 36
+    std::string payload(size_t(size), '\0');
+    EXPECT_EQ(ZSTD_decompress(payload.data(), payload.size(), encoded.data() + kHeaderSize,
+                              encoded.size() - kHeaderSize),
+              payload.size());
+    uint64_t h = 1469598103934665603ull;  // FNV-1a
+    for (const unsigned char c : payload) h = (h ^ c) * 1099511628211ull;
+    return h;
+  };
+  EXPECT_EQ(payload_hash(encode_accumulation(noisy_accumulation(1, 1))), 0x15de4e62e52ca327ull);
+  EXPECT_EQ(payload_hash(encode_accumulation(noisy_accumulation(16, 1))), 0x78cf8031e81a084aull);
+}
+
 TEST(AccumulationCodecTest, CompressionRatio) {
   for (int spp : {1, 16, 256}) {
     const Accumulation acc = noisy_accumulation(spp, 11);

@@ -7,9 +7,13 @@ namespace tessera::server {
 namespace {
 
 std::string s(JobState state) { return std::string(to_string(state)); }
-std::string s(UnitState state) { return std::string(to_string(state)); }
 
-// Columns of a JobRecord, in the order read_job expects. ?1 is bound to 'leased'.
+// Columns of a JobRecord, in the order read_job expects. 'leased' is a literal, not a bound
+// parameter: compared with a parameter, `u.state` matches the partial indexes on units (WHERE
+// state = 'leased') only once bound, so SQLite compiled the whole statement again on every
+// execution (StoreCounters::reprepares): 8 % of the server's CPU during a 512x512 job watched
+// by one client (BENCHMARKS.md, "Issue 14: the farm's overhead and CPU per result (branch
+// farm13)").
 constexpr const char* kJobColumns = R"sql(
   j.id, j.state, j.priority, j.bundle_sha256, j.scene_file,
   j.width, j.height, j.spp, j.max_depth, j.seed, j.tile_size, j.batch_spp, j.isa,
@@ -17,7 +21,7 @@ constexpr const char* kJobColumns = R"sql(
   j.units_done, j.results_merged, j.results_dropped, j.leases_expired, j.units_released,
   j.samples_merged, j.nan_dropped, j.inf_dropped,
   j.submitted_unix_ms, j.started_unix_ms, j.finished_unix_ms, j.error, j.output_exr, j.output_png,
-  (SELECT COUNT(*) FROM units u WHERE u.job_id = j.id AND u.state = ?1),
+  (SELECT COUNT(*) FROM units u WHERE u.job_id = j.id AND u.state = 'leased'),
   (SELECT MIN(t.spp) FROM tiles t WHERE t.job_id = j.id),
   j.stop_rule, j.time_budget_ms, j.noise_target, j.budget_reached_unix_ms, j.stop_reason,
   j.units_skipped, j.results_wasted,
@@ -89,8 +93,8 @@ int64_t read_id(const Statement& q) { return q.int64(0); }
 
 std::optional<JobRecord> read_one(Database& db, int64_t job_id) {
   static const std::string sql =
-      std::string("SELECT ") + kJobColumns + " FROM jobs j WHERE j.id = ?2";
-  return db.prepare(sql)->bind_all(s(UnitState::leased), job_id).first_row(read_job);
+      std::string("SELECT ") + kJobColumns + " FROM jobs j WHERE j.id = ?1";
+  return db.prepare(sql)->bind_all(job_id).first_row(read_job);
 }
 
 }  // namespace
@@ -99,8 +103,8 @@ std::optional<JobRecord> JobsTable::get(int64_t job_id) { return read_one(db_, j
 
 std::vector<JobRecord> JobsTable::newest(uint32_t limit) {
   static const std::string sql =
-      std::string("SELECT ") + kJobColumns + " FROM jobs j ORDER BY j.id DESC LIMIT ?2";
-  return db_.prepare(sql)->bind_all(s(UnitState::leased), int64_t(limit)).rows(read_job);
+      std::string("SELECT ") + kJobColumns + " FROM jobs j ORDER BY j.id DESC LIMIT ?1";
+  return db_.prepare(sql)->bind_all(int64_t(limit)).rows(read_job);
 }
 
 std::optional<JobSpec> JobsTable::spec(int64_t job_id) {

@@ -267,6 +267,27 @@ DROP TABLE results;
 ALTER TABLE results_by_rowid RENAME TO results;
 CREATE UNIQUE INDEX results_key ON results (job_id, tile, batch);
 )sql"},
+      {10, "tile checkpoints out of the tiles rows", R"sql(
+-- A tile's checkpoint (~100-150 KB for a 64-px tile) was a column of its `tiles` row, ahead of
+-- error, finished and spp (added later by ALTER TABLE): every statement that read those columns
+-- walked the blob's chain of overflow pages to reach them, and every merge's UPDATE of the row
+-- read the whole blob to rebuild the record. A job's status (six aggregates over its tiles,
+-- read for every WatchJob message) cost 16 ms at 64 such tiles, and a merge 4x what it does
+-- without the blob (BENCHMARKS.md, "Issue 14: the farm's overhead and CPU per result (branch
+-- farm13)"). Here the checkpoints live in a table of their own, a rowid table (the blobs only
+-- in its leaves) keyed by (job_id, tile); every checkpoint moves over unchanged.
+CREATE TABLE tile_checkpoints (
+  job_id       INTEGER NOT NULL,
+  tile         INTEGER NOT NULL,
+  accumulation BLOB NOT NULL,             -- encode_accumulation of the tile's batches [0, c)
+  PRIMARY KEY (job_id, tile),
+  FOREIGN KEY (job_id, tile) REFERENCES tiles (job_id, tile) ON DELETE CASCADE
+);
+INSERT INTO tile_checkpoints (job_id, tile, accumulation)
+  SELECT job_id, tile, accumulation FROM tiles WHERE accumulation IS NOT NULL
+  ORDER BY job_id, tile;
+ALTER TABLE tiles DROP COLUMN accumulation;
+)sql"},
   };
   return kMigrations;
 }

@@ -156,6 +156,12 @@ StoreCounters Database::counters() const {
     c.reprepares += uint64_t(statement->status(SQLITE_STMTSTATUS_REPREPARE));
     c.vm_steps += uint64_t(statement->status(SQLITE_STMTSTATUS_VM_STEP));
   }
+  for (const int op : {SQLITE_DBSTATUS_CACHE_HIT, SQLITE_DBSTATUS_CACHE_MISS}) {
+    int current = 0, highwater = 0;
+    if (sqlite3_db_status(db_.get(), op, &current, &highwater, 0) == SQLITE_OK) {
+      c.pages += uint64_t(current);
+    }
+  }
   return c;
 }
 

@@ -137,6 +137,10 @@ struct StoreCounters {
   /// Virtual-machine steps of the cached statements: proportional to the rows visited, so a
   /// scan shows up where an index walk would not.
   uint64_t vm_steps = 0;
+  /// Pages the connection's pager handed out (cache hits and misses, SQLITE_DBSTATUS_CACHE_HIT
+  /// and _MISS): every b-tree and overflow page a statement touched, so reading a blob, or
+  /// walking past one to a later column of its row, shows up in proportion to its size.
+  uint64_t pages = 0;
 };
 
 /// One connection. Opened in WAL mode with foreign keys on and a busy timeout. Not thread-safe:

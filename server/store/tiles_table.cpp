@@ -18,8 +18,9 @@ void TilesTable::insert(int64_t job_id, const std::vector<TileRect>& tiles) {
 std::vector<TileRecord> TilesTable::of_job(int64_t job_id) {
   std::vector<TileRecord> out;
   auto q = db_.prepare(
-      "SELECT tile, x0, y0, x1, y1, next_batch, accumulation, error, finished, spp FROM tiles"
-      " WHERE job_id = ? ORDER BY tile");
+      "SELECT t.tile, t.x0, t.y0, t.x1, t.y1, t.next_batch, c.accumulation, t.error, t.finished,"
+      " t.spp FROM tiles t LEFT JOIN tile_checkpoints c ON c.job_id = t.job_id AND c.tile = t.tile"
+      " WHERE t.job_id = ? ORDER BY t.tile");
   q->bind(1, job_id);
   while (q->step()) {
     TileRecord t;
@@ -64,9 +65,10 @@ std::vector<TilePosition> TilesTable::positions(int64_t job_id) {
 }
 
 std::optional<std::string> TilesTable::checkpoint(int64_t job_id, uint32_t tile) {
-  auto q = db_.prepare("SELECT accumulation FROM tiles WHERE job_id = ? AND tile = ?");
+  auto q =
+      db_.prepare("SELECT accumulation FROM tile_checkpoints WHERE job_id = ? AND tile = ?");
   q->bind(1, job_id).bind(2, tile);
-  if (!q->step() || q->is_null(0)) return std::nullopt;
+  if (!q->step()) return std::nullopt;
   return q->blob(0);
 }
 
@@ -94,10 +96,12 @@ bool TilesTable::advance(int64_t job_id, uint32_t tile, uint32_t from_next_batch
 }
 
 void TilesTable::write_checkpoint(int64_t job_id, uint32_t tile, const std::string& encoded) {
-  db_.prepare("UPDATE tiles SET accumulation = ? WHERE job_id = ? AND tile = ?")
-      ->bind_blob_borrowed(1, encoded)  // `encoded` outlives the run
-      .bind(2, job_id)
-      .bind(3, tile)
+  db_.prepare(
+         "INSERT INTO tile_checkpoints (job_id, tile, accumulation) VALUES (?, ?, ?)"
+         " ON CONFLICT (job_id, tile) DO UPDATE SET accumulation = excluded.accumulation")
+      ->bind(1, job_id)
+      .bind(2, tile)
+      .bind_blob_borrowed(3, encoded)  // `encoded` outlives the run
       .run();
 }
 

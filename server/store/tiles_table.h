@@ -1,6 +1,8 @@
-// The tiles table: one row per tile of a job, its rectangle, its merged prefix (`next_batch`),
-// its checkpoint (the encoded sum of batches the results table no longer holds) and its
-// stopping-rule verdict. Every statement on `tiles` is here. The merge moves `next_batch` by
+// The tiles table: one row per tile of a job, its rectangle, its merged prefix (`next_batch`)
+// and its stopping-rule verdict; and its checkpoint (the encoded sum of batches the results
+// table no longer holds), in `tile_checkpoints` (migration 10: a blob in the tiles row made
+// every read of its later columns and every merge's UPDATE walk the blob's overflow pages).
+// Every statement on `tiles` and `tile_checkpoints` is here. The merge moves `next_batch` by
 // compare-and-set (`advance`): a tile that changed under a merge is an internal error.
 #pragma once
 

@@ -40,8 +40,8 @@ TEST(DeleteJob, OnlyFinalJobsAndEverythingOfThemGoes) {
   ASSERT_EQ(f.jobs.cancel(job, f.clock.now_unix_ms()), CancelOutcome::cancelled);
   EXPECT_EQ(f.jobs.remove(job), DeleteOutcome::deleted);
   EXPECT_FALSE(f.jobs.get(job).has_value());
-  for (const char* table : {"jobs", "tiles", "units", "results", "job_contributors",
-                            "bundles"}) {
+  for (const char* table : {"jobs", "tiles", "tile_checkpoints", "units", "results",
+                            "job_contributors", "bundles"}) {
     EXPECT_EQ(count(f.db, table), 0) << table;
   }
   EXPECT_EQ(f.jobs.remove(job), DeleteOutcome::not_found);

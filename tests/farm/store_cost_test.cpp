@@ -6,11 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "accum/accumulation_codec.h"
 #include "coordinator.h"
 #include "fake_clock.h"
+#include "store/tiles_table.h"
 #include "store_fixture.h"
 
 namespace tessera::server {
@@ -24,7 +26,8 @@ struct CycleCost {
 };
 
 StoreCounters minus(const StoreCounters& a, const StoreCounters& b) {
-  return {a.statements - b.statements, a.reprepares - b.reprepares, a.vm_steps - b.vm_steps};
+  return {a.statements - b.statements, a.reprepares - b.reprepares, a.vm_steps - b.vm_steps,
+          a.pages - b.pages};
 }
 
 class StoreCost : public ::testing::Test {
@@ -200,6 +203,46 @@ TEST_F(StoreCost, ALookSeesASubmitAndAReleaseAtOnce) {
   const std::vector<LeasedUnit> back = look(worker, 1);  // the same instant
   ASSERT_EQ(back.size(), 1u);
   EXPECT_EQ(back.front().lease.tile, held.front().lease.tile);
+}
+
+// A job's status (six aggregates over its tiles, read for every WatchJob message and status
+// call) and a merge's update of its tile touch a few pages whatever the size of the tiles'
+// checkpoints, and the status statement is not compiled again on each read. While the checkpoint was a column of the tiles row ahead of error, finished and
+// spp, both walked every checkpoint's overflow pages: 16 checkpoints of 120 KB made the status
+// read touch 3,477 pages and the tile update 333; now 15 and 2 (migration 10).
+TEST(StoreCostOfCheckpoints, StatusAndMergeTouchNoCheckpointPage) {
+  testing::StoreFixture f;
+  const int64_t job = f.make_job(256, 256, 64, 16, 1);  // 16 tiles of 64x64
+  std::mt19937_64 noise(14);
+  std::vector<std::string> checkpoints;
+  TilesTable tiles(f.db);
+  for (uint32_t t = 0; t < 16; ++t) {
+    std::string bytes(120'000, '\0');  // a 64x64 tile's encoded sum is 100-150 KB
+    for (char& b : bytes) b = char(noise());
+    tiles.write_checkpoint(job, t, bytes);
+    checkpoints.push_back(std::move(bytes));
+  }
+  ASSERT_TRUE(f.jobs.get(job).has_value());  // compiles the statement
+  StoreCounters before = f.db.counters();
+  ASSERT_TRUE(f.jobs.get(job).has_value());
+  const uint64_t status_pages = f.db.counters().pages - before.pages;
+  // Nor is the status statement compiled again on each read (a bound 'leased' made SQLite
+  // re-plan it for the partial indexes on units every time).
+  EXPECT_EQ(f.db.counters().reprepares - before.reprepares, 0u);
+  before = f.db.counters();
+  ASSERT_TRUE(tiles.advance(job, 3, 0, TileProgress{1, 0.5, StopReason::none, 1}));
+  const uint64_t advance_pages = f.db.counters().pages - before.pages;
+  std::printf("pages touched: status %llu, a merge's tile update %llu\n",
+              (unsigned long long)status_pages, (unsigned long long)advance_pages);
+  EXPECT_LE(status_pages, 64u);
+  EXPECT_LE(advance_pages, 16u);
+  // The checkpoints are where they were written, unchanged.
+  EXPECT_EQ(tiles.checkpoint(job, 3), checkpoints[3]);
+  const std::vector<TileRecord> records = f.jobs.tiles(job);
+  ASSERT_EQ(records.size(), 16u);
+  for (uint32_t t = 0; t < 16; ++t) EXPECT_EQ(records[t].accumulation, checkpoints[t]) << t;
+  EXPECT_EQ(records[3].next_batch, 1u);
+  EXPECT_EQ(records[3].spp, 1u);
 }
 
 }  // namespace

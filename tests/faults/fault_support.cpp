@@ -100,7 +100,9 @@ JobOutcome verify_job(const nlohmann::json& status, const std::filesystem::path&
   // and nothing is left outside the checkpoints.
   {
     server::Database store(db.string());
-    auto tiles = store.prepare("SELECT tile, accumulation FROM tiles WHERE job_id = ?");
+    auto tiles = store.prepare(
+        "SELECT t.tile, c.accumulation FROM tiles t LEFT JOIN tile_checkpoints c"
+        " ON c.job_id = t.job_id AND c.tile = t.tile WHERE t.job_id = ?");
     tiles->bind(1, int64_t(id));
     int tile_count = 0;
     while (tiles->step()) {

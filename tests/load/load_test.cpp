@@ -365,7 +365,7 @@ void run_load(uint32_t per_call) {
   EXPECT_EQ(shared.dropped, 0u);
   {
     server::Database store((dir / "farm.db").string());
-    auto q = store.prepare("SELECT job_id, tile, accumulation FROM tiles");
+    auto q = store.prepare("SELECT job_id, tile, accumulation FROM tile_checkpoints");
     uint64_t tiles = 0;
     while (q->step()) {
       ++tiles;

@@ -165,7 +165,9 @@ TEST(FarmE2E, ServerKilledMidJobResumesWithoutLosingOrDoubleMerging) {
   // samples, so no batch was merged twice or lost.
   {
     server::Database db(farm.db_path().string());
-    auto q = db.prepare("SELECT accumulation FROM tiles WHERE job_id = ?");
+    auto q = db.prepare(
+        "SELECT c.accumulation FROM tiles t LEFT JOIN tile_checkpoints c"
+        " ON c.job_id = t.job_id AND c.tile = t.tile WHERE t.job_id = ?");
     q->bind(1, int64_t(id));
     int tiles = 0;
     while (q->step()) {

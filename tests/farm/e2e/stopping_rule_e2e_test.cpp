@@ -46,7 +46,9 @@ struct StoredTile {
 std::vector<StoredTile> stored_tiles(FarmCluster& farm, uint64_t job_id, uint32_t batch_spp) {
   server::Database db(farm.db_path().string());
   auto q = db.prepare(
-      "SELECT next_batch, error, finished, accumulation FROM tiles WHERE job_id = ? ORDER BY tile");
+      "SELECT t.next_batch, t.error, t.finished, c.accumulation FROM tiles t"
+      " LEFT JOIN tile_checkpoints c ON c.job_id = t.job_id AND c.tile = t.tile"
+      " WHERE t.job_id = ? ORDER BY t.tile");
   q->bind(1, int64_t(job_id));
   std::vector<StoredTile> out;
   while (q->step()) {
