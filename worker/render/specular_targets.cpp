@@ -10,6 +10,7 @@
 #include <glm/mat3x3.hpp>
 #include <string>
 
+#include "accum/accumulation.h"
 #include "geometry.h"
 #include "material.h"
 #include "warp.h"
@@ -115,7 +116,13 @@ SpecularTarget shape_sphere(const Geometry& g, const glm::mat4* to_world) {
 /// How many SpecularTargets::DisabledForTest are alive.
 std::atomic<int> disabled_for_test{0};
 
-float luminance(glm::vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+/// Triangle `tri` of `g` in world space.
+void world_triangle(const Geometry& g, const glm::mat4* to_world, const glm::u32vec3& tri, glm::vec3 v[3]) {
+  for (int k = 0; k < 3; ++k) {
+    const glm::vec3 p = g.positions[tri[k]];
+    v[k] = to_world ? glm::vec3(*to_world * glm::vec4(p, 1.0f)) : p;
+  }
+}
 
 /// The world-space area of a shape (spheres and triangle meshes; 0 for other kinds).
 float shape_area(const Geometry& g, const glm::mat4* to_world) {
@@ -127,10 +134,7 @@ float shape_area(const Geometry& g, const glm::mat4* to_world) {
   double area = 0;
   for (const glm::u32vec3& tri : g.indices) {
     glm::vec3 v[3];
-    for (int k = 0; k < 3; ++k) {
-      const glm::vec3 p = g.positions[tri[k]];
-      v[k] = to_world ? glm::vec3(*to_world * glm::vec4(p, 1.0f)) : p;
-    }
+    world_triangle(g, to_world, tri, v);
     area += 0.5 * glm::length(glm::cross(glm::dvec3(v[1] - v[0]), glm::dvec3(v[2] - v[0])));
   }
   return float(area);
@@ -151,10 +155,7 @@ std::vector<std::vector<glm::vec3>> SpecularTargets::flat_faces(const Geometry& 
   const double size = std::max(1e-30, double(shape_sphere(g, to_world).radius));
   for (const glm::u32vec3& tri : g.indices) {
     glm::vec3 v[3];
-    for (int k = 0; k < 3; ++k) {
-      const glm::vec3 p = g.positions[tri[k]];
-      v[k] = to_world ? glm::vec3(*to_world * glm::vec4(p, 1.0f)) : p;
-    }
+    world_triangle(g, to_world, tri, v);
     const glm::dvec3 c = glm::cross(glm::dvec3(v[1] - v[0]), glm::dvec3(v[2] - v[0]));
     const double len = glm::length(c);
     if (!(len > 0)) continue;  // degenerate: no plane
@@ -267,7 +268,8 @@ SpecularTargets::SpecularTargets(const std::vector<ShapeRef>& shapes, const std:
     const Geometry& g = *s.geometry;
     if (g.emission.x > 0 || g.emission.y > 0 || g.emission.z > 0) {
       const SpecularTarget t = shape_sphere(g, s.to_world);
-      const float power = luminance(g.emission) * shape_area(g, s.to_world) * (g.two_sided_emission ? 2.0f : 1.0f);
+      const float power = float(luminance(g.emission.x, g.emission.y, g.emission.z)) * shape_area(g, s.to_world) *
+                          (g.two_sided_emission ? 2.0f : 1.0f);
       if (t.radius > 0 && std::isfinite(t.radius) && power > 0 && std::isfinite(power)) lamps.push_back({t, power});
     }
     if (g.material >= materials.size() || !purely_specular(materials[g.material], materials)) continue;
@@ -304,8 +306,27 @@ void SpecularTargets::build_images(const std::vector<Candidate>& targets, const 
   const auto intercepted = [](float r, float d, float cos_tilt) {
     return std::min(0.5f, r * r * cos_tilt / (4.0f * d * d));
   };
+  // A mirror's flat faces and the centroid of their vertices (the inside the faces bound), found
+  // once per target, not once per lamp.
+  struct Faces {
+    std::vector<std::vector<glm::vec3>> faces;
+    glm::vec3 inside{0.0f};
+  };
+  std::vector<Faces> flat(targets.size());
+  for (size_t i = 0; i < targets.size(); ++i) {
+    const MaterialType type = targets[i].material->type;
+    if (type == MaterialType::glass || type == MaterialType::thin_glass) continue;
+    flat[i].faces = flat_faces(*targets[i].geometry, targets[i].to_world);
+    size_t n = 0;
+    for (const auto& face : flat[i].faces) {
+      for (const glm::vec3& v : face) flat[i].inside += v;
+      n += face.size();
+    }
+    if (n > 0) flat[i].inside /= float(n);
+  }
   for (const Lamp& lamp : lamps) {
-    for (const Candidate& t : targets) {
+    for (size_t i = 0; i < targets.size(); ++i) {
+      const Candidate& t = targets[i];
       const MaterialType type = t.material->type;
       const bool refracts = type == MaterialType::glass || type == MaterialType::thin_glass;
       const float d = glm::length(lamp.sphere.center - t.sphere.center);
@@ -318,22 +339,15 @@ void SpecularTargets::build_images(const std::vector<Candidate>& targets, const 
         }
         continue;
       }
-      const std::vector<std::vector<glm::vec3>> faces = flat_faces(*t.geometry, t.to_world);
+      const std::vector<std::vector<glm::vec3>>& faces = flat[i].faces;
       if (faces.empty()) {
         if (auto image = convex_mirror_image(t.sphere.center, t.sphere.radius, lamp.sphere.center, lamp.sphere.radius)) {
           all.push_back({*image, lamp.power * intercepted(t.sphere.radius, d, 1.0f)});
         }
         continue;
       }
-      glm::vec3 inside(0.0f);
-      size_t n = 0;
       for (const auto& face : faces) {
-        for (const glm::vec3& v : face) inside += v;
-        n += face.size();
-      }
-      inside /= float(n);
-      for (const auto& face : faces) {
-        if (auto image = flat_mirror_image(face, inside, lamp.sphere.center, lamp.sphere.radius)) {
+        if (auto image = flat_mirror_image(face, flat[i].inside, lamp.sphere.center, lamp.sphere.radius)) {
           const glm::vec3 to_lamp = lamp.sphere.center - image->window_center;
           const float dist = glm::length(to_lamp);
           if (!(dist > 0)) continue;
@@ -346,10 +360,7 @@ void SpecularTargets::build_images(const std::vector<Candidate>& targets, const 
   // Largest score first; equal scores keep the order of lamps, then targets, then faces.
   std::stable_sort(all.begin(), all.end(), [](const Scored& a, const Scored& b) { return a.score > b.score; });
   image_count_ = int(std::min(all.size(), size_t(kMaxImages)));
-  for (int i = 0; i < image_count_; ++i) {
-    images_[i] = all[size_t(i)].image;
-    images_[i].mass = kImageMassFactor;
-  }
+  for (int i = 0; i < image_count_; ++i) images_[i] = all[size_t(i)].image;
 }
 
 SpecularTargets::Lanes SpecularTargets::empty_lanes() {

@@ -36,8 +36,6 @@ struct SpecularImage {
   float gate_offset = 0;
   glm::vec3 window_center{0.0f};
   float window_radius = 0;
-  /// Multiplies the cone's share of the cosine strategy (TargetMixture::init).
-  float mass = 0;
 };
 
 /// The targets of one scene, built once from it (TraceableScene) and read-only afterwards.
@@ -59,7 +57,7 @@ class SpecularTargets {
   /// test, and a few dozen instructions where it passes. Beyond it the images with the largest
   /// score (the emitter's power times the fraction of it the target intercepts) are kept.
   static constexpr int kMaxImages = 8;
-  /// An image's cone gets this many times its share of the cosine strategy: it carries a
+  /// An image's cone gets this many times its share of the cosine strategy (every image alike): it carries a
   /// lamp's radiance, where a bounding sphere's cone mostly shows what the glass refracts of
   /// the room (measured: docs/renderer.md).
   static constexpr float kImageMassFactor = 4.0f;

@@ -97,14 +97,14 @@ class TargetMixture {
       const float sin2 = std::min(r2 * (inv_dist * inv_dist), 1.0f);
       const float one_minus_cos = sin2 / (1.0f + std::sqrt(1.0f - sin2));
       const float cos_axis = dn * inv_dist;
-      const float q = im.mass * (2.0f * one_minus_cos * cos_axis);
+      const float q = SpecularTargets::kImageMassFactor * (2.0f * one_minus_cos * cos_axis);
       if (!(q > 0)) continue;
       Cone& c = cones_[count_++];
       c.axis = d * inv_dist;
       c.one_minus_cos = one_minus_cos;
       c.cos_max = 1.0f - one_minus_cos;
       c.cos_axis = cos_axis;
-      c.mass = im.mass;
+      c.mass = SpecularTargets::kImageMassFactor;
       c.p = q;
       sum_p += q;
     }
