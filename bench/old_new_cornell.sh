@@ -21,7 +21,7 @@ for r in $(seq 1 "$ROUNDS"); do
     echo "diffuse_s $r $b $t $(cut -d' ' -f1 /proc/loadavg)" | tee -a "$out/all"
     for th in 1 2; do
       ks=$("$dir/tessera-worker" render scenes/cornell.json --width 256 --height 256 --spp 16 \
-          --threads $th -o "$out/x.exr" 2>&1 | sed -n 's/^rendered.* \([0-9.]*\) k samples\/s.*/\1/p')
+          --threads $th -o "$out/x.exr" 2>&1 | awk '/^rendered/{for (i = 2; i < NF; ++i) if ($(i + 1) ~ /^(k|M)$/ && $(i + 2) ~ /^samples\/s/) {print ($(i + 1) == "M" ? $i * 1000 : $i); exit}}')
       echo "ksps_t$th $r $b $ks $(cut -d' ' -f1 /proc/loadavg)" | tee -a "$out/all"
     done
   done
