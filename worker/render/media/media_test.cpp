@@ -74,7 +74,7 @@ TEST(Phase, DensityIsNormalisedWithMeanCosineG) {
 
 // ------------------------------------------------------------------------- free flights
 
-RenderMedium homogeneous(glm::vec3 sigma_t, glm::vec3 albedo) {
+RenderMedium homogeneous_medium(glm::vec3 sigma_t, glm::vec3 albedo) {
   Medium m;
   m.sigma_t.value = glm::dvec3(sigma_t);
   m.albedo.value = glm::dvec3(albedo);
@@ -154,14 +154,14 @@ void expect_flights(const FlightMeans& r, glm::dvec3 tr, glm::dvec3 albedo) {
 TEST(FreeFlight, HomogeneousRgbIsUnbiasedPerChannel) {
   const TextureSet none;
   const glm::vec3 sigma(1.0f, 5.0f, 0.2f), albedo(0.9f, 0.5f, 0.7f);
-  const RenderMedium m = homogeneous(sigma, albedo);
+  const RenderMedium m = homogeneous_medium(sigma, albedo);
   for (float t : {0.05f, 0.7f, 3.0f}) {
     SCOPED_TRACE(t);
     const FlightMeans r = flight_means(m, none, glm::vec3(0.0f), glm::vec3(0, 0, 1), t, 400000);
     expect_flights(r, homogeneous_transmittance(sigma, t), glm::dvec3(albedo));
   }
   // A channel of zero extinction passes everything, also to infinity, where the others scatter.
-  const RenderMedium clear_red = homogeneous({0, 2, 2}, {1, 1, 1});
+  const RenderMedium clear_red = homogeneous_medium({0, 2, 2}, {1, 1, 1});
   const FlightMeans r = flight_means(clear_red, none, glm::vec3(0.0f), glm::vec3(0, 0, 1),
                                      std::numeric_limits<float>::infinity(), 100000);
   EXPECT_NEAR(r.pass.x, 1.0, 5 * r.pass_se.x + 1e-9);
@@ -172,7 +172,7 @@ TEST(FreeFlight, HomogeneousRgbIsUnbiasedPerChannel) {
 TEST(FreeFlight, HomogeneousDistancesFollowTheBalancePdf) {
   // The sampled distances' histogram against the mean of the channels' densities.
   const glm::vec3 sigma(0.5f, 2.0f, 8.0f);
-  const RenderMedium m = homogeneous(sigma, glm::vec3(1.0f));
+  const RenderMedium m = homogeneous_medium(sigma, glm::vec3(1.0f));
   const TextureSet none;
   const int n = 300000, bins = 40;
   const double t_max = 4;
@@ -237,7 +237,7 @@ TEST(FreeFlight, HeterogeneousDeltaTrackingIsUnbiased) {
 }
 
 TEST(Transmittance, HomogeneousIsTheClosedForm) {
-  const RenderMedium m = homogeneous({0.5f, 2.0f, 0.0f}, glm::vec3(0.5f));
+  const RenderMedium m = homogeneous_medium({0.5f, 2.0f, 0.0f}, glm::vec3(0.5f));
   const TextureSet none;
   TrackingStream stream(0);
   const glm::dvec3 tr = m.transmittance(glm::vec3(0.0f), glm::vec3(0, 1, 0), 1.5f, stream, none);
@@ -285,7 +285,7 @@ Scene medium_sphere_scene(Medium medium, uint32_t boundary_type, double le, doub
   return s;
 }
 
-Estimate render_mean(const Scene& s, uint32_t spp, int size = 8, int max_depth = -1, Accumulation* out = nullptr) {
+Estimate render_medium_mean(const Scene& s, uint32_t spp, int size = 8, int max_depth = -1, Accumulation* out = nullptr) {
   const Renderer renderer(s, test::test_job(size, size, spp, max_depth));
   const Accumulation acc = test::render_batches(renderer, spp, spp);
   EXPECT_TRUE(test::all_finite(acc));
@@ -293,7 +293,7 @@ Estimate render_mean(const Scene& s, uint32_t spp, int size = 8, int max_depth =
   return test::mean_luminance(acc);
 }
 
-Medium fog(glm::dvec3 sigma_t, glm::dvec3 albedo, double g = 0) {
+Medium fog_medium(glm::dvec3 sigma_t, glm::dvec3 albedo, double g = 0) {
   Medium m;
   m.sigma_t.value = sigma_t;
   m.albedo.value = albedo;
@@ -315,8 +315,8 @@ TEST(MediaRender, FurnaceRendersTheEnvironment) {
                         Case{"null, camera inside", 0, 0.0, 0.3}, Case{"g 0.99", 0, 0.99, 4.0},
                         Case{"g -0.99", 0, -0.99, 4.0}}) {
     SCOPED_TRACE(c.name);
-    const Scene s = medium_sphere_scene(fog({2, 0.5, 6}, {1, 1, 1}, c.g), c.boundary, 0.8, c.camera_z);
-    const Estimate e = render_mean(s, 1024);
+    const Scene s = medium_sphere_scene(fog_medium({2, 0.5, 6}, {1, 1, 1}, c.g), c.boundary, 0.8, c.camera_z);
+    const Estimate e = render_medium_mean(s, 1024);
     EXPECT_NEAR(e.mean, 0.8, test::tolerance(e, 0.8));
     // The estimator's own standard error here is 0.003-0.012 (measured; the channels' differing
     // weights and roulette): an error that only adds variance, such as weights that grow
@@ -330,9 +330,9 @@ TEST(MediaRender, AbsorbingSphereSeenFromItsCentre) {
   // leaves with exp(-sigma_t) of the environment, per channel. The sampled channel decides
   // nothing here: the balance weights give each channel its own transmittance exactly.
   const glm::dvec3 sigma(0.3, 1.5, 4.0);
-  const Scene s = medium_sphere_scene(fog(sigma, {0, 0, 0}), 0, 1.0, 0.0);
+  const Scene s = medium_sphere_scene(fog_medium(sigma, {0, 0, 0}), 0, 1.0, 0.0);
   Accumulation acc(TileRect{0, 0, 1, 1});
-  render_mean(s, 4096, 4, -1, &acc);
+  render_medium_mean(s, 4096, 4, -1, &acc);
   double r = 0, g = 0, b = 0, n = 0;
   for (size_t i = 0; i < acc.pixels(); ++i) {
     r += acc.rgb[i * 3];
@@ -350,32 +350,79 @@ TEST(MediaRender, AbsorbingSphereSeenFromItsCentre) {
 TEST(MediaRender, Extremes) {
   // sigma_t 0: the medium is vacuum, the null boundary invisible: exactly the environment.
   {
-    const Estimate e = render_mean(medium_sphere_scene(fog({0, 0, 0}, {0.5, 0.5, 0.5}), 0, 0.6, 4.0), 16);
+    const Estimate e = render_medium_mean(medium_sphere_scene(fog_medium({0, 0, 0}, {0.5, 0.5, 0.5}), 0, 0.6, 4.0), 16);
     EXPECT_NEAR(e.mean, 0.6, test::tolerance(e, 0.6));
     EXPECT_LT(e.se, 1e-9);
   }
   // sigma_t 1e6, albedo 1 behind a null boundary: a lossless, practically opaque ball still
   // sends the environment back (every path scatters right at the surface and walks out).
   {
-    const Estimate e = render_mean(medium_sphere_scene(fog({1e6, 1e6, 1e6}, {1, 1, 1}), 0, 0.6, 4.0), 16);
+    const Estimate e = render_medium_mean(medium_sphere_scene(fog_medium({1e6, 1e6, 1e6}, {1, 1, 1}), 0, 0.6, 4.0), 16);
     EXPECT_NEAR(e.mean, 0.6, test::tolerance(e, 0.6));
   }
-  // sigma_t 1e6, albedo 0.5: dark but finite, no NaN (render_mean checks every sample).
+  // sigma_t 1e6, albedo 0.5: dark but finite, no NaN (render_medium_mean checks every sample).
   {
-    const Estimate e = render_mean(medium_sphere_scene(fog({1e6, 1, 1e6}, {0.5, 0.5, 0.5}), 0, 1.0, 4.0), 16);
+    const Estimate e = render_medium_mean(medium_sphere_scene(fog_medium({1e6, 1, 1e6}, {0.5, 0.5, 0.5}), 0, 1.0, 4.0), 16);
     EXPECT_TRUE(std::isfinite(e.mean));
     EXPECT_LT(e.mean, 1.0);
   }
   // max_depth 1: only what the camera sees directly; through the absorbing-free null boundary
   // the environment attenuated by the ball (nothing scatters into view).
   {
-    const Estimate e = render_mean(medium_sphere_scene(fog({0, 0, 0}, {1, 1, 1}), 0, 0.5, 4.0), 8, 8, 1);
+    const Estimate e = render_medium_mean(medium_sphere_scene(fog_medium({0, 0, 0}, {1, 1, 1}), 0, 0.5, 4.0), 8, 8, 1);
     EXPECT_NEAR(e.mean, 0.5, test::tolerance(e, 0.5));
   }
 }
 
+/// medium_sphere_scene with a heterogeneous medium: a 2 x 2 x 2 grid of `values` (times
+/// `scale`) over the sphere's bounding box [-1, 1]^3.
+Scene grid_sphere_scene(std::vector<float> values, double scale, double albedo, double le) {
+  Medium m;
+  m.kind = MediumKind::heterogeneous;
+  m.sigma_t = {glm::dvec3(1.0), 0};
+  m.albedo.value = glm::dvec3(albedo);
+  m.scale = scale;
+  Scene s = medium_sphere_scene(m, 0, le, 4.0);
+  auto grid = std::make_shared<VolumeGridFile>();
+  grid->resolution = {2, 2, 2};
+  grid->channels = 1;
+  grid->values = std::move(values);
+  Texture t;
+  t.name = "density";
+  t.kind = TextureKind::volume;
+  t.file = "density.vol";
+  t.grid = grid;
+  t.wrap = TextureWrap::clamp;
+  t.volume_to_world = glm::dmat4(2.0);  // [0, 1]^3 -> [-1, 1]^3
+  t.volume_to_world[3] = glm::dvec4(-1, -1, -1, 1);
+  s.textures.push_back(t);
+  return s;
+}
+
+TEST(MediaRender, HeterogeneousFurnaceAndAnEmptyGrid) {
+  // Delta tracking through the whole integrator: a lossless, varying medium returns the
+  // environment.
+  {
+    const Estimate e = render_medium_mean(grid_sphere_scene({0, 1, 2, 3, 4, 5, 6, 7}, 1.0, 1.0, 0.8), 1024);
+    EXPECT_NEAR(e.mean, 0.8, test::tolerance(e, 0.8));
+    EXPECT_LT(e.se, 0.02) << "standard error " << e.se;
+  }
+  // A medium with nothing in it (a grid of zeros, majorant 0): the environment exactly.
+  {
+    const Estimate e = render_medium_mean(grid_sphere_scene({0, 0, 0, 0, 0, 0, 0, 0}, 5.0, 0.5, 0.7), 16);
+    EXPECT_NEAR(e.mean, 0.7, test::tolerance(e, 0.7));
+    EXPECT_LT(e.se, 1e-9);
+  }
+  // An absorbing grid (albedo 0) is darker than the environment, never NaN.
+  {
+    const Estimate e = render_medium_mean(grid_sphere_scene({1, 2, 3, 4, 5, 6, 7, 8}, 2.0, 0.0, 1.0), 64);
+    EXPECT_LT(e.mean, 0.95);
+    EXPECT_GT(e.mean, 0.0);
+  }
+}
+
 TEST(MediaRender, OneOrTwoThreadsAndEitherIntegratorGiveTheSameBits) {
-  const Scene s = medium_sphere_scene(fog({2, 0.5, 6}, {0.9, 0.8, 1}, 0.4), 1, 0.8, 4.0);
+  const Scene s = medium_sphere_scene(fog_medium({2, 0.5, 6}, {0.9, 0.8, 1}, 0.4), 1, 0.8, 4.0);
   const Renderer scalar(s, test::test_job(16, 16, 8), {}, IntegratorKind::scalar);
   const Renderer wavefront(s, test::test_job(16, 16, 8), {}, IntegratorKind::wavefront);
   EXPECT_EQ(wavefront.integrator(), IntegratorKind::scalar);  // media render in the scalar order

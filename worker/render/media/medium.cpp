@@ -9,10 +9,10 @@
 namespace tessera {
 namespace {
 
-float mean(glm::vec3 v) { return (v.x + v.y + v.z) * (1.0f / 3.0f); }
+float channel_mean(glm::vec3 v) { return (v.x + v.y + v.z) * (1.0f / 3.0f); }
 
 /// The largest value of a volume texture's grid (or its constant), for the majorant.
-float texture_maximum(const Texture& t) {
+float volume_maximum(const Texture& t) {
   if (!t.grid) return float(std::max({t.value.x, t.value.y, t.value.z}));
   float m = 0;
   for (float v : t.grid->values) m = std::max(m, v);
@@ -34,7 +34,7 @@ RenderMedium make_render_medium(const Medium& m, const std::vector<Texture>& tex
     float grid_max = 1;
     if (r.sigma_t_texture >= 0) {
       const Texture& t = textures[size_t(r.sigma_t_texture)];
-      grid_max = texture_maximum(t);
+      grid_max = volume_maximum(t);
       // Empty outside the volume's box (a constvolume's too: Mitsuba's Volume::bbox).
       r.bounded = true;
       r.world_to_grid = glm::mat4(glm::inverse(t.volume_to_world));
@@ -110,15 +110,15 @@ FreeFlight RenderMedium::sample_flight(glm::vec3 o, glm::vec3 d, float t_max, fl
     if (!(t < double(t1))) return f;  // reached the end of the medium's part of the ray
     const glm::vec3 p = o + float(t) * d;
     const glm::vec3 s = sigma_t_at(p, textures);
-    const float p_real = std::min(mean(s) / majorant, 1.0f);
+    const float p_real = std::min(channel_mean(s) / majorant, 1.0f);
     if (stream.next() < p_real) {
       f.scattered = true;
       f.t = float(t);
-      f.weight *= glm::dvec3(albedo_at(p, textures)) * glm::dvec3(s) / double(mean(s));
+      f.weight *= glm::dvec3(albedo_at(p, textures)) * glm::dvec3(s) / double(channel_mean(s));
       return f;
     }
     // A null collision: each channel's weight (majorant - sigma_c) / (majorant (1 - p_real)).
-    f.weight *= (double(majorant) - glm::dvec3(s)) / (double(majorant) - double(mean(s)));
+    f.weight *= (double(majorant) - glm::dvec3(s)) / (double(majorant) - double(channel_mean(s)));
   }
 }
 

@@ -12,18 +12,12 @@
 namespace tessera {
 namespace {
 
-using path_vertex_detail::mis_weight;
-using path_vertex_detail::perturbation_factor;
-using path_vertex_detail::shading_frame;
-using path_vertex_detail::ShadingFrame;
-using path_vertex_detail::texture_point;
-
 /// Russian roulette starts at this scattering event (counted from 1), as trace_path starts it
 /// at its third vertex.
 constexpr int kVolumeRouletteDepth = 3;
-constexpr double kMaxSurvival = 0.95;
+constexpr double kVolumeMaxSurvival = 0.95;
 
-double max_component(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+double max_channel(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 
 /// The key of the tracking streams of event pair `pair`: its independent pair's 48 bits, with
 /// `salt` to tell the free flight's stream from the shadow rays'.
@@ -51,7 +45,7 @@ glm::vec3 null_transmission(const TraceableScene& scene, const Hit& h, glm::vec3
   const RenderMaterial& m = scene.material(h.geometry->material);
   glm::vec3 thin(0.0f);
   if (m.type == MaterialType::thin_glass) {
-    const BsdfParams p = bsdf_params(m, scene.textures(), texture_point(h));
+    const BsdfParams p = bsdf_params(m, scene.textures(), path_vertex_detail::texture_point(h));
     float r = fresnel_dielectric_signed(std::abs(glm::dot(d, h.sp.ng)), p.eta).r;
     r *= 2.0f / (1.0f + r);  // as ThinDielectricBsdf: the reflections inside the sheet
     thin = (1.0f - r) * p.specular_transmittance;
@@ -60,7 +54,7 @@ glm::vec3 null_transmission(const TraceableScene& scene, const Hit& h, glm::vec3
   const float opacity =
       m.opacity.texture < 0
           ? m.opacity.value
-          : std::clamp(m.opacity.value * scene.textures().lookup_1(m.opacity.texture, texture_point(h)), 0.0f, 1.0f);
+          : std::clamp(m.opacity.value * scene.textures().lookup_1(m.opacity.texture, path_vertex_detail::texture_point(h)), 0.0f, 1.0f);
   return (1.0f - opacity) + opacity * thin;
 }
 
@@ -90,7 +84,7 @@ glm::dvec3 shadow_transmittance(const TraceableScene& scene, glm::vec3 origin, c
     if (medium >= 0) {
       tr *= scene.medium(medium).transmittance(o, r.d, segment, stream, scene.textures());
     }
-    if (!found || !(max_component(tr) > 0)) return found ? glm::dvec3(0.0) : tr;
+    if (!found || !(max_channel(tr) > 0)) return found ? glm::dvec3(0.0) : tr;
     const glm::vec3 pass = null_transmission(scene, h, r.d);
     if (!(std::max({pass.x, pass.y, pass.z}) > 0)) return glm::dvec3(0.0);
     tr *= glm::dvec3(pass);
@@ -118,7 +112,7 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
 
   auto roulette = [&](float u) {
     if (depth < kVolumeRouletteDepth) return true;
-    const double survival = std::min(max_component(beta) * eta_scale, kMaxSurvival);
+    const double survival = std::min(max_channel(beta) * eta_scale, kVolumeMaxSurvival);
     if (!(double(u) < survival)) return false;
     beta /= survival;
     return true;
@@ -140,7 +134,7 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
       TrackingStream stream(stream_key(sampler, pair + 5, 0));
       const FreeFlight flight = m.sample_flight(ray.o, ray.d, t_hit, u_flight.x, u_flight.y, stream, textures);
       beta *= flight.weight;
-      if (!(max_component(beta) > 0)) break;
+      if (!(max_channel(beta) > 0)) break;
       if (flight.scattered) {
         const glm::vec3 p = ray.o + flight.t * ray.d;
         ++depth;
@@ -155,7 +149,7 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
             const float phase = m.phase.eval(ray.d, ls.wi);
             TrackingStream shadow_stream(stream_key(sampler, pair + 5, 1));
             const glm::dvec3 tr = shadow_transmittance(scene, p, ls, medium, shadow_stream, counters);
-            const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, phase);
+            const float w = ls.delta ? 1.0f : path_vertex_detail::mis_weight(ls.pdf, phase);
             radiance += beta * glm::dvec3(ls.radiance) * tr * (double(phase) * double(w) / double(ls.pdf));
           }
         }
@@ -175,7 +169,7 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
     if (!found) {
       if (lights.has_environment() && !(depth == 0 && hide)) {
         const glm::vec3 le = lights.environment(ray.d);
-        const float w = count_direct ? 1.0f : mis_weight(prev_pdf, lights.pdf_environment(prev_sp, ray.d));
+        const float w = count_direct ? 1.0f : path_vertex_detail::mis_weight(prev_pdf, lights.pdf_environment(prev_sp, ray.d));
         radiance += beta * glm::dvec3(le) * double(w);
       }
       break;
@@ -185,23 +179,20 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
     const Geometry& g = *hit.geometry;
     const glm::vec3 wo = -ray.d;
     const glm::vec3 ng_front = hit.sp.ng;
-    // Passes straight on: a hidden emitter seen from the camera (as trace_path), a mask's null
-    // part. No scattering event: depth and the MIS state stay.
+    // Passes straight on: a mask's null part. No scattering event: depth and the MIS state stay.
     auto pass_through = [&]() {
       medium = medium_after(scene, hit, ng_front, ray.d, medium);
       ray.o = offset_ray_origin(hit.sp, ray.d);
       ray.t_max = std::numeric_limits<float>::infinity();
     };
-    if (g.emitter >= 0) {
-      if (depth == 0 && hide) {
-        pass_through();
-        continue;
-      }
+    // Mitsuba's volpath hides an emitter the camera sees by leaving its emission out; the
+    // surface is shaded all the same (its path integrator and trace_path let the ray pass).
+    if (g.emitter >= 0 && !(depth == 0 && hide)) {
       const glm::vec3 le = lights.emitted(g, hit.primitive, hit.uv, hit.sp.ng, wo);
       if (le != glm::vec3(0.0f)) {
         const float w = count_direct
                             ? 1.0f
-                            : mis_weight(prev_pdf, lights.pdf_area(g, hit.primitive, prev_sp, hit.sp.p, hit.sp.ng));
+                            : path_vertex_detail::mis_weight(prev_pdf, lights.pdf_area(g, hit.primitive, prev_sp, hit.sp.p, hit.sp.ng));
         radiance += beta * glm::dvec3(le) * double(w);
       }
     }
@@ -210,7 +201,7 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
     if (m->masked()) {
       opacity = m->opacity.texture < 0
                     ? m->opacity.value
-                    : std::clamp(m->opacity.value * textures.lookup_1(m->opacity.texture, texture_point(hit)), 0.0f, 1.0f);
+                    : std::clamp(m->opacity.value * textures.lookup_1(m->opacity.texture, path_vertex_detail::texture_point(hit)), 0.0f, 1.0f);
       sampler.set_pair(pair + 4);
       if (sampler.get2d().y >= opacity) {
         pass_through();
@@ -227,9 +218,9 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
       sp.ng = -sp.ng;
       hit.ns = -hit.ns;
     }
-    const ShadingFrame shading = shading_frame(hit, *m, textures, scene.has_uv(), wo);
+    const path_vertex_detail::ShadingFrame shading = path_vertex_detail::shading_frame(hit, *m, textures, scene.has_uv(), wo);
     const Frame& frame = shading.frame;
-    const Bsdf bsdf(bsdf_params(*m, textures, texture_point(hit)));
+    const Bsdf bsdf(bsdf_params(*m, textures, path_vertex_detail::texture_point(hit)));
     const glm::vec3 wo_local = frame.to_local(wo);
     sampler.set_pair(pair + 1);
     const glm::vec2 u_choice = sampler.get2d_independent();
@@ -239,14 +230,14 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
       const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
       if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
         const glm::vec3 wi_local = frame.to_local(ls.wi);
-        const glm::vec3 f = bsdf.eval(wo_local, wi_local) * perturbation_factor(shading, ls.wi);
+        const glm::vec3 f = bsdf.eval(wo_local, wi_local) * path_vertex_detail::perturbation_factor(shading, ls.wi);
         const bool leaks = !m->dielectric() && glm::dot(sp.ng, ls.wi) <= 0;
         if (f != glm::vec3(0.0f) && !leaks) {
           const glm::vec3 origin = offset_ray_origin(sp, ls.wi);
           const int32_t shadow_medium = medium_after(scene, hit, ng_front, ls.wi, medium);
           TrackingStream shadow_stream(stream_key(sampler, pair + 5, 1));
           const glm::dvec3 tr = shadow_transmittance(scene, origin, ls, shadow_medium, shadow_stream, counters);
-          const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, bsdf.pdf(wo_local, wi_local) * opacity);
+          const float w = ls.delta ? 1.0f : path_vertex_detail::mis_weight(ls.pdf, bsdf.pdf(wo_local, wi_local) * opacity);
           radiance += beta * glm::dvec3(f) * glm::dvec3(ls.radiance) * tr * (double(w) / double(ls.pdf));
         }
       }
@@ -262,10 +253,10 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
     if (!(len2 > 0)) break;
     wi /= std::sqrt(len2);
     if (!m->dielectric() && glm::dot(wi, sp.ng) <= 0) break;
-    const float perturbation = perturbation_factor(shading, wi);
+    const float perturbation = path_vertex_detail::perturbation_factor(shading, wi);
     if (!(perturbation > 0)) break;
     beta *= glm::dvec3(bs->weight * perturbation);
-    if (!(max_component(beta) > 0)) break;
+    if (!(max_channel(beta) > 0)) break;
     // A thindielectric's straight transmission is a null interaction in Mitsuba (its BSDF
     // samples it as BSDFFlags::Null): no depth, no new MIS state.
     const bool null_event = m->type == MaterialType::thin_glass && glm::dot(wi, ng_front) * glm::dot(wo, ng_front) < 0;
