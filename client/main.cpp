@@ -54,22 +54,33 @@ int main(int argc, char** argv) {
 
   uint64_t job_id = 0;
   std::string output;
+  // Checked before CLI11 converts it, so "status abc" says what a job id is rather than
+  // "Could not convert: job = abc"; 0 and negative ids are refused after parsing (exit 1).
+  const CLI::Validator job_id_text(
+      [](std::string& text) -> std::string {
+        if (!text.empty() && text.find_first_not_of("-0123456789") == std::string::npos &&
+            text.find('-', 1) == std::string::npos) {
+          return {};
+        }
+        return "must be a job id, a whole number (got \"" + text + "\")";
+      },
+      "JOB");
   CLI::App* status_cmd = app.add_subcommand("status", "Show a job");
-  status_cmd->add_option("job", job_id, "Job id")->required();
+  status_cmd->add_option("job", job_id, "Job id")->required()->check(job_id_text);
   json_flag(status_cmd, g.json);
   CLI::App* watch_cmd = app.add_subcommand("watch", "Follow a job with a progress bar until it ends");
-  watch_cmd->add_option("job", job_id, "Job id")->required();
+  watch_cmd->add_option("job", job_id, "Job id")->required()->check(job_id_text);
   json_flag(watch_cmd, g.json);
   CLI::App* get_cmd = app.add_subcommand("get", "Download a job's image (the current preview while it renders)");
-  get_cmd->add_option("job", job_id, "Job id")->required();
+  get_cmd->add_option("job", job_id, "Job id")->required()->check(job_id_text);
   get_cmd->add_option("-o,--output", output, "Output file (.exr or .png)")->required();
   json_flag(get_cmd, g.json);
   CLI::App* cancel_cmd = app.add_subcommand("cancel", "Cancel a job");
-  cancel_cmd->add_option("job", job_id, "Job id")->required();
+  cancel_cmd->add_option("job", job_id, "Job id")->required()->check(job_id_text);
   json_flag(cancel_cmd, g.json);
   CLI::App* delete_cmd =
       app.add_subcommand("delete", "Delete a finished or cancelled job and its outputs");
-  delete_cmd->add_option("job", job_id, "Job id")->required();
+  delete_cmd->add_option("job", job_id, "Job id")->required()->check(job_id_text);
   json_flag(delete_cmd, g.json);
   CLI::App* list_cmd = app.add_subcommand("list", "List jobs, newest first");
   json_flag(list_cmd, g.json);

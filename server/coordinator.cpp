@@ -209,6 +209,7 @@ JobRecord Coordinator::submit(const v1::SceneBundle& bundle, const v1::JobReques
   } catch (const std::invalid_argument& e) {
     throw invalid(e.what());
   }
+  check_pixel_count(resolved, limits_);
   check_unit_count(resolved, limits_);
   NewJob job;
   job.bundle_bytes = wire::canonical_bytes(contents);

@@ -61,6 +61,18 @@ void check_unit_count(const JobOptions& options, const FarmLimits& limits) {
   }
 }
 
+void check_pixel_count(const JobOptions& options, const FarmLimits& limits) {
+  const uint64_t pixels = uint64_t(options.width) * uint64_t(options.height);
+  if (pixels > limits.max_pixels_per_job) {
+    throw FarmError(ErrorCode::invalid_argument,
+                    "job has " + std::to_string(pixels) + " pixels (" +
+                        std::to_string(options.width) + " x " + std::to_string(options.height) +
+                        "), over the farm's limit of " +
+                        std::to_string(limits.max_pixels_per_job) +
+                        " (server flag --max-pixels): render a smaller image");
+  }
+}
+
 void check_bundle_limits(const v1::SceneBundle& bundle, const FarmLimits& limits) {
   const uint64_t files = uint64_t(bundle.files_size());
   if (files > limits.max_bundle_files) {

@@ -24,12 +24,21 @@ struct FarmLimits {
   uint64_t max_queued_jobs_per_client = 100;
   /// Work units (tiles x batches) one job may have (--max-units).
   uint64_t max_units_per_job = 1'000'000;
+  /// Pixels (width x height) one job may have (--max-pixels). The server holds a job's whole
+  /// image when it writes the output files and when it answers a preview (the merged tiles as
+  /// stored, the image, the encoded files), so this bounds its memory per job: an 8192 x 8192
+  /// job at 1 spp peaked at 4.4 GiB of server memory (docs/security.md, "Limits"); 8K UHD fits.
+  uint64_t max_pixels_per_job = uint64_t(8192) * 8192;
 };
 
 /// The job's work units (tiles x batches of its schedule) against --max-units, computed without
 /// building the plan's tiles. Throws FarmError(invalid_argument) with one line giving the count
 /// and the cap.
 void check_unit_count(const JobOptions& options, const FarmLimits& limits);
+
+/// The job's width x height against --max-pixels. Throws FarmError(invalid_argument) with one
+/// line giving the count and the cap.
+void check_pixel_count(const JobOptions& options, const FarmLimits& limits);
 
 /// Bundle size and file count, on the request as received (before anything is copied).
 /// Throws FarmError(invalid_argument).

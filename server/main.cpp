@@ -365,6 +365,10 @@ int main(int argc, char** argv) {
   limit_option(app, "--max-units", limits.max_units_per_job, "TESSERA_MAX_UNITS",
                "most work units (tiles x batches) per job")
       ->check(CLI::Range(uint64_t(1), uint64_t(1) << 22));
+  limit_option(app, "--max-pixels", limits.max_pixels_per_job, "TESSERA_MAX_PIXELS",
+               "most pixels (width x height) per job; the server holds a job's whole image when "
+               "it writes it, about 70 bytes a pixel")
+      ->check(CLI::Range(uint64_t(1), uint64_t(32768) * 32768));
 
   // Worker health (docs/reliability.md).
   limit_option(app, "--block-after-failures", flags.health.failures_to_block,

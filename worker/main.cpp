@@ -7,6 +7,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -271,6 +272,12 @@ int main(int argc, char** argv) {
 #endif
   } catch (const tessera::SceneError& e) {
     std::fprintf(stderr, "tessera-worker: %s\n", e.what());
+  } catch (const std::bad_alloc&) {
+    // Most often the image: a local render holds every tile's sums (about 50 bytes a pixel).
+    std::fprintf(stderr,
+                 "tessera-worker: out of memory (a local render holds about 50 bytes per pixel "
+                 "of the image besides the scene: render a smaller --width/--height, or give "
+                 "the process more memory)\n");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tessera-worker: %s\n", e.what());
   }

@@ -10,19 +10,21 @@ RgbImage resolve_image(int width, int height, const std::vector<Accumulation>& t
   image.width = width;
   image.height = height;
   image.rgb.assign(size_t(width) * size_t(height) * 3, 0.0f);
-  for (const Accumulation& acc : tiles) {
-    const TileRect& r = acc.rect;
-    for (int y = r.y0; y < r.y1; ++y) {
-      for (int x = r.x0; x < r.x1; ++x) {
-        const size_t i = size_t(y - r.y0) * size_t(r.width()) + size_t(x - r.x0);
-        const uint32_t n = acc.count[i];
-        if (n == 0) continue;
-        float* out = &image.rgb[(size_t(y) * size_t(width) + size_t(x)) * 3];
-        for (int c = 0; c < 3; ++c) out[c] = float(acc.rgb[i * 3 + c] / double(n));
-      }
+  for (const Accumulation& acc : tiles) resolve_into(image, acc);
+  return image;
+}
+
+void resolve_into(RgbImage& image, const Accumulation& acc) {
+  const TileRect& r = acc.rect;
+  for (int y = r.y0; y < r.y1; ++y) {
+    for (int x = r.x0; x < r.x1; ++x) {
+      const size_t i = size_t(y - r.y0) * size_t(r.width()) + size_t(x - r.x0);
+      const uint32_t n = acc.count[i];
+      if (n == 0) continue;
+      float* out = &image.rgb[(size_t(y) * size_t(image.width) + size_t(x)) * 3];
+      for (int c = 0; c < 3; ++c) out[c] = float(acc.rgb[i * 3 + c] / double(n));
     }
   }
-  return image;
 }
 
 }  // namespace tessera

@@ -12,6 +12,11 @@ namespace tessera {
 /// Tiles may be given in any order; pixels they do not cover stay 0.
 RgbImage resolve_image(int width, int height, const std::vector<Accumulation>& tiles);
 
+/// Writes one tile's mean radiance into `image` (sized by resolve_image), leaving pixels without
+/// samples as they are: what resolve_image does for each tile, so that a caller holding many
+/// tiles encoded can decode and resolve them one at a time.
+void resolve_into(RgbImage& image, const Accumulation& tile);
+
 }  // namespace tessera
 
 namespace tessera {

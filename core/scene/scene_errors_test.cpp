@@ -1,6 +1,9 @@
 // Bad scenes: every error is one line starting with the JSON path of what is wrong.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
+#include "scene/scene_loader.h"
 #include "scene/scene_test_support.h"
 
 namespace tessera {
@@ -164,6 +167,31 @@ TEST(SceneErrors, TruncatedPlyAndOutOfRangeIndices) {
                      {{"meshes/x.ply", header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 -1\n"}}),
             "shapes[1].file: meshes/x.ply: line 13 (element face, row 0): vertex index -1 out of "
             "range (3 vertices)");
+}
+
+}  // namespace
+}  // namespace tessera
+
+namespace tessera {
+namespace {
+
+// A folder, a missing path and a device are each named for what they are.
+TEST(SceneErrors, SceneFileThatIsNotAFile) {
+  const std::filesystem::path folder = std::filesystem::temp_directory_path();
+  auto message = [](const std::filesystem::path& p) {
+    try {
+      load_scene_file(p);
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message(folder),
+            folder.string() + ": is a folder, not a scene file (give its .json or .xml scene)");
+  EXPECT_EQ(message(folder / "no-such-scene.json"),
+            (folder / "no-such-scene.json").string() + ": no such file");
+  EXPECT_EQ(message("/dev/null"),
+            "/dev/null: not a regular file (a scene must be a .json or .xml file)");
 }
 
 }  // namespace

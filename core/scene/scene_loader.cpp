@@ -36,8 +36,14 @@ bool is_mitsuba_xml(const std::string& file_name) {
 
 std::string read_scene_file(const std::filesystem::path& scene_file) {
   std::error_code error;
-  if (!std::filesystem::is_regular_file(scene_file, error)) {
-    throw SceneError(scene_file.string() + ": no such file");
+  const std::filesystem::file_status status = std::filesystem::status(scene_file, error);
+  if (std::filesystem::is_directory(status)) {
+    throw SceneError(scene_file.string() +
+                     ": is a folder, not a scene file (give its .json or .xml scene)");
+  }
+  if (!std::filesystem::exists(status)) throw SceneError(scene_file.string() + ": no such file");
+  if (!std::filesystem::is_regular_file(status)) {
+    throw SceneError(scene_file.string() + ": not a regular file (a scene must be a .json or .xml file)");
   }
   std::ifstream in(scene_file, std::ios::binary);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -246,6 +246,30 @@ TEST(Limits, WorkUnitsPerJob) {
   expect_refused(capped.refusal(bundle(tiny_scene()), four), "--max-units");
 }
 
+// The server holds a job's whole image when it writes it and when it answers a preview, so the
+// pixels per job are capped (--max-pixels, default 8192 x 8192): the largest image the flags
+// allow (32768 x 32768) is refused at submit with one line, before anything is stored.
+TEST(Limits, PixelsPerJob) {
+  Farm farm(FarmLimits{});
+  v1::JobRequestOptions largest;
+  largest.set_width(32768);
+  largest.set_height(32768);
+  largest.set_spp(1);
+  EXPECT_EQ(farm.refusal(bundle(tiny_scene()), largest),
+            "job has 1073741824 pixels (32768 x 32768), over the farm's limit of 67108864 "
+            "(server flag --max-pixels): render a smaller image");
+  EXPECT_TRUE(farm.coordinator->jobs(100).empty());
+  FarmLimits small;
+  small.max_pixels_per_job = 16 * 16;
+  Farm capped(small);
+  v1::JobRequestOptions size;
+  size.set_width(16);
+  size.set_height(16);
+  EXPECT_EQ(capped.refusal(bundle(tiny_scene()), size), "");
+  size.set_height(17);
+  expect_refused(capped.refusal(bundle(tiny_scene()), size), "--max-pixels");
+}
+
 TEST(Limits, UnfinishedJobsPerClient) {
   FarmLimits limits;
   limits.max_queued_jobs_per_client = 2;

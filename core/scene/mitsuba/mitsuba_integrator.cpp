@@ -3,6 +3,7 @@
 #include <initializer_list>
 #include <limits>
 #include <optional>
+#include <vector>
 #include <string>
 #include <string_view>
 
@@ -63,27 +64,91 @@ void read_direct_projective(MitsubaPlugin& integrator, MitsubaIntegrator& result
                 "Tessera's path tracer with max_depth 2 (its gradient options are ignored)";
 }
 
+/// The picture of an integrator that wraps others and adds channels of its own (moment, aov):
+/// its nested integrators, read as if they stood alone; the first one's picture is the image.
+MitsubaIntegrator read_first_nested(MitsubaPlugin& integrator, const MitsubaIds& ids,
+                                    const std::string& what, const std::string& channels) {
+  const std::vector<MitsubaObject> nested = integrator.take_objects("integrator");
+  if (nested.empty()) {
+    fail_at(integrator.element(), "the " + integrator.type() +
+                                      " integrator needs a nested integrator (" + what + ")");
+  }
+  MitsubaIntegrator result = read_mitsuba_integrator(*nested.front().element, ids);
+  const std::string* first = nested.front().element->attribute("type");
+  result.note = "the " + integrator.type() + " integrator's picture is its first nested integrator's (" +
+                (first ? *first : std::string("?")) + ")" +
+                (result.note.empty() ? std::string() : ": " + result.note) + "; " + channels +
+                " are not written";
+  return result;
+}
+
 /// moment: Mitsuba 3.9.1 writes the first nested integrator's picture to the film's R, G, B
 /// (bit for bit the image that integrator renders alone, same seed: measured on mitsuba-data's
 /// tests/scenes/spot_light/test_spot_direct.xml) and adds AOV channels, each nested
 /// integrator's X, Y, Z and their second moments (m2_*). Tessera renders that picture and
 /// writes no AOV channels; the note says so.
 MitsubaIntegrator read_moment(MitsubaPlugin& integrator, const MitsubaIds& ids) {
-  const std::vector<MitsubaObject> nested = integrator.take_objects("integrator");
-  if (nested.empty()) {
-    fail_at(integrator.element(),
-            "the moment integrator needs a nested integrator (its picture is the first one's)");
-  }
-  MitsubaIntegrator result = read_mitsuba_integrator(*nested.front().element, ids);
-  const std::string* first = nested.front().element->attribute("type");
-  result.note = "the moment integrator's picture is its first nested integrator's (" +
-                (first ? *first : std::string("?")) + ")" +
-                (result.note.empty() ? std::string() : ": " + result.note) +
-                "; its AOV channels (each nested integrator's X, Y, Z and second moments "
-                "m2_*) are not written";
+  MitsubaIntegrator result = read_first_nested(
+      integrator, ids, "its picture is the first one's",
+      "its AOV channels (each nested integrator's X, Y, Z and second moments m2_*)");
   // The moment integrator samples its nested integrators itself, so its own hide_emitters
   // changes no channel.
   integrator.ignore("hide_emitters");
+  integrator.finish();
+  return result;
+}
+
+/// The AOV types Mitsuba 3.9.1's aov integrator knows (src/integrators/aov.cpp throws on any
+/// other).
+constexpr std::string_view kAovTypes[] = {
+    "albedo", "depth",  "position", "uv",     "geo_normal", "sh_normal",  "boundary_test",
+    "dp_du",  "dp_dv",  "duv_dx",   "duv_dy", "prim_index", "shape_index"};
+
+/// aov: Mitsuba 3.9.1 renders each nested integrator on its own (same seed) and writes the first
+/// one's picture to the film's R, G, B, then each one's RGBA and the listed AOVs (depth,
+/// normals, albedo...) as extra channels; measured on mitsuba-data's docs/scenes/integrator_aov.xml
+/// with `direct` and `path` nested: R, G, B equal `direct` alone to 4e-7. Without a nested
+/// integrator its image is the AOVs alone, not a rendered picture: refused. The `aovs` list is
+/// checked as Mitsuba checks it (a <name>:<type> pair each, a known type), so a scene Mitsuba
+/// refuses is refused here too; the channels themselves are not written.
+MitsubaIntegrator read_aov(MitsubaPlugin& integrator, const MitsubaIds& ids) {
+  std::string list = integrator.take_string("aovs").value_or("");
+  std::vector<std::string> names;
+  size_t start = 0;
+  while (start <= list.size()) {
+    size_t comma = list.find(',', start);
+    if (comma == std::string::npos) comma = list.size();
+    std::string token = list.substr(start, comma - start);
+    const size_t first = token.find_first_not_of(" \t\n\r");
+    const size_t last = token.find_last_not_of(" \t\n\r");
+    token = first == std::string::npos ? std::string() : token.substr(first, last - first + 1);
+    start = comma + 1;
+    if (token.empty()) continue;  // Mitsuba's tokenizer skips empty items ("a:depth,")
+    const size_t colon = token.find(':');
+    const std::string name = colon == std::string::npos ? token : token.substr(0, colon);
+    const std::string type = colon == std::string::npos ? std::string() : token.substr(colon + 1);
+    if (colon == std::string::npos || name.empty() || type.empty() ||
+        type.find(':') != std::string::npos) {
+      fail_at(*integrator.property("aovs"),
+              "\"" + token + "\" is not a <name>:<type> pair (e.g. \"nn:sh_normal\")");
+    }
+    bool known = false;
+    for (std::string_view t : kAovTypes) known = known || type == t;
+    if (!known) {
+      std::string types;
+      for (std::string_view t : kAovTypes) types += (types.empty() ? "" : ", ") + std::string(t);
+      fail_at(*integrator.property("aovs"),
+              "unknown AOV type \"" + type + "\" (Mitsuba's are " + types + ")");
+    }
+    names.push_back(name);
+  }
+  std::string channels = "its AOV channels (";
+  for (size_t i = 0; i < names.size(); ++i) channels += (i ? ", " : "") + names[i];
+  channels += names.empty() ? "each nested integrator's RGBA)" : ", and each nested integrator's RGBA)";
+  MitsubaIntegrator result = read_first_nested(
+      integrator, ids,
+      "without one its image is the AOVs alone, not a rendered picture", channels);
+  integrator.ignore("hide_emitters");  // as in moment: the nested integrators sample
   integrator.finish();
   return result;
 }
@@ -119,15 +184,17 @@ MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& element, const M
     read_direct_projective(integrator, result);
   } else if (type == "moment") {
     return read_moment(integrator, ids);
-  } else if (type == "aov" || type == "stokes" || type == "depth") {
+  } else if (type == "aov") {
+    return read_aov(integrator, ids);
+  } else if (type == "stokes" || type == "depth") {
     fail_at(element,
             "this integrator makes another kind of image than a rendered picture (Tessera "
             "renders path, ptracer, volpath, volpathmis, direct, direct_projective and "
-            "moment's first nested integrator)");
+            "the first nested integrator of moment and aov)");
   } else {
     fail_at(element,
             "unsupported integrator (Tessera renders path, ptracer, volpath, volpathmis, direct, "
-            "direct_projective and moment's first nested integrator)");
+            "direct_projective and the first nested integrator of moment and aov)");
   }
   result.hide_emitters = integrator.take_boolean("hide_emitters").value_or(false);
   integrator.finish();

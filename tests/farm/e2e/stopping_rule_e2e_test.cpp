@@ -199,6 +199,21 @@ TEST(StoppingRuleE2E, BadRulesAreRefusedNamingTheFlag) {
     EXPECT_EQ(local.exit_code, 2) << c.message;
     EXPECT_NE(local.err.find(c.message), std::string::npos) << local.err;
   }
+  // A job id that is not a number is a usage error naming the argument; a folder given as the
+  // scene is named for what it is (exit 1: the command line parsed, the file is wrong).
+  for (const char* command : {"status", "get", "cancel", "delete", "watch"}) {
+    std::vector<std::string> args = {command, "abc"};
+    if (std::string(command) == "get") args.insert(args.end(), {"-o", "x.png"});
+    const CommandResult r = farm.cli(args);
+    EXPECT_EQ(r.exit_code, 2) << command;
+    EXPECT_NE(r.err.find("job: must be a job id, a whole number (got \"abc\")"), std::string::npos)
+        << r.err;
+  }
+  const CommandResult folder = farm.cli({"submit", farm.dir().string()});
+  EXPECT_EQ(folder.exit_code, 1);
+  EXPECT_NE(folder.err.find(farm.dir().string() + ": is a folder, not a scene file"),
+            std::string::npos)
+      << folder.err;
   // The server refuses them too (a client that skips local validation).
   v1::SubmitJobRequest request;
   request.mutable_options()->set_noise(0.1);
