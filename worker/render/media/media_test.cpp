@@ -421,6 +421,30 @@ TEST(MediaRender, HeterogeneousFurnaceAndAnEmptyGrid) {
   }
 }
 
+TEST(MediaRender, SampleEmittersChangesTheNoiseNotTheImage) {
+  // A scattering ball under a small area light, no environment: with next-event estimation at
+  // its scattering points (MIS against phase sampling) or without (emitters found by phase
+  // sampling count in full, as Mitsuba's sample_emitters false), the same mean.
+  Estimate with_nee, without_nee;
+  for (bool sample : {true, false}) {
+    Medium m = fog_medium({1.5, 2.5, 4}, {0.9, 0.8, 0.95}, 0.3);
+    m.sample_emitters = sample;
+    Scene s = medium_sphere_scene(m, 0, 0.0, 4.0);
+    s.lights.clear();
+    Material lamp;
+    lamp.name = "lamp";
+    lamp.reflectance.value = glm::dvec3(0);
+    s.materials.push_back(lamp);
+    Shape light = test::quad({-0.5, 2, -0.5}, {0.5, 2, -0.5}, {0.5, 2, 0.5}, {-0.5, 2, 0.5}, 1);  // facing down
+    light.emission = glm::dvec3(20);
+    s.shapes.push_back(light);
+    (sample ? with_nee : without_nee) = render_medium_mean(s, 512);
+  }
+  EXPECT_GT(with_nee.mean, 0.01);
+  EXPECT_NEAR(with_nee.mean, without_nee.mean, test::tolerance(with_nee, without_nee));
+  EXPECT_LT(with_nee.se, without_nee.se);  // the light sample is what it is for
+}
+
 TEST(MediaRender, OneOrTwoThreadsAndEitherIntegratorGiveTheSameBits) {
   const Scene s = medium_sphere_scene(fog_medium({2, 0.5, 6}, {0.9, 0.8, 1}, 0.4), 1, 0.8, 4.0);
   const Renderer scalar(s, test::test_job(16, 16, 8), {}, IntegratorKind::scalar);
