@@ -47,6 +47,9 @@ struct Camera {
   /// Nothing behind the rectangle is seen (it is Mitsuba's near clip plane). The image's
   /// pixels need not be square: view_size may have another aspect than the film.
   glm::dvec2 view_size{2, 2};
+  /// The medium the camera sits in (index into Scene::media), -1 = vacuum: camera rays start
+  /// in it (Mitsuba's <medium> inside a <sensor>).
+  int32_t medium = -1;
 };
 
 /// The pixel reconstruction filter. Tessera samples it by filter importance sampling: each
@@ -450,7 +453,50 @@ struct Shape {
   /// loading; scanned meshes have some. Explicit geometry with one is an error instead.
   uint64_t dropped_triangles = 0;
 
+  /// Participating media on either side (indices into Scene::media, -1 = vacuum): a ray that
+  /// crosses the surface towards its back (against the front normal) enters `interior`, one
+  /// towards its front enters `exterior` (Mitsuba's shape interior / exterior). Only for
+  /// triangles and spheres at the top level.
+  int32_t interior = -1;
+  int32_t exterior = -1;
+
   bool is_emitter() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+  bool bounds_medium() const { return interior >= 0 || exterior >= 0; }
+};
+
+// ---------------------------------------------------------------------------------------------
+// Participating media (docs/scenes.md, "Media"), with Mitsuba's parameters and meaning.
+
+enum class MediumKind {
+  /// Mitsuba's `homogeneous`: constant sigma_t (free flights sampled analytically); albedo a
+  /// constant or a volume texture looked up where the path scatters.
+  homogeneous,
+  /// Mitsuba's `heterogeneous`: sigma_t and albedo each a constant or a volume texture (a
+  /// grid over its to_world, TextureKind::volume) looked up at the world position; free
+  /// flights by delta tracking against the majorant (the grid's maximum times the scale).
+  heterogeneous,
+};
+
+/// The phase function: isotropic, or Henyey-Greenstein with mean cosine g (Mitsuba's `hg`,
+/// g > 0 scatters forward).
+enum class PhaseKind { isotropic, hg };
+
+struct Medium {
+  std::string name;    ///< unique in the scene
+  std::string origin;  ///< for messages: "media.fog" or "<file>: line <L>: <medium ...>"
+  MediumKind kind = MediumKind::homogeneous;
+  /// Extinction per scene unit before `scale`, per RGB channel, >= 0; heterogeneous: value *
+  /// volume texture (value the texture's scale). Mitsuba's default 1.
+  TexturedColor sigma_t{{1, 1, 1}, -1};
+  /// Single-scattering albedo sigma_s / sigma_t in [0, 1] per channel, or value * volume
+  /// texture (both kinds; clamped to [0, 1] at lookup); Mitsuba's default 0.75.
+  TexturedColor albedo{{0.75, 0.75, 0.75}, -1};
+  double scale = 1;  ///< multiplies sigma_t, >= 0 (Mitsuba's `scale`)
+  PhaseKind phase = PhaseKind::isotropic;
+  double g = 0;  ///< hg only: in (-1, 1)
+  /// Next-event estimation at this medium's scattering vertices (Mitsuba's sample_emitters);
+  /// false: light is found only by phase-sampled rays hitting it.
+  bool sample_emitters = true;
 };
 
 /// Shapes declared once and placed by instances (Mitsuba's shapegroup). Group shapes are
@@ -470,6 +516,9 @@ struct Scene {
   std::vector<Shape> shapes;
   std::vector<ShapeGroup> groups;
   std::vector<Light> lights;  ///< emitters that are not shapes
+  /// Participating media, named by Shape::interior / exterior and Camera::medium. A scene
+  /// without any renders with the surface path tracer, bit for bit as before media existed.
+  std::vector<Medium> media;
   /// Files the scene references, relative to the bundle root ('/'-separated, no "..").
   /// Together with the scene file they are the job's bundle.
   std::vector<std::string> referenced_files;

@@ -38,16 +38,16 @@ TEST(SceneErrors, DuplicateKey) {
 TEST(SceneErrors, UnknownKeys) {
   EXPECT_EQ(error_of(R"({"tessera": 1, "light": []})"),
             "light: unknown key (a scene has: tessera, camera, film, render, textures, materials, "
-            "groups, shapes, lights)");
+            "groups, shapes, lights, media)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "camera": {"fov_deg": 40}})"),
             "camera.fov_deg: unknown key (the camera has: type, position, look_at, up, fov, "
-            "fov_axis, aperture_radius, focus_distance, view_size)");
+            "fov_axis, aperture_radius, focus_distance, view_size, medium)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "render": {"spp": 4, "threads": 2}})"),
             "render.threads: unknown key (render has: spp, max_depth, seed, hide_emitters)");
   EXPECT_EQ(
       error_of(scene_with_shapes(R"({"type": "sphere", "material": "white", "colour": [1,0,0]})")),
       "shapes[0].colour: unknown key (a \"sphere\" shape has: type, material, emission, power, "
-      "two_sided, flip_normals, transform, center, radius, frame)");
+      "two_sided, flip_normals, transform, interior, exterior, center, radius, frame)");
 }
 
 TEST(SceneErrors, WrongTypes) {

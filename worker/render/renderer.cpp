@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "integrator.h"
+#include "media/volpath.h"
 #include "packet_tracer.h"
 #include "traceable_scene.h"
 #include "wavefront/wavefront_integrator.h"
@@ -104,6 +105,9 @@ Renderer::Renderer(const Scene& scene, const JobOptions& options, const FileRead
       integrator_(integrator),
       options_(options),
       filter_(scene.film.filter) {
+  // A scene with media renders with the volumetric path tracer, one path at a time
+  // (render_scalar): the wavefront integrator knows surfaces only.
+  if (scene_->has_media()) integrator_ = IntegratorKind::scalar;
   if (integrator_ == IntegratorKind::wavefront) {
     wavefront_ = std::make_unique<WavefrontIntegrator>(*scene_, options_.max_depth,
                                                        PacketTracer::native_width(scene_->embree_device()),
@@ -132,8 +136,8 @@ Accumulation Renderer::render(const TileRect& tile, uint32_t sample_begin, uint3
     throw std::invalid_argument("Renderer::render: tile outside the image");
   }
   if (sample_end <= sample_begin) throw std::invalid_argument("Renderer::render: empty sample range");
-  return integrator_ == IntegratorKind::wavefront ? render_wavefront(tile, sample_begin, sample_end, stats)
-                                                  : render_scalar(tile, sample_begin, sample_end, stats);
+  return wavefront_ ? render_wavefront(tile, sample_begin, sample_end, stats)
+                    : render_scalar(tile, sample_begin, sample_end, stats);
 }
 
 Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
@@ -145,6 +149,7 @@ Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin
   const TraceableScene& scene = *scene_;
   const int max_depth = options_.max_depth;
   const uint64_t seed = options_.seed;
+  const bool volumetric = scene.has_media();
 
   tbb::parallel_for(tbb::blocked_range<int>(tile.y0, tile.y1), [&](const tbb::blocked_range<int>& rows) {
     RowResult& local = work.local();
@@ -156,7 +161,8 @@ Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin
         for (uint32_t s = sample_begin; s < sample_end; ++s) {
           PixelSampler sampler(pixel_key, s);
           const Ray ray = camera_ray(x, y, sampler);
-          const glm::dvec3 l = trace_path(scene, ray, max_depth, sampler, local.counters);
+          const glm::dvec3 l = volumetric ? trace_volume_path(scene, ray, max_depth, sampler, local.counters)
+                                          : trace_path(scene, ray, max_depth, sampler, local.counters);
           ++local.samples;
           add_sample(l, x, y, s, sum, dropped_by_row[row]);
         }

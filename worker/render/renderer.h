@@ -51,7 +51,8 @@ class Renderer {
   /// Builds the render-ready scene (Embree BVH). Throws SceneError when the scene cannot be
   /// rendered (for example an Embree ISA the CPU lacks).
   /// `reader` serves the scene's referenced files (textures, environment maps) by bundle path.
-  /// `integrator` chooses the path order (the bits are the same either way); `kernel` the
+  /// `integrator` chooses the path order (the bits are the same either way; a scene with media
+  /// always renders in the scalar order, with media/volpath.h, and integrator() says so); `kernel` the
   /// instruction set of the wavefront order's loop (kernel_isa.h: `automatic` is
   /// TESSERA_KERNEL_ISA or the best for the CPU; the same bits on each; throws
   /// std::invalid_argument when the CPU lacks it).

@@ -137,6 +137,28 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
   rtcCommitScene(scene_);
   if (!device_error_.empty()) throw SceneError(device_error_);
 
+  // Media: only when something uses one, so that a scene without pays nothing.
+  for (const Medium& m : scene.media) media_.push_back(make_render_medium(m, scene.textures));
+  auto check_medium = [&](int32_t index, const std::string& origin) {
+    if (index >= int32_t(media_.size())) throw SceneError(origin + ": medium index out of range");
+    if (index >= 0) has_media_ = true;
+  };
+  check_medium(scene.camera.medium, "the camera");
+  camera_medium_ = scene.camera.medium;
+  for (const Shape& shape : scene.shapes) {
+    check_medium(shape.interior, shape.origin);
+    check_medium(shape.exterior, shape.origin);
+    if (shape.bounds_medium() && shape.kind != Shape::Kind::triangles && shape.kind != Shape::Kind::sphere) {
+      throw SceneError(shape.origin + ": only triangles and spheres can bound a medium");
+    }
+  }
+  if (has_media_) {
+    if (geometries_.size() != scene.shapes.size()) {
+      throw SceneError("internal: one top-level geometry per shape expected");
+    }
+    for (const Shape& shape : scene.shapes) medium_sides_.push_back({shape.interior, shape.exterior});
+  }
+
   std::vector<const Geometry*> area_emitters;
   for (auto& g : geometries_) {
     if (g->emission.x > 0 || g->emission.y > 0 || g->emission.z > 0) {

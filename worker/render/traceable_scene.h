@@ -15,6 +15,7 @@
 #include "light/light_set.h"
 #include "geometry.h"
 #include "material.h"
+#include "media/medium.h"
 #include "ray.h"
 #include "ray_offset.h"
 #include "scene/scene.h"
@@ -91,6 +92,17 @@ class TraceableScene {
   const TextureSet& textures() const { return *textures_; }
   /// The purely specular shapes that diffuse vertices aim some bounces at (specular_targets.h).
   const SpecularTargets& specular_targets() const { return specular_targets_; }
+  /// Whether some shape bounds a medium or the camera sits in one: the renderer then traces
+  /// with the volumetric path tracer (media/volpath.h).
+  bool has_media() const { return has_media_; }
+  /// The medium camera rays start in (Camera::medium), -1 = vacuum.
+  int32_t camera_medium() const { return camera_medium_; }
+  const RenderMedium& medium(int32_t index) const { return media_[size_t(index)]; }
+  /// (interior, exterior) media of top-level Embree geometry `embree_id` (-1 = none; always
+  /// none for instances, curves and SDF grids).
+  glm::ivec2 medium_sides(uint32_t embree_id) const {
+    return embree_id < medium_sides_.size() ? medium_sides_[embree_id] : glm::ivec2(-1);
+  }
   /// Mitsuba's hide_emitters (RenderSettings).
   bool hide_emitters() const { return hide_emitters_; }
   /// Whether hits carry uv, dpdu and dpdv (only when the scene uses them).
@@ -150,6 +162,10 @@ class TraceableScene {
   std::unique_ptr<LightSet> lights_;
   SpecularTargets specular_targets_;
   bool hide_emitters_ = false;
+  std::vector<RenderMedium> media_;
+  std::vector<glm::ivec2> medium_sides_;  ///< per top-level geometry; empty without media
+  int32_t camera_medium_ = -1;
+  bool has_media_ = false;
   std::string isa_;
   std::string device_error_;
   /// Whether anything reads a hit's uv, dpdu, dpdv (textures, anisotropic roughness).

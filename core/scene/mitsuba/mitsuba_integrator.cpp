@@ -159,17 +159,18 @@ MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& element, const M
   MitsubaPlugin integrator(element, ids);
   const std::string& type = integrator.type();
   MitsubaIntegrator result;
-  if (type == "path" || type == "ptracer" || type == "volpath") {
+  if (type == "path" || type == "ptracer" || type == "volpath" || type == "volpathmis") {
     result.max_depth = read_max_depth(integrator);
     integrator.ignore("rr_depth");
     if (type == "ptracer") {
       integrator.ignore("samples_per_pass");
       result.note = "the ptracer integrator is rendered by Tessera's path tracer (the same "
                     "image, other noise)";
-    } else if (type == "volpath") {
+    } else if (type == "volpath" || type == "volpathmis") {
+      // volpathmis weighs its spectral free-flight strategies by MIS: the same image as volpath.
+      if (type == "volpathmis") integrator.ignore("use_spectral_mis");
       result.counts_null_interactions = false;
-      result.note = "the volpath integrator is rendered by Tessera's path tracer (the same "
-                    "image without media)";
+      result.volumetric = true;
     }
   } else if (type == "direct") {
     result.max_depth = 2;
@@ -188,16 +189,12 @@ MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& element, const M
   } else if (type == "stokes" || type == "depth") {
     fail_at(element,
             "this integrator makes another kind of image than a rendered picture (Tessera "
-            "renders path, ptracer, volpath without media, direct, direct_projective and "
+            "renders path, ptracer, volpath, volpathmis, direct, direct_projective and "
             "the first nested integrator of moment and aov)");
-  } else if (type == "volpathmis" || type == "prbvolpath") {
-    fail_at(element,
-            "integrators for participating media are not supported (Tessera renders path, "
-            "ptracer, volpath without media, direct and direct_projective)");
   } else {
     fail_at(element,
-            "unsupported integrator (Tessera renders path, ptracer, volpath without media, "
-            "direct and direct_projective)");
+            "unsupported integrator (Tessera renders path, ptracer, volpath, volpathmis, direct, "
+            "direct_projective and the first nested integrator of moment and aov)");
   }
   result.hide_emitters = integrator.take_boolean("hide_emitters").value_or(false);
   integrator.finish();

@@ -25,6 +25,9 @@ struct MitsubaIntegrator {
   /// passage, a thindielectric's straight transmission) toward max_depth, as Mitsuba's path
   /// integrator and Tessera do. The loader refuses such materials with a finite max_depth.
   bool counts_null_interactions = true;
+  /// `volpath` and `volpathmis` (also nested in `moment`): they render the scene's media;
+  /// Mitsuba's other integrators ignore media (the loader then leaves them out).
+  bool volumetric = false;
   /// For an integrator Tessera renders as `path`: a line saying so ("" for path itself).
   std::string note;
 };
@@ -33,8 +36,9 @@ struct MitsubaIntegrator {
 /// - `path`: max_depth, rr_depth, hide_emitters;
 /// - `ptracer` (light tracing: the same image, other noise): max_depth, rr_depth,
 ///   hide_emitters; samples_per_pass accepted;
-/// - `volpath` (the same as path without media, which Tessera refuses anyway): max_depth,
-///   rr_depth, hide_emitters;
+/// - `volpath` and `volpathmis` (media/volpath.h renders their image; without media the same
+///   as path): max_depth, rr_depth, hide_emitters; volpathmis's use_spectral_mis changes noise
+///   only;
 /// - `direct` (direct illumination only: path with max_depth 2): hide_emitters;
 ///   emitter_samples, bsdf_samples and shading_samples change noise only (but see
 ///   MitsubaIntegrator::emitter_samples).
@@ -47,7 +51,7 @@ struct MitsubaIntegrator {
 ///   note says so.
 /// rr_depth is accepted and ignored: Tessera's Russian roulette is unbiased too, so where it
 /// starts changes the noise, not the image. Integrators that make another kind of image (aov,
-/// stokes, depth, ...) or need media are refused, as are max_depth 0 or < -1, with SceneError
+/// stokes, depth, ...) or are not Mitsuba 3.9.1's (prbvolpath's gradients) are refused, as are max_depth 0 or < -1, with SceneError
 /// naming the element.
 MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& integrator,
                                           const MitsubaIds& ids);

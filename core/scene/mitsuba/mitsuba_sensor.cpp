@@ -362,6 +362,9 @@ MitsubaSensor read_mitsuba_sensor(const MitsubaElement& element, const MitsubaId
   sensor.ignore("shutter_open");  // motion blur needs moving geometry, which the subset lacks
   sensor.ignore("shutter_close");
   read_sampler(sensor, ids, result);
+  std::vector<MitsubaObject> media = sensor.take_objects("medium");
+  if (media.size() > 1) fail_at(*media[1].written, "a sensor sits in one medium");
+  if (!media.empty()) result.medium = media.front().element;
   sensor.finish();
   return result;
 }

@@ -23,6 +23,8 @@ struct MitsubaSensor {
   /// a positive scale (the scale sets the view size) and a translation.
   Transform camera_to_world;
   const MitsubaElement* element = nullptr;  ///< the <sensor>, for messages
+  /// The <medium> the camera sits in (nested or through <ref>), nullptr = vacuum.
+  const MitsubaElement* medium = nullptr;
 };
 
 /// Reads a `perspective`, `thinlens` or `orthographic` sensor. Its to_world is the camera frame: Mitsuba's

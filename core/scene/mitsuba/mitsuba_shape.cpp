@@ -198,11 +198,28 @@ bool read_emitter(MitsubaPlugin& plugin, MitsubaShapeContext& context, Shape& sh
   return true;
 }
 
-/// Media on either side of a shape: refused, naming what Tessera does instead.
+/// Media on either side of a curve or SDF grid: refused (Tessera's media are bounded by
+/// triangles and spheres).
 void refuse_media(MitsubaPlugin& plugin) {
   for (const MitsubaObject& medium : plugin.take_objects("medium")) {
     fail_at(*medium.written,
-            "participating media are not supported (Tessera renders surfaces in vacuum)");
+            "only meshes and spheres bound participating media in Tessera (not curves or SDF grids)");
+  }
+}
+
+/// A shape's interior and exterior media: <medium name="interior|exterior"> or a <ref> so named.
+void read_media(MitsubaPlugin& plugin, MitsubaShapeContext& context, Shape& shape) {
+  for (const MitsubaObject& medium : plugin.take_objects("medium")) {
+    const std::string* name = medium.written->attribute("name");
+    int32_t* side = name && *name == "interior"   ? &shape.interior
+                    : name && *name == "exterior" ? &shape.exterior
+                                                  : nullptr;
+    if (!side) {
+      fail_at(*medium.written, "a shape's medium is named \"interior\" or \"exterior\" (got " +
+                                   (name ? "\"" + *name + "\"" : std::string("no name")) + ")");
+    }
+    if (*side >= 0) fail_at(*medium.written, "a second " + *name + " medium");
+    *side = context.media.of(*medium.element);
   }
 }
 
@@ -376,7 +393,7 @@ Shape read_mitsuba_shape(const MitsubaElement& element, MitsubaShapeContext& con
   }
   bool emitter = read_emitter(plugin, context, shape);
   shape.material = read_material(plugin, context, emitter);
-  refuse_media(plugin);
+  read_media(plugin, context, shape);
   if (shape.is_emitter()) {
     double area = area_of(shape);
     if (!(area > 0) || !std::isfinite(area)) {
@@ -416,6 +433,9 @@ uint32_t read_mitsuba_shape_group(const MitsubaElement& element, MitsubaShapeCon
     Shape shape = read_mitsuba_shape(*member.element, context);
     if (shape.is_emitter() || context.lights.size() != lights_before) {
       fail_at(*member.written, "a shapegroup's shapes cannot emit light (as in Mitsuba)");
+    }
+    if (shape.bounds_medium()) {
+      fail_at(*member.written, "a shapegroup's shapes cannot bound a medium in Tessera");
     }
     if (mitsuba_shape_is_empty(shape)) {
       note_empty_mitsuba_shape(shape);

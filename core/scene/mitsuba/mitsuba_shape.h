@@ -8,6 +8,7 @@
 #include "scene/mitsuba/mitsuba_bsdf.h"
 #include "scene/mitsuba/mitsuba_file_resolver.h"
 #include "scene/mitsuba/mitsuba_ids.h"
+#include "scene/mitsuba/mitsuba_medium.h"
 #include "scene/mitsuba/mitsuba_texture.h"
 #include "scene/mitsuba/mitsuba_xml_document.h"
 #include "scene/scene.h"
@@ -26,10 +27,12 @@ struct MitsubaShapeContext {
   /// The scene's lights: a point, spot, directional or projector emitter written inside a
   /// shape joins them, as in Mitsuba (read_mitsuba_shape).
   std::vector<Light>& lights;
+  MitsubaMedia& media;  ///< <medium name="interior" / "exterior"> of shapes, read on first use
   std::map<const MitsubaElement*, uint32_t> group_index{};
 };
 
-/// Reads one <shape> element: `obj` and `ply` (filename looked up as Mitsuba does,
+/// Reads one <shape> element (its <medium> or <ref> named interior or exterior, if any, sets
+/// Shape::interior / exterior; curves, SDF grids and a shapegroup's shapes bound no medium): `obj` and `ply` (filename looked up as Mitsuba does,
 /// face_normals; an OBJ's MTL files are not read, as in Mitsuba), `rectangle`, `cube`, `disk`
 /// (tessellated, with Mitsuba's uv parametrisation) and `sphere` (center, radius; it stays
 /// exact, so its to_world must be a similarity), each with to_world and flip_normals, at most

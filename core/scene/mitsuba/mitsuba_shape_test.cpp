@@ -392,9 +392,9 @@ TEST(MitsubaShape, SerializedShapesAreReadWithTheirUvs) {
 
 TEST(MitsubaShape, UnsupportedShapesAndParametersNameTheirLine) {
   EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="cube"><medium type="homogeneous"
-      name="interior"/></shape>)"))
-                .find("<medium type=\"homogeneous\" name=\"interior\">: participating media "
-                      "are not supported"),
+      name="inside"/></shape>)"))
+                .find("<medium type=\"homogeneous\" name=\"inside\">: a shape's medium is named "
+                      "\"interior\" or \"exterior\""),
             std::string::npos);
   EXPECT_NE(xml_error(mitsuba_scene(R"(<shape type="hair"/>)")).find("unsupported shape"),
             std::string::npos);

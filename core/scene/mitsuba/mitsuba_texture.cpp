@@ -114,7 +114,11 @@ void read_volume_plugin(const MitsubaElement& element, const MitsubaIds& ids,
   MitsubaPlugin plugin(element, ids);
   if (plugin.type() == "constvolume") {
     read_constant_volume(plugin, texture);
-    plugin.ignore("to_world");  // a constant is the same everywhere
+    // A constant is the same everywhere a surface looks it up; its to_world still places the
+    // box outside which a heterogeneous medium is empty (Mitsuba's Volume::bbox).
+    if (std::optional<Transform> to_world = plugin.take_transform("to_world")) {
+      texture.volume_to_world = to_world->matrix();
+    }
     plugin.finish();
     return;
   }
@@ -267,7 +271,20 @@ int32_t MitsubaTextures::of(const MitsubaElement& element) {
     fail_at(element, "is no <texture> (a colour parameter takes <rgb>, <float>, <spectrum> or "
                      "a <texture>)");
   }
-  Texture texture = read(element);
+  return add(element, read(element));
+}
+
+int32_t MitsubaTextures::of_volume(const MitsubaElement& element) {
+  auto it = index_of_.find(&element);
+  if (it != index_of_.end()) return it->second;
+  Texture texture;
+  texture.origin = element.where();
+  texture.kind = TextureKind::volume;
+  read_volume_plugin(element, ids_, files_, referenced_files_, texture);
+  return add(element, std::move(texture));
+}
+
+int32_t MitsubaTextures::add(const MitsubaElement& element, Texture texture) {
   const std::string* id = element.attribute("id");
   std::string name = id && !id->empty() ? *id
                                         : *element.attribute("type") + " (" + element.file +

@@ -44,6 +44,10 @@ class MitsubaTextures {
   ///   (check_volume_texture_use).
   /// Throws SceneError naming the element for another kind or parameter.
   int32_t of(const MitsubaElement& texture);
+  /// The index of a bare <volume> element (gridvolume or constvolume, read as the nested
+  /// volume of a `volume` texture above) as a TextureKind::volume texture: a heterogeneous
+  /// medium's sigma_t or albedo. Read on first use.
+  int32_t of_volume(const MitsubaElement& volume);
 
   /// The texture of index `index` (a value `of` returned), until take().
   const Texture& at(int32_t index) const { return textures_.at(size_t(index)); }
@@ -53,6 +57,8 @@ class MitsubaTextures {
 
  private:
   Texture read(const MitsubaElement& element);
+  /// Names `texture` after `element` (its id, else its type and line), keeps it, returns its index.
+  int32_t add(const MitsubaElement& element, Texture texture);
 
   const MitsubaIds& ids_;
   MitsubaFileResolver& files_;

@@ -25,8 +25,8 @@ namespace {
 /// The top-level elements of a scene that Tessera does not read, with what to do instead.
 [[noreturn]] void refuse_top_level(const MitsubaElement& element) {
   const std::string& tag = element.tag;
-  if (tag == "medium" || tag == "phase" || tag == "volume") {
-    fail_at(element, "participating media are not supported (Tessera renders surfaces in vacuum)");
+  if (tag == "phase" || tag == "volume") {
+    fail_at(element, "belongs inside a <medium> (or is named there by <ref>)");
   }
   if (tag == "ref") fail_at(element, "a <ref> belongs inside the object that uses it");
   fail_at(element,
@@ -54,7 +54,8 @@ class SceneBuilder {
         referenced_(std::move(document.files_read)),
         textures_(ids_, files_, referenced_),
         materials_(ids_, textures_),
-        context_{ids_, files_, materials_, textures_, referenced_, groups_, lights_} {
+        media_(ids_, textures_),
+        context_{ids_, files_, materials_, textures_, referenced_, groups_, lights_, media_} {
     files_.reset(document.search_folders);
     collect_references(root_, ids_, referenced_objects_);
   }
@@ -72,15 +73,18 @@ class SceneBuilder {
     refuse_overweighted_delta_lights();
     Scene result;
     result.materials = materials_.take();
-    refuse_uncounted_null_interactions(result.materials);
     result.camera = sensor_->camera;
+    if (sensor_->medium) result.camera.medium = media_.of(*sensor_->medium);
+    result.shapes = std::move(shapes_);
+    result.media = media_.take();
+    if (!integrator_.volumetric) drop_media(result);
+    refuse_uncounted_null_interactions(result);
     result.film = sensor_->film;
     result.render.spp = sensor_->spp;
     result.render.seed = sensor_->seed;
     result.render.max_depth = integrator_.max_depth;
     result.render.hide_emitters = integrator_.hide_emitters;
     result.textures = textures_.take();
-    result.shapes = std::move(shapes_);
     result.groups = std::move(groups_);
     result.lights = std::move(lights_);
     result.referenced_files = std::move(referenced_);
@@ -120,12 +124,40 @@ class SceneBuilder {
     }
   }
 
+  /// Mitsuba's integrators other than volpath and volpathmis ignore media: rays pass through
+  /// them as through vacuum. The scene's media are left out then (a note says so), so that
+  /// Tessera renders Mitsuba's image.
+  void drop_media(Scene& scene) const {
+    bool used = scene.camera.medium >= 0;
+    for (Shape& shape : scene.shapes) {
+      used = used || shape.bounds_medium();
+      shape.interior = shape.exterior = -1;
+    }
+    scene.camera.medium = -1;
+    if (used && integrator_element_) {
+      std::fprintf(stderr,
+                   "note: %s: line %d: this integrator ignores participating media in Mitsuba "
+                   "(only volpath and volpathmis render them): the scene's media are left out\n",
+                   integrator_element_->file.c_str(), integrator_element_->line);
+    } else if (used) {
+      std::fprintf(stderr, "note: the scene has no <integrator>: Mitsuba's default, path, ignores "
+                           "participating media, so the scene's media are left out\n");
+    }
+    scene.media.clear();
+  }
+
   /// Mitsuba's volpath does not count null interactions toward max_depth (volpath.cpp counts
   /// only non-null BSDF samples), where its path integrator and Tessera count every hit: with
   /// a finite max_depth a scene with a mask, a null BSDF or a thindielectric (whose straight
   /// transmission is a null interaction) renders differently. Refused, saying what to write.
-  void refuse_uncounted_null_interactions(const std::vector<Material>& materials) const {
+  void refuse_uncounted_null_interactions(const Scene& scene) const {
     if (integrator_.counts_null_interactions || integrator_.max_depth < 0) return;
+    // With media the volumetric path tracer renders the scene, and counts as volpath does.
+    if (scene.camera.medium >= 0 ||
+        std::any_of(scene.shapes.begin(), scene.shapes.end(), [](const Shape& s) { return s.bounds_medium(); })) {
+      return;
+    }
+    const std::vector<Material>& materials = scene.materials;
     auto null_scattering = [](const Material& m) {
       return m.type == MaterialType::thin_glass || !m.opacity.is_constant() || m.opacity.value < 1;
     };
@@ -181,6 +213,9 @@ class SceneBuilder {
       }
     } else if (tag == "texture") {
       textures_.of(element);
+    } else if (tag == "medium") {
+      // Declared for <ref>s, and read even when unused, as Mitsuba instantiates it.
+      media_.of(element);
     } else if (tag == "emitter") {
       add_emitter(element);
     } else if (tag == "sampler" || tag == "rfilter" || tag == "film") {
@@ -219,6 +254,7 @@ class SceneBuilder {
   std::vector<std::string> referenced_;
   MitsubaTextures textures_;
   MitsubaMaterials materials_;
+  MitsubaMedia media_;
   std::vector<ShapeGroup> groups_;
   std::vector<Light> lights_;  // before context_, which refers to it
   MitsubaShapeContext context_;

@@ -235,8 +235,9 @@ TEST(MitsubaScene, TopLevelElementsTesseraDoesNotRead) {
             std::string::npos);
   EXPECT_NE(error(R"(<texture type="perlin" id="t"/>)").find("unsupported texture"),
             std::string::npos);
-  EXPECT_NE(error(R"(<medium type="homogeneous" id="fog"/>)").find("participating media"),
+  EXPECT_NE(error(R"(<medium type="fog" id="fog"/>)").find("unsupported medium"),
             std::string::npos);
+  EXPECT_NE(error(R"(<phase type="hg"/>)").find("belongs inside a <medium>"), std::string::npos);
   EXPECT_NE(error(R"(<film type="hdrfilm"/>)").find("belongs inside the <sensor>"),
             std::string::npos);
   EXPECT_NE(error(R"(<sampler type="independent"/>)").find("belongs inside the <sensor>"),

@@ -5,6 +5,7 @@
 #include "scene/mesh/mesh_attribute_use.h"
 #include "scene/native/light_parser.h"
 #include "scene/native/material_parser.h"
+#include "scene/native/medium_parser.h"
 #include "scene/native/settings_parser.h"
 #include "scene/native/shape_parser.h"
 #include "scene/native/texture_parser.h"
@@ -53,7 +54,7 @@ std::map<std::string, uint32_t> parse_groups(const JsonValue& value, ShapeContex
 
 Scene parse_native_scene(const JsonValue& root, const FileReader& reader) {
   root.expect_object({"tessera", "camera", "film", "render", "textures", "materials", "groups",
-                      "shapes", "lights"},
+                      "shapes", "lights", "media"},
                      "a scene");
   check_version(root);
   Scene scene;
@@ -64,12 +65,22 @@ Scene parse_native_scene(const JsonValue& root, const FileReader& reader) {
   if (std::optional<JsonValue> t = root.find("textures")) {
     textures = parse_textures(*t, scene.textures, scene.referenced_files, reader);
   }
+  MediumNames media;
+  if (std::optional<JsonValue> m = root.find("media")) {
+    media = parse_media(*m, scene.textures, textures, scene.media);
+  }
+  if (std::optional<JsonValue> camera = root.find("camera")) {
+    if (std::optional<JsonValue> medium = camera->find("medium")) {
+      scene.camera.medium = medium_index(*medium, media);
+    }
+  }
   MaterialTable materials;
   if (std::optional<JsonValue> m = root.find("materials")) parse_materials(*m, materials, textures);
-  ShapeContext context{materials, reader, scene.referenced_files, textures, nullptr};
+  ShapeContext context{materials, reader, scene.referenced_files, textures, nullptr, nullptr};
   std::map<std::string, uint32_t> groups;
   if (std::optional<JsonValue> g = root.find("groups")) groups = parse_groups(*g, context, scene);
   context.groups = &groups;
+  context.media = &media;
   if (std::optional<JsonValue> shapes = root.find("shapes")) {
     for (const JsonValue& shape : shapes->elements()) parse_shape(shape, context, scene.shapes);
   }

@@ -195,7 +195,7 @@ TEST(SceneShapes, UnknownShapeTypeAndForeignKeys) {
             "tetrahedron, mesh, curves, sdfgrid or instance)");
   EXPECT_EQ(error_of(scene_with_shapes(R"({"type": "quad", "radius": 1, "material": "white"})")),
             "shapes[0].radius: unknown key (a \"quad\" shape has: type, material, emission, power, "
-            "two_sided, flip_normals, transform, vertices)");
+            "two_sided, flip_normals, transform, interior, exterior, vertices)");
   EXPECT_EQ(error_of(scene_with_shapes(R"({"material": "white"})")), "shapes[0].type: required");
 }
 

@@ -8,6 +8,7 @@
 
 #include "scene/native/json_value.h"
 #include "scene/native/material_parser.h"
+#include "scene/native/medium_parser.h"
 #include "scene/scene_error.h"
 
 namespace tessera {
@@ -138,8 +139,16 @@ const char* bool_text(bool b) { return b ? "true" : "false"; }
 
 /// The names the JSON uses for textures, materials and groups.
 struct Names {
-  std::vector<std::string> textures, materials, groups;
+  std::vector<std::string> textures, materials, groups, media;
 };
+
+/// The JSON string naming medium `index` (-1 = none, which the caller leaves out).
+std::string medium_name(int32_t index, const Names& names, const std::string& what) {
+  if (index < 0 || size_t(index) >= names.media.size()) {
+    throw SceneError(what + ": medium index out of range");
+  }
+  return json_string(names.media[size_t(index)]);
+}
 
 std::string texture_name(int32_t index, const Names& names, const std::string& what) {
   if (index < 0 || size_t(index) >= names.textures.size()) {
@@ -371,7 +380,9 @@ std::string volume_json(const Texture& t, const std::string& what) {
       throw SceneError(what + ": a one-channel constant volume holds one value");
     }
     return "\"type\": \"volume\", \"value\": " +
-           (t.channels == 1 ? number(t.value.x, what) : vec3(t.value, what));
+           (t.channels == 1 ? number(t.value.x, what) : vec3(t.value, what)) +
+           (t.volume_to_world != glm::dmat4(1.0) ? ", \"transform\": " + matrix_json(t.volume_to_world, what)
+                                                 : std::string());
   }
   std::string out = "\"type\": \"volume\", \"file\": " + json_string(valid_utf8(t.file));
   if (t.volume_to_world != glm::dmat4(1.0)) {
@@ -468,6 +479,22 @@ std::string light_json(const Light& l, size_t index, const Names& names) {
     out += ",\n      \"transform\": " + matrix_json(l.to_world, what);
   }
   return out + "}";
+}
+
+std::string medium_json(const Medium& m, size_t index, const Names& names,
+                        const std::vector<Texture>& textures) {
+  const std::string& name = names.media[index];
+  std::string what = "media." + printable(name);
+  std::string problem = medium_problem(m, &textures);
+  if (!problem.empty()) throw SceneError(what + ": " + problem);
+  std::string out = "    " + json_string(name) + ": {\"type\": \"" +
+                    (m.kind == MediumKind::homogeneous ? "homogeneous" : "heterogeneous") +
+                    "\", \"sigma_t\": " + textured_color(m.sigma_t, names, what + ".sigma_t") +
+                    ", \"albedo\": " + textured_color(m.albedo, names, what + ".albedo") +
+                    ", \"scale\": " + number(m.scale, what) + ",\n      \"phase\": ";
+  out += m.phase == PhaseKind::isotropic ? std::string("{\"type\": \"isotropic\"}")
+                                         : "{\"type\": \"hg\", \"g\": " + number(m.g, what) + "}";
+  return out + ", \"sample_emitters\": " + bool_text(m.sample_emitters) + "}";
 }
 
 std::string film_json(const Film& film) {
@@ -602,6 +629,11 @@ std::string shape_json(const Shape& s, const std::string& what,
     append_curves(out, s, what);
     return out + "}";
   }
+  if (s.bounds_medium() && s.kind != Shape::Kind::triangles && s.kind != Shape::Kind::sphere) {
+    throw SceneError(what + ": only triangles and spheres can bound a medium");
+  }
+  if (s.interior >= 0) out += ", \"interior\": " + medium_name(s.interior, names, what);
+  if (s.exterior >= 0) out += ", \"exterior\": " + medium_name(s.exterior, names, what);
   if (s.is_emitter()) {
     out += ",\n      \"emission\": " +
            textured_color({s.emission, s.emission_texture}, names, what + ".emission");
@@ -660,20 +692,30 @@ std::string write_scene_json(const Scene& scene, const std::string& comment) {
   std::string out;
   if (!comment.empty()) out += "// " + valid_utf8(printable(comment)) + "\n";
   out += "{\n  \"tessera\": 1,\n";
-  out += camera_json(scene.camera);
+  Names names{unique_names(scene.textures, "texture"), unique_names(scene.materials, "material"),
+              unique_names(scene.groups, "group"), unique_names(scene.media, "medium")};
+  std::string camera = camera_json(scene.camera);
+  if (scene.camera.medium >= 0) {
+    // Before the closing "\n  },\n" of the camera object.
+    camera.insert(camera.size() - 6, ", \"medium\": " + medium_name(scene.camera.medium, names, "camera.medium"));
+  }
+  out += camera;
   out += film_json(scene.film);
   out += "  \"render\": {\"spp\": " + std::to_string(scene.render.spp) +
          ", \"max_depth\": " + std::to_string(scene.render.max_depth) +
          ", \"seed\": " + std::to_string(scene.render.seed) +
          ", \"hide_emitters\": " + bool_text(scene.render.hide_emitters) + "},\n";
-  Names names{unique_names(scene.textures, "texture"), unique_names(scene.materials, "material"),
-              unique_names(scene.groups, "group")};
   out += "  \"textures\": " + block(scene.textures.size(), '{', '}', [&](size_t i) {
     return texture_json(scene.textures[i], i, names);
   }) + ",\n";
   out += "  \"materials\": " + block(scene.materials.size(), '{', '}', [&](size_t i) {
     return material_json(scene.materials[i], i, names);
   }) + ",\n";
+  if (!scene.media.empty()) {  // a scene without media writes as before media existed
+    out += "  \"media\": " + block(scene.media.size(), '{', '}', [&](size_t i) {
+      return medium_json(scene.media[i], i, names, scene.textures);
+    }) + ",\n";
+  }
   out += "  \"groups\": " + block(scene.groups.size(), '{', '}', [&](size_t g) {
     const ShapeGroup& group = scene.groups[g];
     std::string body = "    " + json_string(names.groups[g]) + ": {\"shapes\": [";

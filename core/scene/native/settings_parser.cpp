@@ -65,7 +65,7 @@ glm::dvec2 parse_view_size(const JsonValue& camera) {
 
 Camera parse_camera(const JsonValue& value) {
   value.expect_object({"type", "position", "look_at", "up", "fov", "fov_axis", "aperture_radius",
-                       "focus_distance", "view_size"},
+                       "focus_distance", "view_size", "medium"},
                       "the camera");
   Camera camera;
   if (std::optional<JsonValue> type = value.find("type")) {

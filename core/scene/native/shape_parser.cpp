@@ -30,7 +30,8 @@ struct Part {
 /// The keys a shape object of `type` accepts; empty for an unknown type.
 std::vector<std::string_view> keys_of(std::string_view type) {
   std::vector<std::string_view> keys = {"type",      "material",     "emission", "power",
-                                        "two_sided", "flip_normals", "transform"};
+                                        "two_sided", "flip_normals", "transform",
+                                        "interior",  "exterior"};
   if (type == "quad" || type == "tetrahedron") {
     keys.push_back("vertices");
   } else if (type == "sphere") {
@@ -278,6 +279,14 @@ void parse_shape(const JsonValue& value, ShapeContext& context, std::vector<Shap
   Transform transform;
   if (std::optional<JsonValue> t = value.find("transform")) transform = parse_transform(*t);
 
+  int32_t media[2] = {-1, -1};
+  for (int side = 0; side < 2; ++side) {
+    if (std::optional<JsonValue> medium = value.find(side == 0 ? "interior" : "exterior")) {
+      if (!context.media) medium->fail("shapes in a group cannot bound a medium");
+      media[side] = medium_index(*medium, *context.media);
+    }
+  }
+
   std::vector<Part> parts = build_parts(value, type, !declared.has_value(), context);
   for (Part& part : parts) {
     if (part.is_sphere) {
@@ -298,6 +307,8 @@ void parse_shape(const JsonValue& value, ShapeContext& context, std::vector<Shap
     shape.emission = light.given ? radiance : part.file_emission;
     shape.emission_texture = light.emission_texture;
     shape.two_sided_emission = two_sided && shape.is_emitter();
+    shape.interior = media[0];
+    shape.exterior = media[1];
     shapes.push_back(std::move(shape));
   }
 }

@@ -7,6 +7,7 @@
 
 #include "scene/native/json_value.h"
 #include "scene/native/material_table.h"
+#include "scene/native/medium_parser.h"
 #include "scene/native/texture_parser.h"
 #include "scene/scene.h"
 #include "scene/scene_loader.h"
@@ -22,6 +23,9 @@ struct ShapeContext {
   /// Group name -> index into Scene::groups, for "instance" shapes; nullptr inside a group
   /// (groups do not nest).
   const std::map<std::string, uint32_t>* groups = nullptr;
+  /// The scene's media, for "interior" and "exterior"; nullptr inside a group (a group's
+  /// shapes bound no media).
+  const MediumNames* media = nullptr;
 };
 
 /// Parses one shape object (its path, e.g. "shapes[3]", is `value.path()`) and appends its

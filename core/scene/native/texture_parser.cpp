@@ -77,13 +77,14 @@ void add_referenced(const std::string& file, std::vector<std::string>& reference
   }
 }
 
-/// {"type": "volume", "file", "transform", "filter", "wrap"} or {"type": "volume", "value"}.
+/// {"type": "volume", "file", "transform", "filter", "wrap"} or {"type": "volume", "value",
+/// "transform"}.
 void parse_volume(const JsonValue& value, Texture& texture,
                   std::vector<std::string>& referenced_files, const FileReader& reader) {
   texture.kind = TextureKind::volume;
   texture.wrap = TextureWrap::clamp;  // Mitsuba's default for volumes
   if (auto constant = value.find("value")) {
-    value.expect_object({"type", "value"}, "a constant volume");
+    value.expect_object({"type", "value", "transform"}, "a constant volume");
     if (constant->json().is_number()) {
       texture.value = glm::dvec3(constant->number());
       texture.channels = 1;
@@ -94,6 +95,8 @@ void parse_volume(const JsonValue& value, Texture& texture,
     for (int c = 0; c < 3; ++c) {
       if (!std::isfinite(texture.value[c])) constant->fail("must be finite");
     }
+    // Places the box outside which a heterogeneous medium reading it is empty (docs/scenes.md).
+    if (auto t = value.find("transform")) texture.volume_to_world = parse_transform(*t).matrix();
     return;
   }
   value.expect_object({"type", "file", "transform", "filter", "wrap"}, "a volume");
