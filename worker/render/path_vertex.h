@@ -136,6 +136,9 @@ struct PredrawnPairs {
   glm::vec3 bsdf_cosine;
 };
 
+/// TargetMixture::init or a function giving the same bits (path_vertex's `init_mixture`).
+using MixtureInit = bool (*)(TargetMixture& mix, const SpecularTargets& targets, glm::vec3 p, glm::vec3 n);
+
 namespace path_vertex_detail {
 /// Dimension pair `pair` of the path's sampler, or `*predrawn` when the kernel drew it ahead
 /// (the same numbers: PredrawnPairs); the sampler is not asked then.
@@ -170,9 +173,14 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
 ///
 /// `predrawn`, when given, holds the vertex's pairs pair + 1 and pair + 2 (the same numbers the
 /// sampler would give), and the sampler is not asked for them.
+///
+/// `init_mixture`, when given, builds the bounce mixture in place of TargetMixture::init (the
+/// same bits): the wavefront kernels pass their own, built for their instruction set with
+/// eight targets per operation (wavefront_kernel.inc).
 [[gnu::always_inline]] inline bool path_vertex(const TraceableScene& scene, int max_depth, PixelSampler& sampler,
                                                PathState& path, Hit* hit, ShadowQuery* shadow, bool* has_shadow,
-                                               const PredrawnPairs* predrawn = nullptr) {
+                                               const PredrawnPairs* predrawn = nullptr,
+                                               MixtureInit init_mixture = nullptr) {
   using namespace path_vertex_detail;
   const LightSet& lights = scene.lights();
   const TextureSet& textures = scene.textures();
@@ -276,7 +284,9 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
     // Bounces toward the scene's glass and mirrors (specular_targets.h): a scene without them
     // pays this one branch.
     TargetMixture mix;
-    const bool mixture = !scene.specular_targets().empty() && mix.init(scene.specular_targets(), sp.p, ns);
+    const bool mixture = !scene.specular_targets().empty() &&
+                         (init_mixture ? init_mixture(mix, scene.specular_targets(), sp.p, ns)
+                                       : mix.init(scene.specular_targets(), sp.p, ns));
     if (roulette || have_lights) {
       sampler.set_pair(pair);
       u_choice = sampler.get2d_independent();

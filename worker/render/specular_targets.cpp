@@ -360,7 +360,24 @@ void SpecularTargets::build_images(const std::vector<Candidate>& targets, const 
   // Largest score first; equal scores keep the order of lamps, then targets, then faces.
   std::stable_sort(all.begin(), all.end(), [](const Scored& a, const Scored& b) { return a.score > b.score; });
   image_count_ = int(std::min(all.size(), size_t(kMaxImages)));
-  for (int i = 0; i < image_count_; ++i) images_[i] = all[size_t(i)].image;
+  for (int i = 0; i < image_count_; ++i) {
+    const SpecularImage& im = all[size_t(i)].image;
+    images_[i] = im;
+    ImageLanes& l = image_lanes_;
+    l.cx[i] = im.center.x;
+    l.cy[i] = im.center.y;
+    l.cz[i] = im.center.z;
+    l.r[i] = im.radius;
+    l.r2[i] = im.radius * im.radius;
+    l.gx[i] = im.gate_normal.x;
+    l.gy[i] = im.gate_normal.y;
+    l.gz[i] = im.gate_normal.z;
+    l.gate_offset[i] = im.gate_offset;
+    l.wx[i] = im.window_center.x;
+    l.wy[i] = im.window_center.y;
+    l.wz[i] = im.window_center.z;
+    l.wr[i] = im.window_radius;
+  }
 }
 
 SpecularTargets::Lanes SpecularTargets::empty_lanes() {
@@ -369,6 +386,13 @@ SpecularTargets::Lanes SpecularTargets::empty_lanes() {
     l.cx[i] = l.cy[i] = l.cz[i] = l.r[i] = 0.0f;
     l.r2[i] = std::numeric_limits<float>::infinity();
   }
+  return l;
+}
+
+SpecularTargets::ImageLanes SpecularTargets::empty_image_lanes() {
+  ImageLanes l;
+  std::memset(&l, 0, sizeof l);
+  for (int i = 0; i < kMaxImages; ++i) l.gate_offset[i] = std::numeric_limits<float>::infinity();
   return l;
 }
 

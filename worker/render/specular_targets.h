@@ -125,11 +125,25 @@ class SpecularTargets {
   /// The lamp images, at most kMaxImages, largest score first.
   const SpecularImage* images() const { return images_; }
 
+  /// The same images as arrays, four or eight at a time for TargetMixture::init (float4.h), with the
+  /// radius squared computed once here. Entries past image_count() have gate_offset = infinity
+  /// (no point passes their gate) and zeros elsewhere.
+  struct ImageLanes {
+    alignas(32) float cx[kMaxImages], cy[kMaxImages], cz[kMaxImages];  ///< image centre
+    alignas(32) float r[kMaxImages], r2[kMaxImages];                    ///< image radius, squared
+    alignas(32) float gx[kMaxImages], gy[kMaxImages], gz[kMaxImages];  ///< gate normal
+    alignas(32) float gate_offset[kMaxImages];
+    alignas(32) float wx[kMaxImages], wy[kMaxImages], wz[kMaxImages];  ///< window centre
+    alignas(32) float wr[kMaxImages];                                   ///< window radius
+  };
+  const ImageLanes& image_lanes() const { return image_lanes_; }
+
  private:
   int count_ = 0;
   Lanes lanes_ = empty_lanes();
   int image_count_ = 0;
   SpecularImage images_[kMaxImages];
+  ImageLanes image_lanes_ = empty_image_lanes();
 
   struct Candidate {
     SpecularTarget sphere;
@@ -144,6 +158,7 @@ class SpecularTargets {
   void build_images(const std::vector<Candidate>& targets, const std::vector<Lamp>& lamps);
 
   static Lanes empty_lanes();
+  static ImageLanes empty_image_lanes();
 };
 
 /// Whether every lobe of `m` (and of its back material) is a delta: mirror, smooth conductor,
