@@ -79,8 +79,10 @@ using Mask4 = int32_t __attribute__((vector_size(16)));
 template <class V>
 inline constexpr int kWidth = int(sizeof(V) / sizeof(float));
 
-template <class V>
-[[gnu::always_inline]] inline V load_lanes(const float* v) {
+/// kWidth<V> floats (or int32 mask lanes) from v.
+template <class V, class T>
+[[gnu::always_inline]] inline V load_lanes(const T* v) {
+  static_assert(sizeof(T) == sizeof(float));
   V r;
   std::memcpy(&r, v, sizeof r);
   return r;

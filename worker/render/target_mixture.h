@@ -69,7 +69,7 @@ class TargetMixture {
     // kMassFactor cos(axis) scale / pi).
     using namespace float4;
     constexpr int W = kWidth<V>;
-    static_assert(SpecularTargets::kMaxTargets % W == 0 && SpecularTargets::kMaxImages % W == 0);
+    static_assert(SpecularTargets::kMaxTargets % W == 0 && W <= SpecularTargets::kSourceLanes - SpecularTargets::kMaxSources);
     count_ = 0;
     float sum_p = 0;
     const V px = splat_lanes<V>(p.x), py = splat_lanes<V>(p.y), pz = splat_lanes<V>(p.z);
@@ -78,58 +78,38 @@ class TargetMixture {
     // Mass times cos(axis) per cone (the density's first factor), and q_k.
     float mass_cos[kMaxCones];
     float q[kMaxCones];
-    const SpecularTargets::Lanes& t = targets.lanes();
-    for (int b = 0; b < targets.size(); b += W) {
-      const V dx = load_lanes<V>(t.cx + b) - px, dy = load_lanes<V>(t.cy + b) - py, dz = load_lanes<V>(t.cz + b) - pz;
-      // The centre on or below the horizon (at least half the cone below it), or p inside the
-      // sphere (lanes past size() have r^2 = infinity): no cone.
-      const V dn = (dx * nx + dy * ny) + dz * nz;
-      const V dist2 = (dx * dx + dy * dy) + dz * dz;
-      const V r2 = load_lanes<V>(t.r2 + b);
-      const V inv_dist = one / sqrt_lanes(dist2);
-      const V sin2 = one < r2 * (inv_dist * inv_dist) ? one : r2 * (inv_dist * inv_dist);  // std::min(x, 1)
-      // 1 - cos theta_max = sin^2 / (1 + cos): no cancellation for small cones.
-      const V one_minus_cos = sin2 / (one + sqrt_lanes(one - sin2));
-      const V cos_axis = dn * inv_dist;
-      // q_k = 2 pi (1 - cos theta_max) cos(axis) / pi; a cone too small for float (q_k = 0) is
-      // never chosen, so never counted.
-      const V qk = SpecularTargets::kMassFactor * ((2.0f * one_minus_cos) * cos_axis);
-      const M keep = (dn > 0.0f) & (dist2 > r2) & (qk > 0.0f);
-      append(bits_of_lanes(keep), dx * inv_dist, dy * inv_dist, dz * inv_dist, one_minus_cos,
-             SpecularTargets::kMassFactor * cos_axis, qk, mass_cos, q, &sum_p);
-    }
-    const SpecularTargets::ImageLanes& im = targets.image_lanes();
-    for (int b = 0; b < targets.image_count(); b += W) {
-      // The wrong side of the target (lanes past image_count() have gate_offset = infinity).
-      const M gate = ((load_lanes<V>(im.gx + b) * px + load_lanes<V>(im.gy + b) * py) + load_lanes<V>(im.gz + b) * pz) >
-                     load_lanes<V>(im.gate_offset + b);
-      if (!bits_of_lanes(gate)) continue;
-      V dx = load_lanes<V>(im.cx + b) - px, dy = load_lanes<V>(im.cy + b) - py, dz = load_lanes<V>(im.cz + b) - pz;
-      const V ex = load_lanes<V>(im.wx + b) - px, ey = load_lanes<V>(im.wy + b) - py,
-              ez = load_lanes<V>(im.wz + b) - pz;
-      // The light comes from the target: when the image lies behind p as seen from it (a real
-      // image beyond p), the direction is toward the point 2p - I.
-      const M behind = ((dx * ex + dy * ey) + dz * ez) < 0.0f;
-      dx = behind ? -dx : dx;
-      dy = behind ? -dy : dy;
-      dz = behind ? -dz : dz;
-      const V dn = (dx * nx + dy * ny) + dz * nz;
-      const V dist2 = (dx * dx + dy * dy) + dz * dz;
-      const V r2 = load_lanes<V>(im.r2 + b);
-      const V inv_dist = one / sqrt_lanes(dist2);
-      // The window: the line from p along d passes the target's sphere, widened by the image
-      // cone's radius at the target's distance t.
-      const V t_window = ((ex * dx + ey * dy) + ez * dz) * inv_dist;
-      const V reach = load_lanes<V>(im.wr + b) + (load_lanes<V>(im.r + b) * t_window) * inv_dist;
-      const M window = (((ex * ex + ey * ey) + ez * ez) - t_window * t_window) <= reach * reach;
-      const V sin2 = one < r2 * (inv_dist * inv_dist) ? one : r2 * (inv_dist * inv_dist);  // std::min(x, 1)
-      const V one_minus_cos = sin2 / (one + sqrt_lanes(one - sin2));
-      const V cos_axis = dn * inv_dist;
-      const V qk = SpecularTargets::kImageMassFactor * ((2.0f * one_minus_cos) * cos_axis);
-      // p inside the image's sphere, or outside the window: no cone.
-      const M keep = gate & (dn > 0.0f) & (dist2 > r2) & window & (qk > 0.0f);
-      append(bits_of_lanes(keep), dx * inv_dist, dy * inv_dist, dz * inv_dist, one_minus_cos,
-             SpecularTargets::kImageMassFactor * cos_axis, qk, mass_cos, q, &sum_p);
+    // The targets, then the images. A target's cone has a shorter formula (no gate, no window,
+    // never turned), but an image's covers it (a target is an image of itself:
+    // SpecularTargets::ConeSources): where all fit one block (cornell-sphere: 2 targets and 2
+    // images in one block of eight) they go through the image's formula together, else the
+    // targets through their own and the images after them (hexroom: 3 targets, then 8 images).
+    const SpecularTargets::ConeSources& c = targets.cone_sources();
+    if (c.count <= W) {
+      source_block<V, M, true>(c, 0, px, py, pz, nx, ny, nz, mass_cos, q, &sum_p);
+    } else {
+      const SpecularTargets::Lanes& t = targets.lanes();
+      for (int b = 0; b < targets.size(); b += W) {
+        const V dx = load_lanes<V>(t.cx + b) - px, dy = load_lanes<V>(t.cy + b) - py, dz = load_lanes<V>(t.cz + b) - pz;
+        // The centre on or below the horizon (at least half the cone below it), or p inside the
+        // sphere (lanes past size() have r^2 = infinity): no cone.
+        const V dn = (dx * nx + dy * ny) + dz * nz;
+        const V dist2 = (dx * dx + dy * dy) + dz * dz;
+        const V r2 = load_lanes<V>(t.r2 + b);
+        const V inv_dist = one / sqrt_lanes(dist2);
+        const V sin2 = one < r2 * (inv_dist * inv_dist) ? one : r2 * (inv_dist * inv_dist);  // std::min(x, 1)
+        // 1 - cos theta_max = sin^2 / (1 + cos): no cancellation for small cones.
+        const V one_minus_cos = sin2 / (one + sqrt_lanes(one - sin2));
+        const V cos_axis = dn * inv_dist;
+        // q_k = 2 pi (1 - cos theta_max) cos(axis) / pi; a cone too small for float (q_k = 0)
+        // is never chosen, so never counted.
+        const V qk = SpecularTargets::kMassFactor * ((2.0f * one_minus_cos) * cos_axis);
+        const M keep = (dn > 0.0f) & (dist2 > r2) & (qk > 0.0f);
+        append(bits_of_lanes(keep), dx * inv_dist, dy * inv_dist, dz * inv_dist, one_minus_cos,
+               SpecularTargets::kMassFactor * cos_axis, qk, mass_cos, q, &sum_p);
+      }
+      for (int b = targets.size(); b < c.count; b += W) {
+        source_block<V, M, false>(c, b, px, py, pz, nx, ny, nz, mass_cos, q, &sum_p);
+      }
     }
     if (count_ == 0) return false;
     const float scale = sum_p > SpecularTargets::kMaxTargetProbability
@@ -204,6 +184,49 @@ class TargetMixture {
 
  private:
   static constexpr int kMaxCones = SpecularTargets::kMaxTargets + SpecularTargets::kMaxImages;
+
+  /// init_lanes for the sources b .. b + kWidth<V> - 1 of `c` (lanes past c.count have no
+  /// cone): an image's cone, or a target's through the same formula. kTargets: whether the
+  /// block may hold targets (else their `always` and mass need not be read).
+  template <class V, class M, bool kTargets>
+  [[gnu::always_inline]] void source_block(const SpecularTargets::ConeSources& c, int b, V px, V py, V pz, V nx,
+                                           V ny, V nz, float* mass_cos, float* q, float* sum_p) {
+    using namespace float4;
+    const V one = splat_lanes<V>(1.0f);
+    const M always = kTargets ? load_lanes<M>(c.always + b) : M{};
+    // The wrong side of the target (lanes past the last have gate_offset = +infinity).
+    const M gate = (((load_lanes<V>(c.gx + b) * px + load_lanes<V>(c.gy + b) * py) + load_lanes<V>(c.gz + b) * pz) >
+                    load_lanes<V>(c.gate_offset + b)) |
+                   always;
+    // No early return where no lane passes the gate: a block with targets always has one,
+    // and hexroom's eight images nearly always (measured: one more test than it saves).
+    V dx = load_lanes<V>(c.cx + b) - px, dy = load_lanes<V>(c.cy + b) - py, dz = load_lanes<V>(c.cz + b) - pz;
+    const V ex = load_lanes<V>(c.wx + b) - px, ey = load_lanes<V>(c.wy + b) - py, ez = load_lanes<V>(c.wz + b) - pz;
+    // The light comes from the target: when the image lies behind p as seen from it (a real
+    // image beyond p), the direction is toward the point 2p - I (never for a target: e = d).
+    const M behind = ((dx * ex + dy * ey) + dz * ez) < 0.0f;
+    dx = behind ? -dx : dx;
+    dy = behind ? -dy : dy;
+    dz = behind ? -dz : dz;
+    const V dn = (dx * nx + dy * ny) + dz * nz;
+    const V dist2 = (dx * dx + dy * dy) + dz * dz;
+    const V r2 = load_lanes<V>(c.r2 + b);
+    const V inv_dist = one / sqrt_lanes(dist2);
+    // The window: the line from p along d passes the target's sphere, widened by the image
+    // cone's radius at the target's distance t (an image only).
+    const V t_window = ((ex * dx + ey * dy) + ez * dz) * inv_dist;
+    const V reach = load_lanes<V>(c.wr + b) + (load_lanes<V>(c.r + b) * t_window) * inv_dist;
+    const M window = ((((ex * ex + ey * ey) + ez * ez) - t_window * t_window) <= reach * reach) | always;
+    const V sin2 = one < r2 * (inv_dist * inv_dist) ? one : r2 * (inv_dist * inv_dist);  // std::min(x, 1)
+    const V one_minus_cos = sin2 / (one + sqrt_lanes(one - sin2));
+    const V cos_axis = dn * inv_dist;
+    const V mass = kTargets ? load_lanes<V>(c.mass + b) : splat_lanes<V>(SpecularTargets::kImageMassFactor);
+    const V qk = mass * ((2.0f * one_minus_cos) * cos_axis);
+    // The centre on or below the horizon, p inside the sphere, or outside the window: no cone.
+    const M keep = gate & (dn > 0.0f) & (dist2 > r2) & window & (qk > 0.0f);
+    append(bits_of_lanes(keep), dx * inv_dist, dy * inv_dist, dz * inv_dist, one_minus_cos, mass * cos_axis, qk,
+           mass_cos, q, sum_p);
+  }
 
   /// Appends the cones of the lanes set in `bits` (lane 0 first), with their axis (unit, toward
   /// the sphere's centre), 1 - cos theta_max, mass times cos(axis) and q_k; adds q_k to *sum_p.
