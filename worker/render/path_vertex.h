@@ -133,7 +133,7 @@ inline bool smooth_specular(const RenderMaterial& m) {
 /// Bsdf(bsdf_params(m, ...)).sample(wo, u_lobe, u) for a material smooth_specular accepts, bit
 /// for bit: the BSDF built from the material's constants as bsdf_params would pass them
 /// (material.cpp), and Bsdf::sample's check of the result (bsdf.cpp). The general path built a
-/// BsdfParams (every material's fields) and a variant per glass or mirror vertex: 450
+/// BsdfParams (every material's fields) and a variant per glass or mirror vertex: about 360
 /// instructions of the vertex (BENCHMARKS.md, "Cost per sample, branch shade14").
 inline std::optional<BsdfSample> specular_sample(const RenderMaterial& m, glm::vec3 wo, float u_lobe) {
   const std::optional<BsdfSample> s =
