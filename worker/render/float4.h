@@ -1,6 +1,7 @@
-// Four floats per operation, lane by lane, for code that must give the same bits as its scalar
-// form: the light picker's importance of four lights at once (light/light_importance.h) and the
-// bounce mixture's cones of four targets or lamp images at once (target_mixture.h).
+// Floats lane by lane, four (Float4) or any vector width (the templates below), for code that
+// must give the same bits as its scalar form: the light picker's importance of four lights at
+// once (light/light_importance.h) and the bounce mixture's cones of four or eight targets or
+// lamp images at once (target_mixture.h).
 #pragma once
 
 #include <cmath>
@@ -50,8 +51,6 @@ using Mask4 = int32_t __attribute__((vector_size(16)));
 [[gnu::always_inline]] inline Float4 at_least(Float4 x, Float4 lo) { return x > lo ? x : lo; }
 /// min(x, hi) lane by lane; hi where x is NaN.
 [[gnu::always_inline]] inline Float4 at_most(Float4 x, Float4 hi) { return x < hi ? x : hi; }
-/// std::min(x, hi) lane by lane: (hi < x) ? hi : x, so x where x is NaN, as the scalar call.
-[[gnu::always_inline]] inline Float4 std_min(Float4 x, Float4 hi) { return hi < x ? hi : x; }
 
 /// Bit l set where lane l of m is set (m's lanes all-ones or zero, as comparisons give).
 [[gnu::always_inline]] inline unsigned lane_bits(Mask4 m) {
