@@ -562,7 +562,8 @@ TEST(SpecularTargets, ConesFourAtATimeAreTheScalarLoopsBits) {
     const char* file;
     glm::vec3 lo, hi;
   };
-  for (const Case& c : {Case{"hexroom.json", {-5, 0, -5}, {5, 4, 5}}, Case{"cornell-sphere.json", {-1, 0, -1}, {1, 2, 1}}}) {
+  for (const Case& c :
+       {Case{"hexroom.json", {-5, 0, -5}, {5, 4, 5}}, Case{"cornell-sphere.json", {-1, 0, -1}, {1, 2, 1}}}) {
     const TraceableScene scene(load_scene_file(kSource + "/scenes/" + c.file), 16, 16, "");
     const int cones = expect_same_as_scalar(scene.specular_targets(), c.lo, c.hi, 3000, 7);
     EXPECT_GT(cones, 3000) << c.file;  // many points see several cones

@@ -69,7 +69,8 @@ class TargetMixture {
     // kMassFactor cos(axis) scale / pi).
     using namespace float4;
     constexpr int W = kWidth<V>;
-    static_assert(SpecularTargets::kMaxTargets % W == 0 && W <= SpecularTargets::kSourceLanes - SpecularTargets::kMaxSources);
+    static_assert(SpecularTargets::kMaxTargets % W == 0 &&
+                  W <= SpecularTargets::kSourceLanes - SpecularTargets::kMaxSources);
     count_ = 0;
     float sum_p = 0;
     const V px = splat_lanes<V>(p.x), py = splat_lanes<V>(p.y), pz = splat_lanes<V>(p.z);
