@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
@@ -122,6 +123,31 @@ inline float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
   return shadow_terminator(f.frame.n, f.ns, wi);
 }
 
+/// Whether `m` is smooth glass, a mirror or a smooth conductor with constant parameters: only
+/// delta lobes (no light sample, no MIS), sampled by specular_sample without the general Bsdf.
+inline bool smooth_specular(const RenderMaterial& m) {
+  return !m.textured &&
+         (m.type == MaterialType::glass || m.type == MaterialType::mirror || m.type == MaterialType::conductor);
+}
+
+/// Bsdf(bsdf_params(m, ...)).sample(wo, u_lobe, u) for a material smooth_specular accepts, bit
+/// for bit: the BSDF built from the material's constants as bsdf_params would pass them
+/// (material.cpp), and Bsdf::sample's check of the result (bsdf.cpp). The general path built a
+/// BsdfParams (every material's fields) and a variant per glass or mirror vertex: about 360
+/// instructions of the vertex (BENCHMARKS.md, "Cost per sample, branch shade14").
+inline std::optional<BsdfSample> specular_sample(const RenderMaterial& m, glm::vec3 wo, float u_lobe) {
+  const std::optional<BsdfSample> s =
+      m.type == MaterialType::glass
+          ? DielectricBsdf(m.ior, m.specular_reflectance.value, m.specular_transmittance.value)
+                .sample(wo, u_lobe, glm::vec2(0.0f))
+          : ConductorBsdf(m.specular_reflectance.value, m.conductor_eta, m.conductor_k,
+                          m.perfect || m.type == MaterialType::mirror)
+                .sample(wo, u_lobe, glm::vec2(0.0f));
+  const auto finite = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (s && (!finite(s->wi) || !finite(s->weight) || !std::isfinite(s->pdf) || !(s->pdf > 0.0f))) return std::nullopt;
+  return s;
+}
+
 }  // namespace path_vertex_detail
 
 /// Dimension pairs pair + 1 (the light point) and pair + 2 (the BSDF direction) of a vertex
@@ -135,6 +161,9 @@ struct PredrawnPairs {
   glm::vec2 bsdf;
   glm::vec3 bsdf_cosine;
 };
+
+/// TargetMixture::init or a function giving the same bits (path_vertex's `init_mixture`).
+using MixtureInit = bool (*)(TargetMixture& mix, const SpecularTargets& targets, glm::vec3 p, glm::vec3 n);
 
 namespace path_vertex_detail {
 /// Dimension pair `pair` of the path's sampler, or `*predrawn` when the kernel drew it ahead
@@ -170,9 +199,14 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
 ///
 /// `predrawn`, when given, holds the vertex's pairs pair + 1 and pair + 2 (the same numbers the
 /// sampler would give), and the sampler is not asked for them.
+///
+/// `init_mixture`, when given, builds the bounce mixture in place of TargetMixture::init (the
+/// same bits): the wavefront kernels pass their own, built for their instruction set with
+/// eight targets per operation (wavefront_kernel.inc).
 [[gnu::always_inline]] inline bool path_vertex(const TraceableScene& scene, int max_depth, PixelSampler& sampler,
                                                PathState& path, Hit* hit, ShadowQuery* shadow, bool* has_shadow,
-                                               const PredrawnPairs* predrawn = nullptr) {
+                                               const PredrawnPairs* predrawn = nullptr,
+                                               MixtureInit init_mixture = nullptr) {
   using namespace path_vertex_detail;
   const LightSet& lights = scene.lights();
   const TextureSet& textures = scene.textures();
@@ -276,7 +310,9 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
     // Bounces toward the scene's glass and mirrors (specular_targets.h): a scene without them
     // pays this one branch.
     TargetMixture mix;
-    const bool mixture = !scene.specular_targets().empty() && mix.init(scene.specular_targets(), sp.p, ns);
+    const bool mixture = !scene.specular_targets().empty() &&
+                         (init_mixture ? init_mixture(mix, scene.specular_targets(), sp.p, ns)
+                                       : mix.init(scene.specular_targets(), sp.p, ns));
     if (roulette || have_lights) {
       sampler.set_pair(pair);
       u_choice = sampler.get2d_independent();
@@ -330,34 +366,46 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
   } else {
     const ShadingFrame shading = shading_frame(*hit, *m, textures, scene.has_uv(), wo);
     const Frame& frame = shading.frame;
-    const Bsdf bsdf(bsdf_params(*m, textures, texture_point(*hit)));
     const glm::vec3 wo_local = frame.to_local(wo);
-    if (roulette || (have_lights && bsdf.has_smooth_lobe())) {
-      sampler.set_pair(pair);
-      u_choice = sampler.get2d_independent();
-    }
-    if (have_lights && bsdf.has_smooth_lobe()) {
-      const glm::vec2 u_light =
-          pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
-      const LightSample ls = lights.sample(sp, u_choice.x, u_light);
-      if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
-        const glm::vec3 wi_local = frame.to_local(ls.wi);
-        const glm::vec3 f = bsdf.eval(wo_local, wi_local) * perturbation_factor(shading, ls.wi);
-        // A reflection must leave on the side it arrived from, geometrically too.
-        const bool leaks = !m->dielectric() && glm::dot(sp.ng, ls.wi) <= 0;
-        if (f != glm::vec3(0.0f) && !leaks) {
-          const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, bsdf.pdf(wo_local, wi_local) * opacity);
-          set_shadow_ray(offset_ray_origin(sp, ls.wi), ls, shadow);
-          shadow->contribution = glm::dvec3(beta) * glm::dvec3(f) * glm::dvec3(ls.radiance) *
-                                 (double(w) / double(ls.pdf));
-          *has_shadow = true;
+    std::optional<BsdfSample> bs;
+    if (smooth_specular(*m)) {
+      // Delta lobes only: no light sample; the lobe choice from pair + 3's x, as below (the
+      // direction pair is not drawn: these BSDFs ignore it, and every draw sets its pair).
+      if (roulette) {
+        sampler.set_pair(pair);
+        u_choice = sampler.get2d_independent();
+      }
+      sampler.set_pair(pair + 3);
+      bs = specular_sample(*m, wo_local, sampler.get2d_x());
+    } else {
+      const Bsdf bsdf(bsdf_params(*m, textures, texture_point(*hit)));
+      if (roulette || (have_lights && bsdf.has_smooth_lobe())) {
+        sampler.set_pair(pair);
+        u_choice = sampler.get2d_independent();
+      }
+      if (have_lights && bsdf.has_smooth_lobe()) {
+        const glm::vec2 u_light =
+            pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
+        const LightSample ls = lights.sample(sp, u_choice.x, u_light);
+        if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
+          const glm::vec3 wi_local = frame.to_local(ls.wi);
+          const glm::vec3 f = bsdf.eval(wo_local, wi_local) * perturbation_factor(shading, ls.wi);
+          // A reflection must leave on the side it arrived from, geometrically too.
+          const bool leaks = !m->dielectric() && glm::dot(sp.ng, ls.wi) <= 0;
+          if (f != glm::vec3(0.0f) && !leaks) {
+            const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, bsdf.pdf(wo_local, wi_local) * opacity);
+            set_shadow_ray(offset_ray_origin(sp, ls.wi), ls, shadow);
+            shadow->contribution = glm::dvec3(beta) * glm::dvec3(f) * glm::dvec3(ls.radiance) *
+                                   (double(w) / double(ls.pdf));
+            *has_shadow = true;
+          }
         }
       }
+      sampler.set_pair(pair + 3);
+      const float u_lobe = sampler.get2d_x();
+      const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
+      bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
     }
-    sampler.set_pair(pair + 3);
-    const float u_lobe = sampler.get2d_x();
-    const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
-    const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
     if (!bs) return false;
     wi = frame.to_world(bs->wi);
     const float len2 = glm::dot(wi, wi);

@@ -293,6 +293,7 @@ SpecularTargets::SpecularTargets(const std::vector<ShapeRef>& shapes, const std:
     lanes_.r2[i] = targets[i].sphere.radius * targets[i].sphere.radius;
   }
   build_images(targets, lamps);
+  build_sources();
 }
 
 void SpecularTargets::build_images(const std::vector<Candidate>& targets, const std::vector<Lamp>& lamps) {
@@ -363,6 +364,36 @@ void SpecularTargets::build_images(const std::vector<Candidate>& targets, const 
   for (int i = 0; i < image_count_; ++i) images_[i] = all[size_t(i)].image;
 }
 
+void SpecularTargets::build_sources() {
+  ConeSources& s = sources_;
+  const auto add = [&s](const SpecularImage& im, float mass, bool always) {
+    const int i = s.count++;
+    s.cx[i] = im.center.x;
+    s.cy[i] = im.center.y;
+    s.cz[i] = im.center.z;
+    s.r[i] = im.radius;
+    s.r2[i] = im.radius * im.radius;
+    s.gx[i] = im.gate_normal.x;
+    s.gy[i] = im.gate_normal.y;
+    s.gz[i] = im.gate_normal.z;
+    s.gate_offset[i] = im.gate_offset;
+    s.wx[i] = im.window_center.x;
+    s.wy[i] = im.window_center.y;
+    s.wz[i] = im.window_center.z;
+    s.wr[i] = im.window_radius;
+    s.mass[i] = mass;
+    s.always[i] = always ? -1 : 0;
+  };
+  for (int i = 0; i < count_; ++i) {
+    SpecularImage self;
+    self.center = self.window_center = glm::vec3(lanes_.cx[i], lanes_.cy[i], lanes_.cz[i]);
+    self.radius = self.window_radius = lanes_.r[i];
+    self.gate_offset = -std::numeric_limits<float>::infinity();
+    add(self, kMassFactor, true);
+  }
+  for (int i = 0; i < image_count_; ++i) add(images_[i], kImageMassFactor, false);
+}
+
 SpecularTargets::Lanes SpecularTargets::empty_lanes() {
   Lanes l;
   for (int i = 0; i < kMaxTargets; ++i) {
@@ -370,6 +401,12 @@ SpecularTargets::Lanes SpecularTargets::empty_lanes() {
     l.r2[i] = std::numeric_limits<float>::infinity();
   }
   return l;
+}
+
+SpecularTargets::ConeSources SpecularTargets::empty_sources() {
+  ConeSources s{};
+  for (int i = 0; i < kSourceLanes; ++i) s.gate_offset[i] = std::numeric_limits<float>::infinity();
+  return s;
 }
 
 }  // namespace tessera

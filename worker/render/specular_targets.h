@@ -125,11 +125,35 @@ class SpecularTargets {
   /// The lamp images, at most kMaxImages, largest score first.
   const SpecularImage* images() const { return images_; }
 
+  /// Every source of a cone, the targets then the images, as arrays for TargetMixture::init,
+  /// which takes four or eight at a time (float4.h) through one formula: a target is an image
+  /// of itself (centre and radius its sphere's) with no gate (gate_offset -infinity), its own
+  /// sphere as window (so never turned toward 2p - I: dot(d, e) = |d|^2), `always` set (the
+  /// window test does not apply) and mass kMassFactor; an image has kImageMassFactor. r^2
+  /// computed once here. Entries past count (to kSourceLanes) have gate_offset = +infinity (no
+  /// point passes) and zeros elsewhere.
+  static constexpr int kMaxSources = kMaxTargets + kMaxImages;
+  /// The arrays' length: kMaxSources, and room for a block of eight starting at any source.
+  static constexpr int kSourceLanes = kMaxSources + 8;
+  struct ConeSources {
+    int count = 0;  ///< size() + image_count()
+    alignas(32) float cx[kSourceLanes], cy[kSourceLanes], cz[kSourceLanes];  ///< centre
+    alignas(32) float r[kSourceLanes], r2[kSourceLanes];                     ///< radius, squared
+    alignas(32) float gx[kSourceLanes], gy[kSourceLanes], gz[kSourceLanes];  ///< gate normal
+    alignas(32) float gate_offset[kSourceLanes];
+    alignas(32) float wx[kSourceLanes], wy[kSourceLanes], wz[kSourceLanes];  ///< window centre
+    alignas(32) float wr[kSourceLanes];                                      ///< window radius
+    alignas(32) float mass[kSourceLanes];      ///< kMassFactor or kImageMassFactor
+    alignas(32) int32_t always[kSourceLanes];  ///< -1: a target (no window test), else 0
+  };
+  const ConeSources& cone_sources() const { return sources_; }
+
  private:
   int count_ = 0;
   Lanes lanes_ = empty_lanes();
   int image_count_ = 0;
   SpecularImage images_[kMaxImages];
+  ConeSources sources_ = empty_sources();
 
   struct Candidate {
     SpecularTarget sphere;
@@ -144,6 +168,8 @@ class SpecularTargets {
   void build_images(const std::vector<Candidate>& targets, const std::vector<Lamp>& lamps);
 
   static Lanes empty_lanes();
+  static ConeSources empty_sources();
+  void build_sources();
 };
 
 /// Whether every lobe of `m` (and of its back material) is a delta: mirror, smooth conductor,

@@ -3,12 +3,16 @@
 // with and without the mixture agreeing in its mean.
 #include "target_mixture.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -402,6 +406,175 @@ TEST(SpecularTargets, GlassSceneMeanIsTheSameWithAndWithoutTheMixture) {
       EXPECT_NEAR(a.mean, b.mean, test::tolerance(a, b)) << "block at " << bx << ", " << by;
     }
   }
+}
+
+/// The mixture's cones by the per-cone scalar loop TargetMixture::init had before it went four
+/// lanes at a time (branch shade14): the specification its lanes must match bit for bit.
+struct ScalarMixture {
+  struct Cone {
+    glm::vec3 axis;
+    float one_minus_cos, cos_max, cdf, density;
+  };
+  std::vector<Cone> cones;
+  float p_cosine = 1;
+
+  void add(glm::vec3 d, float inv_dist, float one_minus_cos, float cos_axis, float mass, float q,
+           std::vector<std::pair<float, float>>* mass_cos_q) {
+    cones.push_back({d * inv_dist, one_minus_cos, 1.0f - one_minus_cos, 0, 0});
+    mass_cos_q->push_back({mass * cos_axis, q});
+  }
+
+  bool init(const SpecularTargets& targets, glm::vec3 p, glm::vec3 n) {
+    cones.clear();
+    std::vector<std::pair<float, float>> mass_cos_q;
+    float sum_p = 0;
+    for (int i = 0; i < targets.size(); ++i) {
+      const SpecularTarget s = targets[i];
+      const glm::vec3 d = s.center - p;
+      const float dn = glm::dot(d, n);
+      if (!(dn > 0)) continue;
+      const float dist2 = glm::dot(d, d);
+      const float r2 = targets.lanes().r2[i];
+      if (!(dist2 > r2)) continue;
+      const float inv_dist = 1.0f / std::sqrt(dist2);
+      const float sin2 = std::min(r2 * (inv_dist * inv_dist), 1.0f);
+      const float one_minus_cos = sin2 / (1.0f + std::sqrt(1.0f - sin2));
+      const float cos_axis = dn * inv_dist;
+      const float q = SpecularTargets::kMassFactor * (2.0f * one_minus_cos * cos_axis);
+      if (!(q > 0)) continue;
+      add(d, inv_dist, one_minus_cos, cos_axis, SpecularTargets::kMassFactor, q, &mass_cos_q);
+      sum_p += q;
+    }
+    for (int j = 0; j < targets.image_count(); ++j) {
+      const SpecularImage& im = targets.images()[j];
+      if (!(glm::dot(im.gate_normal, p) > im.gate_offset)) continue;
+      glm::vec3 d = im.center - p;
+      const glm::vec3 e = im.window_center - p;
+      if (glm::dot(d, e) < 0) d = -d;
+      const float dn = glm::dot(d, n);
+      if (!(dn > 0)) continue;
+      const float dist2 = glm::dot(d, d);
+      const float r2 = im.radius * im.radius;
+      if (!(dist2 > r2)) continue;
+      const float inv_dist = 1.0f / std::sqrt(dist2);
+      const float t = glm::dot(e, d) * inv_dist;
+      const float reach = im.window_radius + im.radius * t * inv_dist;
+      if (!(glm::dot(e, e) - t * t <= reach * reach)) continue;
+      const float sin2 = std::min(r2 * (inv_dist * inv_dist), 1.0f);
+      const float one_minus_cos = sin2 / (1.0f + std::sqrt(1.0f - sin2));
+      const float cos_axis = dn * inv_dist;
+      const float q = SpecularTargets::kImageMassFactor * (2.0f * one_minus_cos * cos_axis);
+      if (!(q > 0)) continue;
+      add(d, inv_dist, one_minus_cos, cos_axis, SpecularTargets::kImageMassFactor, q, &mass_cos_q);
+      sum_p += q;
+    }
+    if (cones.empty()) return false;
+    const float scale =
+        sum_p > SpecularTargets::kMaxTargetProbability ? SpecularTargets::kMaxTargetProbability / sum_p : 1.0f;
+    float cdf = 0;
+    for (size_t k = 0; k < cones.size(); ++k) {
+      cdf += mass_cos_q[k].second * scale;
+      cones[k].cdf = cdf;
+      cones[k].density = mass_cos_q[k].first * (kInvPi * scale);
+    }
+    p_cosine = 1.0f - cdf;
+    return true;
+  }
+
+  int choose(float u) const {
+    if (u >= cones.back().cdf) return -1;
+    for (size_t k = 0; k + 1 < cones.size(); ++k) {
+      if (u < cones[k].cdf) return int(k);
+    }
+    return int(cones.size()) - 1;
+  }
+
+  float pdf(glm::vec3 w, float cos_n, int sampled_cone) const {
+    float pdf = cos_n > 0 ? p_cosine * (cos_n * kInvPi) : 0.0f;
+    for (size_t k = 0; k < cones.size(); ++k) {
+      if (int(k) == sampled_cone || glm::dot(w, cones[k].axis) >= cones[k].cos_max) pdf += cones[k].density;
+    }
+    return pdf;
+  }
+};
+
+uint32_t bits_of(float x) {
+  uint32_t b;
+  std::memcpy(&b, &x, sizeof b);
+  return b;
+}
+
+/// Eight lanes, as the AVX2 and AVX-512 kernels' init_mixture takes them (here in baseline code:
+/// the same lane-wise operations, whatever instructions carry them).
+using Float8 = float __attribute__((vector_size(32)));
+using Mask8 = int32_t __attribute__((vector_size(32)));
+
+/// Compares TargetMixture with ScalarMixture at `points` random points of the box [lo, hi]
+/// with random normals: the same cones (count, choice of each u, directions sampled in each)
+/// and the same pdf bits for sampled and random directions, with four lanes (init) and with
+/// eight (init_lanes). Returns the cones seen in all.
+int expect_same_as_scalar(const SpecularTargets& targets, glm::vec3 lo, glm::vec3 hi, int points, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  int cones = 0;
+  for (int i = 0; i < 2 * points; ++i) {
+    const glm::vec3 p = lo + (hi - lo) * glm::vec3(test::u01(rng), test::u01(rng), test::u01(rng));
+    const glm::vec3 n = square_to_uniform_sphere(glm::vec2(test::u01(rng), test::u01(rng)));
+    TargetMixture lanes;
+    ScalarMixture scalar;
+    const bool any = i % 2 == 0 ? lanes.init(targets, p, n) : lanes.init_lanes<Float8, Mask8>(targets, p, n);
+    EXPECT_EQ(any, scalar.init(targets, p, n)) << "point " << i;
+    if (!any) continue;
+    EXPECT_EQ(lanes.count(), int(scalar.cones.size())) << "point " << i;
+    if (lanes.count() != int(scalar.cones.size())) return cones;
+    cones += lanes.count();
+    for (int k = 0; k < lanes.count(); ++k) {
+      // u just below and at cone k's cdf: the same strategy.
+      const float cdf = scalar.cones[size_t(k)].cdf;
+      for (const float u : {std::nextafter(cdf, 0.0f), cdf}) {
+        EXPECT_EQ(lanes.choose(u), scalar.choose(u)) << "point " << i << " cone " << k;
+      }
+      const glm::vec2 u(test::u01(rng), test::u01(rng));
+      const glm::vec3 w = lanes.sample_cone(k, u);
+      const ScalarMixture::Cone& c = scalar.cones[size_t(k)];
+      const glm::vec2 disk = square_to_concentric_disk(u);
+      const float omc = glm::dot(disk, disk) * c.one_minus_cos;
+      const float s = std::sqrt(std::max(0.0f, c.one_minus_cos * (2.0f - omc)));
+      const glm::vec3 expected = Frame(c.axis).to_world(glm::vec3(disk.x * s, disk.y * s, 1.0f - omc));
+      for (int a = 0; a < 3; ++a) EXPECT_EQ(bits_of(w[a]), bits_of(expected[a])) << "point " << i << " cone " << k;
+      const float cos_n = glm::dot(w, n);
+      EXPECT_EQ(bits_of(lanes.pdf(w, cos_n, k)), bits_of(scalar.pdf(w, cos_n, k))) << "point " << i << " cone " << k;
+      EXPECT_EQ(bits_of(lanes.pdf(w, cos_n)), bits_of(scalar.pdf(w, cos_n, -1))) << "point " << i << " cone " << k;
+    }
+    for (int j = 0; j < 8; ++j) {
+      const glm::vec3 w = square_to_uniform_sphere(glm::vec2(test::u01(rng), test::u01(rng)));
+      const float cos_n = glm::dot(w, n);
+      EXPECT_EQ(bits_of(lanes.pdf(w, cos_n)), bits_of(scalar.pdf(w, cos_n, -1))) << "point " << i;
+    }
+  }
+  return cones;
+}
+
+TEST(SpecularTargets, ConesFourAtATimeAreTheScalarLoopsBits) {
+  // The benchmark scenes' own targets and images (hexroom: 3 targets and 8 images, more than a
+  // block: the targets' formula, then the images'; cornell-sphere: 2 and 2, one block through
+  // the images' formula), at points over their rooms.
+  struct Case {
+    const char* file;
+    glm::vec3 lo, hi;
+  };
+  for (const Case& c :
+       {Case{"hexroom.json", {-5, 0, -5}, {5, 4, 5}}, Case{"cornell-sphere.json", {-1, 0, -1}, {1, 2, 1}}}) {
+    const TraceableScene scene(load_scene_file(kSource + "/scenes/" + c.file), 16, 16, "");
+    const int cones = expect_same_as_scalar(scene.specular_targets(), c.lo, c.hi, 3000, 7);
+    EXPECT_GT(cones, 3000) << c.file;  // many points see several cones
+  }
+  // Glass and mirror spheres, a flat mirror and two lamps, around the origin.
+  const LampScene lamps = lamps_glass_and_mirrors();
+  EXPECT_GT(expect_same_as_scalar(lamps.targets(), glm::vec3(-3.0f), glm::vec3(3.0f), 3000, 8), 3000);
+  // Nine targets (one more than kMaxTargets: two blocks, the second full).
+  std::vector<SpecularTarget> nine;
+  for (int i = 0; i < 9; ++i) nine.push_back({{float(i % 3) * 2 - 2, float(i / 3) * 2 - 2, 2.0f}, 0.3f + 0.05f * i});
+  EXPECT_GT(expect_same_as_scalar(targets_of(nine), glm::vec3(-3.0f), glm::vec3(3.0f), 3000, 9), 3000);
 }
 
 }  // namespace

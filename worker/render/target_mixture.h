@@ -7,16 +7,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "float4.h"
 #include "frame.h"
 #include "specular_targets.h"
 #include "warp.h"
 
 namespace tessera {
+
+// init_lanes passes 8-lane vectors between inlined functions only (float4.h): GCC's note that
+// their ABI would differ without AVX does not apply.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
 
 /// The mixture at one diffuse point: with probability p_k, a direction uniform in the cone
 /// subtended by target k; with probability 1 - sum p_k, a cosine-weighted one around the normal.
@@ -39,74 +46,71 @@ class TargetMixture {
   /// Then each lamp image (SpecularTargets::images) whose gate p passes, which does not hold p,
   /// and whose line from p passes its window: a cone toward the image, or toward 2p - I when the
   /// image lies behind p as seen from the target, with p_k = mass q_k (the same cap).
+  ///
+  /// Four targets or images per vector operation here (baseline code, called by the scalar
+  /// integrator and the tests); the AVX2 and AVX-512 wavefront kernels call init_lanes with
+  /// eight (wavefront_kernel.inc). The same bits either way.
   bool init(const SpecularTargets& targets, glm::vec3 p, glm::vec3 n) {
-    // At every diffuse vertex of a scene with targets, so kept cheap (BENCHMARKS.md, "Cost per
-    // sample, branch cost9"): the horizon test first, on the unnormalised direction (no square
-    // root for a target behind the surface), r^2 precomputed per scene, one square root and one
-    // division for the axis, and no division for the density (p_k / solid_angle_k reduces to
+    return init_lanes<float4::Float4, float4::Mask4>(targets, p, n);
+  }
+
+  /// init, kWidth<V> targets or images per operation of the float vector type V (M: its mask
+  /// type, int32 lanes). Inlined where it is called, so compiled for the caller's instruction
+  /// set.
+  template <class V, class M>
+  [[gnu::always_inline]] bool init_lanes(const SpecularTargets& targets, glm::vec3 p, glm::vec3 n) {
+    // At every diffuse vertex of a scene with targets, so kept cheap: a target's or an image's
+    // every test computed lane-wise, and its cone kept where all of them pass, in the order of
+    // the scalar loop it replaces (the cone's numbers are the same operations on the same
+    // values, so the same bits: SpecularTargets.ConesFourAtATimeAreTheScalarLoopsBits; the
+    // scalar loop's branches cost hexroom 827 instructions a call, BENCHMARKS.md, "Cost per
+    // sample, branch shade14"). r^2 precomputed per scene, one square root and one division
+    // for the axis, and no division for the density (p_k / solid_angle_k reduces to
     // kMassFactor cos(axis) scale / pi).
-    const SpecularTargets::Lanes& t = targets.lanes();
+    using namespace float4;
+    constexpr int W = kWidth<V>;
+    static_assert(SpecularTargets::kMaxTargets % W == 0 &&
+                  W <= SpecularTargets::kSourceLanes - SpecularTargets::kMaxSources);
     count_ = 0;
     float sum_p = 0;
-    const int size = targets.size();
-    for (int i = 0; i < size; ++i) {
-      const glm::vec3 d(t.cx[i] - p.x, t.cy[i] - p.y, t.cz[i] - p.z);
-      const float dn = glm::dot(d, n);
-      if (!(dn > 0)) continue;  // the centre on or below the horizon: at least half the cone below it
-      const float dist2 = glm::dot(d, d);
-      const float r2 = t.r2[i];
-      if (!(dist2 > r2)) continue;  // p inside the sphere
-      const float inv_dist = 1.0f / std::sqrt(dist2);
-      const float sin2 = std::min(r2 * (inv_dist * inv_dist), 1.0f);
-      // 1 - cos theta_max = sin^2 / (1 + cos): no cancellation for small cones.
-      const float one_minus_cos = sin2 / (1.0f + std::sqrt(1.0f - sin2));
-      const float cos_axis = dn * inv_dist;
-      // q_k = 2 pi (1 - cos theta_max) cos(axis) / pi.
-      const float q = SpecularTargets::kMassFactor * (2.0f * one_minus_cos * cos_axis);
-      if (!(q > 0)) continue;  // a cone too small for float: never chosen, so never counted
-      Cone& c = cones_[count_++];
-      c.axis = d * inv_dist;
-      c.one_minus_cos = one_minus_cos;
-      c.cos_max = 1.0f - one_minus_cos;
-      c.cos_axis = cos_axis;
-      c.mass = SpecularTargets::kMassFactor;
-      c.p = q;
-      sum_p += q;
-    }
-    const int images = targets.image_count();
-    const SpecularImage* image = targets.images();
-    for (int j = 0; j < images; ++j) {
-      const SpecularImage& im = image[j];
-      if (!(glm::dot(im.gate_normal, p) > im.gate_offset)) continue;  // the wrong side of the target
-      glm::vec3 d = im.center - p;
-      const glm::vec3 e = im.window_center - p;
-      // The light comes from the target: when the image lies behind p as seen from it (a real
-      // image beyond p), the direction is toward the point 2p - I.
-      if (glm::dot(d, e) < 0) d = -d;
-      const float dn = glm::dot(d, n);
-      if (!(dn > 0)) continue;
-      const float dist2 = glm::dot(d, d);
-      const float r2 = im.radius * im.radius;
-      if (!(dist2 > r2)) continue;  // p inside the image's sphere
-      const float inv_dist = 1.0f / std::sqrt(dist2);
-      // The window: the line from p along d passes the target's sphere, widened by the image
-      // cone's radius at the target's distance t.
-      const float t = glm::dot(e, d) * inv_dist;
-      const float reach = im.window_radius + im.radius * t * inv_dist;
-      if (!(glm::dot(e, e) - t * t <= reach * reach)) continue;
-      const float sin2 = std::min(r2 * (inv_dist * inv_dist), 1.0f);
-      const float one_minus_cos = sin2 / (1.0f + std::sqrt(1.0f - sin2));
-      const float cos_axis = dn * inv_dist;
-      const float q = SpecularTargets::kImageMassFactor * (2.0f * one_minus_cos * cos_axis);
-      if (!(q > 0)) continue;
-      Cone& c = cones_[count_++];
-      c.axis = d * inv_dist;
-      c.one_minus_cos = one_minus_cos;
-      c.cos_max = 1.0f - one_minus_cos;
-      c.cos_axis = cos_axis;
-      c.mass = SpecularTargets::kImageMassFactor;
-      c.p = q;
-      sum_p += q;
+    const V px = splat_lanes<V>(p.x), py = splat_lanes<V>(p.y), pz = splat_lanes<V>(p.z);
+    const V nx = splat_lanes<V>(n.x), ny = splat_lanes<V>(n.y), nz = splat_lanes<V>(n.z);
+    const V one = splat_lanes<V>(1.0f);
+    // Mass times cos(axis) per cone (the density's first factor), and q_k.
+    float mass_cos[kMaxCones];
+    float q[kMaxCones];
+    // The targets, then the images. A target's cone has a shorter formula (no gate, no window,
+    // never turned), but an image's covers it (a target is an image of itself:
+    // SpecularTargets::ConeSources): where all fit one block (cornell-sphere: 2 targets and 2
+    // images in one block of eight) they go through the image's formula together, else the
+    // targets through their own and the images after them (hexroom: 3 targets, then 8 images).
+    const SpecularTargets::ConeSources& c = targets.cone_sources();
+    if (c.count <= W) {
+      source_block<V, M, true>(c, 0, px, py, pz, nx, ny, nz, mass_cos, q, &sum_p);
+    } else {
+      const SpecularTargets::Lanes& t = targets.lanes();
+      for (int b = 0; b < targets.size(); b += W) {
+        const V dx = load_lanes<V>(t.cx + b) - px, dy = load_lanes<V>(t.cy + b) - py, dz = load_lanes<V>(t.cz + b) - pz;
+        // The centre on or below the horizon (at least half the cone below it), or p inside the
+        // sphere (lanes past size() have r^2 = infinity): no cone.
+        const V dn = (dx * nx + dy * ny) + dz * nz;
+        const V dist2 = (dx * dx + dy * dy) + dz * dz;
+        const V r2 = load_lanes<V>(t.r2 + b);
+        const V inv_dist = one / sqrt_lanes(dist2);
+        const V sin2 = one < r2 * (inv_dist * inv_dist) ? one : r2 * (inv_dist * inv_dist);  // std::min(x, 1)
+        // 1 - cos theta_max = sin^2 / (1 + cos): no cancellation for small cones.
+        const V one_minus_cos = sin2 / (one + sqrt_lanes(one - sin2));
+        const V cos_axis = dn * inv_dist;
+        // q_k = 2 pi (1 - cos theta_max) cos(axis) / pi; a cone too small for float (q_k = 0)
+        // is never chosen, so never counted.
+        const V qk = SpecularTargets::kMassFactor * ((2.0f * one_minus_cos) * cos_axis);
+        const M keep = (dn > 0.0f) & (dist2 > r2) & (qk > 0.0f);
+        append(bits_of_lanes(keep), dx * inv_dist, dy * inv_dist, dz * inv_dist, one_minus_cos,
+               SpecularTargets::kMassFactor * cos_axis, qk, mass_cos, q, &sum_p);
+      }
+      for (int b = targets.size(); b < c.count; b += W) {
+        source_block<V, M, false>(c, b, px, py, pz, nx, ny, nz, mass_cos, q, &sum_p);
+      }
     }
     if (count_ == 0) return false;
     const float scale = sum_p > SpecularTargets::kMaxTargetProbability
@@ -116,11 +120,18 @@ class TargetMixture {
     const float density_factor = kInvPi * scale;
     float cdf = 0;
     for (int k = 0; k < count_; ++k) {
-      Cone& c = cones_[k];
-      cdf += c.p * scale;
-      c.cdf = cdf;
-      c.density = (c.mass * c.cos_axis) * density_factor;
+      cdf += q[k] * scale;
+      cdf_[k] = cdf;
+      density_[k] = mass_cos[k] * density_factor;
     }
+    // pdf() reads four cones at a time: the four lanes after the last are in no cone (their
+    // axis 0, cos theta_max 2) and of density 0.
+    const Float4 zero = splat(0.0f), two = splat(2.0f);
+    std::memcpy(axis_x_ + count_, &zero, sizeof zero);
+    std::memcpy(axis_y_ + count_, &zero, sizeof zero);
+    std::memcpy(axis_z_ + count_, &zero, sizeof zero);
+    std::memcpy(cos_max_ + count_, &two, sizeof two);
+    std::memcpy(density_ + count_, &zero, sizeof zero);
     p_targets_ = cdf;
     p_cosine_ = 1.0f - cdf;
     return true;
@@ -130,7 +141,7 @@ class TargetMixture {
   int choose(float u_strategy) const {
     if (u_strategy >= p_targets_) return -1;
     for (int k = 0; k + 1 < count_; ++k) {
-      if (u_strategy < cones_[k].cdf) return k;
+      if (u_strategy < cdf_[k]) return k;
     }
     return count_ - 1;
   }
@@ -140,20 +151,32 @@ class TargetMixture {
   /// (uniform in the cap, as r^2 is uniform) and the azimuth of (x, y), so sin theta (x, y) / r =
   /// (x, y) sqrt((1 - cos theta_max)(2 - r^2 (1 - cos theta_max))): no sine, cosine or division.
   glm::vec3 sample_cone(int k, glm::vec2 u) const {
-    const Cone& c = cones_[k];
     const glm::vec2 disk = square_to_concentric_disk(u);
-    const float one_minus_cos = glm::dot(disk, disk) * c.one_minus_cos;
-    const float scale = std::sqrt(std::max(0.0f, c.one_minus_cos * (2.0f - one_minus_cos)));
+    const float one_minus_cos = glm::dot(disk, disk) * one_minus_cos_[k];
+    const float scale = std::sqrt(std::max(0.0f, one_minus_cos_[k] * (2.0f - one_minus_cos)));
     const glm::vec3 local(disk.x * scale, disk.y * scale, 1.0f - one_minus_cos);
-    return Frame(c.axis).to_world(local);
+    return Frame(glm::vec3(axis_x_[k], axis_y_[k], axis_z_[k])).to_world(local);
   }
 
   /// pdf(w) for a unit w with cos_n = dot(w, n). `sampled_cone`: the cone w was drawn from
   /// (counted as holding w whatever rounding says of its edge), or -1.
+  ///
+  /// Four cones per vector operation; their densities are added in cone order, 0 for a cone
+  /// that does not hold w (x + 0 = x for the non-negative sums here), so the same bits as
+  /// adding only the holding ones.
   float pdf(glm::vec3 w, float cos_n, int sampled_cone = -1) const {
+    using namespace float4;
     float pdf = cos_n > 0 ? p_cosine_ * (cos_n * kInvPi) : 0.0f;
-    for (int k = 0; k < count_; ++k) {
-      if (k == sampled_cone || glm::dot(w, cones_[k].axis) >= cones_[k].cos_max) pdf += cones_[k].density;
+    const Float4 wx = splat(w.x), wy = splat(w.y), wz = splat(w.z);
+    const Mask4 lane = {0, 1, 2, 3};
+    for (int b = 0; b < count_; b += 4) {
+      const Float4 cos_w = (wx * load(axis_x_ + b) + wy * load(axis_y_ + b)) + wz * load(axis_z_ + b);
+      const Mask4 holds = (cos_w >= load(cos_max_ + b)) | (lane + b == sampled_cone);
+      const Float4 density = holds ? load(density_ + b) : splat(0.0f);
+      pdf += density[0];
+      pdf += density[1];
+      pdf += density[2];
+      pdf += density[3];
     }
     return pdf;
   }
@@ -161,19 +184,81 @@ class TargetMixture {
   int count() const { return count_; }
 
  private:
-  struct Cone {
-    glm::vec3 axis;       ///< unit, toward the sphere's centre
-    float one_minus_cos;  ///< 1 - cos theta_max
-    float cos_max;
-    float cos_axis;       ///< cos of the axis to the normal
-    float mass;           ///< the factor on the cone's share of the cosine strategy
-    float p;              ///< p_k before scaling to sum p_k <= kMaxTargetProbability
-    float cdf;            ///< p_0 + ... + p_k
-    float density;        ///< p_k / solid_angle_k
-  };
-  Cone cones_[SpecularTargets::kMaxTargets + SpecularTargets::kMaxImages];
+  static constexpr int kMaxCones = SpecularTargets::kMaxTargets + SpecularTargets::kMaxImages;
+
+  /// init_lanes for the sources b .. b + kWidth<V> - 1 of `c` (lanes past c.count have no
+  /// cone): an image's cone, or a target's through the same formula. kTargets: whether the
+  /// block may hold targets (else their `always` and mass need not be read).
+  template <class V, class M, bool kTargets>
+  [[gnu::always_inline]] void source_block(const SpecularTargets::ConeSources& c, int b, V px, V py, V pz, V nx,
+                                           V ny, V nz, float* mass_cos, float* q, float* sum_p) {
+    using namespace float4;
+    const V one = splat_lanes<V>(1.0f);
+    const M always = kTargets ? load_lanes<M>(c.always + b) : M{};
+    // The wrong side of the target (lanes past the last have gate_offset = +infinity).
+    const M gate = (((load_lanes<V>(c.gx + b) * px + load_lanes<V>(c.gy + b) * py) + load_lanes<V>(c.gz + b) * pz) >
+                    load_lanes<V>(c.gate_offset + b)) |
+                   always;
+    // No early return where no lane passes the gate: a block with targets always has one,
+    // and hexroom's eight images nearly always (measured: one more test than it saves).
+    V dx = load_lanes<V>(c.cx + b) - px, dy = load_lanes<V>(c.cy + b) - py, dz = load_lanes<V>(c.cz + b) - pz;
+    const V ex = load_lanes<V>(c.wx + b) - px, ey = load_lanes<V>(c.wy + b) - py, ez = load_lanes<V>(c.wz + b) - pz;
+    // The light comes from the target: when the image lies behind p as seen from it (a real
+    // image beyond p), the direction is toward the point 2p - I (never for a target: e = d).
+    const M behind = ((dx * ex + dy * ey) + dz * ez) < 0.0f;
+    dx = behind ? -dx : dx;
+    dy = behind ? -dy : dy;
+    dz = behind ? -dz : dz;
+    const V dn = (dx * nx + dy * ny) + dz * nz;
+    const V dist2 = (dx * dx + dy * dy) + dz * dz;
+    const V r2 = load_lanes<V>(c.r2 + b);
+    const V inv_dist = one / sqrt_lanes(dist2);
+    // The window: the line from p along d passes the target's sphere, widened by the image
+    // cone's radius at the target's distance t (an image only).
+    const V t_window = ((ex * dx + ey * dy) + ez * dz) * inv_dist;
+    const V reach = load_lanes<V>(c.wr + b) + (load_lanes<V>(c.r + b) * t_window) * inv_dist;
+    const M window = ((((ex * ex + ey * ey) + ez * ez) - t_window * t_window) <= reach * reach) | always;
+    const V sin2 = one < r2 * (inv_dist * inv_dist) ? one : r2 * (inv_dist * inv_dist);  // std::min(x, 1)
+    const V one_minus_cos = sin2 / (one + sqrt_lanes(one - sin2));
+    const V cos_axis = dn * inv_dist;
+    const V mass = kTargets ? load_lanes<V>(c.mass + b) : splat_lanes<V>(SpecularTargets::kImageMassFactor);
+    const V qk = mass * ((2.0f * one_minus_cos) * cos_axis);
+    // The centre on or below the horizon, p inside the sphere, or outside the window: no cone.
+    const M keep = gate & (dn > 0.0f) & (dist2 > r2) & window & (qk > 0.0f);
+    append(bits_of_lanes(keep), dx * inv_dist, dy * inv_dist, dz * inv_dist, one_minus_cos, mass * cos_axis, qk,
+           mass_cos, q, sum_p);
+  }
+
+  /// Appends the cones of the lanes set in `bits` (lane 0 first), with their axis (unit, toward
+  /// the sphere's centre), 1 - cos theta_max, mass times cos(axis) and q_k; adds q_k to *sum_p.
+  template <class V>
+  [[gnu::always_inline]] void append(unsigned bits, V ax, V ay, V az, V one_minus_cos, V mass_cos, V qk,
+                                     float* mass_cos_out, float* q_out, float* sum_p) {
+    for (; bits != 0; bits &= bits - 1) {
+      const int l = __builtin_ctz(bits);
+      const int k = count_++;
+      axis_x_[k] = ax[l];
+      axis_y_[k] = ay[l];
+      axis_z_[k] = az[l];
+      one_minus_cos_[k] = one_minus_cos[l];
+      cos_max_[k] = 1.0f - one_minus_cos[l];
+      mass_cos_out[k] = mass_cos[l];
+      q_out[k] = qk[l];
+      *sum_p += qk[l];
+    }
+  }
+
+  // The cones as arrays, count_ of them (pdf() reads four at a time, up to 3 lanes past the
+  // last cone: init sets them to no cone).
+  alignas(16) float axis_x_[kMaxCones + 4], axis_y_[kMaxCones + 4], axis_z_[kMaxCones + 4];
+  alignas(16) float cos_max_[kMaxCones + 4];  ///< cos theta_max
+  alignas(16) float density_[kMaxCones + 4];  ///< p_k / solid_angle_k
+  float one_minus_cos_[kMaxCones];        ///< 1 - cos theta_max
+  float cdf_[kMaxCones];                  ///< p_0 + ... + p_k
   int count_ = 0;
   float p_targets_ = 0, p_cosine_ = 1;
 };
+
+#pragma GCC diagnostic pop
 
 }  // namespace tessera

@@ -13,6 +13,10 @@ namespace tessera {
 class ConductorBsdf {
  public:
   explicit ConductorBsdf(const BsdfParams& p);
+  /// The same from the values themselves (path_vertex's untextured mirrors and conductors: no
+  /// BsdfParams built); `perfect`: no Fresnel factor (a mirror).
+  ConductorBsdf(glm::vec3 specular_reflectance, glm::vec3 eta, glm::vec3 k, bool perfect)
+      : specular_reflectance_(specular_reflectance), eta_(eta), k_(k), perfect_(perfect) {}
   /// Only a delta lobe: eval and pdf are 0 for every pair of directions.
   glm::vec3 eval(glm::vec3, glm::vec3) const { return glm::vec3(0.0f); }
   float pdf(glm::vec3, glm::vec3) const { return 0.0f; }

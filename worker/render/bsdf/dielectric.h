@@ -16,6 +16,9 @@ class DielectricBsdf {
       : eta_(p.eta),
         reflectance_(p.specular_reflectance),
         transmittance_(p.specular_transmittance) {}
+  /// The same from the values themselves (path_vertex's untextured glass: no BsdfParams built).
+  DielectricBsdf(float eta, glm::vec3 reflectance, glm::vec3 transmittance)
+      : eta_(eta), reflectance_(reflectance), transmittance_(transmittance) {}
   /// Only delta lobes: eval and pdf are 0 for every pair of directions.
   glm::vec3 eval(glm::vec3, glm::vec3) const { return glm::vec3(0.0f); }
   float pdf(glm::vec3, glm::vec3) const { return 0.0f; }

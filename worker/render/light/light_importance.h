@@ -10,11 +10,8 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
+#include "render/float4.h"
 #include "render/light/light_bounds.h"
-
-#if defined(__SSE__)
-#include <xmmintrin.h>
-#endif
 
 namespace tessera {
 
@@ -83,43 +80,7 @@ class LightImportance {
 
 namespace light_importance_detail {
 
-// GCC's vector extensions: +, -, *, / and comparisons lane by lane, IEEE in every lane, on
-// whatever vector unit the target has (or none). -ffp-contract=off keeps a * b + c two
-// roundings, as in the scalar code.
-using Float4 = float __attribute__((vector_size(16)));
-using Mask4 = int32_t __attribute__((vector_size(16)));
-
-[[gnu::always_inline]] inline Float4 load(const float* v) {
-  Float4 r;
-  std::memcpy(&r, v, sizeof r);
-  return r;
-}
-[[gnu::always_inline]] inline Mask4 load(const int32_t* v) {
-  Mask4 r;
-  std::memcpy(&r, v, sizeof r);
-  return r;
-}
-[[gnu::always_inline]] inline Float4 splat(float x) { return Float4{x, x, x, x}; }
-
-/// Correctly rounded in every lane (sqrtps, or the scalar sqrt lane by lane): the same bits.
-[[gnu::always_inline]] inline Float4 sqrt4(Float4 x) {
-#if defined(__SSE__)
-  return _mm_sqrt_ps(x);
-#else
-  return Float4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
-#endif
-}
-[[gnu::always_inline]] inline Float4 abs4(Float4 x) {
-  Mask4 bits;
-  std::memcpy(&bits, &x, sizeof bits);
-  bits &= 0x7fffffff;
-  std::memcpy(&x, &bits, sizeof x);
-  return x;
-}
-/// max(x, lo) lane by lane; lo where x is NaN.
-[[gnu::always_inline]] inline Float4 at_least(Float4 x, Float4 lo) { return x > lo ? x : lo; }
-/// min(x, hi) lane by lane.
-[[gnu::always_inline]] inline Float4 at_most(Float4 x, Float4 hi) { return x < hi ? x : hi; }
+using namespace float4;  // Float4, Mask4 and their helpers (render/float4.h)
 
 /// The importance of the block's four lights at p (normal n, has_n: n != 0). Written once,
 /// called by evaluate_all and evaluate alike, so a lane's bits never depend on the caller.
