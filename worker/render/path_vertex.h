@@ -123,6 +123,15 @@ inline float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
   return shadow_terminator(f.frame.n, f.ns, wi);
 }
 
+/// A masked material's opacity at the hit (Mitsuba's mask: its constant times its texture,
+/// clamped to [0, 1]); 1 for a material without a mask.
+inline float opacity_at(const RenderMaterial& m, const TextureSet& textures, const Hit& hit) {
+  if (!m.masked()) return 1.0f;
+  return m.opacity.texture < 0
+             ? m.opacity.value
+             : std::clamp(m.opacity.value * textures.lookup_1(m.opacity.texture, texture_point(hit)), 0.0f, 1.0f);
+}
+
 /// Whether `m` is smooth glass, a mirror or a smooth conductor with constant parameters: only
 /// delta lobes (no light sample, no MIS), sampled by specular_sample without the general Bsdf.
 inline bool smooth_specular(const RenderMaterial& m) {
@@ -136,16 +145,13 @@ inline bool smooth_specular(const RenderMaterial& m) {
 /// BsdfParams (every material's fields) and a variant per glass or mirror vertex: about 360
 /// instructions of the vertex (BENCHMARKS.md, "Cost per sample, branch shade14").
 inline std::optional<BsdfSample> specular_sample(const RenderMaterial& m, glm::vec3 wo, float u_lobe) {
-  const std::optional<BsdfSample> s =
+  return checked_sample(
       m.type == MaterialType::glass
           ? DielectricBsdf(m.ior, m.specular_reflectance.value, m.specular_transmittance.value)
                 .sample(wo, u_lobe, glm::vec2(0.0f))
           : ConductorBsdf(m.specular_reflectance.value, m.conductor_eta, m.conductor_k,
                           m.perfect || m.type == MaterialType::mirror)
-                .sample(wo, u_lobe, glm::vec2(0.0f));
-  const auto finite = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-  if (s && (!finite(s->wi) || !finite(s->weight) || !std::isfinite(s->pdf) || !(s->pdf > 0.0f))) return std::nullopt;
-  return s;
+                .sample(wo, u_lobe, glm::vec2(0.0f)));
 }
 
 }  // namespace path_vertex_detail
@@ -263,9 +269,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
   // material's, as Mitsuba's mask reports them, so the two weights still add to one.
   float opacity = 1;
   if (m->masked()) {
-    opacity = m->opacity.texture < 0
-                  ? m->opacity.value
-                  : std::clamp(m->opacity.value * textures.lookup_1(m->opacity.texture, texture_point(*hit)), 0.0f, 1.0f);
+    opacity = opacity_at(*m, textures, *hit);
     sampler.set_pair(pair + 3);
     const glm::vec2 u_mask = sampler.get2d();
     if (u_mask.y >= opacity) {

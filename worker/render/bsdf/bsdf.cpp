@@ -50,11 +50,7 @@ float Bsdf::pdf(glm::vec3 wo, glm::vec3 wi) const {
 }
 
 std::optional<BsdfSample> Bsdf::sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const {
-  auto s = std::visit([&](const auto& b) { return b.sample(wo, u_lobe, u); }, impl_);
-  if (s && (!finite(s->wi) || !finite(s->weight) || !std::isfinite(s->pdf) || !(s->pdf > 0.0f))) {
-    return std::nullopt;
-  }
-  return s;
+  return checked_sample(std::visit([&](const auto& b) { return b.sample(wo, u_lobe, u); }, impl_));
 }
 
 bool Bsdf::has_smooth_lobe() const {

@@ -2,6 +2,8 @@
 // one shading point (textures already looked up) and one sampled direction.
 #pragma once
 
+#include <cmath>
+#include <optional>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -78,5 +80,16 @@ struct BsdfSample {
   /// Relative index of the interface crossed (eta_t / eta_i); 1 for reflection.
   float eta = 1;
 };
+
+/// `s` if it is usable (finite direction, weight and pdf, pdf > 0), else empty: Bsdf::sample's
+/// guard of the no-NaN contract, shared with path_vertex's shortcut for smooth specular
+/// materials (specular_sample) so the two keep the same bits.
+inline std::optional<BsdfSample> checked_sample(const std::optional<BsdfSample>& s) {
+  const auto finite = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (s && (!finite(s->wi) || !finite(s->weight) || !std::isfinite(s->pdf) || !(s->pdf > 0.0f))) {
+    return std::nullopt;
+  }
+  return s;
+}
 
 }  // namespace tessera

@@ -6,9 +6,13 @@
 
 namespace tessera {
 
+float thin_sheet_reflectance(float cos_theta, float eta) {
+  const float r = fresnel_dielectric_signed(cos_theta, eta).r;
+  return r * (2.0f / (1.0f + r));  // the geometric series of reflections inside the sheet
+}
+
 std::optional<BsdfSample> ThinDielectricBsdf::sample(glm::vec3 wo, float u_lobe, glm::vec2) const {
-  float r = fresnel_dielectric_signed(std::abs(wo.z), eta_).r;
-  r *= 2.0f / (1.0f + r);  // the geometric series of reflections inside the sheet
+  const float r = thin_sheet_reflectance(std::abs(wo.z), eta_);
   BsdfSample s;
   s.delta = true;
   if (u_lobe < r) {

@@ -11,6 +11,11 @@
 
 namespace tessera {
 
+/// R' = 2R / (1 + R): the sheet's reflectance with the inter-reflections between its faces, at
+/// |cos| = cos_theta for relative index eta (ThinDielectricBsdf's reflection probability; the
+/// volumetric path tracer's null transmission through the sheet is 1 - R').
+float thin_sheet_reflectance(float cos_theta, float eta);
+
 class ThinDielectricBsdf {
  public:
   explicit ThinDielectricBsdf(const BsdfParams& p)

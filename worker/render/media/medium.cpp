@@ -91,7 +91,7 @@ FreeFlight RenderMedium::sample_flight(glm::vec3 o, glm::vec3 d, float t_max, fl
       const double pdf = homogeneous_flight_pdf(sigma_t, t);
       f.scattered = true;
       f.t = float(t);
-      const glm::vec3 a = albedo_texture < 0 ? albedo : albedo_at(o + float(t) * d, textures);
+      const glm::vec3 a = albedo_at(o + float(t) * d, textures);
       f.weight = pdf > 0 ? glm::dvec3(a) * glm::dvec3(sigma_t) * homogeneous_transmittance(sigma_t, t) / pdf
                          : glm::dvec3(0.0);
       return f;
@@ -110,15 +110,16 @@ FreeFlight RenderMedium::sample_flight(glm::vec3 o, glm::vec3 d, float t_max, fl
     if (!(t < double(t1))) return f;  // reached the end of the medium's part of the ray
     const glm::vec3 p = o + float(t) * d;
     const glm::vec3 s = sigma_t_at(p, textures);
-    const float p_real = std::min(channel_mean(s) / majorant, 1.0f);
+    const float mean = channel_mean(s);
+    const float p_real = std::min(mean / majorant, 1.0f);
     if (stream.next() < p_real) {
       f.scattered = true;
       f.t = float(t);
-      f.weight *= glm::dvec3(albedo_at(p, textures)) * glm::dvec3(s) / double(channel_mean(s));
+      f.weight *= glm::dvec3(albedo_at(p, textures)) * glm::dvec3(s) / double(mean);
       return f;
     }
     // A null collision: each channel's weight (majorant - sigma_c) / (majorant (1 - p_real)).
-    f.weight *= (double(majorant) - glm::dvec3(s)) / (double(majorant) - double(channel_mean(s)));
+    f.weight *= (double(majorant) - glm::dvec3(s)) / (double(majorant) - double(mean));
   }
 }
 

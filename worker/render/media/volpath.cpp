@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "render/bsdf/fresnel.h"
+#include "render/bsdf/thin_dielectric.h"
 #include "render/media/medium.h"
 #include "render/path_vertex.h"
 
@@ -46,15 +46,10 @@ glm::vec3 null_transmission(const TraceableScene& scene, const Hit& h, glm::vec3
   glm::vec3 thin(0.0f);
   if (m.type == MaterialType::thin_glass) {
     const BsdfParams p = bsdf_params(m, scene.textures(), path_vertex_detail::texture_point(h));
-    float r = fresnel_dielectric_signed(std::abs(glm::dot(d, h.sp.ng)), p.eta).r;
-    r *= 2.0f / (1.0f + r);  // as ThinDielectricBsdf: the reflections inside the sheet
-    thin = (1.0f - r) * p.specular_transmittance;
+    thin = (1.0f - thin_sheet_reflectance(std::abs(glm::dot(d, h.sp.ng)), p.eta)) * p.specular_transmittance;
   }
   if (!m.masked()) return thin;
-  const float opacity =
-      m.opacity.texture < 0
-          ? m.opacity.value
-          : std::clamp(m.opacity.value * scene.textures().lookup_1(m.opacity.texture, path_vertex_detail::texture_point(h)), 0.0f, 1.0f);
+  const float opacity = path_vertex_detail::opacity_at(m, scene.textures(), h);
   return (1.0f - opacity) + opacity * thin;
 }
 
@@ -199,9 +194,7 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
     const RenderMaterial* m = &scene.material(g.material);
     float opacity = 1;
     if (m->masked()) {
-      opacity = m->opacity.texture < 0
-                    ? m->opacity.value
-                    : std::clamp(m->opacity.value * textures.lookup_1(m->opacity.texture, path_vertex_detail::texture_point(hit)), 0.0f, 1.0f);
+      opacity = path_vertex_detail::opacity_at(*m, textures, hit);
       sampler.set_pair(pair + 4);
       if (sampler.get2d().y >= opacity) {
         pass_through();
