@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "scene/mitsuba/mitsuba_plugin.h"
+#include "scene/mitsuba/mitsuba_values.h"
 
 namespace tessera {
 namespace {
@@ -112,18 +113,11 @@ constexpr std::string_view kAovTypes[] = {
 /// checked as Mitsuba checks it (a <name>:<type> pair each, a known type), so a scene Mitsuba
 /// refuses is refused here too; the channels themselves are not written.
 MitsubaIntegrator read_aov(MitsubaPlugin& integrator, const MitsubaIds& ids) {
-  std::string list = integrator.take_string("aovs").value_or("");
+  const std::string list = integrator.take_string("aovs").value_or("");
   std::vector<std::string> names;
-  size_t start = 0;
-  while (start <= list.size()) {
-    size_t comma = list.find(',', start);
-    if (comma == std::string::npos) comma = list.size();
-    std::string token = list.substr(start, comma - start);
-    const size_t first = token.find_first_not_of(" \t\n\r");
-    const size_t last = token.find_last_not_of(" \t\n\r");
-    token = first == std::string::npos ? std::string() : token.substr(first, last - first + 1);
-    start = comma + 1;
-    if (token.empty()) continue;  // Mitsuba's tokenizer skips empty items ("a:depth,")
+  // Split as Mitsuba's string::tokenize splits it: at commas and spaces, empty items dropped.
+  for (std::string_view item : split_mitsuba_list(list)) {
+    const std::string token(item);
     const size_t colon = token.find(':');
     const std::string name = colon == std::string::npos ? token : token.substr(0, colon);
     const std::string type = colon == std::string::npos ? std::string() : token.substr(colon + 1);
