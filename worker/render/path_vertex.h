@@ -132,6 +132,77 @@ inline float opacity_at(const RenderMaterial& m, const TextureSet& textures, con
              : std::clamp(m.opacity.value * textures.lookup_1(m.opacity.texture, texture_point(hit)), 0.0f, 1.0f);
 }
 
+/// The MIS weight of emission that the last bounce found at `hit` (an area emitter): 1 after a
+/// delta lobe or where no light sample was taken (`prev_delta`), else the power heuristic of the
+/// bounce's density `prev_pdf` against the light sampler's density of that point.
+inline float emitter_hit_weight(const LightSet& lights, bool prev_delta, float prev_pdf, const SurfacePoint& prev_sp,
+                                const Hit& hit) {
+  return prev_delta ? 1.0f
+                    : mis_weight(prev_pdf, lights.pdf_area(*hit.geometry, hit.primitive, prev_sp, hit.sp.p, hit.sp.ng));
+}
+
+/// The same for the environment, reached by an escaping ray along d.
+inline float environment_weight(const LightSet& lights, bool prev_delta, float prev_pdf, const SurfacePoint& prev_sp,
+                                glm::vec3 d) {
+  return prev_delta ? 1.0f : mis_weight(prev_pdf, lights.pdf_environment(prev_sp, d));
+}
+
+/// The material that shades a hit seen from `wo`, with `sp` and `hit` turned to face `wo`: a
+/// surface other than a dielectric seen from behind takes its back material (Mitsuba's
+/// twosided with two BSDFs) or, two-sided, its front one; a one-sided surface is black from
+/// behind (nullptr). A dielectric keeps its orientation (its inside is a side of its own).
+inline const RenderMaterial* facing_material(const TraceableScene& scene, const RenderMaterial* m, glm::vec3 wo,
+                                             SurfacePoint& sp, Hit& hit) {
+  if (glm::dot(wo, sp.ng) > 0 || m->dielectric()) return m;
+  if (m->back >= 0) {
+    m = &scene.material(uint32_t(m->back));
+  } else if (!m->two_sided) {
+    return nullptr;
+  }
+  sp.ng = -sp.ng;
+  hit.ns = -hit.ns;
+  return m;
+}
+
+/// What a light sample gives a vertex shaded by a general Bsdf: the BSDF's value toward it
+/// (with the perturbed normal's factor) and its MIS weight against the BSDF's own sampling,
+/// whose density counts the mask's `opacity` (see path_vertex). nullopt when the sample cannot
+/// contribute: no density or radiance, a zero value, or a reflection toward below the
+/// geometric surface (light must leave a reflecting surface on the side it arrived from).
+struct LightTerm {
+  glm::vec3 f;
+  float w;
+};
+inline std::optional<LightTerm> light_term(const Bsdf& bsdf, const ShadingFrame& shading, glm::vec3 wo_local,
+                                           const LightSample& ls, const RenderMaterial& m, const SurfacePoint& sp,
+                                           float opacity) {
+  if (!(ls.pdf > 0) || ls.radiance == glm::vec3(0.0f)) return std::nullopt;
+  const glm::vec3 wi_local = shading.frame.to_local(ls.wi);
+  const glm::vec3 f = bsdf.eval(wo_local, wi_local) * perturbation_factor(shading, ls.wi);
+  const bool leaks = !m.dielectric() && glm::dot(sp.ng, ls.wi) <= 0;
+  if (f == glm::vec3(0.0f) || leaks) return std::nullopt;
+  return LightTerm{f, ls.delta ? 1.0f : mis_weight(ls.pdf, bsdf.pdf(wo_local, wi_local) * opacity)};
+}
+
+/// The unit world direction of BSDF sample `bs` and the perturbed normal's factor on its
+/// weight; nullopt when the path ends there: a degenerate direction, a reflection below the
+/// geometric surface, or a direction the perturbed normal's factor zeroes.
+struct ScatteredDirection {
+  glm::vec3 wi;
+  float perturbation;
+};
+inline std::optional<ScatteredDirection> scattered_direction(const ShadingFrame& shading, const BsdfSample& bs,
+                                                             const RenderMaterial& m, const SurfacePoint& sp) {
+  glm::vec3 wi = shading.frame.to_world(bs.wi);
+  const float len2 = glm::dot(wi, wi);
+  if (!(len2 > 0)) return std::nullopt;
+  wi /= std::sqrt(len2);
+  if (!m.dielectric() && glm::dot(wi, sp.ng) <= 0) return std::nullopt;
+  const float perturbation = perturbation_factor(shading, wi);
+  if (!(perturbation > 0)) return std::nullopt;
+  return ScatteredDirection{wi, perturbation};
+}
+
 /// Whether `m` is smooth glass, a mirror or a smooth conductor with constant parameters: only
 /// delta lobes (no light sample, no MIS), sampled by specular_sample without the general Bsdf.
 inline bool smooth_specular(const RenderMaterial& m) {
@@ -226,7 +297,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
   if (!hit) {
     if (lights.has_environment() && !(vertex == 0 && scene.hide_emitters())) {
       const glm::vec3 le = lights.environment(ray.d);
-      const float w = path.prev_delta ? 1.0f : mis_weight(path.prev_pdf, lights.pdf_environment(path.prev_sp, ray.d));
+      const float w = environment_weight(lights, path.prev_delta, path.prev_pdf, path.prev_sp, ray.d);
       radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
     }
     return false;
@@ -244,9 +315,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
     }
     const glm::vec3 le = lights.emitted(g, hit->primitive, hit->uv, hit->sp.ng, wo);
     if (le != glm::vec3(0.0f)) {
-      const float w = path.prev_delta ? 1.0f
-                                      : mis_weight(path.prev_pdf, lights.pdf_area(g, hit->primitive, path.prev_sp,
-                                                                                  hit->sp.p, hit->sp.ng));
+      const float w = emitter_hit_weight(lights, path.prev_delta, path.prev_pdf, path.prev_sp, *hit);
       radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
     }
   }
@@ -290,16 +359,8 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
   }
 
   SurfacePoint sp = hit->sp;
-  const bool front = glm::dot(wo, sp.ng) > 0;
-  if (!front && !m->dielectric()) {
-    if (m->back >= 0) {
-      m = &scene.material(uint32_t(m->back));
-    } else if (!m->two_sided) {
-      return false;  // one-sided surfaces are black from behind
-    }
-    sp.ng = -sp.ng;
-    hit->ns = -hit->ns;
-  }
+  m = facing_material(scene, m, wo, sp, *hit);
+  if (!m) return false;  // one-sided surfaces are black from behind
 
   glm::vec2 u_choice(0.0f);
   glm::vec3 wi;
@@ -369,8 +430,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
     ray.o = origin;
   } else {
     const ShadingFrame shading = shading_frame(*hit, *m, textures, scene.has_uv(), wo);
-    const Frame& frame = shading.frame;
-    const glm::vec3 wo_local = frame.to_local(wo);
+    const glm::vec3 wo_local = shading.frame.to_local(wo);
     std::optional<BsdfSample> bs;
     if (smooth_specular(*m)) {
       // Delta lobes only: no light sample; the lobe choice from pair + 3's x, as below (the
@@ -391,18 +451,11 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
         const glm::vec2 u_light =
             pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
         const LightSample ls = lights.sample(sp, u_choice.x, u_light);
-        if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
-          const glm::vec3 wi_local = frame.to_local(ls.wi);
-          const glm::vec3 f = bsdf.eval(wo_local, wi_local) * perturbation_factor(shading, ls.wi);
-          // A reflection must leave on the side it arrived from, geometrically too.
-          const bool leaks = !m->dielectric() && glm::dot(sp.ng, ls.wi) <= 0;
-          if (f != glm::vec3(0.0f) && !leaks) {
-            const float w = ls.delta ? 1.0f : mis_weight(ls.pdf, bsdf.pdf(wo_local, wi_local) * opacity);
-            set_shadow_ray(offset_ray_origin(sp, ls.wi), ls, shadow);
-            shadow->contribution = glm::dvec3(beta) * glm::dvec3(f) * glm::dvec3(ls.radiance) *
-                                   (double(w) / double(ls.pdf));
-            *has_shadow = true;
-          }
+        if (const std::optional<LightTerm> lt = light_term(bsdf, shading, wo_local, ls, *m, sp, opacity)) {
+          set_shadow_ray(offset_ray_origin(sp, ls.wi), ls, shadow);
+          shadow->contribution = glm::dvec3(beta) * glm::dvec3(lt->f) * glm::dvec3(ls.radiance) *
+                                 (double(lt->w) / double(ls.pdf));
+          *has_shadow = true;
         }
       }
       sampler.set_pair(pair + 3);
@@ -411,14 +464,10 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
     }
     if (!bs) return false;
-    wi = frame.to_world(bs->wi);
-    const float len2 = glm::dot(wi, wi);
-    if (!(len2 > 0)) return false;
-    wi /= std::sqrt(len2);
-    if (!m->dielectric() && glm::dot(wi, sp.ng) <= 0) return false;
-    const float perturbation = perturbation_factor(shading, wi);
-    if (!(perturbation > 0)) return false;
-    beta *= bs->weight * perturbation;
+    const std::optional<ScatteredDirection> out = scattered_direction(shading, *bs, *m, sp);
+    if (!out) return false;
+    wi = out->wi;
+    beta *= bs->weight * out->perturbation;
     bsdf_pdf = bs->pdf * opacity;
     sampled_delta = bs->delta;
     path.eta_scale *= bs->eta * bs->eta;

@@ -164,7 +164,7 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
     if (!found) {
       if (lights.has_environment() && !(depth == 0 && hide)) {
         const glm::vec3 le = lights.environment(ray.d);
-        const float w = count_direct ? 1.0f : path_vertex_detail::mis_weight(prev_pdf, lights.pdf_environment(prev_sp, ray.d));
+        const float w = path_vertex_detail::environment_weight(lights, count_direct, prev_pdf, prev_sp, ray.d);
         radiance += beta * glm::dvec3(le) * double(w);
       }
       break;
@@ -185,9 +185,7 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
     if (g.emitter >= 0 && !(depth == 0 && hide)) {
       const glm::vec3 le = lights.emitted(g, hit.primitive, hit.uv, hit.sp.ng, wo);
       if (le != glm::vec3(0.0f)) {
-        const float w = count_direct
-                            ? 1.0f
-                            : path_vertex_detail::mis_weight(prev_pdf, lights.pdf_area(g, hit.primitive, prev_sp, hit.sp.p, hit.sp.ng));
+        const float w = path_vertex_detail::emitter_hit_weight(lights, count_direct, prev_pdf, prev_sp, hit);
         radiance += beta * glm::dvec3(le) * double(w);
       }
     }
@@ -202,37 +200,24 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
       }
     }
     SurfacePoint sp = hit.sp;
-    if (glm::dot(wo, sp.ng) <= 0 && !m->dielectric()) {
-      if (m->back >= 0) {
-        m = &scene.material(uint32_t(m->back));
-      } else if (!m->two_sided) {
-        break;  // one-sided surfaces are black from behind
-      }
-      sp.ng = -sp.ng;
-      hit.ns = -hit.ns;
-    }
+    m = path_vertex_detail::facing_material(scene, m, wo, sp, hit);
+    if (!m) break;  // one-sided surfaces are black from behind
     const path_vertex_detail::ShadingFrame shading = path_vertex_detail::shading_frame(hit, *m, textures, scene.has_uv(), wo);
-    const Frame& frame = shading.frame;
     const Bsdf bsdf(bsdf_params(*m, textures, path_vertex_detail::texture_point(hit)));
-    const glm::vec3 wo_local = frame.to_local(wo);
+    const glm::vec3 wo_local = shading.frame.to_local(wo);
     sampler.set_pair(pair + 1);
     const glm::vec2 u_choice = sampler.get2d_independent();
     // Mitsuba's volpath samples a light only where the next segment may still count.
     if (have_lights && bsdf.has_smooth_lobe() && (max_depth < 0 || depth + 1 < max_depth)) {
       sampler.set_pair(pair + 2);
       const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
-      if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
-        const glm::vec3 wi_local = frame.to_local(ls.wi);
-        const glm::vec3 f = bsdf.eval(wo_local, wi_local) * path_vertex_detail::perturbation_factor(shading, ls.wi);
-        const bool leaks = !m->dielectric() && glm::dot(sp.ng, ls.wi) <= 0;
-        if (f != glm::vec3(0.0f) && !leaks) {
-          const glm::vec3 origin = offset_ray_origin(sp, ls.wi);
-          const int32_t shadow_medium = medium_after(scene, hit, ng_front, ls.wi, medium);
-          TrackingStream shadow_stream(stream_key(sampler, pair + 5, 1));
-          const glm::dvec3 tr = shadow_transmittance(scene, origin, ls, shadow_medium, shadow_stream, counters);
-          const float w = ls.delta ? 1.0f : path_vertex_detail::mis_weight(ls.pdf, bsdf.pdf(wo_local, wi_local) * opacity);
-          radiance += beta * glm::dvec3(f) * glm::dvec3(ls.radiance) * tr * (double(w) / double(ls.pdf));
-        }
+      if (const std::optional<path_vertex_detail::LightTerm> lt =
+              path_vertex_detail::light_term(bsdf, shading, wo_local, ls, *m, sp, opacity)) {
+        const glm::vec3 origin = offset_ray_origin(sp, ls.wi);
+        const int32_t shadow_medium = medium_after(scene, hit, ng_front, ls.wi, medium);
+        TrackingStream shadow_stream(stream_key(sampler, pair + 5, 1));
+        const glm::dvec3 tr = shadow_transmittance(scene, origin, ls, shadow_medium, shadow_stream, counters);
+        radiance += beta * glm::dvec3(lt->f) * glm::dvec3(ls.radiance) * tr * (double(lt->w) / double(ls.pdf));
       }
     }
     sampler.set_pair(pair + 4);
@@ -241,14 +226,11 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
     const glm::vec2 u_bsdf = sampler.get2d();
     const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
     if (!bs) break;
-    glm::vec3 wi = frame.to_world(bs->wi);
-    const float len2 = glm::dot(wi, wi);
-    if (!(len2 > 0)) break;
-    wi /= std::sqrt(len2);
-    if (!m->dielectric() && glm::dot(wi, sp.ng) <= 0) break;
-    const float perturbation = path_vertex_detail::perturbation_factor(shading, wi);
-    if (!(perturbation > 0)) break;
-    beta *= glm::dvec3(bs->weight * perturbation);
+    const std::optional<path_vertex_detail::ScatteredDirection> out =
+        path_vertex_detail::scattered_direction(shading, *bs, *m, sp);
+    if (!out) break;
+    const glm::vec3 wi = out->wi;
+    beta *= glm::dvec3(bs->weight * out->perturbation);
     if (!(max_channel(beta) > 0)) break;
     // A thindielectric's straight transmission is a null interaction in Mitsuba (its BSDF
     // samples it as BSDFFlags::Null): no depth, no new MIS state.
