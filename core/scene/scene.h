@@ -54,15 +54,24 @@ struct Camera {
 
 /// The pixel reconstruction filter. Tessera samples it by filter importance sampling: each
 /// camera sample's film offset is drawn from the filter's footprint around the pixel centre and
-/// counts with weight 1 in that pixel only, so tiles stay independent (docs/renderer.md).
-enum class FilterKind { box, tent, gaussian };
+/// counts in that pixel only, so tiles stay independent (docs/renderer.md): with weight 1 for
+/// the filters that are never negative (box, tent, gaussian), with a signed weight for those
+/// with negative lobes (mitchell, which also stands for Mitsuba's catmullrom, and lanczos).
+enum class FilterKind { box, tent, gaussian, mitchell, lanczos };
+
+/// The most lobes a lanczos filter may have (its radius in pixels): camera rays of the image's
+/// border pixels reach up to radius - 1/2 pixels beyond it, and real scenes use 2 to 4.
+inline constexpr int kMaxLanczosLobes = 64;
 
 struct PixelFilter {
   FilterKind kind = FilterKind::box;
   /// Half-width of the footprint in pixels: box 0.5, tent 1 (Mitsuba's defaults), gaussian
-  /// 4 * stddev (Mitsuba truncates there). > 0.
+  /// 4 * stddev (Mitsuba truncates there), mitchell 2, lanczos its number of lobes. > 0.
   double radius = 0.5;
   double stddev = 0.5;  ///< gaussian only, pixels, > 0
+  /// mitchell only: Mitchell and Netravali's B and C (Mitsuba's defaults 1/3, 1/3; its
+  /// catmullrom is B = 0, C = 0.5), each finite.
+  double b = 1.0 / 3.0, c = 1.0 / 3.0;
 };
 
 struct Film {

@@ -123,10 +123,12 @@ std::string Renderer::isa() const { return scene_->isa(); }
 
 std::string Renderer::kernel_isa() const { return wavefront_ ? kernel_isa_name(wavefront_->kernel_isa()) : "-"; }
 
-Ray Renderer::camera_ray(int x, int y, PixelSampler& sampler) const {
+Ray Renderer::camera_ray(int x, int y, PixelSampler& sampler, double* weight) const {
   const glm::vec2 u_film = sampler.get2d();
   const glm::vec2 u_lens = sampler.get2d();
-  return scene_->camera().generate_ray(filter_.film_position(x, y, u_film), u_lens);
+  const FilmSample film = filter_.film_sample(x, y, u_film);
+  *weight = film.weight;
+  return scene_->camera().generate_ray(film.position, u_lens);
 }
 
 Accumulation Renderer::render(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
@@ -150,6 +152,7 @@ Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin
   const int max_depth = options_.max_depth;
   const uint64_t seed = options_.seed;
   const bool volumetric = scene.has_media();
+  const bool weighted = filter_.signed_weights();
 
   tbb::parallel_for(tbb::blocked_range<int>(tile.y0, tile.y1), [&](const tbb::blocked_range<int>& rows) {
     RowResult& local = work.local();
@@ -160,9 +163,11 @@ Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin
         const uint64_t pixel_key = PixelSampler::pixel_key(seed, x, y);
         for (uint32_t s = sample_begin; s < sample_end; ++s) {
           PixelSampler sampler(pixel_key, s);
-          const Ray ray = camera_ray(x, y, sampler);
-          const glm::dvec3 l = volumetric ? trace_volume_path(scene, ray, max_depth, sampler, local.counters)
-                                          : trace_path(scene, ray, max_depth, sampler, local.counters);
+          double weight;
+          const Ray ray = camera_ray(x, y, sampler, &weight);
+          glm::dvec3 l = volumetric ? trace_volume_path(scene, ray, max_depth, sampler, local.counters)
+                                    : trace_path(scene, ray, max_depth, sampler, local.counters);
+          if (weighted) l *= weight;  // a filter's negative lobe (other filters keep their bits)
           ++local.samples;
           add_sample(l, x, y, s, sum, dropped_by_row[row]);
         }
@@ -191,11 +196,13 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
   std::vector<DropLog> dropped_by_group(groups);
   tbb::combinable<RowResult> work;
   const uint64_t seed = options_.seed;
+  const bool weighted = filter_.signed_weights();
 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, 1), [&](const tbb::blocked_range<size_t>& range) {
     RowResult& local = work.local();
     std::vector<PathState> paths;
     std::vector<PixelSampler> samplers;
+    std::vector<double> weights;  // the filter's weight of each path's sample
     std::vector<PixelSum> sums;
     WavefrontIntegrator::Workspace workspace;
     for (size_t group = range.begin(); group != range.end(); ++group) {
@@ -206,6 +213,7 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
         const size_t last = std::min(group_paths, first + kWavefrontPaths);
         paths.clear();
         samplers.clear();
+        weights.clear();
         size_t key_pixel = SIZE_MAX;
         uint64_t pixel_key = 0;
         for (size_t k = first; k < last; ++k) {
@@ -216,13 +224,16 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
             pixel_key = PixelSampler::pixel_key(seed, x, y);
           }
           samplers.emplace_back(pixel_key, sample_begin + uint32_t(k % spp));
-          paths.push_back(PathState{camera_ray(x, y, samplers.back())});
+          double weight;
+          paths.push_back(PathState{camera_ray(x, y, samplers.back(), &weight)});
+          weights.push_back(weight);
         }
         wavefront_->trace(paths, samplers, local.counters, workspace);
         local.samples += last - first;
         for (size_t k = first; k < last; ++k) {
           const size_t p = p0 + k / spp;
           const int x = tile.x0 + int(p % width), y = tile.y0 + int(p / width);
+          if (weighted) paths[k - first].radiance *= weights[k - first];  // as render_scalar
           add_sample(paths[k - first].radiance, x, y, sample_begin + uint32_t(k % spp), sums[p - p0],
                      dropped_by_group[group]);
         }

@@ -80,8 +80,10 @@ class Renderer {
                              RenderStats* stats) const;
   Accumulation render_wavefront(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
                                 RenderStats* stats) const;
-  /// The camera ray of sample `s` of pixel (x, y), drawn from `sampler`'s camera pairs.
-  Ray camera_ray(int x, int y, PixelSampler& sampler) const;
+  /// The camera ray of sample `s` of pixel (x, y), drawn from `sampler`'s camera pairs, and in
+  /// `*weight` the filter's weight of the sample (PixelFilterSampler::film_sample: 1 unless the
+  /// filter has negative lobes).
+  Ray camera_ray(int x, int y, PixelSampler& sampler, double* weight) const;
 
   std::unique_ptr<TraceableScene> scene_;
   std::unique_ptr<WavefrontIntegrator> wavefront_;  ///< null for IntegratorKind::scalar

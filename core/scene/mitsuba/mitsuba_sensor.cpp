@@ -78,9 +78,34 @@ PixelFilter read_rfilter(MitsubaPlugin& film, const MitsubaIds& ids) {
     filter.kind = FilterKind::gaussian;
     filter.stddev = positive("stddev", 0.5);
     filter.radius = 4 * filter.stddev;
+  } else if (plugin.type() == "mitchell" || plugin.type() == "catmullrom") {
+    // Mitsuba's catmullrom is the Mitchell-Netravali cubic with B = 0, C = 0.5 (and no
+    // parameters); mitchell reads B and C (its docs say A and B; its code reads B and C).
+    filter.kind = FilterKind::mitchell;
+    filter.radius = 2;
+    if (plugin.type() == "catmullrom") {
+      filter.b = 0;
+      filter.c = 0.5;
+    } else {
+      for (const char* name : {"B", "C"}) {
+        const std::optional<double> v = plugin.take_float(name);
+        if (!v) continue;
+        if (!std::isfinite(*v)) fail_at(*plugin.property(name), "must be finite (got " + format_number(*v) + ")");
+        (name[0] == 'B' ? filter.b : filter.c) = *v;
+      }
+    }
+  } else if (plugin.type() == "lanczos") {
+    filter.kind = FilterKind::lanczos;
+    const int64_t lobes = plugin.take_integer("lobes").value_or(3);
+    if (lobes < 1 || lobes > kMaxLanczosLobes) {
+      fail_at(*plugin.property("lobes"), "must be a whole number from 1 to " + std::to_string(kMaxLanczosLobes) +
+                                             " (got " + std::to_string(lobes) + ")");
+    }
+    filter.radius = double(lobes);
   } else {
     fail_at(*rfilter,
-            "unsupported reconstruction filter (Tessera has box, tent and gaussian)");
+            "unsupported reconstruction filter (Tessera has box, tent, gaussian, mitchell, "
+            "catmullrom and lanczos)");
   }
   plugin.finish();
   return filter;

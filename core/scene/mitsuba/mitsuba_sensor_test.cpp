@@ -261,6 +261,25 @@ TEST(MitsubaFilm, ReconstructionFilters) {
   EXPECT_EQ(gauss.kind, FilterKind::gaussian);
   EXPECT_EQ(gauss.stddev, 0.25);
   EXPECT_EQ(gauss.radius, 1.0);  // Mitsuba truncates at 4 stddev
+  PixelFilter mitchell = filter_of(R"(<film type="hdrfilm"><rfilter type="mitchell"/></film>)");
+  EXPECT_EQ(mitchell.kind, FilterKind::mitchell);
+  EXPECT_EQ(mitchell.radius, 2.0);
+  EXPECT_EQ(mitchell.b, 1.0 / 3);
+  EXPECT_EQ(mitchell.c, 1.0 / 3);
+  mitchell = filter_of(R"(<film type="hdrfilm"><rfilter type="mitchell">
+      <float name="B" value="0.5"/><float name="C" value="0.25"/></rfilter></film>)");
+  EXPECT_EQ(mitchell.b, 0.5);
+  EXPECT_EQ(mitchell.c, 0.25);
+  PixelFilter catmullrom = filter_of(R"(<film type="hdrfilm"><rfilter type="catmullrom"/></film>)");
+  EXPECT_EQ(catmullrom.kind, FilterKind::mitchell);
+  EXPECT_EQ(catmullrom.b, 0.0);
+  EXPECT_EQ(catmullrom.c, 0.5);
+  PixelFilter lanczos = filter_of(R"(<film type="hdrfilm"><rfilter type="lanczos"/></film>)");
+  EXPECT_EQ(lanczos.kind, FilterKind::lanczos);
+  EXPECT_EQ(lanczos.radius, 3.0);  // Mitsuba's default of 3 lobes
+  lanczos = filter_of(R"(<film type="hdrfilm"><rfilter type="lanczos"><integer name="lobes" value="2"/>
+      </rfilter></film>)");
+  EXPECT_EQ(lanczos.radius, 2.0);
   // Without <rfilter>, and without <film>, Mitsuba's default: gaussian, stddev 0.5.
   for (const std::string& film : {std::string(R"(<film type="hdrfilm"/>)"), std::string()}) {
     PixelFilter fallback = film.empty()
@@ -278,10 +297,18 @@ TEST(MitsubaFilm, WhatChangesTheImageIsRefused) {
   auto film_error = [](const std::string& film) {
     return sensor_error(sensor(R"(<float name="fov" value="30"/>)", "perspective", film));
   };
-  EXPECT_NE(film_error(R"(<film type="hdrfilm"><rfilter type="mitchell"/></film>)")
-                .find("<rfilter type=\"mitchell\">: unsupported reconstruction filter (Tessera "
-                      "has box, tent and gaussian)"),
+  EXPECT_NE(film_error(R"(<film type="hdrfilm"><rfilter type="sinc"/></film>)")
+                .find("<rfilter type=\"sinc\">: unsupported reconstruction filter (Tessera "
+                      "has box, tent, gaussian, mitchell, catmullrom and lanczos)"),
             std::string::npos);
+  EXPECT_NE(film_error(R"(<film type="hdrfilm"><rfilter type="lanczos"><integer name="lobes" value="0"/>
+      </rfilter></film>)")
+                .find("<integer name=\"lobes\">: must be a whole number from 1 to 64 (got 0)"),
+            std::string::npos);
+  EXPECT_NE(film_error(R"(<film type="hdrfilm"><rfilter type="mitchell"><float name="A" value="0.25"/>
+      </rfilter></film>)")
+                .find("\"A\""),
+            std::string::npos);  // Mitsuba's docs name A and B; its code reads B and C
   EXPECT_NE(film_error(R"(<film type="hdrfilm"><rfilter type="box"><float name="radius" value="0"/>
       </rfilter></film>)")
                 .find("<float name=\"radius\">: must be > 0 (got 0)"),

@@ -369,8 +369,21 @@ TEST(SceneModelParse, LightsFilterAndHideEmitters) {
   EXPECT_EQ(parse(with(R"("film": {"filter": {"type": "tent"}})")).film.filter.radius, 1);
   EXPECT_EQ(parse(R"({"tessera": 1})").film.filter.kind, FilterKind::box);
 
-  EXPECT_EQ(error_of(with(R"("film": {"filter": {"type": "lanczos"}})")),
-            "film.filter.type: unknown filter \"lanczos\" (expected box, tent or gaussian)");
+  const PixelFilter mitchell = parse(with(R"("film": {"filter": {"type": "mitchell", "b": 0, "c": 0.5}})")).film.filter;
+  EXPECT_EQ(mitchell.kind, FilterKind::mitchell);
+  EXPECT_EQ(mitchell.radius, 2);
+  EXPECT_EQ(mitchell.b, 0);
+  EXPECT_EQ(mitchell.c, 0.5);
+  EXPECT_EQ(parse(with(R"("film": {"filter": {"type": "mitchell"}})")).film.filter.b, 1.0 / 3);
+  const PixelFilter lanczos = parse(with(R"("film": {"filter": {"type": "lanczos"}})")).film.filter;
+  EXPECT_EQ(lanczos.kind, FilterKind::lanczos);
+  EXPECT_EQ(lanczos.radius, 3);  // its lobes
+  EXPECT_EQ(parse(with(R"("film": {"filter": {"type": "lanczos", "lobes": 2}})")).film.filter.radius, 2);
+  EXPECT_EQ(error_of(with(R"("film": {"filter": {"type": "lanczos", "lobes": 0}})")).rfind("film.filter.lobes:", 0), 0u);
+  EXPECT_EQ(error_of(with(R"("film": {"filter": {"type": "lanczos", "lobes": 2.5}})")).rfind("film.filter.lobes:", 0), 0u);
+  EXPECT_EQ(error_of(with(R"("film": {"filter": {"type": "mitchell", "radius": 3}})")).rfind("film.filter", 0), 0u);
+  EXPECT_EQ(error_of(with(R"("film": {"filter": {"type": "sinc"}})")),
+            "film.filter.type: unknown filter \"sinc\" (expected box, tent, gaussian, mitchell or lanczos)");
   EXPECT_EQ(error_of(with(R"("film": {"filter": {"type": "tent", "radius": 0}})")),
             "film.filter.radius: must be > 0 (got 0)");
   EXPECT_EQ(error_of(with(R"("lights": [{"type": "point", "transform": {"scale": 2}}])")),

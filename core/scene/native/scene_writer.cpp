@@ -511,6 +511,13 @@ std::string film_json(const Film& film) {
       filter = "{\"type\": \"gaussian\", \"stddev\": " + number(film.filter.stddev, "film.filter") +
                ", \"radius\": " + number(film.filter.radius, "film.filter") + "}";
       break;
+    case FilterKind::mitchell:
+      filter = "{\"type\": \"mitchell\", \"b\": " + number(film.filter.b, "film.filter") +
+               ", \"c\": " + number(film.filter.c, "film.filter") + "}";
+      break;
+    case FilterKind::lanczos:
+      filter = "{\"type\": \"lanczos\", \"lobes\": " + std::to_string(int(film.filter.radius)) + "}";
+      break;
   }
   return "  \"film\": {\"width\": " + std::to_string(film.width) +
          ", \"height\": " + std::to_string(film.height) + ", \"filter\": " + filter + "},\n";

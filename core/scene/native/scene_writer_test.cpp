@@ -183,6 +183,8 @@ void expect_same_scene(const Scene& a, const Scene& b) {
   EXPECT_EQ(a.film.filter.kind, b.film.filter.kind);
   EXPECT_TRUE(same_bits(a.film.filter.radius, b.film.filter.radius));
   EXPECT_TRUE(same_bits(a.film.filter.stddev, b.film.filter.stddev));
+  EXPECT_TRUE(same_bits(a.film.filter.b, b.film.filter.b));
+  EXPECT_TRUE(same_bits(a.film.filter.c, b.film.filter.c));
   EXPECT_EQ(a.render.hide_emitters, b.render.hide_emitters);
   ASSERT_EQ(a.textures.size(), b.textures.size());
   for (size_t i = 0; i < a.textures.size(); ++i) {
@@ -596,6 +598,10 @@ TEST(SceneWriter, EveryFieldOfTheModelRoundTripsExactly) {
     s.film.filter = {kind, kind == FilterKind::box ? 0.5 : 1.25, 0.5};
     expect_same_scene(s, round_trip(s));
   }
+  s.film.filter = {FilterKind::mitchell, 2.0, 0.5, 0.1 + 0.2, -0.25};
+  expect_same_scene(s, round_trip(s));
+  s.film.filter = {FilterKind::lanczos, 5.0, 0.5};
+  expect_same_scene(s, round_trip(s));
   // The orthographic camera has no lens: the writer leaves the lens keys out.
   s.camera.projection = Projection::orthographic;
   s.camera.view_size = {0.1 + 0.2, 1e-300};

@@ -128,8 +128,19 @@ PixelFilter parse_filter(const JsonValue& value) {
     filter.kind = FilterKind::gaussian;
     filter.stddev = positive("stddev", 0.5);
     filter.radius = positive("radius", 4 * filter.stddev);
+  } else if (name == "mitchell") {
+    value.expect_object({"type", "b", "c"}, "a mitchell filter");
+    filter.kind = FilterKind::mitchell;
+    filter.radius = 2;
+    if (std::optional<JsonValue> b = value.find("b")) filter.b = b->number();
+    if (std::optional<JsonValue> c = value.find("c")) filter.c = c->number();
+  } else if (name == "lanczos") {
+    value.expect_object({"type", "lobes"}, "a lanczos filter");
+    filter.kind = FilterKind::lanczos;
+    filter.radius = 3;
+    if (std::optional<JsonValue> lobes = value.find("lobes")) filter.radius = double(lobes->integer(1, kMaxLanczosLobes));
   } else {
-    type.fail("unknown filter \"" + printable(name) + "\" (expected box, tent or gaussian)");
+    type.fail("unknown filter \"" + printable(name) + "\" (expected box, tent, gaussian, mitchell or lanczos)");
   }
   return filter;
 }
