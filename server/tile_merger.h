@@ -200,6 +200,9 @@ class TileMerger {
   uint64_t waiting_merged_ = 0, waiting_hits_ = 0;
   std::set<Contributor> contributors_;
   uint32_t checkpoint_every_;
+  /// Encodes the checkpoints (under the coordinator's store lock, like every call here): one
+  /// zstd context for the server, not one per gRPC thread that happens to commit a group.
+  AccumulationEncoder checkpoint_encoder_;
 };
 
 }  // namespace tessera::server

@@ -145,6 +145,12 @@ TEST(AccumulationCodecTest, EncodingIsDeterministic) {
   const std::string fast = encode_accumulation(acc, CodecEffort::fast);
   EXPECT_EQ(encode_accumulation(acc), standard);
   EXPECT_EQ(encode_accumulation(acc, CodecEffort::fast), fast);
+  // An encoder of one's own (the server's merger keeps one) gives the same bytes, call after call.
+  AccumulationEncoder encoder;
+  EXPECT_EQ(encoder.encode(acc, CodecEffort::fast), fast);
+  EXPECT_EQ(encoder.encode(acc), standard);
+  EXPECT_EQ(encoder.encode(noisy_accumulation(256, 3)), encode_accumulation(noisy_accumulation(256, 3)));
+  EXPECT_EQ(encoder.encode(acc, CodecEffort::fast), fast);
 }
 
 // The server's checkpoints use CodecEffort::fast: the same format, read by the same decoder, the
