@@ -10,6 +10,8 @@
 #   SCENE=scenes/hexroom.json bench/farm_overhead.sh
 #   RUNS=3 SIZE=256 SPP=64 bench/farm_overhead.sh
 #   BIN=/work/main/build/bin bench/farm_overhead.sh # another build's binaries
+#   LOCAL=0 bench/farm_overhead.sh                  # farm runs only: the server's and client's
+#                                                   # CPU per job, without the local renders
 #
 # Wall time of the farm run: `tessera submit -o OUT.exr` from submission to the image on disk
 # (bundle upload, scheduling, every unit's round trip, merge, EXR+PNG written by the server,
@@ -30,12 +32,14 @@ export SIZE="${SIZE:-512}"
 export SPP="${SPP:-256}"
 export BATCH="${BATCH:-}"
 export SEED0="${SEED0:-1}"
+export LOCAL="${LOCAL:-1}"
 export SCENE="${SCENE:-$ROOT/scenes/cornell.json}"
 
 for b in tessera-server tessera-worker tessera; do
   [ -x "$BIN/$b" ] || { echo "farm_overhead: $BIN/$b not built (set BIN)" >&2; exit 1; }
 done
 command -v idiff >/dev/null || { echo "farm_overhead: idiff (OpenImageIO's tools) not found" >&2; exit 1; }
+[[ "$LOCAL" =~ ^[01]$ ]] || { echo "farm_overhead: LOCAL must be 0 or 1 (got '$LOCAL')" >&2; exit 1; }
 [ -z "$BATCH" ] || [[ "$BATCH" =~ ^[1-9][0-9]*$ ]] ||
   { echo "farm_overhead: BATCH must be a positive integer (got '$BATCH')" >&2; exit 1; }
 
@@ -49,6 +53,7 @@ import json, os, re, signal, statistics, subprocess, sys, time
 BIN, WORK, SCENE = os.environ["BIN"], os.environ["WORK"], os.environ["SCENE"]
 RUNS, SIZE, SPP = int(os.environ["RUNS"]), os.environ["SIZE"], os.environ["SPP"]
 BATCH, SEED0 = os.environ["BATCH"], int(os.environ["SEED0"])
+LOCAL = os.environ["LOCAL"] == "1"
 TICK = os.sysconf("SC_CLK_TCK")
 running = []  # the child run_child waits for, ended with us
 
@@ -62,6 +67,12 @@ signal.signal(signal.SIGTERM, terminated)
 def job_options(seed):
     opts = ["--width", SIZE, "--height", SIZE, "--spp", SPP, "--seed", str(seed)]
     return opts + (["--batch", BATCH] if BATCH else [])
+
+def proc_written(pid):
+    """Bytes pid has written through write(2) and its kind (wchar of /proc/PID/io): files and
+    sockets, whether or not they reach the disk."""
+    with open(f"/proc/{pid}/io") as f:
+        return next(int(l.split()[1]) for l in f if l.startswith("wchar:"))
 
 def proc_cpu(pid):
     """utime + stime of every thread of pid, ended ones included, in seconds (/proc/PID/stat)."""
@@ -106,22 +117,30 @@ try:
                               "-o", local_exr], stdout=subprocess.DEVNULL,
                              stderr=subprocess.DEVNULL)
         def farm():
-            s0, w0 = proc_cpu(server.pid), proc_cpu(worker.pid)
+            s0, w0, b0 = proc_cpu(server.pid), proc_cpu(worker.pid), proc_written(server.pid)
             wall, client = run_child([f"{BIN}/tessera", "--server", addr, "submit", SCENE,
                                       *job_options(seed), "-o", farm_exr],
                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            return wall, proc_cpu(server.pid) - s0, proc_cpu(worker.pid) - w0, client
-        if i % 2 == 0:
-            lw, lc = local(); fw, fs, fwk, fcl = farm()
+            return (wall, proc_cpu(server.pid) - s0, proc_cpu(worker.pid) - w0, client,
+                    proc_written(server.pid) - b0)
+        if not LOCAL:
+            fw, fs, fwk, fcl, fb = farm()
+            lw = lc = float("nan")
+        elif i % 2 == 0:
+            lw, lc = local(); fw, fs, fwk, fcl, fb = farm()
         else:
-            fw, fs, fwk, fcl = farm(); lw, lc = local()
-        same = subprocess.run(["idiff", "-fail", "0", "-warn", "0", farm_exr, local_exr],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode == 0
-        rows.append((lw, lc, fw, fs + fwk + fcl, fs, fwk, fcl, same))
+            fw, fs, fwk, fcl, fb = farm(); lw, lc = local()
+        same = not LOCAL or subprocess.run(
+            ["idiff", "-fail", "0", "-warn", "0", farm_exr, local_exr],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode == 0
+        rows.append((lw, lc, fw, fs + fwk + fcl, fs, fwk, fcl, same, fb / 1e6))
         print(f"run {i + 1} (seed {seed}): local {lw:.2f} s wall, {lc:.2f} s CPU; farm {fw:.2f} s "
               f"wall, {fs + fwk + fcl:.2f} s CPU (server {fs:.2f}, worker {fwk:.2f}, client "
-              f"{fcl:.2f}); pixels {'identical' if same else 'DIFFER'}", file=sys.stderr, flush=True)
-        os.remove(local_exr)
+              f"{fcl:.2f}), server wrote {fb / 1e6:.1f} MB; pixels "
+              f"{'not compared' if not LOCAL else 'identical' if same else 'DIFFER'}",
+              file=sys.stderr, flush=True)
+        if LOCAL:
+            os.remove(local_exr)
         os.remove(farm_exr)
     status = subprocess.run([f"{BIN}/tessera", "--server", addr, "status", "1", "--json"],
                             capture_output=True, text=True, check=True)
@@ -140,14 +159,18 @@ runs = lambda k: " ".join(f"{r[k]:.2f}" for r in rows)
 schedule = f"fixed batches of {BATCH} spp" if BATCH else "progressive (default) schedule"
 print(f"job: {os.path.basename(SCENE)} {SIZE}x{SIZE}, {SPP} spp, {schedule}; {units} units per "
       f"job, {RUNS} runs each, alternating")
-print(f"tessera-worker render : wall median {lw:.2f} s ({runs(0)}); CPU median {lc:.2f} s ({runs(1)})")
+if LOCAL:
+    print(f"tessera-worker render : wall median {lw:.2f} s ({runs(0)}); CPU median {lc:.2f} s ({runs(1)})")
 print(f"server + 1 worker     : wall median {fw:.2f} s ({runs(2)}); CPU median {fc:.2f} s ({runs(3)})")
-print(f"  CPU medians by process: server {med(4):.2f} s, worker {med(5):.2f} s, client {med(6):.2f} s")
-print(f"farm overhead         : wall {100 * (fw - lw) / lw:+.2f} %, CPU {100 * (fc - lc) / lc:+.2f} %"
-      f" (medians); CPU per pair: "
-      + " ".join(f"{100 * (r[3] - r[1]) / r[1]:+.2f}" for r in rows) + " %")
+print(f"  CPU medians by process: server {med(4):.2f} s, worker {med(5):.2f} s, client {med(6):.2f} s"
+      f"; server wrote {med(8):.1f} MB per job (median; {runs(8)})")
+if LOCAL:
+    print(f"farm overhead         : wall {100 * (fw - lw) / lw:+.2f} %, CPU "
+          f"{100 * (fc - lc) / lc:+.2f} % (medians); CPU per pair: "
+          + " ".join(f"{100 * (r[3] - r[1]) / r[1]:+.2f}" for r in rows) + " %")
 print(f"result bytes per unit : {per_unit} (zstd-compressed accumulation, gRPC framing excluded)")
-print(f"farm = local pixels   : {sum(r[7] for r in rows)} of {RUNS} runs")
+print(f"farm = local pixels   : {sum(r[7] for r in rows)} of {RUNS} runs"
+      + ("" if LOCAL else " (LOCAL=0: no local render, nothing compared)"))
 if not all(r[7] for r in rows):
     sys.exit(1)
 PY

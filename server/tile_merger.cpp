@@ -268,7 +268,7 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, Accumulatio
 
 void TileMerger::write_checkpoint(int64_t job_id, uint32_t tile, const Accumulation& sum,
                                   uint32_t next_batch) {
-  TilesTable(db_).write_checkpoint(job_id, tile, encode_accumulation(sum));
+  TilesTable(db_).write_checkpoint(job_id, tile, checkpoint_encoder_.encode(sum, kCheckpointEffort));
   ResultsTable(db_).drop_merged(job_id, tile, next_batch);
 }
 

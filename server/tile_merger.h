@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "accum/accumulation.h"
+#include "accum/accumulation_codec.h"
 #include "clock.h"
 #include "job/stopping_rule.h"
 #include "store/jobs_table.h"
@@ -66,6 +67,11 @@ class TileMerger {
  public:
   /// A tile's sum is written back (checkpointed) after at most this many merged batches.
   static constexpr uint32_t kCheckpointEvery = 8;
+  /// How checkpoints are encoded: zstd's fast level. A checkpoint is the server's own (encoded
+  /// on its CPU at every checkpoint, decoded when a tile is rebuilt or an image resolved) and
+  /// never crosses the network; at level 3 its encode was 5 % of the server's CPU per job
+  /// (BENCHMARKS.md, "Issue 14: the server's CPU per job (branch farm15)").
+  static constexpr CodecEffort kCheckpointEffort = CodecEffort::fast;
 
   /// `cache_bytes` bounds the decoded tiles kept between merges (MergeCache), and a quarter of
   /// it more the decoded results waiting for an earlier batch (WaitingResults).
@@ -194,6 +200,9 @@ class TileMerger {
   uint64_t waiting_merged_ = 0, waiting_hits_ = 0;
   std::set<Contributor> contributors_;
   uint32_t checkpoint_every_;
+  /// Encodes the checkpoints (under the coordinator's store lock, like every call here): one
+  /// zstd context for the server, not one per gRPC thread that happens to commit a group.
+  AccumulationEncoder checkpoint_encoder_;
 };
 
 }  // namespace tessera::server

@@ -43,7 +43,8 @@ constexpr size_t kHeaderSize = 51;   // magic .. dropped example count
 constexpr size_t kSizingSize = kHeaderSize - kSizingOffset;
 constexpr size_t kDroppedExampleSize = 12;
 constexpr size_t kBytesPerPixel = 3 * 8 + 8 + 4;  // rgb, lum2, count
-constexpr int kZstdLevel = 3;
+constexpr int kZstdLevelStandard = 3;
+constexpr int kZstdLevelFast = -1;
 
 static_assert(std::numeric_limits<double>::is_iec559, "the format stores IEEE-754 doubles");
 
@@ -319,20 +320,20 @@ struct ZstdDCtxFree {
   void operator()(ZSTD_DCtx* d) const { ZSTD_freeDCtx(d); }
 };
 
-std::string compress(const std::string& payload) {
-  std::unique_ptr<ZSTD_CCtx, ZstdCCtxFree> cctx(ZSTD_createCCtx());
-  if (!cctx) throw CodecError("accumulation codec: cannot create a zstd context");
+std::string compress(const std::string& payload, int level, ZSTD_CCtx* cctx) {
   auto check = [](size_t rc) {
     if (ZSTD_isError(rc)) {
       throw CodecError(std::string("accumulation codec: zstd: ") + ZSTD_getErrorName(rc));
     }
   };
-  check(ZSTD_CCtx_setParameter(cctx.get(), ZSTD_c_compressionLevel, kZstdLevel));
-  check(ZSTD_CCtx_setParameter(cctx.get(), ZSTD_c_checksumFlag, 1));
-  check(ZSTD_CCtx_setParameter(cctx.get(), ZSTD_c_contentSizeFlag, 1));
+  // Parameters reset each time: a call's bytes do not depend on the one before it.
+  check(ZSTD_CCtx_reset(cctx, ZSTD_reset_session_and_parameters));
+  check(ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, level));
+  check(ZSTD_CCtx_setParameter(cctx, ZSTD_c_checksumFlag, 1));
+  check(ZSTD_CCtx_setParameter(cctx, ZSTD_c_contentSizeFlag, 1));
   std::string frame(ZSTD_compressBound(payload.size()), '\0');
   const size_t size =
-      ZSTD_compress2(cctx.get(), frame.data(), frame.size(), payload.data(), payload.size());
+      ZSTD_compress2(cctx, frame.data(), frame.size(), payload.data(), payload.size());
   check(size);
   frame.resize(size);
   return frame;
@@ -379,7 +380,22 @@ void decompress(const uint8_t* frame, size_t frame_size, size_t expected,
 
 }  // namespace
 
-std::string encode_accumulation(const Accumulation& acc) {
+struct AccumulationEncoder::Context {
+  std::unique_ptr<ZSTD_CCtx, ZstdCCtxFree> cctx{ZSTD_createCCtx()};
+};
+
+AccumulationEncoder::AccumulationEncoder() : context_(std::make_unique<Context>()) {
+  if (!context_->cctx) throw CodecError("accumulation codec: cannot create a zstd context");
+}
+
+AccumulationEncoder::~AccumulationEncoder() = default;
+
+std::string encode_accumulation(const Accumulation& acc, CodecEffort effort) {
+  thread_local AccumulationEncoder encoder;
+  return encoder.encode(acc, effort);
+}
+
+std::string AccumulationEncoder::encode(const Accumulation& acc, CodecEffort effort) {
   check_encodable(acc);
   Header h;
   h.rect = acc.rect;
@@ -406,7 +422,8 @@ std::string encode_accumulation(const Accumulation& acc) {
   std::string out(kMagic.begin(), kMagic.end());
   put_le<uint16_t>(out, kVersion);
   out += sizing;
-  out += compress(payload);
+  out += compress(payload, effort == CodecEffort::fast ? kZstdLevelFast : kZstdLevelStandard,
+                  context_->cctx.get());
   return out;
 }
 

@@ -1,6 +1,7 @@
 // Lossless wire/storage format of an Accumulation (zstd-compressed, versioned, checked).
 #pragma once
 
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -14,8 +15,42 @@ class CodecError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Encodes losslessly: a decoded result compares equal bit for bit.
-std::string encode_accumulation(const Accumulation& acc);
+/// How hard zstd works on the payload. Either gives the same format, read by the same
+/// decode_accumulation (any zstd level decodes alike), and the same sums bit for bit.
+enum class CodecEffort {
+  /// zstd level 3: what workers upload (each result crosses the network and the store once).
+  standard,
+  /// zstd level -1: the server's checkpoints of merged tiles, encoded on the server's CPU and
+  /// never sent anywhere. A third of level 3's compression instructions and fewer to decode,
+  /// for about 1 % more bytes on a many-sample tile (BENCHMARKS.md, issue 14 sections of
+  /// farm13 and farm15).
+  fast,
+};
+
+/// Encodes losslessly: a decoded result compares equal bit for bit. Deterministic: the same
+/// accumulation and effort give the same bytes. Uses the calling thread's AccumulationEncoder.
+std::string encode_accumulation(const Accumulation& acc,
+                                CodecEffort effort = CodecEffort::standard);
+
+/// encode_accumulation with a zstd compression context kept from one call to the next: a new
+/// context per call allocated and set up its tables (about 1 MB at level 3 for a 64-px tile)
+/// every time (BENCHMARKS.md, "Issue 14: the server's CPU per job (branch farm15)": 0.5 M of a
+/// 4.5 M-instruction encode). The bytes do not depend on earlier calls. Not thread-safe: one per
+/// thread, or one used under a lock (the server's merger encodes checkpoints under its store
+/// lock with one, so its many gRPC threads keep no context each).
+class AccumulationEncoder {
+ public:
+  AccumulationEncoder();
+  ~AccumulationEncoder();
+  AccumulationEncoder(const AccumulationEncoder&) = delete;
+  AccumulationEncoder& operator=(const AccumulationEncoder&) = delete;
+
+  std::string encode(const Accumulation& acc, CodecEffort effort = CodecEffort::standard);
+
+ private:
+  struct Context;
+  std::unique_ptr<Context> context_;
+};
 
 /// Decodes what encode_accumulation wrote. Throws CodecError naming the problem on truncated,
 /// corrupt or inconsistent input (never reads out of bounds, never allocates more than the

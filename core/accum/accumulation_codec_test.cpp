@@ -140,7 +140,36 @@ TEST(AccumulationCodecTest, RoundTripsNoisyTileAndEmptyRect) {
 
 TEST(AccumulationCodecTest, EncodingIsDeterministic) {
   const Accumulation acc = noisy_accumulation(4, 3);
-  EXPECT_EQ(encode_accumulation(acc), encode_accumulation(acc));
+  const std::string standard = encode_accumulation(acc);
+  // The thread's zstd context is reused: a call at another level in between changes nothing.
+  const std::string fast = encode_accumulation(acc, CodecEffort::fast);
+  EXPECT_EQ(encode_accumulation(acc), standard);
+  EXPECT_EQ(encode_accumulation(acc, CodecEffort::fast), fast);
+  // An encoder of one's own (the server's merger keeps one) gives the same bytes, call after call.
+  AccumulationEncoder encoder;
+  EXPECT_EQ(encoder.encode(acc, CodecEffort::fast), fast);
+  EXPECT_EQ(encoder.encode(acc), standard);
+  EXPECT_EQ(encoder.encode(noisy_accumulation(256, 3)), encode_accumulation(noisy_accumulation(256, 3)));
+  EXPECT_EQ(encoder.encode(acc, CodecEffort::fast), fast);
+}
+
+// The server's checkpoints use CodecEffort::fast: the same format, read by the same decoder, the
+// same sums bit for bit, from a zstd frame of another level (which the bytes show: level -1
+// leaves more of the payload uncompressed, so the frame is larger).
+TEST(AccumulationCodecTest, FastEffortIsTheSameFormatAndLossless) {
+  for (int spp : {1, 256}) {
+    const Accumulation acc = noisy_accumulation(spp, 17);
+    const std::string standard = encode_accumulation(acc);
+    const std::string fast = encode_accumulation(acc, CodecEffort::fast);
+    expect_bit_identical(acc, decode_accumulation(fast));
+    EXPECT_EQ(fast.substr(0, kHeaderSize), standard.substr(0, kHeaderSize)) << spp;
+    EXPECT_GT(fast.size(), standard.size()) << spp;
+    std::printf("[ CODEC    ] 64x64 tile, %3d spp: %zu bytes at level 3, %zu at level -1\n", spp,
+                standard.size(), fast.size());
+  }
+  expect_bit_identical(edge_case_accumulation(),
+                       decode_accumulation(encode_accumulation(edge_case_accumulation(),
+                                                               CodecEffort::fast)));
 }
 
 // Reports bytes per pixel for a 64x64 tile of noisy sums (36 bytes/pixel uncompressed).

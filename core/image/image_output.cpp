@@ -33,6 +33,11 @@ enum class FileFormat { kExr, kPng };
 
 constexpr const char* kSupportedExtensions = ".exr, .png";
 constexpr float kHalfMax = 65504.0f;  // largest finite half
+/// zlib's level for PNG (OIIO's default is 6). The server writes a PNG beside every job's EXR:
+/// at 6 that PNG cost 61 ms of CPU for a 512x512 Cornell box (254 KB), at 1 it costs 12 ms
+/// (297 KB, +17 %): the PNG is the preview of a linear EXR, not an archive (BENCHMARKS.md,
+/// "Issue 14: the server's CPU per job (branch farm15)"). Lossless either way.
+constexpr int kPngZlibLevel = 1;
 
 /// "exr", ".EXR" -> kExr; anything else -> nullopt.
 std::optional<FileFormat> format_from_extension(std::string_view ext) {
@@ -109,6 +114,7 @@ PreparedImage prepare(const RgbImage& image, FileFormat format, const ImageWrite
   } else {
     prepared.spec = OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
     prepared.spec.attribute("oiio:ColorSpace", "sRGB");
+    prepared.spec.attribute("png:compressionLevel", kPngZlibLevel);
     prepared.u8.resize(image.rgb.size());
     for (size_t i = 0; i < image.rgb.size(); ++i) {
       const float v = std::clamp(finite_or_zero(image.rgb[i]), 0.0f, 1.0f);

@@ -89,14 +89,15 @@ std::vector<std::string> run_job(Make make, int restart_every, size_t* max_unche
   return sums;
 }
 
-// The reference: each tile's batches 0..19 added in order to zeros, encoded once.
+// The reference: each tile's batches 0..19 added in order to zeros, encoded once as the merger
+// encodes checkpoints (TileMerger::kCheckpointEffort).
 std::vector<std::string> reference_sums() {
   std::vector<std::string> sums;
   for (int t = 0; t < 4; ++t) {
     const TileRect rect{(t % 2) * 4, (t / 2) * 4, (t % 2) * 4 + 4, (t / 2) * 4 + 4};
     Accumulation sum(rect);
     for (uint32_t b = 0; b < 20; ++b) sum.merge(StoreFixture::synthetic(rect, b, 1));
-    sums.push_back(encode_accumulation(sum));
+    sums.push_back(encode_accumulation(sum, TileMerger::kCheckpointEffort));
   }
   return sums;
 }

@@ -125,7 +125,7 @@ struct StoreFixture {
   static constexpr int64_t kLeaseMs = 10'000;
 
   FakeClock clock;
-  Database db{":memory:"};
+  Database db;
   JobStore jobs{db};
   WorkerRegistry workers{db};
   LeaseTable leases{db, jobs, clock, kLeaseMs, [this] { return "lease-" + std::to_string(++lease_counter); }};
@@ -134,7 +134,10 @@ struct StoreFixture {
   TileMerger merger{db, clock};
   int lease_counter = 0;
 
-  StoreFixture() { migrate(db, clock.now_unix_ms()); }
+  /// `path`: a file for what only a file shows (the WAL); the store is in memory by default.
+  explicit StoreFixture(const std::string& path = ":memory:") : db(path) {
+    migrate(db, clock.now_unix_ms());
+  }
 
   /// A job of width x height pixels cut in tile x tile tiles and batches of `batch` spp.
   int64_t make_job(int width, int height, int tile, uint32_t spp, uint32_t batch, int priority = 0) {
