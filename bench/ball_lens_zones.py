@@ -25,7 +25,7 @@ for the cosine alone: what the cones cost where they hold no light). --bounds ad
 Only the hexroom-style JSON scene (quads with 'power' as lamps, spheres, tetrahedra) is read.
 
 Usage (repository root):
-  /work/venv-mitsuba/bin/python bench/ball_lens_zones.py scenes/hexroom.json [--where] [--bounds] \
+  /work/venv-mitsuba/bin/python bench/ball_lens_zones.py scenes/hexroom.json [--where] [--at X,Y,Z] [--bounds] \
       [--models main,targets,z4,...] [--grid 0.1 --extent 1.0 --dirs 30000]
 """
 import argparse
@@ -341,22 +341,6 @@ def caustic_samples(scene, g, x, n, N, rng):
     return w, omega, np.maximum(cos_n, 0), seqs
 
 
-def axis_crossing(g, lamp_c, o, wo):
-    """For exit rays (o, wo): the distance from the centre, along the axis away from the lamp,
-    where the ray's line comes closest to the lamp axis, in units of R."""
-    a = unit(g["c"] - lamp_c)
-    # Closest approach of the line o + t wo to the line c + s a.
-    w0 = o - g["c"]
-    b = wo @ a
-    dd = np.sum(wo * w0, -1)
-    e = w0 @ a
-    denom = 1 - b * b
-    s = (e - b * dd) / np.where(denom > 1e-12, denom, 1)
-    return s / g["R"]
-
-
-# --- the zone model (docs/renderer.md, "The ball lens by its zones") ----------------------------
-
 def lens_rays(c, R, ior, L, b):
     """Rays from the point L through the ball lens (c, R, ior) at impact parameters b (in the
     meridional plane, distances from the axis line of L and c). Returns per ray the axis
@@ -485,9 +469,8 @@ def evaluate(scene, models, points, n, N, rng, verbose=False, bounds=()):
 
 def where_from(scene, g, x, n, N, rng):
     """The caustic at x through glass sphere g: its irradiance, and per lamp the energy-weighted
-    impact parameter (b / R), exit-ray axis crossing (s / R) and the angle
-    between the light's direction and the paraxial image's direction, in units of the paraxial
-    image cone's angular radius."""
+    impact parameter (b / R) and angle between the light's direction and the paraxial image
+    cone's axis (in units of the cone's angular radius), and the share inside that cone."""
     w, omega, cos_n, seqs = caustic_samples(scene, g, x, n, N, rng)
     e_total = sum((prob * L * cos_n).sum() for _, prob, L, _, _, _, _ in seqs) * omega / N / np.pi
     rows = []
@@ -503,7 +486,6 @@ def where_from(scene, g, x, n, N, rng):
             # The impact parameter (the line's distance from the centre, the same on both sides of
             # the lens): the zone, whichever lamp point the ray ends on.
             b = np.linalg.norm(np.cross(x - g["c"], w[m]), axis=1) / g["R"]
-            s = axis_crossing(g, lamp["c"], o[m], wo[m])
             # The paraxial cone at x (toward I or 2x - I, as the mixture aims it).
             d = im["c"] - x
             if np.dot(d, g["c"] - x) < 0:
@@ -512,7 +494,7 @@ def where_from(scene, g, x, n, N, rng):
             half = np.arcsin(min(1, im["r"] / dist))
             ang = np.arccos(np.clip(w[m] @ (d / dist), -1, 1)) / half
             q = lambda v: np.percentile(v, [10, 50, 90], method="inverted_cdf", weights=wt)
-            rows.append((i, k, e / e_total, q(b), q(s), q(ang), (wt * (ang <= 1)).sum() / wt.sum()))
+            rows.append((i, k, e / e_total, q(b), q(ang), (wt * (ang <= 1)).sum() / wt.sum()))
     return e_total, rows
 
 
@@ -644,11 +626,11 @@ def main():
                     if e <= 0:
                         continue
                     print(f"x = floor {ix:+.2f} {iz:+.2f} (rho {np.hypot(ix, iz) / g['R']:.2f} R): E = {e:.4g}")
-                    for i, k, share, bq, sq, ang, inside in rows:
+                    for i, k, share, bq, ang, inside in rows:
                         if share < 0.02:
                             continue
                         print(f"   lamp {i} internal {k}: {100 * share:5.1f} %  b/R {bq[0]:.2f} {bq[1]:.2f} {bq[2]:.2f}"
-                              f"  s/R {sq[0]:.2f} {sq[1]:.2f} {sq[2]:.2f}  angle/paraxial half {ang[0]:.2f}"
+                              f"  angle/paraxial half {ang[0]:.2f}"
                               f" {ang[1]:.2f} {ang[2]:.2f}  in paraxial cone {100 * inside:.0f} %")
     for at in args.at:
         x = np.array([float(v) for v in at.split(",")])
