@@ -5,11 +5,10 @@
 #include <string>
 
 #include "scene/scene_error.h"
+#include "warp.h"
 
 namespace tessera {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 /// Segments of a tabulated filter over [-radius, radius]. The density is linear between
 /// nodes, so it departs from the filter by at most f'' dx^2 / 8: for Mitsuba's default
@@ -54,7 +53,7 @@ double sin_pi_plain(double t) {
     sign = -sign;
   }
   if (t > 0.5) t = 1 - t;
-  const double x = kPi * t, x2 = x * x;
+  const double x = kPiD * t, x2 = x * x;
   double term = x, sum = x;
   for (int k = 1; k <= 12; ++k) {
     term *= -x2 / double((2 * k) * (2 * k + 1));
@@ -103,7 +102,7 @@ double PixelFilterSampler::profile(const PixelFilter& filter, double x) {
     case FilterKind::lanczos: {
       // sinc(x) sinc(x / lobes), 1 at 0 (Mitsuba's rfilters/lanczos.cpp); radius = lobes.
       if (ax < 1e-7) return 1;
-      const double x1 = kPi * ax, x2 = x1 / filter.radius;
+      const double x1 = kPiD * ax, x2 = x1 / filter.radius;
       return sin_pi_plain(ax) * sin_pi_plain(ax / filter.radius) / (x1 * x2);
     }
   }
