@@ -155,8 +155,11 @@ class TempDir {
 /// and reaps it, so no run leaves a server behind.
 class ServerProcess {
  public:
-  ServerProcess(const fs::path& binary, const fs::path& dir, double lease_seconds)
-      : log_(dir / "server.log") {
+  /// `trace`: when not empty, the server's call trace is written there (TESSERA_CALL_TRACE,
+  /// server/call_trace.h).
+  ServerProcess(const fs::path& binary, const fs::path& dir, double lease_seconds,
+                const std::string& trace = "")
+      : log_(dir / "server.log"), trace_(trace) {
     const fs::path port_file = dir / "port";
     std::vector<std::string> args = {binary.string(),
                                      "--grpc",
@@ -228,6 +231,8 @@ class ServerProcess {
     for (char** e = environ; *e; ++e) {
       if (std::string_view(*e).rfind("TESSERA_", 0) != 0) envp.push_back(*e);
     }
+    const std::string trace_env = "TESSERA_CALL_TRACE=" + trace_;
+    if (!trace_.empty()) envp.push_back(const_cast<char*>(trace_env.c_str()));
     envp.push_back(nullptr);
 
     posix_spawn_file_actions_t actions;
@@ -244,6 +249,7 @@ class ServerProcess {
   }
 
   fs::path log_;
+  std::string trace_;
   pid_t pid_ = -1;
   int port_ = 0;
   double cpu_at_listening_s_ = 0;
@@ -361,11 +367,28 @@ struct Options {
   double lease_seconds = 30;
   uint32_t per_call = 1;  ///< units per LeaseUnit (max_units) and results per UploadResults
   bool keep = false;
+  /// When not empty: each run writes PREFIX-N.client (every call's times as the simulated
+  /// workers saw them) and the server PREFIX-N.server (its call trace), N the run's index.
+  std::string trace;
 };
+
+/// One call as a simulated worker saw it (--trace): steady_clock (CLOCK_MONOTONIC) nanoseconds,
+/// the clock the server's call trace reads.
+struct CallRecord {
+  const char* kind;
+  int64_t begin_ns, end_ns;
+  uint32_t units;
+  std::string lease_id;  ///< the first lease of the call
+};
+
+int64_t ns_of(Clock::time_point t) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+}
 
 /// What one simulated worker saw.
 struct WorkerTally {
   std::vector<double> lease_ms, upload_ms;
+  std::vector<CallRecord> calls;  ///< with --trace only
   uint64_t accepted = 0, dropped = 0, no_work = 0, released = 0;
   uint64_t early = 0;        ///< uploads sent before the tile's previous batch was acknowledged
   uint64_t proto_bytes = 0;  ///< protobuf payloads of the four messages of each result
@@ -469,6 +492,10 @@ void simulated_worker(int index, std::shared_ptr<grpc::Channel> channel, const O
       } else {
         held.emplace_back(lease.lease_id(), lease.unit());
       }
+      if (!options.trace.empty() && !held.empty()) {
+        tally.calls.push_back({"lease", ns_of(t0), ns_of(t1), uint32_t(held.size()),
+                               held.front().first});
+      }
       if (shared.stop) {  // bounded run: hand the units back rather than leave leases behind
         for (const auto& [lease_id, unit] : held) {
           v1::ReleaseUnitRequest release;
@@ -522,6 +549,10 @@ void simulated_worker(int index, std::shared_ptr<grpc::Channel> channel, const O
                          " results for " + std::to_string(slots.size()));
       }
       tally.upload_ms.push_back(ms_between(t2, t3));
+      if (!options.trace.empty()) {
+        tally.calls.push_back({"upload", ns_of(t2), ns_of(t3), uint32_t(slots.size()),
+                               held.front().first});
+      }
       tally.proto_bytes += lease_req.ByteSizeLong() + lease.ByteSizeLong() +
                            (batched ? uploads.ByteSizeLong() + results.ByteSizeLong()
                                     : uploads.results(0).ByteSizeLong() +
@@ -658,14 +689,18 @@ class WorkerThreads {
   bool released_ = false;
 };
 
-RunResult run_once(const Options& options, const RunConfig& config, const fs::path& dir) {
+RunResult run_once(const Options& options, const RunConfig& config, const fs::path& dir,
+                   int run_index) {
   RunResult r;
   r.config = config;
   fs::create_directories(dir);
   const JobPlan plan = plan_for(options, config);
   const ResultBank bank(plan);  // before the clock: the benchmark measures the server
 
-  ServerProcess server(options.server_bin, dir, options.lease_seconds);
+  const std::string trace_prefix =
+      options.trace.empty() ? "" : options.trace + "-" + std::to_string(run_index);
+  ServerProcess server(options.server_bin, dir, options.lease_seconds,
+                       trace_prefix.empty() ? "" : trace_prefix + ".server");
   auto control = make_channel(server.address(), true);
   auto jobs = v1::JobService::NewStub(control);
   const uint64_t job_id = submit_job(*jobs, options, plan);
@@ -758,6 +793,15 @@ RunResult run_once(const Options& options, const RunConfig& config, const fs::pa
   r.client_cpu_ms = accepted ? (client_cpu1 - client_cpu0) * 1000.0 / double(accepted) : 0;
   r.early_fraction = results ? double(early) / double(results) : 0;
   check_final(job, shared, accepted, dropped, r);
+  if (!trace_prefix.empty()) {
+    std::ofstream out(trace_prefix + ".client");
+    for (size_t w = 0; w < tallies.size(); ++w) {
+      for (const CallRecord& c : tallies[w].calls) {
+        out << c.kind << ' ' << w << ' ' << c.begin_ns << ' ' << c.end_ns << ' ' << c.units << ' '
+            << c.lease_id << '\n';
+      }
+    }
+  }
 
   std::istringstream log(server.log_text());
   for (std::string line; std::getline(log, line);) {
@@ -908,6 +952,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   app.add_flag("--keep", options.keep, "keep the temporary folder (databases, server logs)");
+  app.add_option("--trace", options.trace,
+                 "PREFIX: write every call's times, the workers' to PREFIX-N.client and the "
+                 "server's (TESSERA_CALL_TRACE) to PREFIX-N.server, N the run's index");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -936,8 +983,9 @@ int main(int argc, char** argv) {
           const RunConfig config{tile, batch, n, channel == "shared"};
           std::vector<RunResult> runs;
           for (int rep = 0; rep < reps; ++rep) {
-            RunResult r =
-                run_once(options, config, temp.path() / ("run-" + std::to_string(run_index++)));
+            RunResult r = run_once(options, config,
+                                   temp.path() / ("run-" + std::to_string(run_index)), run_index);
+            ++run_index;
             char final_ms[32];
             std::snprintf(final_ms, sizeof final_ms, "%.1f", r.final_upload_ms);
             const std::string label =

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "accum/accumulation_codec.h"
+#include "call_trace.h"
 #include "farm_error.h"
 #include "job/job_options.h"
 #include "scene/scene_error.h"
@@ -411,6 +412,7 @@ int64_t Coordinator::register_worker(const WorkerRegistration& info) {
 }
 
 void Coordinator::touch_in_memory(int64_t worker_id, uint64_t call) {
+  const int64_t began_ns = call_trace::now_ns();
   {
     std::lock_guard lock(departed_mu_);
     if (const auto it = departed_.find(worker_id); it != departed_.end() && call >= it->second) {
@@ -428,12 +430,19 @@ void Coordinator::touch_in_memory(int64_t worker_id, uint64_t call) {
     book_.add_worker(worker_id);
   }
   book_.touch(worker_id, clock_.now_unix_ms());  // last_seen written by the next flush
+  call_trace::record("touch", began_ns, call_trace::now_ns());
 }
 
 void Coordinator::flush_leases() {
+  const int64_t began_ns = call_trace::now_ns();
   std::vector<LeaseBook::Grant> grants = book_.take_journal();
   std::map<int64_t, int64_t> touches = book_.take_touches();
   if (grants.empty() && touches.empty()) return;
+  struct Traced {
+    int64_t began;
+    size_t grants;
+    ~Traced() { call_trace::record("flush", began, call_trace::now_ns(), int64_t(grants)); }
+  } traced{began_ns, grants.size()};
   std::vector<std::optional<int64_t>> unit_ids;
   try {
     Transaction tx(db_);
@@ -517,7 +526,9 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
     const auto now = std::chrono::steady_clock::now();
     if (now >= deadline || changes_.stopped() || (cancelled && cancelled())) return {};
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now);
+    const int64_t waited_ns = call_trace::now_ns();
     work_.wait(seen, std::min(left, std::chrono::milliseconds(250)));
+    call_trace::record("poll", waited_ns, call_trace::now_ns());
   }
 }
 
@@ -575,7 +586,9 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
   // more pixels than the tile is refused before anything is decompressed.
   std::vector<int64_t> tile_pixels;
   {
+    const int64_t asked_ns = call_trace::now_ns();
     StoreLock lock(*this);
+    call_trace::record("upload_lock", asked_ns, call_trace::now_ns());
     touch_or_throw(results.front().worker_id);
     for (size_t i = 0; i < results.size(); ++i) {
       const UnitResult& r = results[i];
@@ -589,6 +602,7 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
     }
   }
   const auto received = std::chrono::steady_clock::now();
+  const int64_t decode_ns = call_trace::now_ns();
   std::vector<Accumulation> decoded(results.size());
   std::vector<TileMerger::Upload> uploads;
   for (size_t i = 0; i < results.size(); ++i) {
@@ -602,7 +616,10 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
   // The worker was checked (and its last call recorded) above; workers are never removed.
   UploadCall call;
   call.uploads = &uploads;
+  const int64_t commit_ns = call_trace::now_ns();
+  call_trace::record("decode", decode_ns, commit_ns, int64_t(results.size()));
   upload_commits_.run(call);
+  call_trace::record("commit_wait", commit_ns, call_trace::now_ns(), int64_t(results.size()));
   if (call.error) std::rethrow_exception(call.error);
   const std::vector<AcceptOutcome>& outcomes = call.outcomes;
   const double seconds =
@@ -646,7 +663,17 @@ void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
   // the next transaction, after the lease. A lease then waits for at most one call's results
   // (at most 64), not for the whole group (up to kResultsPerCommit; BENCHMARKS.md, "Issue 14:
   // lease latency (branch farm10)").
+  const int64_t asked_ns = call_trace::now_ns();
   PriorityMutex::Deferring lock(mu_);
+  const int64_t got_ns = call_trace::now_ns();
+  struct Traced {
+    int64_t asked, got;
+    size_t calls;
+    ~Traced() {
+      call_trace::record("group_lock", asked, got, int64_t(calls));
+      call_trace::record("group", got, call_trace::now_ns(), int64_t(calls));
+    }
+  } traced{asked_ns, got_ns, calls.size()};
   const auto lease_waits = [this] { return mu_.urgent_waiting() > 0; };
   size_t next = 0;  // the first call not committed yet
   while (next < calls.size()) {

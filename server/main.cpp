@@ -14,6 +14,7 @@
 #include <optional>
 #include <thread>
 
+#include "call_trace.h"
 #include "coordinator.h"
 #include "dashboard/farm_metrics.h"
 #include "dashboard/http_server.h"
@@ -101,6 +102,7 @@ void write_port_file(const std::string& path, int port) {
 
 int serve(const Flags& flags, const sigset_t& stop_signals) {
   namespace ts = tessera::server;
+  ts::call_trace::start_from_environment();  // measurement only (server/call_trace.h)
   const Tokens tokens = resolve_tokens(flags);
   check_grpc_listen_policy(flags, tokens);
   // The dashboard needs the client token for everything but its page and probes
@@ -257,6 +259,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   signal_thread.join();
   reaper.reset();
   const bool clean = coordinator.checkpoint();
+  if (!ts::call_trace::write()) std::cerr << "tessera-server: warning: call trace not written\n";
   std::cout << "tessera-server: stopped"
             << (clean ? " (WAL checkpointed)"
                       : " (WAL checkpoint incomplete: replayed at next start)")
