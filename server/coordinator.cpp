@@ -296,6 +296,7 @@ void Coordinator::remove(int64_t job_id) {
     }
     merger_.forget_job(job_id);
     book_.drop_job(job_id);
+    std::lock_guard rects(tile_rects_mu_);
     tile_rects_.erase(tile_rects_.lower_bound({job_id, 0}),
                       tile_rects_.lower_bound({job_id + 1, 0}));
   }
@@ -560,14 +561,29 @@ std::string Coordinator::bundle(const std::string& sha256) {
   return std::move(*bytes);
 }
 
-std::optional<TileRect> Coordinator::tile_rect(int64_t job_id, uint32_t tile) {
-  const std::pair key(job_id, tile);
-  if (const auto it = tile_rects_.find(key); it != tile_rects_.end()) return it->second;
-  const std::optional<TileRect> rect = jobs_.tile_rect(job_id, tile);
-  if (!rect) return std::nullopt;
-  if (tile_rects_.size() >= kTileRectsKept) tile_rects_.clear();
-  tile_rects_.emplace(key, *rect);
-  return rect;
+std::vector<std::optional<TileRect>> Coordinator::tile_rects(
+    const std::vector<UnitResult>& results) {
+  std::vector<std::optional<TileRect>> rects(results.size());
+  bool missing = false;
+  {
+    std::lock_guard lock(tile_rects_mu_);
+    for (size_t i = 0; i < results.size(); ++i) {
+      const auto it = tile_rects_.find({results[i].job_id, results[i].tile});
+      if (it != tile_rects_.end()) rects[i] = it->second;
+      missing = missing || !rects[i];
+    }
+  }
+  if (!missing) return rects;
+  StoreLock lock(*this);
+  for (size_t i = 0; i < results.size(); ++i) {
+    if (rects[i]) continue;
+    rects[i] = jobs_.tile_rect(results[i].job_id, results[i].tile);
+    if (!rects[i]) continue;
+    std::lock_guard kept(tile_rects_mu_);
+    if (tile_rects_.size() >= kTileRectsKept) tile_rects_.clear();
+    tile_rects_.emplace(std::pair(results[i].job_id, results[i].tile), *rects[i]);
+  }
+  return rects;
 }
 
 AcceptOutcome Coordinator::upload(const UnitResult& result) {
@@ -584,15 +600,17 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
   // result's header, and a few kilobytes of zstd can declare gigabytes (docs/reliability.md,
   // "Known problems"). So the worker and the tiles are looked up first, and a header declaring
   // more pixels than the tile is refused before anything is decompressed.
+  // Both from memory, as a lease's check of the worker: no store lock unless the worker or a
+  // tile is new to this server.
   std::vector<int64_t> tile_pixels;
   {
     const int64_t asked_ns = call_trace::now_ns();
-    StoreLock lock(*this);
+    touch_in_memory(results.front().worker_id, begin_call());
+    const std::vector<std::optional<TileRect>> rects = tile_rects(results);
     call_trace::record("upload_lock", asked_ns, call_trace::now_ns());
-    touch_or_throw(results.front().worker_id);
     for (size_t i = 0; i < results.size(); ++i) {
       const UnitResult& r = results[i];
-      const std::optional<TileRect> rect = tile_rect(r.job_id, r.tile);
+      const std::optional<TileRect>& rect = rects[i];
       if (!rect) {
         throw FarmError(ErrorCode::not_found, which(i) + "no unit job " + std::to_string(r.job_id) +
                                                   " tile " + std::to_string(r.tile) + " batch " +

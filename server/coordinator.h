@@ -256,11 +256,15 @@ class Coordinator {
   /// before the worker deregistered — a long poll still waiting — does not bring it back online.
   void touch_or_throw(int64_t worker_id, uint64_t call);
   void touch_or_throw(int64_t worker_id) { touch_or_throw(worker_id, begin_call()); }
-  /// A tile's rectangle, read once from the store and then kept (a tile never changes shape;
-  /// job ids are never reused): an upload sizes its decode by it. Requires mu_.
-  std::optional<TileRect> tile_rect(int64_t job_id, uint32_t tile);
+  /// The rectangles of the results' tiles (nullopt: no such tile), each read once from the store
+  /// and then kept (a tile never changes shape; job ids are never reused): an upload sizes its
+  /// decode by them. Takes the store's lock only for a tile not kept yet; must not be called
+  /// under tile_rects_mu_.
+  std::vector<std::optional<TileRect>> tile_rects(const std::vector<UnitResult>& results);
   static constexpr size_t kTileRectsKept = size_t(1) << 16;  ///< then the map starts again
-  std::map<std::pair<int64_t, uint32_t>, TileRect> tile_rects_;  ///< guarded by mu_
+  /// Taken alone or inside mu_, never the other way round.
+  std::mutex tile_rects_mu_;
+  std::map<std::pair<int64_t, uint32_t>, TileRect> tile_rects_;  ///< guarded by tile_rects_mu_
   uint64_t begin_call() { return calls_begun_.fetch_add(1); }
   /// Logs, once per server run, a worker whose NaN/Inf share crossed the report threshold.
   void report_health(int64_t worker_id);

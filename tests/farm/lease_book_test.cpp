@@ -9,6 +9,7 @@
 
 #include "coordinator.h"
 #include "fake_clock.h"
+#include "farm_error.h"
 #include "lease_book.h"
 #include "store_fixture.h"
 
@@ -99,6 +100,49 @@ TEST_F(LeaseBookTest, ALeaseAndAHeartbeatTakeNoStoreLockAndRunNoStatement) {
   std::vector<UnitResult> results;
   for (const LeasedUnit& u : first) results.push_back(result(u));
   for (const AcceptOutcome& o : farm_->upload_all(results)) EXPECT_TRUE(o.accepted) << o.reason;
+}
+
+TEST_F(LeaseBookTest, AnUploadTakesTheStoreLockOnlyForItsCommit) {
+  // The upload's checks before its decode (the worker known, each result's tile and its size)
+  // are answered from memory as a lease's are, once the server has seen the worker and the
+  // tiles: a call takes the store's lock once, for the transaction that accepts its results,
+  // not once more before it (BENCHMARKS.md, "Issue 14: lease latency and capacity (branch
+  // farm16)": under load that second, plain acquisition waited behind every upload group).
+  farm_->submit(tiny_bundle(), options_of(4), 0, "c");  // 16 tiles x 4 batches
+  const int64_t worker = farm_->register_worker({"w", 4, "avx2", "test"});
+  const auto upload = [&](const std::vector<LeasedUnit>& units) {
+    std::vector<UnitResult> results;
+    for (const LeasedUnit& u : units) results.push_back(result(u));
+    for (const AcceptOutcome& o : farm_->upload_all(results)) EXPECT_TRUE(o.accepted) << o.reason;
+  };
+  upload(look(worker, 16));  // batch 0 of every tile: the tiles are read from the store here
+  for (int call = 0; call < 2; ++call) {
+    const std::vector<LeasedUnit> units = look(worker, 16);  // batch 1, then 2, of every tile
+    ASSERT_EQ(units.size(), 16u);
+    const uint64_t locks = farm_->store_lock_acquisitions();
+    upload(units);
+    EXPECT_EQ(farm_->store_lock_acquisitions() - locks, 1u) << "call " << call;
+  }
+  // A tile or a worker the server does not know is still refused (from the store).
+  const std::vector<LeasedUnit> last = look(worker, 16);
+  ASSERT_EQ(last.size(), 16u);
+  UnitResult unknown_tile = result(last.front());
+  unknown_tile.tile = 99;
+  try {
+    farm_->upload(unknown_tile);
+    ADD_FAILURE() << "an unknown tile was accepted";
+  } catch (const FarmError& e) {
+    EXPECT_EQ(e.code(), ErrorCode::not_found) << e.what();
+  }
+  UnitResult unknown_worker = result(last.front());
+  unknown_worker.worker_id = 999;
+  try {
+    farm_->upload(unknown_worker);
+    ADD_FAILURE() << "an unknown worker's result was accepted";
+  } catch (const FarmError& e) {
+    EXPECT_EQ(e.code(), ErrorCode::failed_precondition) << e.what();
+  }
+  upload(last);
 }
 
 TEST_F(LeaseBookTest, AfterARestartEveryLeaseIsVoidAndItsUnitIsLeasedAgain) {
