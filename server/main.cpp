@@ -100,6 +100,14 @@ void write_port_file(const std::string& path, int port) {
   std::filesystem::rename(temp, path);
 }
 
+// gRPC's synchronous server runs each call on a thread of its pool and by default keeps at most
+// 2 idle ones polling for calls: the rest end when their call does, so under 64-256 workers
+// nearly every call started a thread of its own (about 1,000 threads created per second of
+// tessera-bench-merge). Idle threads up to this many stay and take the next calls
+// (BENCHMARKS.md, "Issue 14: lease latency and capacity (branch farm16)"; counted by
+// ServerThreadsE2E.IdleThreadsServeTheNextCalls).
+constexpr int kMaxPollers = 256;
+
 int serve(const Flags& flags, const sigset_t& stop_signals) {
   namespace ts = tessera::server;
   ts::call_trace::start_from_environment();  // measurement only (server/call_trace.h)
@@ -164,6 +172,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   // Accept the clients' keepalive pings (every kKeepaliveTimeMs) without calling them abusive.
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS,
                              tessera::wire::kKeepaliveTimeMs / 3);
+  builder.SetSyncServerOption(grpc::ServerBuilder::SyncServerOption::MAX_POLLERS, kMaxPollers);
   builder.RegisterService(&job_service);
   builder.RegisterService(&worker_service);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
