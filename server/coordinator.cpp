@@ -52,7 +52,8 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       output_(config.output_dir, config.output_writer),
       limits_(config.limits),
       nan_report_fraction_(config.nan_report_fraction),
-      retention_days_(config.retention_days) {
+      retention_days_(config.retention_days),
+      before_upload_commit_(config.before_upload_commit) {
   // The whole-file check only after a server stopped without its clean shutdown (a crash, a
   // kill): a clean restart reads no page beyond the header, whatever the store's size. It runs
   // beside the server, not before it: SQLite recovers from a process crash by itself (WAL), and
@@ -681,6 +682,7 @@ void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
   // the next transaction, after the lease. A lease then waits for at most one call's results
   // (at most 64), not for the whole group (up to kResultsPerCommit; BENCHMARKS.md, "Issue 14:
   // lease latency (branch farm10)").
+  if (before_upload_commit_) before_upload_commit_();
   const int64_t asked_ns = call_trace::now_ns();
   PriorityMutex::Deferring lock(mu_);
   const int64_t got_ns = call_trace::now_ns();

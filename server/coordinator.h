@@ -50,6 +50,9 @@ struct CoordinatorConfig {
   size_t merge_cache_bytes = MergeCache::kDefaultBudgetBytes;
   /// Writes the output files (empty: write_image); tests inject a full disk here.
   ImageFileWriter output_writer;
+  /// Called as each upload group's commit begins, before it takes the store lock (tests line
+  /// calls up here); empty in the server.
+  std::function<void()> before_upload_commit;
 };
 
 /// A tile of a job as the dashboard shows it (Coordinator::tile_map).
@@ -201,6 +204,10 @@ class Coordinator {
   uint64_t store_lock_acquisitions() const { return mu_.acquisitions(); }
   /// Leases the book holds now (tests).
   size_t leases_held() { return book_.leases_held(); }
+  /// Upload calls waiting for a group's commit, and the groups and calls committed so far
+  /// (tests: GroupCommit::waiting, GroupCommit::committed).
+  size_t upload_calls_waiting() { return upload_commits_.waiting(); }
+  std::pair<uint64_t, uint64_t> upload_groups() { return upload_commits_.committed(); }
 
   /// Every answered upload is reported to `observer` (the dashboard's counters). Call before
   /// serving; nullptr reports nothing. The observer must outlive the coordinator's calls.
@@ -323,14 +330,19 @@ class Coordinator {
   }
   /// Results committed together at most (GroupCommit's bound). A group yields between its calls
   /// to whoever waits for mu_ Urgent (commit_uploads; leases took it so before they moved to
-  /// the lease book, and nothing does now). 64 cost more server CPU per result with 256 workers
-  /// uploading 16 results per call (smaller groups, more commits and wake-ups) than it saved in
-  /// lease latency; 1024 did not (BENCHMARKS.md, "Issue 14: server capacity (branch farm8)").
-  static constexpr size_t kResultsPerCommit = 1024;
+  /// the lease book, and nothing does now). Every call of a group is answered when its
+  /// transaction commits, so the group's workers come back at once, each with a lease and then
+  /// an upload: the larger the group, the larger that crowd, and the leases in it wait for the
+  /// CPU behind the uploads. 256 (16 calls of 16) halved the lease p99 after the first round
+  /// against 1024 at 64 and 256 simulated workers, for about 8 % more server CPU per result
+  /// (BENCHMARKS.md, "Issue 14: lease latency and capacity (branch farm16)"); 64 cost more CPU
+  /// than it saved in lease latency when leases still waited for the store (branch farm8).
+  static constexpr size_t kResultsPerCommit = 256;
   GroupCommit<UploadCall> upload_commits_{
       [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); },
       [](const UploadCall& call) { return call.uploads->size(); }, kResultsPerCommit};
   UploadObserver* upload_observer_ = nullptr;  ///< set before serving; may be null
+  std::function<void()> before_upload_commit_;  ///< CoordinatorConfig::before_upload_commit
   /// The check found damage: log it, stop leasing, tell the observer (from the check's thread).
   void store_damaged(const std::string& message);
   mutable std::mutex damage_mu_;

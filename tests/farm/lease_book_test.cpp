@@ -4,8 +4,10 @@
 // Counts (lock acquisitions, statements, units), never times.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
 #include <set>
+#include <thread>
 
 #include "coordinator.h"
 #include "fake_clock.h"
@@ -143,6 +145,44 @@ TEST_F(LeaseBookTest, AnUploadTakesTheStoreLockOnlyForItsCommit) {
     EXPECT_EQ(e.code(), ErrorCode::failed_precondition) << e.what();
   }
   upload(last);
+}
+
+TEST_F(LeaseBookTest, UploadCallsWaitingTogetherCommitSixteenAtATime) {
+  // 64 workers' calls of 16 results line up behind a commit: they are committed (and answered)
+  // in groups of at most 256 results, 16 calls, so at most 16 workers come back at once
+  // (Coordinator::kResultsPerCommit; BENCHMARKS.md, "Issue 14: lease latency and capacity
+  // (branch farm16)").
+  constexpr int kWorkers = 64;
+  std::atomic<bool> held{false};
+  config_.before_upload_commit = [&] {
+    if (held.exchange(true)) return;
+    // The first call's commit waits until every other call waits behind it.
+    while (farm_->upload_calls_waiting() < size_t(kWorkers - 1)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  };
+  restart();
+  farm_->submit(tiny_bundle(), options_of(64), 0, "c");  // 16 tiles x 64 batches
+  std::vector<std::vector<UnitResult>> calls(kWorkers);
+  for (int w = 0; w < kWorkers; ++w) {
+    const int64_t worker = farm_->register_worker({"w" + std::to_string(w), 4, "avx2", "test"});
+    for (const LeasedUnit& u : look(worker, 16)) calls[size_t(w)].push_back(result(u));
+    ASSERT_EQ(calls[size_t(w)].size(), 16u);
+  }
+  const auto [groups0, calls0] = farm_->upload_groups();
+  std::vector<std::thread> threads;
+  std::atomic<int> accepted{0};
+  for (int w = 0; w < kWorkers; ++w) {
+    threads.emplace_back([&, w] {
+      for (const AcceptOutcome& o : farm_->upload_all(calls[size_t(w)])) accepted += o.accepted;
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  EXPECT_EQ(accepted.load(), kWorkers * 16);
+  const auto [groups, committed] = farm_->upload_groups();
+  EXPECT_EQ(committed - calls0, uint64_t(kWorkers));
+  // The first call alone, then the 63 waiting ones 16 at a time: 16, 16, 16, 15.
+  EXPECT_EQ(groups - groups0, 5u);
 }
 
 TEST_F(LeaseBookTest, AfterARestartEveryLeaseIsVoidAndItsUnitIsLeasedAgain) {
