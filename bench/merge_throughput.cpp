@@ -465,6 +465,10 @@ void simulated_worker(int index, std::shared_ptr<grpc::Channel> channel, const O
     {
       grpc::ClientContext ctx;
       wire::prepare_context(ctx, "", kCallTimeout);
+      // Before the clock: N channels connecting at once sometimes saw a connection attempt fail
+      // ("failed to connect to all addresses", every session since farm8, the run lost); wait
+      // for the channel instead, within the call's deadline.
+      ctx.set_wait_for_ready(true);
       check_status(stub->Register(&ctx, reg, &reg_reply), "Register");
     }
     registered.count_down();
