@@ -79,6 +79,6 @@ if slow:
     cb = {}
     print("  slow leases: client start relative to the last group's end (ms):",
           " ".join(f"{since_group(r[6]-r[1]):.0f}" for r in slow))
-    allv = [since_group(r[6]-r[1]) for r in rows]
+    allv = [v for v in (since_group(r[6]-r[1]) for r in rows) if v == v]  # nan: before any group
     print(f"  all leases: start after last group end p50 {pct(allv,50):.1f} ms")
     # group commit sizes ending just before slow leases
