@@ -333,10 +333,12 @@ class Coordinator {
   /// the lease book, and nothing does now). Every call of a group is answered when its
   /// transaction commits, so the group's workers come back at once, each with a lease and then
   /// an upload: the larger the group, the larger that crowd, and the leases in it wait for the
-  /// CPU behind the uploads. 256 (16 calls of 16) halved the lease p99 after the first round
-  /// against 1024 at 64 and 256 simulated workers, for about 8 % more server CPU per result
-  /// (BENCHMARKS.md, "Issue 14: lease latency and capacity (branch farm16)"); 64 cost more CPU
-  /// than it saved in lease latency when leases still waited for the store (branch farm8).
+  /// CPU behind the uploads. Against 1024, 256 (16 calls of 16) cut the lease median 2-4x and
+  /// about halved the lease p99 after each worker's first call at 64 simulated workers, and at
+  /// 256 on a long job, for 5-10 % more server CPU per result; on a short job at 256 workers the
+  /// first groups answer their workers into the start's crowd, and that p99 was worse in 7 of 12
+  /// rounds (BENCHMARKS.md, "Issue 14: lease latency and capacity (branch farm16)"). 64 cost more
+  /// CPU than it saved in lease latency when leases still waited for the store (branch farm8).
   static constexpr size_t kResultsPerCommit = 256;
   GroupCommit<UploadCall> upload_commits_{
       [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); },
