@@ -22,7 +22,7 @@ TEST(ServerThreadsE2E, IdleThreadsServeTheNextCalls) {
   const std::filesystem::path trace = farm.dir() / "calls.trace";
   farm.set_server_env({"TESSERA_CALL_TRACE=" + trace.string()});
   farm.start_server();
-  constexpr int kCalls = 32, kWaves = 4;
+  constexpr int kCalls = 32, kWaves = 6;
   std::vector<uint64_t> workers;
   for (int i = 0; i < kCalls; ++i) {
     v1::RegisterRequest request;
@@ -65,10 +65,11 @@ TEST(ServerThreadsE2E, IdleThreadsServeTheNextCalls) {
     threads.insert(tid);
   }
   EXPECT_EQ(leases, kCalls * kWaves);
-  // At most kCalls calls were in flight at once: the first wave's threads (and a few for the
-  // registrations) serve the rest. With gRPC's default of 2 idle threads kept, each wave
-  // started about kCalls new ones.
-  EXPECT_LE(threads.size(), size_t(kCalls + 8))
+  // At most kCalls calls were in flight at once: the first wave's threads serve the rest. With
+  // gRPC's default of 2 idle threads kept, each wave started about kCalls new ones (about 190
+  // in all). The bound leaves a second wave's worth for threads that had not yet gone back to
+  // polling when the next wave came (a machine under load), without letting the default pass.
+  EXPECT_LE(threads.size(), size_t(2 * kCalls))
       << threads.size() << " threads served " << leases << " long polls in " << kWaves
       << " waves of " << kCalls;
 }
