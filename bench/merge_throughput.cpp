@@ -155,8 +155,11 @@ class TempDir {
 /// and reaps it, so no run leaves a server behind.
 class ServerProcess {
  public:
-  ServerProcess(const fs::path& binary, const fs::path& dir, double lease_seconds)
-      : log_(dir / "server.log") {
+  /// `trace`: when not empty, the server's call trace is written there (TESSERA_CALL_TRACE,
+  /// server/call_trace.h).
+  ServerProcess(const fs::path& binary, const fs::path& dir, double lease_seconds,
+                const std::string& trace = "")
+      : log_(dir / "server.log"), trace_(trace) {
     const fs::path port_file = dir / "port";
     std::vector<std::string> args = {binary.string(),
                                      "--grpc",
@@ -228,6 +231,8 @@ class ServerProcess {
     for (char** e = environ; *e; ++e) {
       if (std::string_view(*e).rfind("TESSERA_", 0) != 0) envp.push_back(*e);
     }
+    const std::string trace_env = "TESSERA_CALL_TRACE=" + trace_;
+    if (!trace_.empty()) envp.push_back(const_cast<char*>(trace_env.c_str()));
     envp.push_back(nullptr);
 
     posix_spawn_file_actions_t actions;
@@ -244,6 +249,7 @@ class ServerProcess {
   }
 
   fs::path log_;
+  std::string trace_;
   pid_t pid_ = -1;
   int port_ = 0;
   double cpu_at_listening_s_ = 0;
@@ -361,11 +367,28 @@ struct Options {
   double lease_seconds = 30;
   uint32_t per_call = 1;  ///< units per LeaseUnit (max_units) and results per UploadResults
   bool keep = false;
+  /// When not empty: each run writes PREFIX-N.client (every call's times as the simulated
+  /// workers saw them) and the server PREFIX-N.server (its call trace), N the run's index.
+  std::string trace;
 };
+
+/// One call as a simulated worker saw it (--trace): steady_clock (CLOCK_MONOTONIC) nanoseconds,
+/// the clock the server's call trace reads.
+struct CallRecord {
+  const char* kind;
+  int64_t begin_ns, end_ns;
+  uint32_t units;
+  std::string lease_id;  ///< the first lease of the call
+};
+
+int64_t ns_of(Clock::time_point t) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+}
 
 /// What one simulated worker saw.
 struct WorkerTally {
   std::vector<double> lease_ms, upload_ms;
+  std::vector<CallRecord> calls;  ///< with --trace only
   uint64_t accepted = 0, dropped = 0, no_work = 0, released = 0;
   uint64_t early = 0;        ///< uploads sent before the tile's previous batch was acknowledged
   uint64_t proto_bytes = 0;  ///< protobuf payloads of the four messages of each result
@@ -383,6 +406,11 @@ struct RunResult {
   double server_s = 0;   ///< job started_unix_ms -> finished_unix_ms
   double client_rate = 0, server_rate = 0;
   double lease_p50 = 0, lease_p99 = 0, upload_p50 = 0, upload_p99 = 0, upload_max = 0;
+  /// The lease p99 without each worker's first call: every simulated worker starts at the same
+  /// moment, so its first calls arrive together, N at once, and each call after them follows
+  /// the worker's own last upload (BENCHMARKS.md, "Issue 14: lease latency and capacity
+  /// (branch farm16)"). lease_p99 counts both.
+  double lease_p99_later = 0;
   double accum_bytes = 0, proto_bytes = 0;
   /// Server CPU per accepted result from the clock's start (every worker registered) to the
   /// job's end: the run's cost without the server's start-up (but with the job's submit-side
@@ -437,6 +465,10 @@ void simulated_worker(int index, std::shared_ptr<grpc::Channel> channel, const O
     {
       grpc::ClientContext ctx;
       wire::prepare_context(ctx, "", kCallTimeout);
+      // Before the clock: N channels connecting at once sometimes saw a connection attempt fail
+      // ("failed to connect to all addresses", every session since farm8, the run lost); wait
+      // for the channel instead, within the call's deadline.
+      ctx.set_wait_for_ready(true);
       check_status(stub->Register(&ctx, reg, &reg_reply), "Register");
     }
     registered.count_down();
@@ -468,6 +500,10 @@ void simulated_worker(int index, std::shared_ptr<grpc::Channel> channel, const O
         for (const v1::UnitLease& l : lease.leases()) held.emplace_back(l.lease_id(), l.unit());
       } else {
         held.emplace_back(lease.lease_id(), lease.unit());
+      }
+      if (!options.trace.empty() && !held.empty()) {
+        tally.calls.push_back({"lease", ns_of(t0), ns_of(t1), uint32_t(held.size()),
+                               held.front().first});
       }
       if (shared.stop) {  // bounded run: hand the units back rather than leave leases behind
         for (const auto& [lease_id, unit] : held) {
@@ -522,6 +558,10 @@ void simulated_worker(int index, std::shared_ptr<grpc::Channel> channel, const O
                          " results for " + std::to_string(slots.size()));
       }
       tally.upload_ms.push_back(ms_between(t2, t3));
+      if (!options.trace.empty()) {
+        tally.calls.push_back({"upload", ns_of(t2), ns_of(t3), uint32_t(slots.size()),
+                               held.front().first});
+      }
       tally.proto_bytes += lease_req.ByteSizeLong() + lease.ByteSizeLong() +
                            (batched ? uploads.ByteSizeLong() + results.ByteSizeLong()
                                     : uploads.results(0).ByteSizeLong() +
@@ -658,14 +698,18 @@ class WorkerThreads {
   bool released_ = false;
 };
 
-RunResult run_once(const Options& options, const RunConfig& config, const fs::path& dir) {
+RunResult run_once(const Options& options, const RunConfig& config, const fs::path& dir,
+                   int run_index) {
   RunResult r;
   r.config = config;
   fs::create_directories(dir);
   const JobPlan plan = plan_for(options, config);
   const ResultBank bank(plan);  // before the clock: the benchmark measures the server
 
-  ServerProcess server(options.server_bin, dir, options.lease_seconds);
+  const std::string trace_prefix =
+      options.trace.empty() ? "" : options.trace + "-" + std::to_string(run_index);
+  ServerProcess server(options.server_bin, dir, options.lease_seconds,
+                       trace_prefix.empty() ? "" : trace_prefix + ".server");
   auto control = make_channel(server.address(), true);
   auto jobs = v1::JobService::NewStub(control);
   const uint64_t job_id = submit_job(*jobs, options, plan);
@@ -719,11 +763,14 @@ RunResult run_once(const Options& options, const RunConfig& config, const fs::pa
   job = get_job(*jobs, job_id);
 
   // Figures.
-  std::vector<double> lease_ms, upload_ms;
+  std::vector<double> lease_ms, upload_ms, later_lease_ms;
   uint64_t accepted = 0, dropped = 0, early = 0, proto_bytes = 0, results = 0;
   Clock::time_point last = start;
   for (const WorkerTally& t : tallies) {
     lease_ms.insert(lease_ms.end(), t.lease_ms.begin(), t.lease_ms.end());
+    if (t.lease_ms.size() > 1) {
+      later_lease_ms.insert(later_lease_ms.end(), t.lease_ms.begin() + 1, t.lease_ms.end());
+    }
     upload_ms.insert(upload_ms.end(), t.upload_ms.begin(), t.upload_ms.end());
     accepted += t.accepted;
     dropped += t.dropped;
@@ -745,6 +792,7 @@ RunResult run_once(const Options& options, const RunConfig& config, const fs::pa
   }
   r.lease_p50 = percentile(lease_ms, 50);
   r.lease_p99 = percentile(lease_ms, 99);
+  r.lease_p99_later = percentile(later_lease_ms, 99);
   r.upload_p50 = percentile(upload_ms, 50);
   r.upload_p99 = percentile(upload_ms, 99);
   r.upload_max = upload_ms.empty() ? 0 : *std::max_element(upload_ms.begin(), upload_ms.end());
@@ -758,6 +806,15 @@ RunResult run_once(const Options& options, const RunConfig& config, const fs::pa
   r.client_cpu_ms = accepted ? (client_cpu1 - client_cpu0) * 1000.0 / double(accepted) : 0;
   r.early_fraction = results ? double(early) / double(results) : 0;
   check_final(job, shared, accepted, dropped, r);
+  if (!trace_prefix.empty()) {
+    std::ofstream out(trace_prefix + ".client");
+    for (size_t w = 0; w < tallies.size(); ++w) {
+      for (const CallRecord& c : tallies[w].calls) {
+        out << c.kind << ' ' << w << ' ' << c.begin_ns << ' ' << c.end_ns << ' ' << c.units << ' '
+            << c.lease_id << '\n';
+      }
+    }
+  }
 
   std::istringstream log(server.log_text());
   for (std::string line; std::getline(log, line);) {
@@ -799,10 +856,10 @@ void print_row(const RunResult& r, const char* label) {
     // One line per run for scripts (tests/load/capacity.sh): key=value, no spaces in values.
     std::printf(
         "    run: tile=%d workers=%d per_call=%u units=%u accepted=%llu merged_per_s=%.1f "
-        "lease_p99_ms=%.2f cpu_listen_s=%.4f cpu_run_s=%.4f cpu_life_ms_per_res=%.4f "
-        "cpu_run_ms_per_res=%.4f checks=%s cut_off=%d\n",
+        "lease_p99_ms=%.2f lease_p99_later_ms=%.2f cpu_listen_s=%.4f cpu_run_s=%.4f "
+        "cpu_life_ms_per_res=%.4f cpu_run_ms_per_res=%.4f checks=%s cut_off=%d\n",
         r.config.tile, r.config.workers, r.per_call, r.units_total,
-        static_cast<unsigned long long>(r.accepted), r.server_rate, r.lease_p99,
+        static_cast<unsigned long long>(r.accepted), r.server_rate, r.lease_p99, r.lease_p99_later,
         r.server_cpu_listen_s, r.server_cpu_run_s, r.server_cpu_life_ms, r.server_cpu_ms,
         r.problems.empty() ? "passed" : "FAILED", r.cut_off ? 1 : 0);
   }
@@ -819,7 +876,7 @@ RunResult median_of(const std::vector<RunResult>& runs) {
   };
   for (double RunResult::*f :
        {&RunResult::client_rate, &RunResult::server_rate, &RunResult::lease_p50,
-        &RunResult::lease_p99, &RunResult::upload_p50, &RunResult::upload_p99,
+        &RunResult::lease_p99, &RunResult::lease_p99_later, &RunResult::upload_p50, &RunResult::upload_p99,
         &RunResult::upload_max, &RunResult::accum_bytes, &RunResult::proto_bytes,
         &RunResult::server_cpu_ms, &RunResult::client_cpu_ms, &RunResult::early_fraction,
         &RunResult::server_cpu_life_ms, &RunResult::server_cpu_listen_s,
@@ -908,6 +965,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   app.add_flag("--keep", options.keep, "keep the temporary folder (databases, server logs)");
+  app.add_option("--trace", options.trace,
+                 "PREFIX: write every call's times, the workers' to PREFIX-N.client and the "
+                 "server's (TESSERA_CALL_TRACE) to PREFIX-N.server, N the run's index");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -936,8 +996,9 @@ int main(int argc, char** argv) {
           const RunConfig config{tile, batch, n, channel == "shared"};
           std::vector<RunResult> runs;
           for (int rep = 0; rep < reps; ++rep) {
-            RunResult r =
-                run_once(options, config, temp.path() / ("run-" + std::to_string(run_index++)));
+            RunResult r = run_once(options, config,
+                                   temp.path() / ("run-" + std::to_string(run_index)), run_index);
+            ++run_index;
             char final_ms[32];
             std::snprintf(final_ms, sizeof final_ms, "%.1f", r.final_upload_ms);
             const std::string label =

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "accum/accumulation_codec.h"
+#include "call_trace.h"
 #include "farm_error.h"
 #include "job/job_options.h"
 #include "scene/scene_error.h"
@@ -51,7 +52,8 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       output_(config.output_dir, config.output_writer),
       limits_(config.limits),
       nan_report_fraction_(config.nan_report_fraction),
-      retention_days_(config.retention_days) {
+      retention_days_(config.retention_days),
+      before_upload_commit_(config.before_upload_commit) {
   // The whole-file check only after a server stopped without its clean shutdown (a crash, a
   // kill): a clean restart reads no page beyond the header, whatever the store's size. It runs
   // beside the server, not before it: SQLite recovers from a process crash by itself (WAL), and
@@ -295,6 +297,7 @@ void Coordinator::remove(int64_t job_id) {
     }
     merger_.forget_job(job_id);
     book_.drop_job(job_id);
+    std::lock_guard rects(tile_rects_mu_);
     tile_rects_.erase(tile_rects_.lower_bound({job_id, 0}),
                       tile_rects_.lower_bound({job_id + 1, 0}));
   }
@@ -411,6 +414,7 @@ int64_t Coordinator::register_worker(const WorkerRegistration& info) {
 }
 
 void Coordinator::touch_in_memory(int64_t worker_id, uint64_t call) {
+  const int64_t began_ns = call_trace::now_ns();
   {
     std::lock_guard lock(departed_mu_);
     if (const auto it = departed_.find(worker_id); it != departed_.end() && call >= it->second) {
@@ -428,12 +432,19 @@ void Coordinator::touch_in_memory(int64_t worker_id, uint64_t call) {
     book_.add_worker(worker_id);
   }
   book_.touch(worker_id, clock_.now_unix_ms());  // last_seen written by the next flush
+  call_trace::record("touch", began_ns, call_trace::now_ns());
 }
 
 void Coordinator::flush_leases() {
+  const int64_t began_ns = call_trace::now_ns();
   std::vector<LeaseBook::Grant> grants = book_.take_journal();
   std::map<int64_t, int64_t> touches = book_.take_touches();
   if (grants.empty() && touches.empty()) return;
+  struct Traced {
+    int64_t began;
+    size_t grants;
+    ~Traced() { call_trace::record("flush", began, call_trace::now_ns(), int64_t(grants)); }
+  } traced{began_ns, grants.size()};
   std::vector<std::optional<int64_t>> unit_ids;
   try {
     Transaction tx(db_);
@@ -517,7 +528,9 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
     const auto now = std::chrono::steady_clock::now();
     if (now >= deadline || changes_.stopped() || (cancelled && cancelled())) return {};
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now);
+    const int64_t waited_ns = call_trace::now_ns();
     work_.wait(seen, std::min(left, std::chrono::milliseconds(250)));
+    call_trace::record("poll", waited_ns, call_trace::now_ns());
   }
 }
 
@@ -549,14 +562,29 @@ std::string Coordinator::bundle(const std::string& sha256) {
   return std::move(*bytes);
 }
 
-std::optional<TileRect> Coordinator::tile_rect(int64_t job_id, uint32_t tile) {
-  const std::pair key(job_id, tile);
-  if (const auto it = tile_rects_.find(key); it != tile_rects_.end()) return it->second;
-  const std::optional<TileRect> rect = jobs_.tile_rect(job_id, tile);
-  if (!rect) return std::nullopt;
-  if (tile_rects_.size() >= kTileRectsKept) tile_rects_.clear();
-  tile_rects_.emplace(key, *rect);
-  return rect;
+std::vector<std::optional<TileRect>> Coordinator::tile_rects(
+    const std::vector<UnitResult>& results) {
+  std::vector<std::optional<TileRect>> rects(results.size());
+  bool missing = false;
+  {
+    std::lock_guard lock(tile_rects_mu_);
+    for (size_t i = 0; i < results.size(); ++i) {
+      const auto it = tile_rects_.find({results[i].job_id, results[i].tile});
+      if (it != tile_rects_.end()) rects[i] = it->second;
+      missing = missing || !rects[i];
+    }
+  }
+  if (!missing) return rects;
+  StoreLock lock(*this);
+  for (size_t i = 0; i < results.size(); ++i) {
+    if (rects[i]) continue;
+    rects[i] = jobs_.tile_rect(results[i].job_id, results[i].tile);
+    if (!rects[i]) continue;
+    std::lock_guard kept(tile_rects_mu_);
+    if (tile_rects_.size() >= kTileRectsKept) tile_rects_.clear();
+    tile_rects_.emplace(std::pair(results[i].job_id, results[i].tile), *rects[i]);
+  }
+  return rects;
 }
 
 AcceptOutcome Coordinator::upload(const UnitResult& result) {
@@ -573,13 +601,17 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
   // result's header, and a few kilobytes of zstd can declare gigabytes (docs/reliability.md,
   // "Known problems"). So the worker and the tiles are looked up first, and a header declaring
   // more pixels than the tile is refused before anything is decompressed.
+  // Both from memory, as a lease's check of the worker: no store lock unless the worker or a
+  // tile is new to this server.
   std::vector<int64_t> tile_pixels;
   {
-    StoreLock lock(*this);
-    touch_or_throw(results.front().worker_id);
+    const int64_t asked_ns = call_trace::now_ns();
+    touch_in_memory(results.front().worker_id, begin_call());
+    const std::vector<std::optional<TileRect>> rects = tile_rects(results);
+    call_trace::record("upload_lock", asked_ns, call_trace::now_ns());
     for (size_t i = 0; i < results.size(); ++i) {
       const UnitResult& r = results[i];
-      const std::optional<TileRect> rect = tile_rect(r.job_id, r.tile);
+      const std::optional<TileRect>& rect = rects[i];
       if (!rect) {
         throw FarmError(ErrorCode::not_found, which(i) + "no unit job " + std::to_string(r.job_id) +
                                                   " tile " + std::to_string(r.tile) + " batch " +
@@ -589,6 +621,7 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
     }
   }
   const auto received = std::chrono::steady_clock::now();
+  const int64_t decode_ns = call_trace::now_ns();
   std::vector<Accumulation> decoded(results.size());
   std::vector<TileMerger::Upload> uploads;
   for (size_t i = 0; i < results.size(); ++i) {
@@ -602,7 +635,10 @@ std::vector<AcceptOutcome> Coordinator::upload_all(const std::vector<UnitResult>
   // The worker was checked (and its last call recorded) above; workers are never removed.
   UploadCall call;
   call.uploads = &uploads;
+  const int64_t commit_ns = call_trace::now_ns();
+  call_trace::record("decode", decode_ns, commit_ns, int64_t(results.size()));
   upload_commits_.run(call);
+  call_trace::record("commit_wait", commit_ns, call_trace::now_ns(), int64_t(results.size()));
   if (call.error) std::rethrow_exception(call.error);
   const std::vector<AcceptOutcome>& outcomes = call.outcomes;
   const double seconds =
@@ -646,7 +682,18 @@ void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
   // the next transaction, after the lease. A lease then waits for at most one call's results
   // (at most 64), not for the whole group (up to kResultsPerCommit; BENCHMARKS.md, "Issue 14:
   // lease latency (branch farm10)").
+  if (before_upload_commit_) before_upload_commit_();
+  const int64_t asked_ns = call_trace::now_ns();
   PriorityMutex::Deferring lock(mu_);
+  const int64_t got_ns = call_trace::now_ns();
+  struct Traced {
+    int64_t asked, got;
+    size_t calls;
+    ~Traced() {
+      call_trace::record("group_lock", asked, got, int64_t(calls));
+      call_trace::record("group", got, call_trace::now_ns(), int64_t(calls));
+    }
+  } traced{asked_ns, got_ns, calls.size()};
   const auto lease_waits = [this] { return mu_.urgent_waiting() > 0; };
   size_t next = 0;  // the first call not committed yet
   while (next < calls.size()) {

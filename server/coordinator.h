@@ -50,6 +50,9 @@ struct CoordinatorConfig {
   size_t merge_cache_bytes = MergeCache::kDefaultBudgetBytes;
   /// Writes the output files (empty: write_image); tests inject a full disk here.
   ImageFileWriter output_writer;
+  /// Called as each upload group's commit begins, before it takes the store lock (tests line
+  /// calls up here); empty in the server.
+  std::function<void()> before_upload_commit;
 };
 
 /// A tile of a job as the dashboard shows it (Coordinator::tile_map).
@@ -201,6 +204,10 @@ class Coordinator {
   uint64_t store_lock_acquisitions() const { return mu_.acquisitions(); }
   /// Leases the book holds now (tests).
   size_t leases_held() { return book_.leases_held(); }
+  /// Upload calls waiting for a group's commit, and the groups and calls committed so far
+  /// (tests: GroupCommit::waiting, GroupCommit::committed).
+  size_t upload_calls_waiting() { return upload_commits_.waiting(); }
+  std::pair<uint64_t, uint64_t> upload_groups() { return upload_commits_.committed(); }
 
   /// Every answered upload is reported to `observer` (the dashboard's counters). Call before
   /// serving; nullptr reports nothing. The observer must outlive the coordinator's calls.
@@ -256,11 +263,15 @@ class Coordinator {
   /// before the worker deregistered — a long poll still waiting — does not bring it back online.
   void touch_or_throw(int64_t worker_id, uint64_t call);
   void touch_or_throw(int64_t worker_id) { touch_or_throw(worker_id, begin_call()); }
-  /// A tile's rectangle, read once from the store and then kept (a tile never changes shape;
-  /// job ids are never reused): an upload sizes its decode by it. Requires mu_.
-  std::optional<TileRect> tile_rect(int64_t job_id, uint32_t tile);
+  /// The rectangles of the results' tiles (nullopt: no such tile), each read once from the store
+  /// and then kept (a tile never changes shape; job ids are never reused): an upload sizes its
+  /// decode by them. Takes the store's lock only for a tile not kept yet; must not be called
+  /// under tile_rects_mu_.
+  std::vector<std::optional<TileRect>> tile_rects(const std::vector<UnitResult>& results);
   static constexpr size_t kTileRectsKept = size_t(1) << 16;  ///< then the map starts again
-  std::map<std::pair<int64_t, uint32_t>, TileRect> tile_rects_;  ///< guarded by mu_
+  /// Taken alone or inside mu_, never the other way round.
+  std::mutex tile_rects_mu_;
+  std::map<std::pair<int64_t, uint32_t>, TileRect> tile_rects_;  ///< guarded by tile_rects_mu_
   uint64_t begin_call() { return calls_begun_.fetch_add(1); }
   /// Logs, once per server run, a worker whose NaN/Inf share crossed the report threshold.
   void report_health(int64_t worker_id);
@@ -319,14 +330,21 @@ class Coordinator {
   }
   /// Results committed together at most (GroupCommit's bound). A group yields between its calls
   /// to whoever waits for mu_ Urgent (commit_uploads; leases took it so before they moved to
-  /// the lease book, and nothing does now). 64 cost more server CPU per result with 256 workers
-  /// uploading 16 results per call (smaller groups, more commits and wake-ups) than it saved in
-  /// lease latency; 1024 did not (BENCHMARKS.md, "Issue 14: server capacity (branch farm8)").
-  static constexpr size_t kResultsPerCommit = 1024;
+  /// the lease book, and nothing does now). Every call of a group is answered when its
+  /// transaction commits, so the group's workers come back at once, each with a lease and then
+  /// an upload: the larger the group, the larger that crowd, and the leases in it wait for the
+  /// CPU behind the uploads. Against 1024, 256 (16 calls of 16) cut the lease median 2-4x and
+  /// about halved the lease p99 after each worker's first call at 64 simulated workers, and at
+  /// 256 on a long job, for 5-10 % more server CPU per result; on a short job at 256 workers the
+  /// first groups answer their workers into the start's crowd, and that p99 was worse in 7 of 12
+  /// rounds (BENCHMARKS.md, "Issue 14: lease latency and capacity (branch farm16)"). 64 cost more
+  /// CPU than it saved in lease latency when leases still waited for the store (branch farm8).
+  static constexpr size_t kResultsPerCommit = 256;
   GroupCommit<UploadCall> upload_commits_{
       [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); },
       [](const UploadCall& call) { return call.uploads->size(); }, kResultsPerCommit};
   UploadObserver* upload_observer_ = nullptr;  ///< set before serving; may be null
+  std::function<void()> before_upload_commit_;  ///< CoordinatorConfig::before_upload_commit
   /// The check found damage: log it, stop leasing, tell the observer (from the check's thread).
   void store_damaged(const std::string& message);
   mutable std::mutex damage_mu_;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "call_trace.h"
 #include "store/jobs_table.h"
 
 namespace tessera::server {
@@ -196,7 +197,13 @@ LeasedUnit LeaseBook::leased_unit(const Job& job, const Lease& lease) const {
 }
 
 std::vector<LeasedUnit> LeaseBook::lease_up_to(int64_t worker_id, uint32_t max_units) {
+  const int64_t asked_ns = call_trace::now_ns();
   std::lock_guard lock(mu_);
+  const int64_t got_ns = call_trace::now_ns();
+  struct Traced {
+    int64_t asked, got;
+    ~Traced() { call_trace::record("book", asked, got, call_trace::now_ns() - got); }
+  } traced{asked_ns, got_ns};
   const int64_t now = clock_.now_unix_ms();
   std::vector<LeasedUnit> out;
   // Every lease the worker holds, expiry extended: a retried call after a lost reply leases

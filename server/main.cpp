@@ -14,6 +14,7 @@
 #include <optional>
 #include <thread>
 
+#include "call_trace.h"
 #include "coordinator.h"
 #include "dashboard/farm_metrics.h"
 #include "dashboard/http_server.h"
@@ -99,8 +100,17 @@ void write_port_file(const std::string& path, int port) {
   std::filesystem::rename(temp, path);
 }
 
+// gRPC's synchronous server runs each call on a thread of its pool and by default keeps at most
+// 2 idle ones polling for calls: the rest end when their call does, so under 64-256 workers
+// nearly every call started a thread of its own (about 1,000 threads created per second of
+// tessera-bench-merge). Idle threads up to this many stay and take the next calls
+// (BENCHMARKS.md, "Issue 14: lease latency and capacity (branch farm16)"; counted by
+// ServerThreadsE2E.IdleThreadsServeTheNextCalls).
+constexpr int kMaxPollers = 256;
+
 int serve(const Flags& flags, const sigset_t& stop_signals) {
   namespace ts = tessera::server;
+  ts::call_trace::start_from_environment();  // measurement only (server/call_trace.h)
   const Tokens tokens = resolve_tokens(flags);
   check_grpc_listen_policy(flags, tokens);
   // The dashboard needs the client token for everything but its page and probes
@@ -162,6 +172,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   // Accept the clients' keepalive pings (every kKeepaliveTimeMs) without calling them abusive.
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS,
                              tessera::wire::kKeepaliveTimeMs / 3);
+  builder.SetSyncServerOption(grpc::ServerBuilder::SyncServerOption::MAX_POLLERS, kMaxPollers);
   builder.RegisterService(&job_service);
   builder.RegisterService(&worker_service);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
@@ -257,6 +268,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   signal_thread.join();
   reaper.reset();
   const bool clean = coordinator.checkpoint();
+  if (!ts::call_trace::write()) std::cerr << "tessera-server: warning: call trace not written\n";
   std::cout << "tessera-server: stopped"
             << (clean ? " (WAL checkpointed)"
                       : " (WAL checkpoint incomplete: replayed at next start)")

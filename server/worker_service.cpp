@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "call_trace.h"
 #include "rpc_guard.h"
 #include "wire/job_options_wire.h"
 #include "wire/scene_bundle.h"
@@ -51,6 +52,7 @@ void fill_unit(const LeasedUnit& unit, v1::WorkUnit* u) {
 grpc::Status WorkerServiceImpl::LeaseUnit(grpc::ServerContext* context,
                                           const v1::LeaseUnitRequest* request,
                                           v1::LeaseUnitResponse* response) {
+  const int64_t entered_ns = call_trace::now_ns();
   return guarded(auth_, *context, "LeaseUnit", [&] {
     const auto wait = std::chrono::milliseconds(std::min(request->wait_ms(), kMaxLeaseWaitMs));
     // max_units 0: a worker from before batched leases, answered in the single-unit fields.
@@ -60,19 +62,24 @@ grpc::Status WorkerServiceImpl::LeaseUnit(grpc::ServerContext* context,
                                  wait, [context] { return context->IsCancelled(); });
     response->set_heartbeat_interval_ms(uint32_t(std::max<int64_t>(50, coordinator_.lease_ms() / 3)));
     response->set_leased(!units.empty());
-    if (units.empty()) return grpc::Status::OK;
+    if (units.empty()) {
+      call_trace::record("lease", entered_ns, call_trace::now_ns(), 0, request->wait_ms());
+      return grpc::Status::OK;
+    }
     if (max_units == 0) {
       response->set_lease_id(units.front().lease.lease_id);
       response->set_expires_unix_ms(units.front().lease.expires_unix_ms);
       fill_unit(units.front(), response->mutable_unit());
-      return grpc::Status::OK;
+    } else {
+      for (const LeasedUnit& unit : units) {
+        v1::UnitLease* l = response->add_leases();
+        l->set_lease_id(unit.lease.lease_id);
+        l->set_expires_unix_ms(unit.lease.expires_unix_ms);
+        fill_unit(unit, l->mutable_unit());
+      }
     }
-    for (const LeasedUnit& unit : units) {
-      v1::UnitLease* l = response->add_leases();
-      l->set_lease_id(unit.lease.lease_id);
-      l->set_expires_unix_ms(unit.lease.expires_unix_ms);
-      fill_unit(unit, l->mutable_unit());
-    }
+    call_trace::record("lease", entered_ns, call_trace::now_ns(), int64_t(units.size()),
+                       request->wait_ms(), units.front().lease.lease_id);
     return grpc::Status::OK;
   });
 }
@@ -146,6 +153,7 @@ grpc::Status WorkerServiceImpl::UploadResult(grpc::ServerContext* context,
 grpc::Status WorkerServiceImpl::UploadResults(grpc::ServerContext* context,
                                               const v1::UploadResultsRequest* request,
                                               v1::UploadResultsResponse* response) {
+  const int64_t entered_ns = call_trace::now_ns();
   return guarded(auth_, *context, "UploadResults", [&] {
     if (request->results_size() == 0) {
       throw FarmError(ErrorCode::invalid_argument, "UploadResults carries no result");
@@ -171,6 +179,7 @@ grpc::Status WorkerServiceImpl::UploadResults(grpc::ServerContext* context,
       answer->set_accepted(outcome.accepted);
       answer->set_reason(outcome.reason);
     }
+    call_trace::record("upload", entered_ns, call_trace::now_ns(), request->results_size());
     return grpc::Status::OK;
   });
 }

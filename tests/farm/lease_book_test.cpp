@@ -4,11 +4,14 @@
 // Counts (lock acquisitions, statements, units), never times.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
 #include <set>
+#include <thread>
 
 #include "coordinator.h"
 #include "fake_clock.h"
+#include "farm_error.h"
 #include "lease_book.h"
 #include "store_fixture.h"
 
@@ -99,6 +102,87 @@ TEST_F(LeaseBookTest, ALeaseAndAHeartbeatTakeNoStoreLockAndRunNoStatement) {
   std::vector<UnitResult> results;
   for (const LeasedUnit& u : first) results.push_back(result(u));
   for (const AcceptOutcome& o : farm_->upload_all(results)) EXPECT_TRUE(o.accepted) << o.reason;
+}
+
+TEST_F(LeaseBookTest, AnUploadTakesTheStoreLockOnlyForItsCommit) {
+  // The upload's checks before its decode (the worker known, each result's tile and its size)
+  // are answered from memory as a lease's are, once the server has seen the worker and the
+  // tiles: a call takes the store's lock once, for the transaction that accepts its results,
+  // not once more before it (BENCHMARKS.md, "Issue 14: lease latency and capacity (branch
+  // farm16)": under load that second, plain acquisition waited behind every upload group).
+  farm_->submit(tiny_bundle(), options_of(4), 0, "c");  // 16 tiles x 4 batches
+  const int64_t worker = farm_->register_worker({"w", 4, "avx2", "test"});
+  const auto upload = [&](const std::vector<LeasedUnit>& units) {
+    std::vector<UnitResult> results;
+    for (const LeasedUnit& u : units) results.push_back(result(u));
+    for (const AcceptOutcome& o : farm_->upload_all(results)) EXPECT_TRUE(o.accepted) << o.reason;
+  };
+  upload(look(worker, 16));  // batch 0 of every tile: the tiles are read from the store here
+  for (int call = 0; call < 2; ++call) {
+    const std::vector<LeasedUnit> units = look(worker, 16);  // batch 1, then 2, of every tile
+    ASSERT_EQ(units.size(), 16u);
+    const uint64_t locks = farm_->store_lock_acquisitions();
+    upload(units);
+    EXPECT_EQ(farm_->store_lock_acquisitions() - locks, 1u) << "call " << call;
+  }
+  // A tile or a worker the server does not know is still refused (from the store).
+  const std::vector<LeasedUnit> last = look(worker, 16);
+  ASSERT_EQ(last.size(), 16u);
+  UnitResult unknown_tile = result(last.front());
+  unknown_tile.tile = 99;
+  try {
+    farm_->upload(unknown_tile);
+    ADD_FAILURE() << "an unknown tile was accepted";
+  } catch (const FarmError& e) {
+    EXPECT_EQ(e.code(), ErrorCode::not_found) << e.what();
+  }
+  UnitResult unknown_worker = result(last.front());
+  unknown_worker.worker_id = 999;
+  try {
+    farm_->upload(unknown_worker);
+    ADD_FAILURE() << "an unknown worker's result was accepted";
+  } catch (const FarmError& e) {
+    EXPECT_EQ(e.code(), ErrorCode::failed_precondition) << e.what();
+  }
+  upload(last);
+}
+
+TEST_F(LeaseBookTest, UploadCallsWaitingTogetherCommitSixteenAtATime) {
+  // 64 workers' calls of 16 results line up behind a commit: they are committed (and answered)
+  // in groups of at most 256 results, 16 calls, so at most 16 workers come back at once
+  // (Coordinator::kResultsPerCommit; BENCHMARKS.md, "Issue 14: lease latency and capacity
+  // (branch farm16)").
+  constexpr int kWorkers = 64;
+  std::atomic<bool> held{false};
+  config_.before_upload_commit = [&] {
+    if (held.exchange(true)) return;
+    // The first call's commit waits until every other call waits behind it.
+    while (farm_->upload_calls_waiting() < size_t(kWorkers - 1)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  };
+  restart();
+  farm_->submit(tiny_bundle(), options_of(64), 0, "c");  // 16 tiles x 64 batches
+  std::vector<std::vector<UnitResult>> calls(kWorkers);
+  for (int w = 0; w < kWorkers; ++w) {
+    const int64_t worker = farm_->register_worker({"w" + std::to_string(w), 4, "avx2", "test"});
+    for (const LeasedUnit& u : look(worker, 16)) calls[size_t(w)].push_back(result(u));
+    ASSERT_EQ(calls[size_t(w)].size(), 16u);
+  }
+  const auto [groups0, calls0] = farm_->upload_groups();
+  std::vector<std::thread> threads;
+  std::atomic<int> accepted{0};
+  for (int w = 0; w < kWorkers; ++w) {
+    threads.emplace_back([&, w] {
+      for (const AcceptOutcome& o : farm_->upload_all(calls[size_t(w)])) accepted += o.accepted;
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  EXPECT_EQ(accepted.load(), kWorkers * 16);
+  const auto [groups, committed] = farm_->upload_groups();
+  EXPECT_EQ(committed - calls0, uint64_t(kWorkers));
+  // The first call alone, then the 63 waiting ones 16 at a time: 16, 16, 16, 15.
+  EXPECT_EQ(groups - groups0, 5u);
 }
 
 TEST_F(LeaseBookTest, AfterARestartEveryLeaseIsVoidAndItsUnitIsLeasedAgain) {

@@ -62,7 +62,7 @@ void FarmCluster::start_server(const std::vector<std::string>& extra) {
                                    (dir_ / "http-port").string()};
   argv.insert(argv.end(), server_extra_.begin(), server_extra_.end());
   server_ = std::make_unique<Process>(
-      argv, dir_ / ("server-" + std::to_string(server_starts_++) + ".log"));
+      argv, dir_ / ("server-" + std::to_string(server_starts_++) + ".log"), server_env_);
   const auto deadline = std::chrono::steady_clock::now() + kPatience;
   while (!std::filesystem::exists(port_file)) {
     if (!server_->running()) FAIL() << "tessera-server exited at start";

@@ -47,6 +47,8 @@ class FarmCluster {
     tls_ = tls;
     cli_tls_flags_ = cli_flags;
   }
+  /// From the next start_server on, the server's environment also has `env` ("NAME=value").
+  void set_server_env(const std::vector<std::string>& env) { server_env_ = env; }
   /// Stops the server with `signal_number` and returns its exit code.
   std::optional<int> stop_server(int signal_number);
 
@@ -88,6 +90,7 @@ class FarmCluster {
   int server_starts_ = 0;
   int commands_ = 0;
   std::vector<std::string> server_extra_;
+  std::vector<std::string> server_env_;
   std::unique_ptr<Process> server_;
   std::vector<std::unique_ptr<Process>> workers_;
   std::unique_ptr<v1::JobService::Stub> jobs_;
