@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "bsdf/bsdf.h"
+#include "caustic_guide.h"
 #include "frame.h"
 #include "integrator.h"
 #include "target_mixture.h"
@@ -378,6 +379,11 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
     const bool mixture = !scene.specular_targets().empty() &&
                          (init_mixture ? init_mixture(mix, scene.specular_targets(), sp.p, ns)
                                        : mix.init(scene.specular_targets(), sp.p, ns));
+    // Bounces along the caustics (caustic_guide.h): with the cell's probability where the guide
+    // has a cell, the rest as above. A scene without one pays the empty() test.
+    const CausticGuide& guide = scene.caustic_guide();
+    const int guide_cell = guide.empty() ? -1 : guide.cell(sp.p, sp.ng);
+    const float guided = guide_cell >= 0 ? guide.probability(guide_cell) : 0.0f;
     if (roulette || have_lights) {
       sampler.set_pair(pair);
       u_choice = sampler.get2d_independent();
@@ -390,9 +396,13 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
         const float cos_surface = glm::dot(ns, ls.wi);
         if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
           // The bounce's density toward ls.wi: the mixture's when it has cones here.
-          const float w = ls.delta   ? 1.0f
-                          : mixture ? mis_weight(ls.pdf, mix.pdf(ls.wi, cos_surface) * opacity)
-                                    : mis_weight(ls.pdf, cos_surface * (opacity * kInvPi));
+          float w = 1.0f;
+          if (!ls.delta) {
+            const float unguided = mixture ? mix.pdf(ls.wi, cos_surface) : cos_surface * kInvPi;
+            w = guide_cell < 0 ? mis_weight(ls.pdf, mixture ? unguided * opacity : cos_surface * (opacity * kInvPi))
+                               : mis_weight(ls.pdf, ((1.0f - guided) * unguided +
+                                                     guided * guide.pdf(guide_cell, ls.wi)) * opacity);
+          }
           set_shadow_ray(origin, ls, shadow);
           // (albedo / pi) cos Le / pdf, in double so tiny, bright lights cannot overflow.
           shadow->contribution = glm::dvec3(beta) * glm::dvec3(m->albedo) * glm::dvec3(ls.radiance) *
@@ -402,7 +412,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       }
     }
     const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
-    if (!mixture) {
+    if (!mixture && guide_cell < 0) {
       // The cosine-weighted direction in the normal's frame, warped lane-wise with the pair when
       // the kernel drew it.
       const glm::vec3 local = predrawn ? predrawn->bsdf_cosine : square_to_cosine_hemisphere(u_bsdf);
@@ -411,15 +421,30 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       beta *= m->albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
       bsdf_pdf = local.z * kInvPi * opacity;
     } else {
-      // The strategy from pair + 3's x, which this path leaves free (a mask takes its y).
+      // The strategy from pair + 3's x, which this path leaves free (a mask takes its y): the
+      // guide below the cell's probability (the number over it picks the bin), else the mixture
+      // (or the cosine where there are no cones) with the rest rescaled.
       sampler.set_pair(pair + 3);
-      const int cone = mix.choose(sampler.get2d_x());
-      wi = cone >= 0  ? mix.sample_cone(cone, u_bsdf)
-           : predrawn ? Frame(ns).to_world(predrawn->bsdf_cosine)
-                      : Frame(ns).to_world(square_to_cosine_hemisphere(u_bsdf));
+      float u_strategy = sampler.get2d_x();
+      int bin = -1, cone = -1;
+      if (guide_cell >= 0) {
+        if (u_strategy < guided) {
+          wi = guide.sample(guide_cell, u_strategy / guided, u_bsdf, &bin);
+        } else {
+          u_strategy = std::min((u_strategy - guided) / (1.0f - guided), 0x1.fffffep-1f);
+        }
+      }
+      if (bin < 0) {
+        cone = mixture ? mix.choose(u_strategy) : -1;
+        wi = cone >= 0  ? mix.sample_cone(cone, u_bsdf)
+             : predrawn ? Frame(ns).to_world(predrawn->bsdf_cosine)
+                        : Frame(ns).to_world(square_to_cosine_hemisphere(u_bsdf));
+      }
       const float cos_n = glm::dot(wi, ns);
       if (!(cos_n > 0) || glm::dot(wi, sp.ng) <= 0) return false;
-      const float pdf = mix.pdf(wi, cos_n, cone);
+      const float unguided = mixture ? mix.pdf(wi, cos_n, cone) : cos_n * kInvPi;
+      const float pdf = guide_cell < 0 ? unguided
+                                       : (1.0f - guided) * unguided + guided * guide.pdf(guide_cell, wi, bin);
       beta *= m->albedo * (cos_n * kInvPi / pdf);  // f cos / pdf_mix, f = albedo / pi
       bsdf_pdf = pdf * opacity;
       // Russian roulette weighs the throughput as the cosine sample would have left it: a
