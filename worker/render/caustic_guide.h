@@ -35,9 +35,9 @@ class CausticGuide {
   static constexpr int kFaceBins = 16;
   static constexpr int kBins = 6 * kFaceBins * kFaceBins;
   /// Photons shot toward each specular target (at most SpecularTargets::kMaxTargets of them).
-  static constexpr uint32_t kPhotonsPerTarget = uint32_t(1) << 18;
+  static constexpr uint32_t kPhotonsPerTarget = uint32_t(1) << 17;
   /// A cell with fewer photons than this is left out (its directions too uncertain to aim by).
-  static constexpr uint32_t kMinPhotons = 128;
+  static constexpr uint32_t kMinPhotons = 64;
   /// A cell's side, as a fraction of the targets' mean radius.
   static constexpr float kCellFraction = 0.125f;
   /// A cell's probability of a guided bounce (probability()) is its share of the light the
