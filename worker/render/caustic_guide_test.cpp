@@ -24,7 +24,9 @@
 #include "traceable_scene.h"
 
 namespace tessera {
-namespace {
+// A named namespace, not an anonymous one: the sanitizer pass builds the tests as unity files,
+// where another test's anonymous helpers (kSource, load, ...) would collide with these.
+namespace caustic_guide_test {
 
 const std::string kSource = TESSERA_SOURCE_DIR;
 
@@ -386,5 +388,5 @@ TEST(CausticGuide, TexturedDiffuseFollowsItAndKeepsTheMean) {
   expect_same_mean("hexroom.json", 128, /*checkered=*/true);
 }
 
-}  // namespace
+}  // namespace caustic_guide_test
 }  // namespace tessera
