@@ -190,6 +190,7 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
     }
   }
   specular_targets_ = SpecularTargets(shapes, materials_, scene_radius);
+  caustic_guide_ = CausticGuide::build(*this);
 }
 
 void TraceableScene::release() {

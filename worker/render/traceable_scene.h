@@ -21,6 +21,7 @@
 #include "scene/scene.h"
 #include "scene/scene_loader.h"
 #include "bsdf/rough_plastic_tables.h"
+#include "caustic_guide.h"
 #include "specular_targets.h"
 #include "texture/texture_set.h"
 
@@ -92,6 +93,9 @@ class TraceableScene {
   const TextureSet& textures() const { return *textures_; }
   /// The purely specular shapes that diffuse vertices aim some bounces at (specular_targets.h).
   const SpecularTargets& specular_targets() const { return specular_targets_; }
+  /// Where light arrives through those shapes, from which directions (caustic_guide.h); empty
+  /// for a scene without them, lights, or with media.
+  const CausticGuide& caustic_guide() const { return caustic_guide_; }
   /// Whether some shape bounds a medium or the camera sits in one: the renderer then traces
   /// with the volumetric path tracer (media/volpath.h).
   bool has_media() const { return has_media_; }
@@ -161,6 +165,7 @@ class TraceableScene {
   std::unique_ptr<TextureSet> textures_;
   std::unique_ptr<LightSet> lights_;
   SpecularTargets specular_targets_;
+  CausticGuide caustic_guide_;
   bool hide_emitters_ = false;
   std::vector<RenderMedium> media_;
   std::vector<glm::ivec2> medium_sides_;  ///< per top-level geometry; empty without media

@@ -103,20 +103,6 @@ test::DirectionBins bins_towards(glm::vec3 ref, glm::vec3 target,
   return bins;
 }
 
-/// Irradiance at p (normal n) from a uniform Lambertian polygon of radiance le facing p
-/// (Lambert's formula).
-double polygon_irradiance(const std::vector<glm::vec3>& polygon, glm::dvec3 p, glm::dvec3 n,
-                          double le) {
-  double sum = 0;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const glm::dvec3 a = glm::normalize(glm::dvec3(polygon[i]) - p);
-    const glm::dvec3 b = glm::normalize(glm::dvec3(polygon[(i + 1) % polygon.size()]) - p);
-    const double angle = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
-    sum += angle * glm::dot(n, glm::normalize(glm::cross(a, b)));
-  }
-  return le / 2 * std::abs(sum);
-}
-
 /// The mean and standard error of radiance.y * max(0, cos(n, wi)) / pdf over n samples.
 std::pair<double, double> irradiance_estimate(const AreaLight& light, glm::vec3 ref, glm::vec3 n,
                                               int count, uint64_t seed) {
@@ -306,7 +292,7 @@ TEST(AreaLight, RectangleEstimatesLambertsIrradiance) {
   uint64_t seed = 40;
   for (const Case& c : cases) {
     const double expected =
-        polygon_irradiance(g.positions, glm::dvec3(c.ref), glm::dvec3(c.n), 3.0);
+        test::polygon_irradiance(g.positions, glm::dvec3(c.ref), glm::dvec3(c.n), 3.0);
     const auto [mean, se] = irradiance_estimate(light, c.ref, c.n, 40000, seed++);
     EXPECT_NEAR(mean, expected, 5 * se + 1e-4 * expected) << c.ref.x << " " << c.ref.z;
   }

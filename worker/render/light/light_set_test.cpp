@@ -254,20 +254,6 @@ TEST(LightSet, EnvironmentMixtureMatchesPdfChiSquare) {
   EXPECT_GT(r.p_value, test::kChiSquareLevel) << r.detail;
 }
 
-/// Irradiance at p (normal n) from a uniform Lambertian polygon of radiance le (Lambert's
-/// formula: le / 2 * sum of edge angles times the cosine of their planes with n).
-double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n,
-                          double le) {
-  double sum = 0;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const glm::dvec3 a = glm::normalize(polygon[i] - p);
-    const glm::dvec3 b = glm::normalize(polygon[(i + 1) % polygon.size()] - p);
-    const double angle = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
-    sum += angle * glm::dot(n, glm::normalize(glm::cross(a, b)));
-  }
-  return le / 2 * std::abs(sum);
-}
-
 TEST(LightSet, EstimatesTheIrradianceOfEveryLightTogether) {
   // E[radiance * cos / pdf] over sample() is the unoccluded irradiance from all lights: the
   // pick probabilities and every light's density must be right for it to come out.
@@ -284,7 +270,7 @@ TEST(LightSet, EstimatesTheIrradianceOfEveryLightTogether) {
       sky_reader(), kNoTextures, 2.0f);
   const glm::dvec3 p(kRef.p), n(0, 0, 1);
 
-  double expected = polygon_irradiance({{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}, p, n, 3.0);
+  double expected = test::polygon_irradiance({{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}}, p, n, 3.0);
   const glm::dvec3 to_point = glm::dvec3(0.5, 0.5, 2) - p;
   expected += glm::dot(glm::normalize(to_point), n) / glm::dot(to_point, to_point);
   expected += 0.7 * -glm::dvec3(sun_to_world[2]).z;

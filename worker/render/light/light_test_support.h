@@ -6,6 +6,7 @@
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -224,6 +225,24 @@ inline FileReader reader_of(const std::string& name, const std::string& bytes) {
     if (path != name) throw SceneError(path + ": not in the scene bundle");
     return bytes;
   };
+}
+
+}  // namespace tessera::test
+
+namespace tessera::test {
+
+/// Irradiance at p (normal n) from a uniform Lambertian polygon of radiance le (Lambert's
+/// formula: le / 2 * sum of edge angles times the cosine of their planes with n). One copy for
+/// the light tests (two, in anonymous namespaces, collided in the sanitizer pass's unity build).
+inline double polygon_irradiance(const std::vector<glm::vec3>& polygon, glm::dvec3 p, glm::dvec3 n, double le) {
+  double sum = 0;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const glm::dvec3 a = glm::normalize(glm::dvec3(polygon[i]) - p);
+    const glm::dvec3 b = glm::normalize(glm::dvec3(polygon[(i + 1) % polygon.size()]) - p);
+    const double angle = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+    sum += angle * glm::dot(n, glm::normalize(glm::cross(a, b)));
+  }
+  return le / 2 * std::abs(sum);
 }
 
 }  // namespace tessera::test
