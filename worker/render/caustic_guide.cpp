@@ -85,7 +85,7 @@ float indirect_irradiance(const TraceableScene& scene, glm::vec3 p, glm::vec3 n,
 CausticGuide::DisabledForTest::DisabledForTest() { disabled_for_test.fetch_add(1); }
 CausticGuide::DisabledForTest::~DisabledForTest() { disabled_for_test.fetch_sub(1); }
 
-CausticGuide CausticGuide::build(const TraceableScene& scene) {
+CausticGuide CausticGuide::build(const TraceableScene& scene, float scene_reach) {
   using namespace path_vertex_detail;
   CausticGuide guide;
   const SpecularTargets& targets = scene.specular_targets();
@@ -96,7 +96,11 @@ CausticGuide CausticGuide::build(const TraceableScene& scene) {
   for (int k = 0; k < targets.size(); ++k) mean_radius += targets[k].radius;
   mean_radius /= float(targets.size());
   if (!(mean_radius > 0) || !std::isfinite(mean_radius)) return guide;
-  guide.inv_cell_ = 1.0f / (kCellFraction * mean_radius);
+  // The cell's side, no smaller than the grid's reach allows: +-kGridHalf cells cover the scene
+  // twice over, so that a tiny target in a large scene does not send most of the scene to the
+  // grid's edge cells.
+  const float cell_side = std::max(kCellFraction * mean_radius, scene_reach * (2.0f / float(kGridHalf)));
+  guide.inv_cell_ = 1.0f / cell_side;
   if (!std::isfinite(guide.inv_cell_)) return guide;
 
   // The six axes, in turn, as the normal of the point the lights are sampled from: the light
@@ -248,7 +252,6 @@ CausticGuide CausticGuide::build(const TraceableScene& scene) {
   // Each cell's probability of a guided bounce: E_c from its photons (each target's photons
   // estimate the power into it, as the mean of their weights; the cell's area taken as a grid
   // square), E_i by one bounce from the cell's mean position.
-  const float cell_side = kCellFraction * mean_radius;
   const float power_to_irradiance = 1.0f / (float(kPhotonsPerTarget) * cell_side * cell_side);
   std::vector<Cell> kept;
   std::vector<uint64_t> kept_keys;

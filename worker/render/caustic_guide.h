@@ -38,7 +38,8 @@ class CausticGuide {
   static constexpr uint32_t kPhotonsPerTarget = uint32_t(1) << 17;
   /// A cell with fewer photons than this is left out (its directions too uncertain to aim by).
   static constexpr uint32_t kMinPhotons = 64;
-  /// A cell's side, as a fraction of the targets' mean radius.
+  /// A cell's side, as a fraction of the targets' mean radius (at least 2 / kGridHalf of the
+  /// scene's largest coordinate).
   static constexpr float kCellFraction = 0.125f;
   /// A cell's probability of a guided bounce (probability()) is its share of the light the
   /// bounce gathers, E_c / (E_c + E_i): E_c the caustic irradiance its photons carry, E_i the
@@ -60,7 +61,9 @@ class CausticGuide {
   /// or no photon reached a diffuse surface through a target. Photons from a light at
   /// infinity start on the plane tangent to the target on the light's side, where an occlusion
   /// test toward the light says whether it reaches them.
-  static CausticGuide build(const TraceableScene& scene);
+  /// `scene_reach`: the largest magnitude of a coordinate of the scene's bounds (the grid, centred
+  /// on the origin, reaches twice that).
+  static CausticGuide build(const TraceableScene& scene, float scene_reach);
 
   /// While a DisabledForTest lives, build() returns an empty guide (tests comparing the image's
   /// mean with and without it). No flag or environment variable reaches it.

@@ -321,6 +321,62 @@ TEST(CausticGuide, OnlyScenesWithGlassOrMirrorsAndLightsHaveOne) {
   EXPECT_GT(up, 0.99);
 }
 
+void expect_same_mean_of(const Scene& s, const std::string& what, int size, uint32_t spp);
+
+TEST(CausticGuide, SceneScaleChangesNeitherTheGuideNorTheMean) {
+  // cornell-sphere at scales 1e-3 and 1e4 against scale 1: the guide keeps about its cells (they
+  // scale with the targets; rounding moves a few photons across cell edges), and the image's
+  // mean agrees within the noise.
+  const Scene base = load_scene_file(kSource + "/scenes/cornell-sphere.json");
+  const uint32_t spp = 64;
+  const auto at = [&](double k) {
+    Scene s = base;
+    test::scale_scene(s, k);
+    return s;
+  };
+  const size_t cells = TraceableScene(base, 32, 32, "").caustic_guide().cell_count();
+  const Renderer one(base, test::test_job(32, 32, spp));
+  const test::Estimate e1 = test::mean_luminance(one.render({0, 0, 32, 32}, 0, spp));
+  for (double k : {1e-3, 1e4}) {
+    const Scene s = at(k);
+    const size_t scaled = TraceableScene(s, 32, 32, "").caustic_guide().cell_count();
+    EXPECT_NEAR(double(scaled), double(cells), 0.05 * double(cells)) << "scale " << k;
+    const Renderer renderer(s, test::test_job(32, 32, spp));
+    const Accumulation acc = renderer.render({0, 0, 32, 32}, 0, spp);
+    const test::Estimate ek = test::mean_luminance(acc);
+    std::printf("scale %g: %zu cells (scale 1: %zu), mean %.6f (scale 1: %.6f, SE %.1e)\n", k, scaled, cells,
+                ek.mean, e1.mean, ek.se);
+    EXPECT_TRUE(test::all_finite(acc));
+    EXPECT_NEAR(ek.mean, e1.mean, test::tolerance(ek, e1)) << "scale " << k;
+  }
+}
+
+TEST(CausticGuide, ATinyGlassBeadFarFromTheOriginStillGetsItsCaustic) {
+  // A bead of radius 1e-3 lit by a small lamp above it, over a floor 2,000 units wide whose
+  // corner is at 1e4: the grid's reach bounds its cells from below (2 x 1e4 / 2^19 = 0.038, not
+  // the bead's 1/8 x 1e-3), so that the floor far away is not all folded into the grid's edge
+  // cells; the bead's caustic then lands in a few cells much larger than the bead (coarse, but
+  // a valid guide), and the image with the guide keeps its mean.
+  Scene s;
+  const uint32_t floor = test::add_diffuse(s, {0.7, 0.7, 0.7});
+  const uint32_t glass = test::add_material(s, MaterialType::glass, 1.5);
+  const uint32_t lamp = test::add_diffuse(s, {0.0, 0.0, 0.0});
+  const glm::dvec3 c(1e4 - 1000, 0, 1e4 - 1000);
+  s.shapes.push_back(test::quad(c + glm::dvec3(-1000, 0, -1000), c + glm::dvec3(-1000, 0, 1000),
+                                c + glm::dvec3(1000, 0, 1000), c + glm::dvec3(1000, 0, -1000), floor));
+  s.shapes.push_back(test::sphere(c + glm::dvec3(0, 0.01, 0), 1e-3, glass));
+  s.shapes.push_back(test::quad(c + glm::dvec3(-0.005, 0.05, -0.005), c + glm::dvec3(0.005, 0.05, -0.005),
+                                c + glm::dvec3(0.005, 0.05, 0.005), c + glm::dvec3(-0.005, 0.05, 0.005), lamp));
+  s.shapes.back().emission = {50.0, 50.0, 50.0};  // facing down, toward the bead
+  s.camera.position = c + glm::dvec3(0, 0.03, 0.03);
+  s.camera.look_at = c;
+  const TraceableScene scene(s, 16, 16, "");
+  const CausticGuide& g = scene.caustic_guide();
+  ASSERT_FALSE(g.empty());
+  EXPECT_LE(g.cell_count(), 16u);
+  expect_same_mean_of(s, "tiny bead", 16, 256);
+}
+
 /// The scene with each diffuse material's albedo a checkerboard (its colour and half of it):
 /// every diffuse vertex then goes through the general Bsdf (path_vertex.h's guided_bsdf_sample).
 Scene textured(Scene s) {
@@ -342,27 +398,30 @@ Scene textured(Scene s) {
 /// whole and per 8 x 8 block (each within the test's tolerance of 5 standard errors).
 void expect_same_mean(const std::string& file, uint32_t spp, bool checkered = false) {
   const Scene loaded = load_scene_file(kSource + "/scenes/" + file);
-  const Scene s = checkered ? textured(loaded) : loaded;
-  constexpr int kSize = 32, kBlock = 8;
+  expect_same_mean_of(checkered ? textured(loaded) : loaded, file + (checkered ? " (checkered)" : ""), 32, spp);
+}
+
+void expect_same_mean_of(const Scene& s, const std::string& what, int size, uint32_t spp) {
+  constexpr int kBlock = 8;
   const auto render = [&](bool guided) {
     std::optional<CausticGuide::DisabledForTest> off;
     if (!guided) off.emplace();
-    const Renderer renderer(s, test::test_job(kSize, kSize, spp));
-    return renderer.render({0, 0, kSize, kSize}, 0, spp);
+    const Renderer renderer(s, test::test_job(size, size, spp));
+    return renderer.render({0, 0, size, size}, 0, spp);
   };
   const Accumulation with = render(true), without = render(false);
   EXPECT_TRUE(test::all_finite(with));
   const test::Estimate ew = test::mean_luminance(with), eo = test::mean_luminance(without);
-  std::printf("%s%s: with the guide %.6f (SE %.1e), without %.6f (SE %.1e)\n", file.c_str(),
-              checkered ? " (checkered)" : "", ew.mean, ew.se, eo.mean, eo.se);
-  EXPECT_NEAR(ew.mean, eo.mean, test::tolerance(ew, eo));
-  for (int by = 0; by < kSize; by += kBlock) {
-    for (int bx = 0; bx < kSize; bx += kBlock) {
+  std::printf("%s: with the guide %.6f (SE %.1e), without %.6f (SE %.1e)\n", what.c_str(), ew.mean, ew.se, eo.mean,
+              eo.se);
+  EXPECT_NEAR(ew.mean, eo.mean, test::tolerance(ew, eo)) << what;
+  for (int by = 0; by < size; by += kBlock) {
+    for (int bx = 0; bx < size; bx += kBlock) {
       test::Estimate a, b;
       for (int y = by; y < by + kBlock; ++y) {
         for (int x = bx; x < bx + kBlock; ++x) {
-          const test::Estimate pa = test::pixel_luminance(with, size_t(y * kSize + x));
-          const test::Estimate pb = test::pixel_luminance(without, size_t(y * kSize + x));
+          const test::Estimate pa = test::pixel_luminance(with, size_t(y * size + x));
+          const test::Estimate pb = test::pixel_luminance(without, size_t(y * size + x));
           a.mean += pa.mean / (kBlock * kBlock);
           b.mean += pb.mean / (kBlock * kBlock);
           a.se += pa.se * pa.se;
@@ -371,7 +430,7 @@ void expect_same_mean(const std::string& file, uint32_t spp, bool checkered = fa
       }
       a.se = std::sqrt(a.se) / (kBlock * kBlock);
       b.se = std::sqrt(b.se) / (kBlock * kBlock);
-      EXPECT_NEAR(a.mean, b.mean, test::tolerance(a, b)) << file << " block at " << bx << ", " << by;
+      EXPECT_NEAR(a.mean, b.mean, test::tolerance(a, b)) << what << " block at " << bx << ", " << by;
     }
   }
 }

@@ -1,5 +1,6 @@
 #include "traceable_scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -171,10 +172,13 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
   RTCBounds bounds;
   rtcGetSceneBounds(scene_, &bounds);
   float scene_radius = 0;
+  float scene_reach = 0;  // the largest coordinate's magnitude
   if (bounds.lower_x <= bounds.upper_x) {
     const glm::vec3 lo(bounds.lower_x, bounds.lower_y, bounds.lower_z);
     const glm::vec3 hi(bounds.upper_x, bounds.upper_y, bounds.upper_z);
     scene_radius = 0.5f * glm::length(hi - lo);
+    const glm::vec3 reach = glm::max(glm::abs(lo), glm::abs(hi));
+    scene_reach = std::max(reach.x, std::max(reach.y, reach.z));
   }
   const TextureSet* textures = textures_.get();
   lights_ = std::make_unique<LightSet>(
@@ -190,7 +194,7 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
     }
   }
   specular_targets_ = SpecularTargets(shapes, materials_, scene_radius);
-  caustic_guide_ = CausticGuide::build(*this);
+  caustic_guide_ = CausticGuide::build(*this, scene_reach);
 }
 
 void TraceableScene::release() {
