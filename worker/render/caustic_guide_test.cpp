@@ -187,35 +187,7 @@ test::ChiSquareResult chi_square_of_cell(const CausticGuide& g, int c, uint64_t 
       }
     }
   }
-  test::ChiSquareResult r;
-  double chi2 = 0, pooled_obs = 0, pooled_exp = 0;
-  int bins = 0;
-  for (size_t i = 0; i < observed.size(); ++i) {
-    if (expected[i] < 5) {
-      pooled_obs += observed[i];
-      pooled_exp += expected[i];
-      continue;
-    }
-    chi2 += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
-    ++bins;
-  }
-  if (pooled_exp >= 5) {
-    chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
-    ++bins;
-  } else if (pooled_obs > 10) {
-    r.message = "samples where pdf() is ~0: " + std::to_string(pooled_obs) + " observed, " +
-                std::to_string(pooled_exp) + " expected";
-    return r;
-  }
-  r.dof = bins - 1;
-  if (r.dof < 1) {
-    r.message = "fewer than two quarters with enough samples";
-    return r;
-  }
-  r.p_value = test::gamma_q(r.dof / 2.0, chi2 / 2.0);
-  r.passed = r.p_value >= alpha;
-  r.message = "chi2 " + std::to_string(chi2) + " dof " + std::to_string(r.dof) + " p " + std::to_string(r.p_value);
-  return r;
+  return test::pearson_test(observed, expected, alpha);
 }
 
 TEST(CausticGuide, CellsSampleTheirPdf) {
@@ -415,23 +387,8 @@ void expect_same_mean_of(const Scene& s, const std::string& what, int size, uint
   std::printf("%s: with the guide %.6f (SE %.1e), without %.6f (SE %.1e)\n", what.c_str(), ew.mean, ew.se, eo.mean,
               eo.se);
   EXPECT_NEAR(ew.mean, eo.mean, test::tolerance(ew, eo)) << what;
-  for (int by = 0; by < size; by += kBlock) {
-    for (int bx = 0; bx < size; bx += kBlock) {
-      test::Estimate a, b;
-      for (int y = by; y < by + kBlock; ++y) {
-        for (int x = bx; x < bx + kBlock; ++x) {
-          const test::Estimate pa = test::pixel_luminance(with, size_t(y * size + x));
-          const test::Estimate pb = test::pixel_luminance(without, size_t(y * size + x));
-          a.mean += pa.mean / (kBlock * kBlock);
-          b.mean += pb.mean / (kBlock * kBlock);
-          a.se += pa.se * pa.se;
-          b.se += pb.se * pb.se;
-        }
-      }
-      a.se = std::sqrt(a.se) / (kBlock * kBlock);
-      b.se = std::sqrt(b.se) / (kBlock * kBlock);
-      EXPECT_NEAR(a.mean, b.mean, test::tolerance(a, b)) << what << " block at " << bx << ", " << by;
-    }
+  for (const std::string& block : test::differing_blocks(with, without, size, kBlock)) {
+    ADD_FAILURE() << what << ": " << block;
   }
 }
 

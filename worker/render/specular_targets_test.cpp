@@ -388,24 +388,7 @@ TEST(SpecularTargets, GlassSceneMeanIsTheSameWithAndWithoutTheMixture) {
   const test::Estimate ew = test::mean_luminance(with), eo = test::mean_luminance(without);
   std::printf("with the mixture %.6f (SE %.1e), without %.6f (SE %.1e)\n", ew.mean, ew.se, eo.mean, eo.se);
   EXPECT_NEAR(ew.mean, eo.mean, test::tolerance(ew, eo));
-  for (int by = 0; by < kSize; by += kBlock) {
-    for (int bx = 0; bx < kSize; bx += kBlock) {
-      test::Estimate a, b;
-      for (int y = by; y < by + kBlock; ++y) {
-        for (int x = bx; x < bx + kBlock; ++x) {
-          const test::Estimate pa = test::pixel_luminance(with, size_t(y * kSize + x));
-          const test::Estimate pb = test::pixel_luminance(without, size_t(y * kSize + x));
-          a.mean += pa.mean / (kBlock * kBlock);
-          b.mean += pb.mean / (kBlock * kBlock);
-          a.se += pa.se * pa.se;
-          b.se += pb.se * pb.se;
-        }
-      }
-      a.se = std::sqrt(a.se) / (kBlock * kBlock);
-      b.se = std::sqrt(b.se) / (kBlock * kBlock);
-      EXPECT_NEAR(a.mean, b.mean, test::tolerance(a, b)) << "block at " << bx << ", " << by;
-    }
-  }
+  for (const std::string& block : test::differing_blocks(with, without, kSize, kBlock)) ADD_FAILURE() << block;
 }
 
 /// The mixture's cones by the per-cone scalar loop TargetMixture::init had before it went four

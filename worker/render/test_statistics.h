@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -87,6 +88,38 @@ inline bool all_finite(const Accumulation& acc) {
     if (!std::isfinite(v)) return false;
   }
   return acc.nan_dropped == 0 && acc.inf_dropped == 0;
+}
+
+/// The blocks of `block` x `block` pixels (of images `width` pixels wide, the same size) whose
+/// mean luminances in a and b differ by more than tolerance(): each as "block at x, y: a vs b"
+/// (empty when every block agrees). For comparing two renders of one scene that must have the
+/// same expectation (a sampling strategy on and off).
+inline std::vector<std::string> differing_blocks(const Accumulation& a, const Accumulation& b, int width,
+                                                 int block) {
+  std::vector<std::string> out;
+  const int height = int(a.count.size()) / width;
+  for (int by = 0; by + block <= height; by += block) {
+    for (int bx = 0; bx + block <= width; bx += block) {
+      Estimate ea, eb;
+      for (int y = by; y < by + block; ++y) {
+        for (int x = bx; x < bx + block; ++x) {
+          const Estimate pa = pixel_luminance(a, size_t(y * width + x));
+          const Estimate pb = pixel_luminance(b, size_t(y * width + x));
+          ea.mean += pa.mean / (block * block);
+          eb.mean += pb.mean / (block * block);
+          ea.se += pa.se * pa.se;
+          eb.se += pb.se * pb.se;
+        }
+      }
+      ea.se = std::sqrt(ea.se) / (block * block);
+      eb.se = std::sqrt(eb.se) / (block * block);
+      if (std::abs(ea.mean - eb.mean) > tolerance(ea, eb)) {
+        out.push_back("block at " + std::to_string(bx) + ", " + std::to_string(by) + ": " +
+                      std::to_string(ea.mean) + " vs " + std::to_string(eb.mean));
+      }
+    }
+  }
+  return out;
 }
 
 /// Job options for a small test render; the batch is the whole range unless given.

@@ -64,6 +64,46 @@ struct ChiSquareResult {
   std::string message;  ///< why it failed, for the test log
 };
 
+/// Pearson's test of counts `observed` against `expected` (the same bins), rejecting at
+/// significance `alpha`: the bins expecting fewer than 5 samples pooled into one, as the
+/// approximation needs; failed with a message when the pool holds far more samples than it
+/// expects (samples where the density is ~0) or fewer than two bins are left.
+inline ChiSquareResult pearson_test(const std::vector<double>& observed, const std::vector<double>& expected,
+                                    double alpha) {
+  ChiSquareResult r;
+  double chi2 = 0, pooled_obs = 0, pooled_exp = 0;
+  int bins = 0;
+  for (size_t i = 0; i < observed.size(); ++i) {
+    if (expected[i] < 5) {
+      pooled_obs += observed[i];
+      pooled_exp += expected[i];
+    } else {
+      chi2 += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
+      ++bins;
+    }
+  }
+  if (pooled_exp >= 5) {
+    chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
+    ++bins;
+  } else if (pooled_obs > 20 + 5 * pooled_exp) {
+    r.message = "samples where pdf() is ~0: " + std::to_string(pooled_obs) + " observed, " +
+                std::to_string(pooled_exp) + " expected";
+    return r;
+  }
+  if (bins < 2) {
+    r.message = "fewer than two bins with enough samples";
+    return r;
+  }
+  r.dof = bins - 1;
+  r.p_value = gamma_q(r.dof / 2.0, chi2 / 2.0);
+  r.passed = r.p_value >= alpha;
+  if (!r.passed) {
+    r.message = "chi2 " + std::to_string(chi2) + " dof " + std::to_string(r.dof) + " p " +
+                std::to_string(r.p_value);
+  }
+  return r;
+}
+
 /// Runs the test for `bsdf` and wo with `samples` samples (delta samples are left out: pdf()
 /// covers the smooth lobes only, with the probability of choosing them included), rejecting at
 /// significance `alpha` (already corrected for the number of tests run). `B` is Bsdf or any
@@ -104,39 +144,7 @@ ChiSquareResult chi_square_test(const B& bsdf, glm::vec3 wo, uint64_t seed, int 
       expected[ti * kPhi + pi] = sum * h_t * h_p * samples;
     }
   }
-  // Pool the bins expecting fewer than 5 samples, as Pearson's approximation needs.
-  ChiSquareResult r;
-  double chi2 = 0, pooled_obs = 0, pooled_exp = 0;
-  int bins = 0;
-  for (size_t i = 0; i < observed.size(); ++i) {
-    if (expected[i] < 5) {
-      pooled_obs += observed[i];
-      pooled_exp += expected[i];
-    } else {
-      chi2 += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
-      ++bins;
-    }
-  }
-  if (pooled_exp >= 5) {
-    chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
-    ++bins;
-  } else if (pooled_obs > 20 + 5 * pooled_exp) {
-    r.message = "samples where pdf() is ~0: " + std::to_string(pooled_obs) + " observed, " +
-                std::to_string(pooled_exp) + " expected";
-    return r;
-  }
-  if (bins < 2) {
-    r.message = "fewer than two bins with enough samples";
-    return r;
-  }
-  r.dof = bins - 1;
-  r.p_value = gamma_q(r.dof / 2.0, chi2 / 2.0);
-  r.passed = r.p_value >= alpha;
-  if (!r.passed) {
-    r.message = "chi2 " + std::to_string(chi2) + " dof " + std::to_string(r.dof) + " p " +
-                std::to_string(r.p_value);
-  }
-  return r;
+  return pearson_test(observed, expected, alpha);
 }
 
 }  // namespace tessera::test
