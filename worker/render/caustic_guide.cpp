@@ -50,6 +50,25 @@ glm::vec3 sample_cone(glm::vec3 axis, float one_minus_cos_max, glm::vec2 u) {
   return Frame(axis).to_world(glm::vec3(disk.x * scale, disk.y * scale, 1.0f - one_minus_cos));
 }
 
+/// The first surface along `ray` (t_max set to infinity here), turned to face where the ray
+/// came from (path_vertex.h's facing_material): false when the ray escapes or the surface is
+/// black from that side.
+struct FacingHit {
+  Hit hit;
+  SurfacePoint sp;
+  const RenderMaterial* m = nullptr;
+  glm::vec3 wo{0.0f};  ///< toward where the ray came from
+};
+bool next_surface(const TraceableScene& scene, Ray& ray, FacingHit* out) {
+  ray.t_max = std::numeric_limits<float>::infinity();
+  if (!scene.intersect(ray, &out->hit)) return false;
+  out->wo = -ray.d;
+  out->sp = out->hit.sp;
+  out->m = path_vertex_detail::facing_material(scene, &scene.material(out->hit.geometry->material), out->wo,
+                                               out->sp, out->hit);
+  return out->m != nullptr;
+}
+
 /// The irradiance one diffuse bounce brings to point p (normal n, facing where the light comes
 /// from): CausticGuide::kIndirectSamples cosine-weighted directions, each landing on a surface
 /// that reflects a light sample's radiance by its reflectance's luminance (a Lambertian
@@ -65,14 +84,10 @@ float indirect_irradiance(const TraceableScene& scene, glm::vec3 p, glm::vec3 n,
     Ray ray;
     ray.o = p + n * 1e-4f * std::max(1.0f, max_component(glm::abs(p)));
     ray.d = frame.to_world(square_to_cosine_hemisphere({u(0), u(1)}));
-    ray.t_max = std::numeric_limits<float>::infinity();
-    Hit hit;
-    if (!scene.intersect(ray, &hit)) continue;
-    const glm::vec3 wo = -ray.d;
-    const RenderMaterial* m = &scene.material(hit.geometry->material);
-    SurfacePoint sp = hit.sp;
-    m = facing_material(scene, m, wo, sp, hit);
-    if (!m || smooth_specular(*m) || hit.geometry->emitter >= 0) continue;
+    FacingHit f;
+    if (!next_surface(scene, ray, &f) || smooth_specular(*f.m) || f.hit.geometry->emitter >= 0) continue;
+    const RenderMaterial* m = f.m;
+    const SurfacePoint& sp = f.sp;
     const LightSample ls = lights.sample(sp, u(2), {u(3), u(4)});
     if (!(ls.pdf > 0)) continue;
     const float cos_light = glm::dot(ls.wi, sp.ng);
@@ -164,14 +179,12 @@ CausticGuide CausticGuide::build(const TraceableScene& scene, float scene_reach)
       glm::vec3 beta(1.0f);
       int specular = 0;
       for (uint32_t vertex = 0;; ++vertex) {
-        ray.t_max = std::numeric_limits<float>::infinity();
-        Hit hit;
-        if (!scene.intersect(ray, &hit)) break;
-        const glm::vec3 wo = -ray.d;
-        const RenderMaterial* m = &scene.material(hit.geometry->material);
-        SurfacePoint sp = hit.sp;
-        m = facing_material(scene, m, wo, sp, hit);
-        if (!m) break;
+        FacingHit f;
+        if (!next_surface(scene, ray, &f)) break;
+        const RenderMaterial* m = f.m;
+        const SurfacePoint& sp = f.sp;
+        const Hit& hit = f.hit;
+        const glm::vec3 wo = f.wo;
         if (!smooth_specular(*m) || m->masked()) {
           if (specular > 0) {
             float major;
