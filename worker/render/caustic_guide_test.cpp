@@ -190,6 +190,92 @@ test::ChiSquareResult chi_square_of_cell(const CausticGuide& g, int c, uint64_t 
   return test::pearson_test(observed, expected, alpha);
 }
 
+/// The luminance of the radiance arriving at p (normal n) along wi through smooth glass and
+/// mirrors only (each lobe chosen at random): 0 where the ray meets another surface first.
+double caustic_radiance(const TraceableScene& scene, glm::vec3 p, glm::vec3 n, glm::vec3 wi, std::mt19937_64& rng) {
+  using namespace path_vertex_detail;
+  Ray ray; ray.o = p + n * 1e-4f; ray.d = wi;
+  glm::vec3 beta(1.0f);
+  for (int depth = 0; depth < 10; ++depth) {
+    ray.t_max = std::numeric_limits<float>::infinity();
+    Hit hit;
+    if (!scene.intersect(ray, &hit)) return 0;
+    const glm::vec3 wo = -ray.d;
+    if (hit.geometry->emitter >= 0) return depth > 0 ? principled::luminance(beta * scene.lights().emitted(*hit.geometry, hit.primitive, hit.uv, hit.sp.ng, wo)) : 0;
+    const RenderMaterial* m = &scene.material(hit.geometry->material);
+    SurfacePoint sp = hit.sp;
+    m = facing_material(scene, m, wo, sp, hit);
+    if (!m || !smooth_specular(*m)) return 0;
+    const ShadingFrame shading = shading_frame(hit, *m, scene.textures(), scene.has_uv(), wo);
+    const auto bs = specular_sample(*m, shading.frame.to_local(wo), test::u01(rng));
+    if (!bs) return 0;
+    const auto out = scattered_direction(shading, *bs, *m, sp);
+    if (!out) return 0;
+    beta *= bs->weight;
+    ray.o = offset_ray_origin(sp, out->wi); ray.d = out->wi;
+  }
+  return 0;
+}
+TEST(CausticGuide, GuidedBouncesEstimateTheCausticWithLessVariance) {
+  // At hexroom's two densest cells (the glass sphere's caustic on the floor), the estimator of
+  // the caustic irradiance, L cos / pdf over bounces that reach a lamp through glass or mirrors
+  // only: its relative variance (variance / mean^2) with cosine bounces, with the renderer's
+  // half-guided mixture, and with the guide alone, and how often a bounce reaches a lamp.
+  // Measured: cosine 2.55-2.62, half-guided 1.13-1.15, guide alone 0.66, the guide's bounces
+  // reaching a lamp 73-75 % of the time, the cosine's 28 % (the renderer's unguided share also
+  // has cones toward the targets; they are left out here). A half-guided mixture
+  // cannot go below about 1 (half its bounces carry no caustic); the guide alone shows how far
+  // the guide itself is from the light's own distribution (0).
+  const auto scene = load("hexroom.json");
+  const CausticGuide& g = scene->caustic_guide();
+  std::vector<int> order(g.cell_count());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = int(i);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return g.cell_photons(a) > g.cell_photons(b); });
+  for (int rank = 0; rank < 2; ++rank) {
+    const int c = order[size_t(rank)];
+    const glm::vec3 p = g.cell_position(c), n = g.cell_normal(c);
+    const Frame frame(n);
+    double relative[3], reached[3], mean[3];
+    const float shares[3] = {0.0f, 0.5f, 1.0f};
+    for (int k = 0; k < 3; ++k) {
+      const float share = shares[k];
+      std::mt19937_64 rng(7);
+      double sum = 0, sum2 = 0;
+      int hits = 0;
+      constexpr int kSamples = 100000;
+      for (int i = 0; i < kSamples; ++i) {
+        const float u_share = test::u01(rng);
+        const glm::vec2 u(test::u01(rng), test::u01(rng));
+        int bin = -1;
+        const glm::vec3 wi = u_share < share ? g.sample(c, u_share / share, u, &bin)
+                                             : frame.to_world(square_to_cosine_hemisphere(u));
+        const float cos_n = glm::dot(wi, n);
+        if (!(cos_n > 0)) continue;
+        const float pdf = (1 - share) * cos_n * kInvPi + share * g.pdf(c, wi, bin);
+        const double radiance = caustic_radiance(*scene, p, n, wi, rng);
+        hits += radiance > 0;
+        const double v = radiance * cos_n / pdf;
+        sum += v;
+        sum2 += v * v;
+      }
+      mean[k] = sum / kSamples;
+      relative[k] = (sum2 / kSamples - mean[k] * mean[k]) / (mean[k] * mean[k]);
+      reached[k] = double(hits) / kSamples;
+    }
+    std::printf("cell %d (%u photons): E_c %.3f / %.3f / %.3f; relative variance cosine %.2f, half-guided %.2f, "
+                "guide alone %.2f; a lamp reached by %.0f / %.0f / %.0f %% of the bounces\n",
+                c, g.cell_photons(c), mean[0], mean[1], mean[2], relative[0], relative[1], relative[2],
+                100 * reached[0], 100 * reached[1], 100 * reached[2]);
+    // The same irradiance by every strategy (within 5 % at 100,000 bounces), and the guide's
+    // bounces find the caustic far more often and with far less spread than the cosine's.
+    EXPECT_NEAR(mean[1], mean[0], 0.05 * mean[0]);
+    EXPECT_NEAR(mean[2], mean[0], 0.05 * mean[0]);
+    EXPECT_LT(relative[1], 0.6 * relative[0]);
+    EXPECT_LT(relative[2], 0.4 * relative[0]);
+    EXPECT_GT(reached[2], 2 * reached[0]);
+  }
+}
+
 TEST(CausticGuide, CellsSampleTheirPdf) {
   // The densest cell, a middling one and the sparsest of each scene (the fewer photons, the
   // fewer and more scattered its bins).
