@@ -1,6 +1,5 @@
 #include "caustic_guide.h"
 
-#include <atomic>
 #include <limits>
 
 #include <tbb/parallel_for.h>
@@ -11,9 +10,6 @@
 
 namespace tessera {
 namespace {
-
-std::atomic<int> disabled_for_test{0};
-
 
 using principled::luminance;
 
@@ -105,15 +101,12 @@ float indirect_irradiance(const TraceableScene& scene, glm::vec3 p, glm::vec3 n,
 
 }  // namespace
 
-CausticGuide::DisabledForTest::DisabledForTest() { disabled_for_test.fetch_add(1); }
-CausticGuide::DisabledForTest::~DisabledForTest() { disabled_for_test.fetch_sub(1); }
-
 CausticGuide CausticGuide::build(const TraceableScene& scene, float scene_reach) {
   using namespace path_vertex_detail;
   CausticGuide guide;
   const SpecularTargets& targets = scene.specular_targets();
   const LightSet& lights = scene.lights();
-  if (disabled_for_test.load() > 0 || targets.empty() || lights.empty() || scene.has_media()) return guide;
+  if (!TestSwitch<CausticGuide>::on() || targets.empty() || lights.empty() || scene.has_media()) return guide;
 
   float mean_radius = 0;
   for (int k = 0; k < targets.size(); ++k) mean_radius += targets[k].radius;

@@ -22,6 +22,7 @@
 #include <glm/vec3.hpp>
 
 #include "sampler.h"
+#include "test_switch.h"
 
 namespace tessera {
 
@@ -67,13 +68,7 @@ class CausticGuide {
 
   /// While a DisabledForTest lives, build() returns an empty guide (tests comparing the image's
   /// mean with and without it). No flag or environment variable reaches it.
-  class DisabledForTest {
-   public:
-    DisabledForTest();
-    ~DisabledForTest();
-    DisabledForTest(const DisabledForTest&) = delete;
-    DisabledForTest& operator=(const DisabledForTest&) = delete;
-  };
+  using DisabledForTest = TestSwitch<CausticGuide>::Off;
 
   bool empty() const { return cells_.empty(); }
   size_t cell_count() const { return cells_.size(); }

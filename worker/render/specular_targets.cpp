@@ -1,7 +1,6 @@
 #include "specular_targets.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -112,9 +111,6 @@ SpecularTarget shape_sphere(const Geometry& g, const glm::mat4* to_world) {
   for (const glm::vec3& p : g.positions) world.emplace_back(*to_world * glm::vec4(p, 1.0f));
   return bounding_sphere(world);
 }
-
-/// How many SpecularTargets::DisabledForTest are alive.
-std::atomic<int> disabled_for_test{0};
 
 /// Triangle `tri` of `g` in world space.
 void world_triangle(const Geometry& g, const glm::mat4* to_world, const glm::u32vec3& tri, glm::vec3 v[3]) {
@@ -256,12 +252,9 @@ std::optional<SpecularImage> flat_mirror_image(const std::vector<glm::vec3>& fac
   return image;
 }
 
-SpecularTargets::DisabledForTest::DisabledForTest() { disabled_for_test.fetch_add(1); }
-SpecularTargets::DisabledForTest::~DisabledForTest() { disabled_for_test.fetch_sub(1); }
-
 SpecularTargets::SpecularTargets(const std::vector<ShapeRef>& shapes, const std::vector<RenderMaterial>& materials,
                                  float scene_radius) {
-  if (disabled_for_test.load(std::memory_order_relaxed) > 0) return;
+  if (!TestSwitch<SpecularTargets>::on()) return;
   std::vector<Candidate> targets;
   std::vector<Lamp> lamps;
   for (const ShapeRef& s : shapes) {

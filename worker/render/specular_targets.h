@@ -12,6 +12,8 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include "test_switch.h"
+
 namespace tessera {
 
 struct Geometry;
@@ -89,13 +91,7 @@ class SpecularTargets {
   SpecularTargets(const std::vector<ShapeRef>& shapes, const std::vector<RenderMaterial>& materials,
                   float scene_radius);
 
-  class DisabledForTest {
-   public:
-    DisabledForTest();
-    ~DisabledForTest();
-    DisabledForTest(const DisabledForTest&) = delete;
-    DisabledForTest& operator=(const DisabledForTest&) = delete;
-  };
+  using DisabledForTest = TestSwitch<SpecularTargets>::Off;
 
   bool empty() const { return count_ == 0; }
   int size() const { return count_; }
