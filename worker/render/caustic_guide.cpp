@@ -37,15 +37,6 @@ struct Deposit {
   float weight;  ///< its power (luminance), up to a factor common to all photons
 };
 
-/// A direction uniform in the cone of half-angle theta_max around unit `axis`, where
-/// one_minus_cos = 1 - cos theta_max (TargetMixture::sample_cone's construction).
-glm::vec3 sample_cone(glm::vec3 axis, float one_minus_cos_max, glm::vec2 u) {
-  const glm::vec2 disk = square_to_concentric_disk(u);
-  const float one_minus_cos = glm::dot(disk, disk) * one_minus_cos_max;
-  const float scale = std::sqrt(std::max(0.0f, one_minus_cos_max * (2.0f - one_minus_cos)));
-  return Frame(axis).to_world(glm::vec3(disk.x * scale, disk.y * scale, 1.0f - one_minus_cos));
-}
-
 /// The first surface along `ray` (t_max set to infinity here), turned to face where the ray
 /// came from (path_vertex.h's facing_material): false when the ray escapes or the surface is
 /// black from that side.
@@ -158,7 +149,7 @@ CausticGuide CausticGuide::build(const TraceableScene& scene, float scene_reach)
         const float inv_dist = 1.0f / std::sqrt(dist2);
         const float sin2 = std::min(r2 * (inv_dist * inv_dist), 1.0f);
         const float one_minus_cos = sin2 / (1.0f + std::sqrt(1.0f - sin2));
-        const glm::vec3 dir = sample_cone(d * inv_dist, one_minus_cos, {u(3), u(4)});
+        const glm::vec3 dir = sample_uniform_cone(d * inv_dist, one_minus_cos, {u(3), u(4)});
         // A one-sided emitter sends nothing behind itself (point and spot lights: ng = -wi,
         // which every direction of the cone passes as the target is where wi points from).
         if (!ls.delta && glm::dot(dir, ls.point.ng) <= 0) return;

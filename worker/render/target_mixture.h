@@ -25,6 +25,19 @@ namespace tessera {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 
+/// A direction uniform in the cone around unit `axis` whose half-angle has 1 - cos theta_max =
+/// one_minus_cos_max (solid angle density 1 / (2 pi one_minus_cos_max)), from u in [0, 1)^2:
+/// the concentric disk's point (x, y) at radius r gives 1 - cos theta = r^2 (1 - cos theta_max)
+/// (uniform in the cap, as r^2 is uniform) and the azimuth of (x, y), so sin theta (x, y) / r =
+/// (x, y) sqrt((1 - cos theta_max)(2 - r^2 (1 - cos theta_max))): no sine, cosine or division.
+[[gnu::always_inline]] inline glm::vec3 sample_uniform_cone(glm::vec3 axis, float one_minus_cos_max, glm::vec2 u) {
+  const glm::vec2 disk = square_to_concentric_disk(u);
+  const float one_minus_cos = glm::dot(disk, disk) * one_minus_cos_max;
+  const float scale = std::sqrt(std::max(0.0f, one_minus_cos_max * (2.0f - one_minus_cos)));
+  const glm::vec3 local(disk.x * scale, disk.y * scale, 1.0f - one_minus_cos);
+  return Frame(axis).to_world(local);
+}
+
 /// The mixture at one diffuse point: with probability p_k, a direction uniform in the cone
 /// subtended by target k; with probability 1 - sum p_k, a cosine-weighted one around the normal.
 /// pdf(w) = (1 - sum p_k) cos / pi + sum_k p_k [w in cone k] / solid_angle_k (solid angle
@@ -146,16 +159,10 @@ class TargetMixture {
     return count_ - 1;
   }
 
-  /// A direction uniform in cone k (solid angle density 1 / solid_angle_k), from u in [0, 1)^2:
-  /// the concentric disk's point (x, y) at radius r gives 1 - cos theta = r^2 (1 - cos theta_max)
-  /// (uniform in the cap, as r^2 is uniform) and the azimuth of (x, y), so sin theta (x, y) / r =
-  /// (x, y) sqrt((1 - cos theta_max)(2 - r^2 (1 - cos theta_max))): no sine, cosine or division.
+  /// A direction uniform in cone k (solid angle density 1 / solid_angle_k), from u in [0, 1)^2
+  /// (sample_uniform_cone).
   glm::vec3 sample_cone(int k, glm::vec2 u) const {
-    const glm::vec2 disk = square_to_concentric_disk(u);
-    const float one_minus_cos = glm::dot(disk, disk) * one_minus_cos_[k];
-    const float scale = std::sqrt(std::max(0.0f, one_minus_cos_[k] * (2.0f - one_minus_cos)));
-    const glm::vec3 local(disk.x * scale, disk.y * scale, 1.0f - one_minus_cos);
-    return Frame(glm::vec3(axis_x_[k], axis_y_[k], axis_z_[k])).to_world(local);
+    return sample_uniform_cone(glm::vec3(axis_x_[k], axis_y_[k], axis_z_[k]), one_minus_cos_[k], u);
   }
 
   /// pdf(w) for a unit w with cos_n = dot(w, n). `sampled_cone`: the cone w was drawn from
