@@ -76,6 +76,30 @@ class CausticGuide {
   uint64_t photons_kept() const { return photons_kept_; }
   uint64_t photons_deposited() const { return photons_deposited_; }
 
+  /// The guide at one vertex: its cell (-1: none) and the probability of a guided bounce there
+  /// (0 without a cell).
+  struct At {
+    int cell = -1;
+    float probability = 0;
+  };
+  /// At point p of a surface whose geometric normal, turned toward the viewer, is ng.
+  [[gnu::always_inline]] At at(glm::vec3 p, glm::vec3 ng) const {
+    At a;
+    a.cell = cell(p, ng);
+    if (a.cell >= 0) a.probability = cells_[size_t(a.cell)].probability;
+    return a;
+  }
+  /// The one-sample mixture's density toward unit w at a vertex with a cell: (1 - p) times the
+  /// other strategies' density `other_pdf`, plus p times the guide's (`sampled_bin` as for
+  /// pdf()).
+  [[gnu::always_inline]] float mixed_pdf(At a, float other_pdf, glm::vec3 w, int sampled_bin = -1) const {
+    return (1.0f - a.probability) * other_pdf + a.probability * pdf(a.cell, w, sampled_bin);
+  }
+  /// A strategy number u in [p, 1) that chose the other strategies, rescaled to [0, 1) for them.
+  [[gnu::always_inline]] static float other_strategy(float u, float p) {
+    return std::min((u - p) / (1.0f - p), 0x1.fffffep-1f);
+  }
+
   /// The probability of a guided bounce in cell `cell` (in (0, kMaxProbability]).
   [[gnu::always_inline]] float probability(int cell) const { return cells_[size_t(cell)].probability; }
   /// Cell `cell`'s photons, their mean position and mean normal (tests, diagnostics).

@@ -174,12 +174,12 @@ struct LightTerm {
   glm::vec3 f;
   float w;
 };
-/// `guide`, `guide_cell`, `guided`: the caustic guide's cell at the vertex and its probability
-/// when the bounce follows it too (see guided_bsdf_sample), else guide_cell = -1.
+/// `guide`, `at`: the caustic guide and its cell at the vertex when the bounce follows it too
+/// (see guided_bsdf_sample), else at.cell = -1.
 inline std::optional<LightTerm> light_term(const Bsdf& bsdf, const ShadingFrame& shading, glm::vec3 wo_local,
                                            const LightSample& ls, const RenderMaterial& m, const SurfacePoint& sp,
-                                           float opacity, const CausticGuide* guide = nullptr, int guide_cell = -1,
-                                           float guided = 0) {
+                                           float opacity, const CausticGuide* guide = nullptr,
+                                           CausticGuide::At at = {}) {
   if (!(ls.pdf > 0) || ls.radiance == glm::vec3(0.0f)) return std::nullopt;
   const glm::vec3 wi_local = shading.frame.to_local(ls.wi);
   const glm::vec3 f = bsdf.eval(wo_local, wi_local) * perturbation_factor(shading, ls.wi);
@@ -187,35 +187,34 @@ inline std::optional<LightTerm> light_term(const Bsdf& bsdf, const ShadingFrame&
   if (f == glm::vec3(0.0f) || leaks) return std::nullopt;
   if (ls.delta) return LightTerm{f, 1.0f};
   const float bsdf_pdf = bsdf.pdf(wo_local, wi_local);
-  const float pdf =
-      guide_cell < 0 ? bsdf_pdf : (1.0f - guided) * bsdf_pdf + guided * guide->pdf(guide_cell, ls.wi);
+  const float pdf = at.cell < 0 ? bsdf_pdf : guide->mixed_pdf(at, bsdf_pdf, ls.wi);
   return LightTerm{f, mis_weight(ls.pdf, pdf * opacity)};
 }
 
-/// The bounce of a general Bsdf at a vertex in the caustic guide's cell `guide_cell` (taken
-/// with probability `guided`, caustic_guide.h): below `guided`, u_lobe (rescaled) picks the
+/// The bounce of a general Bsdf at a vertex in the caustic guide's cell `at.cell` (taken with
+/// probability p = at.probability, caustic_guide.h): below p, u_lobe (rescaled) picks the
 /// guide's bin and u_bsdf the direction in it, f |cos| from bsdf.eval; above, bsdf.sample with
 /// u_lobe rescaled. A non-delta sample's weight and pdf are those of the one-sample mixture,
-/// (1 - guided) bsdf.pdf + guided guide.pdf; a delta lobe's pdf and weight count the (1 -
-/// guided) share of choosing the BSDF. *bsdf_pdf receives bsdf.pdf of the direction (for the
-/// roulette, which weighs the throughput as the BSDF's own sample would have left it).
+/// (1 - p) bsdf.pdf + p guide.pdf; a delta lobe's pdf and weight count the (1 - p) share of
+/// choosing the BSDF. *bsdf_pdf receives bsdf.pdf of the direction (for the roulette, which
+/// weighs the throughput as the BSDF's own sample would have left it).
 inline std::optional<BsdfSample> guided_bsdf_sample(const Bsdf& bsdf, const Frame& frame, glm::vec3 wo_local,
                                                     float u_lobe, glm::vec2 u_bsdf, const CausticGuide& guide,
-                                                    int guide_cell, float guided, float* bsdf_pdf) {
+                                                    CausticGuide::At at, float* bsdf_pdf) {
+  const float guided = at.probability;
   if (u_lobe < guided) {
     int bin = -1;
-    const glm::vec3 wi = guide.sample(guide_cell, u_lobe / guided, u_bsdf, &bin);
+    const glm::vec3 wi = guide.sample(at.cell, u_lobe / guided, u_bsdf, &bin);
     BsdfSample s;
     s.wi = frame.to_local(wi);
     const glm::vec3 f = bsdf.eval(wo_local, s.wi);
     *bsdf_pdf = bsdf.pdf(wo_local, s.wi);
-    s.pdf = (1.0f - guided) * *bsdf_pdf + guided * guide.pdf(guide_cell, wi, bin);
+    s.pdf = guide.mixed_pdf(at, *bsdf_pdf, wi, bin);
     if (!(s.pdf > 0) || f == glm::vec3(0.0f)) return std::nullopt;
     s.weight = f / s.pdf;
     return s;
   }
-  const float u = std::min((u_lobe - guided) / (1.0f - guided), 0x1.fffffep-1f);
-  std::optional<BsdfSample> s = bsdf.sample(wo_local, u, u_bsdf);
+  std::optional<BsdfSample> s = bsdf.sample(wo_local, CausticGuide::other_strategy(u_lobe, guided), u_bsdf);
   if (!s) return s;
   *bsdf_pdf = s->pdf;
   if (s->delta) {
@@ -223,7 +222,7 @@ inline std::optional<BsdfSample> guided_bsdf_sample(const Bsdf& bsdf, const Fram
     s->pdf *= 1.0f - guided;
     return s;
   }
-  const float pdf = (1.0f - guided) * s->pdf + guided * guide.pdf(guide_cell, frame.to_world(s->wi));
+  const float pdf = guide.mixed_pdf(at, s->pdf, frame.to_world(s->wi));
   s->weight *= s->pdf / pdf;
   s->pdf = pdf;
   return s;
@@ -431,8 +430,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
     // Bounces along the caustics (caustic_guide.h): with the cell's probability where the guide
     // has a cell, the rest as above. A scene without one pays the empty() test.
     const CausticGuide& guide = scene.caustic_guide();
-    const int guide_cell = guide.empty() ? -1 : guide.cell(sp.p, sp.ng);
-    const float guided = guide_cell >= 0 ? guide.probability(guide_cell) : 0.0f;
+    const CausticGuide::At guided = guide.at(sp.p, sp.ng);
     if (roulette || have_lights) {
       sampler.set_pair(pair);
       u_choice = sampler.get2d_independent();
@@ -445,13 +443,15 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
         const float cos_surface = glm::dot(ns, ls.wi);
         if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
           // The bounce's density toward ls.wi: the mixture's when it has cones here.
-          float w = 1.0f;
-          if (!ls.delta) {
-            const float unguided = mixture ? mix.pdf(ls.wi, cos_surface) : cos_surface * kInvPi;
-            w = guide_cell < 0 ? mis_weight(ls.pdf, mixture ? unguided * opacity : cos_surface * (opacity * kInvPi))
-                               : mis_weight(ls.pdf, ((1.0f - guided) * unguided +
-                                                     guided * guide.pdf(guide_cell, ls.wi)) * opacity);
-          }
+          const float w =
+              ls.delta            ? 1.0f
+              : guided.cell >= 0 ? mis_weight(ls.pdf, guide.mixed_pdf(guided,
+                                                                      mixture ? mix.pdf(ls.wi, cos_surface)
+                                                                              : cos_surface * kInvPi,
+                                                                      ls.wi) *
+                                                          opacity)
+              : mixture          ? mis_weight(ls.pdf, mix.pdf(ls.wi, cos_surface) * opacity)
+                                 : mis_weight(ls.pdf, cos_surface * (opacity * kInvPi));
           set_shadow_ray(origin, ls, shadow);
           // (albedo / pi) cos Le / pdf, in double so tiny, bright lights cannot overflow.
           shadow->contribution = glm::dvec3(beta) * glm::dvec3(m->albedo) * glm::dvec3(ls.radiance) *
@@ -461,7 +461,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       }
     }
     const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
-    if (!mixture && guide_cell < 0) {
+    if (!mixture && guided.cell < 0) {
       // The cosine-weighted direction in the normal's frame, warped lane-wise with the pair when
       // the kernel drew it.
       const glm::vec3 local = predrawn ? predrawn->bsdf_cosine : square_to_cosine_hemisphere(u_bsdf);
@@ -476,11 +476,11 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       sampler.set_pair(pair + 3);
       float u_strategy = sampler.get2d_x();
       int bin = -1, cone = -1;
-      if (guide_cell >= 0) {
-        if (u_strategy < guided) {
-          wi = guide.sample(guide_cell, u_strategy / guided, u_bsdf, &bin);
+      if (guided.cell >= 0) {
+        if (u_strategy < guided.probability) {
+          wi = guide.sample(guided.cell, u_strategy / guided.probability, u_bsdf, &bin);
         } else {
-          u_strategy = std::min((u_strategy - guided) / (1.0f - guided), 0x1.fffffep-1f);
+          u_strategy = CausticGuide::other_strategy(u_strategy, guided.probability);
         }
       }
       if (bin < 0) {
@@ -492,8 +492,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       const float cos_n = glm::dot(wi, ns);
       if (!(cos_n > 0) || glm::dot(wi, sp.ng) <= 0) return false;
       const float unguided = mixture ? mix.pdf(wi, cos_n, cone) : cos_n * kInvPi;
-      const float pdf = guide_cell < 0 ? unguided
-                                       : (1.0f - guided) * unguided + guided * guide.pdf(guide_cell, wi, bin);
+      const float pdf = guided.cell < 0 ? unguided : guide.mixed_pdf(guided, unguided, wi, bin);
       beta *= m->albedo * (cos_n * kInvPi / pdf);  // f cos / pdf_mix, f = albedo / pi
       bsdf_pdf = pdf * opacity;
       // Russian roulette weighs the throughput as the cosine sample would have left it: a
@@ -520,8 +519,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       // The caustic guide, as at an untextured diffuse vertex (above), for the materials that
       // follow it.
       const CausticGuide& guide = scene.caustic_guide();
-      const int guide_cell = guide.empty() || !guided_material(*m) ? -1 : guide.cell(sp.p, sp.ng);
-      const float guided = guide_cell >= 0 ? guide.probability(guide_cell) : 0.0f;
+      const CausticGuide::At guided = guided_material(*m) ? guide.at(sp.p, sp.ng) : CausticGuide::At{};
       if (roulette || (have_lights && bsdf.has_smooth_lobe())) {
         sampler.set_pair(pair);
         u_choice = sampler.get2d_independent();
@@ -531,7 +529,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
             pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
         const LightSample ls = lights.sample(sp, u_choice.x, u_light);
         if (const std::optional<LightTerm> lt =
-                light_term(bsdf, shading, wo_local, ls, *m, sp, opacity, &guide, guide_cell, guided)) {
+                light_term(bsdf, shading, wo_local, ls, *m, sp, opacity, &guide, guided)) {
           set_shadow_ray(offset_ray_origin(sp, ls.wi), ls, shadow);
           shadow->contribution = glm::dvec3(beta) * glm::dvec3(lt->f) * glm::dvec3(ls.radiance) *
                                  (double(lt->w) / double(ls.pdf));
@@ -541,12 +539,11 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       sampler.set_pair(pair + 3);
       const float u_lobe = sampler.get2d_x();
       const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
-      if (guide_cell < 0) {
+      if (guided.cell < 0) {
         bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
       } else {
         float unguided_pdf = 0;
-        bs = guided_bsdf_sample(bsdf, shading.frame, wo_local, u_lobe, u_bsdf, guide, guide_cell, guided,
-                                &unguided_pdf);
+        bs = guided_bsdf_sample(bsdf, shading.frame, wo_local, u_lobe, u_bsdf, guide, guided, &unguided_pdf);
         // Roulette weighs the throughput as the BSDF's own sample would have left it (as at an
         // untextured diffuse vertex).
         if (bs && !bs->delta && unguided_pdf > 0) path.eta_scale *= bs->pdf / unguided_pdf;
