@@ -161,7 +161,7 @@ CausticGuide CausticGuide::build(const TraceableScene& scene, float scene_reach)
       }
       if (!(weight > 0) || !std::isfinite(weight)) return;
       glm::vec3 beta(1.0f);
-      int specular = 0;
+      // vertex: the specular vertices passed so far (each loop that goes on passes one).
       for (uint32_t vertex = 0;; ++vertex) {
         FacingHit f;
         if (!next_surface(scene, ray, &f)) break;
@@ -170,7 +170,7 @@ CausticGuide CausticGuide::build(const TraceableScene& scene, float scene_reach)
         const Hit& hit = f.hit;
         const glm::vec3 wo = f.wo;
         if (!smooth_specular(*m) || m->masked()) {
-          if (specular > 0) {
+          if (vertex > 0) {
             float major;
             const float w = weight * luminance(beta);
             if (w > 0 && std::isfinite(w)) {
@@ -179,7 +179,7 @@ CausticGuide CausticGuide::build(const TraceableScene& scene, float scene_reach)
           }
           break;
         }
-        if (++specular > kMaxSpecularVertices) break;
+        if (vertex + 1 > uint32_t(kMaxSpecularVertices)) break;
         const ShadingFrame shading = shading_frame(hit, *m, scene.textures(), scene.has_uv(), wo);
         const std::optional<BsdfSample> bs = specular_sample(*m, shading.frame.to_local(wo), u(5 + vertex));
         if (!bs) break;
@@ -212,70 +212,73 @@ CausticGuide CausticGuide::build(const TraceableScene& scene, float scene_reach)
   std::stable_sort(deposits.begin(), deposits.end(), [](const Deposit& a, const Deposit& b) {
     return a.key != b.key ? a.key < b.key : a.bin < b.bin;
   });
-  std::vector<uint64_t> cell_keys;
-  std::vector<float> cell_weights;  // the sum of each cell's photon weights
+  // Each cell with enough photons: its bins' power sums (in bin order), their total, and its
+  // photons' mean position and normal.
+  struct Candidate {
+    uint64_t key;
+    Cell cell;
+    std::vector<std::pair<uint16_t, float>> bins;
+    float total = 0;
+  };
+  std::vector<Candidate> candidates;
   for (size_t begin = 0; begin < deposits.size();) {
     size_t end = begin;
     while (end < deposits.size() && deposits[end].key == deposits[begin].key) ++end;
     if (end - begin >= kMinPhotons) {
-      Cell cell;
-      cell.first = uint32_t(guide.bin_ids_.size());
-      cell.photons = uint32_t(end - begin);
+      Candidate c;
+      c.key = deposits[begin].key;
+      c.cell.photons = uint32_t(end - begin);
       glm::dvec3 position(0.0), normal(0.0);
       for (size_t j = begin; j < end; ++j) {
         position += glm::dvec3(deposits[j].p);
         normal += glm::dvec3(deposits[j].ng);
       }
-      cell.position = glm::vec3(position / double(end - begin));
-      cell.normal = glm::length(normal) > 0 ? glm::vec3(glm::normalize(normal)) : deposits[begin].ng;
-      float total = 0;
+      c.cell.position = glm::vec3(position / double(end - begin));
+      c.cell.normal = glm::length(normal) > 0 ? glm::vec3(glm::normalize(normal)) : deposits[begin].ng;
       for (size_t j = begin; j < end;) {
         float sum = 0;
         size_t next = j;
         while (next < end && deposits[next].bin == deposits[j].bin) sum += deposits[next++].weight;
-        guide.bin_ids_.push_back(deposits[j].bin);
-        guide.prob_.push_back(sum);
-        total += sum;
+        c.bins.emplace_back(deposits[j].bin, sum);
+        c.total += sum;
         j = next;
       }
-      cell.count = uint32_t(guide.bin_ids_.size()) - cell.first;
-      float cdf = 0;
-      for (uint32_t j = cell.first; j < cell.first + cell.count; ++j) {
-        guide.prob_[j] /= total;
-        cdf += guide.prob_[j];
-        guide.cdf_.push_back(cdf);
-      }
-      guide.cdf_.back() = 1.0f;
-      guide.cells_.push_back(cell);
-      cell_keys.push_back(deposits[begin].key);
-      cell_weights.push_back(total);
-      guide.photons_kept_ += end - begin;
+      candidates.push_back(std::move(c));
     }
     begin = end;
   }
+  deposits.clear();
 
   // Each cell's probability of a guided bounce: E_c from its photons (each target's photons
   // estimate the power into it, as the mean of their weights; the cell's area taken as a grid
-  // square), E_i by one bounce from the cell's mean position.
+  // square), E_i by one bounce from the cell's mean position. Only the cells kept get bins.
   const float power_to_irradiance = 1.0f / (float(kPhotonsPerTarget) * cell_side * cell_side);
-  std::vector<Cell> kept;
-  std::vector<uint64_t> kept_keys;
-  std::vector<float> indirect(guide.cells_.size());
+  std::vector<float> indirect(candidates.size());
   tbb::parallel_for(size_t(0), indirect.size(), [&](size_t c) {
-    indirect[c] = indirect_irradiance(scene, guide.cells_[c].position, guide.cells_[c].normal, cell_keys[c]);
+    indirect[c] = indirect_irradiance(scene, candidates[c].cell.position, candidates[c].cell.normal, candidates[c].key);
   });
-  for (size_t c = 0; c < guide.cells_.size(); ++c) {
-    Cell& cell = guide.cells_[c];
-    const float e_caustic = cell_weights[c] * power_to_irradiance;
-    const float e_indirect = indirect[c];
-    const float p = e_caustic / (e_caustic + e_indirect);
+  std::vector<uint64_t> cell_keys;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    Candidate& candidate = candidates[c];
+    const float e_caustic = candidate.total * power_to_irradiance;
+    const float p = e_caustic / (e_caustic + indirect[c]);
     if (!(p >= kMinProbability)) continue;
+    Cell& cell = candidate.cell;
     cell.probability = std::min(p, kMaxProbability);
-    kept.push_back(cell);
-    kept_keys.push_back(cell_keys[c]);
+    cell.first = uint32_t(guide.bin_ids_.size());
+    cell.count = uint32_t(candidate.bins.size());
+    float cdf = 0;
+    for (const auto& [bin, sum] : candidate.bins) {
+      guide.bin_ids_.push_back(bin);
+      guide.prob_.push_back(sum / candidate.total);
+      cdf += guide.prob_.back();
+      guide.cdf_.push_back(cdf);
+    }
+    guide.cdf_.back() = 1.0f;
+    guide.cells_.push_back(cell);
+    cell_keys.push_back(candidate.key);
+    guide.photons_kept_ += cell.photons;
   }
-  guide.cells_ = std::move(kept);
-  cell_keys = std::move(kept_keys);
 
   // The table from cell keys to cells: open addressing, at most half full.
   size_t capacity = 16;
