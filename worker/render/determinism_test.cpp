@@ -42,6 +42,30 @@ TEST(Determinism, OneThreadAndAllThreadsGiveTheSameBits) {
   EXPECT_EQ(single.count, many.count);
 }
 
+// A renderer keeps each thread's path buffers between render() calls (renderer.cpp,
+// WavefrontBuffers): whatever an earlier call of another tile, size and sample count left in
+// them, a unit's bits are those of a fresh renderer.
+TEST(Determinism, EarlierUnitsOfOneRendererDoNotChangeALatersBits) {
+  const Scene s = test::mixed_room();
+  const TileRect tile{8, 4, 40, 30};
+  Accumulation fresh;
+  {
+    const Renderer renderer(s, job(5, 64, 16));
+    fresh = renderer.render(tile, 16, 48);
+  }
+  const Renderer renderer(s, job(5, 64, 16));
+  tbb::task_arena two(2);
+  two.execute([&] {
+    renderer.render(TileRect{0, 0, 40, 30}, 0, 3);   // 341 pixels a group
+    renderer.render(TileRect{0, 0, 7, 5}, 5, 64);    // 17 pixels a group, a short last group
+    renderer.render(TileRect{30, 20, 40, 30}, 1, 2); // one sample a pixel
+  });
+  const Accumulation again = renderer.render(tile, 16, 48);
+  EXPECT_TRUE(bit_identical(fresh.rgb, again.rgb));
+  EXPECT_TRUE(bit_identical(fresh.lum2, again.lum2));
+  EXPECT_EQ(fresh.count, again.count);
+}
+
 TEST(Determinism, BatchesRenderedInAnyOrderMergeToTheSameBits) {
   const Scene s = test::mixed_room();
   const JobOptions options = job(9, 64, 8);

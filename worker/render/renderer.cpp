@@ -7,6 +7,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "integrator.h"
@@ -86,7 +87,31 @@ void add_stats(tbb::combinable<RowResult>& work, RenderStats* stats) {
   });
 }
 
+/// One thread's buffers for render_wavefront's groups: cleared, never freed, between groups,
+/// tiles and render() calls, so a group neither allocates nor touches fresh pages. A thread
+/// uses its buffers only inside one parallel_for body, which waits on nothing, so TBB cannot
+/// start another body on that thread while they are in use.
+struct WavefrontBuffers {
+  std::vector<PathState> paths;
+  std::vector<PixelSampler> samplers;
+  std::vector<double> weights;  // the filter's weight of each path's sample
+  std::vector<PixelSum> sums;
+  WavefrontIntegrator::Workspace workspace;
+
+  WavefrontBuffers() {
+    paths.reserve(kWavefrontPaths);
+    samplers.reserve(kWavefrontPaths);
+    weights.reserve(kWavefrontPaths);
+    workspace.live.reserve(kWavefrontPaths);
+    workspace.next.reserve(kWavefrontPaths);
+  }
+};
+
 }  // namespace
+
+struct Renderer::Scratch {
+  tbb::enumerable_thread_specific<WavefrontBuffers> per_thread;
+};
 
 IntegratorKind integrator_kind_from_name(const std::string& name) {
   if (name == "scalar") return IntegratorKind::scalar;
@@ -104,7 +129,8 @@ Renderer::Renderer(const Scene& scene, const JobOptions& options, const FileRead
                                               reader)),
       integrator_(integrator),
       options_(options),
-      filter_(scene.film.filter) {
+      filter_(scene.film.filter),
+      scratch_(std::make_unique<Scratch>()) {
   // A scene with media renders with the volumetric path tracer, one path at a time
   // (render_scalar): the wavefront integrator knows surfaces only.
   if (scene_->has_media()) integrator_ = IntegratorKind::scalar;
@@ -200,11 +226,12 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, 1), [&](const tbb::blocked_range<size_t>& range) {
     RowResult& local = work.local();
-    std::vector<PathState> paths;
-    std::vector<PixelSampler> samplers;
-    std::vector<double> weights;  // the filter's weight of each path's sample
-    std::vector<PixelSum> sums;
-    WavefrontIntegrator::Workspace workspace;
+    WavefrontBuffers& buffers = scratch_->per_thread.local();
+    std::vector<PathState>& paths = buffers.paths;
+    std::vector<PixelSampler>& samplers = buffers.samplers;
+    std::vector<double>& weights = buffers.weights;
+    std::vector<PixelSum>& sums = buffers.sums;
+    WavefrontIntegrator::Workspace& workspace = buffers.workspace;
     for (size_t group = range.begin(); group != range.end(); ++group) {
       const size_t p0 = group * group_pixels, p1 = std::min(pixels, p0 + group_pixels);
       const size_t group_paths = (p1 - p0) * spp;
