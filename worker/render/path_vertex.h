@@ -329,10 +329,15 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
 /// `init_mixture`, when given, builds the bounce mixture in place of TargetMixture::init (the
 /// same bits): the wavefront kernels pass their own, built for their instruction set with
 /// eight targets per operation (wavefront_kernel.inc).
+///
+/// `light_importance`, when given, holds every light's importance at the hit (the same bits
+/// as the light picker's own evaluation): the wavefront kernels work it out for a packet's
+/// lanes at once.
 [[gnu::always_inline]] inline bool path_vertex(const TraceableScene& scene, int max_depth, PixelSampler& sampler,
                                                PathState& path, Hit* hit, ShadowQuery* shadow, bool* has_shadow,
                                                const PredrawnPairs* predrawn = nullptr,
-                                               MixtureInit init_mixture = nullptr) {
+                                               MixtureInit init_mixture = nullptr,
+                                               const PointImportance* light_importance = nullptr) {
   using namespace path_vertex_detail;
   const LightSet& lights = scene.lights();
   const TextureSet& textures = scene.textures();
@@ -438,7 +443,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
     if (have_lights) {
       const glm::vec2 u_light =
           pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
-      const LightSample ls = lights.sample(sp, u_choice.x, u_light);
+      const LightSample ls = lights.sample(sp, u_choice.x, u_light, light_importance);
       if (ls.pdf > 0) {
         const float cos_surface = glm::dot(ns, ls.wi);
         if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
@@ -527,7 +532,7 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       if (have_lights && bsdf.has_smooth_lobe()) {
         const glm::vec2 u_light =
             pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
-        const LightSample ls = lights.sample(sp, u_choice.x, u_light);
+        const LightSample ls = lights.sample(sp, u_choice.x, u_light, light_importance);
         if (const std::optional<LightTerm> lt =
                 light_term(bsdf, shading, wo_local, ls, *m, sp, opacity, &guide, guided)) {
           set_shadow_ray(offset_ray_origin(sp, ls.wi), ls, shadow);

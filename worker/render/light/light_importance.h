@@ -53,6 +53,13 @@ class LightImportance {
   /// Light i's importance at p: bit for bit evaluate_all's importance[i].
   float evaluate(uint32_t i, const glm::vec3& p, const glm::vec3& n) const;
 
+  /// Light i's constants in every lane of V (M: its int32 mask type), for
+  /// light_importance_detail::importance_lanes at kWidth<V> points at once: lane l then holds
+  /// bit for bit evaluate_all's importance[i] at lane l's point (the wavefront kernels,
+  /// wavefront_kernel.inc).
+  template <class V, class M>
+  [[gnu::always_inline]] auto light_lanes(uint32_t i) const;
+
   /// The constants of kLanes lights, one array per quantity (padding lanes never reach).
   struct Block {
     alignas(16) float cx[kLanes], cy[kLanes], cz[kLanes];  ///< bounding sphere centre
@@ -78,54 +85,103 @@ class LightImportance {
 };
 
 
+// importance_lanes passes K-lane vectors between inlined functions only (float4.h): GCC's note
+// that their ABI would differ without AVX does not apply.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace light_importance_detail {
 
 using namespace float4;  // Float4, Mask4 and their helpers (render/float4.h)
 
-/// The importance of the block's four lights at p (normal n, has_n: n != 0). Written once,
-/// called by evaluate_all and evaluate alike, so a lane's bits never depend on the caller.
-[[gnu::always_inline]] inline Float4 block_importance(const LightImportance::Block& b, Float4 px,
-                                                      Float4 py, Float4 pz, Float4 nx, Float4 ny,
-                                                      Float4 nz, bool has_n) {
-  const Float4 zero = splat(0.0f), one = splat(1.0f);
-  const Float4 dx = px - load(b.cx), dy = py - load(b.cy), dz = pz - load(b.cz);
-  const Float4 d2 = dx * dx + dy * dy + dz * dz;
-  const Float4 r2 = load(b.radius2);
-  const Float4 inv_dist = one / sqrt4(d2);
+/// One light's constants in every lane of V (the same light at K points: the wavefront
+/// kernels), or four lights' constants, one per lane of Float4 (one point: evaluate_all).
+template <class V, class M>
+struct LightLanes {
+  V cx, cy, cz, radius, radius2, phi, inside, wx, wy, wz, cos_o, sin_o, cos_e, min_importance;
+  M two_sided;
+};
+
+template <class V>
+[[gnu::always_inline]] inline V sqrt_any(V x) {
+  if constexpr (sizeof(V) == sizeof(Float4)) {
+    return sqrt4(x);
+  } else {
+    return sqrt_lanes(x);
+  }
+}
+
+template <class V, class M>
+[[gnu::always_inline]] inline V abs_any(V x) {
+  M bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  bits &= 0x7fffffff;
+  std::memcpy(&x, &bits, sizeof x);
+  return x;
+}
+
+/// The importance of each lane's light at each lane's point p (normal n, where has_n: n != 0).
+/// Written once and called for both layouts (four lights at one point, or one light at K
+/// points), so a light's importance at a point has the same bits whichever computed it.
+template <class V, class M>
+[[gnu::always_inline]] inline V importance_lanes(const LightLanes<V, M>& b, V px, V py, V pz, V nx, V ny, V nz,
+                                                 M has_n) {
+  const V zero = splat_lanes<V>(0.0f), one = splat_lanes<V>(1.0f);
+  const V dx = px - b.cx, dy = py - b.cy, dz = pz - b.cz;
+  const V d2 = dx * dx + dy * dy + dz * dz;
+  const V r2 = b.radius2;
+  const V inv_dist = one / sqrt_any(d2);
   // theta_b: the half-angle the bounding sphere subtends at p.
-  const Float4 sin_b = load(b.radius) * inv_dist;
-  const Float4 cos_b = sqrt4(at_least(d2 - r2, zero)) * inv_dist;
+  const V sin_b = b.radius * inv_dist;
+  const V d2_less_r2 = d2 - r2;
+  const V cos_b = sqrt_any(d2_less_r2 > zero ? d2_less_r2 : zero) * inv_dist;
 
   // At the light: theta_x = max(0, theta_w - theta_o), the smallest angle between a normal and
   // the direction to p's centre, then minus theta_b, compared with theta_e.
-  Float4 cos_w = (load(b.wx) * dx + load(b.wy) * dy + load(b.wz) * dz) * inv_dist;
-  cos_w = load(b.two_sided) ? abs4(cos_w) : cos_w;
-  const Float4 cos_o = load(b.cos_o), sin_o = load(b.sin_o);
-  const Float4 sin_w = sqrt4(at_least(one - cos_w * cos_w, zero));
-  const Mask4 outside_cone = cos_w < cos_o;
-  const Float4 cos_x = outside_cone ? cos_w * cos_o + sin_w * sin_o : one;
-  const Float4 sin_x = outside_cone ? sin_w * cos_o - cos_w * sin_o : zero;
-  const Float4 cos_light = cos_x >= cos_b ? one : cos_x * cos_b + sin_x * sin_b;
-  Float4 importance = load(b.phi) * cos_light / d2;
+  V cos_w = (b.wx * dx + b.wy * dy + b.wz * dz) * inv_dist;
+  cos_w = b.two_sided ? abs_any<V, M>(cos_w) : cos_w;
+  const V cos_o = b.cos_o, sin_o = b.sin_o;
+  const V one_less_cos2_w = one - cos_w * cos_w;
+  const V sin_w = sqrt_any(one_less_cos2_w > zero ? one_less_cos2_w : zero);
+  const M outside_cone = cos_w < cos_o;
+  const V cos_x = outside_cone ? cos_w * cos_o + sin_w * sin_o : one;
+  const V sin_x = outside_cone ? sin_w * cos_o - cos_w * sin_o : zero;
+  const V cos_light = cos_x >= cos_b ? one : cos_x * cos_b + sin_x * sin_b;
+  V importance = b.phi * cos_light / d2;
 
   // At p: the smallest angle between its normal (either side) and a direction to the light.
-  if (has_n) {
-    const Float4 cos_i = abs4((nx * dx + ny * dy + nz * dz) * inv_dist);
-    const Float4 sin_i = sqrt4(at_least(one - cos_i * cos_i, zero));
-    const Float4 cos_p = cos_i >= cos_b ? one : cos_i * cos_b + sin_i * sin_b;
-    importance *= at_least(cos_p, splat(1e-3f));
-  }
-  importance = at_most(at_least(importance, load(b.min_importance)),
-                       splat(LightImportance::kMaxImportance));
+  const V cos_i = abs_any<V, M>((nx * dx + ny * dy + nz * dz) * inv_dist);
+  const V one_less_cos2_i = one - cos_i * cos_i;
+  const V sin_i = sqrt_any(one_less_cos2_i > zero ? one_less_cos2_i : zero);
+  const V cos_p = cos_i >= cos_b ? one : cos_i * cos_b + sin_i * sin_b;
+  const V floor_p = splat_lanes<V>(1e-3f);
+  importance = has_n ? importance * (cos_p > floor_p ? cos_p : floor_p) : importance;
+  importance = importance > b.min_importance ? importance : b.min_importance;
+  const V most = splat_lanes<V>(LightImportance::kMaxImportance);
+  importance = importance < most ? importance : most;
   // Unreachable only where the bound says so by more than float rounding (cos_e holds
   // cos theta_e - kReachSlack); a NaN (from an infinite distance) reaches.
-  const Mask4 unreachable = cos_light <= load(b.cos_e);
+  const M unreachable = cos_light <= b.cos_e;
   importance = unreachable ? zero : importance;
   // Inside the bounds there is no angle to bound (lights at infinity: always inside).
-  return d2 <= r2 ? load(b.inside) : importance;
+  return d2 <= r2 ? b.inside : importance;
+}
+
+/// The importance of the block's four lights at p (normal n, has_n: n != 0).
+[[gnu::always_inline]] inline Float4 block_importance(const LightImportance::Block& b, Float4 px,
+                                                      Float4 py, Float4 pz, Float4 nx, Float4 ny,
+                                                      Float4 nz, bool has_n) {
+  const LightLanes<Float4, Mask4> lanes{load(b.cx),     load(b.cy),    load(b.cz),    load(b.radius),
+                                        load(b.radius2), load(b.phi),  load(b.inside), load(b.wx),
+                                        load(b.wy),     load(b.wz),    load(b.cos_o), load(b.sin_o),
+                                        load(b.cos_e),  load(b.min_importance), load(b.two_sided)};
+  const int32_t n_mask = has_n ? -1 : 0;
+  return importance_lanes<Float4, Mask4>(lanes, px, py, pz, nx, ny, nz, Mask4{n_mask, n_mask, n_mask, n_mask});
 }
 
 }  // namespace light_importance_detail
+
+#pragma GCC diagnostic pop
 
 [[gnu::always_inline]] inline float LightImportance::evaluate_all(const glm::vec3& p, const glm::vec3& n,
                                                                   float* importance) const {
@@ -140,5 +196,24 @@ using namespace float4;  // Float4, Mask4 and their helpers (render/float4.h)
   for (uint32_t i = 0; i < count_; ++i) sum += v[i];
   return sum;
 }
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+template <class V, class M>
+[[gnu::always_inline]] inline auto LightImportance::light_lanes(uint32_t i) const {
+  const Block& b = blocks_[i / kLanes];
+  const size_t k = i % kLanes;
+  using float4::splat_lanes;
+  M two_sided;
+  for (int l = 0; l < float4::kWidth<V>; ++l) two_sided[l] = b.two_sided[k];
+  return light_importance_detail::LightLanes<V, M>{
+      splat_lanes<V>(b.cx[k]),     splat_lanes<V>(b.cy[k]),     splat_lanes<V>(b.cz[k]),
+      splat_lanes<V>(b.radius[k]), splat_lanes<V>(b.radius2[k]), splat_lanes<V>(b.phi[k]),
+      splat_lanes<V>(b.inside[k]), splat_lanes<V>(b.wx[k]),     splat_lanes<V>(b.wy[k]),
+      splat_lanes<V>(b.wz[k]),     splat_lanes<V>(b.cos_o[k]),  splat_lanes<V>(b.sin_o[k]),
+      splat_lanes<V>(b.cos_e[k]),  splat_lanes<V>(b.min_importance[k]), two_sided};
+}
+
+#pragma GCC diagnostic pop
 
 }  // namespace tessera

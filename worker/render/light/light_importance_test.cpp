@@ -111,6 +111,87 @@ TEST(LightImportance, OneLightAloneHasTheBitsOfAllTogether) {
   }
 }
 
+}  // namespace
+
+// The wavefront kernels' layout (wavefront_kernel.inc): one light at K points at once, in GCC
+// vector types of 4, 8 and 16 lanes (here compiled for the baseline; the kernels compile the
+// same template for AVX2 and AVX-512). Each lane must have evaluate_all's bits at its point,
+// and the lanes' running sum over the lights evaluate_all's sum.
+namespace light_importance_lanes_test {
+
+// 32- and 64-byte vectors pass between inlined functions of this file only: GCC's note that
+// their ABI would differ without AVX does not apply. (It comes at the end of the translation
+// unit, so it is switched off to the end of the file.)
+#pragma GCC diagnostic ignored "-Wpsabi"
+template <int K>
+struct Lanes {
+  typedef float F32 __attribute__((vector_size(4 * K)));
+  typedef int32_t I32 __attribute__((vector_size(4 * K)));
+};
+
+template <int K>
+void expect_lanes_have_the_bits_of_each_point(uint64_t seed) {
+  using F32 = typename Lanes<K>::F32;
+  using I32 = typename Lanes<K>::I32;
+  test::UniformFloats u(seed);
+  int compared = 0;
+  for (int scene = 0; scene < 24; ++scene) {
+    // 1 to 16 lights (so up to four blocks), one in three scenes with a light at infinity.
+    std::vector<LightBounds> lights = random_lights(u, 1 + size_t(u.next() * 16), false);
+    if (scene % 3 == 0) {
+      LightBounds sky;
+      sky.infinite = true;
+      sky.phi = 2.0;
+      lights[size_t(u.next() * float(lights.size() - 1))] = sky;
+    }
+    const LightImportance importance(lights);
+    for (int round = 0; round < 40; ++round) {
+      glm::vec3 p[K], n[K];
+      F32 px, py, pz, nx, ny, nz;
+      for (int l = 0; l < K; ++l) {
+        // Points near and far (inside a light's bounds too), in media (n = 0) now and then.
+        const float size = l % 4 == 0 ? 0.3f : l % 4 == 1 ? 4.0f : l % 4 == 2 ? 40.0f : 4e4f;
+        p[l] = point_in_box(u, size);
+        n[l] = (round + l) % 7 == 0 ? glm::vec3(0.0f) : unit_vector(u);
+        px[l] = p[l].x, py[l] = p[l].y, pz[l] = p[l].z;
+        nx[l] = n[l].x, ny[l] = n[l].y, nz[l] = n[l].z;
+      }
+      const I32 has_n = (nx != 0.0f) | (ny != 0.0f) | (nz != 0.0f);
+      F32 total{};
+      float lane_values[LightImportance::kMaxLights][K];
+      for (uint32_t i = 0; i < uint32_t(lights.size()); ++i) {
+        const F32 v = light_importance_detail::importance_lanes<F32, I32>(
+            importance.template light_lanes<F32, I32>(i), px, py, pz, nx, ny, nz, has_n);
+        std::memcpy(lane_values[i], &v, sizeof v);
+        total += v;
+      }
+      for (int l = 0; l < K; ++l) {
+        float all[LightImportance::kMaxLights];
+        const float sum = importance.evaluate_all(p[l], n[l], all);
+        for (uint32_t i = 0; i < lights.size(); ++i) {
+          ASSERT_EQ(std::memcmp(&lane_values[i][l], &all[i], sizeof(float)), 0)
+              << K << " lanes, scene " << scene << ", light " << i << ", lane " << l << ": "
+              << lane_values[i][l] << " against " << all[i];
+          ++compared;
+        }
+        const float lane_sum = total[l];
+        ASSERT_EQ(std::memcmp(&lane_sum, &sum, sizeof sum), 0) << K << " lanes, scene " << scene << ", lane " << l;
+      }
+    }
+  }
+  EXPECT_GT(compared, 24 * 40 * K);
+}
+
+TEST(LightImportance, ManyPointsAtOnceHaveTheBitsOfEachAlone) {
+  expect_lanes_have_the_bits_of_each_point<4>(1311);
+  expect_lanes_have_the_bits_of_each_point<8>(1312);
+  expect_lanes_have_the_bits_of_each_point<16>(1313);
+}
+
+}  // namespace light_importance_lanes_test
+
+namespace {
+
 TEST(LightImportance, ReachableLightsStayPositiveAtExtremeScales) {
   // Powers 1e-30 apart, a light at 1e18, points on a light, far away and next to a point light.
   std::vector<LightBounds> lights(4);

@@ -20,6 +20,16 @@ namespace tessera {
 /// evaluating every light at every point would cost more than it saves, and a light BVH is
 /// future work) and with one, by power alone (pbrt's PowerLightSampler); when every power is 0,
 /// uniformly.
+/// Every light's importance at one shading point, worked out ahead by a caller that evaluates
+/// many points at once (the wavefront kernels: LightImportance::light_lanes): light i's at
+/// values[i * stride], and their sum, added in light order, in total; bit for bit what
+/// LightImportance::evaluate_all gives at that point.
+struct PointImportance {
+  const float* values;
+  uint32_t stride;
+  float total;
+};
+
 class LightPicker {
  public:
   static constexpr size_t kMaxPerPoint = LightImportance::kMaxLights;
@@ -33,7 +43,10 @@ class LightPicker {
   /// light can reach ref (every importance 0), returns 0 with *pmf = 0. If `sum` is given, the
   /// sum of the importances at ref goes there (kUnknownSum when picking by power), for pmf()
   /// at the same ref. Must not be called without lights.
-  [[gnu::always_inline]] uint32_t pick(float u, const SurfacePoint& ref, float* pmf, float* sum = nullptr) const {
+  /// `given`, when not null, holds the importances at ref (picking per point only; ignored
+  /// otherwise), so that they are not evaluated again: the same light, pmf and sum.
+  [[gnu::always_inline]] uint32_t pick(float u, const SurfacePoint& ref, float* pmf, float* sum = nullptr,
+                                       const PointImportance* given = nullptr) const {
     // By power inline: a scene of one light pays nothing for picking per point, nor for
     // searching a distribution of one.
     if (!per_point()) {
@@ -44,6 +57,7 @@ class LightPicker {
       }
       return distribution_.sample_discrete(u, pmf);
     }
+    if (given) return pick_among(u, given->values, given->stride, given->total, pmf, sum);
     return pick_per_point(u, ref, pmf, sum);
   }
   /// The probability pick() gives light i at ref (bit for bit the pmf pick() reports). `sum`:
@@ -57,8 +71,13 @@ class LightPicker {
   /// The sum pick() reports for ref (kUnknownSum when picking by power).
   float importance_sum(const SurfacePoint& ref) const;
 
+  /// The lights' importance where pick() weighs them per point, else null.
+  const LightImportance* point_importance() const { return per_point() ? &importance_ : nullptr; }
+
  private:
   uint32_t pick_per_point(float u, const SurfacePoint& ref, float* pmf, float* sum) const;
+  /// pick_per_point's choice among the importances values[i * stride] of sum total.
+  uint32_t pick_among(float u, const float* values, uint32_t stride, float total, float* pmf, float* sum) const;
   float pmf_per_point(uint32_t i, const SurfacePoint& ref, float sum) const;
   /// Whether lights are weighed at each point (else by power).
   bool per_point() const { return importance_.size() > 0; }
@@ -74,6 +93,11 @@ class LightPicker {
                                      float* sum) const {
   std::array<float, kMaxPerPoint> importance;
   const float total = importance_.evaluate_all(ref.p, ref.ng, importance.data());
+  return pick_among(u, importance.data(), 1, total, pmf, sum);
+}
+
+[[gnu::always_inline]] inline uint32_t LightPicker::pick_among(float u, const float* values, uint32_t stride,
+                                                               float total, float* pmf, float* sum) const {
   if (sum) *sum = total;
   *pmf = 0;
   if (!(total > 0)) return 0;
@@ -83,12 +107,13 @@ class LightPicker {
   float cumulative = 0;
   uint32_t chosen = 0;
   for (uint32_t i = 0; i < importance_.size(); ++i) {
-    if (!(importance[i] > 0)) continue;
+    const float importance = values[i * stride];
+    if (!(importance > 0)) continue;
     chosen = i;
-    cumulative += importance[i];
+    cumulative += importance;
     if (target < cumulative) break;
   }
-  *pmf = importance[chosen] / total;
+  *pmf = values[chosen * stride] / total;
   return chosen;
 }
 

@@ -58,10 +58,13 @@ class LightSet {
   /// Inline, with area lights in line too (AreaLight::sample): the path vertex calls it for
   /// every diffuse hit, so it is built into each wavefront kernel's instruction set
   /// (docs/renderer.md, "Kernels per instruction set"); other lights go out of line.
-  [[gnu::always_inline]] LightSample sample(const SurfacePoint& ref, float u_pick, glm::vec2 u) const {
+  /// `importance`, when not null, holds every light's importance at ref, worked out ahead
+  /// (LightPicker::pick): the same sample.
+  [[gnu::always_inline]] LightSample sample(const SurfacePoint& ref, float u_pick, glm::vec2 u,
+                                            const PointImportance* importance = nullptr) const {
     if (lights_.empty()) return {};
     float pick_pmf = 0, pick_sum = LightPicker::kUnknownSum;
-    const uint32_t index = picker_.pick(u_pick, ref, &pick_pmf, &pick_sum);
+    const uint32_t index = picker_.pick(u_pick, ref, &pick_pmf, &pick_sum, importance);
     if (index >= area_count_) return sample_other(index, pick_pmf, pick_sum, ref, u);
     LightSample s = std::get_if<AreaLight>(&lights_[index])->sample(ref.p, u);  // area lights first
     s.pdf *= pick_pmf;
@@ -69,6 +72,10 @@ class LightSet {
     s.pick_sum = pick_sum;
     return s;
   }
+
+  /// The lights' importance where a light is picked per point (LightPicker), else null: for
+  /// callers that evaluate it at many points at once and pass it to sample().
+  const LightImportance* point_importance() const { return picker_.point_importance(); }
 
   /// Radiance leaving an emitting surface point of geometry g (primitive, uv; ng its
   /// front-facing unit geometric normal) towards w. 0 for a geometry that does not emit.

@@ -233,6 +233,7 @@ INSTANTIATE_TEST_SUITE_P(
     RepositoryAndMitsubaScenes, WavefrontKernelScenes,
     ::testing::Values("scenes/cornell.json", "scenes/cornell-sphere.json", "scenes/hexroom.json",
                       "scenes/bunny.json", "tests/data/mitsuba/bitmap_texture.xml", "tests/data/mitsuba/envmap.xml",
+                      "tests/data/mitsuba/point_spot_constant.xml",
                       "tests/data/mitsuba/docs/scenes/bsdf_dielectric_glass.xml",
                       "tests/data/mitsuba/docs/scenes/bsdf_roughconductor_textured_carbon.xml",
                       "tests/data/mitsuba/docs/scenes/bsdf_roughdielectric_rough.xml"),
