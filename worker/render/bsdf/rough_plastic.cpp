@@ -1,12 +1,14 @@
 #include "render/bsdf/rough_plastic.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
 
 #include "render/bsdf/fresnel.h"
 #include "render/bsdf/plastic.h"
@@ -38,13 +40,27 @@ void gauss_legendre(int n, std::vector<double>* nodes, std::vector<double>* weig
   }
 }
 
+/// The Gauss-Legendre rule of n points, worked out once per n (the integrals below ask for the
+/// same two rules 128 times per table).
+struct GaussLegendre {
+  std::vector<double> nodes, weights;
+  explicit GaussLegendre(int n) { gauss_legendre(n, &nodes, &weights); }
+};
+const GaussLegendre& gauss_legendre_rule(int n) {
+  static const GaussLegendre rule32(32), rule128(128);
+  if (n == 32) return rule32;
+  if (n == 128) return rule128;
+  throw std::invalid_argument("gauss_legendre_rule: " + std::to_string(n) + " points (32 or 128)");
+}
+
 /// Mitsuba's eval_transmittance (transmit = true) and eval_reflectance: the fraction of light
 /// arriving along wi that a rough dielectric boundary of relative index eta transmits or
 /// reflects, single scattering, with its Gauss-Legendre grid.
 float rough_fresnel_integral(const Microfacet& distr, glm::vec3 wi, float eta, bool transmit) {
   const int res = eta > 1.0f ? 32 : 128;
-  std::vector<double> nodes, weights;
-  gauss_legendre(res, &nodes, &weights);
+  const GaussLegendre& rule = gauss_legendre_rule(res);
+  const std::vector<double>& nodes = rule.nodes;
+  const std::vector<double>& weights = rule.weights;
   float result = 0.0f;
   for (int y = 0; y < res; ++y) {
     for (int x = 0; x < res; ++x) {
@@ -75,13 +91,22 @@ RoughPlasticTable make_rough_plastic_table(MicrofacetDistribution distribution, 
   t.alpha = alpha;
   t.eta = eta;
   const Microfacet distr(distribution, alpha, alpha, /*sample_visible=*/true);
-  double internal = 0;
-  for (int i = 0; i < RoughPlasticTable::kResolution; ++i) {
-    const float mu = std::max(1e-6f, float(i) / float(RoughPlasticTable::kResolution - 1));
+  // The angles' integrals on the caller's TBB threads (about 0.3 s of CPU per table, most of a
+  // small render's start: each is 32^2 or 128^2 microfacet samples), each into its own entry;
+  // the internal reflectance then added up in angle order, so the same bits on any number of
+  // threads.
+  const auto mu_of = [](int i) {
+    return std::max(1e-6f, float(i) / float(RoughPlasticTable::kResolution - 1));
+  };
+  std::array<float, RoughPlasticTable::kResolution> internal_at{};
+  tbb::parallel_for(0, RoughPlasticTable::kResolution, [&](int i) {
+    const float mu = mu_of(i);
     const glm::vec3 wi(std::sqrt(1.0f - mu * mu), 0.0f, mu);
     t.external_transmittance[i] = rough_fresnel_integral(distr, wi, eta, /*transmit=*/true);
-    internal += rough_fresnel_integral(distr, wi, 1.0f / eta, /*transmit=*/false) * mu;
-  }
+    internal_at[i] = rough_fresnel_integral(distr, wi, 1.0f / eta, /*transmit=*/false);
+  });
+  double internal = 0;
+  for (int i = 0; i < RoughPlasticTable::kResolution; ++i) internal += internal_at[i] * mu_of(i);
   t.internal_reflectance = float(2.0 * internal / RoughPlasticTable::kResolution);
   return t;
 }

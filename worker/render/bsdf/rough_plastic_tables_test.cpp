@@ -1,9 +1,12 @@
 // The scene's rough plastic tables: one per distinct coating, shared by every material (and
 // nested material) with that coating, and equal to a table made directly.
 #include <cmath>
+#include <cstring>
+#include <tuple>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include "render/bsdf/rough_plastic_tables.h"
 #include "render/material.h"
@@ -48,6 +51,25 @@ TEST(RoughPlasticTables, OneTablePerCoatingSharedByItsMaterials) {
   EXPECT_EQ(a.rough_plastic->external_transmittance, direct.external_transmittance);
   EXPECT_EQ(tables.get(MicrofacetDistribution::beckmann, 0.3f, 1.5f), a.rough_plastic);
   EXPECT_EQ(tables.size(), 2u);
+}
+
+// make_rough_plastic_table integrates its angles on the caller's TBB threads: the table must
+// not depend on how many.
+TEST(RoughPlasticTables, OneThreadAndAllThreadsMakeTheSameTable) {
+  for (const auto& [distribution, alpha, eta] :
+       {std::tuple{MicrofacetDistribution::beckmann, 0.1f, 1.5f}, std::tuple{MicrofacetDistribution::ggx, 0.4f, 2.0f},
+        std::tuple{MicrofacetDistribution::ggx, 0.005f, 1.33f}}) {
+    RoughPlasticTable one;
+    tbb::task_arena(1).execute([&] { one = make_rough_plastic_table(distribution, alpha, eta); });
+    const RoughPlasticTable all = make_rough_plastic_table(distribution, alpha, eta);
+    EXPECT_EQ(std::memcmp(one.external_transmittance.data(), all.external_transmittance.data(),
+                          sizeof(float) * RoughPlasticTable::kResolution),
+              0)
+        << "alpha " << alpha << ", eta " << eta;
+    EXPECT_EQ(std::memcmp(&one.internal_reflectance, &all.internal_reflectance, sizeof(float)), 0)
+        << "alpha " << alpha << ", eta " << eta;
+    EXPECT_GT(all.internal_reflectance, 0.0f);
+  }
 }
 
 TEST(RoughPlasticTables, RefusesParametersThatMakeNoTable) {
