@@ -40,13 +40,20 @@ using Mask4 = int32_t __attribute__((vector_size(16)));
   return Float4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
 #endif
 }
-[[gnu::always_inline]] inline Float4 abs4(Float4 x) {
-  Mask4 bits;
+/// |x| lane by lane (the sign bit cleared), for a float vector V of any width and M, its int32
+/// mask type (wider vectors pass between inlined functions only: see the templates below).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+template <class V, class M>
+[[gnu::always_inline]] inline V abs_lanes(V x) {
+  M bits;
   std::memcpy(&bits, &x, sizeof bits);
   bits &= 0x7fffffff;
   std::memcpy(&x, &bits, sizeof x);
   return x;
 }
+#pragma GCC diagnostic pop
+[[gnu::always_inline]] inline Float4 abs4(Float4 x) { return abs_lanes<Float4, Mask4>(x); }
 /// max(x, lo) lane by lane; lo where x is NaN.
 [[gnu::always_inline]] inline Float4 at_least(Float4 x, Float4 lo) { return x > lo ? x : lo; }
 /// min(x, hi) lane by lane; hi where x is NaN.

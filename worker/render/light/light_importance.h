@@ -102,24 +102,6 @@ struct LightLanes {
   M two_sided;
 };
 
-template <class V>
-[[gnu::always_inline]] inline V sqrt_any(V x) {
-  if constexpr (sizeof(V) == sizeof(Float4)) {
-    return sqrt4(x);
-  } else {
-    return sqrt_lanes(x);
-  }
-}
-
-template <class V, class M>
-[[gnu::always_inline]] inline V abs_any(V x) {
-  M bits;
-  std::memcpy(&bits, &x, sizeof bits);
-  bits &= 0x7fffffff;
-  std::memcpy(&x, &bits, sizeof x);
-  return x;
-}
-
 /// The importance of each lane's light at each lane's point p (normal n, where has_n: n != 0).
 /// Written once and called for both layouts (four lights at one point, or one light at K
 /// points), so a light's importance at a point has the same bits whichever computed it.
@@ -130,19 +112,19 @@ template <class V, class M>
   const V dx = px - b.cx, dy = py - b.cy, dz = pz - b.cz;
   const V d2 = dx * dx + dy * dy + dz * dz;
   const V r2 = b.radius2;
-  const V inv_dist = one / sqrt_any(d2);
+  const V inv_dist = one / sqrt_lanes(d2);
   // theta_b: the half-angle the bounding sphere subtends at p.
   const V sin_b = b.radius * inv_dist;
   const V d2_less_r2 = d2 - r2;
-  const V cos_b = sqrt_any(d2_less_r2 > zero ? d2_less_r2 : zero) * inv_dist;
+  const V cos_b = sqrt_lanes(d2_less_r2 > zero ? d2_less_r2 : zero) * inv_dist;
 
   // At the light: theta_x = max(0, theta_w - theta_o), the smallest angle between a normal and
   // the direction to p's centre, then minus theta_b, compared with theta_e.
   V cos_w = (b.wx * dx + b.wy * dy + b.wz * dz) * inv_dist;
-  cos_w = b.two_sided ? abs_any<V, M>(cos_w) : cos_w;
+  cos_w = b.two_sided ? abs_lanes<V, M>(cos_w) : cos_w;
   const V cos_o = b.cos_o, sin_o = b.sin_o;
   const V one_less_cos2_w = one - cos_w * cos_w;
-  const V sin_w = sqrt_any(one_less_cos2_w > zero ? one_less_cos2_w : zero);
+  const V sin_w = sqrt_lanes(one_less_cos2_w > zero ? one_less_cos2_w : zero);
   const M outside_cone = cos_w < cos_o;
   const V cos_x = outside_cone ? cos_w * cos_o + sin_w * sin_o : one;
   const V sin_x = outside_cone ? sin_w * cos_o - cos_w * sin_o : zero;
@@ -150,9 +132,9 @@ template <class V, class M>
   V importance = b.phi * cos_light / d2;
 
   // At p: the smallest angle between its normal (either side) and a direction to the light.
-  const V cos_i = abs_any<V, M>((nx * dx + ny * dy + nz * dz) * inv_dist);
+  const V cos_i = abs_lanes<V, M>((nx * dx + ny * dy + nz * dz) * inv_dist);
   const V one_less_cos2_i = one - cos_i * cos_i;
-  const V sin_i = sqrt_any(one_less_cos2_i > zero ? one_less_cos2_i : zero);
+  const V sin_i = sqrt_lanes(one_less_cos2_i > zero ? one_less_cos2_i : zero);
   const V cos_p = cos_i >= cos_b ? one : cos_i * cos_b + sin_i * sin_b;
   const V floor_p = splat_lanes<V>(1e-3f);
   importance = has_n ? importance * (cos_p > floor_p ? cos_p : floor_p) : importance;
