@@ -2,7 +2,6 @@
 // nested material) with that coating, and equal to a table made directly.
 #include <cmath>
 #include <cstring>
-#include <tuple>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -56,9 +55,17 @@ TEST(RoughPlasticTables, OneTablePerCoatingSharedByItsMaterials) {
 // make_rough_plastic_table integrates its angles on the caller's TBB threads: the table must
 // not depend on how many.
 TEST(RoughPlasticTables, OneThreadAndAllThreadsMakeTheSameTable) {
-  for (const auto& [distribution, alpha, eta] :
-       {std::tuple{MicrofacetDistribution::beckmann, 0.1f, 1.5f}, std::tuple{MicrofacetDistribution::ggx, 0.4f, 2.0f},
-        std::tuple{MicrofacetDistribution::ggx, 0.005f, 1.33f}}) {
+  struct Coating {
+    MicrofacetDistribution distribution;
+    float alpha, eta;
+  };
+  for (const Coating& c : {Coating{MicrofacetDistribution::beckmann, 0.1f, 1.5f},
+                           Coating{MicrofacetDistribution::ggx, 0.4f, 2.0f},
+                           Coating{MicrofacetDistribution::ggx, 0.005f, 1.33f}}) {
+    // (Named, not structured bindings: clang 14, the sanitizer pass's compiler, cannot capture
+    // those in the lambda.)
+    const MicrofacetDistribution distribution = c.distribution;
+    const float alpha = c.alpha, eta = c.eta;
     RoughPlasticTable one;
     tbb::task_arena(1).execute([&] { one = make_rough_plastic_table(distribution, alpha, eta); });
     const RoughPlasticTable all = make_rough_plastic_table(distribution, alpha, eta);
