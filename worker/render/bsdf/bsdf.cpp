@@ -53,6 +53,13 @@ std::optional<BsdfSample> Bsdf::sample(glm::vec3 wo, float u_lobe, glm::vec2 u) 
   return checked_sample(std::visit([&](const auto& b) { return b.sample(wo, u_lobe, u); }, impl_));
 }
 
+float Bsdf::diffuse_lobe_probability(glm::vec3 wo) const {
+  if (std::holds_alternative<DiffuseBsdf>(impl_)) return 1.0f;
+  if (const auto* p = std::get_if<PlasticBsdf>(&impl_)) return p->diffuse_probability(wo);
+  if (const auto* p = std::get_if<RoughPlasticBsdf>(&impl_)) return p->diffuse_probability(wo);
+  return 0.0f;
+}
+
 bool Bsdf::has_smooth_lobe() const {
   return std::visit([](const auto& b) { return b.has_smooth_lobe(); }, impl_);
 }

@@ -53,6 +53,10 @@ class Bsdf {
   std::optional<BsdfSample> sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const;
   /// Any non-delta lobe: next-event estimation and MIS are worth doing.
   bool has_smooth_lobe() const;
+  /// The probability that sample() at wo takes a Lambertian lobe: 1 for diffuse, the diffuse
+  /// lobe's for plastic and rough plastic, 0 for the others (which the caustic guide does not
+  /// serve: path_vertex.h, guided_material).
+  float diffuse_lobe_probability(glm::vec3 wo) const;
 
  private:
   std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf, RoughDielectricBsdf,

@@ -34,6 +34,11 @@ float PlasticBsdf::specular_probability(float f_o) const {
   return spec + diff > 0.0f ? spec / (spec + diff) : 0.0f;
 }
 
+float PlasticBsdf::diffuse_probability(glm::vec3 wo) const {
+  if (wo.z <= 0.0f) return 0.0f;
+  return 1.0f - specular_probability(fresnel_dielectric_signed(wo.z, eta_).r);
+}
+
 glm::vec3 PlasticBsdf::diffuse(float f_o, float f_i) const {
   glm::vec3 diff = diffuse_reflectance_;
   diff /= glm::vec3(1.0f) - (nonlinear_ ? diff * fdr_int_ : glm::vec3(fdr_int_));

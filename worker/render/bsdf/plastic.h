@@ -23,6 +23,8 @@ class PlasticBsdf {
   /// specular reflectance, else a cosine-distributed diffuse direction.
   std::optional<BsdfSample> sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const;
   bool has_smooth_lobe() const { return true; }
+  /// The probability that sample() takes the diffuse lobe at wo (0 below the surface).
+  float diffuse_probability(glm::vec3 wo) const;
 
  private:
   float specular_probability(float f_o) const;

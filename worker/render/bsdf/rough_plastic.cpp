@@ -145,6 +145,11 @@ float RoughPlasticBsdf::specular_probability(float t_o) const {
   return spec + diff > 0.0f ? spec / (spec + diff) : 0.0f;
 }
 
+float RoughPlasticBsdf::diffuse_probability(glm::vec3 wo) const {
+  if (wo.z <= 0.0f) return 0.0f;
+  return 1.0f - specular_probability(transmittance(wo.z));
+}
+
 glm::vec3 RoughPlasticBsdf::eval(glm::vec3 wo, glm::vec3 wi) const {
   if (wo.z <= 0.0f || wi.z <= 0.0f) return glm::vec3(0.0f);
   const glm::vec3 h = glm::normalize(wo + wi);

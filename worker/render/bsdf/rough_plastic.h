@@ -44,6 +44,8 @@ class RoughPlasticBsdf {
   /// reflectance, else a cosine-distributed direction; weight = eval / pdf of the mixture.
   std::optional<BsdfSample> sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const;
   bool has_smooth_lobe() const { return true; }
+  /// The probability that sample() takes the diffuse lobe at wo (0 below the surface).
+  float diffuse_probability(glm::vec3 wo) const;
 
  private:
   float transmittance(float cos_theta) const;
