@@ -278,8 +278,8 @@ TEST(CausticGuide, GuidedBouncesEstimateTheCausticWithLessVariance) {
 }
 
 TEST(CausticGuide, APlasticsGuidedBounceEstimatesWhatItsOwnDoes) {
-  // At hexroom's densest cell, the caustic light a smooth and a rough plastic reflect toward an
-  // oblique viewer, L f cos / pdf: by the BSDF's own samples and by path_vertex's guided mixture
+  // At hexroom's densest cell, the caustic light a smooth and a rough plastic and two principled
+  // surfaces reflect toward an oblique viewer, L f cos / pdf: by the BSDF's own samples and by path_vertex's guided mixture
   // (guided_bsdf_sample with the cell's share scaled by the diffuse lobe's, as the renderer
   // takes it). The same value within 4 % at 200,000 bounces each (about 8 standard errors of
   // the BSDF's own estimate; a guided pdf off by 30 % moves the guided mean by 10-20 %).
@@ -293,13 +293,21 @@ TEST(CausticGuide, APlasticsGuidedBounceEstimatesWhatItsOwnDoes) {
   const Frame frame(n);
   const glm::vec3 wo_local = glm::normalize(glm::vec3(0.5f, 0.2f, 0.8f));
   RoughPlasticTables tables;
-  for (const bool rough : {false, true}) {
+  // Smooth plastic, rough plastic, principled (roughness 0.5, a clearcoat), principled that
+  // also transmits (spec_trans 0.5).
+  for (int kind = 0; kind < 4; ++kind) {
+    const char* name = kind == 0 ? "smooth plastic" : kind == 1 ? "rough plastic" : kind == 2 ? "principled"
+                                                                                              : "transmitting principled";
+    const bool rough = kind == 1;
     BsdfParams params;
-    params.type = rough ? MaterialType::rough_plastic : MaterialType::plastic;
+    params.type = kind < 2 ? (rough ? MaterialType::rough_plastic : MaterialType::plastic) : MaterialType::principled;
     params.reflectance = glm::vec3(0.6f);
     params.distribution = MicrofacetDistribution::ggx;
     params.alpha_u = params.alpha_v = 0.3f;
     if (rough) params.rough_plastic = tables.get(params.distribution, params.alpha_u, params.eta);
+    params.principled.clearcoat = kind >= 2 ? 0.5f : 0.0f;
+    params.principled.spec_trans = kind == 3 ? 0.5f : 0.0f;
+    params.principled.transmits = kind == 3;
     const Bsdf bsdf(params);
     CausticGuide::At at{densest, g.probability(densest) * bsdf.diffuse_lobe_probability(wo_local)};
     ASSERT_GT(at.probability, 0.0f);
@@ -322,10 +330,10 @@ TEST(CausticGuide, APlasticsGuidedBounceEstimatesWhatItsOwnDoes) {
       }
       mean[guided] = sum / kSamples;
     }
-    std::printf("%s plastic at cell %d: own samples %.4f, guided %.4f (share %.3f)\n", rough ? "rough" : "smooth",
-                densest, mean[0], mean[1], at.probability);
+    std::printf("%s at cell %d: own samples %.4f, guided %.4f (share %.3f)\n", name, densest, mean[0], mean[1],
+                at.probability);
     EXPECT_GT(mean[0], 0.0);
-    EXPECT_NEAR(mean[1], mean[0], 0.04 * mean[0]) << (rough ? "rough" : "smooth");
+    EXPECT_NEAR(mean[1], mean[0], 0.04 * mean[0]) << name;
   }
 }
 
@@ -506,12 +514,12 @@ Scene textured(Scene s) {
 }
 
 /// The scene with each untextured diffuse material a smooth plastic (rough: a rough one, GGX of
-/// alpha 0.3) over the same colour, IOR 1.5: their bounces take the guide with the diffuse
-/// lobe's share (path_vertex.h's guided_material).
-Scene plastic(Scene s, bool rough) {
+/// alpha 0.3; principled: Mitsuba's principled of roughness 0.5) over the same colour, IOR 1.5:
+/// their bounces take the guide with the diffuse lobe's share (path_vertex.h's guided_material).
+Scene plastic(Scene s, bool rough, bool principled = false) {
   for (Material& m : s.materials) {
     if (m.type != MaterialType::diffuse || !m.reflectance.is_constant()) continue;
-    m.type = rough ? MaterialType::rough_plastic : MaterialType::plastic;
+    m.type = principled ? MaterialType::principled : rough ? MaterialType::rough_plastic : MaterialType::plastic;
     m.ior = 1.5;
     if (rough) {
       m.distribution = MicrofacetDistribution::ggx;
@@ -561,10 +569,11 @@ TEST(CausticGuide, TexturedDiffuseFollowsItAndKeepsTheMean) {
 
 TEST(CausticGuide, PlasticsFollowItAndKeepTheMean) {
   // A plastic's diffuse lobe takes the guide (its share scaled by that lobe's), its specular
-  // lobe the BSDF's own sample: the same mean, smooth and rough.
+  // lobe the BSDF's own sample: the same mean, smooth, rough and principled.
   const Scene loaded = load_scene_file(kSource + "/scenes/cornell-sphere.json");
   expect_same_mean_of(plastic(loaded, false), "cornell-sphere.json (plastic)", 32, 256);
   expect_same_mean_of(plastic(loaded, true), "cornell-sphere.json (rough plastic)", 32, 256);
+  expect_same_mean_of(plastic(loaded, false, true), "cornell-sphere.json (principled)", 32, 256);
 }
 
 }  // namespace caustic_guide_test

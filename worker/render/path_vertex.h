@@ -230,12 +230,13 @@ inline std::optional<BsdfSample> guided_bsdf_sample(const Bsdf& bsdf, const Fram
 
 /// Whether a vertex shaded by the general Bsdf of `m` follows the caustic guide too: the
 /// diffuse materials (textured, or with a normal or bump map), whose bounce gathers light from
-/// the whole hemisphere as the untextured diffuse vertex's does, and the plastics, whose
-/// diffuse lobe does (their guided share scaled by the probability that their own sample takes
-/// that lobe, Bsdf::diffuse_lobe_probability; the specular lobe is left to the BSDF).
+/// the whole hemisphere as the untextured diffuse vertex's does, and the plastics and
+/// principled surfaces, whose diffuse lobe does (their guided share scaled by the probability
+/// that their own sample takes that lobe, Bsdf::diffuse_lobe_probability; the other lobes are
+/// left to the BSDF).
 inline bool guided_material(const RenderMaterial& m) {
   return m.type == MaterialType::diffuse || m.type == MaterialType::plastic ||
-         m.type == MaterialType::rough_plastic;
+         m.type == MaterialType::rough_plastic || m.type == MaterialType::principled;
 }
 
 /// The unit world direction of BSDF sample `bs` and the perturbed normal's factor on its
@@ -531,8 +532,9 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       const CausticGuide& guide = scene.caustic_guide();
       CausticGuide::At guided = guided_material(*m) ? guide.at(sp.p, sp.ng) : CausticGuide::At{};
       if (guided.cell >= 0 && m->type != MaterialType::diffuse) {
-        // The guide serves a plastic's diffuse lobe: its share scaled by that lobe's (the
-        // same At for the light sample's MIS and the bounce, so any share is unbiased).
+        // The guide serves a plastic's or a principled surface's diffuse lobe: its share
+        // scaled by that lobe's (the same At for the light sample's MIS and the bounce, so any
+        // share is unbiased).
         guided.probability *= bsdf.diffuse_lobe_probability(wo_local);
         if (!(guided.probability > 0)) guided = CausticGuide::At{};
       }

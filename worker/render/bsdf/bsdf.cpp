@@ -57,6 +57,7 @@ float Bsdf::diffuse_lobe_probability(glm::vec3 wo) const {
   if (std::holds_alternative<DiffuseBsdf>(impl_)) return 1.0f;
   if (const auto* p = std::get_if<PlasticBsdf>(&impl_)) return p->diffuse_probability(wo);
   if (const auto* p = std::get_if<RoughPlasticBsdf>(&impl_)) return p->diffuse_probability(wo);
+  if (const auto* p = std::get_if<PrincipledBsdf>(&impl_)) return p->diffuse_probability(wo);
   return 0.0f;
 }
 

@@ -54,8 +54,8 @@ class Bsdf {
   /// Any non-delta lobe: next-event estimation and MIS are worth doing.
   bool has_smooth_lobe() const;
   /// The probability that sample() at wo takes a Lambertian lobe: 1 for diffuse, the diffuse
-  /// lobe's for plastic and rough plastic, 0 for the others (which the caustic guide does not
-  /// serve: path_vertex.h, guided_material).
+  /// lobe's for plastic, rough plastic and principled, 0 for the others (which the caustic
+  /// guide does not serve: path_vertex.h, guided_material).
   float diffuse_lobe_probability(glm::vec3 wo) const;
 
  private:

@@ -169,6 +169,11 @@ float PrincipledBsdf::pdf(glm::vec3 wo, glm::vec3 wi) const {
   return pdf;
 }
 
+float PrincipledBsdf::diffuse_probability(glm::vec3 wo) const {
+  if (!(wo.z > 0.0f)) return 0.0f;
+  return choose(wo.z, fresnel_dielectric_signed(wo.z, eta_).r).diffuse;
+}
+
 std::optional<BsdfSample> PrincipledBsdf::sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const {
   const float cos_o = wo.z;
   if (cos_o == 0.0f) return std::nullopt;

@@ -33,6 +33,10 @@ class PrincipledBsdf {
   float pdf(glm::vec3 wo, glm::vec3 wi) const;
   std::optional<BsdfSample> sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const;
   bool has_smooth_lobe() const { return true; }
+  /// The probability that sample() takes the diffuse lobe at wo, with the Fresnel reflectance
+  /// of the macro-surface (sample() weighs the lobes by a sampled microfacet's); 0 below the
+  /// surface.
+  float diffuse_probability(glm::vec3 wo) const;
 
  private:
   /// The probabilities of choosing diffuse, clear coat, transmission and specular reflection
