@@ -230,13 +230,14 @@ inline std::optional<BsdfSample> guided_bsdf_sample(const Bsdf& bsdf, const Fram
 
 /// Whether a vertex shaded by the general Bsdf of `m` follows the caustic guide too: the
 /// diffuse materials (textured, or with a normal or bump map), whose bounce gathers light from
-/// the whole hemisphere as the untextured diffuse vertex's does, and the plastics and
-/// principled surfaces, whose diffuse lobe does (their guided share scaled by the probability
-/// that their own sample takes that lobe, Bsdf::diffuse_lobe_probability; the other lobes are
-/// left to the BSDF).
+/// the whole hemisphere as the untextured diffuse vertex's does, the plastics and principled
+/// surfaces, whose diffuse lobe does, and rough conductors, whose lobe can be broad enough to
+/// gather a caustic (the guided share scaled by Bsdf::caustic_guide_share: the diffuse lobe's
+/// probability, or min(1, 2 alpha); the other lobes are left to the BSDF).
 inline bool guided_material(const RenderMaterial& m) {
   return m.type == MaterialType::diffuse || m.type == MaterialType::plastic ||
-         m.type == MaterialType::rough_plastic || m.type == MaterialType::principled;
+         m.type == MaterialType::rough_plastic || m.type == MaterialType::principled ||
+         m.type == MaterialType::rough_conductor;
 }
 
 /// The unit world direction of BSDF sample `bs` and the perturbed normal's factor on its
@@ -532,10 +533,10 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
       const CausticGuide& guide = scene.caustic_guide();
       CausticGuide::At guided = guided_material(*m) ? guide.at(sp.p, sp.ng) : CausticGuide::At{};
       if (guided.cell >= 0 && m->type != MaterialType::diffuse) {
-        // The guide serves a plastic's or a principled surface's diffuse lobe: its share
-        // scaled by that lobe's (the same At for the light sample's MIS and the bounce, so any
-        // share is unbiased).
-        guided.probability *= bsdf.diffuse_lobe_probability(wo_local);
+        // The guide serves a plastic's or a principled surface's diffuse lobe, or a rough
+        // conductor's broad one: its share scaled (the same At for the light sample's MIS and
+        // the bounce, so any share is unbiased).
+        guided.probability *= bsdf.caustic_guide_share(wo_local);
         if (!(guided.probability > 0)) guided = CausticGuide::At{};
       }
       if (roulette || (have_lights && bsdf.has_smooth_lobe())) {

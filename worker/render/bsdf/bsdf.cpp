@@ -1,5 +1,6 @@
 #include "render/bsdf/bsdf.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace tessera {
@@ -53,11 +54,12 @@ std::optional<BsdfSample> Bsdf::sample(glm::vec3 wo, float u_lobe, glm::vec2 u) 
   return checked_sample(std::visit([&](const auto& b) { return b.sample(wo, u_lobe, u); }, impl_));
 }
 
-float Bsdf::diffuse_lobe_probability(glm::vec3 wo) const {
+float Bsdf::caustic_guide_share(glm::vec3 wo) const {
   if (std::holds_alternative<DiffuseBsdf>(impl_)) return 1.0f;
   if (const auto* p = std::get_if<PlasticBsdf>(&impl_)) return p->diffuse_probability(wo);
   if (const auto* p = std::get_if<RoughPlasticBsdf>(&impl_)) return p->diffuse_probability(wo);
   if (const auto* p = std::get_if<PrincipledBsdf>(&impl_)) return p->diffuse_probability(wo);
+  if (const auto* p = std::get_if<RoughConductorBsdf>(&impl_)) return std::min(1.0f, 2.0f * p->mean_alpha());
   return 0.0f;
 }
 

@@ -53,10 +53,12 @@ class Bsdf {
   std::optional<BsdfSample> sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const;
   /// Any non-delta lobe: next-event estimation and MIS are worth doing.
   bool has_smooth_lobe() const;
-  /// The probability that sample() at wo takes a Lambertian lobe: 1 for diffuse, the diffuse
-  /// lobe's for plastic, rough plastic and principled, 0 for the others (which the caustic
-  /// guide does not serve: path_vertex.h, guided_material).
-  float diffuse_lobe_probability(glm::vec3 wo) const;
+  /// The factor on the caustic guide's share of this BSDF's bounces at wo (path_vertex.h,
+  /// guided_material; any value in [0, 1] is unbiased, this one is for lower variance): 1 for
+  /// diffuse; for plastic, rough plastic and principled the probability that sample() takes
+  /// their diffuse lobe; for a rough conductor min(1, 2 alpha), alpha the geometric mean of its
+  /// two (measured: BENCHMARKS.md, "The caustic guide for plastics"); 0 for the others.
+  float caustic_guide_share(glm::vec3 wo) const;
 
  private:
   std::variant<DiffuseBsdf, ConductorBsdf, RoughConductorBsdf, DielectricBsdf, RoughDielectricBsdf,

@@ -2,6 +2,7 @@
 // anisotropic alpha, complex-index Fresnel per channel, one-sided.
 #pragma once
 
+#include <cmath>
 #include <optional>
 
 #include <glm/vec2.hpp>
@@ -18,6 +19,9 @@ class RoughConductorBsdf {
   float pdf(glm::vec3 wo, glm::vec3 wi) const;
   std::optional<BsdfSample> sample(glm::vec3 wo, float u_lobe, glm::vec2 u) const;
   bool has_smooth_lobe() const { return true; }
+
+  /// sqrt(alpha_u alpha_v): the lobe's width, for Bsdf::caustic_guide_share.
+  float mean_alpha() const { return std::sqrt(distr_.alpha_u() * distr_.alpha_v()); }
 
  private:
   glm::vec3 fresnel(float cos_theta) const;
