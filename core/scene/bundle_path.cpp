@@ -18,6 +18,15 @@ bool looks_absolute(const std::string& path) {
   return path.starts_with('/') || drive;
 }
 
+/// A byte below 0x20 or DEL: no file of a scene's bundle is named so, and the name would break
+/// the one-line error messages that quote it.
+bool has_control_character(const std::string& path) {
+  return std::any_of(path.begin(), path.end(), [](char c) {
+    const auto b = static_cast<unsigned char>(c);
+    return b < 0x20 || b == 0x7f;
+  });
+}
+
 }  // namespace
 
 std::string check_bundle_path(const std::string& path, const std::string& context) {
@@ -26,6 +35,7 @@ std::string check_bundle_path(const std::string& path, const std::string& contex
   };
   if (path.empty()) throw SceneError(context + ": path must not be empty");
   if (path.find('\0') != std::string::npos) fail("path must not contain a NUL character");
+  if (has_control_character(path)) fail("path must not contain a control character");
   std::string slashed = path;
   for (char& c : slashed) c = c == '\\' ? '/' : c;
   if (looks_absolute(slashed)) fail("path must be relative to the scene's folder");
@@ -50,6 +60,7 @@ std::string join_bundle_path(const std::string& folder, const std::string& path,
   };
   if (path.empty()) throw SceneError(context + ": path must not be empty");
   if (path.find('\0') != std::string::npos) fail("must not contain a NUL character");
+  if (has_control_character(path)) fail("must not contain a control character");
   std::string slashed = path;
   for (char& c : slashed) c = c == '\\' ? '/' : c;
   if (looks_absolute(slashed)) {

@@ -45,6 +45,10 @@ TEST(SceneBundlePath, RefusesPathsLeavingTheBundle) {
   EXPECT_EQ(bundle_error(""), "ctx: path must not be empty");
   EXPECT_EQ(bundle_error(std::string("a\0b", 3)),
             "ctx: path must not contain a NUL character (\"a\\x00b\")");
+  // A newline in a file name (found by the scene fuzzer) would split the error over two lines.
+  EXPECT_EQ(bundle_error("r\nder/x.obj"),
+            "ctx: path must not contain a control character (\"r\\x0ader/x.obj\")");
+  EXPECT_EQ(bundle_error("a\x7f.obj"), "ctx: path must not contain a control character (\"a\\x7f.obj\")");
 }
 
 /// A fresh folder under the system's temporary directory, removed afterwards.
