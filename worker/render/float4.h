@@ -54,10 +54,6 @@ template <class V, class M>
 }
 #pragma GCC diagnostic pop
 [[gnu::always_inline]] inline Float4 abs4(Float4 x) { return abs_lanes<Float4, Mask4>(x); }
-/// max(x, lo) lane by lane; lo where x is NaN.
-[[gnu::always_inline]] inline Float4 at_least(Float4 x, Float4 lo) { return x > lo ? x : lo; }
-/// min(x, hi) lane by lane; hi where x is NaN.
-[[gnu::always_inline]] inline Float4 at_most(Float4 x, Float4 hi) { return x < hi ? x : hi; }
 
 /// Bit l set where lane l of m is set (m's lanes all-ones or zero, as comparisons give).
 [[gnu::always_inline]] inline unsigned lane_bits(Mask4 m) {
@@ -98,6 +94,16 @@ template <class V>
   V r;
   for (int l = 0; l < kWidth<V>; ++l) r[l] = x;
   return r;
+}
+/// max(x, lo) lane by lane; lo where x is NaN.
+template <class V>
+[[gnu::always_inline]] inline V at_least(V x, V lo) {
+  return x > lo ? x : lo;
+}
+/// min(x, hi) lane by lane; hi where x is NaN.
+template <class V>
+[[gnu::always_inline]] inline V at_most(V x, V hi) {
+  return x < hi ? x : hi;
 }
 template <class V>
 [[gnu::always_inline]] inline V sqrt_lanes(V x) {

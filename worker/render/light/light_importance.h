@@ -115,16 +115,14 @@ template <class V, class M>
   const V inv_dist = one / sqrt_lanes(d2);
   // theta_b: the half-angle the bounding sphere subtends at p.
   const V sin_b = b.radius * inv_dist;
-  const V d2_less_r2 = d2 - r2;
-  const V cos_b = sqrt_lanes(d2_less_r2 > zero ? d2_less_r2 : zero) * inv_dist;
+  const V cos_b = sqrt_lanes(at_least(d2 - r2, zero)) * inv_dist;
 
   // At the light: theta_x = max(0, theta_w - theta_o), the smallest angle between a normal and
   // the direction to p's centre, then minus theta_b, compared with theta_e.
   V cos_w = (b.wx * dx + b.wy * dy + b.wz * dz) * inv_dist;
   cos_w = b.two_sided ? abs_lanes<V, M>(cos_w) : cos_w;
   const V cos_o = b.cos_o, sin_o = b.sin_o;
-  const V one_less_cos2_w = one - cos_w * cos_w;
-  const V sin_w = sqrt_lanes(one_less_cos2_w > zero ? one_less_cos2_w : zero);
+  const V sin_w = sqrt_lanes(at_least(one - cos_w * cos_w, zero));
   const M outside_cone = cos_w < cos_o;
   const V cos_x = outside_cone ? cos_w * cos_o + sin_w * sin_o : one;
   const V sin_x = outside_cone ? sin_w * cos_o - cos_w * sin_o : zero;
@@ -133,14 +131,10 @@ template <class V, class M>
 
   // At p: the smallest angle between its normal (either side) and a direction to the light.
   const V cos_i = abs_lanes<V, M>((nx * dx + ny * dy + nz * dz) * inv_dist);
-  const V one_less_cos2_i = one - cos_i * cos_i;
-  const V sin_i = sqrt_lanes(one_less_cos2_i > zero ? one_less_cos2_i : zero);
+  const V sin_i = sqrt_lanes(at_least(one - cos_i * cos_i, zero));
   const V cos_p = cos_i >= cos_b ? one : cos_i * cos_b + sin_i * sin_b;
-  const V floor_p = splat_lanes<V>(1e-3f);
-  importance = has_n ? importance * (cos_p > floor_p ? cos_p : floor_p) : importance;
-  importance = importance > b.min_importance ? importance : b.min_importance;
-  const V most = splat_lanes<V>(LightImportance::kMaxImportance);
-  importance = importance < most ? importance : most;
+  importance = has_n ? importance * at_least(cos_p, splat_lanes<V>(1e-3f)) : importance;
+  importance = at_most(at_least(importance, b.min_importance), splat_lanes<V>(LightImportance::kMaxImportance));
   // Unreachable only where the bound says so by more than float rounding (cos_e holds
   // cos theta_e - kReachSlack); a NaN (from an infinite distance) reaches.
   const M unreachable = cos_light <= b.cos_e;

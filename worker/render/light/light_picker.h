@@ -12,14 +12,6 @@
 
 namespace tessera {
 
-/// Picks one light per shading point. With 2 to kMaxPerPoint lights, with probability
-/// proportional to each light's importance at the point (LightImportance: LightBounds::importance
-/// with the point's geometric normal, in float: power, distance and the cosine bounds at both
-/// ends, no visibility), so that near lights facing the point are picked more often and lights
-/// that cannot reach it (one-sided lights seen from behind) not at all. With more lights (where
-/// evaluating every light at every point would cost more than it saves, and a light BVH is
-/// future work) and with one, by power alone (pbrt's PowerLightSampler); when every power is 0,
-/// uniformly.
 /// Every light's importance at one shading point, worked out ahead by a caller that evaluates
 /// many points at once (the wavefront kernels: LightImportance::light_lanes): light i's at
 /// values[i * stride], and their sum, added in light order, in total; bit for bit what
@@ -30,6 +22,14 @@ struct PointImportance {
   float total;
 };
 
+/// Picks one light per shading point. With 2 to kMaxPerPoint lights, with probability
+/// proportional to each light's importance at the point (LightImportance: LightBounds::importance
+/// with the point's geometric normal, in float: power, distance and the cosine bounds at both
+/// ends, no visibility), so that near lights facing the point are picked more often and lights
+/// that cannot reach it (one-sided lights seen from behind) not at all. With more lights (where
+/// evaluating every light at every point would cost more than it saves, and a light BVH is
+/// future work) and with one, by power alone (pbrt's PowerLightSampler); when every power is 0,
+/// uniformly.
 class LightPicker {
  public:
   static constexpr size_t kMaxPerPoint = LightImportance::kMaxLights;
