@@ -66,11 +66,6 @@ INSTANTIATE_TEST_SUITE_P(Depths, CornellReference,
                                                            : "depth" + std::to_string(info.param.max_depth);
                          });
 
-Scene scaled(Scene s, double k) {
-  test::scale_scene(s, k);
-  return s;
-}
-
 TEST(Invariance, CornellBoxLooksTheSameAtEveryScale) {
   // Radiance does not depend on scale, so with the same random numbers the images agree far
   // closer than two renders with different seeds do.
@@ -79,7 +74,7 @@ TEST(Invariance, CornellBoxLooksTheSameAtEveryScale) {
   const RgbImage other_seed = render(base, 64, -1, 1, 128);
   const double noise = test::rmse(one, other_seed);
   for (double k : {1e-3, 1e4}) {
-    const RgbImage img = render(scaled(base, k), 64, -1, 0, 128);
+    const RgbImage img = render(test::scaled(base, k), 64, -1, 0, 128);
     const double diff = test::rmse(img, one);
     std::printf("scale %g: RMSE to scale 1 %.5f (seed-to-seed noise %.5f)\n", k, diff, noise);
     EXPECT_LT(diff, 0.5 * noise) << "scale " << k;

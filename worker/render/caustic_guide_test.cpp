@@ -452,16 +452,11 @@ TEST(CausticGuide, SceneScaleChangesNeitherTheGuideNorTheMean) {
   // mean agrees within the noise.
   const Scene base = load_scene_file(kSource + "/scenes/cornell-sphere.json");
   const uint32_t spp = 64;
-  const auto at = [&](double k) {
-    Scene s = base;
-    test::scale_scene(s, k);
-    return s;
-  };
   const size_t cells = TraceableScene(base, 32, 32, "").caustic_guide().cell_count();
   const Renderer one(base, test::test_job(32, 32, spp));
   const test::Estimate e1 = test::mean_luminance(one.render({0, 0, 32, 32}, 0, spp));
   for (double k : {1e-3, 1e4}) {
-    const Scene s = at(k);
+    const Scene s = test::scaled(base, k);
     const size_t scaled = TraceableScene(s, 32, 32, "").caustic_guide().cell_count();
     EXPECT_NEAR(double(scaled), double(cells), 0.05 * double(cells)) << "scale " << k;
     const Renderer renderer(s, test::test_job(32, 32, spp));

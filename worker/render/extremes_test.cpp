@@ -75,8 +75,7 @@ TEST(Extremes, SceneScaleDoesNotChangeTheImage) {
   const Scene base = load_scene_file(kSource + "/scenes/cornell.json");
   const uint32_t spp = 64;
   const auto render_at = [&](double k) {
-    Scene s = base;
-    test::scale_scene(s, k);
+    const Scene s = test::scaled(base, k);
     const Renderer renderer(s, test::test_job(32, 32, spp));
     return renderer.render({0, 0, 32, 32}, 0, spp);
   };

@@ -82,6 +82,12 @@ inline void scale_scene(Scene& s, double k) {
   }
 }
 
+/// A copy of `s` with every length scaled by `k` (scale_scene).
+inline Scene scaled(Scene s, double k) {
+  scale_scene(s, k);
+  return s;
+}
+
 /// A small room with every material kind of these helpers and both shape kinds: diffuse walls,
 /// a quad light, a glass sphere, a mirror sphere and a two-sided diffuse quad (the determinism
 /// and wavefront tests' scene).
