@@ -125,6 +125,44 @@ template <class M>
   }
 }
 
+/// For each set of lanes `bits` of a W-lane vector, the lanes' indices in order, then zeros:
+/// compress_lanes' permutation.
+template <int W>
+struct CompressTable {
+  int32_t lanes[1 << W][W];
+  constexpr CompressTable() : lanes{} {
+    for (int bits = 0; bits < (1 << W); ++bits) {
+      int k = 0;
+      for (int l = 0; l < W; ++l) {
+        if (bits & (1 << l)) lanes[bits][k++] = l;
+      }
+    }
+  }
+};
+template <int W>
+inline constexpr CompressTable<W> kCompressTable{};
+
+/// Stores the lanes of v set in `bits` at out[0], out[1], ... (lane 0 first), moved there by one
+/// permutation (vpermps where the instruction set has it) and stored as a whole vector: the
+/// lanes after the chosen ones are written too, so out needs room for kWidth<V> floats. For
+/// code that appends a vector's chosen lanes to an array (which then needs kWidth<V> - 1 slots
+/// of room past its last element). Returns nothing (a wide vector returned from a template
+/// would change the baseline build's ABI, GCC's -Wpsabi).
+template <class V, class M>
+[[gnu::always_inline]] inline void compress_store(float* out, V v, unsigned bits) {
+#if defined(__clang__)
+  // clang has no run-time vector shuffle builtin (and builds no x86 kernel: wavefront_kernels.h).
+  float packed[kWidth<V>] = {};
+  int k = 0;
+  for (int l = 0; l < kWidth<V>; ++l) {
+    if (bits & (1u << l)) packed[k++] = v[l];
+  }
+#else
+  const V packed = __builtin_shuffle(v, load_lanes<M>(kCompressTable<kWidth<V>>.lanes[bits]));
+#endif
+  std::memcpy(out, &packed, sizeof packed);
+}
+
 #pragma GCC diagnostic pop
 
 }  // namespace tessera::float4

@@ -4,6 +4,7 @@
 #include "target_mixture.h"
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -535,6 +536,25 @@ int expect_same_as_scalar(const SpecularTargets& targets, glm::vec3 lo, glm::vec
     }
   }
   return cones;
+}
+
+// TargetMixture's append (eight lanes in the AVX2 and AVX-512 kernels) stores a block's kept
+// cones with float4::compress_store: every set of lanes lands at the front, in lane order, and
+// nothing before `out` is written.
+TEST(SpecularTargets, CompressStoreKeepsTheChosenLanesInLaneOrder) {
+  const Float8 v = {10, 11, 12, 13, 14, 15, 16, 17};
+  for (unsigned bits = 0; bits < 256; ++bits) {
+    float out[1 + 8];
+    std::fill(std::begin(out), std::end(out), -1.0f);
+    float4::compress_store<Float8, Mask8>(out + 1, v, bits);
+    EXPECT_EQ(out[0], -1.0f) << "bits " << bits;
+    int k = 1;
+    for (int l = 0; l < 8; ++l) {
+      if (bits & (1u << l)) {
+        EXPECT_EQ(out[k++], v[l]) << "bits " << bits << " lane " << l;
+      }
+    }
+  }
 }
 
 TEST(SpecularTargets, ConesFourAtATimeAreTheScalarLoopsBits) {

@@ -90,8 +90,8 @@ class TargetMixture {
     const V nx = splat_lanes<V>(n.x), ny = splat_lanes<V>(n.y), nz = splat_lanes<V>(n.z);
     const V one = splat_lanes<V>(1.0f);
     // Mass times cos(axis) per cone (the density's first factor), and q_k.
-    float mass_cos[kMaxCones];
-    float q[kMaxCones];
+    float mass_cos[kMaxCones + kAppendRoom];
+    float q[kMaxCones + kAppendRoom];
     // The targets, then the images. A target's cone has a shorter formula (no gate, no window,
     // never turned), but an image's covers it (a target is an image of itself:
     // SpecularTargets::ConeSources): where all fit one block (cornell-sphere: 2 targets and 2
@@ -118,7 +118,7 @@ class TargetMixture {
         // is never chosen, so never counted.
         const V qk = SpecularTargets::kMassFactor * ((2.0f * one_minus_cos) * cos_axis);
         const M keep = (dn > 0.0f) & (dist2 > r2) & (qk > 0.0f);
-        append(bits_of_lanes(keep), dx * inv_dist, dy * inv_dist, dz * inv_dist, one_minus_cos,
+        append<V, M>(bits_of_lanes(keep), dx * inv_dist, dy * inv_dist, dz * inv_dist, one_minus_cos,
                SpecularTargets::kMassFactor * cos_axis, qk, mass_cos, q, &sum_p);
       }
       for (int b = targets.size(); b < c.count; b += W) {
@@ -192,6 +192,8 @@ class TargetMixture {
 
  private:
   static constexpr int kMaxCones = SpecularTargets::kMaxTargets + SpecularTargets::kMaxImages;
+  /// Room past the last cone: pdf() reads four cones at a time, append() stores eight lanes.
+  static constexpr int kAppendRoom = 8;
 
   /// init_lanes for the sources b .. b + kWidth<V> - 1 of `c` (lanes past c.count have no
   /// cone): an image's cone, or a target's through the same formula. kTargets: whether the
@@ -232,15 +234,36 @@ class TargetMixture {
     const V qk = mass * ((2.0f * one_minus_cos) * cos_axis);
     // The centre on or below the horizon, p inside the sphere, or outside the window: no cone.
     const M keep = gate & (dn > 0.0f) & (dist2 > r2) & window & (qk > 0.0f);
-    append(bits_of_lanes(keep), dx * inv_dist, dy * inv_dist, dz * inv_dist, one_minus_cos, mass * cos_axis, qk,
+    append<V, M>(bits_of_lanes(keep), dx * inv_dist, dy * inv_dist, dz * inv_dist, one_minus_cos, mass * cos_axis, qk,
            mass_cos, q, sum_p);
   }
 
   /// Appends the cones of the lanes set in `bits` (lane 0 first), with their axis (unit, toward
   /// the sphere's centre), 1 - cos theta_max, mass times cos(axis) and q_k; adds q_k to *sum_p.
-  template <class V>
+  /// Eight lanes at a time (the AVX2 and AVX-512 kernels): each quantity's chosen lanes moved to
+  /// the front by one permutation and the whole vector stored at the arrays' end (their room
+  /// past kMaxCones), q_k added in cone order as the lane loop adds them, so the same bits;
+  /// the lane loop that extracted each kept lane was about 3-4 % of hexroom's and
+  /// cornell-sphere's samples in a `perf` profile (BENCHMARKS.md, "Cost per sample against
+  /// Mitsuba's, by depth (issue 13, session 19)").
+  template <class V, class M>
   [[gnu::always_inline]] void append(unsigned bits, V ax, V ay, V az, V one_minus_cos, V mass_cos, V qk,
                                      float* mass_cos_out, float* q_out, float* sum_p) {
+    using namespace float4;
+    if constexpr (kWidth<V> == 8) {
+      if (bits == 0) return;
+      const int k = count_;
+      compress_store<V, M>(axis_x_ + k, ax, bits);
+      compress_store<V, M>(axis_y_ + k, ay, bits);
+      compress_store<V, M>(axis_z_ + k, az, bits);
+      compress_store<V, M>(one_minus_cos_ + k, one_minus_cos, bits);
+      compress_store<V, M>(cos_max_ + k, splat_lanes<V>(1.0f) - one_minus_cos, bits);
+      compress_store<V, M>(mass_cos_out + k, mass_cos, bits);
+      compress_store<V, M>(q_out + k, qk, bits);
+      count_ += __builtin_popcount(bits);
+      for (int c = k; c < count_; ++c) *sum_p += q_out[c];
+      return;
+    }
     for (; bits != 0; bits &= bits - 1) {
       const int l = __builtin_ctz(bits);
       const int k = count_++;
@@ -256,11 +279,12 @@ class TargetMixture {
   }
 
   // The cones as arrays, count_ of them (pdf() reads four at a time, up to 3 lanes past the
-  // last cone: init sets them to no cone).
-  alignas(16) float axis_x_[kMaxCones + 4], axis_y_[kMaxCones + 4], axis_z_[kMaxCones + 4];
-  alignas(16) float cos_max_[kMaxCones + 4];  ///< cos theta_max
-  alignas(16) float density_[kMaxCones + 4];  ///< p_k / solid_angle_k
-  float one_minus_cos_[kMaxCones];        ///< 1 - cos theta_max
+  // last cone: init sets them to no cone; append() may store up to 7 lanes past it).
+  alignas(16) float axis_x_[kMaxCones + kAppendRoom], axis_y_[kMaxCones + kAppendRoom],
+      axis_z_[kMaxCones + kAppendRoom];
+  alignas(16) float cos_max_[kMaxCones + kAppendRoom];  ///< cos theta_max
+  alignas(16) float density_[kMaxCones + kAppendRoom];  ///< p_k / solid_angle_k
+  float one_minus_cos_[kMaxCones + kAppendRoom];        ///< 1 - cos theta_max
   float cdf_[kMaxCones];                  ///< p_0 + ... + p_k
   int count_ = 0;
   float p_targets_ = 0, p_cosine_ = 1;
