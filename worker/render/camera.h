@@ -22,6 +22,9 @@ class ProjectiveCamera {
   /// all have the view direction and start on the view rectangle.
   Ray generate_ray(glm::vec2 film, glm::vec2 u_lens) const;
 
+  /// Whether generate_ray reads u_lens: a perspective camera with a thin lens (aperture > 0).
+  bool uses_lens() const { return projection_ != Projection::orthographic && aperture_radius_ > 0; }
+
  private:
   Projection projection_;
   glm::vec3 position_, right_, up_, forward_;

@@ -96,11 +96,15 @@ struct WavefrontBuffers {
   std::vector<PixelSampler> samplers;
   std::vector<double> weights;  // the filter's weight of each path's sample
   std::vector<PixelSum> sums;
+  std::vector<const PixelSampler*> sampler_of;  // &samplers[i], for the film pairs' lane-wise draw
+  std::vector<glm::vec2> film_pairs;            // each path's film pair (its sampler's pair 0)
   WavefrontIntegrator::Workspace workspace;
 
   WavefrontBuffers() {
     paths.reserve(kWavefrontPaths);
     samplers.reserve(kWavefrontPaths);
+    sampler_of.reserve(kWavefrontPaths);
+    film_pairs.reserve(kWavefrontPaths);
     weights.reserve(kWavefrontPaths);
     workspace.live.reserve(kWavefrontPaths);
     workspace.next.reserve(kWavefrontPaths);
@@ -151,10 +155,22 @@ std::string Renderer::kernel_isa() const { return wavefront_ ? kernel_isa_name(w
 
 Ray Renderer::camera_ray(int x, int y, PixelSampler& sampler, double* weight) const {
   const glm::vec2 u_film = sampler.get2d();
-  const glm::vec2 u_lens = sampler.get2d();
+  return camera_ray(x, y, u_film, sampler, weight);
+}
+
+Ray Renderer::camera_ray(int x, int y, glm::vec2 u_film, PixelSampler& sampler, double* weight) const {
+  // The lens pair only where the camera has a lens: a pinhole or orthographic camera ignores
+  // it, and every path vertex sets its own pair (path_vertex.h), so nothing after depends on
+  // whether it was drawn (the same bits, a Sobol pair's three scrambles fewer per sample).
+  const ProjectiveCamera& camera = scene_->camera();
+  glm::vec2 u_lens(0.0f);
+  if (camera.uses_lens()) {
+    sampler.set_pair(1);
+    u_lens = sampler.get2d();
+  }
   const FilmSample film = filter_.film_sample(x, y, u_film);
   *weight = film.weight;
-  return scene_->camera().generate_ray(film.position, u_lens);
+  return camera.generate_ray(film.position, u_lens);
 }
 
 Accumulation Renderer::render(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
@@ -231,6 +247,8 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
     std::vector<PixelSampler>& samplers = buffers.samplers;
     std::vector<double>& weights = buffers.weights;
     std::vector<PixelSum>& sums = buffers.sums;
+    std::vector<const PixelSampler*>& sampler_of = buffers.sampler_of;
+    std::vector<glm::vec2>& film_pairs = buffers.film_pairs;
     WavefrontIntegrator::Workspace& workspace = buffers.workspace;
     for (size_t group = range.begin(); group != range.end(); ++group) {
       const size_t p0 = group * group_pixels, p1 = std::min(pixels, p0 + group_pixels);
@@ -245,14 +263,23 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
         uint64_t pixel_key = 0;
         for (size_t k = first; k < last; ++k) {
           const size_t p = p0 + k / spp;
-          const int x = tile.x0 + int(p % width), y = tile.y0 + int(p / width);
           if (p != key_pixel) {
             key_pixel = p;
-            pixel_key = PixelSampler::pixel_key(seed, x, y);
+            pixel_key = PixelSampler::pixel_key(seed, tile.x0 + int(p % width), tile.y0 + int(p / width));
           }
           samplers.emplace_back(pixel_key, sample_begin + uint32_t(k % spp));
+        }
+        // Every path's film pair at once (the kernel's lane-wise Sobol draw: get2d's bits), then
+        // its camera ray.
+        sampler_of.clear();
+        for (const PixelSampler& s : samplers) sampler_of.push_back(&s);
+        film_pairs.resize(samplers.size());
+        wavefront_->draw_pairs(sampler_of.data(), 0, samplers.size(), film_pairs.data());
+        for (size_t k = first; k < last; ++k) {
+          const size_t p = p0 + k / spp;
+          const int x = tile.x0 + int(p % width), y = tile.y0 + int(p / width);
           double weight;
-          paths.push_back(PathState{camera_ray(x, y, samplers.back(), &weight)});
+          paths.push_back(PathState{camera_ray(x, y, film_pairs[k - first], samplers[k - first], &weight)});
           weights.push_back(weight);
         }
         wavefront_->trace(paths, samplers, local.counters, workspace);

@@ -84,6 +84,8 @@ class Renderer {
   /// `*weight` the filter's weight of the sample (PixelFilterSampler::film_sample: 1 unless the
   /// filter has negative lobes).
   Ray camera_ray(int x, int y, PixelSampler& sampler, double* weight) const;
+  /// The same, with the film pair `u_film` already drawn (the sampler's pair 0).
+  Ray camera_ray(int x, int y, glm::vec2 u_film, PixelSampler& sampler, double* weight) const;
 
   std::unique_ptr<TraceableScene> scene_;
   std::unique_ptr<WavefrontIntegrator> wavefront_;  ///< null for IntegratorKind::scalar

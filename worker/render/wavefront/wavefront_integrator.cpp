@@ -1,6 +1,8 @@
 #include "render/wavefront/wavefront_integrator.h"
 
+#include <algorithm>
 #include <cstdlib>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -19,6 +21,18 @@ WavefrontKernel kernel_for(KernelIsa isa) {
   }
 }
 
+using PairDraw = void (*)(const PixelSampler* const*, const uint32_t*, size_t, glm::vec2*);
+
+PairDraw draw_for(KernelIsa isa) {
+  switch (isa) {
+#if TESSERA_WAVEFRONT_X86_KERNELS
+    case KernelIsa::avx2: return &wavefront_avx2::draw_sobol_pairs;
+    case KernelIsa::avx512: return &wavefront_avx512::draw_sobol_pairs;
+#endif
+    default: return nullptr;
+  }
+}
+
 }  // namespace
 
 WavefrontIntegrator::WavefrontIntegrator(const TraceableScene& scene, int max_depth, int packet_width,
@@ -27,7 +41,8 @@ WavefrontIntegrator::WavefrontIntegrator(const TraceableScene& scene, int max_de
       max_depth_(max_depth),
       width_(packet_width),
       kernel_isa_(resolve_kernel_isa(kernel, std::getenv("TESSERA_KERNEL_ISA"))),
-      kernel_(kernel_for(kernel_isa_)) {
+      kernel_(kernel_for(kernel_isa_)),
+      draw_(draw_for(kernel_isa_)) {
   if (width_ != 1 && width_ != 4 && width_ != 8 && width_ != 16) {
     throw std::invalid_argument("packet width " + std::to_string(width_) + " is not 1, 4, 8 or 16");
   }
@@ -40,6 +55,28 @@ void WavefrontIntegrator::trace(std::vector<PathState>& paths, std::vector<Pixel
                                 std::to_string(samplers.size()) + " samplers");
   }
   kernel_(WavefrontKernelArgs{scene_, max_depth_, width_, paths, samplers, counters, workspace});
+}
+
+void WavefrontIntegrator::draw_pairs(const PixelSampler* const* samplers, uint32_t pair, size_t count,
+                                     glm::vec2* out) const {
+  if (pair >= PixelSampler::kSobolPairs) {
+    throw std::invalid_argument("WavefrontIntegrator::draw_pairs: pair " + std::to_string(pair) +
+                                " is not a Sobol pair");
+  }
+  if (!draw_) {
+    for (size_t i = 0; i < count; ++i) {
+      PixelSampler s = *samplers[i];
+      s.set_pair(pair);
+      out[i] = s.get2d();
+    }
+    return;
+  }
+  // The kernels take a pair index per lane; 16 lanes at a time.
+  uint32_t pairs[16];
+  std::fill(std::begin(pairs), std::end(pairs), pair);
+  for (size_t first = 0; first < count; first += 16) {
+    draw_(samplers + first, pairs, std::min<size_t>(16, count - first), out + first);
+  }
 }
 
 }  // namespace tessera

@@ -107,6 +107,36 @@ TEST(Wavefront, RefusesPathsWithoutSamplers) {
   EXPECT_THROW(integrator.trace(paths, samplers, counters, workspace), std::invalid_argument);
 }
 
+// The renderer draws its camera rays' film pairs through draw_pairs: every kernel's, lane-wise
+// or one by one, gives get2d's bits, for a count that is no multiple of 16, and leaves the
+// samplers where they were.
+TEST(Wavefront, DrawPairsGivesEverySamplersOwnPair) {
+  const Scene s = test::mixed_room();
+  const TraceableScene scene(s, 8, 8, "");
+  std::vector<PixelSampler> samplers;
+  for (uint32_t i = 0; i < 37; ++i) samplers.emplace_back(uint64_t(11), int(i % 5), int(i / 5), 3 * i + 1);
+  std::vector<const PixelSampler*> of;
+  for (const PixelSampler& sampler : samplers) of.push_back(&sampler);
+  for (const KernelIsa isa : {KernelIsa::baseline, KernelIsa::avx2, KernelIsa::avx512}) {
+    if (!kernel_isa_supported(isa)) continue;
+    const WavefrontIntegrator integrator(scene, -1, 8, isa);
+    for (const uint32_t pair : {0u, 5u, PixelSampler::kSobolPairs - 1}) {
+      std::vector<glm::vec2> drawn(samplers.size());
+      integrator.draw_pairs(of.data(), pair, samplers.size(), drawn.data());
+      for (size_t i = 0; i < samplers.size(); ++i) {
+        PixelSampler own = samplers[i];
+        own.set_pair(pair);
+        const glm::vec2 expected = own.get2d();
+        EXPECT_EQ(drawn[i].x, expected.x) << kernel_isa_name(isa) << ", pair " << pair << ", sampler " << i;
+        EXPECT_EQ(drawn[i].y, expected.y) << kernel_isa_name(isa) << ", pair " << pair << ", sampler " << i;
+      }
+    }
+    glm::vec2 out;
+    EXPECT_THROW(integrator.draw_pairs(of.data(), PixelSampler::kSobolPairs, 1, &out), std::invalid_argument)
+        << kernel_isa_name(isa);
+  }
+}
+
 TEST(Wavefront, IntegratorNames) {
   EXPECT_EQ(integrator_kind_from_name("scalar"), IntegratorKind::scalar);
   EXPECT_EQ(integrator_kind_from_name("wavefront"), IntegratorKind::wavefront);
