@@ -11,25 +11,19 @@
 namespace tessera {
 namespace {
 
-WavefrontKernel kernel_for(KernelIsa isa) {
+/// The build of the loop for `isa`, and its lane-wise Sobol draw (none in the baseline build).
+struct KernelEntry {
+  WavefrontKernel trace;
+  void (*draw)(const PixelSampler* const*, const uint32_t*, size_t, glm::vec2*);
+};
+
+KernelEntry kernel_for(KernelIsa isa) {
   switch (isa) {
 #if TESSERA_WAVEFRONT_X86_KERNELS
-    case KernelIsa::avx2: return &wavefront_avx2::trace;
-    case KernelIsa::avx512: return &wavefront_avx512::trace;
+    case KernelIsa::avx2: return {&wavefront_avx2::trace, &wavefront_avx2::draw_sobol_pairs};
+    case KernelIsa::avx512: return {&wavefront_avx512::trace, &wavefront_avx512::draw_sobol_pairs};
 #endif
-    default: return &wavefront_baseline::trace;
-  }
-}
-
-using PairDraw = void (*)(const PixelSampler* const*, const uint32_t*, size_t, glm::vec2*);
-
-PairDraw draw_for(KernelIsa isa) {
-  switch (isa) {
-#if TESSERA_WAVEFRONT_X86_KERNELS
-    case KernelIsa::avx2: return &wavefront_avx2::draw_sobol_pairs;
-    case KernelIsa::avx512: return &wavefront_avx512::draw_sobol_pairs;
-#endif
-    default: return nullptr;
+    default: return {&wavefront_baseline::trace, nullptr};
   }
 }
 
@@ -41,8 +35,8 @@ WavefrontIntegrator::WavefrontIntegrator(const TraceableScene& scene, int max_de
       max_depth_(max_depth),
       width_(packet_width),
       kernel_isa_(resolve_kernel_isa(kernel, std::getenv("TESSERA_KERNEL_ISA"))),
-      kernel_(kernel_for(kernel_isa_)),
-      draw_(draw_for(kernel_isa_)) {
+      kernel_(kernel_for(kernel_isa_).trace),
+      draw_(kernel_for(kernel_isa_).draw) {
   if (width_ != 1 && width_ != 4 && width_ != 8 && width_ != 16) {
     throw std::invalid_argument("packet width " + std::to_string(width_) + " is not 1, 4, 8 or 16");
   }
