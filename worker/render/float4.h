@@ -146,10 +146,11 @@ inline constexpr CompressTable<W> kCompressTable{};
 /// permutation (vpermps where the instruction set has it) and stored as a whole vector: the
 /// lanes after the chosen ones are written too, so out needs room for kWidth<V> floats. For
 /// code that appends a vector's chosen lanes to an array (which then needs kWidth<V> - 1 slots
-/// of room past its last element). Returns nothing (a wide vector returned from a template
-/// would change the baseline build's ABI, GCC's -Wpsabi).
+/// of room past its last element). The vector is taken by reference and nothing is returned: a
+/// wide vector passed or returned by value would change the baseline build's ABI (-Wpsabi, an
+/// error under clang even where the call is inlined).
 template <class V, class M>
-[[gnu::always_inline]] inline void compress_store(float* out, V v, unsigned bits) {
+[[gnu::always_inline]] inline void compress_store(float* out, const V& v, unsigned bits) {
 #if defined(__clang__)
   // clang has no run-time vector shuffle builtin (and builds no x86 kernel: wavefront_kernels.h).
   float packed[kWidth<V>] = {};
