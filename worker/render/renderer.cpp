@@ -96,14 +96,12 @@ struct WavefrontBuffers {
   std::vector<PixelSampler> samplers;
   std::vector<double> weights;  // the filter's weight of each path's sample
   std::vector<PixelSum> sums;
-  std::vector<const PixelSampler*> sampler_of;  // &samplers[i], for the film pairs' lane-wise draw
-  std::vector<glm::vec2> film_pairs;            // each path's film pair (its sampler's pair 0)
+  std::vector<glm::vec2> film_pairs;  // each path's film pair (its sampler's pair 0)
   WavefrontIntegrator::Workspace workspace;
 
   WavefrontBuffers() {
     paths.reserve(kWavefrontPaths);
     samplers.reserve(kWavefrontPaths);
-    sampler_of.reserve(kWavefrontPaths);
     film_pairs.reserve(kWavefrontPaths);
     weights.reserve(kWavefrontPaths);
     workspace.live.reserve(kWavefrontPaths);
@@ -247,7 +245,6 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
     std::vector<PixelSampler>& samplers = buffers.samplers;
     std::vector<double>& weights = buffers.weights;
     std::vector<PixelSum>& sums = buffers.sums;
-    std::vector<const PixelSampler*>& sampler_of = buffers.sampler_of;
     std::vector<glm::vec2>& film_pairs = buffers.film_pairs;
     WavefrontIntegrator::Workspace& workspace = buffers.workspace;
     for (size_t group = range.begin(); group != range.end(); ++group) {
@@ -271,10 +268,8 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
         }
         // Every path's film pair at once (the kernel's lane-wise Sobol draw: get2d's bits), then
         // its camera ray.
-        sampler_of.clear();
-        for (const PixelSampler& s : samplers) sampler_of.push_back(&s);
         film_pairs.resize(samplers.size());
-        wavefront_->draw_pairs(sampler_of.data(), 0, samplers.size(), film_pairs.data());
+        wavefront_->draw_pairs(samplers.data(), 0, samplers.size(), film_pairs.data());
         for (size_t k = first; k < last; ++k) {
           const size_t p = p0 + k / spp;
           const int x = tile.x0 + int(p % width), y = tile.y0 + int(p / width);

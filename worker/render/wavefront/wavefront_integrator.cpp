@@ -51,7 +51,7 @@ void WavefrontIntegrator::trace(std::vector<PathState>& paths, std::vector<Pixel
   kernel_(WavefrontKernelArgs{scene_, max_depth_, width_, paths, samplers, counters, workspace});
 }
 
-void WavefrontIntegrator::draw_pairs(const PixelSampler* const* samplers, uint32_t pair, size_t count,
+void WavefrontIntegrator::draw_pairs(const PixelSampler* samplers, uint32_t pair, size_t count,
                                      glm::vec2* out) const {
   if (pair >= PixelSampler::kSobolPairs) {
     throw std::invalid_argument("WavefrontIntegrator::draw_pairs: pair " + std::to_string(pair) +
@@ -59,17 +59,20 @@ void WavefrontIntegrator::draw_pairs(const PixelSampler* const* samplers, uint32
   }
   if (!draw_) {
     for (size_t i = 0; i < count; ++i) {
-      PixelSampler s = *samplers[i];
+      PixelSampler s = samplers[i];
       s.set_pair(pair);
       out[i] = s.get2d();
     }
     return;
   }
-  // The kernels take a pair index per lane; 16 lanes at a time.
+  // The kernels take a sampler and a pair index per lane; 16 lanes at a time.
   uint32_t pairs[16];
   std::fill(std::begin(pairs), std::end(pairs), pair);
+  const PixelSampler* lanes[16];
   for (size_t first = 0; first < count; first += 16) {
-    draw_(samplers + first, pairs, std::min<size_t>(16, count - first), out + first);
+    const size_t n = std::min<size_t>(16, count - first);
+    for (size_t l = 0; l < n; ++l) lanes[l] = &samplers[first + l];
+    draw_(lanes, pairs, n, out + first);
   }
 }
 

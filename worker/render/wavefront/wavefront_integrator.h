@@ -55,11 +55,11 @@ class WavefrontIntegrator {
   void trace(std::vector<PathState>& paths, std::vector<PixelSampler>& samplers, PathCounters& counters,
              Workspace& workspace) const;
 
-  /// out[i] = pair `pair` of *samplers[i] (PixelSampler::get2d's numbers, bit for bit), drawn
+  /// out[i] = pair `pair` of samplers[i] (PixelSampler::get2d's numbers, bit for bit), drawn
   /// for many samplers at once by the AVX2 and AVX-512 kernels (their lane-wise Sobol draw),
   /// one at a time by the baseline one. The renderer draws its camera rays' film pairs so. The
   /// samplers are not advanced. `pair` is below PixelSampler::kSobolPairs.
-  void draw_pairs(const PixelSampler* const* samplers, uint32_t pair, size_t count, glm::vec2* out) const;
+  void draw_pairs(const PixelSampler* samplers, uint32_t pair, size_t count, glm::vec2* out) const;
 
   /// The kernel trace() runs (never `automatic`).
   KernelIsa kernel_isa() const { return kernel_isa_; }

@@ -115,14 +115,12 @@ TEST(Wavefront, DrawPairsGivesEverySamplersOwnPair) {
   const TraceableScene scene(s, 8, 8, "");
   std::vector<PixelSampler> samplers;
   for (uint32_t i = 0; i < 37; ++i) samplers.emplace_back(uint64_t(11), int(i % 5), int(i / 5), 3 * i + 1);
-  std::vector<const PixelSampler*> of;
-  for (const PixelSampler& sampler : samplers) of.push_back(&sampler);
   for (const KernelIsa isa : {KernelIsa::baseline, KernelIsa::avx2, KernelIsa::avx512}) {
     if (!kernel_isa_supported(isa)) continue;
     const WavefrontIntegrator integrator(scene, -1, 8, isa);
     for (const uint32_t pair : {0u, 5u, PixelSampler::kSobolPairs - 1}) {
       std::vector<glm::vec2> drawn(samplers.size());
-      integrator.draw_pairs(of.data(), pair, samplers.size(), drawn.data());
+      integrator.draw_pairs(samplers.data(), pair, samplers.size(), drawn.data());
       for (size_t i = 0; i < samplers.size(); ++i) {
         PixelSampler own = samplers[i];
         own.set_pair(pair);
@@ -132,7 +130,7 @@ TEST(Wavefront, DrawPairsGivesEverySamplersOwnPair) {
       }
     }
     glm::vec2 out;
-    EXPECT_THROW(integrator.draw_pairs(of.data(), PixelSampler::kSobolPairs, 1, &out), std::invalid_argument)
+    EXPECT_THROW(integrator.draw_pairs(samplers.data(), PixelSampler::kSobolPairs, 1, &out), std::invalid_argument)
         << kernel_isa_name(isa);
   }
 }
