@@ -47,6 +47,11 @@ struct Camera {
   /// Nothing behind the rectangle is seen (it is Mitsuba's near clip plane). The image's
   /// pixels need not be square: view_size may have another aspect than the film.
   glm::dvec2 view_size{2, 2};
+  /// orthographic only: when > 0, view_size was made for an image of this width / height and
+  /// its height follows the image's aspect, as Mitsuba's orthographic sensor frames it (the view
+  /// keeps its width): rendered at width / height a, the view is view_size.y * view_aspect / a
+  /// high. 0: view_size as given, whatever the image's size (the native format's).
+  double view_aspect = 0;
   /// The medium the camera sits in (index into Scene::media), -1 = vacuum: camera rays start
   /// in it (Mitsuba's <medium> inside a <sensor>).
   int32_t medium = -1;

@@ -41,7 +41,7 @@ TEST(SceneErrors, UnknownKeys) {
             "groups, shapes, lights, media)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "camera": {"fov_deg": 40}})"),
             "camera.fov_deg: unknown key (the camera has: type, position, look_at, up, fov, "
-            "fov_axis, aperture_radius, focus_distance, view_size, medium)");
+            "fov_axis, aperture_radius, focus_distance, view_size, view_aspect, medium)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "render": {"spp": 4, "threads": 2}})"),
             "render.threads: unknown key (render has: spp, max_depth, seed, hide_emitters)");
   EXPECT_EQ(

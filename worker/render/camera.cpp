@@ -25,7 +25,10 @@ ProjectiveCamera::ProjectiveCamera(const Camera& c, int width, int height)
 
   if (c.projection == Projection::orthographic) {
     half_x_ = float(0.5 * c.view_size.x);
-    half_y_ = float(0.5 * c.view_size.y);
+    // A view that follows the image's aspect (a Mitsuba sensor's) keeps its width at another
+    // aspect; at its own, view_aspect / aspect is exactly 1.
+    const double aspect = double(width) / double(height);
+    half_y_ = float(c.view_aspect > 0 ? 0.5 * c.view_size.y * (c.view_aspect / aspect) : 0.5 * c.view_size.y);
     aperture_radius_ = 0;
     return;
   }

@@ -73,6 +73,35 @@ TEST(Camera, OrthographicRaysAreParallelAndCoverTheView) {
   EXPECT_NEAR(bottom_right.o.z, 3, 1e-6);
 }
 
+// A Mitsuba orthographic sensor's view (view_aspect set) keeps its width and takes its height
+// from the image's aspect, as Mitsuba frames it: rendered at the film's own size, exactly
+// view_size; at another aspect (`--width`/`--height`), view_size.y * view_aspect / aspect. A
+// native view (view_aspect 0) stays view_size whatever the image.
+TEST(Camera, OrthographicViewFollowsTheImagesAspectWhereMitsubaMadeIt) {
+  Camera c;
+  c.projection = Projection::orthographic;
+  c.position = {0, 0, 3};
+  c.look_at = {0, 0, 0};  // looking down -z, up +y: image x runs along +x
+  c.up = {0, 1, 0};
+  c.view_size = {4, 2.4};  // made for a 200 x 120 film: 2 x 1.2 local, scaled by 2
+  c.view_aspect = 200.0 / 120.0;
+  const auto corner_y = [&](int width, int height) {
+    return ProjectiveCamera(c, width, height).generate_ray({0, 0}, {0.5f, 0.5f}).o.y;
+  };
+  const auto corner_x = [&](int width, int height) {
+    return ProjectiveCamera(c, width, height).generate_ray({0, 0}, {0.5f, 0.5f}).o.x;
+  };
+  EXPECT_EQ(corner_y(200, 120), 1.2f);  // the film's own aspect: exactly view_size
+  EXPECT_EQ(corner_y(100, 60), 1.2f);
+  EXPECT_FLOAT_EQ(corner_y(96, 58), float(1.2 * (200.0 / 120.0) / (96.0 / 58.0)));
+  EXPECT_FLOAT_EQ(corner_y(100, 100), float(1.2 * (200.0 / 120.0)));
+  EXPECT_EQ(corner_x(96, 58), -2.0f);  // the width stays
+  EXPECT_EQ(corner_x(100, 100), -2.0f);
+  c.view_aspect = 0;  // a native view: view_size at any image size
+  EXPECT_EQ(corner_y(96, 58), 1.2f);
+  EXPECT_EQ(corner_y(100, 100), 1.2f);
+}
+
 // An orthographic camera over an emitting rectangle whose edges fall on pixel boundaries:
 // every pixel sees all of it or none of it, so each pixel is exactly Le or 0. The view is
 // 4 x 2 scene units over 8 x 4 pixels (0.5 per pixel), the rectangle x in [-1, 1.5], y in

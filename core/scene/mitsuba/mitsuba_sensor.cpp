@@ -313,6 +313,7 @@ void read_orthographic_frame(MitsubaPlugin& sensor, MitsubaSensor& result, doubl
   camera.look_at = camera.position + axes[2] / scale[2];
   camera.up = axes[1] / scale[1];
   camera.view_size = glm::dvec2(2 * scale[0], 2 * scale[1] / aspect);
+  camera.view_aspect = aspect;  // rendered at another size, the height follows (Mitsuba's)
   if (!std::isfinite(glm::length(camera.position)) ||
       !(glm::length(camera.look_at - camera.position) > 0.5)) {
     fail_at(where, "the camera is too far from the origin to place");

@@ -667,6 +667,8 @@ TEST(MitsubaCamera, OrthographicViewComesFromTheScale) {
   expect_near(s.camera.up, {0, 0, 1}, 1e-12);
   EXPECT_DOUBLE_EQ(s.camera.view_size.x, 20);
   EXPECT_DOUBLE_EQ(s.camera.view_size.y, 4);
+  // Made for the film's aspect, which the view's height follows at another image size.
+  EXPECT_DOUBLE_EQ(s.camera.view_aspect, 2);
   // Without to_world: camera space, the default near_clip 0.01.
   Scene plain = with_sensor(sensor("", "orthographic"));
   expect_near(plain.camera.position, {0, 0, 0.01}, 1e-15);

@@ -20,6 +20,15 @@ TEST(SceneModelParse, OrthographicCamera) {
       "look_at": [1, 2, 0], "view_size": [4, 0.5]})"));
   EXPECT_EQ(s.camera.projection, Projection::orthographic);
   EXPECT_EQ(s.camera.view_size, glm::dvec2(4, 0.5));
+  EXPECT_EQ(s.camera.view_aspect, 0);  // a fixed view unless given
+  EXPECT_EQ(parse(with(R"("camera": {"type": "orthographic", "view_size": [4, 0.5], "view_aspect": 8})"))
+                .camera.view_aspect,
+            8);
+  EXPECT_EQ(error_of(with(R"("camera": {"type": "orthographic", "view_size": [1, 1], "view_aspect": 0})")),
+            "camera.view_aspect: must be > 0 (got 0)");
+  EXPECT_EQ(error_of(with(R"("camera": {"view_aspect": 1.5})")),
+            "camera.view_aspect: only an orthographic camera has a view_aspect (set \"type\": "
+            "\"orthographic\")");
   EXPECT_EQ(parse(with(R"("camera": {"type": "perspective"})")).camera.projection,
             Projection::perspective);
   EXPECT_EQ(error_of(with(R"("camera": {"type": "orthographic"})")),

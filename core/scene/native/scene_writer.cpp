@@ -108,7 +108,9 @@ std::string camera_json(const Camera& c) {
            ",\n    \"look_at\": " + vec3(c.look_at, "camera.look_at") +
            ",\n    \"up\": " + vec3(c.up, "camera.up") + ",\n    \"view_size\": [" +
            number(c.view_size.x, "camera.view_size") + ", " +
-           number(c.view_size.y, "camera.view_size") + "]\n  },\n";
+           number(c.view_size.y, "camera.view_size") + "]" +
+           (c.view_aspect > 0 ? ", \"view_aspect\": " + number(c.view_aspect, "camera.view_aspect") : std::string()) +
+           "\n  },\n";
   }
   return "  \"camera\": {\n    \"position\": " + vec3(c.position, "camera.position") +
          ",\n    \"look_at\": " + vec3(c.look_at, "camera.look_at") +

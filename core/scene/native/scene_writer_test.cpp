@@ -174,6 +174,7 @@ void expect_same_scene(const Scene& a, const Scene& b) {
   if (a.camera.projection == Projection::orthographic) {
     EXPECT_TRUE(same_bits(a.camera.view_size.x, b.camera.view_size.x));
     EXPECT_TRUE(same_bits(a.camera.view_size.y, b.camera.view_size.y));
+    EXPECT_TRUE(same_bits(a.camera.view_aspect, b.camera.view_aspect));
   }
   EXPECT_EQ(a.film.width, b.film.width);
   EXPECT_EQ(a.film.height, b.film.height);
@@ -609,6 +610,9 @@ TEST(SceneWriter, EveryFieldOfTheModelRoundTripsExactly) {
   s.camera.fov_axis = FovAxis::x;
   s.camera.aperture_radius = 0;
   s.camera.focus_distance = 1;
+  expect_same_scene(s, round_trip(s));
+  // A Mitsuba sensor's view, whose height follows the image's aspect.
+  s.camera.view_aspect = 200.0 / 120.0;
   expect_same_scene(s, round_trip(s));
 }
 

@@ -65,7 +65,7 @@ glm::dvec2 parse_view_size(const JsonValue& camera) {
 
 Camera parse_camera(const JsonValue& value) {
   value.expect_object({"type", "position", "look_at", "up", "fov", "fov_axis", "aperture_radius",
-                       "focus_distance", "view_size", "medium"},
+                       "focus_distance", "view_size", "view_aspect", "medium"},
                       "the camera");
   Camera camera;
   if (std::optional<JsonValue> type = value.find("type")) {
@@ -77,10 +77,19 @@ Camera parse_camera(const JsonValue& value) {
   check_camera_frame(value, camera);
   if (camera.projection == Projection::orthographic) {
     camera.view_size = parse_view_size(value);
+    if (std::optional<JsonValue> aspect = value.find("view_aspect")) {
+      camera.view_aspect = aspect->number();
+      if (!(camera.view_aspect > 0) || !std::isfinite(camera.view_aspect)) {
+        aspect->fail("must be > 0 (got " + format_number(camera.view_aspect) + ")");
+      }
+    }
     return camera;
   }
-  if (std::optional<JsonValue> size = value.find("view_size")) {
-    size->fail("only an orthographic camera has a view_size (set \"type\": \"orthographic\")");
+  for (const char* key : {"view_size", "view_aspect"}) {
+    if (std::optional<JsonValue> size = value.find(key)) {
+      size->fail(std::string("only an orthographic camera has a ") + key +
+                 " (set \"type\": \"orthographic\")");
+    }
   }
   if (std::optional<JsonValue> fov = value.find("fov")) {
     camera.fov_deg = fov->number();
