@@ -5,6 +5,7 @@
 // so that the server and the client can parse and validate scenes without linking the renderer.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -23,8 +24,28 @@ namespace tessera {
 
 struct VolumeGridFile;  // scene/mesh/volume_grid_file.h
 
-/// Which image axis the camera's field of view spans.
-enum class FovAxis { x, y, smaller, larger };
+/// Which image axis the camera's field of view spans (diagonal: the image's diagonal, Mitsuba's
+/// fov_axis "diagonal" and its focal_length).
+enum class FovAxis { x, y, smaller, larger, diagonal };
+
+/// tan of the half angles the view spans along image x and y, at distance 1 from a pinhole:
+/// fov_deg along fov_axis for an image of width / height `aspect` (the other axis by the aspect;
+/// for the diagonal, x is the diagonal's tangent over sqrt(1 + 1 / aspect^2), as Mitsuba's
+/// parse_fov turns a diagonal angle into the horizontal one).
+inline glm::dvec2 fov_half_tangents(double fov_deg, FovAxis fov_axis, double aspect) {
+  const double tan_half = std::tan(fov_deg * 0.5 * 3.14159265358979323846 / 180.0);
+  double x = tan_half;
+  switch (fov_axis) {
+    case FovAxis::x: break;
+    case FovAxis::y: x = tan_half * aspect; break;
+    case FovAxis::smaller: x = aspect <= 1 ? tan_half : tan_half * aspect; break;
+    case FovAxis::larger: x = aspect >= 1 ? tan_half : tan_half * aspect; break;
+    case FovAxis::diagonal: x = tan_half / std::sqrt(1 + 1 / (aspect * aspect)); break;
+  }
+  const bool along_y = fov_axis == FovAxis::y || (fov_axis == FovAxis::smaller && aspect > 1) ||
+                       (fov_axis == FovAxis::larger && aspect < 1);
+  return glm::dvec2(x, along_y ? tan_half : x / aspect);
+}
 
 /// How the camera maps the scene onto the image.
 enum class Projection {

@@ -32,17 +32,11 @@ ProjectiveCamera::ProjectiveCamera(const Camera& c, int width, int height)
     aperture_radius_ = 0;
     return;
   }
-  const double aspect = double(width) / double(height);
-  const double tan_half = std::tan(c.fov_deg * 0.5 * 3.14159265358979323846 / 180.0);
-  bool along_x = true;
-  switch (c.fov_axis) {
-    case FovAxis::x: along_x = true; break;
-    case FovAxis::y: along_x = false; break;
-    case FovAxis::smaller: along_x = width <= height; break;
-    case FovAxis::larger: along_x = width >= height; break;
-  }
-  half_x_ = float(along_x ? tan_half : tan_half * aspect);
-  half_y_ = float(along_x ? tan_half / aspect : tan_half);
+  // The view's half extents at distance 1 for this image's aspect (a diagonal field of view,
+  // Mitsuba's focal_length, becomes the horizontal one for it, as Mitsuba does at its film's).
+  const glm::dvec2 half = fov_half_tangents(c.fov_deg, c.fov_axis, double(width) / double(height));
+  half_x_ = float(half.x);
+  half_y_ = float(half.y);
 }
 
 Ray ProjectiveCamera::generate_ray(glm::vec2 film, glm::vec2 u_lens) const {

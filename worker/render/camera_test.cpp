@@ -54,6 +54,42 @@ TEST(Camera, RaysMatchMitsubasSensors) {
   }
 }
 
+// A Mitsuba sensor rendered at another size (a job's --width / --height) frames the scene as
+// the same sensor with a film of that size does, as Mitsuba frames a film of that size: a
+// diagonal field of view (and focal_length, Mitsuba's default, a diagonal angle) becomes the
+// horizontal one for the image's aspect, an orthographic view's height follows the aspect.
+// Until session 20 both were fixed at the scene's film's aspect: rendered 96 x 32 from a
+// 64 x 48 film, a default-lens view came out 16 % narrower than Mitsuba's (docs/mitsuba.md).
+TEST(Camera, AnotherImageSizeFramesAsAFilmOfThatSize) {
+  const auto sensor = [](const std::string& lens, int width, int height) {
+    return std::string("<sensor type=\"") + (lens == "ortho" ? "orthographic" : "perspective") + "\">" +
+           (lens == "diagonal"  ? "<float name=\"fov\" value=\"50\"/><string name=\"fov_axis\" value=\"diagonal\"/>"
+            : lens == "focal"   ? "<string name=\"focal_length\" value=\"35mm\"/>"
+            : lens == "ortho"   ? "<transform name=\"to_world\"><scale x=\"2\" y=\"3\"/></transform>"
+                                : "") +
+           "<film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(width) +
+           "\"/><integer name=\"height\" value=\"" + std::to_string(height) +
+           "\"/><rfilter type=\"box\"/></film></sensor>";
+  };
+  for (const std::string lens : {"default", "diagonal", "focal", "ortho"}) {
+    const Scene made = scene_of(sensor(lens, 64, 48).c_str());
+    for (const glm::ivec2 size : {glm::ivec2(96, 32), glm::ivec2(30, 90), glm::ivec2(128, 96)}) {
+      SCOPED_TRACE(lens + " at " + std::to_string(size.x) + "x" + std::to_string(size.y));
+      const Scene film_of_that_size = scene_of(sensor(lens, size.x, size.y).c_str());
+      const ProjectiveCamera resized(made.camera, size.x, size.y);
+      const ProjectiveCamera own(film_of_that_size.camera, size.x, size.y);
+      for (const glm::vec2 film : {glm::vec2(0, 0), glm::vec2(float(size.x), float(size.y)), glm::vec2(7.25f, 3.5f)}) {
+        const Ray a = resized.generate_ray(film, glm::vec2(0.5f));
+        const Ray b = own.generate_ray(film, glm::vec2(0.5f));
+        for (int i = 0; i < 3; ++i) {
+          EXPECT_NEAR(a.d[i], b.d[i], 1e-6) << "direction " << i;
+          EXPECT_NEAR(a.o[i], b.o[i], 1e-6) << "origin " << i;
+        }
+      }
+    }
+  }
+}
+
 TEST(Camera, OrthographicRaysAreParallelAndCoverTheView) {
   Camera c;
   c.projection = Projection::orthographic;

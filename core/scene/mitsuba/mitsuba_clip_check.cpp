@@ -72,24 +72,8 @@ Cone cone_of(const MitsubaSensor& sensor) {
     double aspect = double(sensor.film.width) / double(sensor.film.height);
     return Cone{glm::dvec2(0), glm::dvec2(1, 1 / aspect) * (1 + 1e-9)};
   }
-  double tan_half = std::tan(c.fov_deg * 0.5 * std::numbers::pi / 180.0);
-  double aspect = double(sensor.film.width) / double(sensor.film.height);
-  bool along_x = true;
-  switch (c.fov_axis) {
-    case FovAxis::x:
-      along_x = true;
-      break;
-    case FovAxis::y:
-      along_x = false;
-      break;
-    case FovAxis::smaller:
-      along_x = sensor.film.width <= sensor.film.height;
-      break;
-    case FovAxis::larger:
-      along_x = sensor.film.width >= sensor.film.height;
-      break;
-  }
-  glm::dvec2 slope(along_x ? tan_half : tan_half * aspect, along_x ? tan_half / aspect : tan_half);
+  glm::dvec2 slope =
+      fov_half_tangents(c.fov_deg, c.fov_axis, double(sensor.film.width) / double(sensor.film.height));
   // A lens ray runs from a point of the aperture to a point of the focus plane.
   double a = c.aperture_radius;
   if (a > 0) slope += glm::dvec2(a / c.focus_distance);

@@ -191,9 +191,9 @@ double diagonal_to_x(double fov_deg, double aspect) {
   return 2 * std::atan(width * 0.5) * 180 / std::numbers::pi;
 }
 
-/// fov with fov_axis, or focal_length (Mitsuba's default "50mm", a 35 mm film's diagonal), for
-/// an image of width / height `aspect`.
-void read_fov(MitsubaPlugin& sensor, Camera& camera, double aspect) {
+/// fov with fov_axis, or focal_length (Mitsuba's default "50mm", a 35 mm film's diagonal, kept as
+/// a diagonal angle).
+void read_fov(MitsubaPlugin& sensor, Camera& camera) {
   if (sensor.property("focal_length") && sensor.property("fov")) {
     fail_at(*sensor.property("focal_length"), "give fov or focal_length, not both");
   }
@@ -222,8 +222,9 @@ void read_fov(MitsubaPlugin& sensor, Camera& camera, double aspect) {
   } else if (axis == "larger") {
     camera.fov_axis = FovAxis::larger;
   } else if (axis == "diagonal") {
-    camera.fov_axis = FovAxis::x;
-    fov = diagonal_to_x(*fov, aspect);
+    // Kept as the diagonal, which the camera turns into the horizontal angle for the image's
+    // aspect (fov_half_tangents): Mitsuba does so for its film's, also at another size.
+    camera.fov_axis = FovAxis::diagonal;
   } else {
     fail_at(*sensor.property("fov_axis"),
             "\"" + printable(axis) + "\" is no fov axis (x, y, smaller, larger or diagonal)");
@@ -381,7 +382,7 @@ MitsubaSensor read_mitsuba_sensor(const MitsubaElement& element, const MitsubaId
     read_orthographic_frame(sensor, result, aspect);
   } else {
     read_frame(sensor, result);
-    read_fov(sensor, result.camera, aspect);
+    read_fov(sensor, result.camera);
     read_lens(sensor, result);
     read_principal_point(sensor);
   }
@@ -397,11 +398,12 @@ MitsubaSensor read_mitsuba_sensor(const MitsubaElement& element, const MitsubaId
 
 double read_mitsuba_fov_x(MitsubaPlugin& plugin, double aspect) {
   Camera camera;
-  read_fov(plugin, camera, aspect);
+  read_fov(plugin, camera);
   FovAxis axis = camera.fov_axis;
   if (axis == FovAxis::smaller) axis = aspect > 1 ? FovAxis::y : FovAxis::x;
   if (axis == FovAxis::larger) axis = aspect > 1 ? FovAxis::x : FovAxis::y;
   if (axis == FovAxis::x) return camera.fov_deg;
+  if (axis == FovAxis::diagonal) return diagonal_to_x(camera.fov_deg, aspect);
   const double half = std::tan(0.5 * camera.fov_deg * std::numbers::pi / 180) * aspect;
   return 2 * std::atan(half) * 180 / std::numbers::pi;
 }

@@ -33,8 +33,9 @@ struct MitsubaSensor {
 /// +y; to_world must be a rotation and translation (Mitsuba refuses scale, and a mirror would
 /// flip the image, which Tessera's camera cannot).
 ///
-/// - fov (degrees, required) and fov_axis x, y, smaller or larger; diagonal and focal_length
-///   are refused;
+/// - fov with fov_axis x, y, smaller, larger or diagonal (kept as the diagonal: the camera
+///   turns it into the horizontal angle for the image's aspect, as Mitsuba's parse_fov does for
+///   its film's), or focal_length (Mitsuba's default 50mm: a diagonal angle);
 /// - thinlens: aperture_radius (required, >= 0) and focus_distance (> 0; default far_clip, as
 ///   in Mitsuba); perspective: focus_distance is accepted and ignored (a pinhole has no focus);
 /// - near_clip and far_clip are kept for check_mitsuba_clip_planes;

@@ -134,18 +134,29 @@ TEST(MitsubaCamera, RigidityHasMitsubasTolerance) {
 }
 
 TEST(MitsubaCamera, DiagonalAndFocalLengthAreMitsubasParseFov) {
-  // 64 x 48 film (aspect 4/3): Mitsuba's parse_fov turns a diagonal fov into the x fov.
+  // 64 x 48 film (aspect 4/3): the diagonal angle is kept, and the camera's horizontal extent
+  // is what Mitsuba's parse_fov makes of it for the image's aspect: for the film's own, and for
+  // another (a job's --width / --height, as Mitsuba at a film of that size).
   Scene diagonal = with_sensor(sensor(R"(<float name="fov" value="30"/>
 <string name="fov_axis" value="diagonal"/>)"));
-  EXPECT_EQ(diagonal.camera.fov_axis, FovAxis::x);
+  EXPECT_EQ(diagonal.camera.fov_axis, FovAxis::diagonal);
+  EXPECT_EQ(diagonal.camera.fov_deg, 30);
   const double pi = 3.14159265358979323846;
-  double width = 2 * std::tan(15 * pi / 180) / std::sqrt(1 + 1 / (4.0 / 3 * 4.0 / 3));
-  EXPECT_NEAR(diagonal.camera.fov_deg, 2 * std::atan(width / 2) * 180 / pi, 1e-12);
+  const auto x_fov = [&](const Camera& c, double aspect) {  // the horizontal angle, degrees
+    return 2 * std::atan(fov_half_tangents(c.fov_deg, c.fov_axis, aspect).x) * 180 / pi;
+  };
+  for (const double aspect : {4.0 / 3, 2.0, 0.5}) {
+    const double width = 2 * std::tan(15 * pi / 180) / std::sqrt(1 + 1 / (aspect * aspect));
+    EXPECT_NEAR(x_fov(diagonal.camera, aspect), 2 * std::atan(width / 2) * 180 / pi, 1e-12) << aspect;
+    EXPECT_NEAR(fov_half_tangents(30, FovAxis::diagonal, aspect).y * aspect, width / 2, 1e-15) << aspect;
+  }
   // No fov: Mitsuba's default focal length, 50 mm on a 36 x 24 mm film's diagonal.
   Scene fallback = with_sensor(sensor(""));
   double diagonal_50mm = 2 * std::atan(std::sqrt(36.0 * 36 + 24 * 24) / 100) * 180 / pi;
   double w50 = 2 * std::tan(diagonal_50mm / 2 * pi / 180) / std::sqrt(1 + 1 / (16.0 / 9));
-  EXPECT_NEAR(fallback.camera.fov_deg, 2 * std::atan(w50 / 2) * 180 / pi, 1e-12);
+  EXPECT_EQ(fallback.camera.fov_axis, FovAxis::diagonal);
+  EXPECT_NEAR(fallback.camera.fov_deg, diagonal_50mm, 1e-12);
+  EXPECT_NEAR(x_fov(fallback.camera, 4.0 / 3), 2 * std::atan(w50 / 2) * 180 / pi, 1e-12);
   EXPECT_NEAR(with_sensor(sensor(R"(<string name="focal_length" value="50mm"/>)")).camera.fov_deg,
               fallback.camera.fov_deg, 1e-12);
 }

@@ -101,8 +101,9 @@ TEST(SceneParse, FovAxisValues) {
   EXPECT_EQ(axis("y"), FovAxis::y);
   EXPECT_EQ(axis("smaller"), FovAxis::smaller);
   EXPECT_EQ(axis("larger"), FovAxis::larger);
-  EXPECT_EQ(error_of(R"({"tessera": 1, "camera": {"fov_axis": "diagonal"}})"),
-            "camera.fov_axis: must be \"x\", \"y\", \"smaller\" or \"larger\" (got \"diagonal\")");
+  EXPECT_EQ(axis("diagonal"), FovAxis::diagonal);
+  EXPECT_EQ(error_of(R"({"tessera": 1, "camera": {"fov_axis": "diag"}})"),
+            "camera.fov_axis: must be \"x\", \"y\", \"smaller\", \"larger\" or \"diagonal\" (got \"diag\")");
 }
 
 TEST(SceneParse, CameraConstraints) {

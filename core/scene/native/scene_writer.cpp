@@ -97,6 +97,8 @@ const char* fov_axis_name(FovAxis axis) {
       return "smaller";
     case FovAxis::larger:
       return "larger";
+    case FovAxis::diagonal:
+      return "diagonal";
   }
   return "x";
 }

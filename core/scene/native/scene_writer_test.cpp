@@ -603,6 +603,8 @@ TEST(SceneWriter, EveryFieldOfTheModelRoundTripsExactly) {
   expect_same_scene(s, round_trip(s));
   s.film.filter = {FilterKind::lanczos, 5.0, 0.5};
   expect_same_scene(s, round_trip(s));
+  s.camera.fov_axis = FovAxis::diagonal;  // a Mitsuba sensor's diagonal angle or focal length
+  expect_same_scene(s, round_trip(s));
   // The orthographic camera has no lens: the writer leaves the lens keys out.
   s.camera.projection = Projection::orthographic;
   s.camera.view_size = {0.1 + 0.2, 1e-300};

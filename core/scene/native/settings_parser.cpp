@@ -15,7 +15,8 @@ FovAxis parse_fov_axis(const JsonValue& value) {
   if (axis == "y") return FovAxis::y;
   if (axis == "smaller") return FovAxis::smaller;
   if (axis == "larger") return FovAxis::larger;
-  value.fail("must be \"x\", \"y\", \"smaller\" or \"larger\" (got \"" + printable(axis) + "\")");
+  if (axis == "diagonal") return FovAxis::diagonal;
+  value.fail("must be \"x\", \"y\", \"smaller\", \"larger\" or \"diagonal\" (got \"" + printable(axis) + "\")");
 }
 
 /// The camera's frame must be well defined: a view direction and an up vector not along it.
