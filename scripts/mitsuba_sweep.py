@@ -6,7 +6,8 @@ scripts/mitsuba_coverage.py, which this script imports), renders at a small size
   - with Mitsuba 3 (PYTHON given by --mitsuba, variant scalar_rgb): the scene as loaded, its
     film resized through mi.traverse (`film.size`, `film.crop_size`, `film.crop_offset`) to
     --width and the height that keeps the film's aspect ratio, the scene's own pixel filter,
-    sensor and integrator, `mi.render(scene, seed=S, spp=N)`;
+    sensor and integrator (Mitsuba's default `path` where the scene has none, which mi.render
+    would refuse: Tessera renders that too), `mi.render(scene, seed=S, spp=N)`;
   - with `tessera-worker render SCENE --width W --height H --spp N --seed S -D spp=N`;
   each with two seeds. Compared: per-channel image means with a 2-pixel border left out (Mitsuba
   truncates a splat's footprint there), the noise of each mean estimated from the per-pixel
@@ -71,8 +72,13 @@ params['film.size'] = mi.ScalarVector2u(width, height)
 params['film.crop_size'] = mi.ScalarVector2u(width, height)
 params['film.crop_offset'] = mi.ScalarPoint2u(0, 0)
 params.update()
+# A scene without an <integrator>: Mitsuba's documented default, `path` (what Tessera renders);
+# mi.render refuses such a scene otherwise.
+extra = {}
+if scene.integrator() is None:
+    extra['integrator'] = mi.load_dict({'type': 'path'})
 t0 = time.process_time()
-image = mi.render(scene, sensor=sensor, seed=seed, spp=spp)
+image = mi.render(scene, sensor=sensor, seed=seed, spp=spp, **extra)
 seconds = time.process_time() - t0
 import numpy as np
 a = np.array(image, dtype=np.float32)
@@ -82,7 +88,7 @@ if a.shape[2] == 1:
     a = np.repeat(a, 3, axis=2)
 mi.Bitmap(np.ascontiguousarray(a[:, :, :3])).write(out)
 print(json.dumps({"height": height, "seconds": seconds, "filter": str(film.rfilter()).split('[')[0].strip(),
-                  "original": [int(w0), int(h0)]}))
+                  "original": [int(w0), int(h0)], "default_integrator": bool(extra)}))
 """
 
 
@@ -300,7 +306,10 @@ def main():
 
     if args.accepted:
         with open(args.accepted) as f:
-            scenes = [l.split()[1] for l in f if l.startswith("accepted ")]
+            # A scene's line is "accepted  PATH[ [N stand-ins: ...]]" (two spaces; the summary
+            # line has one); the path is the rest of the line, spaces and all.
+            scenes = [re.sub(r"\s+\[\d+ stand-ins?:.*\]$", "", l[len("accepted  "):].rstrip("\n"))
+                      for l in f if l.startswith("accepted  ")]
         scenes = [s for s in scenes if any(os.path.abspath(s).startswith(os.path.abspath(d))
                                            for d in args.folders)]
     else:
