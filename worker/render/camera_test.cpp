@@ -90,13 +90,19 @@ TEST(Camera, AnotherImageSizeFramesAsAFilmOfThatSize) {
   }
 }
 
-TEST(Camera, OrthographicRaysAreParallelAndCoverTheView) {
+/// An orthographic camera at `position` looking down -z, up +y (image x runs along +x).
+Camera orthographic_down_z(glm::dvec3 position, glm::dvec2 view_size) {
   Camera c;
   c.projection = Projection::orthographic;
-  c.position = {1, 2, 3};
-  c.look_at = {1, 2, 0};  // looking down -z, up +y: image x runs along +x
+  c.position = position;
+  c.look_at = position - glm::dvec3(0, 0, 3);
   c.up = {0, 1, 0};
-  c.view_size = {4, 1};
+  c.view_size = view_size;
+  return c;
+}
+
+TEST(Camera, OrthographicRaysAreParallelAndCoverTheView) {
+  const Camera c = orthographic_down_z({1, 2, 3}, {4, 1});
   const ProjectiveCamera camera(c, 8, 2);  // the view's aspect need not be the film's
   const Ray top_left = camera.generate_ray({0, 0}, {0.3f, 0.7f});
   const Ray bottom_right = camera.generate_ray({8, 2}, {0.9f, 0.1f});
@@ -114,19 +120,14 @@ TEST(Camera, OrthographicRaysAreParallelAndCoverTheView) {
 // view_size; at another aspect (`--width`/`--height`), view_size.y * view_aspect / aspect. A
 // native view (view_aspect 0) stays view_size whatever the image.
 TEST(Camera, OrthographicViewFollowsTheImagesAspectWhereMitsubaMadeIt) {
-  Camera c;
-  c.projection = Projection::orthographic;
-  c.position = {0, 0, 3};
-  c.look_at = {0, 0, 0};  // looking down -z, up +y: image x runs along +x
-  c.up = {0, 1, 0};
-  c.view_size = {4, 2.4};  // made for a 200 x 120 film: 2 x 1.2 local, scaled by 2
+  Camera c = orthographic_down_z({0, 0, 3}, {4, 2.4});  // made for a 200 x 120 film: 2 x 1.2 local, scaled by 2
   c.view_aspect = 200.0 / 120.0;
-  const auto corner_y = [&](int width, int height) {
-    return ProjectiveCamera(c, width, height).generate_ray({0, 0}, {0.5f, 0.5f}).o.y;
+  // The top left corner's ray origin, x and y.
+  const auto corner = [&](int width, int height) {
+    return ProjectiveCamera(c, width, height).generate_ray({0, 0}, {0.5f, 0.5f}).o;
   };
-  const auto corner_x = [&](int width, int height) {
-    return ProjectiveCamera(c, width, height).generate_ray({0, 0}, {0.5f, 0.5f}).o.x;
-  };
+  const auto corner_y = [&](int width, int height) { return corner(width, height).y; };
+  const auto corner_x = [&](int width, int height) { return corner(width, height).x; };
   EXPECT_EQ(corner_y(200, 120), 1.2f);  // the film's own aspect: exactly view_size
   EXPECT_EQ(corner_y(100, 60), 1.2f);
   EXPECT_FLOAT_EQ(corner_y(96, 58), float(1.2 * (200.0 / 120.0) / (96.0 / 58.0)));
