@@ -122,21 +122,19 @@ TEST(Camera, OrthographicRaysAreParallelAndCoverTheView) {
 TEST(Camera, OrthographicViewFollowsTheImagesAspectWhereMitsubaMadeIt) {
   Camera c = orthographic_down_z({0, 0, 3}, {4, 2.4});  // made for a 200 x 120 film: 2 x 1.2 local, scaled by 2
   c.view_aspect = 200.0 / 120.0;
-  // The top left corner's ray origin, x and y.
+  // The top left corner's ray origin.
   const auto corner = [&](int width, int height) {
     return ProjectiveCamera(c, width, height).generate_ray({0, 0}, {0.5f, 0.5f}).o;
   };
-  const auto corner_y = [&](int width, int height) { return corner(width, height).y; };
-  const auto corner_x = [&](int width, int height) { return corner(width, height).x; };
-  EXPECT_EQ(corner_y(200, 120), 1.2f);  // the film's own aspect: exactly view_size
-  EXPECT_EQ(corner_y(100, 60), 1.2f);
-  EXPECT_FLOAT_EQ(corner_y(96, 58), float(1.2 * (200.0 / 120.0) / (96.0 / 58.0)));
-  EXPECT_FLOAT_EQ(corner_y(100, 100), float(1.2 * (200.0 / 120.0)));
-  EXPECT_EQ(corner_x(96, 58), -2.0f);  // the width stays
-  EXPECT_EQ(corner_x(100, 100), -2.0f);
+  EXPECT_EQ(corner(200, 120).y, 1.2f);  // the film's own aspect: exactly view_size
+  EXPECT_EQ(corner(100, 60).y, 1.2f);
+  EXPECT_FLOAT_EQ(corner(96, 58).y, float(1.2 * (200.0 / 120.0) / (96.0 / 58.0)));
+  EXPECT_FLOAT_EQ(corner(100, 100).y, float(1.2 * (200.0 / 120.0)));
+  EXPECT_EQ(corner(96, 58).x, -2.0f);  // the width stays
+  EXPECT_EQ(corner(100, 100).x, -2.0f);
   c.view_aspect = 0;  // a native view: view_size at any image size
-  EXPECT_EQ(corner_y(96, 58), 1.2f);
-  EXPECT_EQ(corner_y(100, 100), 1.2f);
+  EXPECT_EQ(corner(96, 58).y, 1.2f);
+  EXPECT_EQ(corner(100, 100).y, 1.2f);
 }
 
 // An orthographic camera over an emitting rectangle whose edges fall on pixel boundaries:

@@ -20,7 +20,10 @@ struct PathCounters {
   uint64_t shadow_rays = 0;
 };
 
-/// Dimension pairs the integrator takes before the first vertex (film jitter, lens).
+/// Dimension pairs the integrator takes before the first vertex: the film jitter's, then the
+/// lens's (drawn only for a thin lens).
+inline constexpr uint32_t kFilmPair = 0;
+inline constexpr uint32_t kLensPair = 1;
 inline constexpr uint32_t kCameraPairs = 2;
 
 /// One path between two vertices: the ray to trace next and what the vertices so far left.

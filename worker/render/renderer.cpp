@@ -163,7 +163,7 @@ Ray Renderer::camera_ray(int x, int y, glm::vec2 u_film, PixelSampler& sampler, 
   const ProjectiveCamera& camera = scene_->camera();
   glm::vec2 u_lens(0.0f);
   if (camera.uses_lens()) {
-    sampler.set_pair(1);
+    sampler.set_pair(kLensPair);
     u_lens = sampler.get2d();
   }
   const FilmSample film = filter_.film_sample(x, y, u_film);
@@ -269,7 +269,7 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
         // Every path's film pair at once (the kernel's lane-wise Sobol draw: get2d's bits), then
         // its camera ray.
         film_pairs.resize(samplers.size());
-        wavefront_->draw_pairs(samplers.data(), 0, samplers.size(), film_pairs.data());
+        wavefront_->draw_pairs(samplers.data(), kFilmPair, samplers.size(), film_pairs.data());
         for (size_t k = first; k < last; ++k) {
           const size_t p = p0 + k / spp;
           const int x = tile.x0 + int(p % width), y = tile.y0 + int(p / width);

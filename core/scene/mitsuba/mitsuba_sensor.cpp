@@ -184,13 +184,6 @@ void read_sampler(MitsubaPlugin& sensor, const MitsubaIds& ids, MitsubaSensor& r
   sampler.finish();
 }
 
-/// Mitsuba's diagonal field of view as the horizontal one (parse_fov in src/render/sensor.cpp).
-double diagonal_to_x(double fov_deg, double aspect) {
-  double diagonal = 2 * std::tan(0.5 * fov_deg * std::numbers::pi / 180);
-  double width = diagonal / std::sqrt(1 + 1 / (aspect * aspect));
-  return 2 * std::atan(width * 0.5) * 180 / std::numbers::pi;
-}
-
 /// fov with fov_axis, or focal_length (Mitsuba's default "50mm", a 35 mm film's diagonal, kept as
 /// a diagonal angle).
 void read_fov(MitsubaPlugin& sensor, Camera& camera) {
@@ -399,13 +392,10 @@ MitsubaSensor read_mitsuba_sensor(const MitsubaElement& element, const MitsubaId
 double read_mitsuba_fov_x(MitsubaPlugin& plugin, double aspect) {
   Camera camera;
   read_fov(plugin, camera);
-  FovAxis axis = camera.fov_axis;
-  if (axis == FovAxis::smaller) axis = aspect > 1 ? FovAxis::y : FovAxis::x;
-  if (axis == FovAxis::larger) axis = aspect > 1 ? FovAxis::x : FovAxis::y;
-  if (axis == FovAxis::x) return camera.fov_deg;
-  if (axis == FovAxis::diagonal) return diagonal_to_x(camera.fov_deg, aspect);
-  const double half = std::tan(0.5 * camera.fov_deg * std::numbers::pi / 180) * aspect;
-  return 2 * std::atan(half) * 180 / std::numbers::pi;
+  // The horizontal angle of the camera's framing at this aspect (fov_half_tangents, which
+  // also turns a diagonal angle as Mitsuba's parse_fov does); an x angle as given.
+  if (camera.fov_axis == FovAxis::x) return camera.fov_deg;
+  return 2 * std::atan(fov_half_tangents(camera.fov_deg, camera.fov_axis, aspect).x) * 180 / std::numbers::pi;
 }
 
 }  // namespace tessera
