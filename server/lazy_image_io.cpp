@@ -1,12 +1,15 @@
-// tessera-server's image functions (image/image_output.h, scene/image_check.h): each forwards to
-// the image module (server/image_io_table.h), loaded by the first call (or load_image_module,
-// which main calls on a thread once it listens), so that the server maps OpenImageIO's ~260
-// libraries after it listens, not before. The module is embedded in the executable (a container copies one
-// file) and loaded from an anonymous memory file (memfd_create).
+// The image functions (image/image_output.h, scene/image_check.h) of tessera-server and of the
+// tessera client: each forwards to the image module (server/image_io_table.h), loaded by the
+// first call (or load_image_module, which the server's main calls on a thread once it listens),
+// so that the server maps OpenImageIO's ~250 libraries after it listens, not before, and a
+// client command maps them only when it checks a scene's images. The module is embedded in the
+// executable (a container copies one file) and loaded from an anonymous memory file
+// (memfd_create).
 //
-// Linked into the executable before tessera_core, these definitions keep the linker from taking
+// Linked into each executable before tessera_core, these definitions keep the linker from taking
 // core's image_output.o and image_check.o out of the archive, so the executable does not need
-// OpenImageIO (tests/dashboard: server_needs_no_oiio_at_start).
+// OpenImageIO (tests/dashboard/start_libraries.sh: server_start_libraries,
+// client_start_libraries).
 #include <dlfcn.h>
 #include <sys/mman.h>
 #include <unistd.h>
