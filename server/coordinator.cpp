@@ -510,7 +510,12 @@ std::optional<LeasedUnit> Coordinator::lease(int64_t worker_id, std::chrono::mil
 
 std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max_units,
                                                  std::chrono::milliseconds wait,
-                                                 const std::function<bool()>& cancelled) {
+                                                 const std::function<bool()>& cancelled,
+                                                 const std::vector<std::string>& delivering) {
+  if (delivering.size() > kMaxDelivering) {
+    throw invalid("a lease names " + std::to_string(delivering.size()) +
+                  " leases as delivering; at most " + std::to_string(kMaxDelivering));
+  }
   // From the lease book alone: no store lock, no statement (the grants reach the store with
   // the next store operation: flush_leases).
   const auto deadline = std::chrono::steady_clock::now() + wait;
@@ -520,7 +525,7 @@ std::vector<LeasedUnit> Coordinator::lease_units(int64_t worker_id, uint32_t max
     // Read the version before looking, so a change made while we look wakes the wait below.
     const uint64_t seen = work_.version();
     touch_in_memory(worker_id, call);
-    std::vector<LeasedUnit> units = book_.lease_up_to(worker_id, std::max(1u, max_units));
+    std::vector<LeasedUnit> units = book_.lease_up_to(worker_id, std::max(1u, max_units), delivering);
     if (!units.empty()) {
       notify_changed(false);  // progress (the job may have started); no work for others
       return units;
@@ -682,7 +687,11 @@ void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
   // the next transaction, after the lease. A lease then waits for at most one call's results
   // (at most 64), not for the whole group (up to kResultsPerCommit; BENCHMARKS.md, "Issue 14:
   // lease latency (branch farm10)").
-  if (before_upload_commit_) before_upload_commit_();
+  if (before_upload_commit_) {
+    size_t results = 0;
+    for (const UploadCall* c : calls) results += c->uploads->size();
+    before_upload_commit_(results);
+  }
   const int64_t asked_ns = call_trace::now_ns();
   PriorityMutex::Deferring lock(mu_);
   const int64_t got_ns = call_trace::now_ns();

@@ -50,9 +50,9 @@ struct CoordinatorConfig {
   size_t merge_cache_bytes = MergeCache::kDefaultBudgetBytes;
   /// Writes the output files (empty: write_image); tests inject a full disk here.
   ImageFileWriter output_writer;
-  /// Called as each upload group's commit begins, before it takes the store lock (tests line
-  /// calls up here); empty in the server.
-  std::function<void()> before_upload_commit;
+  /// Called as each upload group's commit begins, before it takes the store lock, with the
+  /// number of results the group holds (tests line calls up here); empty in the server.
+  std::function<void(size_t results)> before_upload_commit;
 };
 
 /// A tile of a job as the dashboard shows it (Coordinator::tile_map).
@@ -143,9 +143,14 @@ class Coordinator {
                                   const std::function<bool()>& cancelled);
   /// Several units in one call (LeaseBook::lease_up_to): every lease the worker holds and new
   /// ones up to `max_units`, waiting as lease() does while there are none. Empty: no work.
+  /// `delivering`: leases whose results the worker is delivering, left out (at most
+  /// kMaxDelivering; more throws FarmError(invalid_argument)).
   std::vector<LeasedUnit> lease_units(int64_t worker_id, uint32_t max_units,
                                       std::chrono::milliseconds wait,
-                                      const std::function<bool()>& cancelled);
+                                      const std::function<bool()>& cancelled,
+                                      const std::vector<std::string>& delivering = {});
+  /// Most leases a worker may name as delivering in one LeaseUnit call.
+  static constexpr size_t kMaxDelivering = 64;
   /// The new expiry, or nullopt when the lease is not current.
   std::optional<int64_t> heartbeat(int64_t worker_id, const std::string& lease_id);
   /// Most lease ids one heartbeat may name.
@@ -344,7 +349,7 @@ class Coordinator {
       [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); },
       [](const UploadCall& call) { return call.uploads->size(); }, kResultsPerCommit};
   UploadObserver* upload_observer_ = nullptr;  ///< set before serving; may be null
-  std::function<void()> before_upload_commit_;  ///< CoordinatorConfig::before_upload_commit
+  std::function<void(size_t)> before_upload_commit_;  ///< CoordinatorConfig::before_upload_commit
   /// The check found damage: log it, stop leasing, tell the observer (from the check's thread).
   void store_damaged(const std::string& message);
   mutable std::mutex damage_mu_;

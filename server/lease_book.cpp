@@ -196,7 +196,8 @@ LeasedUnit LeaseBook::leased_unit(const Job& job, const Lease& lease) const {
                     job.plan.batch_end(lease.batch), job.spec.options, job.spec.bundle_sha256};
 }
 
-std::vector<LeasedUnit> LeaseBook::lease_up_to(int64_t worker_id, uint32_t max_units) {
+std::vector<LeasedUnit> LeaseBook::lease_up_to(int64_t worker_id, uint32_t max_units,
+                                               const std::vector<std::string>& delivering) {
   const int64_t asked_ns = call_trace::now_ns();
   std::lock_guard lock(mu_);
   const int64_t got_ns = call_trace::now_ns();
@@ -215,6 +216,8 @@ std::vector<LeasedUnit> LeaseBook::lease_up_to(int64_t worker_id, uint32_t max_u
       by_expiry_.erase({l.expires_unix_ms, id});
       l.expires_unix_ms = expires;
       by_expiry_.insert({expires, id});
+      // (At most 64 names: a scan costs less than a set.)
+      if (std::find(delivering.begin(), delivering.end(), id) != delivering.end()) continue;
       if (const auto j = jobs_.find(l.job_id); j != jobs_.end()) {
         out.push_back(leased_unit(j->second, l));
       }

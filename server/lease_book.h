@@ -103,8 +103,10 @@ class LeaseBook {
 
   // ---- Leases -----------------------------------------------------------------------------
   /// Every lease the worker holds (expiry extended) and new ones up to `max_units`, picked by
-  /// the scheduling policy (Scheduler::pick). Empty: no work.
-  std::vector<LeasedUnit> lease_up_to(int64_t worker_id, uint32_t max_units);
+  /// the scheduling policy (Scheduler::pick). Empty: no work. The leases named in `delivering`
+  /// (results on their way in another call) are extended but neither returned nor counted.
+  std::vector<LeasedUnit> lease_up_to(int64_t worker_id, uint32_t max_units,
+                                      const std::vector<std::string>& delivering = {});
   /// A heartbeat: the lease's new expiry, nullopt when it is not current for the worker.
   std::optional<int64_t> extend(int64_t worker_id, const std::string& lease_id);
   /// The lease `lease_id` of `worker_id`, when current.

@@ -57,9 +57,11 @@ grpc::Status WorkerServiceImpl::LeaseUnit(grpc::ServerContext* context,
     const auto wait = std::chrono::milliseconds(std::min(request->wait_ms(), kMaxLeaseWaitMs));
     // max_units 0: a worker from before batched leases, answered in the single-unit fields.
     const uint32_t max_units = std::min(request->max_units(), kMaxUnitsPerCall);
+    const std::vector<std::string> delivering(request->delivering().begin(),
+                                              request->delivering().end());
     const std::vector<LeasedUnit> units =
         coordinator_.lease_units(worker_id_of(request->worker_id()), std::max(1u, max_units),
-                                 wait, [context] { return context->IsCancelled(); });
+                                 wait, [context] { return context->IsCancelled(); }, delivering);
     response->set_heartbeat_interval_ms(uint32_t(std::max<int64_t>(50, coordinator_.lease_ms() / 3)));
     response->set_leased(!units.empty());
     if (units.empty()) {

@@ -154,7 +154,7 @@ TEST_F(LeaseBookTest, UploadCallsWaitingTogetherCommitSixteenAtATime) {
   // (branch farm16)").
   constexpr int kWorkers = 64;
   std::atomic<bool> held{false};
-  config_.before_upload_commit = [&] {
+  config_.before_upload_commit = [&](size_t) {
     if (held.exchange(true)) return;
     // The first call's commit waits until every other call waits behind it.
     while (farm_->upload_calls_waiting() < size_t(kWorkers - 1)) {
@@ -317,6 +317,43 @@ TEST(LeaseBook, AGrantTheStoreNoLongerAllowsIsVoidWhenTheJobIsPutAgain) {
   ASSERT_EQ(next.size(), 2u);
   EXPECT_EQ(next[1].lease.tile, 0u);
   EXPECT_EQ(next[1].lease.batch, 1u);
+}
+
+// A worker leasing while its last call's results are on their way names those leases as
+// delivering: they are neither returned nor counted in max_units, so it gets new units, and
+// their expiry is still extended; a lease retried without them returns every lease held.
+TEST(LeaseBook, LeasesBeingDeliveredAreExtendedButNotReturnedOrCounted) {
+  testing::FakeClock clock;
+  LeaseBook book(clock, 1000);
+  book.add_worker(1);
+  LeaseBookJob job;
+  job.job_id = 7;
+  job.state = JobState::running;
+  job.spec.options.width = 16;
+  job.spec.options.height = 8;
+  job.spec.options.tile_size = 8;
+  job.spec.options.spp = 4;
+  job.spec.options.batch_spp = 1;
+  job.tiles = {{{0, 0, 8, 8}, 0}, {{8, 0, 16, 8}, 0}};
+  job.queue = {{0, 0, 4}, {1, 0, 4}};
+  book.put_job(job);
+  const std::vector<LeasedUnit> first = book.lease_up_to(1, 2);
+  ASSERT_EQ(first.size(), 2u);
+  const std::vector<std::string> delivering = {first[0].lease.lease_id, first[1].lease.lease_id};
+  clock.advance(600);
+  const std::vector<LeasedUnit> next = book.lease_up_to(1, 2, delivering);
+  ASSERT_EQ(next.size(), 2u);  // without the names: the two held leases, nothing new
+  for (const LeasedUnit& u : next) {
+    EXPECT_NE(u.lease.lease_id, delivering[0]);
+    EXPECT_NE(u.lease.lease_id, delivering[1]);
+    EXPECT_EQ(u.lease.batch, 1u);
+  }
+  // Extended by the call: not due 1200 ms after their grant (lease 1000 ms).
+  clock.advance(600);
+  book.take_journal();  // written to the store
+  EXPECT_TRUE(book.due(clock.now_unix_ms()).empty());
+  // Without the names (a retry after a lost reply), every lease held comes back.
+  EXPECT_EQ(book.lease_up_to(1, 2).size(), 4u);
 }
 
 }  // namespace
