@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # tessera-server and the tessera client map no OpenImageIO library when they start
 # (server/lazy_image_io.cpp): their shared libraries (ldd) leave out OpenImageIO and the ~250
-# libraries it brings, which were most of the server's start-up CPU (BENCHMARKS.md, "Start-up:
-# where the time goes (branch dash8)") and about 0.2 s of CPU for every client command
+# libraries it brings, which were most of the server's start-up CPU (BENCHMARKS.md, "Issue 14:
+# start-up, where the time goes (branch dash8)") and about 0.2 s of CPU for every client command
 # (BENCHMARKS.md, "The client's start-up").
 #   start_libraries.sh BIN
 set -euo pipefail
