@@ -18,12 +18,12 @@ class CodecError : public std::runtime_error {
 /// How hard zstd works on the payload. Either gives the same format, read by the same
 /// decode_accumulation (any zstd level decodes alike), and the same sums bit for bit.
 enum class CodecEffort {
-  /// zstd level 3: what workers upload (each result crosses the network and the store once).
+  /// zstd level 3.
   standard,
-  /// zstd level -1: the server's checkpoints of merged tiles, encoded on the server's CPU and
-  /// never sent anywhere. A third of level 3's compression instructions and fewer to decode,
-  /// for about 1 % more bytes on a many-sample tile (BENCHMARKS.md, issue 14 sections of
-  /// farm13 and farm15).
+  /// zstd level -1: what workers upload (worker/farm/farm_worker.cpp, kUploadEffort) and the
+  /// server's checkpoints of merged tiles. A third of level 3's compression instructions and
+  /// fewer to decode, for about 1 % more bytes on a many-sample tile (BENCHMARKS.md, issue 14
+  /// sections of farm13 and farm15, and "Results at zstd level -1").
   fast,
 };
 
