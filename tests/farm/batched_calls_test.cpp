@@ -125,6 +125,38 @@ TEST_F(BatchedCalls, AWorkerWithoutMaxUnitsGetsOneUnitInTheSingleFields) {
   EXPECT_EQ(counters().units_done, 1u);
 }
 
+// Over the wire: a lease naming its in-flight leases as delivering gets new units; one naming
+// more than 64 is refused with INVALID_ARGUMENT saying how many, and leases nothing.
+TEST_F(BatchedCalls, DeliveringLeasesAreLeftOutAndMoreThan64AreRefused) {
+  const uint64_t w = register_worker();
+  const v1::LeaseUnitResponse first = this->lease(w, 4);
+  ASSERT_EQ(first.leases_size(), 4);
+  v1::LeaseUnitRequest request;
+  request.set_worker_id(w);
+  request.set_max_units(4);
+  for (const v1::UnitLease& l : first.leases()) request.add_delivering(l.lease_id());
+  v1::LeaseUnitResponse next;
+  {
+    grpc::ClientContext context;
+    wire::prepare_context(context, "", std::chrono::seconds(30));
+    ASSERT_TRUE(stub_->LeaseUnit(&context, request, &next).ok());
+  }
+  ASSERT_EQ(next.leases_size(), 4);
+  std::set<std::string> ids;
+  for (const v1::UnitLease& l : first.leases()) ids.insert(l.lease_id());
+  for (const v1::UnitLease& l : next.leases()) EXPECT_TRUE(ids.insert(l.lease_id()).second);
+  request.clear_delivering();
+  for (int i = 0; i < 65; ++i) request.add_delivering("lease" + std::to_string(i));
+  v1::LeaseUnitResponse refused;
+  grpc::ClientContext context;
+  wire::prepare_context(context, "", std::chrono::seconds(30));
+  const grpc::Status status = stub_->LeaseUnit(&context, request, &refused);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(status.error_message().find("65"), std::string::npos) << status.error_message();
+  EXPECT_EQ(refused.leases_size(), 0);
+  EXPECT_EQ(counters().units_leased, 8u);
+}
+
 TEST_F(BatchedCalls, SeveralUnitsLeasedAndUploadedInOneCallEach) {
   const uint64_t w = register_worker();
   const v1::LeaseUnitResponse lease = this->lease(w, 8);
