@@ -20,18 +20,8 @@
 namespace tessera::server {
 namespace {
 
+using testing::small_units;
 using testing::tiny_bundle;
-
-/// A 32x32 job in 8x8 tiles (16 tiles) of 4 batches of 1 spp: 64 units.
-v1::JobRequestOptions small_units() {
-  v1::JobRequestOptions options;
-  options.set_width(32);
-  options.set_height(32);
-  options.set_tile_size(8);
-  options.set_spp(4);
-  options.set_batch_spp(1);
-  return options;
-}
 
 CoordinatorConfig memory_config() {
   CoordinatorConfig c;

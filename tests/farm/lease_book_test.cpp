@@ -282,12 +282,8 @@ TEST_F(LeaseBookTest, PriorityAndAFailureBlockAreFollowed) {
   EXPECT_EQ(theirs[0].lease.tile, two[0].lease.tile);
 }
 
-// The book on its own: a grant made after the store's state was read is applied again when the
-// job is put again, or void when the store's new state no longer has its unit leasable.
-TEST(LeaseBook, AGrantTheStoreNoLongerAllowsIsVoidWhenTheJobIsPutAgain) {
-  testing::FakeClock clock;
-  LeaseBook book(clock, 1000);
-  book.add_worker(1);
+/// Job 7, running: two 8x8 tiles of 4 batches of 1 spp, every unit queued.
+LeaseBookJob two_tile_job() {
   LeaseBookJob job;
   job.job_id = 7;
   job.state = JobState::running;
@@ -298,6 +294,16 @@ TEST(LeaseBook, AGrantTheStoreNoLongerAllowsIsVoidWhenTheJobIsPutAgain) {
   job.spec.options.batch_spp = 1;
   job.tiles = {{{0, 0, 8, 8}, 0}, {{8, 0, 16, 8}, 0}};
   job.queue = {{0, 0, 4}, {1, 0, 4}};
+  return job;
+}
+
+// The book on its own: a grant made after the store's state was read is applied again when the
+// job is put again, or void when the store's new state no longer has its unit leasable.
+TEST(LeaseBook, AGrantTheStoreNoLongerAllowsIsVoidWhenTheJobIsPutAgain) {
+  testing::FakeClock clock;
+  LeaseBook book(clock, 1000);
+  book.add_worker(1);
+  LeaseBookJob job = two_tile_job();
   book.put_job(job);
   const std::vector<LeasedUnit> got = book.lease_up_to(1, 2);
   ASSERT_EQ(got.size(), 2u);
@@ -326,17 +332,7 @@ TEST(LeaseBook, LeasesBeingDeliveredAreExtendedButNotReturnedOrCounted) {
   testing::FakeClock clock;
   LeaseBook book(clock, 1000);
   book.add_worker(1);
-  LeaseBookJob job;
-  job.job_id = 7;
-  job.state = JobState::running;
-  job.spec.options.width = 16;
-  job.spec.options.height = 8;
-  job.spec.options.tile_size = 8;
-  job.spec.options.spp = 4;
-  job.spec.options.batch_spp = 1;
-  job.tiles = {{{0, 0, 8, 8}, 0}, {{8, 0, 16, 8}, 0}};
-  job.queue = {{0, 0, 4}, {1, 0, 4}};
-  book.put_job(job);
+  book.put_job(two_tile_job());
   const std::vector<LeasedUnit> first = book.lease_up_to(1, 2);
   ASSERT_EQ(first.size(), 2u);
   const std::vector<std::string> delivering = {first[0].lease.lease_id, first[1].lease.lease_id};

@@ -34,6 +34,17 @@ inline v1::SceneBundle tiny_bundle() {
   return bundle;
 }
 
+/// A 32x32 job in 8x8 tiles (16 tiles) of 4 batches of 1 spp: 64 units of 64 samples.
+inline v1::JobRequestOptions small_units() {
+  v1::JobRequestOptions options;
+  options.set_width(32);
+  options.set_height(32);
+  options.set_tile_size(8);
+  options.set_spp(4);
+  options.set_batch_spp(1);
+  return options;
+}
+
 /// The upload of `acc` under `lease`, as the lease's worker would send it.
 inline UnitResult result_for(const Lease& lease, const Accumulation& acc) {
   UnitResult r;

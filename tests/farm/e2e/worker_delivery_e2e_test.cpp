@@ -19,6 +19,7 @@
 #include "clock.h"
 #include "coordinator.h"
 #include "process.h"
+#include "store_fixture.h"
 #include "wire/bearer_token.h"
 #include "worker_service.h"
 
@@ -26,16 +27,8 @@ namespace tessera::server {
 namespace {
 
 using namespace std::chrono_literals;
-
-v1::SceneBundle tiny_bundle() {
-  std::ifstream in(std::string(TESSERA_SOURCE_DIR) + "/tests/farm/data/tiny.json");
-  v1::SceneBundle bundle;
-  bundle.set_scene_file("scene.json");
-  auto* file = bundle.add_files();
-  file->set_path("scene.json");
-  file->set_data(std::string(std::istreambuf_iterator<char>(in), {}));
-  return bundle;
-}
+using testing::small_units;
+using testing::tiny_bundle;
 
 TEST(WorkerDelivery, AWorkerLeasesAndRendersItsNextUnitsWhileItsResultsAreOnTheirWay) {
   const std::filesystem::path dir =
@@ -74,14 +67,8 @@ TEST(WorkerDelivery, AWorkerLeasesAndRendersItsNextUnitsWhileItsResultsAreOnThei
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   ASSERT_NE(port, 0);
 
-  // 32x32 in 8x8 tiles, 4 batches of 1 spp: 64 units of 64 samples, 16 to a call.
-  v1::JobRequestOptions options;
-  options.set_width(32);
-  options.set_height(32);
-  options.set_tile_size(8);
-  options.set_spp(4);
-  options.set_batch_spp(1);
-  const int64_t job = coordinator.submit(tiny_bundle(), options, 0, "test").id;
+  // 64 units of 64 samples, 16 to a call (the first call: 1).
+  const int64_t job = coordinator.submit(tiny_bundle(), small_units(), 0, "test").id;
 
   {
     e2e::Process worker({TESSERA_WORKER_BIN, "--server", "127.0.0.1:" + std::to_string(port), "--cache",
