@@ -179,6 +179,9 @@ class Coordinator {
   /// Graceful shutdown, first step: no more leases (LeaseUnit answers "no work"), long polls
   /// and watches end. Uploads, heartbeats and releases still work, so results in flight commit.
   void stop_leasing() { changes_.stop(); }
+  /// From memory, no store read: whether the job may still change state (queued or running:
+  /// in the lease book); false once it ended (done, failed, cancelled, deleted) or if unknown.
+  bool job_in_progress(int64_t job_id) { return book_.has_job(job_id); }
   /// Last step: stops the background check if it still runs, marks the store as shut down
   /// cleanly unless a check was due and did not end `ok` (so the next start checks again), and
   /// checkpoints the WAL into the database file (PRAGMA wal_checkpoint(TRUNCATE)).

@@ -1,6 +1,5 @@
 #include "job_service.h"
 
-#include <thread>
 
 #include "proto_convert.h"
 #include "rpc_guard.h"
@@ -108,9 +107,18 @@ grpc::Status JobServiceImpl::WatchJob(grpc::ServerContext* context,
       if (context->IsCancelled()) return {grpc::StatusCode::CANCELLED, "client went away"};
       if (changes.stopped()) return {grpc::StatusCode::UNAVAILABLE, "server shutting down"};
       seen = changes.wait(seen, std::chrono::milliseconds(1000));
-      // Rate limit: at most one message per interval (the job may change thousands of times).
+      // Rate limit: at most one message per interval (the job may change thousands of times),
+      // except the final state's, sent as soon as the job has ended: waiting out the interval
+      // held every `tessera submit` up to 250 ms after its job was done. Each change in the
+      // interval costs a look in memory (job_in_progress), not a store read.
       const auto next = last_write + interval;
-      if (std::chrono::steady_clock::now() < next) std::this_thread::sleep_until(next);
+      for (auto now = std::chrono::steady_clock::now();
+           now < next && coordinator_.job_in_progress(job_id) && !context->IsCancelled() &&
+           !changes.stopped();
+           now = std::chrono::steady_clock::now()) {
+        seen = changes.wait(
+            seen, std::chrono::duration_cast<std::chrono::milliseconds>(next - now) + std::chrono::milliseconds(1));
+      }
       info = to_proto(coordinator_.job(job_id));
       std::string current = info.SerializeAsString();
       if (current == last) continue;

@@ -161,6 +161,11 @@ void LeaseBook::put_job(LeaseBookJob in) {
   }
 }
 
+bool LeaseBook::has_job(int64_t job_id) {
+  std::lock_guard lock(mu_);
+  return jobs_.contains(job_id);
+}
+
 void LeaseBook::drop_job(int64_t job_id) {
   std::lock_guard lock(mu_);
   scheduler_.drop_job(job_id);

@@ -96,6 +96,8 @@ class LeaseBook {
   void put_job(LeaseBookJob job);
   /// The job ended (cancelled, failed, done, deleted): its units and leases are forgotten.
   void drop_job(int64_t job_id);
+  /// Whether the job is in the book (put and not dropped: queued or running).
+  bool has_job(int64_t job_id);
   void set_priority(int64_t job_id, int priority);
   /// A merge moved the tile's prefix to `next_batch` (a noise tile's lookahead moves with it);
   /// `closed`: the stopping rule closed the tile (its later units and leases were skipped).
