@@ -13,6 +13,7 @@
 #include "accum/accumulation_codec.h"
 #include "coordinator.h"
 #include "fake_clock.h"
+#include "loopback_server.h"
 #include "store_fixture.h"
 #include "wire/rpc_channel.h"
 #include "worker_service.h"
@@ -54,10 +55,7 @@ v1::UploadResultRequest upload_of(uint64_t worker, const std::string& lease_id,
 class BatchedCalls : public ::testing::Test {
  protected:
   BatchedCalls() : coordinator_(memory_config(), clock_) {
-    grpc::ServerBuilder builder;
-    builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port_);
-    builder.RegisterService(&workers_);
-    server_ = builder.BuildAndStart();
+    server_ = testing::serve_on_loopback({&workers_}, &port_);
     stub_ = v1::WorkerService::NewStub(wire::make_channel("127.0.0.1:" + std::to_string(port_)));
     job_ = coordinator_.submit(tiny_bundle(), small_units(), 0, "c").id;
   }

@@ -12,6 +12,7 @@
 #include "coordinator.h"
 #include "fake_clock.h"
 #include "job_service.h"
+#include "loopback_server.h"
 #include "store_fixture.h"
 #include "wire/rpc_channel.h"
 
@@ -31,10 +32,7 @@ TEST(WatchJob, TheFinalStateIsSentAtOnceWhateverTheInterval) {
   wire::BearerTokenCheck auth("");
   JobServiceImpl jobs(coordinator, auth);
   int port = 0;
-  grpc::ServerBuilder builder;
-  builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port);
-  builder.RegisterService(&jobs);
-  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  std::unique_ptr<grpc::Server> server = testing::serve_on_loopback({&jobs}, &port);
   auto stub = v1::JobService::NewStub(wire::make_channel("127.0.0.1:" + std::to_string(port)));
   const int64_t job = coordinator.submit(tiny_bundle(), small_units(), 0, "c").id;
 

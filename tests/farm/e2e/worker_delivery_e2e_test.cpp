@@ -18,6 +18,7 @@
 
 #include "clock.h"
 #include "coordinator.h"
+#include "loopback_server.h"
 #include "process.h"
 #include "store_fixture.h"
 #include "wire/bearer_token.h"
@@ -61,10 +62,7 @@ TEST(WorkerDelivery, AWorkerLeasesAndRendersItsNextUnitsWhileItsResultsAreOnThei
   wire::BearerTokenCheck auth("");
   WorkerServiceImpl workers(coordinator, auth);
   int port = 0;
-  grpc::ServerBuilder builder;
-  builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port);
-  builder.RegisterService(&workers);
-  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  std::unique_ptr<grpc::Server> server = testing::serve_on_loopback({&workers}, &port);
   ASSERT_NE(port, 0);
 
   // 64 units of 64 samples, 16 to a call (the first call: 1).
