@@ -23,7 +23,7 @@ enum class CodecEffort {
   /// zstd level -1: what workers upload (worker/farm/farm_worker.cpp, kUploadEffort) and the
   /// server's checkpoints of merged tiles. A third of level 3's compression instructions and
   /// fewer to decode, for about 1 % more bytes on a many-sample tile (BENCHMARKS.md, issue 14
-  /// sections of farm13 and farm15, and "Results at zstd level -1").
+  /// sections of farm13 and farm15, and "The farm's overhead on one job").
   fast,
 };
 

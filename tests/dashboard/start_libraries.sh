@@ -3,7 +3,7 @@
 # (server/lazy_image_io.cpp): their shared libraries (ldd) leave out OpenImageIO and the ~250
 # libraries it brings, which were most of the server's start-up CPU (BENCHMARKS.md, "Issue 14:
 # start-up, where the time goes (branch dash8)") and about 0.2 s of CPU for every client command
-# (BENCHMARKS.md, "The client's start-up").
+# (BENCHMARKS.md, "The farm's overhead on one job").
 #   start_libraries.sh BIN
 set -euo pipefail
 bin=${1:?usage: start_libraries.sh BIN}

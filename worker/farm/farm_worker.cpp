@@ -46,9 +46,8 @@ constexpr milliseconds kUploadGiveUp{120'000};
 constexpr uint64_t kSamplesPerThreadPerCall = uint64_t(1) << 16;
 constexpr uint32_t kMaxUnitsPerCall = 16;
 /// How hard zstd works on a result: level -1 (CodecEffort::fast), which the server decodes as
-/// it decodes level 3. On a default 512x512, 256-spp job it saves the worker about 0.3 CPU-s
-/// (0.6 % of the job) for about 1-5 % more bytes per result (BENCHMARKS.md, "Results at zstd
-/// level -1").
+/// it decodes level 3. On a default 512x512, 256-spp job it saved the worker 0.2-0.37 CPU-s
+/// for 1.1 % more bytes per result (BENCHMARKS.md, "The farm's overhead on one job").
 constexpr CodecEffort kUploadEffort = CodecEffort::fast;
 
 /// One unit of a LeaseUnit answer.
@@ -159,7 +158,7 @@ std::string probe_isa() {
 /// The results of one call delivered on a thread of its own while the worker leases and renders
 /// its next units (docs/farm.md, "Batched calls"): a unit's upload and the server's commit no
 /// longer leave the render threads idle between calls (about 1.4 ms a call, 0.85 s of a
-/// 25-second job on one machine: BENCHMARKS.md, "The worker delivers while it renders"). One
+/// 25-second job on one machine: BENCHMARKS.md, "The farm's overhead on one job"). One
 /// delivery at a time, in call order: start() waits for the one before.
 class Deliveries {
  public:
@@ -291,12 +290,10 @@ class FarmWorker {
     }
     // What was rendered is delivered before the worker says it leaves.
     try {
-      deliveries_.wait();
+      finish_delivery();
     } catch (const Fatal& e) {
       log(e.what());
       return 1;
-    } catch (const std::exception& e) {
-      log(e.what());
     }
     deregister();
     log("stopped after delivering " + std::to_string(units_uploaded_) + " unit(s), " +
@@ -346,13 +343,7 @@ class FarmWorker {
     if (stop_.requested()) {
       // The results on their way arrive first, so that no lease handed back below is one of
       // theirs (a server answers every lease the worker holds to lease_now).
-      try {
-        deliveries_.wait();
-      } catch (const Fatal&) {
-        throw;
-      } catch (const std::exception& e) {
-        log(e.what());
-      }
+      finish_delivery();
       // Units leased as the signal arrived go straight back. When the signal cancelled the
       // long poll, the server may still have granted leases the reply never brought: ask once
       // more (the server answers with the leases this worker holds) and hand those back too,
@@ -369,12 +360,11 @@ class FarmWorker {
     if (held.empty()) return;
     // A server from before `delivering` answers those leases too: they are not rendered again.
     // When nothing else came, the delivery is awaited before the next call asks again.
-    const size_t answered = held.size();
     std::erase_if(held, [&](const HeldUnit& h) {
       return std::find(delivering.begin(), delivering.end(), h.lease_id) != delivering.end();
     });
     if (held.empty()) {
-      if (answered > 0) deliveries_.wait();
+      deliveries_.wait();
       return;
     }
     const v1::WorkUnit& first = held.front().unit;
@@ -422,6 +412,18 @@ class FarmWorker {
       }
     }
     deliveries_.start(std::move(results));
+  }
+
+  /// Waits for the delivery on its way (when stopping): what it threw is logged, a Fatal
+  /// error rethrown.
+  void finish_delivery() {
+    try {
+      deliveries_.wait();
+    } catch (const Fatal&) {
+      throw;
+    } catch (const std::exception& e) {
+      log(e.what());
+    }
   }
 
   /// The leases held[live[k]] renewed in one Heartbeat call (lease_ids); answer k is lease k's.
