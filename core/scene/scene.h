@@ -34,17 +34,12 @@ enum class FovAxis { x, y, smaller, larger, diagonal };
 /// parse_fov turns a diagonal angle into the horizontal one).
 inline glm::dvec2 fov_half_tangents(double fov_deg, FovAxis fov_axis, double aspect) {
   const double tan_half = std::tan(fov_deg * 0.5 * 3.14159265358979323846 / 180.0);
-  double x = tan_half;
-  switch (fov_axis) {
-    case FovAxis::x: break;
-    case FovAxis::y: x = tan_half * aspect; break;
-    case FovAxis::smaller: x = aspect <= 1 ? tan_half : tan_half * aspect; break;
-    case FovAxis::larger: x = aspect >= 1 ? tan_half : tan_half * aspect; break;
-    case FovAxis::diagonal: x = tan_half / std::sqrt(1 + 1 / (aspect * aspect)); break;
-  }
-  const bool along_y = fov_axis == FovAxis::y || (fov_axis == FovAxis::smaller && aspect > 1) ||
-                       (fov_axis == FovAxis::larger && aspect < 1);
-  return glm::dvec2(x, along_y ? tan_half : x / aspect);
+  FovAxis axis = fov_axis;  // smaller and larger: the image axis they name at this aspect
+  if (axis == FovAxis::smaller) axis = aspect <= 1 ? FovAxis::x : FovAxis::y;
+  if (axis == FovAxis::larger) axis = aspect >= 1 ? FovAxis::x : FovAxis::y;
+  if (axis == FovAxis::y) return glm::dvec2(tan_half * aspect, tan_half);
+  const double x = axis == FovAxis::diagonal ? tan_half / std::sqrt(1 + 1 / (aspect * aspect)) : tan_half;
+  return glm::dvec2(x, x / aspect);
 }
 
 /// How the camera maps the scene onto the image.
