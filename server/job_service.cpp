@@ -1,6 +1,5 @@
 #include "job_service.h"
 
-
 #include "proto_convert.h"
 #include "rpc_guard.h"
 #include "wire/rpc_channel.h"

@@ -73,10 +73,14 @@ class BatchedCalls : public ::testing::Test {
     request.set_worker_id(worker);
     request.set_max_units(max_units);
     v1::LeaseUnitResponse response;
+    EXPECT_TRUE(lease_call(request, &response).ok());
+    return response;
+  }
+
+  grpc::Status lease_call(const v1::LeaseUnitRequest& request, v1::LeaseUnitResponse* response) {
     grpc::ClientContext context;
     wire::prepare_context(context, "", std::chrono::seconds(30));
-    EXPECT_TRUE(stub_->LeaseUnit(&context, request, &response).ok());
-    return response;
+    return stub_->LeaseUnit(&context, request, response);
   }
 
   grpc::Status upload_all(const v1::UploadResultsRequest& request,
@@ -124,11 +128,7 @@ TEST_F(BatchedCalls, DeliveringLeasesAreLeftOutAndMoreThan64AreRefused) {
   request.set_max_units(4);
   for (const v1::UnitLease& l : first.leases()) request.add_delivering(l.lease_id());
   v1::LeaseUnitResponse next;
-  {
-    grpc::ClientContext context;
-    wire::prepare_context(context, "", std::chrono::seconds(30));
-    ASSERT_TRUE(stub_->LeaseUnit(&context, request, &next).ok());
-  }
+  ASSERT_TRUE(lease_call(request, &next).ok());
   ASSERT_EQ(next.leases_size(), 4);
   std::set<std::string> ids;
   for (const v1::UnitLease& l : first.leases()) ids.insert(l.lease_id());
@@ -136,9 +136,7 @@ TEST_F(BatchedCalls, DeliveringLeasesAreLeftOutAndMoreThan64AreRefused) {
   request.clear_delivering();
   for (int i = 0; i < 65; ++i) request.add_delivering("lease" + std::to_string(i));
   v1::LeaseUnitResponse refused;
-  grpc::ClientContext context;
-  wire::prepare_context(context, "", std::chrono::seconds(30));
-  const grpc::Status status = stub_->LeaseUnit(&context, request, &refused);
+  const grpc::Status status = lease_call(request, &refused);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_NE(status.error_message().find("65"), std::string::npos) << status.error_message();
   EXPECT_EQ(refused.leases_size(), 0);
