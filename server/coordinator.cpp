@@ -49,7 +49,7 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       leases_(db_, jobs_, clock_, config.lease_ms),
       book_(clock_, config.lease_ms),
       merger_(db_, clock_, config.merge_cache_bytes),
-      output_(config.output_dir, config.output_writer),
+      output_(config.output_dir, config.output_opener),
       limits_(config.limits),
       nan_report_fraction_(config.nan_report_fraction),
       retention_days_(config.retention_days),
@@ -795,7 +795,7 @@ int Coordinator::expire_leases() {
 
 void Coordinator::finish_job(int64_t job_id) {
   JobRecord record;
-  std::vector<TileRecord> tiles;
+  std::vector<TilePosition> tiles;
   {
     StoreLock lock(*this);
     std::optional<JobRecord> found = jobs_.get(job_id);
@@ -805,7 +805,7 @@ void Coordinator::finish_job(int64_t job_id) {
     finishing_.insert(job_id);
     record = std::move(*jobs_.get(job_id));
     merger_.checkpoint_job(job_id);  // the merged sums, not just the last checkpoints
-    tiles = jobs_.tiles(job_id);
+    tiles = jobs_.tile_positions(job_id);
   }
   const int64_t now = clock_.now_unix_ms();
   record.finished_unix_ms = now;
@@ -814,7 +814,7 @@ void Coordinator::finish_job(int64_t job_id) {
   // merged image stays in the store meanwhile (docs/design.md, "Leases and failures").
   const OutputFiles files = output_.files(record);
   try {
-    output_.write(record, tiles);
+    output_.write(record, tiles, checkpoint_reader(job_id));
   } catch (const std::exception& e) {
     std::cerr << "tessera-server: job " << job_id << " is done but its output was not written: "
               << e.what() << "; the image stays in the store and is written again by the next"
@@ -828,19 +828,28 @@ void Coordinator::finish_job(int64_t job_id) {
   notify_changed(true);
 }
 
+TileCheckpointReader Coordinator::checkpoint_reader(int64_t job_id) {
+  // The store lock for each tile's read only, so that the writer's decoding, resolving and
+  // encoding of a large image never hold up leases and uploads.
+  return [this, job_id](uint32_t tile) {
+    StoreLock lock(*this);
+    return jobs_.tile_checkpoint(job_id, tile);
+  };
+}
+
 void Coordinator::rewrite_missing_output(const JobRecord& record) {
   if (record.state != JobState::done) return;
   if (std::filesystem::exists(record.output_exr) && std::filesystem::exists(record.output_png)) {
     return;
   }
-  std::vector<TileRecord> tiles;
+  std::vector<TilePosition> tiles;
   {
     StoreLock lock(*this);
     merger_.checkpoint_job(record.id);
-    tiles = jobs_.tiles(record.id);
+    tiles = jobs_.tile_positions(record.id);
   }
   try {
-    output_.write(record, tiles);
+    output_.write(record, tiles, checkpoint_reader(record.id));
   } catch (const std::exception& e) {
     std::cerr << "tessera-server: job " << record.id << ": writing its output again failed: "
               << e.what() << std::endl;

@@ -48,8 +48,8 @@ struct CoordinatorConfig {
   /// Decoded tiles kept in memory between merges, at most this many bytes (--merge-cache-mb;
   /// server/merge_cache.h).
   size_t merge_cache_bytes = MergeCache::kDefaultBudgetBytes;
-  /// Writes the output files (empty: write_image); tests inject a full disk here.
-  ImageFileWriter output_writer;
+  /// Opens the output files (empty: ImageFileStream); tests inject a full disk here.
+  ImageFileOpener output_opener;
   /// Called as each upload group's commit begins, before it takes the store lock, with the
   /// number of results the group holds (tests line calls up here); empty in the server.
   std::function<void(size_t results)> before_upload_commit;
@@ -244,6 +244,8 @@ class Coordinator {
  private:
   /// Writes the output of a fully merged job and marks it done (or failed with the reason).
   void finish_job(int64_t job_id);
+  /// Reads a job's tile checkpoints for JobOutput::write, each under the store lock.
+  TileCheckpointReader checkpoint_reader(int64_t job_id);
   /// Writes a done job's output files again when one is missing (a full disk when it finished,
   /// or a file removed since). Failures are logged: the image stays in the store.
   void rewrite_missing_output(const JobRecord& record);

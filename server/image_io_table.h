@@ -19,7 +19,7 @@
 namespace tessera::server {
 
 /// Bumped with any change of the table; the executable refuses a module of another version.
-inline constexpr uint32_t kImageIoTableVersion = 1;
+inline constexpr uint32_t kImageIoTableVersion = 2;
 
 struct ImageIoTable {
   uint32_t version = kImageIoTableVersion;
@@ -29,6 +29,12 @@ struct ImageIoTable {
   float (*linear_to_srgb)(float);
   ImageCheck (*check_image_bytes)(const std::string&, std::string_view);
   std::vector<std::string> (*scene_image_files)(const Scene&);
+  // ImageFileStream, through an opaque handle (the module's own ImageFileStream object): open,
+  // write_rows, finish, and delete (of a finished or unfinished one).
+  void* (*stream_open)(const std::filesystem::path&, int, int, const ImageWriteOptions&);
+  void (*stream_write_rows)(void*, const RgbImage&, const std::vector<ExtraChannel>&);
+  void (*stream_finish)(void*);
+  void (*stream_delete)(void*);
 };
 
 }  // namespace tessera::server

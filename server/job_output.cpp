@@ -1,5 +1,6 @@
 #include "job_output.h"
 
+#include <map>
 #include <numeric>
 #include <system_error>
 
@@ -17,24 +18,16 @@ std::string joined(const std::vector<std::string>& items) {
   return out;
 }
 
-void write_atomically(const ImageFileWriter& writer, const RgbImage& image,
-                      const std::filesystem::path& path, const ImageWriteOptions& options) {
-  // write_image picks the format from the extension: keep it last in the temporary name.
-  std::filesystem::path temp = path;
-  temp.replace_extension(".partial" + path.extension().string());
-  try {
-    writer(image, temp, options);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temp, ignored);  // a full disk keeps no half-written file
-    throw;
-  }
-  std::error_code ec;
-  std::filesystem::rename(temp, path, ec);
-  if (ec) throw std::runtime_error(path.string() + ": cannot rename into place: " + ec.message());
-}
-
 }  // namespace
+
+JobOutput::JobOutput(std::filesystem::path output_dir, ImageFileOpener opener)
+    : dir_(std::move(output_dir)), opener_(std::move(opener)) {
+  if (!opener_) {
+    opener_ = [](const std::filesystem::path& path, int width, int height, const ImageWriteOptions& options) {
+      return ImageFileStream(path, width, height, options);
+    };
+  }
+}
 
 RgbImage JobOutput::resolve(const JobRecord& job, const std::vector<TileRecord>& tiles) {
   // One tile decoded at a time (36 bytes a pixel), resolved into the image (12 bytes a pixel),
@@ -99,17 +92,72 @@ OutputFiles JobOutput::files(const JobRecord& job) const {
           std::filesystem::absolute(dir_ / (stem + ".png"))};
 }
 
-OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TileRecord>& tiles) const {
+OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TilePosition>& tiles,
+                             const TileCheckpointReader& checkpoint) const {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec) throw std::runtime_error(dir_.string() + ": cannot create: " + ec.message());
-  const RgbImage image = resolve(job, tiles);
+  const int width = job.options.width, height = job.options.height;
+  const std::string what = "job " + std::to_string(job.id) + "'s image";
+  // The rows of tiles, top to bottom, each tile's index in x order.
+  std::map<int, std::vector<uint32_t>> rows_of_tiles;
+  for (uint32_t t = 0; t < uint32_t(tiles.size()); ++t) rows_of_tiles[tiles[t].rect.y0].push_back(t);
+
   ImageWriteOptions options;
   options.metadata = provenance(job);
-  options.extra_channels = extra_channels(job, tiles);
+  // For `noise` and `time` jobs, each pixel's merged samples per pixel (its tile's), after R, G, B.
+  const bool spp_channel = job.options.rule != StopRule::spp;
+  if (spp_channel) options.extra_channels = {{"spp", {}}};
+  const JobPlan plan = job.options.plan();
   const OutputFiles out = files(job);
-  write_atomically(writer_, image, out.exr, options);
-  write_atomically(writer_, image, out.png, options);
+  ImageFileStream exr = opener_(out.exr, width, height, options);
+  ImageFileStream png = opener_(out.png, width, height, options);
+  RgbImage band;
+  band.width = width;
+  std::vector<ExtraChannel> extra(spp_channel ? 1 : 0, ExtraChannel{"spp", {}});
+  int next_row = 0;
+  for (const auto& [y0, row] : rows_of_tiles) {
+    const int rows = tiles[row.front()].rect.y1 - y0;
+    if (y0 != next_row || rows <= 0) {
+      throw std::runtime_error(what + ": its tiles leave rows " + std::to_string(next_row) + " to " +
+                               std::to_string(y0 - 1) + " uncovered");
+    }
+    band.height = rows;
+    band.rgb.assign(size_t(width) * size_t(rows) * 3, 0.0f);
+    if (spp_channel) extra[0].values.assign(size_t(width) * size_t(rows), 0.0f);
+    for (const uint32_t t : row) {
+      const TilePosition& tile = tiles[t];
+      if (tile.rect.y1 - tile.rect.y0 != rows || tile.rect.x0 < 0 || tile.rect.x1 > width) {
+        throw std::runtime_error(what + ": tile " + std::to_string(t) + " does not fit its row of tiles");
+      }
+      const std::string bytes = checkpoint(t);
+      if (!bytes.empty()) {
+        Accumulation acc = decode_accumulation(bytes);
+        if (!(acc.rect == tile.rect)) {
+          throw std::runtime_error(what + ": tile " + std::to_string(t) + "'s stored sum covers another rectangle");
+        }
+        acc.rect.y0 -= y0;  // into the band's rows
+        acc.rect.y1 -= y0;
+        resolve_into(band, acc);
+      }
+      if (spp_channel) {
+        const float spp = tile.next_batch == 0 ? 0.0f : float(plan.batch_end(tile.next_batch - 1));
+        for (int y = 0; y < rows; ++y) {
+          std::fill_n(extra[0].values.begin() + ptrdiff_t(size_t(y) * size_t(width) + size_t(tile.rect.x0)),
+                      tile.rect.x1 - tile.rect.x0, spp);
+        }
+      }
+    }
+    exr.write_rows(band, extra);
+    png.write_rows(band);
+    next_row = y0 + rows;
+  }
+  if (next_row != height) {
+    throw std::runtime_error(what + ": its tiles leave rows " + std::to_string(next_row) + " to " +
+                             std::to_string(height - 1) + " uncovered");
+  }
+  exr.finish();
+  png.finish();
   return out;
 }
 

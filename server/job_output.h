@@ -1,5 +1,6 @@
 // A job's image: assembled from its merged tiles (resolve_image), written as EXR (float32, with
-// provenance attributes) and PNG when the job finishes, or encoded in memory as a preview.
+// provenance attributes) and PNG when the job finishes, a row of tiles at a time, or encoded in
+// memory as a preview.
 #pragma once
 
 #include <filesystem>
@@ -10,6 +11,7 @@
 
 #include "image/image_output.h"
 #include "job_store.h"
+#include "store/tiles_table.h"
 
 namespace tessera::server {
 
@@ -17,16 +19,19 @@ struct OutputFiles {
   std::filesystem::path exr, png;
 };
 
-/// Writes one image file (core's write_image in production). The seam through which tests
-/// make the disk full (ENOSPC) or fail in other ways.
-using ImageFileWriter = std::function<void(const RgbImage&, const std::filesystem::path&,
-                                           const ImageWriteOptions&)>;
+/// Opens one image file for writing band by band (an ImageFileStream in production). The seam
+/// through which tests make the disk full (ENOSPC) or fail in other ways.
+using ImageFileOpener = std::function<ImageFileStream(const std::filesystem::path&, int width, int height,
+                                                      const ImageWriteOptions&)>;
+
+/// A tile's checkpoint bytes (encode_accumulation; empty when nothing is merged), read from the
+/// store when the output writer reaches its row.
+using TileCheckpointReader = std::function<std::string(uint32_t tile)>;
 
 class JobOutput {
  public:
-  /// `writer` empty: write_image.
-  explicit JobOutput(std::filesystem::path output_dir, ImageFileWriter writer = {})
-      : dir_(std::move(output_dir)), writer_(writer ? std::move(writer) : ImageFileWriter(write_image)) {}
+  /// `opener` empty: an ImageFileStream.
+  explicit JobOutput(std::filesystem::path output_dir, ImageFileOpener opener = {});
 
   /// The image of the merged samples so far: per pixel the mean of what is merged, black where
   /// nothing is. Throws CodecError when a stored tile does not decode.
@@ -46,15 +51,22 @@ class JobOutput {
   /// Where the job's files go: <output_dir>/job-<id>.exr and .png, absolute.
   OutputFiles files(const JobRecord& job) const;
 
-  /// Writes files(job) (each to a temporary name, then renamed, so a reader never sees half a
-  /// file). Throws std::runtime_error naming the file and why (e.g. "No space left on device").
-  OutputFiles write(const JobRecord& job, const std::vector<TileRecord>& tiles) const;
+  /// Writes files(job), both a row of tiles at a time: each row's checkpoints read, decoded and
+  /// resolved into a band of rows that goes to the EXR and the PNG before the next row is read,
+  /// so the server holds a band of the image, not the image and every tile's bytes (an
+  /// 8192 x 8192 job took 3 GiB more than its merge state that way: BENCHMARKS.md, "Issue 14:
+  /// the server's memory on the largest image"). `tiles`: every tile's rectangle and merged
+  /// prefix, in tile order (tile i at index i); `checkpoint` reads a tile's bytes. Each file goes
+  /// to a temporary name and is renamed into place when whole, so a reader never sees half a
+  /// file. Throws std::runtime_error naming the file and why (e.g. "No space left on device").
+  OutputFiles write(const JobRecord& job, const std::vector<TilePosition>& tiles,
+                    const TileCheckpointReader& checkpoint) const;
 
   const std::filesystem::path& dir() const { return dir_; }
 
  private:
   std::filesystem::path dir_;
-  ImageFileWriter writer_;
+  ImageFileOpener opener_;
 };
 
 }  // namespace tessera::server

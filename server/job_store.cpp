@@ -173,6 +173,12 @@ bool JobStore::finish(int64_t job_id, const std::string& output_exr, const std::
 
 std::vector<TileRecord> JobStore::tiles(int64_t job_id) { return TilesTable(db_).of_job(job_id); }
 
+std::vector<TilePosition> JobStore::tile_positions(int64_t job_id) { return TilesTable(db_).positions(job_id); }
+
+std::string JobStore::tile_checkpoint(int64_t job_id, uint32_t tile) {
+  return TilesTable(db_).checkpoint(job_id, tile).value_or(std::string());
+}
+
 std::optional<JobSpec> JobStore::spec(int64_t job_id) { return JobsTable(db_).spec(job_id); }
 
 std::optional<TileRect> JobStore::tile_rect(int64_t job_id, uint32_t tile) {

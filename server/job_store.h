@@ -9,6 +9,7 @@
 
 #include "job_record.h"
 #include "store/sqlite.h"
+#include "store/tiles_table.h"
 
 namespace tessera::server {
 
@@ -67,6 +68,10 @@ class JobStore {
               int64_t now_unix_ms);
 
   std::vector<TileRecord> tiles(int64_t job_id);
+  /// Every tile's rectangle and merged prefix, in tile order, without the checkpoint bytes.
+  std::vector<TilePosition> tile_positions(int64_t job_id);
+  /// A tile's checkpoint bytes; empty when nothing was checkpointed.
+  std::string tile_checkpoint(int64_t job_id, uint32_t tile);
   /// The options and bundle of a job, without the counters (cheap: the lease path). nullopt
   /// when unknown.
   std::optional<JobSpec> spec(int64_t job_id);

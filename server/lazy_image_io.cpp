@@ -18,6 +18,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "image_io_table.h"
 #include "lazy_image_io.h"
@@ -89,6 +90,37 @@ void write_image(const RgbImage& image, const std::filesystem::path& path,
 std::string encode_image(const RgbImage& image, const std::string& format,
                          const ImageWriteOptions& options) {
   return image_io().encode_image(image, format, options);
+}
+
+// ImageFileStream: state_ holds the module's own ImageFileStream (an opaque handle here, never
+// dereferenced as a State).
+ImageFileStream::ImageFileStream(const std::filesystem::path& path, int width, int height,
+                                 const ImageWriteOptions& options)
+    : state_(static_cast<State*>(image_io().stream_open(path, width, height, options))) {}
+
+ImageFileStream::ImageFileStream(ImageFileStream&& other) noexcept : state_(std::exchange(other.state_, nullptr)) {}
+
+ImageFileStream& ImageFileStream::operator=(ImageFileStream&& other) noexcept {
+  if (this != &other) {
+    if (state_) image_io().stream_delete(state_);
+    state_ = std::exchange(other.state_, nullptr);
+  }
+  return *this;
+}
+
+ImageFileStream::~ImageFileStream() {
+  if (state_) image_io().stream_delete(state_);
+}
+
+void ImageFileStream::write_rows(const RgbImage& band, const std::vector<ExtraChannel>& extra) {
+  if (!state_) throw std::logic_error("ImageFileStream::write_rows after finish");
+  image_io().stream_write_rows(state_, band, extra);
+}
+
+void ImageFileStream::finish() {
+  if (!state_) throw std::logic_error("ImageFileStream::finish called twice");
+  image_io().stream_finish(state_);
+  image_io().stream_delete(std::exchange(state_, nullptr));
 }
 
 RgbImage read_image(const std::filesystem::path& path) { return image_io().read_image(path); }

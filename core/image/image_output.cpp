@@ -25,6 +25,7 @@
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
+#include <utility>
 
 namespace tessera {
 namespace {
@@ -84,44 +85,62 @@ struct PreparedImage {
   }
 };
 
-PreparedImage prepare(const RgbImage& image, FileFormat format, const ImageWriteOptions& options) {
-  PreparedImage prepared;
+/// The file's spec for a `width` x `height` image: EXR float32 (or half) R, G, B and the extra
+/// channels' names, or PNG 8-bit sRGB; the metadata as attributes.
+OIIO::ImageSpec file_spec(int width, int height, FileFormat format, const ImageWriteOptions& options) {
+  OIIO::ImageSpec spec;
   if (format == FileFormat::kExr) {
     const OIIO::TypeDesc file_type = options.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
-    const size_t pixels = size_t(image.width) * size_t(image.height);
-    const int channels = 3 + int(options.extra_channels.size());
-    prepared.spec = OIIO::ImageSpec(image.width, image.height, channels, file_type);
-    prepared.spec.attribute("oiio:ColorSpace", "Linear");
-    prepared.spec.channelnames = {"R", "G", "B"};
-    for (const ExtraChannel& extra : options.extra_channels) {
-      if (extra.values.size() != pixels) {
-        throw std::runtime_error("extra channel " + extra.name + " holds " +
-                                 std::to_string(extra.values.size()) + " values for " +
-                                 std::to_string(pixels) + " pixels");
+    spec = OIIO::ImageSpec(width, height, 3 + int(options.extra_channels.size()), file_type);
+    spec.attribute("oiio:ColorSpace", "Linear");
+    spec.channelnames = {"R", "G", "B"};
+    for (const ExtraChannel& extra : options.extra_channels) spec.channelnames.push_back(extra.name);
+  } else {
+    spec = OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    spec.attribute("png:compressionLevel", kPngZlibLevel);
+  }
+  for (const auto& [key, value] : options.metadata) spec.attribute(key, value);
+  return spec;
+}
+
+/// Rows of `image` (all of it, or a band of a larger one) sanitised for `format` into `out`'s
+/// f32 or u8: EXR interleaves R, G, B and `extra`'s values (one per pixel of `image` each, in
+/// the spec's channel order), NaN/Inf as 0, clamped to half's range for half; PNG clamps to
+/// [0, 1], encodes sRGB and rounds to 8 bits.
+void convert_pixels(const RgbImage& image, FileFormat format, bool half, const std::vector<ExtraChannel>& extra,
+                    PreparedImage* out) {
+  const size_t pixels = size_t(image.width) * size_t(image.height);
+  if (format == FileFormat::kExr) {
+    const int channels = 3 + int(extra.size());
+    for (const ExtraChannel& e : extra) {
+      if (e.values.size() != pixels) {
+        throw std::runtime_error("extra channel " + e.name + " holds " + std::to_string(e.values.size()) +
+                                 " values for " + std::to_string(pixels) + " pixels");
       }
-      prepared.spec.channelnames.push_back(extra.name);
     }
-    prepared.f32.resize(pixels * size_t(channels));
+    out->f32.resize(pixels * size_t(channels));
     for (size_t p = 0; p < pixels; ++p) {
       for (int c = 0; c < channels; ++c) {
-        float v = finite_or_zero(c < 3 ? image.rgb[p * 3 + size_t(c)]
-                                       : options.extra_channels[size_t(c - 3)].values[p]);
+        float v = finite_or_zero(c < 3 ? image.rgb[p * 3 + size_t(c)] : extra[size_t(c - 3)].values[p]);
         // Half's conversion turns anything above 65519.99 into Inf: clamp first.
-        if (options.half) v = std::clamp(v, -kHalfMax, kHalfMax);
-        prepared.f32[p * size_t(channels) + size_t(c)] = v;
+        if (half) v = std::clamp(v, -kHalfMax, kHalfMax);
+        out->f32[p * size_t(channels) + size_t(c)] = v;
       }
     }
   } else {
-    prepared.spec = OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-    prepared.spec.attribute("oiio:ColorSpace", "sRGB");
-    prepared.spec.attribute("png:compressionLevel", kPngZlibLevel);
-    prepared.u8.resize(image.rgb.size());
+    out->u8.resize(image.rgb.size());
     for (size_t i = 0; i < image.rgb.size(); ++i) {
       const float v = std::clamp(finite_or_zero(image.rgb[i]), 0.0f, 1.0f);
-      prepared.u8[i] = uint8_t(std::lround(linear_to_srgb(v) * 255.0f));
+      out->u8[i] = uint8_t(std::lround(linear_to_srgb(v) * 255.0f));
     }
   }
-  for (const auto& [key, value] : options.metadata) prepared.spec.attribute(key, value);
+}
+
+PreparedImage prepare(const RgbImage& image, FileFormat format, const ImageWriteOptions& options) {
+  PreparedImage prepared;
+  prepared.spec = file_spec(image.width, image.height, format, options);
+  convert_pixels(image, format, options.half, options.extra_channels, &prepared);
   return prepared;
 }
 
@@ -219,31 +238,119 @@ float linear_to_srgb(float linear) {
   return float(l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055);
 }
 
-void write_image(const RgbImage& image, const std::filesystem::path& path,
-                 const ImageWriteOptions& options) {
+/// An open file being written band by band: its temporary name, OIIO's writer, the rows so far.
+struct ImageFileStream::State {
+  State(const std::filesystem::path& destination, std::string what_) : path(destination), what(std::move(what_)), temp(destination) {}
+  std::filesystem::path path;
+  std::string what;
+  FileFormat format = FileFormat::kExr;
+  int width = 0, height = 0;
+  bool half = false;
+  std::vector<std::string> extra_names;
+  TempFile temp;
+  std::unique_ptr<OIIO::ImageOutput> out;
+  int rows = 0;
+  PreparedImage band;  ///< the band's converted pixels, its buffers kept from band to band
+};
+
+ImageFileStream::ImageFileStream(const std::filesystem::path& path, int width, int height,
+                                 const ImageWriteOptions& options) {
   const std::string what = "cannot write image '" + path.string() + "'";
   const std::optional<FileFormat> format = format_from_extension(path.extension().string());
   if (!format) {
     throw std::runtime_error(what + ": unsupported extension '" + path.extension().string() +
                              "' (supported: " + kSupportedExtensions + ")");
   }
-  check_dimensions(image, what);
-  const PreparedImage prepared = prepare(image, *format, options);
+  if (width <= 0 || height <= 0) {
+    throw std::runtime_error(what + ": image has no pixels (" + std::to_string(width) + "x" +
+                             std::to_string(height) + ")");
+  }
+  // Written beside the destination and renamed over it by finish(): readers see the old file or
+  // the whole new one, never a partial image, even if this process dies midway.
+  auto state = std::make_unique<State>(path, what);
+  state->format = *format;
+  state->width = width;
+  state->height = height;
+  state->half = options.half;
+  for (const ExtraChannel& extra : options.extra_channels) state->extra_names.push_back(extra.name);
+  state->out = create_output(*format, what, nullptr);
+  if (!state->out->open(state->temp.path().string(), file_spec(width, height, *format, options))) {
+    throw std::runtime_error(what + ": " + state->out->geterror());
+  }
+  state_ = state.release();
+}
 
-  // Written beside the destination and renamed over it: readers see the old file or the whole
-  // new one, never a partial image, even if this process dies midway.
-  TempFile temp(path);
-  auto out = create_output(*format, what, nullptr);
-  write_prepared(*out, temp.path().string(), prepared, what);
-  out.reset();
-  fsync_path(temp.path(), true, what);
+ImageFileStream::ImageFileStream(ImageFileStream&& other) noexcept : state_(std::exchange(other.state_, nullptr)) {}
+
+ImageFileStream& ImageFileStream::operator=(ImageFileStream&& other) noexcept {
+  if (this != &other) {
+    delete state_;
+    state_ = std::exchange(other.state_, nullptr);
+  }
+  return *this;
+}
+
+ImageFileStream::~ImageFileStream() {
+  // Unfinished (an exception on the way): OIIO's writer goes first, then the temporary file.
+  delete state_;
+}
+
+void ImageFileStream::write_rows(const RgbImage& band, const std::vector<ExtraChannel>& extra) {
+  if (!state_) throw std::logic_error("ImageFileStream::write_rows after finish");
+  State& s = *state_;
+  if (band.width != s.width || band.height <= 0 || band.height > s.height - s.rows ||
+      band.rgb.size() != size_t(band.width) * size_t(band.height) * 3) {
+    throw std::runtime_error(s.what + ": a band of " + std::to_string(band.width) + "x" + std::to_string(band.height) +
+                             " (" + std::to_string(band.rgb.size()) + " floats) at row " + std::to_string(s.rows) +
+                             " does not fit a " + std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
+  }
+  if (s.format == FileFormat::kExr) {
+    if (extra.size() != s.extra_names.size()) {
+      throw std::runtime_error(s.what + ": " + std::to_string(extra.size()) + " extra channels for " +
+                               std::to_string(s.extra_names.size()));
+    }
+    convert_pixels(band, s.format, s.half, extra, &s.band);
+  } else {
+    convert_pixels(band, s.format, s.half, {}, &s.band);  // PNG has no room for extra channels
+  }
+  if (!s.out->write_scanlines(s.rows, s.rows + band.height, 0, s.band.data_type(), s.band.data())) {
+    throw std::runtime_error(s.what + ": " + s.out->geterror());
+  }
+  s.rows += band.height;
+}
+
+void ImageFileStream::finish() {
+  if (!state_) throw std::logic_error("ImageFileStream::finish called twice");
+  State& s = *state_;
+  if (s.rows != s.height) {
+    throw std::runtime_error(s.what + ": " + std::to_string(s.rows) + " of " + std::to_string(s.height) +
+                             " rows written");
+  }
+  if (!s.out->close()) throw std::runtime_error(s.what + ": " + s.out->geterror());
+  s.out.reset();
+  fsync_path(s.temp.path(), true, s.what);
   std::error_code error;
-  std::filesystem::rename(temp.path(), path, error);
-  if (error)
-    throw std::runtime_error(what + ": cannot rename the temporary file: " + error.message());
-  temp.release();
-  const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
-  fsync_path(folder, false, what);  // best effort: some file systems refuse to sync a folder
+  std::filesystem::rename(s.temp.path(), s.path, error);
+  if (error) throw std::runtime_error(s.what + ": cannot rename the temporary file: " + error.message());
+  s.temp.release();
+  const std::filesystem::path folder = s.path.parent_path().empty() ? "." : s.path.parent_path();
+  fsync_path(folder, false, s.what);  // best effort: some file systems refuse to sync a folder
+  delete state_;
+  state_ = nullptr;
+}
+
+void write_image(const RgbImage& image, const std::filesystem::path& path,
+                 const ImageWriteOptions& options) {
+  const std::string what = "cannot write image '" + path.string() + "'";
+  if (!format_from_extension(path.extension().string())) {
+    throw std::runtime_error(what + ": unsupported extension '" + path.extension().string() +
+                             "' (supported: " + kSupportedExtensions + ")");
+  }
+  check_dimensions(image, what);
+  // One band: the whole image.
+  ImageFileStream stream(path, image.width, image.height, options);
+  stream.write_rows(image, options.extra_channels);
+  stream.finish();
 }
 
 std::string encode_image(const RgbImage& image, const std::string& format,

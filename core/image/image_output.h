@@ -37,6 +37,36 @@ struct ImageWriteOptions {
 void write_image(const RgbImage& image, const std::filesystem::path& path,
                  const ImageWriteOptions& options = {});
 
+/// One image file written band by band, top to bottom, so that only a band of rows is in memory
+/// at a time: the server writes a job's EXR and PNG a row of tiles at a time (an 8192 x 8192 image
+/// is 805 MB as float RGB; BENCHMARKS.md, "Issue 14: the server's memory on the largest image").
+/// The file is byte for byte the one write_image gives for the whole image (write_image is this
+/// stream with one band). It is written to a hidden temporary name beside `path`; finish()
+/// closes, syncs and renames it into place; a stream destroyed unfinished (an exception on the
+/// way) removes its temporary file. Throws std::runtime_error naming the file and the reason.
+class ImageFileStream {
+ public:
+  /// The format follows the extension, as write_image's. The EXR's extra channels are
+  /// `options.extra_channels`' names (their values are not read: each band brings its own).
+  ImageFileStream(const std::filesystem::path& path, int width, int height, const ImageWriteOptions& options);
+  ImageFileStream(ImageFileStream&& other) noexcept;
+  ImageFileStream& operator=(ImageFileStream&& other) noexcept;
+  ImageFileStream(const ImageFileStream&) = delete;
+  ImageFileStream& operator=(const ImageFileStream&) = delete;
+  ~ImageFileStream();
+
+  /// The next band.height rows (band.width must be the image's width). `extra`: the band's
+  /// values of each extra channel, in their order (ignored for PNG).
+  void write_rows(const RgbImage& band, const std::vector<ExtraChannel>& extra = {});
+  /// Every row written: the file goes into place.
+  void finish();
+
+  struct State;
+
+ private:
+  State* state_ = nullptr;  ///< owned; null once finished
+};
+
 /// Encodes an image in memory as PNG (sRGB, 8 bit) or EXR (format "png" / "exr").
 std::string encode_image(const RgbImage& image, const std::string& format,
                          const ImageWriteOptions& options = {});

@@ -262,6 +262,85 @@ TEST_F(ImageOutputTest, RejectsImageWhosePixelsDoNotMatchItsSize) {
   EXPECT_EQ(files_in_dir(), 0u);
 }
 
+std::string file_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// Rows [y0, y0 + rows) of `image` (and of each extra channel).
+RgbImage band_of(const RgbImage& image, int y0, int rows) {
+  const size_t row = size_t(image.width) * 3;
+  return image_of(image.width, rows,
+                  std::vector<float>(image.rgb.begin() + ptrdiff_t(row * size_t(y0)),
+                                     image.rgb.begin() + ptrdiff_t(row * size_t(y0 + rows))));
+}
+
+// The server writes a job's files a row of tiles at a time (server/job_output.cpp): whatever the
+// bands, the file is the one write_image gives for the whole image, byte for byte, the EXR's
+// extra channel and the metadata included; 37 rows in bands of 16 and 5 also cut OpenEXR's
+// 16-line zip blocks in the middle.
+TEST_F(ImageOutputTest, AFileWrittenInBandsIsTheWholeImagesByteForByte) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> value(-0.5f, 3.0f);
+  const int width = 29, height = 37;
+  RgbImage image = image_of(width, height, std::vector<float>(size_t(width) * height * 3));
+  for (float& v : image.rgb) v = value(random);
+  image.rgb[5] = std::numeric_limits<float>::quiet_NaN();
+  ImageWriteOptions options;
+  options.metadata = {{"tessera:job_id", "12"}, {"tessera:scene_file", "x.json"}};
+  options.extra_channels = {{"spp", std::vector<float>(size_t(width) * height)}};
+  for (size_t p = 0; p < options.extra_channels[0].values.size(); ++p) {
+    options.extra_channels[0].values[p] = float(p % 7);
+  }
+  for (const std::string ext : {".exr", ".png"}) {
+    write_image(image, file("whole" + ext), options);
+    for (const int band : {1, 5, 16, 36}) {
+      const fs::path path = file("bands" + std::to_string(band) + ext);
+      ImageWriteOptions names = options;
+      names.extra_channels[0].values.clear();  // the stream reads the names only
+      ImageFileStream stream(path, width, height, names);
+      for (int y0 = 0; y0 < height; y0 += band) {
+        const int rows = std::min(band, height - y0);
+        const std::vector<float>& spp = options.extra_channels[0].values;
+        stream.write_rows(band_of(image, y0, rows),
+                          {{"spp", std::vector<float>(spp.begin() + ptrdiff_t(y0 * width),
+                                                      spp.begin() + ptrdiff_t((y0 + rows) * width))}});
+        EXPECT_FALSE(fs::exists(path)) << "in place before finish()";
+      }
+      stream.finish();
+      EXPECT_EQ(file_bytes(path), file_bytes(file("whole" + ext))) << path;
+    }
+  }
+}
+
+TEST_F(ImageOutputTest, AStreamRefusesBandsThatDoNotFitAndLeavesNothingUnfinished) {
+  const fs::path path = file("out.exr");
+  {
+    ImageFileStream stream(path, 4, 3, {});
+    stream.write_rows(image_of(4, 2, std::vector<float>(24, 0.5f)));
+    try {
+      stream.write_rows(image_of(4, 2, std::vector<float>(24, 0.5f)));  // 4 rows of 3
+      FAIL() << "no error";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("does not fit a 4x3 image"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(stream.write_rows(image_of(3, 1, std::vector<float>(9, 0.5f))), std::runtime_error);
+    try {
+      stream.finish();  // a row short
+      FAIL() << "no error";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("2 of 3 rows written"), std::string::npos) << e.what();
+    }
+  }
+  // Destroyed unfinished: no file in place, no temporary file left.
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_EQ(files_in_dir(), 0u);
+  EXPECT_THROW(ImageFileStream(file("out.tiff"), 4, 3, {}), std::runtime_error);
+  EXPECT_THROW(ImageFileStream(file("out.png"), 0, 3, {}), std::runtime_error);
+  EXPECT_EQ(files_in_dir(), 0u);
+}
+
 TEST_F(ImageOutputTest, EncodeImageProducesBytesOiioReads) {
   const RgbImage image = image_of(2, 1, {0.0f, 0.5f, 1.0f, 0.25f, 2.0f, -1.0f});
   ImageWriteOptions options;

@@ -1,7 +1,7 @@
 // A full output disk (issue 15): the job that completes while the disk is full stays done with
 // its merged image in the store; `get` answers the final image and writes the files again once
-// space is back, and so does the next server start. ENOSPC comes through the output writer's
-// seam (CoordinatorConfig::output_writer).
+// space is back, and so does the next server start. ENOSPC comes through the output opener's
+// seam (CoordinatorConfig::output_opener).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -18,18 +18,17 @@
 namespace tessera::server {
 namespace {
 
-/// write_image, unless the disk is "full": then what a full disk gives (ENOSPC).
+/// An ImageFileStream, unless the disk is "full": then what a full disk gives (ENOSPC).
 struct Disk {
   bool full = false;
   int refused = 0;
-  ImageFileWriter writer() {
-    return [this](const RgbImage& image, const std::filesystem::path& path,
-                  const ImageWriteOptions& options) {
+  ImageFileOpener opener() {
+    return [this](const std::filesystem::path& path, int width, int height, const ImageWriteOptions& options) {
       if (full) {
         ++refused;
         throw std::system_error(ENOSPC, std::generic_category(), path.string());
       }
-      write_image(image, path, options);
+      return ImageFileStream(path, width, height, options);
     };
   }
 };
@@ -61,7 +60,7 @@ TEST(FullDisk, AJobStaysDoneAndItsFilesAreWrittenByTheNextGetOrStart) {
   CoordinatorConfig config;
   config.db_path = db;
   config.output_dir = dir / "outputs";
-  config.output_writer = disk.writer();
+  config.output_opener = disk.opener();
   int64_t id = 0;
   {
     Coordinator farm(config, clock);

@@ -1,0 +1,126 @@
+// JobOutput (server/job_output.h): a job's EXR and PNG written a row of tiles at a time are the
+// files that resolving the whole image first gives, byte for byte.
+#include "job_output.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "accum/accumulation_codec.h"
+
+namespace tessera::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string file_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// A 70 x 45 job in 32-px tiles (3 x 2, the last row and column cut short), 4-spp batches.
+JobRecord job_of(StopRule rule) {
+  JobRecord job;
+  job.id = 7;
+  job.scene_file = "scene.json";
+  job.options.width = 70;
+  job.options.height = 45;
+  job.options.tile_size = 32;
+  job.options.spp = 12;
+  job.options.batch_spp = 4;
+  job.options.rule = rule;
+  if (rule == StopRule::noise) job.options.noise_target = 0.05;
+  job.spp_merged = 4;
+  return job;
+}
+
+/// Every tile of job_of's grid with a sum of `next_batch` batches of random samples (tile 4
+/// has nothing merged): as positions for write, and with their bytes for resolve.
+void tiles_of(const JobRecord& job, std::vector<TilePosition>* positions, std::vector<TileRecord>* records) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> value(0.0f, 2.0f);
+  const uint32_t next_batches[] = {1, 3, 2, 1, 0, 3};
+  uint32_t t = 0;
+  for (int y0 = 0; y0 < job.options.height; y0 += 32) {
+    for (int x0 = 0; x0 < job.options.width; x0 += 32) {
+      const TileRect rect{x0, y0, std::min(x0 + 32, job.options.width), std::min(y0 + 32, job.options.height)};
+      TileRecord record;
+      record.tile = t;
+      record.rect = rect;
+      record.next_batch = next_batches[t];
+      if (record.next_batch > 0) {
+        Accumulation acc(rect);
+        for (double& v : acc.rgb) v = value(random);
+        for (uint32_t& n : acc.count) n = 4 * record.next_batch;
+        acc.count[3] = 0;  // a pixel without samples stays black
+        record.accumulation = encode_accumulation(acc);
+      }
+      positions->push_back({rect, record.next_batch});
+      records->push_back(record);
+      ++t;
+    }
+  }
+}
+
+class JobOutputTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("tessera-job-output-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(JobOutputTest, FilesWrittenARowOfTilesAtATimeAreTheWholeImagesByteForByte) {
+  for (const StopRule rule : {StopRule::spp, StopRule::noise}) {  // noise: the EXR's spp channel
+    const JobRecord job = job_of(rule);
+    std::vector<TilePosition> positions;
+    std::vector<TileRecord> records;
+    tiles_of(job, &positions, &records);
+    int reads = 0;
+    const JobOutput output(dir_ / "banded");
+    const OutputFiles files = output.write(job, positions, [&](uint32_t tile) {
+      ++reads;
+      return records.at(tile).accumulation;
+    });
+    EXPECT_EQ(reads, 6);  // each tile once
+
+    ImageWriteOptions options;
+    options.metadata = JobOutput::provenance(job);
+    options.extra_channels = JobOutput::extra_channels(job, records);
+    ASSERT_EQ(options.extra_channels.size(), rule == StopRule::spp ? 0u : 1u);
+    fs::create_directories(dir_ / "whole");
+    const RgbImage whole = JobOutput::resolve(job, records);
+    write_image(whole, dir_ / "whole" / "job.exr", options);
+    write_image(whole, dir_ / "whole" / "job.png", options);
+    EXPECT_EQ(file_bytes(files.exr), file_bytes(dir_ / "whole" / "job.exr"));
+    EXPECT_EQ(file_bytes(files.png), file_bytes(dir_ / "whole" / "job.png"));
+    EXPECT_GT(file_bytes(files.exr).size(), 1000u);
+  }
+}
+
+TEST_F(JobOutputTest, TilesThatLeaveRowsUncoveredAreAnErrorAndNoFileIsLeft) {
+  const JobRecord job = job_of(StopRule::spp);
+  std::vector<TilePosition> positions;
+  std::vector<TileRecord> records;
+  tiles_of(job, &positions, &records);
+  positions.resize(3);  // the second row of tiles is missing
+  try {
+    JobOutput(dir_).write(job, positions, [&](uint32_t tile) { return records.at(tile).accumulation; });
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("rows 32 to 44 uncovered"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_empty(dir_));  // neither file, nor a temporary one
+}
+
+}  // namespace
+}  // namespace tessera::server
