@@ -333,7 +333,6 @@ int Coordinator::apply_retention() {
 JobImage Coordinator::image(int64_t job_id, const std::string& format) {
   if (format != "exr" && format != "png") throw invalid("image format must be exr or png");
   JobRecord record;
-  std::vector<TileRecord> tiles;
   {
     StoreLock lock(*this);
     std::optional<JobRecord> found = jobs_.get(job_id);
@@ -359,15 +358,15 @@ JobImage Coordinator::image(int64_t job_id, const std::string& format) {
       return out;
     }
   }
+  std::vector<TilePosition> tiles;
   {
     StoreLock lock(*this);
     merger_.checkpoint_job(job_id);  // the merged sums, not just the last checkpoints
-    tiles = jobs_.tiles(job_id);
+    tiles = jobs_.tile_positions(job_id);
   }
-  ImageWriteOptions options;
-  options.metadata = JobOutput::provenance(record);
-  if (format == "exr") options.extra_channels = JobOutput::extra_channels(record, tiles);
-  out.bytes = encode_image(JobOutput::resolve(record, tiles), format, options);
+  // A row of tiles at a time, as the files are written: tiles merged meanwhile show what they
+  // have when their row is read.
+  out.bytes = JobOutput::encode(record, tiles, checkpoint_reader(job_id), format);
   return out;
 }
 

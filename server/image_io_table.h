@@ -29,11 +29,13 @@ struct ImageIoTable {
   float (*linear_to_srgb)(float);
   ImageCheck (*check_image_bytes)(const std::string&, std::string_view);
   std::vector<std::string> (*scene_image_files)(const Scene&);
-  // ImageFileStream, through an opaque handle (the module's own ImageFileStream object): open,
-  // write_rows, finish, and delete (of a finished or unfinished one).
+  // ImageFileStream, through an opaque handle (the module's own ImageFileStream object): open
+  // on a file or in memory, write_rows, finish (returning take_bytes()), and delete (of a
+  // finished or unfinished one).
   void* (*stream_open)(const std::filesystem::path&, int, int, const ImageWriteOptions&);
+  void* (*stream_open_in_memory)(const std::string&, int, int, const ImageWriteOptions&);
   void (*stream_write_rows)(void*, const RgbImage&, const std::vector<ExtraChannel>&);
-  void (*stream_finish)(void*);
+  std::string (*stream_finish)(void*);
   void (*stream_delete)(void*);
 };
 

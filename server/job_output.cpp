@@ -1,12 +1,10 @@
 #include "job_output.h"
 
 #include <map>
-#include <numeric>
 #include <system_error>
 
 #include "accum/accumulation_codec.h"
 #include "accum/film.h"
-#include "job/tile_summary.h"
 #include "wire/job_options_wire.h"
 
 namespace tessera::server {
@@ -27,16 +25,6 @@ JobOutput::JobOutput(std::filesystem::path output_dir, ImageFileOpener opener)
       return ImageFileStream(path, width, height, options);
     };
   }
-}
-
-RgbImage JobOutput::resolve(const JobRecord& job, const std::vector<TileRecord>& tiles) {
-  // One tile decoded at a time (36 bytes a pixel), resolved into the image (12 bytes a pixel),
-  // and dropped: decoding every tile first would hold the whole image three times over.
-  RgbImage image = resolve_image(job.options.width, job.options.height, {});
-  for (const TileRecord& t : tiles) {
-    if (!t.accumulation.empty()) resolve_into(image, decode_accumulation(t.accumulation));
-  }
-  return image;
 }
 
 std::map<std::string, std::string> JobOutput::provenance(const JobRecord& job) {
@@ -73,45 +61,22 @@ std::map<std::string, std::string> JobOutput::provenance(const JobRecord& job) {
   return m;
 }
 
-std::vector<ExtraChannel> JobOutput::extra_channels(const JobRecord& job,
-                                                    const std::vector<TileRecord>& tiles) {
-  if (job.options.rule == StopRule::spp) return {};
-  std::vector<TileRect> rects;
-  std::vector<uint32_t> spp;
-  const JobPlan plan = job.options.plan();
-  for (const TileRecord& t : tiles) {
-    rects.push_back(t.rect);
-    spp.push_back(t.next_batch == 0 ? 0 : plan.batch_end(t.next_batch - 1));
-  }
-  return {{"spp", spp_channel(job.options.width, job.options.height, rects, spp)}};
-}
-
 OutputFiles JobOutput::files(const JobRecord& job) const {
   const std::string stem = "job-" + std::to_string(job.id);
   return {std::filesystem::absolute(dir_ / (stem + ".exr")),
           std::filesystem::absolute(dir_ / (stem + ".png"))};
 }
 
-OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TilePosition>& tiles,
-                             const TileCheckpointReader& checkpoint) const {
-  std::error_code ec;
-  std::filesystem::create_directories(dir_, ec);
-  if (ec) throw std::runtime_error(dir_.string() + ": cannot create: " + ec.message());
+void JobOutput::for_each_band(const JobRecord& job, const std::vector<TilePosition>& tiles,
+                              const TileCheckpointReader& checkpoint,
+                              const std::function<void(const RgbImage&, const std::vector<ExtraChannel>&)>& band_fn) {
   const int width = job.options.width, height = job.options.height;
   const std::string what = "job " + std::to_string(job.id) + "'s image";
   // The rows of tiles, top to bottom, each tile's index in x order.
   std::map<int, std::vector<uint32_t>> rows_of_tiles;
   for (uint32_t t = 0; t < uint32_t(tiles.size()); ++t) rows_of_tiles[tiles[t].rect.y0].push_back(t);
-
-  ImageWriteOptions options;
-  options.metadata = provenance(job);
-  // For `noise` and `time` jobs, each pixel's merged samples per pixel (its tile's), after R, G, B.
   const bool spp_channel = job.options.rule != StopRule::spp;
-  if (spp_channel) options.extra_channels = {{"spp", {}}};
   const JobPlan plan = job.options.plan();
-  const OutputFiles out = files(job);
-  ImageFileStream exr = opener_(out.exr, width, height, options);
-  ImageFileStream png = opener_(out.png, width, height, options);
   RgbImage band;
   band.width = width;
   std::vector<ExtraChannel> extra(spp_channel ? 1 : 0, ExtraChannel{"spp", {}});
@@ -148,17 +113,51 @@ OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TilePositio
         }
       }
     }
-    exr.write_rows(band, extra);
-    png.write_rows(band);
+    band_fn(band, extra);
     next_row = y0 + rows;
   }
   if (next_row != height) {
     throw std::runtime_error(what + ": its tiles leave rows " + std::to_string(next_row) + " to " +
                              std::to_string(height - 1) + " uncovered");
   }
+}
+
+ImageWriteOptions JobOutput::file_options(const JobRecord& job) {
+  ImageWriteOptions options;
+  options.metadata = provenance(job);
+  // For `noise` and `time` jobs, each pixel's merged samples per pixel (its tile's), after R, G, B.
+  if (job.options.rule != StopRule::spp) options.extra_channels = {{"spp", {}}};
+  return options;
+}
+
+OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TilePosition>& tiles,
+                             const TileCheckpointReader& checkpoint) const {
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) throw std::runtime_error(dir_.string() + ": cannot create: " + ec.message());
+  const ImageWriteOptions options = file_options(job);
+  const OutputFiles out = files(job);
+  ImageFileStream exr = opener_(out.exr, job.options.width, job.options.height, options);
+  ImageFileStream png = opener_(out.png, job.options.width, job.options.height, options);
+  for_each_band(job, tiles, checkpoint, [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
+    exr.write_rows(band, extra);
+    png.write_rows(band);
+  });
   exr.finish();
   png.finish();
   return out;
+}
+
+std::string JobOutput::encode(const JobRecord& job, const std::vector<TilePosition>& tiles,
+                              const TileCheckpointReader& checkpoint, const std::string& format) {
+  ImageWriteOptions options = file_options(job);
+  if (format != "exr") options.extra_channels.clear();
+  ImageFileStream stream = ImageFileStream::in_memory(format, job.options.width, job.options.height, options);
+  for_each_band(job, tiles, checkpoint, [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
+    stream.write_rows(band, format == "exr" ? extra : std::vector<ExtraChannel>{});
+  });
+  stream.finish();
+  return stream.take_bytes();
 }
 
 }  // namespace tessera::server

@@ -1,6 +1,6 @@
-// A job's image: assembled from its merged tiles (resolve_image), written as EXR (float32, with
-// provenance attributes) and PNG when the job finishes, a row of tiles at a time, or encoded in
-// memory as a preview.
+// A job's image: assembled from its merged tiles (sums / count, black where nothing is merged) a
+// row of tiles at a time, written as EXR (float32, with provenance attributes) and PNG when the
+// job finishes, or encoded in memory as a preview.
 #pragma once
 
 #include <filesystem>
@@ -33,20 +33,11 @@ class JobOutput {
   /// `opener` empty: an ImageFileStream.
   explicit JobOutput(std::filesystem::path output_dir, ImageFileOpener opener = {});
 
-  /// The image of the merged samples so far: per pixel the mean of what is merged, black where
-  /// nothing is. Throws CodecError when a stored tile does not decode.
-  static RgbImage resolve(const JobRecord& job, const std::vector<TileRecord>& tiles);
-
   /// The provenance written in EXR headers and PNG text chunks (all keys "tessera:..."): job id,
   /// scene file, scene bundle SHA-256, resolved options (JSON), spp reached, renderer versions,
   /// worker ISAs, NaN/Inf samples dropped, wall time, stopping rule and reason, spp and
   /// estimated error over tiles.
   static std::map<std::string, std::string> provenance(const JobRecord& job);
-
-  /// The EXR channels after R, G, B: for `noise` and `time` jobs, "spp" (each pixel's merged
-  /// samples per pixel: its tile's); none for `spp` jobs.
-  static std::vector<ExtraChannel> extra_channels(const JobRecord& job,
-                                                  const std::vector<TileRecord>& tiles);
 
   /// Where the job's files go: <output_dir>/job-<id>.exr and .png, absolute.
   OutputFiles files(const JobRecord& job) const;
@@ -62,9 +53,22 @@ class JobOutput {
   OutputFiles write(const JobRecord& job, const std::vector<TilePosition>& tiles,
                     const TileCheckpointReader& checkpoint) const;
 
+  /// What the server answers for a job's image before its files exist (a preview): the file of
+  /// `format` ("exr" or "png") encoded in memory, a row of tiles at a time as write's.
+  static std::string encode(const JobRecord& job, const std::vector<TilePosition>& tiles,
+                            const TileCheckpointReader& checkpoint, const std::string& format);
+
   const std::filesystem::path& dir() const { return dir_; }
 
  private:
+  /// The image's rows of tiles, top to bottom: each resolved into a band of rows (black where
+  /// nothing is merged) and handed to `band_fn` with the band's extra channels (file_options').
+  static void for_each_band(const JobRecord& job, const std::vector<TilePosition>& tiles,
+                            const TileCheckpointReader& checkpoint,
+                            const std::function<void(const RgbImage&, const std::vector<ExtraChannel>&)>& band_fn);
+  /// Provenance and the extra channels' names of the job's files.
+  static ImageWriteOptions file_options(const JobRecord& job);
+
   std::filesystem::path dir_;
   ImageFileOpener opener_;
 };

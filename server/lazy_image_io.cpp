@@ -98,12 +98,21 @@ ImageFileStream::ImageFileStream(const std::filesystem::path& path, int width, i
                                  const ImageWriteOptions& options)
     : state_(static_cast<State*>(image_io().stream_open(path, width, height, options))) {}
 
-ImageFileStream::ImageFileStream(ImageFileStream&& other) noexcept : state_(std::exchange(other.state_, nullptr)) {}
+ImageFileStream ImageFileStream::in_memory(const std::string& format, int width, int height,
+                                           const ImageWriteOptions& options) {
+  ImageFileStream stream;
+  stream.state_ = static_cast<State*>(image_io().stream_open_in_memory(format, width, height, options));
+  return stream;
+}
+
+ImageFileStream::ImageFileStream(ImageFileStream&& other) noexcept
+    : state_(std::exchange(other.state_, nullptr)), bytes_(std::move(other.bytes_)) {}
 
 ImageFileStream& ImageFileStream::operator=(ImageFileStream&& other) noexcept {
   if (this != &other) {
     if (state_) image_io().stream_delete(state_);
     state_ = std::exchange(other.state_, nullptr);
+    bytes_ = std::move(other.bytes_);
   }
   return *this;
 }
@@ -119,9 +128,11 @@ void ImageFileStream::write_rows(const RgbImage& band, const std::vector<ExtraCh
 
 void ImageFileStream::finish() {
   if (!state_) throw std::logic_error("ImageFileStream::finish called twice");
-  image_io().stream_finish(state_);
+  bytes_ = image_io().stream_finish(state_);
   image_io().stream_delete(std::exchange(state_, nullptr));
 }
+
+std::string ImageFileStream::take_bytes() { return std::exchange(bytes_, std::string()); }
 
 RgbImage read_image(const std::filesystem::path& path) { return image_io().read_image(path); }
 

@@ -137,13 +137,6 @@ void convert_pixels(const RgbImage& image, FileFormat format, bool half, const s
   }
 }
 
-PreparedImage prepare(const RgbImage& image, FileFormat format, const ImageWriteOptions& options) {
-  PreparedImage prepared;
-  prepared.spec = file_spec(image.width, image.height, format, options);
-  convert_pixels(image, format, options.half, options.extra_channels, &prepared);
-  return prepared;
-}
-
 /// Creates an ImageOutput for `format`, optionally bound to an in-memory proxy.
 std::unique_ptr<OIIO::ImageOutput> create_output(FileFormat format, const std::string& what,
                                                  OIIO::Filesystem::IOProxy* proxy) {
@@ -157,17 +150,6 @@ std::unique_ptr<OIIO::ImageOutput> create_output(FileFormat format, const std::s
                              " writer cannot write to memory");
   }
   return out;
-}
-
-/// Opens `name` on `out`, writes all pixels and closes; throws naming `what` on any failure.
-void write_prepared(OIIO::ImageOutput& out, const std::string& name, const PreparedImage& image,
-                    const std::string& what) {
-  if (!out.open(name, image.spec)) throw std::runtime_error(what + ": " + out.geterror());
-  const bool written = out.write_image(image.data_type(), image.data());
-  const std::string write_error = written ? std::string() : out.geterror();
-  const bool closed = out.close();
-  if (!written) throw std::runtime_error(what + ": " + write_error);
-  if (!closed) throw std::runtime_error(what + ": " + out.geterror());
 }
 
 /// A temporary file beside the destination, removed unless released after a successful rename.
@@ -238,20 +220,48 @@ float linear_to_srgb(float linear) {
   return float(l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055);
 }
 
-/// An open file being written band by band: its temporary name, OIIO's writer, the rows so far.
+/// An image being written band by band: to a temporary file beside `path`, or into `memory`;
+/// OIIO's writer and the rows so far.
 struct ImageFileStream::State {
-  State(const std::filesystem::path& destination, std::string what_) : path(destination), what(std::move(what_)), temp(destination) {}
-  std::filesystem::path path;
+  std::filesystem::path path;  ///< empty for an in-memory stream
   std::string what;
   FileFormat format = FileFormat::kExr;
   int width = 0, height = 0;
   bool half = false;
   std::vector<std::string> extra_names;
-  TempFile temp;
+  std::optional<TempFile> temp;
+  std::unique_ptr<OIIO::Filesystem::IOVecOutput> memory;
   std::unique_ptr<OIIO::ImageOutput> out;
   int rows = 0;
   PreparedImage band;  ///< the band's converted pixels, its buffers kept from band to band
+  std::string bytes;   ///< an in-memory stream's file, once finished
 };
+
+namespace {
+
+/// Opens `state`'s writer on its target (its temporary file, or memory): the spec of a
+/// `width` x `height` image in `format`.
+void open_stream(ImageFileStream::State& state, FileFormat format, int width, int height,
+                 const ImageWriteOptions& options) {
+  if (width <= 0 || height <= 0) {
+    throw std::runtime_error(state.what + ": image has no pixels (" + std::to_string(width) + "x" +
+                             std::to_string(height) + ")");
+  }
+  state.format = format;
+  state.width = width;
+  state.height = height;
+  state.half = options.half;
+  for (const ExtraChannel& extra : options.extra_channels) state.extra_names.push_back(extra.name);
+  state.out = create_output(format, state.what, state.memory.get());
+  const std::string name = state.temp ? state.temp->path().string()
+                           : format == FileFormat::kExr ? "memory.exr"
+                                                        : "memory.png";
+  if (!state.out->open(name, file_spec(width, height, format, options))) {
+    throw std::runtime_error(state.what + ": " + state.out->geterror());
+  }
+}
+
+}  // namespace
 
 ImageFileStream::ImageFileStream(const std::filesystem::path& path, int width, int height,
                                  const ImageWriteOptions& options) {
@@ -261,31 +271,40 @@ ImageFileStream::ImageFileStream(const std::filesystem::path& path, int width, i
     throw std::runtime_error(what + ": unsupported extension '" + path.extension().string() +
                              "' (supported: " + kSupportedExtensions + ")");
   }
-  if (width <= 0 || height <= 0) {
-    throw std::runtime_error(what + ": image has no pixels (" + std::to_string(width) + "x" +
-                             std::to_string(height) + ")");
+  auto state = std::make_unique<State>();
+  state->path = path;
+  state->what = what;
+  if (width > 0 && height > 0) {
+    // Written beside the destination and renamed over it by finish(): readers see the old file
+    // or the whole new one, never a partial image, even if this process dies midway.
+    state->temp.emplace(path);
   }
-  // Written beside the destination and renamed over it by finish(): readers see the old file or
-  // the whole new one, never a partial image, even if this process dies midway.
-  auto state = std::make_unique<State>(path, what);
-  state->format = *format;
-  state->width = width;
-  state->height = height;
-  state->half = options.half;
-  for (const ExtraChannel& extra : options.extra_channels) state->extra_names.push_back(extra.name);
-  state->out = create_output(*format, what, nullptr);
-  if (!state->out->open(state->temp.path().string(), file_spec(width, height, *format, options))) {
-    throw std::runtime_error(what + ": " + state->out->geterror());
-  }
+  open_stream(*state, *format, width, height, options);
   state_ = state.release();
 }
 
-ImageFileStream::ImageFileStream(ImageFileStream&& other) noexcept : state_(std::exchange(other.state_, nullptr)) {}
+ImageFileStream ImageFileStream::in_memory(const std::string& format, int width, int height,
+                                           const ImageWriteOptions& options) {
+  const std::string what = "cannot encode image as '" + format + "'";
+  const std::optional<FileFormat> file_format = format_from_extension(format);
+  if (!file_format) throw std::runtime_error(what + ": unsupported format (supported: exr, png)");
+  auto state = std::make_unique<State>();
+  state->what = what;
+  state->memory = std::make_unique<OIIO::Filesystem::IOVecOutput>();
+  open_stream(*state, *file_format, width, height, options);
+  ImageFileStream stream;
+  stream.state_ = state.release();
+  return stream;
+}
+
+ImageFileStream::ImageFileStream(ImageFileStream&& other) noexcept
+    : state_(std::exchange(other.state_, nullptr)), bytes_(std::move(other.bytes_)) {}
 
 ImageFileStream& ImageFileStream::operator=(ImageFileStream&& other) noexcept {
   if (this != &other) {
     delete state_;
     state_ = std::exchange(other.state_, nullptr);
+    bytes_ = std::move(other.bytes_);
   }
   return *this;
 }
@@ -328,16 +347,23 @@ void ImageFileStream::finish() {
   }
   if (!s.out->close()) throw std::runtime_error(s.what + ": " + s.out->geterror());
   s.out.reset();
-  fsync_path(s.temp.path(), true, s.what);
-  std::error_code error;
-  std::filesystem::rename(s.temp.path(), s.path, error);
-  if (error) throw std::runtime_error(s.what + ": cannot rename the temporary file: " + error.message());
-  s.temp.release();
-  const std::filesystem::path folder = s.path.parent_path().empty() ? "." : s.path.parent_path();
-  fsync_path(folder, false, s.what);  // best effort: some file systems refuse to sync a folder
+  if (s.memory) {
+    const std::vector<unsigned char>& bytes = s.memory->buffer();
+    bytes_.assign(bytes.begin(), bytes.end());
+  } else {
+    fsync_path(s.temp->path(), true, s.what);
+    std::error_code error;
+    std::filesystem::rename(s.temp->path(), s.path, error);
+    if (error) throw std::runtime_error(s.what + ": cannot rename the temporary file: " + error.message());
+    s.temp->release();
+    const std::filesystem::path folder = s.path.parent_path().empty() ? "." : s.path.parent_path();
+    fsync_path(folder, false, s.what);  // best effort: some file systems refuse to sync a folder
+  }
   delete state_;
   state_ = nullptr;
 }
+
+std::string ImageFileStream::take_bytes() { return std::exchange(bytes_, std::string()); }
 
 void write_image(const RgbImage& image, const std::filesystem::path& path,
                  const ImageWriteOptions& options) {
@@ -356,18 +382,12 @@ void write_image(const RgbImage& image, const std::filesystem::path& path,
 std::string encode_image(const RgbImage& image, const std::string& format,
                          const ImageWriteOptions& options) {
   const std::string what = "cannot encode image as '" + format + "'";
-  const std::optional<FileFormat> file_format = format_from_extension(format);
-  if (!file_format) throw std::runtime_error(what + ": unsupported format (supported: exr, png)");
+  if (!format_from_extension(format)) throw std::runtime_error(what + ": unsupported format (supported: exr, png)");
   check_dimensions(image, what);
-  const PreparedImage prepared = prepare(image, *file_format, options);
-
-  OIIO::Filesystem::IOVecOutput memory;
-  auto out = create_output(*file_format, what, &memory);
-  write_prepared(*out, *file_format == FileFormat::kExr ? "memory.exr" : "memory.png", prepared,
-                 what);
-  out.reset();
-  const std::vector<unsigned char>& bytes = memory.buffer();
-  return std::string(bytes.begin(), bytes.end());
+  ImageFileStream stream = ImageFileStream::in_memory(format, image.width, image.height, options);
+  stream.write_rows(image, options.extra_channels);
+  stream.finish();
+  return stream.take_bytes();
 }
 
 RgbImage read_image(const std::filesystem::path& path) {

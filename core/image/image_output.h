@@ -58,16 +58,26 @@ class ImageFileStream {
   /// The next band.height rows (band.width must be the image's width). `extra`: the band's
   /// values of each extra channel, in their order (ignored for PNG).
   void write_rows(const RgbImage& band, const std::vector<ExtraChannel>& extra = {});
-  /// Every row written: the file goes into place.
+  /// Every row written: the file goes into place (an in-memory stream keeps its bytes).
   void finish();
+
+  /// A stream that encodes into memory instead (format "exr" or "png", as encode_image): what
+  /// take_bytes() hands over after finish().
+  static ImageFileStream in_memory(const std::string& format, int width, int height,
+                                   const ImageWriteOptions& options);
+  /// The encoded file of a finished in-memory stream (empty for a file).
+  std::string take_bytes();
 
   struct State;
 
  private:
+  ImageFileStream() = default;
   State* state_ = nullptr;  ///< owned; null once finished
+  std::string bytes_;
 };
 
-/// Encodes an image in memory as PNG (sRGB, 8 bit) or EXR (format "png" / "exr").
+/// Encodes an image in memory as PNG (sRGB, 8 bit) or EXR (format "png" / "exr"): an in-memory
+/// ImageFileStream with one band.
 std::string encode_image(const RgbImage& image, const std::string& format,
                          const ImageWriteOptions& options = {});
 

@@ -1,5 +1,6 @@
-// JobOutput (server/job_output.h): a job's EXR and PNG written a row of tiles at a time are the
-// files that resolving the whole image first gives, byte for byte.
+// JobOutput (server/job_output.h): a job's EXR and PNG written a row of tiles at a time, and its
+// previews encoded so in memory, are the files that resolving the whole image first gives, byte
+// for byte.
 #include "job_output.h"
 
 #include <gtest/gtest.h>
@@ -13,6 +14,8 @@
 #include <vector>
 
 #include "accum/accumulation_codec.h"
+#include "accum/film.h"
+#include "job/tile_summary.h"
 
 namespace tessera::server {
 namespace {
@@ -68,6 +71,26 @@ void tiles_of(const JobRecord& job, std::vector<TilePosition>* positions, std::v
   }
 }
 
+/// The whole image first, every tile decoded into it (what the server wrote before it wrote a row
+/// of tiles at a time), and the noise and time jobs' spp channel over the whole image.
+RgbImage whole_image(const JobRecord& job, const std::vector<TileRecord>& tiles) {
+  RgbImage image = resolve_image(job.options.width, job.options.height, {});
+  for (const TileRecord& t : tiles) {
+    if (!t.accumulation.empty()) resolve_into(image, decode_accumulation(t.accumulation));
+  }
+  return image;
+}
+std::vector<ExtraChannel> whole_extra_channels(const JobRecord& job, const std::vector<TileRecord>& tiles) {
+  if (job.options.rule == StopRule::spp) return {};
+  std::vector<TileRect> rects;
+  std::vector<uint32_t> spp;
+  for (const TileRecord& t : tiles) {
+    rects.push_back(t.rect);
+    spp.push_back(t.next_batch == 0 ? 0 : job.options.plan().batch_end(t.next_batch - 1));
+  }
+  return {{"spp", spp_channel(job.options.width, job.options.height, rects, spp)}};
+}
+
 class JobOutputTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -95,15 +118,19 @@ TEST_F(JobOutputTest, FilesWrittenARowOfTilesAtATimeAreTheWholeImagesByteForByte
 
     ImageWriteOptions options;
     options.metadata = JobOutput::provenance(job);
-    options.extra_channels = JobOutput::extra_channels(job, records);
+    options.extra_channels = whole_extra_channels(job, records);
     ASSERT_EQ(options.extra_channels.size(), rule == StopRule::spp ? 0u : 1u);
     fs::create_directories(dir_ / "whole");
-    const RgbImage whole = JobOutput::resolve(job, records);
+    const RgbImage whole = whole_image(job, records);
     write_image(whole, dir_ / "whole" / "job.exr", options);
     write_image(whole, dir_ / "whole" / "job.png", options);
     EXPECT_EQ(file_bytes(files.exr), file_bytes(dir_ / "whole" / "job.exr"));
     EXPECT_EQ(file_bytes(files.png), file_bytes(dir_ / "whole" / "job.png"));
     EXPECT_GT(file_bytes(files.exr).size(), 1000u);
+    // A preview (the job's image before its files exist) is the same file, encoded in memory.
+    const auto read = [&](uint32_t tile) { return records.at(tile).accumulation; };
+    EXPECT_EQ(JobOutput::encode(job, positions, read, "exr"), file_bytes(files.exr));
+    EXPECT_EQ(JobOutput::encode(job, positions, read, "png"), file_bytes(files.png));
   }
 }
 

@@ -9,10 +9,10 @@
 # limits (--max-pixels 8192 x 8192, --merge-cache-mb 1024) and one worker, submits SCENE
 # (default scenes/cornell.json) at SIZE x SIZE (default 8192) and 1 spp, and samples the
 # server's resident memory (VmRSS) every half second with the job's state. Prints the peak
-# (VmHWM) while results merge and over the whole job (the output EXR and PNG are written at its
-# end), and checks that every unit was merged exactly once, that the image reached the disk and
-# that the peak stayed within BOUND_GIB (default 2: docs/farm.md, "The server's memory"). Exits
-# non-zero when one of them fails.
+# (VmHWM) while results merge and over the whole job (a preview PNG is fetched half way, and the
+# output EXR and PNG are written at the end), and checks that every unit was merged exactly
+# once, that the image reached the disk and that the peak stayed within BOUND_GIB (default 2:
+# docs/farm.md, "The server's memory"). Exits non-zero when one of them fails.
 set -euo pipefail
 bin=${1:?usage: largest_image.sh BIN_DIR [SCENE] [SIZE]}
 here=$(cd "$(dirname "$0")/../.." && pwd)
@@ -55,7 +55,7 @@ id=$("$bin/tessera" submit "$scene" --width "$size" --height "$size" --spp 1 | a
 echo "job $id: ${size}x${size}, 1 spp, submitted"
 
 # Half-second samples: seconds, VmRSS (KiB), state, merged units.
-merging_peak=0 state= last_report=0
+merging_peak=0 state= last_report=0 preview_done=
 while :; do
   json=$("$bin/tessera" status "$id" --json)
   read -r state merged total < <(python3 -c 'import json, sys
@@ -64,6 +64,14 @@ print(j["state"], j["counters"]["results_merged"], j["counters"]["units_total"])
   rss=$(kib VmRSS)
   now=$(( $(date +%s) - t0 ))
   if [ "$merged" != "$total" ] && [ "$rss" -gt "$merging_peak" ]; then merging_peak=$rss; fi
+  # Once, about half way: a preview (`tessera get` of the running job, the PNG encoded from the
+  # merged tiles).
+  if [ -z "$preview_done" ] && (( merged * 2 >= total )) && [ "$merged" != "$total" ]; then
+    "$bin/tessera" get "$id" -o "$tmp/preview.png" >/dev/null 2>&1
+    preview_done=$merged
+    echo "  ${now} s: a preview at $merged of $total merged ($(du -m "$tmp/preview.png" | cut -f1) MB),"\
+      "VmHWM now $(gib "$(kib VmHWM)") GiB"
+  fi
   if (( now - last_report >= 15 )); then
     echo "  ${now} s: $state, $merged of $total merged, VmRSS $(gib "$rss") GiB"
     last_report=$now
