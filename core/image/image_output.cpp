@@ -221,7 +221,8 @@ float linear_to_srgb(float linear) {
 }
 
 /// An image being written band by band: to a temporary file beside `path`, or into `memory`;
-/// OIIO's writer and the rows so far.
+/// OIIO's writer and the rows so far. Members go in reverse order: the writer is closed into its
+/// file or memory before the temporary file is removed (an unfinished stream) or memory freed.
 struct ImageFileStream::State {
   std::filesystem::path path;  ///< empty for an in-memory stream
   std::string what;
@@ -234,7 +235,6 @@ struct ImageFileStream::State {
   std::unique_ptr<OIIO::ImageOutput> out;
   int rows = 0;
   PreparedImage band;  ///< the band's converted pixels, its buffers kept from band to band
-  std::string bytes;   ///< an in-memory stream's file, once finished
 };
 
 namespace {

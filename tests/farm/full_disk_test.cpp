@@ -76,7 +76,8 @@ TEST(FullDisk, AJobStaysDoneAndItsFilesAreWrittenByTheNextGetOrStart) {
     EXPECT_EQ(job.state, JobState::done);
     EXPECT_EQ(job.error, "");
     EXPECT_FALSE(std::filesystem::exists(job.output_exr));
-    EXPECT_FALSE(std::filesystem::exists(job.output_exr + ".partial.exr"));
+    // No half-written or temporary file either.
+    EXPECT_TRUE(!std::filesystem::exists(dir / "outputs") || std::filesystem::is_empty(dir / "outputs"));
 
     // Still full: `get` answers the final image from the store.
     JobImage image = farm.image(id, "exr");
