@@ -277,8 +277,8 @@ RgbImage band_of(const RgbImage& image, int y0, int rows) {
 
 // The server writes a job's files a row of tiles at a time (server/job_output.cpp): whatever the
 // bands, the file is the one write_image gives for the whole image, byte for byte, the EXR's
-// extra channel and the metadata included, and so are the bytes encoded in memory; 37 rows in bands of 16 and 5 also cut OpenEXR's
-// 16-line zip blocks in the middle.
+// extra channel and the metadata included, and so are the bytes encoded in memory; 37 rows in
+// bands of 16 and 5 also cut OpenEXR's 16-line zip blocks in the middle.
 TEST_F(ImageOutputTest, AFileWrittenInBandsIsTheWholeImagesByteForByte) {
   std::mt19937 random(7);
   std::uniform_real_distribution<float> value(-0.5f, 3.0f);
@@ -298,28 +298,26 @@ TEST_F(ImageOutputTest, AFileWrittenInBandsIsTheWholeImagesByteForByte) {
       const fs::path path = file("bands" + std::to_string(band) + ext);
       ImageWriteOptions names = options;
       names.extra_channels[0].values.clear();  // the stream reads the names only
-      ImageFileStream stream(path, width, height, names);
-      for (int y0 = 0; y0 < height; y0 += band) {
-        const int rows = std::min(band, height - y0);
+      // The image's rows `band` at a time, each band with its values of the spp channel.
+      const auto write_bands = [&](ImageFileStream& stream) {
         const std::vector<float>& spp = options.extra_channels[0].values;
-        stream.write_rows(band_of(image, y0, rows),
-                          {{"spp", std::vector<float>(spp.begin() + ptrdiff_t(y0 * width),
-                                                      spp.begin() + ptrdiff_t((y0 + rows) * width))}});
-        EXPECT_FALSE(fs::exists(path)) << "in place before finish()";
-      }
-      stream.finish();
+        for (int y0 = 0; y0 < height; y0 += band) {
+          const int rows = std::min(band, height - y0);
+          stream.write_rows(band_of(image, y0, rows),
+                            {{"spp", std::vector<float>(spp.begin() + ptrdiff_t(y0 * width),
+                                                        spp.begin() + ptrdiff_t((y0 + rows) * width))}});
+          EXPECT_FALSE(fs::exists(path)) << "in place before finish()";
+        }
+        stream.finish();
+      };
+      ImageFileStream stream(path, width, height, names);
+      write_bands(stream);
       EXPECT_EQ(file_bytes(path), file_bytes(file("whole" + ext))) << path;
 
       // The same bands into memory (the server's previews) give the same bytes.
+      fs::remove(path);
       ImageFileStream memory = ImageFileStream::in_memory(ext.substr(1), width, height, names);
-      for (int y0 = 0; y0 < height; y0 += band) {
-        const int rows = std::min(band, height - y0);
-        const std::vector<float>& spp = options.extra_channels[0].values;
-        memory.write_rows(band_of(image, y0, rows),
-                          {{"spp", std::vector<float>(spp.begin() + ptrdiff_t(y0 * width),
-                                                      spp.begin() + ptrdiff_t((y0 + rows) * width))}});
-      }
-      memory.finish();
+      write_bands(memory);
       EXPECT_EQ(memory.take_bytes(), file_bytes(file("whole" + ext))) << ext << " in memory, bands of " << band;
     }
     EXPECT_EQ(encode_image(image, ext.substr(1), options), file_bytes(file("whole" + ext))) << ext;
