@@ -287,13 +287,17 @@ TEST_F(ImageOutputTest, AFileWrittenInBandsIsTheWholeImagesByteForByte) {
   for (float& v : image.rgb) v = value(random);
   image.rgb[5] = std::numeric_limits<float>::quiet_NaN();
   ImageWriteOptions options;
-  options.metadata = {{"tessera:job_id", "12"}, {"tessera:scene_file", "x.json"}};
+  // A fixed date: OpenImageIO writes the time of the write into an EXR (capDate) unless told.
+  options.metadata = {{"tessera:job_id", "12"}, {"tessera:scene_file", "x.json"}, {"DateTime", "2026:12:05 12:00:00"}};
   options.extra_channels = {{"spp", std::vector<float>(size_t(width) * height)}};
   for (size_t p = 0; p < options.extra_channels[0].values.size(); ++p) {
     options.extra_channels[0].values[p] = float(p % 7);
   }
   for (const std::string ext : {".exr", ".png"}) {
     write_image(image, file("whole" + ext), options);
+    if (ext == ".exr") {
+      EXPECT_NE(file_bytes(file("whole.exr")).find("2026:12:05 12:00:00"), std::string::npos);
+    }
     for (const int band : {1, 5, 16, 36}) {
       const fs::path path = file("bands" + std::to_string(band) + ext);
       ImageWriteOptions names = options;
