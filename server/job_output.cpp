@@ -5,6 +5,7 @@
 
 #include "accum/accumulation_codec.h"
 #include "accum/film.h"
+#include "job/tile_summary.h"
 #include "wire/job_options_wire.h"
 
 namespace tessera::server {
@@ -75,11 +76,11 @@ void JobOutput::for_each_band(const JobRecord& job, const std::vector<TilePositi
   // The rows of tiles, top to bottom, each tile's index in x order.
   std::map<int, std::vector<uint32_t>> rows_of_tiles;
   for (uint32_t t = 0; t < uint32_t(tiles.size()); ++t) rows_of_tiles[tiles[t].rect.y0].push_back(t);
-  const bool spp_channel = job.options.rule != StopRule::spp;
+  const bool with_spp = job.options.rule != StopRule::spp;
   const JobPlan plan = job.options.plan();
   RgbImage band;
   band.width = width;
-  std::vector<ExtraChannel> extra(spp_channel ? 1 : 0, ExtraChannel{"spp", {}});
+  std::vector<ExtraChannel> extra(with_spp ? 1 : 0, ExtraChannel{"spp", {}});
   int next_row = 0;
   for (const auto& [y0, row] : rows_of_tiles) {
     const int rows = tiles[row.front()].rect.y1 - y0;
@@ -89,7 +90,8 @@ void JobOutput::for_each_band(const JobRecord& job, const std::vector<TilePositi
     }
     band.height = rows;
     band.rgb.assign(size_t(width) * size_t(rows) * 3, 0.0f);
-    if (spp_channel) extra[0].values.assign(size_t(width) * size_t(rows), 0.0f);
+    std::vector<TileRect> band_rects;  // the row's tiles in the band's rows, and their spp
+    std::vector<uint32_t> band_spp;
     for (const uint32_t t : row) {
       const TilePosition& tile = tiles[t];
       if (tile.rect.y1 - tile.rect.y0 != rows || tile.rect.x0 < 0 || tile.rect.x1 > width) {
@@ -105,14 +107,12 @@ void JobOutput::for_each_band(const JobRecord& job, const std::vector<TilePositi
         acc.rect.y1 -= y0;
         resolve_into(band, acc);
       }
-      if (spp_channel) {
-        const float spp = tile.next_batch == 0 ? 0.0f : float(plan.batch_end(tile.next_batch - 1));
-        for (int y = 0; y < rows; ++y) {
-          std::fill_n(extra[0].values.begin() + ptrdiff_t(size_t(y) * size_t(width) + size_t(tile.rect.x0)),
-                      tile.rect.x1 - tile.rect.x0, spp);
-        }
+      if (with_spp) {
+        band_rects.push_back({tile.rect.x0, 0, tile.rect.x1, rows});
+        band_spp.push_back(tile.next_batch == 0 ? 0 : plan.batch_end(tile.next_batch - 1));
       }
     }
+    if (with_spp) extra[0].values = spp_channel(width, rows, band_rects, band_spp);
     band_fn(band, extra);
     next_row = y0 + rows;
   }

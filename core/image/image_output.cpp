@@ -367,12 +367,9 @@ std::string ImageFileStream::take_bytes() { return std::exchange(bytes_, std::st
 
 void write_image(const RgbImage& image, const std::filesystem::path& path,
                  const ImageWriteOptions& options) {
-  const std::string what = "cannot write image '" + path.string() + "'";
-  if (!format_from_extension(path.extension().string())) {
-    throw std::runtime_error(what + ": unsupported extension '" + path.extension().string() +
-                             "' (supported: " + kSupportedExtensions + ")");
-  }
-  check_dimensions(image, what);
+  // The stream checks the extension; the image's size is checked first, so that a mismatch
+  // is named as such and no temporary file is made.
+  check_dimensions(image, "cannot write image '" + path.string() + "'");
   // One band: the whole image.
   ImageFileStream stream(path, image.width, image.height, options);
   stream.write_rows(image, options.extra_channels);
@@ -381,9 +378,7 @@ void write_image(const RgbImage& image, const std::filesystem::path& path,
 
 std::string encode_image(const RgbImage& image, const std::string& format,
                          const ImageWriteOptions& options) {
-  const std::string what = "cannot encode image as '" + format + "'";
-  if (!format_from_extension(format)) throw std::runtime_error(what + ": unsupported format (supported: exr, png)");
-  check_dimensions(image, what);
+  check_dimensions(image, "cannot encode image as '" + format + "'");  // the stream checks the format
   ImageFileStream stream = ImageFileStream::in_memory(format, image.width, image.height, options);
   stream.write_rows(image, options.extra_channels);
   stream.finish();
