@@ -11,9 +11,9 @@
 namespace tessera::server {
 namespace {
 
-std::string joined(const std::vector<std::string>& items) {
+std::string joined(const std::vector<std::string>& items, const char* separator = ",") {
   std::string out;
-  for (const std::string& s : items) out += (out.empty() ? "" : ",") + s;
+  for (const std::string& s : items) out += (out.empty() ? "" : separator) + s;
   return out;
 }
 
@@ -52,7 +52,10 @@ std::map<std::string, std::string> JobOutput::provenance(const JobRecord& job) {
     m["tessera:time_budget_s"] = std::to_string(job.options.time_budget_s);
     m["tessera:max_spp"] = std::to_string(job.options.spp);
   }
-  m["tessera:renderer_version"] = joined(job.versions);
+  // A worker's build names its commit, compiler, Embree and C library, with commas
+  // (worker/render/renderer_build.h): builds are separated by "; ". More than one means the
+  // image is not one build's bits (docs/design.md, "The determinism contract").
+  m["tessera:renderer_version"] = joined(job.versions, "; ");
   m["tessera:isa"] = joined(job.isas);
   m["tessera:nan_dropped"] = std::to_string(job.counters.nan_dropped);
   m["tessera:inf_dropped"] = std::to_string(job.counters.inf_dropped);

@@ -25,6 +25,7 @@
 #include "job/tile_summary.h"
 #include "local_render.h"
 #include "progress_bar.h"
+#include "render/renderer_build.h"
 #include "scene/scene_error.h"
 #include "scene/scene_loader.h"
 #include "scene/native/scene_writer.h"
@@ -84,7 +85,7 @@ int run_render(const RenderArgs& args) {
   tessera::ImageWriteOptions write;
   write.half = args.half;
   write.metadata = {
-      {"tessera:renderer", "tessera-worker " TESSERA_VERSION},
+      {"tessera:renderer", "tessera-worker " + tessera::renderer_build()},
       {"tessera:scene_file", std::filesystem::path(args.scene).filename().string()},
       {"tessera:spp", std::to_string(summary.spp_min)},
       {"tessera:spp_min", std::to_string(summary.spp_min)},

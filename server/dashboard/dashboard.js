@@ -213,7 +213,10 @@ function renderDetail() {
     ['units done', `${c.units_done} / ${c.units_total}`], ['leased now', c.units_leased],
     ['leases expired', c.leases_expired], ['results dropped', c.results_dropped],
     ['NaN / Inf dropped', `${c.nan_dropped} / ${c.inf_dropped}`]]);
-  dl($('#detail-provenance'), provenanceRows(j.provenance));
+  // Workers of other builds may give other bits for the same unit (docs/design.md).
+  const builds = j.renderer_versions || [];
+  dl($('#detail-provenance'), [...provenanceRows(j.provenance), ...(builds.length > 1
+    ? [['mixed builds', `${builds.length} renderer builds rendered this job: its pixels are not one build's bits`]] : [])]);
 }
 
 // Heat map: each tile coloured by its samples per pixel (of the target) or by its estimated

@@ -20,6 +20,7 @@
 #include "accum/accumulation_codec.h"
 #include "backoff.h"
 #include "bundle_cache.h"
+#include "render/renderer_build.h"
 #include "renderer_cache.h"
 #include "scene/scene_error.h"
 #include "stop_signal.h"
@@ -314,7 +315,7 @@ class FarmWorker {
     request.set_threads(uint32_t(threads()));
     if (isa_.empty()) isa_ = probe_isa();
     request.set_isa(isa_);
-    request.set_version(TESSERA_VERSION);
+    request.set_version(renderer_build());
     v1::RegisterResponse response;
     check(client_.register_worker(request, &response), "Register");
     worker_id_ = response.worker_id();

@@ -93,7 +93,11 @@ TEST(FarmE2E, CornellBitIdenticalToLocalRenderWith1And2And3Workers) {
     EXPECT_EQ(image_attribute(exr, "tessera:scene_sha256"), job.bundle_sha256());
     EXPECT_EQ(image_attribute(exr, "tessera:spp"), "64");
     EXPECT_FALSE(image_attribute(exr, "tessera:isa").empty());
-    EXPECT_FALSE(image_attribute(exr, "tessera:renderer_version").empty());
+    // One build rendered it, and the header names it: version, commit, compiler, Embree, C library.
+    const std::string build = image_attribute(exr, "tessera:renderer_version");
+    EXPECT_EQ(build.rfind(TESSERA_VERSION " (commit ", 0), 0u) << build;
+    EXPECT_NE(build.find(", Embree "), std::string::npos) << build;
+    EXPECT_EQ(build.find("; "), std::string::npos) << build;
     EXPECT_NE(image_attribute(exr, "tessera:job_options").find("\"batch_spp\":16"),
               std::string::npos);
   }
