@@ -160,5 +160,21 @@ TEST_F(JobOutputTest, TilesThatLeaveRowsUncoveredAreAnErrorAndNoFileIsLeft) {
   EXPECT_TRUE(fs::is_empty(dir_));  // neither file, nor a temporary one
 }
 
+// A worker's renderer build has commas of its own (worker/render/renderer_build.h): the
+// provenance separates builds by "; ", so two builds read as two (docs/design.md).
+TEST(JobOutputProvenance, NamesEveryRendererBuildApartAndTheIsasCommaSeparated) {
+  JobRecord job;
+  job.versions = {"0.1.0 (commit 0123456789ab, GNU 12.2.0, Embree 3.13.5, glibc 2.36)",
+                  "0.1.0 (commit ba9876543210, Clang 14.0.6, Embree 3.13.5, glibc 2.36)"};
+  job.isas = {"avx2", "avx512"};
+  const auto m = JobOutput::provenance(job);
+  EXPECT_EQ(m.at("tessera:renderer_version"),
+            "0.1.0 (commit 0123456789ab, GNU 12.2.0, Embree 3.13.5, glibc 2.36); "
+            "0.1.0 (commit ba9876543210, Clang 14.0.6, Embree 3.13.5, glibc 2.36)");
+  EXPECT_EQ(m.at("tessera:isa"), "avx2,avx512");
+  job.versions.resize(1);
+  EXPECT_EQ(JobOutput::provenance(job).at("tessera:renderer_version"), job.versions[0]);
+}
+
 }  // namespace
 }  // namespace tessera::server
