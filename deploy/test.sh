@@ -2,7 +2,8 @@
 # deploy/test.sh: Tessera's containers, run for real (CI runs it from scripts/test.sh).
 #
 #  1. lints: hadolint on deploy/Dockerfile, kubernetes-validate (strict) on deploy/k8s/*.yaml,
-#     a structural check of deploy/compose.yaml;
+#     a structural check of deploy/compose.yaml, and CMake configured from exactly the paths the
+#     Dockerfile's build stage copies (the source-built targets, which CI does not build);
 #  2. builds the server and worker images with podman from the release binaries in build/bin
 #     (targets server-prebuilt / worker-prebuilt) on a debian:bookworm-slim base made locally
 #     with debootstrap (no registry is reachable);
@@ -118,6 +119,30 @@ for e in errors:
     print(f"deploy-test: compose.yaml: {e}", file=sys.stderr)
 sys.exit(1 if errors else 0)
 EOF
+
+# The documented images (--target server|worker) compile in a build stage that copies the source
+# folders by name; CI builds the *-prebuilt targets, so it would not see one missing (cmake/ was,
+# unnoticed, from 6f0043b to d5d0203). CMake must configure from what those COPY lines give it:
+# a tree of links to exactly those paths, configured, nothing compiled.
+say "lint: the Dockerfile's build stage copies all that CMake reads"
+stage_tree="$(mktemp -d)"
+awk '/^FROM .* AS build$/ {b = 1; next} /^FROM / {b = 0} b && /^COPY / {$1 = ""; print}' "$DEPLOY/Dockerfile" |
+  while read -r -a args; do
+    dest="${args[-1]}"
+    for src in "${args[@]:0:${#args[@]}-1}"; do
+      case "$dest" in */) to="$dest$(basename "$src")" ;; *) to="$dest" ;; esac
+      mkdir -p "$stage_tree$(dirname "$to")"
+      ln -s "$ROOT/$src" "$stage_tree$to"
+    done
+  done
+[ -f "$stage_tree/src/CMakeLists.txt" ] || die "no COPY of CMakeLists.txt to /src/ found in deploy/Dockerfile's build stage"
+if ! cmake -S "$stage_tree/src" -B "$stage_tree/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    >"$stage_tree/configure.log" 2>&1; then
+  grep -A3 "CMake Error" "$stage_tree/configure.log" | head -20 >&2
+  rm -rf "$stage_tree"
+  die "CMake cannot configure from what deploy/Dockerfile's build stage copies (above)"
+fi
+rm -rf "$stage_tree"
 
 # ---- 2. images
 BASE=docker.io/library/debian:bookworm-slim
