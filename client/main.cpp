@@ -4,6 +4,7 @@
 #include <iostream>
 #include <optional>
 
+#include "build_info.h"
 #include "cli/host_port.h"
 #include "cli/usage_exit.h"
 #include "commands.h"
@@ -21,6 +22,8 @@ void json_flag(CLI::App* app, bool& json) {
 int main(int argc, char** argv) {
   namespace tc = tessera::client;
   CLI::App app{"tessera: submit scenes to a Tessera render farm and follow them"};
+  app.set_version_flag("--version", "tessera " + tessera::build_version(),
+                       "Print the version, commit and compiler, and exit");
   app.require_subcommand(1);
   app.fallthrough();  // global options may follow the subcommand
 

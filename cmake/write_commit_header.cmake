@@ -1,4 +1,4 @@
-# Run at build time (cmake -P) by worker/CMakeLists.txt: writes OUT with the commit the source
+# Run at build time (cmake -P) by core/CMakeLists.txt: writes OUT with the commit the source
 # is at (TESSERA_COMMIT) and the compiler (TESSERA_COMPILER, from -DCOMPILER). The commit is
 # -DCOMMIT when given (the TESSERA_COMMIT cache variable, for a source without its .git, as in
 # deploy/Dockerfile's build stage), else git's short hash with "-dirty" when tracked files

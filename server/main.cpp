@@ -14,6 +14,7 @@
 #include <optional>
 #include <thread>
 
+#include "build_info.h"
 #include "call_trace.h"
 #include "coordinator.h"
 #include "dashboard/farm_metrics.h"
@@ -292,6 +293,8 @@ int main(int argc, char** argv) {
   // on that detector.
   absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
   CLI::App app{"tessera-server: the render farm's coordinator (gRPC API, SQLite job store)"};
+  app.set_version_flag("--version", "tessera-server " + tessera::build_version(),
+                       "Print the version, commit and compiler, and exit");
   Flags flags;
   app.add_option("--grpc", flags.grpc_address, "gRPC listen address HOST:PORT (port 0: any free)")
       ->envname("TESSERA_GRPC")

@@ -204,6 +204,8 @@ constexpr const char* kDefineHelp =
 
 int main(int argc, char** argv) {
   CLI::App app{"tessera-worker: Tessera's render worker and local renderer"};
+  app.set_version_flag("--version", "tessera-worker " + tessera::renderer_build(),
+                       "Print the renderer's build (version, commit, compiler, Embree, C library) and exit");
   app.require_subcommand(0, 1);
 
   RenderArgs render;

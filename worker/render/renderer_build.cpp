@@ -3,14 +3,13 @@
 #include <embree3/rtcore.h>
 #include <gnu/libc-version.h>
 
-#include "tessera_commit.h"  // generated at build time (cmake/write_commit_header.cmake)
+#include "build_info.h"
 
 namespace tessera {
 
 std::string renderer_build() {
-  return std::string(TESSERA_VERSION " (commit " TESSERA_COMMIT ", " TESSERA_COMPILER ", Embree " RTC_VERSION_STRING
-                     ", glibc ") +
-         gnu_get_libc_version() + ")";
+  return std::string(TESSERA_VERSION " (commit ") + build_commit() + ", " + build_compiler() +
+         ", Embree " RTC_VERSION_STRING ", glibc " + gnu_get_libc_version() + ")";
 }
 
 }  // namespace tessera
