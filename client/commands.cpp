@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "build_text.h"
 #include "cli/output_path.h"
 #include "job_client.h"
 #include "json_view.h"
@@ -227,6 +228,7 @@ int status(const GlobalOptions& g, uint64_t job_id) {
       std::printf("  skipped   %u units not needed by the rule, %u results wasted\n",
                   c.units_skipped(), c.results_wasted());
     }
+    std::fputs(renderer_builds_text(job).c_str(), stdout);
     if (!job.error().empty()) std::printf("  error     %s\n", job.error().c_str());
     if (!job.output_exr().empty()) {
       std::printf("  output    %s\n            %s\n", job.output_exr().c_str(),

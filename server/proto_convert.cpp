@@ -45,6 +45,7 @@ v1::JobInfo to_proto(const JobRecord& job) {
   out.set_output_exr(job.output_exr);
   out.set_output_png(job.output_png);
   for (const std::string& isa : job.isas) out.add_worker_isas(isa);
+  for (const std::string& build : job.versions) out.add_renderer_builds(build);
   out.set_stop_reason(wire::stop_reason_to_proto(job.stop_reason));
   out.set_wall_time_s(job.wall_time_s());
   auto* reached = out.mutable_reached();

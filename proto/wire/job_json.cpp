@@ -23,6 +23,8 @@ nlohmann::json job_json(const v1::JobInfo& job) {
   const v1::Reached& r = job.reached();
   json isas = json::array();
   for (const std::string& isa : job.worker_isas()) isas.push_back(isa);
+  json builds = json::array();
+  for (const std::string& build : job.renderer_builds()) builds.push_back(build);
   return json{
       {"id", job.id()},
       {"state", job_state_name(job.state())},
@@ -74,6 +76,7 @@ nlohmann::json job_json(const v1::JobInfo& job) {
       {"output_exr", job.output_exr()},
       {"output_png", job.output_png()},
       {"worker_isas", isas},
+      {"renderer_builds", builds},
   };
 }
 

@@ -214,7 +214,7 @@ function renderDetail() {
     ['leases expired', c.leases_expired], ['results dropped', c.results_dropped],
     ['NaN / Inf dropped', `${c.nan_dropped} / ${c.inf_dropped}`]]);
   // Workers of other builds may give other bits for the same unit (docs/design.md).
-  const builds = j.renderer_versions || [];
+  const builds = j.renderer_builds || [];
   dl($('#detail-provenance'), [...provenanceRows(j.provenance), ...(builds.length > 1
     ? [['mixed builds', `${builds.length} renderer builds rendered this job: its pixels are not one build's bits`]] : [])]);
 }

@@ -98,6 +98,13 @@ TEST(FarmE2E, CornellBitIdenticalToLocalRenderWith1And2And3Workers) {
     EXPECT_EQ(build.rfind(TESSERA_VERSION " (commit ", 0), 0u) << build;
     EXPECT_NE(build.find(", Embree "), std::string::npos) << build;
     EXPECT_EQ(build.find("; "), std::string::npos) << build;
+    // The CLI names it too, and no warning: one build.
+    ASSERT_EQ(job.renderer_builds_size(), 1);
+    EXPECT_EQ(job.renderer_builds(0), build);
+    const CommandResult status = farm.cli({"status", std::to_string(id)});
+    ASSERT_EQ(status.exit_code, 0) << status.err;
+    EXPECT_NE(status.out.find("  builds    " + build + "\n"), std::string::npos) << status.out;
+    EXPECT_EQ(status.out.find("warning"), std::string::npos) << status.out;
     EXPECT_NE(image_attribute(exr, "tessera:job_options").find("\"batch_spp\":16"),
               std::string::npos);
   }
