@@ -8,8 +8,9 @@ const char* build_commit() { return TESSERA_COMMIT; }
 
 const char* build_compiler() { return TESSERA_COMPILER; }
 
-std::string build_version() {
-  return std::string(TESSERA_VERSION " (commit ") + build_commit() + ", " + build_compiler() + ")";
+std::string build_version(const std::string& more) {
+  return std::string(TESSERA_VERSION " (commit ") + build_commit() + ", " + build_compiler() +
+         (more.empty() ? "" : ", " + more) + ")";
 }
 
 }  // namespace tessera

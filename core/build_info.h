@@ -13,7 +13,8 @@ const char* build_commit();
 /// The compiler, as CMake names it: "GNU 12.2.0", "Clang 14.0.6".
 const char* build_compiler();
 /// "0.1.0 (commit 4658ccee21cf, GNU 12.2.0)": what `--version` prints after the program's name.
-/// The renderer's build adds Embree and the C library (worker/render/renderer_build.h).
-std::string build_version();
+/// `more`, when given, is named after the compiler inside the parentheses: the renderer's build
+/// adds Embree and the C library that way (worker/render/renderer_build.h).
+std::string build_version(const std::string& more = std::string());
 
 }  // namespace tessera

@@ -8,8 +8,7 @@
 namespace tessera {
 
 std::string renderer_build() {
-  return std::string(TESSERA_VERSION " (commit ") + build_commit() + ", " + build_compiler() +
-         ", Embree " RTC_VERSION_STRING ", glibc " + gnu_get_libc_version() + ")";
+  return build_version("Embree " RTC_VERSION_STRING ", glibc " + std::string(gnu_get_libc_version()));
 }
 
 }  // namespace tessera
