@@ -21,8 +21,9 @@ measures both:
 Each row prints the expected MSE at N samples per pixel on average, over the even allocation's
 (below 1: the allocation helps). Nothing here depends on the machine's load.
 
-Usage (repository root):
-  /work/venv-mitsuba/bin/python bench/allocation_from_pilot.py scenes/hexroom.json \\
+Usage (repository root; PY is a Python with Mitsuba 3, e.g. .venv-bench/bin/python of
+bench/README.md):
+  $PY bench/allocation_from_pilot.py scenes/hexroom.json \\
       --width 384 --height 216 [--spp 64] [--truth-seeds 32] [--truth-spp 16] [--pilots 4,8,16]
 """
 import argparse

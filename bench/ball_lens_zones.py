@@ -8,7 +8,7 @@ bounce estimate of that light under the bounce mixture of worker/render/target_m
 the scene's targets and lamp images built as worker/render/specular_targets.cpp builds them (the
 same formulas and rules, in numpy double), and with candidate models of the lens in their place
 (MODELS). docs/renderer.md, "The ball lens by its zones (measured, not built)"; BENCHMARKS.md,
-"Issue 13: the glass sphere's caustic by the lens's zones".
+"The glass sphere's caustic by the lens's zones".
 
 Prints, per (lamp, glass sphere): the paraxial image's distance and, for rays from the lamp's
 centre at impact parameters b (the line's distance from the centre, the same on both sides of
@@ -24,9 +24,9 @@ for the cosine alone: what the cones cost where they hold no light). --bounds ad
 
 Only the hexroom-style JSON scene (quads with 'power' as lamps, spheres, tetrahedra) is read.
 
-Usage (repository root):
-  /work/venv-mitsuba/bin/python bench/ball_lens_zones.py scenes/hexroom.json [--where] [--at X,Y,Z] [--bounds] \
-      [--models main,targets,z4,...] [--grid 0.1 --extent 1.0 --dirs 30000]
+Usage (repository root; PY is a Python with numpy 2, e.g. the .venv-bench of bench/README.md):
+  $PY bench/ball_lens_zones.py scenes/hexroom.json [--where] [--at X,Y,Z] [--bounds] \
+      [--models paraxial,targets,z4,...] [--grid 0.1 --extent 1.0 --dirs 30000]
 """
 import argparse
 import json
@@ -540,12 +540,12 @@ class LensAnnulus:
 
 
 MODELS = {
-    # Main's images (the paraxial image of each lamp through each glass sphere), 8 kept.
-    "main": "paraxial",
+    # The renderer's images (the paraxial image of each lamp through each glass sphere), 8 kept.
+    "paraxial": "paraxial",
     # No lamp images at all: the targets' bounding cones.
     "targets": None,
-    # Main's rule with every image kept (11 in hexroom: all three glass images).
-    "main16": "paraxial16",
+    # The renderer's rule with every image kept (11 in hexroom: all three glass images).
+    "paraxial16": "paraxial16",
     # The zone model: entry annuli [edges] of b / R per (lamp, glass) pair, beside the paraxial
     # image or in its place ("-only"), at most 16 images.
     "z4": Zones([0, 0.5, 0.7, 0.85, 1.0]),
@@ -561,7 +561,7 @@ MODELS = {
     "annulus0.45": LensAnnulus(0.45, False),
     "annulus0.3+p": LensAnnulus(0.3, True, max_images=11),
     "annulus0.45+p": LensAnnulus(0.45, True, max_images=11),
-    # Main's images with the glass's mass factor changed (4 in main).
+    # The renderer's images with the glass's mass factor changed (4 in the renderer).
     "glass-mass2": ("mass", 2.0),
     "glass-mass8": ("mass", 8.0),
     "glass-mass16": ("mass", 16.0),
@@ -597,7 +597,7 @@ def main():
                     " reference")
     ap.add_argument("--bounds", action="store_true", help="also the ideal and the oracle cone (evaluate())")
     ap.add_argument("--at", action="append", default=[], help="X,Y,Z: print the light map at this floor point"
-                    " (light_map) under main's mixture")
+                    " (light_map) under the renderer's mixture")
     ap.add_argument("--verbose", action="store_true")
     args = ap.parse_args()
     scene = Scene(args.scene)
@@ -641,7 +641,7 @@ def main():
                 continue
             e, omega, lit, fill90, cones = res
             print(f"at {x}: E {e:.4g}; the lens's cone {omega:.2f} sr, {100 * lit:.0f} % of it lit, 90 % of the light"
-                  f" in {100 * fill90:.0f} % of it; main's cones (cosine {m.p_cos:.3f}):")
+                  f" in {100 * fill90:.0f} % of it; the renderer's cones (cosine {m.p_cos:.3f}):")
             for k, p, half, inside, q in cones:
                 print(f"   cone {k}: p {p:.3f}, half-angle {half:.1f} deg, {100 * inside:.0f} % of the light inside,"
                       f" the light at {q[0]:.2f} / {q[1]:.2f} / {q[2]:.2f} of the half-angle")

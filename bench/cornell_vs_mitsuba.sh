@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Issue 2's measurement: time to reach Mitsuba's 256-spp RMSE on the Cornell box (depth 8), both
-# renderers on the same 2 cores in the same run. Tessera runs before and after Mitsuba so load
-# drifts show; medians are over all of its runs.
+# Time to reach Mitsuba's 256-spp RMSE on the Cornell box (depth 8), both renderers on the same
+# 2 cores in the same run. Tessera runs before and after Mitsuba so load drifts show; medians are
+# over all of its runs.
 # Usage: bench/cornell_vs_mitsuba.sh [TESSERA_SPP=64] [RUNS=5]   (repository root; needs
 # build/bin/tessera-worker and the .venv-bench of bench/README.md; PY=/path/to/python overrides
-# the venv's interpreter, e.g. PY=/work/main/.venv-bench/bin/python from another worktree)
+# the venv's interpreter, e.g. another checkout's .venv-bench/bin/python)
 # Each Tessera run uses its own seed (1..RUNS); the RMSE of every run is printed with the median.
 set -euo pipefail
 SPP=${1:-64}

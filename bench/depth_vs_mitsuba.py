@@ -16,8 +16,9 @@ render per depth that compiles the kernel. A depth's time includes Tessera's fix
 photon pass of a scene with glass or mirrors), so `--fixed` also renders 1 spp at max_depth 1
 and prints that time.
 
-Usage (repository root):
-  /work/venv-mitsuba/bin/python bench/depth_vs_mitsuba.py SCENE.json [--width W --height H]
+Usage (repository root; PY is a Python with Mitsuba 3, e.g. .venv-bench/bin/python of
+bench/README.md):
+  $PY bench/depth_vs_mitsuba.py SCENE.json [--width W --height H]
       [--depths 1,2,3,-1] [--spp 64] [--runs 3] [--threads 2] [--tessera build/bin/tessera-worker]
       [--fixed]
 """

@@ -9,7 +9,7 @@
 #   BATCH=256 bench/farm_overhead.sh                # the same job with fixed 256-spp batches
 #   SCENE=scenes/hexroom.json bench/farm_overhead.sh
 #   RUNS=3 SIZE=256 SPP=64 bench/farm_overhead.sh
-#   BIN=/work/main/build/bin bench/farm_overhead.sh # another build's binaries
+#   BIN=/path/to/build/bin bench/farm_overhead.sh   # another build's binaries
 #   LOCAL=0 bench/farm_overhead.sh                  # farm runs only: the server's and client's
 #                                                   # CPU per job, without the local renders
 #

@@ -1,6 +1,6 @@
-// tessera-bench-merge: the server's merge throughput (issue 3, "Measure"): how many results per
-// second a real tessera-server accepts and merges when N simulated workers lease units and upload
-// results as fast as it answers.
+// tessera-bench-merge: the server's merge throughput: how many results per second a real
+// tessera-server accepts and merges when N simulated workers lease units and upload results as
+// fast as it answers.
 //
 // Per run: a fresh tessera-server child process on 127.0.0.1 (port 0, --port-file) with its own
 // temporary SQLite database; one job submitted through JobService (the scene bundle of
@@ -408,8 +408,8 @@ struct RunResult {
   double lease_p50 = 0, lease_p99 = 0, upload_p50 = 0, upload_p99 = 0, upload_max = 0;
   /// The lease p99 without each worker's first call: every simulated worker starts at the same
   /// moment, so its first calls arrive together, N at once, and each call after them follows
-  /// the worker's own last upload (BENCHMARKS.md, "Issue 14: lease latency and capacity
-  /// (branch farm16)"). lease_p99 counts both.
+  /// the worker's own last upload (BENCHMARKS.md, "Lease latency and capacity"). lease_p99
+  /// counts both.
   double lease_p99_later = 0;
   double accum_bytes = 0, proto_bytes = 0;
   /// Server CPU per accepted result from the clock's start (every worker registered) to the
@@ -466,8 +466,8 @@ void simulated_worker(int index, std::shared_ptr<grpc::Channel> channel, const O
       grpc::ClientContext ctx;
       wire::prepare_context(ctx, "", kCallTimeout);
       // Before the clock: N channels connecting at once sometimes saw a connection attempt fail
-      // ("failed to connect to all addresses", every session since farm8, the run lost); wait
-      // for the channel instead, within the call's deadline.
+      // ("failed to connect to all addresses", and the run was lost); wait for the channel
+      // instead, within the call's deadline.
       ctx.set_wait_for_ready(true);
       check_status(stub->Register(&ctx, reg, &reg_reply), "Register");
     }

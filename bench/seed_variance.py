@@ -17,8 +17,9 @@ With --maps DIR, writes for each build the per-pixel variance (luminance-weighte
 channels) as DIR/SCENE_NAME_variance.exr, and prints where it lives: the share of the image's total
 variance in its top 1 % and 10 % of pixels and in each cell of a 4 x 3 grid.
 
-Usage (repository root):
-  /work/venv-mitsuba/bin/python bench/seed_variance.py SCENE.json --build old=/tmp/old/tessera-worker \\
+Usage (repository root; PY is a Python with Mitsuba 3, e.g. .venv-bench/bin/python of
+bench/README.md):
+  $PY bench/seed_variance.py SCENE.json --build old=OLD/build/bin/tessera-worker \\
       --build new=build/bin/tessera-worker [--width W --height H] [--max-depth D] [--spp 16]
       [--seeds 8] [--threads 2] [--reference REF.exr] [--maps out/maps]
 """

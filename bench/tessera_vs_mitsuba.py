@@ -28,8 +28,9 @@ Tessera's own 96x54 reference of tests/data/reference/hexroom/), box-filtered do
 When REFERENCE does not exist it is rendered first with Mitsuba at --ref-spp (seed 100000) and
 written there, with REFERENCE.json saying how (its spp then serves as --reference-spp).
 
-Usage (repository root; bench/tessera_vs_mitsuba.sh runs this for several scenes):
-  /work/venv-mitsuba/bin/python bench/tessera_vs_mitsuba.py SCENE.json --reference REF.exr
+Usage (repository root; bench/tessera_vs_mitsuba.sh runs this for several scenes; PY is a
+Python with Mitsuba 3, e.g. .venv-bench/bin/python of bench/README.md):
+  $PY bench/tessera_vs_mitsuba.py SCENE.json --reference REF.exr
       [--width W --height H] [--max-depth D] [--tessera-spp N] [--mitsuba-spp 256] [--runs 3]
       [--threads 2] [--ref-spp 4096] [--tessera build/bin/tessera-worker]
 """

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Issue 13's comparison: Tessera against Mitsuba 3 on each SCENE, alternating in one run, medians
-# of RUNS rounds, each one's time to reach the other's RMSE against a reference
-# (bench/tessera_vs_mitsuba.py says how each figure is taken).
+# Tessera against Mitsuba 3 on each SCENE, alternating in one run, medians of RUNS rounds, each
+# one's time to reach the other's RMSE against a reference (bench/tessera_vs_mitsuba.py says how
+# each figure is taken).
 # Usage: bench/tessera_vs_mitsuba.sh SCENE...   (repository root; needs build/bin/tessera-worker)
 # Per scene, known ones get their settings and reference:
 #   scenes/cornell.json         256x256, depth 8, tests/data/reference/cbox/ref_depth8.exr (Mitsuba)
@@ -12,10 +12,13 @@
 # A missing reference is rendered with Mitsuba at REF_SPP first, and REF.exr.json records its
 # spp (the reference's noise is subtracted on that basis). Environment: RUNS (3),
 # TESSERA_SPP (64), MITSUBA_SPP (256), REF_SPP (4096), THREADS (2),
-# PY (/work/venv-mitsuba/bin/python: Mitsuba 3.9 with drjit, libllvm19 for llvm_ad_rgb).
+# PY (.venv-bench/bin/python, the venv of bench/README.md: a Python with Mitsuba 3.9 and drjit;
+# llvm_ad_rgb needs libllvm19).
 set -euo pipefail
 [ $# -ge 1 ] || { sed -n 2,16p "$0"; exit 2; }
-PY=${PY:-/work/venv-mitsuba/bin/python}
+PY=${PY:-.venv-bench/bin/python}
+command -v "$PY" >/dev/null ||
+  { echo "no Python at PY=$PY: set PY to one with Mitsuba 3 (bench/README.md)" >&2; exit 2; }
 RUNS=${RUNS:-3}
 TESSERA_SPP=${TESSERA_SPP:-64}
 MITSUBA_SPP=${MITSUBA_SPP:-256}

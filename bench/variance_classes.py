@@ -10,8 +10,9 @@ percentiles and the top 1 %: their share of old's variance and new's variance ov
 With --old NAME and --new NAME, compares the builds so named instead (seed_variance.py --build
 NAME=...): DIR/SCENE_NAME_variance.exr.
 
-Usage (repository root):
-  /work/venv-mitsuba/bin/python bench/variance_classes.py out/maps hexroom cornell-sphere \
+Usage (repository root; PY is a Python with Mitsuba 3, e.g. .venv-bench/bin/python of
+bench/README.md):
+  $PY bench/variance_classes.py out/maps hexroom cornell-sphere \
       [--old old] [--new new]
 """
 import sys
