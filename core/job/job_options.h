@@ -48,7 +48,8 @@ struct JobOptions {
   JobPlan plan() const;
 };
 
-/// Limits on what a job may ask for (issue 7 makes them configurable).
+/// Limits on what a job may ask for (the server sets them from --max-spp, --max-image-size and
+/// --max-tile).
 struct JobLimits {
   int64_t max_spp = int64_t(1) << 31;
   int max_dimension = 32768;  ///< width and height
