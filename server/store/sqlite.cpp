@@ -128,10 +128,10 @@ Database::Database(const std::string& path, int busy_timeout_ms) {
   // Debian builds SQLite with SQLITE_SECURE_DELETE, so every deleted row's pages were zeroed
   // and written again: each result dropped at its tile's checkpoint went through the WAL (and
   // the WAL's checkpoint into the file) a second time as zeros, most of the server's I/O per
-  // job (BENCHMARKS.md, "Issue 14: the server's CPU per job (branch farm15)"). FAST still
-  // zeroes freed cells on pages a statement writes anyway, but no longer writes a freed page
-  // (a deleted result's overflow chain) only to clear it. The store holds renders, not secrets;
-  // a deleted job's pages are given back by incremental_vacuum (docs/farm.md, "The store").
+  // job (BENCHMARKS.md, "The server's CPU per job"). FAST still zeroes freed cells on pages a
+  // statement writes anyway, but no longer writes a freed page (a deleted result's overflow
+  // chain) only to clear it. The store holds renders, not secrets; a deleted job's pages are
+  // given back by incremental_vacuum (docs/farm.md, "The store").
   exec("PRAGMA secure_delete = FAST");
 }
 
