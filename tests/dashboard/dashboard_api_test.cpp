@@ -172,7 +172,7 @@ TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
   ASSERT_FALSE(local_error.empty());
   EXPECT_NEAR(detail["relative_error"].get<double>(), std::stod(local_error), 1e-6);
   EXPECT_EQ(detail["provenance"]["tessera:scene_sha256"], done.bundle_sha256());
-  // One schema for a job (issue 15): every key of `tessera status --json` is in the API's job,
+  // One schema for a job: every key of `tessera status --json` is in the API's job,
   // with the same value (the job is done: nothing moves any more).
   const CommandResult status = farm_->cli({"status", std::to_string(id), "--json"});
   ASSERT_EQ(status.exit_code, 0) << status.err;
@@ -251,8 +251,7 @@ TEST_F(DashboardApi, UnknownIdsAndPathsAre404WithAJsonError) {
   EXPECT_EQ(get_json("/api/workers")["workers"].size(), 0u);
 }
 
-// Before issue 15 every read was open; now, with a client token, only the page and the probes
-// are.
+// With a client token, every read needs it too; only the page and the probes are open.
 TEST_F(DashboardApi, EveryReadAndChangeNeedsTheTokenButThePageAndProbes) {
   const std::string token = "dashboard-secret";
   farm_ = std::make_unique<FarmCluster>("dashboard-api-token");
@@ -367,10 +366,10 @@ TEST_F(DashboardApi, PriorityChangesWhatRunsNext) {
   EXPECT_LT(b.started_unix_ms(), a.started_unix_ms());
 }
 
-// Before issue 15 a POST body was read whole before any check (a 200 MB body took the server
-// from 254 MB to 1.11 GB) and one without Content-Length waited 5 s for a generic 400. Now the
-// headers decide, in this order: token 401, type 415, no length 411, over 64 KiB 413. Each request
-// below sends its headers only: the status must come without the body.
+// A POST's headers decide before any of its body is read, in this order: token 401, type 415,
+// no length 411, over 64 KiB 413 (reading a body whole first let a 200 MB body take the server
+// from 254 MB to 1.11 GB, and one without Content-Length wait 5 s for a generic 400). Each
+// request below sends its headers only: the status must come without the body.
 TEST_F(DashboardApi, PostsAreRefusedOnTheirHeadersBeforeAnyBodyIsRead) {
   const std::string token = "body-secret";
   farm_ = std::make_unique<FarmCluster>("dashboard-api-bodies");

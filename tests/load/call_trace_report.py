@@ -2,7 +2,7 @@
 """Where a lease's time goes: joins a tessera-bench-merge --trace run's calls as the simulated
 workers saw them (PREFIX-N.client) with the server's call trace (PREFIX-N.server,
 server/call_trace.h) by lease id, and prints the percentiles of each part (BENCHMARKS.md,
-"Issue 14: lease latency and capacity (branch farm16)").
+"Lease latency and capacity").
 
     tessera-bench-merge --tiles 32 --workers 64 --per-call 16 --units 16384 --trace /tmp/t/r
     tests/load/call_trace_report.py /tmp/t/r-0

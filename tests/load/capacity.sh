@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Issue 14's three capacity figures in one command (BENCHMARKS.md, "Issue 14: server capacity"):
-# merged results per second at 32 px tiles, lease p99, and server CPU per result, at 64 and 256
+# The server's three capacity figures in one command (BENCHMARKS.md, "Server capacity"): merged
+# results per second at 32 px tiles, lease p99, and server CPU per result, at 64 and 256
 # simulated workers with 16 units per call, for one server or several compared run by run. Not
 # part of CI (it takes minutes and its figures depend on the machine).
 #
@@ -20,7 +20,7 @@
 #   marginal ms/res  (CPU of the larger job's run - CPU of the smaller's) / (results difference):
 #                  the cost of one more result, without anything a run pays once (the submit, the
 #                  output at the end, long polls while the last units finish). This is the figure
-#                  the issue's 0.2 ms goal is about.
+#                  the 0.2 ms goal (printed at the end) is about.
 # Rates and latencies are the larger job's. Every figure is a median over the rounds.
 set -euo pipefail
 bin=${1:?usage: capacity.sh BIN_DIR [SERVER_BIN...]}
@@ -110,5 +110,5 @@ if [ -s "$tmp/load" ]; then
   echo "load test (tessera_load_tests, 20 jobs x 128 units, 16-px tiles, 16 per call):"
   cat "$tmp/load"
 fi
-echo "goals (issue 14): >= 5000 results/s, lease p99 <= 20 ms, <= 0.2 ms of server CPU per result;"
+echo "goals: >= 5000 results/s, lease p99 <= 20 ms, <= 0.2 ms of server CPU per result;"
 echo "load at end: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -58,8 +58,8 @@ double cpu_seconds(pid_t pid) {
   return (utime + stime) / double(sysconf(_SC_CLK_TCK));
 }
 
-/// True when the server executable prints "image module loaded" (servers from branch farm9 on;
-/// older ones load the module silently, before listening or after).
+/// True when the server executable prints "image module loaded" (older servers load the module
+/// silently, before listening or after).
 bool says_when_module_loaded(const std::string& server_bin) {
   return e2e::read_text(server_bin).find("tessera-server: image module loaded (") !=
          std::string::npos;

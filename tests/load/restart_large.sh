@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Start-up time on a large store (BENCHMARKS.md, "Issue 14: ... (branch farm6)"). Not part of CI.
+# Start-up time on a large store (BENCHMARKS.md, "Start-up on a large store"). Not part of CI.
 #
 #   tests/load/restart_large.sh BIN_DIR [SERVER_BIN...]
 #
-# Makes a store the size of issue 14's 2,097,152-unit one: the issue's 32x32 job of 2^31-1 spp
-# (submitted with --max-units raised, then cancelled), 2,097,152 unit rows written into it with
-# the sqlite3 CLI, and 384 MB of bundle rows (the issue's file was 515 MB plus its WAL). Then, for
+# Makes a store of 2,097,152 units: a 32x32 job of 2^31-1 spp (submitted with --max-units
+# raised, then cancelled), 2,097,152 unit rows written into it with the sqlite3 CLI, and 384 MB
+# of bundle rows (a real store of that many units was a 515 MB file plus its WAL). Then, for
 # each SERVER_BIN (default BIN_DIR/tessera-server), alternating, 3 rounds: the time from exec to
 # listening (the port file) after a clean stop (SIGTERM), and after a SIGKILL.
 set -euo pipefail
