@@ -1,5 +1,5 @@
-// Which instruction set the wavefront integrator's hot code runs with (issue 13): the same
-// source compiled once per target (wavefront_kernels.h), one picked at run time by the CPU.
+// Which instruction set the wavefront integrator's hot code runs with: the same source compiled
+// once per target (wavefront_kernels.h), one picked at run time by the CPU.
 #pragma once
 
 #include <string>

@@ -1,5 +1,5 @@
 // The wavefront integrator: many paths advanced one vertex at a time, each bounce's rays traced
-// together in Embree packets (issue 13).
+// together in Embree packets.
 #pragma once
 
 #include <cstdint>
@@ -24,9 +24,9 @@ struct WavefrontKernelArgs;  // wavefront_kernels.h
 /// packet queries return the bits of TraceableScene's single-ray queries (packet_tracer.h), so
 /// a path's radiance has the same bits as trace_path's whatever the packet width and whichever
 /// paths share its packets. The packets are filled straight from the paths' rays and read back
-/// lane by lane, with no batch in between (issue 13: the packets' bookkeeping was 9-11 % of a
-/// render before). Live paths are packed in path order at each bounce, so which paths share a
-/// packet depends only on the group.
+/// lane by lane, with no batch in between (with one, the packets' bookkeeping was 9-11 % of a
+/// render). Live paths are packed in path order at each bounce, so which paths share a packet
+/// depends only on the group.
 ///
 /// The loop runs in one of several builds of the same source, one per instruction set
 /// (wavefront_kernels.h, kernel_isa.h), all with the same bits.

@@ -1,4 +1,4 @@
-// The wavefront integrator's hot loop, compiled once per instruction set (issue 13).
+// The wavefront integrator's hot loop, compiled once per instruction set.
 //
 // wavefront_kernel.inc holds the loop (packets filled from the paths, traced, each lane's
 // vertex shaded by path_vertex, shadow packets); wavefront_kernel_baseline.cpp,
