@@ -25,8 +25,8 @@ seed, so a second run only renders what is new (delete the folder to start over)
 runs niced (--nice, default 10). Times are CPU seconds (user + system) of the render:
 for Mitsuba of mi.render alone, for Tessera of the whole `tessera-worker render` process.
 
-Usage:
-  scripts/mitsuba_sweep.py --mitsuba /work/venv-mitsuba/bin/python \
+Usage (PY: a Python with Mitsuba 3 and numpy, e.g. the .venv-bench of bench/README.md):
+  $PY scripts/mitsuba_sweep.py --mitsuba $PY \
       [--worker build/bin/tessera-worker] [--width 96] [--spp 64] [--jobs 1] \
       [--only SUBSTRING ...] [--markdown OUT.md] FOLDER...
 The script itself runs under any Python 3 with numpy and OpenEXR reading through Mitsuba:

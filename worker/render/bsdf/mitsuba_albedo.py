@@ -7,8 +7,8 @@ default TransportMode, so transmission includes the 1 / eta^2 factor). Each row 
 with 2^20 independent samples in Mitsuba's llvm_ad_rgb variant; its standard error is printed
 too (below 5e-4), far below the 1 % the test allows.
 
-Usage: /work/venv-mitsuba/bin/python worker/render/bsdf/mitsuba_albedo.py > worker/render/bsdf/mitsuba_albedo.txt
-(Mitsuba 3.9.1.)
+Usage: $PY worker/render/bsdf/mitsuba_albedo.py > worker/render/bsdf/mitsuba_albedo.txt
+(PY: a Python with Mitsuba 3.9.1.)
 """
 import mitsuba as mi
 

@@ -11,9 +11,9 @@ rough plastic and gold among them) and one of smooth lobes only. Mitsuba weights
 sample by the mixture of its lobe's probability and the other BSDF's density, which makes these
 blends darker than (1 - w) first + w second: the table pins that down.
 
-Usage (Mitsuba 3.9.1), from worker/render/bsdf/:
-  /work/venv-mitsuba/bin/python mitsuba_blend.py points > mitsuba_blend.txt
-  /work/venv-mitsuba/bin/python mitsuba_blend.py albedo > mitsuba_blend_albedo.txt
+Usage (PY: a Python with Mitsuba 3.9.1), from worker/render/bsdf/:
+  $PY mitsuba_blend.py points > mitsuba_blend.txt
+  $PY mitsuba_blend.py albedo > mitsuba_blend_albedo.txt
 """
 import sys
 

@@ -5,8 +5,8 @@ For a set of BSDFs (pplastic as the RGB variants render it) and fixed pairs of d
 the local frame; Mitsuba calls them si.wi and wo) it writes eval() = f |cos wi| per channel and
 pdf(), in the scalar_rgb variant and radiance transport.
 
-Usage: /work/venv-mitsuba/bin/python worker/render/bsdf/mitsuba_eval.py > worker/render/bsdf/mitsuba_eval.txt
-(Mitsuba 3.9.1.)
+Usage: $PY worker/render/bsdf/mitsuba_eval.py > worker/render/bsdf/mitsuba_eval.txt
+(PY: a Python with Mitsuba 3.9.1.)
 """
 import mitsuba as mi
 

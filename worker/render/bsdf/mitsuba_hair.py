@@ -6,8 +6,8 @@ sample() for fixed random numbers (sample1 and sample2 varying with the pair).
 
 In the local frame +x runs around the fibre, +y along it and +z is the normal.
 
-Usage (Mitsuba 3.9.1), from worker/render/bsdf/:
-  /work/venv-mitsuba/bin/python mitsuba_hair.py > mitsuba_hair.txt
+Usage (PY: a Python with Mitsuba 3.9.1), from worker/render/bsdf/:
+  $PY mitsuba_hair.py > mitsuba_hair.txt
 """
 import mitsuba as mi
 

@@ -12,10 +12,10 @@ With --worker, Tessera renders the same file (`tessera-worker render`, SEEDS see
 the relative difference and its size in sigmas (both means' errors) are printed too, as
 scripts/mitsuba_sweep.py judges them: ok within 4 sigma or 1 %.
 
-Usage, from the repository root (Mitsuba 3.9.1):
-  /work/venv-mitsuba/bin/python worker/render/bsdf/mitsuba_hair_scene.py \
+Usage, from the repository root (PY: a Python with Mitsuba 3.9.1):
+  $PY worker/render/bsdf/mitsuba_hair_scene.py \
       > worker/render/bsdf/mitsuba_hair_scene.txt
-  /work/venv-mitsuba/bin/python worker/render/bsdf/mitsuba_hair_scene.py --worker build/bin/tessera-worker
+  $PY worker/render/bsdf/mitsuba_hair_scene.py --worker build/bin/tessera-worker
 """
 import argparse
 import os

@@ -4,8 +4,8 @@ read by polarizer_test.cpp: for each case (transmittance, theta, polarizing) and
 of mitsuba_points.py's pairs (both sides of the surface), sample() for fixed random numbers,
 and eval() / pdf() at the pair's wi (0 for this delta-only BSDF).
 
-Usage (Mitsuba 3.9.1), from worker/render/bsdf/:
-  /work/venv-mitsuba/bin/python mitsuba_polarizer.py > mitsuba_polarizer.txt
+Usage (PY: a Python with Mitsuba 3.9.1), from worker/render/bsdf/:
+  $PY mitsuba_polarizer.py > mitsuba_polarizer.txt
 """
 import mitsuba as mi
 

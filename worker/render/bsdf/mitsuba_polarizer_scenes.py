@@ -9,8 +9,8 @@ filter); Tessera renders the same scene with --width/--height. The mean of each 
 channel and their relative difference, and Mitsuba's standard error of the mean (over SEEDS
 renders), so that a difference can be judged against noise.
 
-Usage (Mitsuba 3.9.1), from the repository root, with a built tessera-worker:
-  /work/venv-mitsuba/bin/python worker/render/bsdf/mitsuba_polarizer_scenes.py \
+Usage (PY: a Python with Mitsuba 3.9.1), from the repository root, with a built tessera-worker:
+  $PY worker/render/bsdf/mitsuba_polarizer_scenes.py \
       --worker build/bin/tessera-worker SCENE.xml...
 """
 import argparse

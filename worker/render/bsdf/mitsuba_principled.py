@@ -6,9 +6,9 @@ sides, eta above and below 1, the three sampling rates) and fixed pairs of direc
 towards the camera, wi the other one, local frame; Mitsuba calls them si.wi and wo) it writes
 eval() = f |cos wi| per channel and pdf(), in the scalar_rgb variant and radiance transport.
 
-Usage: /work/venv-mitsuba/bin/python worker/render/bsdf/mitsuba_principled.py \
+Usage: $PY worker/render/bsdf/mitsuba_principled.py \
            > worker/render/bsdf/mitsuba_principled.txt
-(Mitsuba 3.9.1.)
+(PY: a Python with Mitsuba 3.9.1.)
 """
 import mitsuba as mi
 

@@ -8,9 +8,9 @@ independent samples in Mitsuba's llvm_ad_rgb variant, with its standard error. T
 combinations are those of mitsuba_principled.py (CASES), white or coloured; wo = (sin t cos 30deg,
 sin t sin 30deg, cos t), from below too where the BSDF transmits.
 
-Usage: /work/venv-mitsuba/bin/python worker/render/bsdf/mitsuba_principled_albedo.py \
+Usage: $PY worker/render/bsdf/mitsuba_principled_albedo.py \
            > worker/render/bsdf/mitsuba_principled_albedo.txt
-(Mitsuba 3.9.1.)
+(PY: a Python with Mitsuba 3.9.1.)
 """
 import mitsuba as mi
 

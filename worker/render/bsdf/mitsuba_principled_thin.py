@@ -13,10 +13,10 @@ Mitsuba does. SAMPLE_CASES leaves out lobes sharper than GGX alpha 0.04: there t
 renderers' float visible-normal samplers (1 - cos^2 of a nearly normal stretched direction)
 part by up to ~1e-3 in direction, while eval() and pdf() agree to 1e-6 (`points`).
 
-Usage (Mitsuba 3.9.1), from worker/render/bsdf/:
-  /work/venv-mitsuba/bin/python mitsuba_principled_thin.py points > mitsuba_principled_thin.txt
-  /work/venv-mitsuba/bin/python mitsuba_principled_thin.py albedo > mitsuba_principled_thin_albedo.txt
-  /work/venv-mitsuba/bin/python mitsuba_principled_thin.py samples > mitsuba_principled_thin_sample.txt
+Usage (PY: a Python with Mitsuba 3.9.1), from worker/render/bsdf/:
+  $PY mitsuba_principled_thin.py points > mitsuba_principled_thin.txt
+  $PY mitsuba_principled_thin.py albedo > mitsuba_principled_thin_albedo.txt
+  $PY mitsuba_principled_thin.py samples > mitsuba_principled_thin_sample.txt
 """
 import math
 import random

@@ -5,8 +5,8 @@ Tessera's sample() implements Mitsuba's sampling algorithms with the same use of
 numbers (u_lobe picks the lobe, u the direction), so the same numbers must give the same
 direction, weight and pdf. Scalar_rgb variant, radiance transport.
 
-Usage: /work/venv-mitsuba/bin/python worker/render/bsdf/mitsuba_sample.py > worker/render/bsdf/mitsuba_sample.txt
-(Mitsuba 3.9.1.)
+Usage: $PY worker/render/bsdf/mitsuba_sample.py > worker/render/bsdf/mitsuba_sample.txt
+(PY: a Python with Mitsuba 3.9.1.)
 """
 import math
 import random

@@ -4,7 +4,8 @@ torus_sdfgrid.vol, to_world identity: the grid spans [0, 1]^3), with both normal
 reference of SdfGrid.TorusHitsMatchMitsuba (sdf_grid_test.cpp). Prints one C++ initializer per
 ray: origin, direction, t, geometric normal, smooth normal, analytic shading normal.
 
-  /work/venv-mitsuba/bin/python worker/render/geometry/mitsuba_sdfgrid_rays.py
+Usage, from the repository root (PY: a Python with Mitsuba 3.9.1):
+  $PY worker/render/geometry/mitsuba_sdfgrid_rays.py
 """
 import os
 

@@ -13,10 +13,10 @@ With --worker, Tessera renders the same files (`tessera-worker render`, SEEDS se
 the relative difference and its size in sigmas (both means' errors) are printed too, as
 scripts/mitsuba_sweep.py judges them: ok within 4 sigma or 1 %.
 
-Usage, from the repository root (Mitsuba 3.9.1):
-  /work/venv-mitsuba/bin/python worker/render/geometry/mitsuba_sdfgrid_scene.py \
+Usage, from the repository root (PY: a Python with Mitsuba 3.9.1):
+  $PY worker/render/geometry/mitsuba_sdfgrid_scene.py \
       > worker/render/geometry/mitsuba_sdfgrid_scene.txt
-  /work/venv-mitsuba/bin/python worker/render/geometry/mitsuba_sdfgrid_scene.py --worker build/bin/tessera-worker
+  $PY worker/render/geometry/mitsuba_sdfgrid_scene.py --worker build/bin/tessera-worker
 """
 import argparse
 import os

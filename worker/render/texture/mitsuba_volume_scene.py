@@ -13,10 +13,10 @@ With --write-grids, the scene's two grids are written first (they are committed;
 they were made): rgb.vol, 4 x 2 x 3 voxels of RGB, and grey.vol, 2 x 2 x 2 voxels of one
 channel in a checker pattern.
 
-Usage, from the repository root (Mitsuba 3.9.1):
-  /work/venv-mitsuba/bin/python worker/render/texture/mitsuba_volume_scene.py \
+Usage, from the repository root (PY: a Python with Mitsuba 3.9.1):
+  $PY worker/render/texture/mitsuba_volume_scene.py \
       > worker/render/texture/mitsuba_volume_scene.txt
-  /work/venv-mitsuba/bin/python worker/render/texture/mitsuba_volume_scene.py --worker build/bin/tessera-worker
+  $PY worker/render/texture/mitsuba_volume_scene.py --worker build/bin/tessera-worker
 """
 import argparse
 import os
