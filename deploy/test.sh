@@ -121,8 +121,8 @@ sys.exit(1 if errors else 0)
 EOF
 
 # The documented images (--target server|worker) compile in a build stage that copies the source
-# folders by name; CI builds the *-prebuilt targets, so it would not see one missing (cmake/ was,
-# unnoticed, from 6f0043b to d5d0203). CMake must configure from what those COPY lines give it:
+# folders by name; CI builds the *-prebuilt targets, so it would not see one missing (cmake/ once
+# was, unnoticed). CMake must configure from what those COPY lines give it:
 # a tree of links to exactly those paths, configured, nothing compiled.
 say "lint: the Dockerfile's build stage copies all that CMake reads"
 stage_tree="$(mktemp -d)"

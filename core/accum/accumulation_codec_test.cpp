@@ -175,7 +175,7 @@ TEST(AccumulationCodecTest, FastEffortIsTheSameFormatAndLossless) {
 // Reports bytes per pixel for a 64x64 tile of noisy sums (36 bytes/pixel uncompressed).
 // The bytes of format version 1 inside the zstd frame (header copy, counters, byte-shuffled
 // planes) are fixed: an old worker's upload must decode on a new server and the reverse. The
-// hashes were taken from the byte-by-byte shuffle (main 8479b6a) before the planes were moved
+// hashes were taken from the byte-by-byte shuffle (commit 8479b6a) before the planes were moved
 // 8 values at a time (transpose8x8); the frame itself is not pinned (another zstd version may
 // compress the same payload differently).
 TEST(AccumulationCodecTest, ThePayloadIsFormatVersion1ByteForByte) {

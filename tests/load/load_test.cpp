@@ -271,9 +271,9 @@ void run_load(uint32_t per_call) {
   }
   const std::string address = "127.0.0.1:" + std::to_string(std::stoi(e2e::read_text(port_file)));
   // The server loads its image module (OpenImageIO) on a thread once it listens: a start's
-  // fixed cost too (0.3-0.5 s of CPU; seconds of wall time at load 15), not serving's. A server
-  // that says when it has loaded it (server/main.cpp) is measured from then; an older one from
-  // listening.
+  // fixed cost too (0.3-0.5 s of CPU; seconds of wall time on a busy machine), not serving's. A
+  // server that says when it has loaded it (server/main.cpp) is measured from then; an older one
+  // from listening.
   if (says_when_module_loaded(server_bin)) {
     while (e2e::read_text(dir / "server.log").find("image module") == std::string::npos) {
       ASSERT_TRUE(server->running()) << e2e::read_text(dir / "server.log");
