@@ -136,9 +136,9 @@ inline void transpose8x8(uint64_t rows[8]) {
 
 /// Doubles' bits in 8 byte planes (put) or from them (get), 8 values at a time through
 /// transpose8x8 on a little-endian host: the byte-by-byte loops below cost about 64
-/// instructions per double, this about 12 (callgrind; BENCHMARKS.md, "The farm's overhead and
-/// CPU per result"). Returns how many values it did (a multiple of 8; 0 on other hosts): the
-/// caller does the rest byte by byte. The bytes are the same either way.
+/// instructions per double, this about 12 (callgrind; BENCHMARKS.md, "What a result and a job
+/// cost the server, counted"). Returns how many values it did (a multiple of 8; 0 on other
+/// hosts): the caller does the rest byte by byte. The bytes are the same either way.
 size_t put_planes8(char* planes, size_t n, const double* values) {
   if constexpr (std::endian::native != std::endian::little) return 0;
   const size_t whole = n - n % 8;

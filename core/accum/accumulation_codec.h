@@ -23,8 +23,7 @@ enum class CodecEffort {
   /// zstd level -1: what workers upload (worker/farm/farm_worker.cpp, kUploadEffort) and the
   /// server's checkpoints of merged tiles. A third of level 3's compression instructions and
   /// fewer to decode, for about 1 % more bytes on a many-sample tile (BENCHMARKS.md, "The
-  /// farm's overhead and CPU per result", "The server's CPU per job" and "The farm's overhead on
-  /// one job").
+  /// farm's overhead on one job" and "What a result and a job cost the server, counted").
   fast,
 };
 
@@ -35,8 +34,8 @@ std::string encode_accumulation(const Accumulation& acc,
 
 /// encode_accumulation with a zstd compression context kept from one call to the next: a new
 /// context per call allocated and set up its tables (about 1 MB at level 3 for a 64-px tile)
-/// every time (BENCHMARKS.md, "The server's CPU per job": 0.5 M of a 4.5 M-instruction
-/// encode). The bytes do not depend on earlier calls. Not thread-safe: one per
+/// every time (0.5 M of a 4.5 M-instruction encode; BENCHMARKS.md, "What a result and a job
+/// cost the server, counted"). The bytes do not depend on earlier calls. Not thread-safe: one per
 /// thread, or one used under a lock (the server's merger encodes checkpoints under its store
 /// lock with one, so its many gRPC threads keep no context each).
 class AccumulationEncoder {

@@ -24,7 +24,7 @@ class StoreCorrupt : public std::runtime_error {
 /// SQLITE_CORRUPT or SQLITE_NOTADB error while checking is reported the same way. quick_check
 /// reads every page (torn pages, malformed records, the freelist, NOT NULL and CHECK
 /// constraints) but does not match each index against its table, which integrity_check does
-/// at O(N log N): about 2.6 times its CPU on a 68 MB store (BENCHMARKS.md, "restart").
+/// at O(N log N): about 2.6 times its CPU on a 68 MB store (BENCHMARKS.md, "Server start-up time").
 void check_integrity(Database& db, const std::string& path);
 
 /// What the whole-file check found so far (BackgroundIntegrityCheck::state).

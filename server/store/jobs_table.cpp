@@ -12,7 +12,7 @@ std::string s(JobState state) { return std::string(to_string(state)); }
 // parameter: compared with a parameter, `u.state` matches the partial indexes on units (WHERE
 // state = 'leased') only once bound, so SQLite compiled the whole statement again on every
 // execution (StoreCounters::reprepares): 8 % of the server's CPU during a 512x512 job watched
-// by one client (BENCHMARKS.md, "The farm's overhead and CPU per result").
+// by one client (BENCHMARKS.md, "What a result and a job cost the server, counted").
 constexpr const char* kJobColumns = R"sql(
   j.id, j.state, j.priority, j.bundle_sha256, j.scene_file,
   j.width, j.height, j.spp, j.max_depth, j.seed, j.tile_size, j.batch_spp, j.isa,

@@ -250,7 +250,7 @@ DROP TABLE pending_results;
 -- Migration 8's `results` was WITHOUT ROWID: its b-tree is keyed by the whole row, so every
 -- interior cell held a copy of a ~19 KB blob on overflow pages, and each insert or lookup
 -- copied blobs together to compare keys (a third of the store's CPU per accepted result in a
--- profile: BENCHMARKS.md, "Scheduling policy, fair lock, CPU per result"). Here the
+-- profile: BENCHMARKS.md, "What a result and a job cost the server, counted"). Here the
 -- rows live in a rowid table (blobs only in its leaves) and (job_id, tile, batch) is a unique
 -- index of three integers. Every row moves over unchanged.
 CREATE TABLE results_by_rowid (
@@ -273,7 +273,7 @@ CREATE UNIQUE INDEX results_key ON results (job_id, tile, batch);
 -- walked the blob's chain of overflow pages to reach them, and every merge's UPDATE of the row
 -- read the whole blob to rebuild the record. A job's status (six aggregates over its tiles,
 -- read for every WatchJob message) cost 16 ms at 64 such tiles, and a merge 4x what it does
--- without the blob (BENCHMARKS.md, "The farm's overhead and CPU per result"). Here the
+-- without the blob (BENCHMARKS.md, "What a result and a job cost the server, counted"). Here the
 -- checkpoints live in a table of their own, a rowid table (the blobs only in its leaves) keyed
 -- by (job_id, tile); every checkpoint moves over unchanged.
 CREATE TABLE tile_checkpoints (

@@ -9,7 +9,7 @@
 // So merging a waiting result changes no row of this table (the tile's next_batch moves past
 // it), and a checkpoint deletes the rows below next_batch. Before migration 8 a result that
 // arrived early was written to pending_results, then copied to merged_results when merged:
-// twice its bytes through the WAL (BENCHMARKS.md, "where the time goes").
+// twice its bytes through the WAL.
 //
 // Every statement on `results` is here, each operation one event of a result's life: accepted
 // (append), merged (nothing to write), checkpointed (drop_merged), wasted when its tile or job

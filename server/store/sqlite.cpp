@@ -122,16 +122,17 @@ Database::Database(const std::string& path, int busy_timeout_ms) {
   // deleted again at their tile's next checkpoint: a 64 MiB page cache keeps the hot pages
   // (tiles, units, results waiting) from being read back from the file, and 64 MiB of WAL
   // between checkpoints lets a freed page be rewritten in the WAL several times before one
-  // copy of it goes to the database file (BENCHMARKS.md, "one results table, group commit").
+  // copy of it goes to the database file (BENCHMARKS.md, "What a result and a job cost the
+  // server, counted": the server no longer read its own pages back, 9-11 % of its CPU).
   exec("PRAGMA cache_size = -65536");
   exec("PRAGMA wal_autocheckpoint = 16384");
   // Debian builds SQLite with SQLITE_SECURE_DELETE, so every deleted row's pages were zeroed
   // and written again: each result dropped at its tile's checkpoint went through the WAL (and
   // the WAL's checkpoint into the file) a second time as zeros, most of the server's I/O per
-  // job (BENCHMARKS.md, "The server's CPU per job"). FAST still zeroes freed cells on pages a
-  // statement writes anyway, but no longer writes a freed page (a deleted result's overflow
-  // chain) only to clear it. The store holds renders, not secrets; a deleted job's pages are
-  // given back by incremental_vacuum (docs/farm.md, "The store").
+  // job (BENCHMARKS.md, "What a result and a job cost the server, counted"). FAST still zeroes
+  // freed cells on pages a statement writes anyway, but no longer writes a freed page (a deleted
+  // result's overflow chain) only to clear it. The store holds renders, not secrets; a deleted
+  // job's pages are given back by incremental_vacuum (docs/farm.md, "The store").
   exec("PRAGMA secure_delete = FAST");
 }
 

@@ -51,8 +51,8 @@ class Statement {
   /// bind_blob without SQLite's copy of the bytes: they must stay alive and unchanged until the
   /// statement has run and its StatementUse is gone (which clears the bindings). For the
   /// `db.prepare(sql)->bind...(bytes).run()` shape with `bytes` owned by the caller (an accepted
-  /// result's 19 KB at 32-px tiles; blob copies were 8 % of the server's CPU in a profile:
-  /// BENCHMARKS.md, "Server capacity").
+  /// result's 19 KB at 32-px tiles: BENCHMARKS.md, "What a result and a job cost the server,
+  /// counted").
   Statement& bind_blob_borrowed(int index, std::string_view bytes);
   Statement& bind_null(int index);
   template <typename T>

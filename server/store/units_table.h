@@ -7,7 +7,8 @@
 // States appear in the SQL as literals ('leased'), never as bound parameters: a parameter
 // compared with `state` makes SQLite compile the statement again at every call (the partial
 // indexes on leased units name the literal) and keeps it off those indexes, so a worker's
-// lease would be found by a scan of every unit row (BENCHMARKS.md, "where the time goes").
+// lease would be found by a scan of every unit row (BENCHMARKS.md, "What a result and a job
+// cost the server, counted").
 #pragma once
 
 #include <cstdint>
