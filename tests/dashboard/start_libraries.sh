@@ -2,7 +2,7 @@
 # tessera-server and the tessera client map no OpenImageIO library when they start
 # (server/lazy_image_io.cpp): their shared libraries (ldd) leave out OpenImageIO and the ~250
 # libraries it brings, which were most of the server's start-up CPU (BENCHMARKS.md, "Server
-# start-up") and about 0.2 s of CPU for every client command (BENCHMARKS.md, "The farm's
+# start-up time") and about 0.2 s of CPU for every client command (BENCHMARKS.md, "The farm's
 # overhead on one job").
 #   start_libraries.sh BIN
 set -euo pipefail

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The server's three capacity figures in one command (BENCHMARKS.md, "Server capacity"): merged
+# The server's three capacity figures in one command (BENCHMARKS.md, "Lease latency and capacity"): merged
 # results per second at 32 px tiles, lease p99, and server CPU per result, at 64 and 256
 # simulated workers with 16 units per call, for one server or several compared run by run. Not
 # part of CI (it takes minutes and its figures depend on the machine).

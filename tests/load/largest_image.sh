@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The server's memory on the largest image its default limits accept (BENCHMARKS.md, "The
-# server's memory on the largest image"). Not part of CI: on 2 cores it takes minutes and
+# The server's memory on the largest image its default limits accept (BENCHMARKS.md, "Server
+# memory on the largest image"). Not part of CI: on 2 cores it takes minutes and
 # writes gigabytes (16,384 results of a 64-px tile, each into the WAL and then the file).
 #
 #   tests/load/largest_image.sh BIN_DIR [SCENE] [SIZE]     # BOUND_GIB=2: the peak allowed

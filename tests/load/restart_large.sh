@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Start-up time on a large store (BENCHMARKS.md, "Start-up on a large store"). Not part of CI.
+# Start-up time on a large store (BENCHMARKS.md, "Server start-up time"). Not part of CI.
 #
 #   tests/load/restart_large.sh BIN_DIR [SERVER_BIN...]
 #

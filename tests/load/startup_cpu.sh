@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # CPU time a tessera-server has used when it starts listening (BENCHMARKS.md, "Server
-# start-up"). Not part of CI. A load-independent figure: the wall time to
+# start-up time"). Not part of CI. A load-independent figure: the wall time to
 # listening on a loaded machine is mostly waiting for a CPU.
 #
 #   tests/load/startup_cpu.sh ROUNDS SERVER_BIN...

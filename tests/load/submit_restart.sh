@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Submit time against spp, cancel, restart and delete on one tessera-server (BENCHMARKS.md,
-# "Farm: submit time against spp"). Not part of CI: it submits jobs of up to 2^30 spp.
+# "Submit, cancel and delete against spp"). Not part of CI: it submits jobs of up to 2^30 spp.
 #
 #   tests/load/submit_restart.sh BIN_DIR [SPP...]      # default SPP: 2^20 2^25 2^28 2^30
 #

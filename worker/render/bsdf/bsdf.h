@@ -57,7 +57,7 @@ class Bsdf {
   /// guided_material; any value in [0, 1] is unbiased, this one is for lower variance): 1 for
   /// diffuse; for plastic, rough plastic and principled the probability that sample() takes
   /// their diffuse lobe; for a rough conductor min(1, 2 alpha), alpha the geometric mean of its
-  /// two (measured: BENCHMARKS.md, "The caustic guide for plastics"); 0 for the others.
+  /// two (measured: docs/renderer.md, "Bounces along the caustics"); 0 for the others.
   float caustic_guide_share(glm::vec3 wo) const;
 
  private:
