@@ -490,10 +490,35 @@ namespace {
               " (a .pbsdf polarimetric BRDF tensor measured in five wavelength bands)");
 }
 
+/// A BSDF as a cycle's message names it: its id, else its type and line.
+std::string bsdf_name(const MitsubaElement& bsdf) {
+  const std::string* id = bsdf.attribute("id");
+  if (id && !id->empty()) return "\"" + printable(*id) + "\"";
+  const std::string* type = bsdf.attribute("type");
+  return (type ? printable(*type) : std::string("bsdf")) + " at line " + std::to_string(bsdf.line);
+}
+
 }  // namespace
 
 Material MitsubaMaterials::read(const MitsubaElement& bsdf) {
   if (bsdf.tag != "bsdf") fail_at(bsdf, "is no <bsdf>");
+  auto repeat = std::find(reading_.begin(), reading_.end(), &bsdf);
+  if (repeat != reading_.end()) {
+    std::string cycle;
+    for (auto it = repeat; it != reading_.end(); ++it) cycle += bsdf_name(**it) + " -> ";
+    fail_at(bsdf, "contains itself through <ref> (" + cycle + bsdf_name(bsdf) + ")");
+  }
+  if (reading_.size() >= size_t(kMaxMitsubaElementDepth)) {
+    fail_at(bsdf, "BSDFs nested more than " + std::to_string(kMaxMitsubaElementDepth) +
+                      " deep (through <ref>s)");
+  }
+  reading_.push_back(&bsdf);
+  Material m = read_plugin(bsdf);
+  reading_.pop_back();
+  return m;
+}
+
+Material MitsubaMaterials::read_plugin(const MitsubaElement& bsdf) {
   MitsubaPlugin plugin(bsdf, ids_);
   const std::string& type = plugin.type();
   Material m;

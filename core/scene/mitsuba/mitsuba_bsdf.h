@@ -59,7 +59,9 @@ namespace tessera {
 /// - `mask` around one BSDF: opacity (0.5, textured);
 /// - `bumpmap` around one BSDF: one nested texture (the height field), scale (1);
 /// - `normalmap` around one BSDF: the nested texture `normalmap`.
-/// Everything else is refused: SceneError naming the element and what Tessera supports.
+/// Everything else is refused: SceneError naming the element and what Tessera supports. A BSDF
+/// that contains itself through <ref>s (`<bsdf type="twosided" id="a"><ref id="a"/></bsdf>`, or
+/// a -> b -> a) is refused naming the cycle, before any recursion could run out of stack.
 class MitsubaMaterials {
  public:
   /// `ids` and `textures` must outlive this.
@@ -79,6 +81,7 @@ class MitsubaMaterials {
   uint32_t add(Material material, const MitsubaElement& bsdf);
   uint32_t add_named(Material material, const std::string& name);
   Material read(const MitsubaElement& bsdf);
+  Material read_plugin(const MitsubaElement& bsdf);
   Material read_twosided(MitsubaPlugin& plugin);
   Material read_blend(MitsubaPlugin& plugin);
   Material read_wrapper(MitsubaPlugin& plugin);
@@ -90,6 +93,8 @@ class MitsubaMaterials {
   std::set<std::string> names_;
   std::optional<uint32_t> default_;
   std::optional<uint32_t> default_emitter_;
+  /// The BSDFs being read, outermost first: a nested BSDF already on it closes a cycle.
+  std::vector<const MitsubaElement*> reading_;
 };
 
 }  // namespace tessera

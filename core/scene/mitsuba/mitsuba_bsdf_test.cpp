@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "scene/mitsuba/mitsuba_ior.h"
+#include "scene/mitsuba/mitsuba_xml_document.h"
 #include "scene/mitsuba/mitsuba_test_support.h"
 
 namespace tessera {
@@ -37,6 +38,58 @@ TEST(MitsubaBsdf, Diffuse) {
                 .reflectance.value,
             glm::dvec3(0.75));
   EXPECT_EQ(material_of(R"(<bsdf type="diffuse"/>)").reflectance.value, glm::dvec3(0.5));
+}
+
+/// The error of a scene whose top-level BSDFs are `bsdfs` and whose rectangle uses id "a".
+std::string referenced_bsdf_error(const std::string& bsdfs) {
+  return xml_error(mitsuba_scene(bsdfs + "<shape type=\"rectangle\"><ref id=\"a\"/></shape>"));
+}
+
+// A BSDF that contains itself through <ref>s would recurse until the stack ran out (a scene of
+// a few hundred bytes killed the server that parsed it); each cycle is refused naming the BSDF's
+// line, its id and the cycle.
+TEST(MitsubaBsdf, ABsdfThatContainsItselfIsRefusedNamingTheCycle) {
+  const std::string self = R"(<bsdf type="twosided" id="a"><ref id="a"/></bsdf>)";
+  EXPECT_EQ(referenced_bsdf_error(self),
+            "test.xml: line " + std::to_string(line_of(mitsuba_scene(self), "twosided")) +
+                ": <bsdf type=\"twosided\" id=\"a\">: contains itself through <ref> "
+                "(\"a\" -> \"a\")");
+  for (const std::string& wrapper :
+       {std::string(R"(<bsdf type="blendbsdf" id="a"><float name="weight" value="0.5"/>
+                       <ref id="a"/><bsdf type="diffuse"/></bsdf>)"),
+        std::string(R"(<bsdf type="mask" id="a"><ref id="a"/></bsdf>)")}) {
+    EXPECT_NE(referenced_bsdf_error(wrapper).find("contains itself through <ref> (\"a\" -> \"a\")"),
+              std::string::npos)
+        << wrapper;
+  }
+  // Two twosided BSDFs that name each other, and a cycle entered below its first BSDF.
+  EXPECT_NE(referenced_bsdf_error(R"(<bsdf type="twosided" id="a"><ref id="b"/></bsdf>
+      <bsdf type="twosided" id="b"><ref id="a"/></bsdf>)")
+                .find("<bsdf type=\"twosided\" id=\"a\">: contains itself through <ref> "
+                      "(\"a\" -> \"b\" -> \"a\")"),
+            std::string::npos);
+  EXPECT_NE(referenced_bsdf_error(R"(<bsdf type="mask" id="a"><ref id="b"/></bsdf>
+      <bsdf type="twosided" id="b"><ref id="c"/></bsdf>
+      <bsdf type="blendbsdf" id="c"><float name="weight" value="0.5"/><ref id="b"/>
+        <bsdf type="diffuse"/></bsdf>)")
+                .find("id=\"b\">: contains itself through <ref> (\"b\" -> \"c\" -> \"b\")"),
+            std::string::npos);
+}
+
+// A chain of <ref>s without a cycle is bounded too: its depth is not bounded by the XML's.
+TEST(MitsubaBsdf, BsdfsNestedThroughRefsAreBoundedInDepth) {
+  auto chain = [](int length) {
+    std::string bsdfs;
+    for (int i = 0; i + 1 < length; ++i) {
+      bsdfs += "<bsdf type=\"mask\" id=\"" + std::string(i == 0 ? "a" : "m" + std::to_string(i)) +
+               "\"><ref id=\"m" + std::to_string(i + 1) + "\"/></bsdf>\n";
+    }
+    return bsdfs + "<bsdf type=\"diffuse\" id=\"m" + std::to_string(length - 1) + "\"/>\n";
+  };
+  EXPECT_EQ(referenced_bsdf_error(chain(kMaxMitsubaElementDepth)), "(no error)");
+  EXPECT_NE(referenced_bsdf_error(chain(kMaxMitsubaElementDepth + 1))
+                .find(": BSDFs nested more than 64 deep (through <ref>s)"),
+            std::string::npos);
 }
 
 TEST(MitsubaBsdf, DiffuseReflectanceMustConserveEnergy) {

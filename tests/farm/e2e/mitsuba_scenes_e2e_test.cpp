@@ -203,5 +203,30 @@ TEST(PublishedMitsubaSceneFarm, ServerRefusesNanInfiniteAndNegativeTexelsAtSubmi
   EXPECT_TRUE(nlohmann::json::parse(list.out).empty()) << list.out;
 }
 
+/// A scene whose BSDF contains itself through <ref>, sent straight to the server with SubmitJob:
+/// the server parses what clients send, so it refuses the cycle naming the line and the id, and
+/// stays up (a scene of 300 bytes like this one once killed it).
+TEST(PublishedMitsubaSceneFarm, ServerRefusesABsdfThatContainsItselfAndStaysUp) {
+  FarmCluster farm("mitsuba-bsdf-cycle");
+  farm.start_server();
+  v1::SubmitJobRequest request;
+  request.mutable_bundle()->set_scene_file("self_referencing_bsdf.xml");
+  auto* file = request.mutable_bundle()->add_files();
+  file->set_path("self_referencing_bsdf.xml");
+  file->set_data(read_text(kData / "self_referencing_bsdf.xml"));
+  v1::SubmitJobResponse response;
+  const grpc::Status status =
+      farm.jobs().SubmitJob(FarmCluster::context().get(), request, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
+  EXPECT_NE(status.error_message().find(
+                "self_referencing_bsdf.xml: line 5: <bsdf type=\"twosided\" id=\"a\">: "
+                "contains itself through <ref> (\"a\" -> \"a\")"),
+            std::string::npos)
+      << status.error_message();
+  const CommandResult list = farm.cli({"list", "--json"});
+  ASSERT_EQ(list.exit_code, 0) << list.err;
+  EXPECT_TRUE(nlohmann::json::parse(list.out).empty()) << list.out;
+}
+
 }  // namespace
 }  // namespace tessera::e2e
