@@ -179,6 +179,59 @@ TEST_F(SceneBundle, MitsubaScenesWidenTheDefaultRootToWhatTheyName) {
   EXPECT_EQ(own.scene_path, "own.xml");
 }
 
+// Without --root, only a <path> may climb out of the scene's folder: an <include> or a file
+// name may reach the scene's folder and its <path> folders, not what lies beside them, and is
+// refused before anything outside is read (an <include> of ../../etc/passwd read and parsed
+// the file).
+TEST_F(SceneBundle, ADefaultRootKeepsIncludesAndFileNamesInTheScenesFolders) {
+  auto load_error = [&](const std::string& scene) {
+    try {
+      load_scene_bundle(folder() / scene);
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const std::string sensor = R"(<sensor type="perspective"><float name="fov" value="40"/>
+      <transform name="to_world"><translate z="-5"/></transform></sensor>)";
+  // Malformed XML outside: were it read, the error would be about its XML.
+  write("secret.xml", "<not xml");
+  write("scene/include.xml", "<scene version=\"3.0.0\">\n<include filename=\"../secret.xml\"/>\n" +
+                                 sensor + "</scene>");
+  EXPECT_NE(load_error("include.xml")
+                .find("include.xml: line 2: <include>: \"../secret.xml\" leaves the scene's "
+                      "folder and its <path> folders (a bundle root given with --root allows it)"),
+            std::string::npos)
+      << load_error("include.xml");
+  write("scene/mesh.xml", "<scene version=\"3.0.0\">\n" + sensor +
+                              "\n<shape type=\"obj\"><string name=\"filename\" "
+                              "value=\"../outside.obj\"/></shape></scene>");
+  EXPECT_NE(load_error("mesh.xml")
+                .find("mesh.xml: line 4: <string name=\"filename\">: \"../outside.obj\" leaves "
+                      "the scene's folder and its <path> folders"),
+            std::string::npos)
+      << load_error("mesh.xml");
+  // A <path> folder may be reached, and so may what lies below it, also through "..".
+  fs::create_directories(root_ / "common" / "meshes");
+  write("common/meshes/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  write("scene/path.xml", "<scene version=\"3.0.0\">\n<path value=\"../common/meshes\"/>\n" +
+                              sensor +
+                              "<shape type=\"obj\"><string name=\"filename\" value=\"tri.obj\"/>"
+                              "</shape><shape type=\"obj\"><string name=\"filename\" "
+                              "value=\"meshes/../meshes/tri.obj\"/></shape></scene>");
+  EXPECT_EQ(load_error("path.xml"), "(no error)");
+  write("scene/beside.xml", "<scene version=\"3.0.0\">\n<path value=\"../common/meshes\"/>\n" +
+                                sensor +
+                                "<shape type=\"obj\"><string name=\"filename\" "
+                                "value=\"../outside.obj\"/></shape></scene>");
+  EXPECT_NE(load_error("beside.xml").find("\"../outside.obj\" is in none of the folders searched"),
+            std::string::npos)
+      << load_error("beside.xml");
+  // With the root given, the same names are read.
+  EXPECT_EQ(load_scene_bundle(folder() / "mesh.xml", root_).scene.referenced_files,
+            std::vector<std::string>{"outside.obj"});
+}
+
 TEST_F(SceneBundle, AGivenRootIsFixed) {
   write("scene/s.xml", R"(<scene version="3.0.0">
     <sensor type="perspective"><float name="fov" value="40"/>

@@ -104,7 +104,7 @@ SceneOnDisk load_scene_bundle(const std::filesystem::path& scene_file,
   for (;;) {
     try {
       result.scene = parse_scene_any(result.scene_path, text, folder_reader(result.root),
-                                     result.root.string());
+                                     result.root.string(), MitsubaReach::scene_folders);
       return result;
     } catch (const BundleEscapeError& escape) {
       fs::path wider = result.root;
@@ -121,11 +121,12 @@ SceneOnDisk load_scene_bundle(const std::filesystem::path& scene_file,
 }
 
 Scene parse_scene_any(const std::string& file_name, std::string_view text,
-                      const FileReader& reader, const std::string& root_name) {
+                      const FileReader& reader, const std::string& root_name,
+                      MitsubaReach reach) {
   // The scene keeps the root's reader: the renderer reads textures and environment maps by
   // their bundle paths through it.
   if (is_mitsuba_xml(file_name)) {
-    Scene scene = parse_mitsuba_scene(text, file_name, reader, root_name);
+    Scene scene = parse_mitsuba_scene(text, file_name, reader, root_name, reach);
     scene.files = reader;
     return scene;
   }

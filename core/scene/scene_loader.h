@@ -20,6 +20,18 @@ namespace tessera {
 /// throws SceneError naming the path when it is missing or unreadable.
 using FileReader = std::function<std::string(const std::string& bundle_path)>;
 
+/// How far the file names of a Mitsuba 3 scene (<include filename>, a `filename` property) may
+/// reach with "..". A <path value="..."> element may always widen the search, as documented
+/// in docs/mitsuba.md; this bounds the names looked up along it.
+enum class MitsubaReach {
+  /// Anywhere inside the bundle root: a root given with --root, or a bundle on the farm (which
+  /// holds only what its client sent).
+  bundle,
+  /// Only the scene file's folder and the folders of its <path> elements, and what lies below
+  /// them: a scene read from disk without --root, whose default root widens as its paths climb.
+  scene_folders,
+};
+
 /// A path that leaves the bundle root: `levels` more folders above the root would hold it.
 /// load_scene_bundle widens a default root by that much and reads the scene again; with a
 /// fixed root (--root DIR, a bundle on the farm) it is a refusal like any SceneError.
@@ -49,8 +61,9 @@ struct SceneOnDisk {
 
 /// Loads a scene file from disk with its bundle. The bundle root is `root` when given (the
 /// scene file must be inside it), else the scene file's folder, widened for a Mitsuba scene to
-/// the common folder of everything it names (`..` is allowed as long as the path stays inside
-/// the root). Files are read through folder_reader(root): absolute paths, paths leaving the root
+/// the common folder of everything it names: a <path> may climb with `..` as far as it likes,
+/// an <include> or a file name only within the scene's folder and its <path> folders
+/// (MitsubaReach::scene_folders). A given root allows any path inside it. Files are read through folder_reader(root): absolute paths, paths leaving the root
 /// and symbolic links below it are refused, naming the file, line and root. A file whose name
 /// ends in ".xml" (any case) is read as a Mitsuba 3 scene (docs/mitsuba.md), any other as scene
 /// format v1 (whose paths are relative to the scene's folder, without "..").
@@ -69,10 +82,12 @@ Scene load_scene_file(const std::filesystem::path& scene_file,
 /// Parses the text of a scene file at bundle path `file_name` (the root of its bundle, or a
 /// folder below it): a Mitsuba 3 XML scene when the name ends in ".xml" (any case), scene format
 /// v1 otherwise. `reader` supplies the bundle's files; `root_name` names the bundle root in
-/// messages. For callers that hold a bundle's bytes rather than files on disk, such as the farm.
+/// messages; `reach` bounds a Mitsuba scene's file names (MitsubaReach). For callers that hold a
+/// bundle's bytes rather than files on disk, such as the farm.
 Scene parse_scene_any(const std::string& file_name, std::string_view text,
                       const FileReader& reader,
-                      const std::string& root_name = "the bundle root");
+                      const std::string& root_name = "the bundle root",
+                      MitsubaReach reach = MitsubaReach::bundle);
 
 /// A FileReader over a folder on disk, refusing anything that resolves outside it and symbolic
 /// links anywhere below it.

@@ -11,8 +11,22 @@ MitsubaFileResolver::MitsubaFileResolver(const FileReader& reader, std::string s
                                          std::string root_name)
     : reader_(reader), folders_{std::move(scene_folder)}, root_name_(std::move(root_name)) {}
 
+namespace {
+
+/// True when bundle path `path` lies in bundle folder `folder` ("" or ending in '/') or below.
+bool is_below(const std::string& path, const std::string& folder) {
+  return path.compare(0, folder.size(), folder) == 0;
+}
+
+}  // namespace
+
 void MitsubaFileResolver::prepend(std::string folder) {
+  if (confined_to_) confined_to_->push_back(folder);
   folders_.insert(folders_.begin(), std::move(folder));
+}
+
+void MitsubaFileResolver::confine_to(std::vector<std::string> folders) {
+  confined_to_ = std::move(folders);
 }
 
 std::string MitsubaFileResolver::resolve(const MitsubaElement& where, const std::string& filename,
@@ -25,6 +39,15 @@ std::string MitsubaFileResolver::resolve(const MitsubaElement& where, const std:
   std::string first_error;
   for (const std::string& folder : folders) {
     std::string path = join_bundle_path(folder, filename, where.where(), root_name_);
+    if (confined_to_ && std::none_of(confined_to_->begin(), confined_to_->end(),
+                                     [&](const std::string& f) { return is_below(path, f); })) {
+      if (first_error.empty()) {
+        first_error = "\"" + printable(filename) +
+                      "\" leaves the scene's folder and its <path> folders (a bundle root "
+                      "given with --root allows it)";
+      }
+      continue;
+    }
     try {
       std::string bytes = reader_(path);
       cached_path_ = path;

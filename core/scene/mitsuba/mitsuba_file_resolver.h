@@ -22,8 +22,14 @@ class MitsubaFileResolver {
   /// `reader` must outlive this. `scene_folder` is the scene file's bundle folder.
   MitsubaFileResolver(const FileReader& reader, std::string scene_folder, std::string root_name);
 
-  /// Puts `folder` first in the search (a <path>).
+  /// Puts `folder` first in the search (a <path>); a confined resolver lets names reach it too.
   void prepend(std::string folder);
+  /// From now on a name may only resolve into `folders` or below them, and into the folders
+  /// prepended later (MitsubaReach::scene_folders); a name that leaves them is refused before
+  /// anything is read.
+  void confine_to(std::vector<std::string> folders);
+  /// The folders names are confined to, or nullopt when only the bundle root bounds them.
+  const std::optional<std::vector<std::string>>& confined_to() const { return confined_to_; }
   /// The folders in search order.
   const std::vector<std::string>& folders() const { return folders_; }
   /// Restores the search path to `folders` (the end of an include: <path>s inside an included
@@ -33,7 +39,7 @@ class MitsubaFileResolver {
   /// The bundle path of `filename` as written in property `where`: the first folder (after
   /// `first`, when given) that holds it. Throws SceneError naming `where` and the folders
   /// searched when none does, BundleEscapeError when the name leaves the bundle root, and
-  /// SceneError for an absolute name.
+  /// SceneError for an absolute name or, when confined, a name that leaves the folders allowed.
   std::string resolve(const MitsubaElement& where, const std::string& filename,
                       const std::optional<std::string>& first = std::nullopt);
 
@@ -50,6 +56,7 @@ class MitsubaFileResolver {
   const FileReader& reader_;
   std::vector<std::string> folders_;
   std::string root_name_;
+  std::optional<std::vector<std::string>> confined_to_;
   std::string cached_path_;   ///< the last file resolve read
   std::string cached_bytes_;
 };

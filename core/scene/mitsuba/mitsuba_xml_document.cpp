@@ -127,8 +127,10 @@ void expect_attributes(const MitsubaElement& element,
 class DocumentReader {
  public:
   DocumentReader(const FileReader& reader, const std::string& file_name,
-                 const std::string& root_name)
-      : resolver_(reader, folder_of(file_name), root_name) {}
+                 const std::string& root_name, MitsubaReach reach)
+      : resolver_(reader, folder_of(file_name), root_name) {
+    if (reach == MitsubaReach::scene_folders) resolver_.confine_to({folder_of(file_name)});
+  }
 
   MitsubaDocument read(std::string_view xml, const std::string& file_name) {
     pugi::xml_document document;
@@ -144,6 +146,7 @@ class DocumentReader {
     read_children(root, source, result.scene, 1, 0);
     result.files_read = std::move(files_read_);
     result.search_folders = resolver_.folders();
+    result.confined_to = resolver_.confined_to();
     return result;
   }
 
@@ -324,8 +327,9 @@ void fail_at(const MitsubaElement& element, std::string_view message) {
 }
 
 MitsubaDocument read_mitsuba_document(std::string_view xml, const std::string& file_name,
-                                      const FileReader& reader, const std::string& root_name) {
-  return DocumentReader(reader, file_name, root_name).read(xml, file_name);
+                                      const FileReader& reader, const std::string& root_name,
+                                      MitsubaReach reach) {
+  return DocumentReader(reader, file_name, root_name, reach).read(xml, file_name);
 }
 
 }  // namespace tessera

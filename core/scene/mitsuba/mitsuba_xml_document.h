@@ -6,6 +6,7 @@
 // plugin readers (mitsuba_sensor.h, mitsuba_bsdf.h, mitsuba_shape.h, ...).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -50,6 +51,9 @@ struct MitsubaDocument {
   /// Where the scene's file names are looked for, in order: the folders of its <path> elements
   /// (the latest first), then the scene file's folder (MitsubaFileResolver).
   std::vector<std::string> search_folders;
+  /// With MitsubaReach::scene_folders: the folders file names must stay in (the scene file's
+  /// folder and every <path> folder, included files' too); nullopt with MitsubaReach::bundle.
+  std::optional<std::vector<std::string>> confined_to;
 };
 
 /// Reads the XML text of the scene file at bundle path `file_name`.
@@ -66,12 +70,15 @@ struct MitsubaDocument {
 ///   children, any other root element itself. Parameters are shared with included files; the
 ///   <path>s of an included file end with it. Includes nest at most kMaxMitsubaIncludeDepth
 ///   deep and never in a cycle.
-/// `root_name` names the bundle root in messages about paths that leave it.
+/// `root_name` names the bundle root in messages about paths that leave it. With `reach`
+/// MitsubaReach::scene_folders an included file must lie in the scene file's folder or a
+/// <path> folder (or below one).
 ///
 /// Throws SceneError("<file>: line <L>: ...") for malformed XML and for every rule above, and
 /// BundleEscapeError for a path that leaves the bundle root.
 MitsubaDocument read_mitsuba_document(std::string_view xml, const std::string& file_name,
                                       const FileReader& reader,
-                                      const std::string& root_name = "the bundle root");
+                                      const std::string& root_name = "the bundle root",
+                                      MitsubaReach reach = MitsubaReach::bundle);
 
 }  // namespace tessera

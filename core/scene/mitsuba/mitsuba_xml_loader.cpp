@@ -57,6 +57,7 @@ class SceneBuilder {
         media_(ids_, textures_),
         context_{ids_, files_, materials_, textures_, referenced_, groups_, lights_, media_} {
     files_.reset(document.search_folders);
+    if (document.confined_to) files_.confine_to(*document.confined_to);
     collect_references(root_, ids_, referenced_objects_);
   }
 
@@ -269,8 +270,9 @@ class SceneBuilder {
 }  // namespace
 
 Scene parse_mitsuba_scene(std::string_view xml, const std::string& file_name,
-                          const FileReader& reader, const std::string& root_name) {
-  MitsubaDocument document = read_mitsuba_document(xml, file_name, reader, root_name);
+                          const FileReader& reader, const std::string& root_name,
+                          MitsubaReach reach) {
+  MitsubaDocument document = read_mitsuba_document(xml, file_name, reader, root_name, reach);
   return SceneBuilder(document.scene, reader, document, root_name).build();
 }
 

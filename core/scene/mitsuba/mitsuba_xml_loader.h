@@ -21,9 +21,11 @@ namespace tessera {
 /// mesh files and the images. `root_name` names the bundle root in messages. An integrator
 /// rendered as `path` (ptracer, volpath, direct) is noted on stderr. Throws
 /// SceneError("<file>: line <L>: <element>: <what is wrong>"), BundleEscapeError for a path
-/// that leaves the bundle root.
+/// that leaves the bundle root. `reach` bounds the names of included and referenced files
+/// (MitsubaReach, scene_loader.h).
 Scene parse_mitsuba_scene(std::string_view xml, const std::string& file_name,
                           const FileReader& reader,
-                          const std::string& root_name = "the bundle root");
+                          const std::string& root_name = "the bundle root",
+                          MitsubaReach reach = MitsubaReach::bundle);
 
 }  // namespace tessera
