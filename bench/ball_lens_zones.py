@@ -7,8 +7,8 @@ glass sphere receive from the scene's area lamps through it, and the variance of
 bounce estimate of that light under the bounce mixture of worker/render/target_mixture.h, with
 the scene's targets and lamp images built as worker/render/specular_targets.cpp builds them (the
 same formulas and rules, in numpy double), and with candidate models of the lens in their place
-(MODELS). docs/renderer.md, "The ball lens by its zones (measured, not built)"; BENCHMARKS.md,
-"Tried, and why not" (images of the ball lens's zones).
+(MODELS). docs/renderer.md and BENCHMARKS.md, "Tried, and why not" (images of the ball lens's
+zones: measured, not built).
 
 Prints, per (lamp, glass sphere): the paraxial image's distance and, for rays from the lamp's
 centre at impact parameters b (the line's distance from the centre, the same on both sides of

@@ -2,12 +2,12 @@
 // SSE2, chosen at load time by ifunc) give the same bits, over every float argument.
 // docs/design.md, "The determinism contract", has the result for glibc 2.36.
 //
-//   gcc -O2 -ffp-contract=off -fno-builtin -o /tmp/libm_variants bench/libm_variants.c -lm
-//   /tmp/libm_variants > fma.txt                  # the variants this CPU selects
-//   GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA,-FMA4,-AVX512F /tmp/libm_variants > sse2.txt
+//   gcc -O2 -ffp-contract=off -fno-builtin -o build/libm_variants bench/libm_variants.c -lm
+//   build/libm_variants > fma.txt                  # the variants this CPU selects
+//   GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA,-FMA4,-AVX512F build/libm_variants > sse2.txt
 //   diff fma.txt sse2.txt   # a line per 1/64 of the bit patterns: chunk, then a hash per
 //                           # function (sincosf, sinf, cosf, expf, logf)
-//   /tmp/libm_variants sincosf LO HI   # every argument in [LO, HI) (bit patterns) and its
+//   build/libm_variants sincosf LO HI   # every argument in [LO, HI) (bit patterns) and its
 //                                      # result bits, to find where two variants differ
 //
 // Takes about 6 minutes of one core per run (2^32 arguments, five functions).

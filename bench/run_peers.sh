@@ -1,12 +1,13 @@
 #!/bin/sh
-# Runs the peer measurements of bench/README.md in one go and logs them with the machine's load.
+# Runs the peer measurements of BENCHMARKS.md in one go and logs them with the machine's load.
 # Usage: sh bench/run_peers.sh [LOGFILE]   (from the repository root; default out/peers.log)
 # With WAIT_QUIET=1 it first waits (up to 30 min) for the 1-minute load average to fall below 0.5,
 # and gives up (exit 2, nothing measured) if it does not: other work on a 2-core machine distorts
 # every timing.
 set -eu
 LOG=${1:-out/peers.log}
-PY=.venv-bench/bin/python
+# PY: a Python with Mitsuba 3 (bench/README.md); default the repository's .venv-bench.
+PY=${PY:-.venv-bench/bin/python}
 mkdir -p out "$(dirname "$LOG")"
 if [ "${WAIT_QUIET:-0}" = 1 ]; then
   i=0

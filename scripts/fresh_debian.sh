@@ -7,7 +7,7 @@
 # removed by the next run; /proc, /dev and /sys are unmounted on every exit.
 #
 # Needs root, debootstrap and Debian's mirror. Outside CI (CI runs scripts/test.sh itself on a
-# clean checkout). The result is recorded in the README ("Two commands").
+# clean checkout).
 set -euo pipefail
 WHAT="${1:-demo}"
 R="${2:-/var/tmp/tessera-fresh}"

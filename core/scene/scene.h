@@ -276,7 +276,7 @@ inline glm::dvec3 melanin_sigma_a(double eumelanin, double pheomelanin) {
 }
 
 /// A `hair` material's parameters besides its index (Material::ior), with Mitsuba's names,
-/// defaults and meaning (docs/scenes.md, "hair").
+/// defaults and meaning (docs/scenes.md, "`materials`").
 struct HairParameters {
   /// Absorption inside the fibre per unit fibre radius, >= 0 per channel: Mitsuba's
   /// scale * sigma_a, or its melanin mix (melanin_sigma_a). The default is Mitsuba's: 1.3

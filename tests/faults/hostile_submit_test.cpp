@@ -91,7 +91,7 @@ namespace {
 // A result is hostile input too: huge_result.acc is 19,029 bytes whose header declares a
 // 4096x4096 rectangle and whose zstd frame of zeros really holds the 604 MB that needs. Decoded
 // on trust it took the server to 1.7 GB of RSS; the server must refuse it from the header,
-// because the unit's tile is 8x8 (docs/reliability.md, "Known problems").
+// because the unit's tile is 8x8 (docs/reliability.md, "A hostile result").
 TEST(HostileInput, ResultDeclaringAHugeRectangleIsRefusedBeforeDecoding) {
   FarmCluster farm("hostile-result");
   farm.start_server();

@@ -4,8 +4,8 @@ workers saw them (PREFIX-N.client) with the server's call trace (PREFIX-N.server
 server/call_trace.h) by lease id, and prints the percentiles of each part (BENCHMARKS.md,
 "Lease latency and capacity").
 
-    tessera-bench-merge --tiles 32 --workers 64 --per-call 16 --units 16384 --trace /tmp/t/r
-    tests/load/call_trace_report.py /tmp/t/r-0
+    tessera-bench-merge --tiles 32 --workers 64 --per-call 16 --units 16384 --trace TRACE_DIR/r
+    tests/load/call_trace_report.py TRACE_DIR/r-0
 """
 import sys, bisect, collections
 

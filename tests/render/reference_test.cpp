@@ -31,8 +31,8 @@ RgbImage render(const Scene& scene, uint32_t spp, int max_depth, uint64_t seed =
 
 /// One depth of the box against Mitsuba's reference at that depth. At 256 spp the image's mean
 /// strays at most 0.034 % from the reference (so 0.2 % tests bias, not noise), and the RMSE
-/// against the reference was 0.00598 (unbounded), 0.00543 (depth 8) and 0.00232 (depth 2) on the
-/// merged renderer of 2026-12-02; each bound is 1.2x that, so 44 % more variance fails.
+/// against the reference is 0.00598 (unbounded), 0.00543 (depth 8) and 0.00232 (depth 2) with
+/// today's renderer; each bound is 1.2x that, so 44 % more variance fails.
 struct ReferenceCase {
   int max_depth;
   const char* reference;

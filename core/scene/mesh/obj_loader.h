@@ -1,4 +1,4 @@
-// Triangle meshes from Wavefront OBJ files, through tinyobjloader (docs/scenes.md, "Meshes").
+// Triangle meshes from Wavefront OBJ files, through tinyobjloader (docs/scenes.md, "Mesh files").
 #pragma once
 
 #include <glm/vec3.hpp>

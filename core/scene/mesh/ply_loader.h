@@ -1,4 +1,4 @@
-// Triangle meshes from PLY files (docs/scenes.md, "Meshes"). See ply_header.h for why Tessera
+// Triangle meshes from PLY files (docs/scenes.md, "Mesh files"). See ply_header.h for why Tessera
 // reads PLY itself.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Triangle meshes from Mitsuba's ".serialized" files (docs/scenes.md, "Meshes"). No Debian
+// Triangle meshes from Mitsuba's ".serialized" files (docs/scenes.md, "Mesh files"). No Debian
 // library reads this format; it is small (a header and zlib-compressed arrays), so Tessera reads
 // it itself, with zlib for the decompression.
 #pragma once

@@ -765,8 +765,8 @@ TEST(MitsubaBsdf, ShapesWithoutBsdfGetMitsubasDefault) {
   // A light without a BSDF reflects nothing: Mitsuba 3's Shape gives it a diffuse BSDF of
   // reflectance 0. Mitsuba 3.9.1 renders an emitting sphere (radiance 1, no BSDF) inside a
   // constant environment of radiance 1 as exactly 1, and as 1.4997 with <bsdf type="diffuse"/>
-  // (scalar_rgb, 64 spp); shape_sphere_light_analytic.xml was 0.4 % (8 sigma) too bright
-  // before (docs/mitsuba_sweep.md).
+  // (scalar_rgb, 64 spp); a black default keeps shape_sphere_light_analytic.xml at Mitsuba's
+  // image (docs/mitsuba_sweep.md; 0.4 %, 8 sigma, too bright with a grey one).
   EXPECT_EQ(s.shapes[1].material, 1u);
   EXPECT_EQ(s.materials[1].type, MaterialType::diffuse);
   EXPECT_EQ(s.materials[1].reflectance.value, glm::dvec3(0.0));

@@ -1,4 +1,4 @@
-// A "curves" shape of a scene file (docs/scenes.md, "Curves"): round tubes along control
+// A "curves" shape of a scene file (docs/scenes.md, "`curves`"): round tubes along control
 // points, from a Mitsuba curve file or written out inline.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The keys of a native "hair" material (docs/scenes.md, "hair"): Mitsuba's `hair` parameters.
+// The keys of a native "hair" material (docs/scenes.md, "`materials`"): Mitsuba's `hair` parameters.
 #pragma once
 
 #include <string_view>

@@ -1,4 +1,4 @@
-// The "materials" object of a scene file (docs/scenes.md, "Materials").
+// The "materials" object of a scene file (docs/scenes.md, "`materials`").
 #pragma once
 
 #include "scene/native/json_value.h"

@@ -1,4 +1,4 @@
-// An "sdfgrid" shape of a scene file (docs/scenes.md, "SDF grids"): the zero set of a
+// An "sdfgrid" shape of a scene file (docs/scenes.md, "`sdfgrid`"): the zero set of a
 // trilinearly interpolated grid of signed distances, as Mitsuba's sdfgrid shape defines it.
 #pragma once
 

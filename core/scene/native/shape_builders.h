@@ -1,4 +1,4 @@
-// Object-space geometry of the built-in shape types (docs/scenes.md, "Shapes").
+// Object-space geometry of the built-in shape types (docs/scenes.md, "`shapes`").
 //
 // Each builder reads its own keys of a shape object and throws SceneError naming the JSON path
 // of what is wrong. Triangles are counter-clockwise seen from the front.

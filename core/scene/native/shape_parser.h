@@ -1,4 +1,4 @@
-// One element of the "shapes" array of a scene file (docs/scenes.md, "Shapes").
+// One element of the "shapes" array of a scene file (docs/scenes.md, "`shapes`").
 #pragma once
 
 #include <map>

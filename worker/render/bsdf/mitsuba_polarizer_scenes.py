@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """The mean colour of Mitsuba 3's and Tessera's renders of the public polarizer scenes, at a
-small size, for docs/scenes.md's figures (run by hand; CI runs no Mitsuba).
+small size, for docs/mitsuba_sweep.md's figures ("Feature scenes") (run by hand; CI runs no Mitsuba).
 
 Mitsuba renders in llvm_ad_rgb (unpolarized: the polarizer passes half of the
 light), the scene's own sensor re-made at --width x --height (120 x 90) (same to_world, x field of view and
 filter); Tessera renders the same scene with --width/--height. The mean of each image leaves a
-2-pixel border out (filters differ there, docs/scenes.md). Prints, per scene, both means per
+2-pixel border out (filters differ there). Prints, per scene, both means per
 channel and their relative difference, and Mitsuba's standard error of the mean (over SEEDS
 renders), so that a difference can be judged against noise.
 
