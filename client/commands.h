@@ -1,17 +1,21 @@
-// The `tessera` CLI's commands. Each returns the process exit code: 0 success, 1 failure (with a
-// one-line reason on stderr). Usage errors (2) are CLI11's.
+// The `tessera` CLI's subcommands, one file each (submit_command.cpp, status_command.cpp, ...).
+// Each add_*_command registers its subcommand and options on the CLI11 app and returns how to
+// run it; main() runs the one that was parsed. A run returns the process exit code: 0 success,
+// 1 failure (with a one-line reason on stderr). Usage errors (2) are CLI11's.
 #pragma once
 
-#include <chrono>
-#include <optional>
+#include <functional>
 #include <string>
-#include <vector>
 
-#include "job/job_options.h"
 #include "wire/transport_security.h"
+
+namespace CLI {
+class App;
+}
 
 namespace tessera::client {
 
+/// The options every subcommand shares (before or after the subcommand's name).
 struct GlobalOptions {
   std::string server = "127.0.0.1:50051";
   std::string token;
@@ -21,24 +25,20 @@ struct GlobalOptions {
   bool json = false;      ///< machine-readable output on stdout
 };
 
-struct SubmitOptions {
-  std::string scene;
-  std::string root;  ///< --root: the bundle root ("" = the scene's own, docs/mitsuba.md)
-  std::vector<std::string> defines;  ///< -D name=value: Mitsuba parameters (docs/mitsuba.md)
-  JobOverrides overrides;
-  int priority = 0;
-  bool wait = false;
-  std::string output;  ///< implies wait
+/// A registered subcommand: its parser, and what runs it once parsing is done (reading the
+/// options it bound, `g` included, which must outlive it).
+struct Command {
+  CLI::App* parser = nullptr;
+  std::function<int()> run;
 };
 
-int submit(const GlobalOptions& g, const SubmitOptions& s);
-int status(const GlobalOptions& g, uint64_t job_id);
-int watch(const GlobalOptions& g, uint64_t job_id);
-int get(const GlobalOptions& g, uint64_t job_id, const std::string& output);
-int cancel(const GlobalOptions& g, uint64_t job_id);
-/// delete_command.cpp: a final job off the server.
-int delete_job(const GlobalOptions& g, uint64_t job_id);
-int list(const GlobalOptions& g);
-int workers(const GlobalOptions& g);
+Command add_submit_command(CLI::App& app, GlobalOptions& g);
+Command add_status_command(CLI::App& app, GlobalOptions& g);
+Command add_watch_command(CLI::App& app, GlobalOptions& g);
+Command add_get_command(CLI::App& app, GlobalOptions& g);
+Command add_cancel_command(CLI::App& app, GlobalOptions& g);
+Command add_delete_command(CLI::App& app, GlobalOptions& g);
+Command add_list_command(CLI::App& app, GlobalOptions& g);
+Command add_workers_command(CLI::App& app, GlobalOptions& g);
 
 }  // namespace tessera::client

@@ -1,17 +1,20 @@
 // `tessera delete JOB`: removes a finished, failed or cancelled job from the server (its record,
 // output files and, when unused, its bundle; the database gives the space back). A queued or
 // running job must be cancelled first; an unknown id exits 1 (docs/farm.md, "Deleting jobs").
+#include <CLI/CLI.hpp>
 #include <grpcpp/grpcpp.h>
 
 #include <chrono>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 
-#include "commands.h"
+#include "command_support.h"
 #include "tessera/v1/job_service.grpc.pb.h"
 #include "wire/rpc_channel.h"
 
 namespace tessera::client {
+namespace {
 
 int delete_job(const GlobalOptions& g, uint64_t job_id) {
   const auto stub = v1::JobService::NewStub(wire::make_channel(g.server, g.tls));
@@ -39,6 +42,17 @@ int delete_job(const GlobalOptions& g, uint64_t job_id) {
     std::cout << "job " << response.job_id() << " deleted\n";
   }
   return 0;
+}
+
+}  // namespace
+
+Command add_delete_command(CLI::App& app, GlobalOptions& g) {
+  const auto job_id = std::make_shared<uint64_t>(0);
+  CLI::App* cmd =
+      app.add_subcommand("delete", "Delete a finished or cancelled job and its outputs");
+  add_job_argument(cmd, *job_id);
+  add_json_flag(cmd, g);
+  return {cmd, [&g, job_id] { return delete_job(g, *job_id); }};
 }
 
 }  // namespace tessera::client
