@@ -4,11 +4,13 @@
 #include <openssl/crypto.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <climits>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <string_view>
 #include <nlohmann/json.hpp>
 
 #include "coordinator.h"
@@ -242,10 +244,22 @@ class Api {
   std::map<int64_t, CachedMap> maps_;
 };
 
-/// Paths anyone may read, token or not: the page itself (it asks for the token) and the probes.
+/// Paths anyone may read, token or not: the page and what it loads (it asks for the token),
+/// and the probes.
 bool is_open_path(const std::string& path) {
-  return path == "/" || path == "/dashboard.js" || path == "/dashboard.css" ||
-         path == "/healthz" || path == "/readyz";
+  if (path == "/healthz" || path == "/readyz") return true;
+  return std::any_of(std::begin(dashboard_assets::kAssets), std::end(dashboard_assets::kAssets),
+                     [&](const dashboard_assets::Asset& asset) { return asset.path == path; });
+}
+
+/// httplib's route pattern (a regex) matching `path` alone.
+std::string exact_route(std::string_view path) {
+  std::string pattern;
+  for (const char c : path) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '/' && c != '_' && c != '-') pattern += '\\';
+    pattern += c;
+  }
+  return pattern;
 }
 
 /// Methods whose requests httplib reads a body for.
@@ -369,15 +383,12 @@ void install_dashboard_routes(httplib::Server& http, Coordinator& coordinator,
   });
   http.set_payload_max_length(kMaxBodyBytes);  // a second guard: the routes read at most this
 
-  auto asset = [](std::string_view body, const char* type) {
-    return [body, type](const httplib::Request&, httplib::Response& res) {
+  for (const dashboard_assets::Asset& asset : dashboard_assets::kAssets) {
+    http.Get(exact_route(asset.path), [asset](const httplib::Request&, httplib::Response& res) {
       res.set_header("Cache-Control", "no-cache");
-      res.set_content(body.data(), body.size(), type);
-    };
-  };
-  http.Get("/", asset(dashboard_assets::dashboard_html, "text/html; charset=utf-8"));
-  http.Get("/dashboard.js", asset(dashboard_assets::dashboard_js, "text/javascript; charset=utf-8"));
-  http.Get("/dashboard.css", asset(dashboard_assets::dashboard_css, "text/css; charset=utf-8"));
+      res.set_content(asset.body.data(), asset.body.size(), std::string(asset.content_type));
+    });
+  }
 
   http.Get("/api/jobs", [api](const httplib::Request& req, httplib::Response& res) {
     api->guarded(res, [&] {

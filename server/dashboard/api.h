@@ -1,5 +1,5 @@
 // The dashboard's routes on an httplib::Server (docs/dashboard.md lists them):
-//   GET  /, /dashboard.js, /dashboard.css      the page (embedded in the binary)
+//   GET  /, /dashboard.css, /dashboard.js, /js/*.js  the page (embedded in the binary)
 //   GET  /api/jobs, /api/jobs/{id}             JSON
 //   GET  /api/jobs/{id}/preview.png            the merged image so far, sRGB 8-bit
 //   GET  /api/jobs/{id}/image.exr              float32 EXR with provenance

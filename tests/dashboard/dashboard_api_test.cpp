@@ -229,9 +229,15 @@ TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
   httplib::Result page = get("/");
   ASSERT_TRUE(page);
   EXPECT_EQ(page->status, 200);
-  EXPECT_NE(page->body.find("<script src=\"/dashboard.js\">"), std::string::npos);
-  EXPECT_EQ(get("/dashboard.js")->status, 200);
-  EXPECT_EQ(get("/dashboard.css")->status, 200);
+  EXPECT_NE(page->body.find("<script type=\"module\" src=\"/dashboard.js\">"), std::string::npos);
+  for (const std::string path : {"/dashboard.css", "/dashboard.js", "/js/api.js", "/js/job_detail.js",
+                                 "/js/jobs_list.js", "/js/workers_list.js"}) {
+    httplib::Result asset = get(path);
+    ASSERT_TRUE(asset) << path;
+    EXPECT_EQ(asset->status, 200) << path;
+  }
+  EXPECT_EQ(get("/js/api.js")->get_header_value("Content-Type"), "text/javascript; charset=utf-8");
+  EXPECT_EQ(get("/js/apixjs")->status, 404);  // a route is its path, not a pattern
 }
 
 TEST_F(DashboardApi, UnknownIdsAndPathsAre404WithAJsonError) {
@@ -271,7 +277,8 @@ TEST_F(DashboardApi, EveryReadAndChangeNeedsTheTokenButThePageAndProbes) {
     EXPECT_EQ(r->get_header_value("WWW-Authenticate"), "Bearer");
     expect_json_error(get_with_token(path, "wrong"), 401, "wrong token");
   }
-  for (const std::string path : {"/", "/dashboard.js", "/dashboard.css", "/healthz", "/readyz"}) {
+  for (const std::string path :
+       {"/", "/dashboard.js", "/dashboard.css", "/js/api.js", "/healthz", "/readyz"}) {
     httplib::Result r = get(path);
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 200) << path;

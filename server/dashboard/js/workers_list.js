@@ -1,0 +1,20 @@
+// The workers table: one row per registered worker, what it renders and its counts.
+import { $, esc } from './dom.js';
+import { duration, rate } from './format.js';
+import { state } from './state.js';
+
+function workerRow(w) {
+  const unit = w.unit ? `job ${w.unit.job_id} · tile ${w.unit.tile} · batch ${w.unit.batch}` : '—';
+  return `<tr data-worker-id="${w.id}" data-state="${esc(w.state)}">
+    <td>${esc(w.name)}</td><td class="num">${w.threads}</td>
+    <td><span class="state state-${esc(w.state)}">${esc(w.state)}</span></td><td>${unit}</td>
+    <td class="num">${rate(w.samples_per_s)}</td><td class="num wide">${duration(w.last_seen_s)} ago</td>
+    <td class="num wide">${w.units_done}</td><td class="num">${w.failures}</td></tr>`;
+}
+
+export function renderWorkers() {
+  $('#workers tbody').innerHTML = state.workers.map(workerRow).join('');
+  const online = state.workers.filter((w) => w.online).length;
+  $('#worker-count').textContent = `(${online} online / ${state.workers.length})`;
+  $('#no-workers').hidden = state.workers.length > 0;
+}
