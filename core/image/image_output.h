@@ -1,6 +1,8 @@
-// Writing rendered images with OpenImageIO.
+// Writing and reading images: EXR and PNG files, or their bytes in memory. OpenImageIO does the
+// work (oiio_image_io.cpp), reached through image_io.h.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -39,7 +41,7 @@ void write_image(const RgbImage& image, const std::filesystem::path& path,
 
 /// One image file written band by band, top to bottom, so that only a band of rows is in memory
 /// at a time: the server writes a job's EXR and PNG a row of tiles at a time (an 8192 x 8192 image
-/// is 805 MB as float RGB; BENCHMARKS.md, "Issue 14: the server's memory on the largest image").
+/// is 805 MB as float RGB; BENCHMARKS.md, "Server memory on the largest image").
 /// The file is byte for byte the one write_image gives for the whole image (write_image is this
 /// stream with one band). It is written to a hidden temporary name beside `path`; finish()
 /// closes, syncs and renames it into place; a stream destroyed unfinished (an exception on the
@@ -68,7 +70,7 @@ class ImageFileStream {
   /// The encoded file of a finished in-memory stream (empty for a file).
   std::string take_bytes();
 
-  struct State;
+  struct State;  ///< opaque: the implementation's own stream (image_io.h)
 
  private:
   ImageFileStream() = default;
@@ -85,7 +87,11 @@ std::string encode_image(const RgbImage& image, const std::string& format,
 /// Throws std::runtime_error naming the file on failure.
 RgbImage read_image(const std::filesystem::path& path);
 
-/// Linear to sRGB transfer, for 8-bit output.
-float linear_to_srgb(float linear);
+/// Linear to sRGB transfer (IEC 61966-2-1), for 8-bit output: in double, so the 8-bit rounding
+/// that follows is not disturbed by float error.
+inline float linear_to_srgb(float linear) {
+  const double l = linear;
+  return float(l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055);
+}
 
 }  // namespace tessera

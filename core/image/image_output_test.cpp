@@ -180,7 +180,7 @@ int png_zlib_flevel(const std::string& png) {
   return -1;
 }
 
-// The PNG beside each farm job's EXR is deflated at zlib's fastest level (image_output.cpp,
+// The PNG beside each farm job's EXR is deflated at zlib's fastest level (oiio_image_io.cpp,
 // kPngZlibLevel): 5x less CPU than OIIO's default 6 for 17 % more bytes on a render.
 TEST_F(ImageOutputTest, PngIsDeflatedAtZlibsFastestLevel) {
   std::vector<float> rgb(64 * 64 * 3);

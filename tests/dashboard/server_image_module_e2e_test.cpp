@@ -1,5 +1,5 @@
 // tessera-server's images go through its image module, loaded at the first image
-// (server/lazy_image_io.cpp; label e2e): a bundle's texture is checked at submit (a broken one
+// (core/image/image_module.h; label e2e): a bundle's texture is checked at submit (a broken one
 // is refused with its name: SceneError thrown in the module reaches the server's handler), a
 // good one is accepted, and the preview PNG is encoded. The module's absence from start-up is
 // checked by server_start_libraries (tests/dashboard/start_libraries.sh).
