@@ -31,7 +31,8 @@ v1::JobInfo job_at(double progress, v1::JobState state) {
   return job;
 }
 
-// `tessera submit --wait 2>log`: before issue 15 the log got one line of '\r' frames per update.
+// `tessera submit --wait 2>log`: a log that is no terminal gets plain lines, not a line of
+// '\r' frames per update.
 TEST(ProgressView, NotATerminalWritesPlainLinesPerTenthAndState) {
   std::FILE* log = std::tmpfile();
   ASSERT_NE(log, nullptr);

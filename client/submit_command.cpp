@@ -78,7 +78,9 @@ Command add_submit_command(CLI::App& app, GlobalOptions& g) {
   CLI::App* cmd = app.add_subcommand("submit", "Submit a scene as a job");
   cmd->add_option("scene", s->scene, "Scene file: Tessera JSON (.json) or Mitsuba 3 XML (.xml)")
       ->required();
-  cmd->add_option("--root", s->root, "Bundle root: the folder every file the scene names must be in (default: the common folder of them all)");
+  cmd->add_option("--root", s->root,
+                  "Bundle root: the folder every file the scene names must be in (default: the "
+                  "common folder of them all)");
   cmd->add_option("-D", s->defines,
                   "name=value: the Mitsuba scene's parameter $name, overriding its "
                   "<default> (repeatable)");
