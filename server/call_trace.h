@@ -1,5 +1,5 @@
-// Per-call timings of the server, for measuring where a call's time goes (BENCHMARKS.md, "Issue
-// 14: lease latency and capacity (branch farm16)"). Off unless the environment variable
+// Per-call timings of the server, for measuring where a call's time goes (BENCHMARKS.md, "Lease
+// latency and capacity"). Off unless the environment variable
 // TESSERA_CALL_TRACE names a file when the server starts: then each traced event is kept in
 // memory and every one is written there when the server stops, a line each: kind, thread id,
 // begin, end, a, b, id. Times are

@@ -149,7 +149,7 @@ StoreCounters Coordinator::store_counters() {
 
 int Coordinator::resume() {
   // Start-up reads the leased units (by their partial index), one row per job and index probes:
-  // no other unit row and no tile (BENCHMARKS.md, "restart").
+  // no other unit row and no tile (BENCHMARKS.md, "Server start-up time").
   std::vector<int64_t> unfinished;
   {
     StoreLock lock(*this);
@@ -684,8 +684,8 @@ void Coordinator::commit_uploads(const std::vector<UploadCall*>& calls) {
   // Leases first: this group's transaction starts once no lease or heartbeat waits for mu_, and
   // it ends early, between two calls, when one comes to wait meanwhile: the calls left commit in
   // the next transaction, after the lease. A lease then waits for at most one call's results
-  // (at most 64), not for the whole group (up to kResultsPerCommit; BENCHMARKS.md, "Issue 14:
-  // lease latency (branch farm10)").
+  // (at most 64), not for the whole group (up to kResultsPerCommit; BENCHMARKS.md, "Lease
+  // latency and capacity").
   if (before_upload_commit_) {
     size_t results = 0;
     for (const UploadCall* c : calls) results += c->uploads->size();

@@ -347,8 +347,8 @@ class Coordinator {
   /// about halved the lease p99 after each worker's first call at 64 simulated workers, and at
   /// 256 on a long job, for 5-10 % more server CPU per result; on a short job at 256 workers the
   /// first groups answer their workers into the start's crowd, and that p99 was worse in 7 of 12
-  /// rounds (BENCHMARKS.md, "Issue 14: lease latency and capacity (branch farm16)"). 64 cost more
-  /// CPU than it saved in lease latency when leases still waited for the store (branch farm8).
+  /// rounds (BENCHMARKS.md, "Lease latency and capacity"). 64 cost more CPU than it saved in lease
+  /// latency when leases still waited for the store's lock.
   static constexpr size_t kResultsPerCommit = 256;
   GroupCommit<UploadCall> upload_commits_{
       [this](const std::vector<UploadCall*>& calls) { commit_uploads(calls); },

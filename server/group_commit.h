@@ -1,8 +1,8 @@
 // Group commit: calls that arrive while a commit is in progress are committed together, in one
-// commit, by the first of them once that commit ends (leader and followers, no timer). Under
-// load many uploads wait on the store's lock at once; committing them in one transaction pays
-// BEGIN/COMMIT and the WAL's commit once for all of them (issue 14, "capacity"). A call alone
-// is committed at once: nothing ever waits for company.
+// commit, by the first of them once that commit ends (leader and followers, no timer). Under load
+// many uploads wait on the store's lock at once; committing them in one transaction pays
+// BEGIN/COMMIT and the WAL's commit once for all of them (BENCHMARKS.md, "Lease latency and
+// capacity"). A call alone is committed at once: nothing ever waits for company.
 //
 // `commit` receives the calls of one group in arrival order and records each call's answer in
 // the call itself (Call holds its input and its outcome). Should it throw, every call of the

@@ -43,13 +43,13 @@ class JobOutput {
   OutputFiles files(const JobRecord& job) const;
 
   /// Writes files(job), both a row of tiles at a time: each row's checkpoints read, decoded and
-  /// resolved into a band of rows that goes to the EXR and the PNG before the next row is read,
-  /// so the server holds a band of the image, not the image and every tile's bytes (an
-  /// 8192 x 8192 job took 3 GiB more than its merge state that way: BENCHMARKS.md, "Issue 14:
-  /// the server's memory on the largest image"). `tiles`: every tile's rectangle and merged
-  /// prefix, in tile order (tile i at index i); `checkpoint` reads a tile's bytes. Each file goes
-  /// to a temporary name and is renamed into place when whole, so a reader never sees half a
-  /// file. Throws std::runtime_error naming the file and why (e.g. "No space left on device").
+  /// resolved into a band of rows that goes to the EXR and the PNG before the next row is read, so
+  /// the server holds a band of the image, not the image and every tile's bytes (an 8192 x 8192 job
+  /// took 3 GiB more than its merge state that way: BENCHMARKS.md, "Server memory on the largest
+  /// image"). `tiles`: every tile's rectangle and merged prefix, in tile order (tile i at index i);
+  /// `checkpoint` reads a tile's bytes. Each file goes to a temporary name and is renamed into
+  /// place when whole, so a reader never sees half a file. Throws std::runtime_error naming the
+  /// file and why (e.g. "No space left on device").
   OutputFiles write(const JobRecord& job, const std::vector<TilePosition>& tiles,
                     const TileCheckpointReader& checkpoint) const;
 

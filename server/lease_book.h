@@ -1,11 +1,11 @@
-// The lease book: the leasable units and the live leases of the unfinished jobs, in memory, so
-// that a LeaseUnit or Heartbeat call takes no store lock and runs no SQL statement (issue 14,
-// lease p99). A lease need not be durable: after a server crash every lease is void
-// (docs/reliability.md), so the store learns of a lease after it was answered. The book keeps a
-// journal of the leases it granted, which the coordinator writes to the store in one
-// transaction before any other store operation (Coordinator::flush_leases): whatever reads or
-// changes the store sees every lease answered before it, and a result is accepted by the
-// store's compare-and-set on its lease exactly as before.
+// The lease book: the leasable units and the live leases of the unfinished jobs, in memory, so that
+// a LeaseUnit or Heartbeat call takes no store lock and runs no SQL statement, and a lease never
+// waits for uploads (BENCHMARKS.md, "Lease latency and capacity"). A lease need not be durable:
+// after a server crash every lease is void (docs/reliability.md), so the store learns of a lease
+// after it was answered. The book keeps a journal of the leases it granted, which the coordinator
+// writes to the store in one transaction before any other store operation
+// (Coordinator::flush_leases): whatever reads or changes the store sees every lease answered before
+// it, and a result is accepted by the store's compare-and-set on its lease exactly as before.
 //
 // The book is loaded from the store at start-up and per job at the events that change a job's
 // leasable units in ways the book cannot follow alone (submit, release, expiry, a failure

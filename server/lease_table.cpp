@@ -14,8 +14,9 @@
 
 namespace tessera::server {
 std::string random_lease_id() {
-  // One getrandom(2) call: no file to open and close per id, as std::random_device did here
-  // (4 % of the server's CPU in a profile of 16 units per call: BENCHMARKS.md, branch farm7).
+  // One getrandom(2) call: no file to open and close per id, as std::random_device did here (4 % of
+  // the server's CPU in a profile of 16 units per call: BENCHMARKS.md, "What a result and a job
+  // cost the server, counted").
   unsigned char bytes[16];
   size_t got = 0;
   while (got < sizeof bytes) {

@@ -105,7 +105,7 @@ void write_port_file(const std::string& path, int port) {
 // 2 idle ones polling for calls: the rest end when their call does, so under 64-256 workers
 // nearly every call started a thread of its own (about 1,000 threads created per second of
 // tessera-bench-merge). Idle threads up to this many stay and take the next calls
-// (BENCHMARKS.md, "Issue 14: lease latency and capacity (branch farm16)"; counted by
+// (BENCHMARKS.md, "Lease latency and capacity"; counted by
 // ServerThreadsE2E.IdleThreadsServeTheNextCalls).
 constexpr int kMaxPollers = 256;
 
@@ -227,9 +227,9 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   if (!flags.http_port_file.empty()) write_port_file(flags.http_port_file, http_port);
   // Last: the gRPC port file tells scripts that both listeners are up.
   if (!flags.port_file.empty()) write_port_file(flags.port_file, port);
-  // OpenImageIO's ~260 libraries are most of what start-up would cost (BENCHMARKS.md, "Issue
-  // 14: start-up, where the time goes"): loaded now, beside serving, so that the first preview
-  // does not wait for them. Joined before serve() returns (never unloaded mid-exit).
+  // OpenImageIO's ~260 libraries are most of what start-up would cost (BENCHMARKS.md, "Server
+  // start-up time"): loaded now, beside serving, so that the first preview does not wait for them.
+  // Joined before serve() returns (never unloaded mid-exit).
   std::thread image_module_loader([] {
     try {
       const auto began = std::chrono::steady_clock::now();
@@ -286,11 +286,10 @@ CLI::Option* limit_option(CLI::App& app, const std::string& name, T& target, con
 }  // namespace
 
 int main(int argc, char** argv) {
-  // gRPC locks absl::Mutex many times per call. The distribution's Abseil is built without
-  // NDEBUG, so each lock also updated Abseil's global lock-order graph (its deadlock detector:
-  // GraphCycles was 0.5-2.5 % of the server's CPU in the profiles of BENCHMARKS.md, "Issue 14:
-  // server capacity (branch farm9)"). The server's own locks are std::mutex; nothing here relies
-  // on that detector.
+  // gRPC locks absl::Mutex many times per call. The distribution's Abseil is built without NDEBUG,
+  // so each lock also updated Abseil's global lock-order graph (its deadlock detector, a share of the
+  // server's CPU in every profile: BENCHMARKS.md, "What a result and a job cost the server, counted"). The
+  // server's own locks are std::mutex; nothing here relies on that detector.
   absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
   CLI::App app{"tessera-server: the render farm's coordinator (gRPC API, SQLite job store)"};
   app.set_version_flag("--version", "tessera-server " + tessera::build_version(),

@@ -1,10 +1,10 @@
 // Decoded tiles kept in memory between merges, so that accepting a result does not decode the
-// stored tile, add the batch and encode it again each time (issue 14, "capacity"). A pure cache
-// of what the store holds: a tile's merged sum is always its checkpoint
+// stored tile, add the batch and encode it again each time (BENCHMARKS.md, "Merge throughput"). A
+// pure cache of what the store holds: a tile's merged sum is always its checkpoint
 // (tile_checkpoints.accumulation, batches [0, c)) plus the merged rows of the results table
-// (batches [c, next_batch)), replayed in batch order; an entry is that sum decoded, valid while its next_batch matches the store's. So an
-// entry may be dropped at any time (eviction, an exception in a transaction, a restart) and is
-// rebuilt bit for bit from the store (the codec is lossless).
+// (batches [c, next_batch)), replayed in batch order; an entry is that sum decoded, valid while its
+// next_batch matches the store's. So an entry may be dropped at any time (eviction, an exception in
+// a transaction, a restart) and is rebuilt bit for bit from the store (the codec is lossless).
 //
 // Memory: at most `budget_bytes` of decoded tiles (36 bytes per pixel: four double sums and a
 // count) plus the tiles being merged at the moment (one per upload in progress: one, since the

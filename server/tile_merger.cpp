@@ -223,10 +223,11 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, Accumulatio
     }
     cached->next_batch = next;
     const bool checkpoint = verdict.finished || next - cached->checkpointed >= checkpoint_every_;
-    // The stored error (status, the output's provenance): after every merge where the rule
-    // reads it, else at each checkpoint (so exact when the tile ends) and when the tile's spp
-    // reaches a power of two; in between the tile keeps the one stored last. Computing it for
-    // every merged batch cost 2-4 % of the server's CPU (BENCHMARKS.md, issue 14 sections).
+    // The stored error (status, the output's provenance): after every merge where the rule reads
+    // it, else at each checkpoint (so exact when the tile ends) and when the tile's spp reaches a
+    // power of two; in between the tile keeps the one stored last. Computing it for every merged
+    // batch cost 2.4-4.2 % of the server's CPU (BENCHMARKS.md, "What a result and a job cost the
+    // server, counted").
     std::optional<double> error;
     if (error_read) {
       error = verdict.relative_error;

@@ -70,7 +70,7 @@ class TileMerger {
   /// How checkpoints are encoded: zstd's fast level. A checkpoint is the server's own (encoded
   /// on its CPU at every checkpoint, decoded when a tile is rebuilt or an image resolved) and
   /// never crosses the network; at level 3 its encode was 5 % of the server's CPU per job
-  /// (BENCHMARKS.md, "Issue 14: the server's CPU per job (branch farm15)").
+  /// (BENCHMARKS.md, "What a result and a job cost the server, counted").
   static constexpr CodecEffort kCheckpointEffort = CodecEffort::fast;
 
   /// `cache_bytes` bounds the decoded tiles kept between merges (MergeCache), and a quarter of
@@ -107,7 +107,8 @@ class TileMerger {
   /// last, `stop()` is asked; when it says true the transaction commits with the calls so far and
   /// the others are left untouched for the caller to accept in a later transaction. Returns the
   /// outcomes of the uploads accepted: a prefix of `uploads`, whole calls, at least one call.
-  /// The coordinator stops when a lease waits for the store (issue 14, lease p99).
+  /// The coordinator stops when a lease waits for the store (a lease's p99: BENCHMARKS.md,
+  /// "Lease latency and capacity").
   std::vector<AcceptOutcome> accept_calls(const std::vector<Upload>& uploads,
                                           const std::vector<size_t>& ends,
                                           const std::function<bool()>& stop);
