@@ -41,15 +41,13 @@ void validate(const UnitResult& r, const UnitForResult& c, const Accumulation& a
   }
 }
 
-/// Counters of the merged results, added to the job's with its units_done.
-struct MergeTally : MergedCounts {
-  void add(const Accumulation& acc, uint32_t batch_samples) {
-    ++results;
-    pixel_samples += uint64_t(acc.pixels()) * batch_samples;
-    nan += acc.nan_dropped;
-    inf += acc.inf_dropped;
-  }
-};
+/// Counts a merged batch of `batch_samples` samples per pixel.
+void count_merged(MergedCounts& merged, const Accumulation& batch, uint32_t batch_samples) {
+  ++merged.results;
+  merged.pixel_samples += uint64_t(batch.pixels()) * batch_samples;
+  merged.nan += batch.nan_dropped;
+  merged.inf += batch.inf_dropped;
+}
 
 }  // namespace
 
@@ -98,12 +96,7 @@ std::vector<AcceptOutcome> TileMerger::accept_calls(const std::vector<Upload>& u
         if (call < ends.size() && stop && stop()) break;  // the others in a later transaction
       }
     }
-    for (const auto& [worker_id, d] : staged.delivered) {
-      WorkersTable(db_).count_delivered(worker_id, d.units, d.samples, d.nan, d.inf);
-    }
-    for (const auto& [job_id, a] : staged.accepted) {
-      JobsTable(db_).count_accepted(job_id, a.units, a.merged);
-    }
+    staged.ledger.write(db_, contributors_);  // the counters, in this transaction
     // Asked once per job after the call's last result, not after each.
     for (auto& [job_id, done] : complete) done = !units_left(db_, job_id);
     for (size_t i = 0; i < outcomes.size(); ++i) {
@@ -125,151 +118,164 @@ std::vector<AcceptOutcome> TileMerger::accept_calls(const std::vector<Upload>& u
       store_only_.insert(tile);  // evicted: its row is in the store only
     }
   }
-  contributors_.insert(staged.contributors.begin(), staged.contributors.end());
+  contributors_.insert(staged.ledger.contributors().begin(), staged.ledger.contributors().end());
   return outcomes;
 }
 
 AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, Accumulation& decoded,
                                                 Staged& staged) {
+  const UnitForResult unit = unit_for(r, decoded);
+  // The compare-and-set: only the current lease of this unit, held by this worker, completes it.
+  if (UnitsTable(db_).accept(unit.unit_id, r.worker_id, r.lease_id) != 1) {
+    return drop_stale(r, unit);
+  }
   AcceptOutcome outcome;
-  std::optional<MergeCache::Tile> cached;  // the tile's sum while this call merges into it
-  const std::optional<UnitForResult> c = UnitsTable(db_).for_result(r.job_id, r.tile, r.batch);
-  if (!c) {
+  outcome.accepted = true;
+  for (uint32_t n : decoded.count) outcome.samples += n;
+  staged.ledger.delivered(r.worker_id, outcome.samples, decoded.nan_dropped, decoded.inf_dropped);
+  staged.ledger.contributed({r.job_id, r.worker_id, r.isa});
+  MergedCounts merged;
+  if (r.batch == unit.next_batch) {
+    merged = merge(r, unit, decoded, staged, outcome);
+  } else {
+    // Earlier batches of this tile are missing: keep the result, durably, until they come. Its
+    // row stays where it is when it merges (store/results_table.h).
+    ResultsTable(db_).append(r.job_id, r.tile, r.batch, r.encoded);
+    staged.waiting.insert_or_assign({r.job_id, r.tile, r.batch}, &decoded);
+  }
+  staged.ledger.accepted(r.job_id, merged);
+  return outcome;
+}
+
+UnitForResult TileMerger::unit_for(const UnitResult& r, const Accumulation& decoded) {
+  std::optional<UnitForResult> unit = UnitsTable(db_).for_result(r.job_id, r.tile, r.batch);
+  if (!unit) {
     throw FarmError(ErrorCode::not_found, "no unit job " + std::to_string(r.job_id) + " tile " +
                                               std::to_string(r.tile) + " batch " +
                                               std::to_string(r.batch));
   }
-  validate(r, *c, decoded);
+  validate(r, *unit, decoded);
+  return std::move(*unit);
+}
 
-  // The compare-and-set: only the current lease of this unit, held by this worker, completes it.
-  if (UnitsTable(db_).accept(c->unit_id, r.worker_id, r.lease_id) != 1) {
-    JobsTable(db_).count_dropped(r.job_id);
-    // A unit cancelled under the worker (its job was cancelled or failed, or the stopping rule
-    // no longer needs it) is not the worker's failure: only a lost lease counts against it.
-    if (!c->cancelled) {
-      WorkersTable(db_).count_lost(r.worker_id);
-    }
-    outcome.reason =
-        "lease " + r.lease_id + " is not the current lease of the unit (expired and re-leased, "
-        "already delivered, or the job ended)";
-    return outcome;
-  }
-  outcome.accepted = true;
-  MergeTally tally;  // what this call merged, added to the job's counters with units_done
-  {
-    for (uint32_t n : decoded.count) outcome.samples += n;
-    Staged::Delivered& d = staged.delivered[r.worker_id];
-    ++d.units;
-    d.samples += outcome.samples + decoded.nan_dropped + decoded.inf_dropped;
-    d.nan += decoded.nan_dropped;
-    d.inf += decoded.inf_dropped;
-  }
-  const Contributor contributor{r.job_id, r.worker_id, r.isa};
-  if (!contributors_.contains(contributor) && !staged.contributors.contains(contributor)) {
-    JobContributorsTable(db_).add(r.job_id, r.isa, r.worker_id);
-  }
-
-  ResultsTable results(db_);
-  if (r.batch != c->next_batch) {
-    // Earlier batches of this tile are missing: keep the result, durably, until they come. Its
-    // row stays where it is when it merges (store/results_table.h).
-    results.append(r.job_id, r.tile, r.batch, r.encoded);
-    staged.waiting.insert_or_assign({r.job_id, r.tile, r.batch}, &decoded);
-  } else {
-    // Merge this batch, then every waiting successor, strictly in batch order, judging the
-    // tile by the job's stopping rule after each (determinism contract rule 4): once it is
-    // finished nothing more merges into it, whatever else has arrived. The sum comes from the
-    // merge cache, or is rebuilt from the checkpoint and the merged rows of `results`.
-    cached = load_sum(r.job_id, r.tile, c->rect, c->next_batch, &staged);
-    Accumulation& tile = cached->sum;
-    uint32_t next = c->next_batch;
-    const Accumulation* batch = &decoded;
-    Accumulation successor;
-    TileVerdict verdict;
-    bool error_read = false;  // the last verdict computed the tile's error
-    for (;;) {
-      tile.merge(*batch);
-      tally.add(*batch, c->plan.batch_end(next) - c->plan.batch_begin(next));
-      ++next;
-      // The error only where the rule reads it (a noise tile from 16 spp on); where it is only
-      // stored, it is computed once below.
-      const uint32_t spp = c->plan.batch_end(next - 1);
-      error_read = verdict_reads_error(c->rule, spp);
-      verdict = judge_tile_given_error(c->rule, c->noise_target,
-                                       error_read ? estimate_relative_error(tile) : 0.0, next,
-                                       c->plan.batch_count(), spp);
-      if (verdict.finished) break;
-      // The waiting successor: decoded in memory when this transaction or an earlier one kept
-      // it (WaitingResults), else its row read back and decoded.
-      if (const auto it = staged.waiting.find({r.job_id, r.tile, next});
-          it != staged.waiting.end()) {
-        batch = it->second;  // this transaction's upload: merged in place, not copied
-        staged.waiting.erase(it);
-        ++waiting_hits_;
-      } else if (std::optional<Accumulation> kept = waiting_.take(r.job_id, r.tile, next)) {
-        successor = std::move(*kept);
-        batch = &successor;
-        staged.taken.emplace(r.job_id, r.tile);
-        ++waiting_hits_;
-      } else if (!may_wait_in_store(r.job_id, r.tile)) {
-        break;  // not arrived: every waiting result of this tile is in memory
-      } else {
-        std::optional<std::string> row = results.find(r.job_id, r.tile, next);
-        if (!row) break;
-        successor = decode_accumulation(*row);
-        batch = &successor;
-      }
-      ++waiting_merged_;
-    }
-    cached->next_batch = next;
-    const bool checkpoint = verdict.finished || next - cached->checkpointed >= checkpoint_every_;
-    // The stored error (status, the output's provenance): after every merge where the rule reads
-    // it, else at each checkpoint (so exact when the tile ends) and when the tile's spp reaches a
-    // power of two; in between the tile keeps the one stored last. Computing it for every merged
-    // batch cost 2.4-4.2 % of the server's CPU (BENCHMARKS.md, "What a result and a job cost the
-    // server, counted").
-    std::optional<double> error;
-    if (error_read) {
-      error = verdict.relative_error;
-    } else if (checkpoint || std::has_single_bit(c->plan.schedule().spp_after(next))) {
-      error = estimate_relative_error(tile);
-    }
-    if (checkpoint) {
-      // Checkpoint: the sum becomes the stored tile; the rows it covers (the successors merged
-      // here among them) go, and this result is never written.
-      write_checkpoint(r.job_id, r.tile, tile, next);
-      cached->checkpointed = next;
-    } else {
-      // The uploaded bytes as they came; merged successors keep their rows, now below the
-      // tile's next_batch.
-      results.append(r.job_id, r.tile, r.batch, r.encoded);
-    }
-    if (verdict.finished) close_tile(r.job_id, r.tile, next);
-    const TileProgress progress{next, error, verdict.reason, c->plan.schedule().spp_after(next)};
-    if (!TilesTable(db_).advance(r.job_id, r.tile, c->next_batch, progress)) {
-      throw FarmError(ErrorCode::internal, "tile " + std::to_string(r.tile) + " of job " +
-                                               std::to_string(r.job_id) +
-                                               " changed during its merge");
-    }
-    outcome.merged = tally.results;
-    outcome.frees_work = c->rule == StopRule::noise && tally.results > 0;
-    outcome.tile_next_batch = next;
-    outcome.tile_closed = verdict.finished;
-  }
-  Staged::Accepted& a = staged.accepted[r.job_id];
-  ++a.units;
-  a.merged.results += tally.results;
-  a.merged.pixel_samples += tally.pixel_samples;
-  a.merged.nan += tally.nan;
-  a.merged.inf += tally.inf;
-  if (cached) staged.tiles.insert_or_assign({r.job_id, r.tile}, std::move(*cached));
-  staged.contributors.insert(contributor);
+AcceptOutcome TileMerger::drop_stale(const UnitResult& r, const UnitForResult& unit) {
+  JobsTable(db_).count_dropped(r.job_id);
+  // A unit cancelled under the worker (its job was cancelled or failed, or the stopping rule no
+  // longer needs it) is not the worker's failure: only a lost lease counts against it.
+  if (!unit.cancelled) WorkersTable(db_).count_lost(r.worker_id);
+  AcceptOutcome outcome;
+  outcome.reason =
+      "lease " + r.lease_id + " is not the current lease of the unit (expired and re-leased, "
+      "already delivered, or the job ended)";
   return outcome;
+}
+
+MergedCounts TileMerger::merge(const UnitResult& r, const UnitForResult& unit,
+                               Accumulation& decoded, Staged& staged, AcceptOutcome& outcome) {
+  // The sum comes from the merge cache, or is rebuilt from the checkpoint and the merged rows of
+  // `results`.
+  MergeCache::Tile cached = load_sum(r.job_id, r.tile, unit.rect, unit.next_batch, &staged);
+  const MergeRun run = merge_in_order(r, unit, cached.sum, decoded, staged);
+  store_merge(r, unit, cached, run);
+  outcome.merged = run.merged.results;
+  outcome.frees_work = unit.rule == StopRule::noise && run.merged.results > 0;
+  outcome.tile_next_batch = run.next_batch;
+  outcome.tile_closed = run.verdict.finished;
+  staged.tiles.insert_or_assign({r.job_id, r.tile}, std::move(cached));
+  return run.merged;
+}
+
+TileMerger::MergeRun TileMerger::merge_in_order(const UnitResult& r, const UnitForResult& unit,
+                                                Accumulation& sum, const Accumulation& first,
+                                                Staged& staged) {
+  // Determinism contract rule 4: once the rule finishes the tile nothing more merges into it,
+  // whatever else has arrived.
+  MergeRun run;
+  run.next_batch = unit.next_batch;
+  const JobPlan& plan = unit.plan;
+  const Accumulation* batch = &first;
+  Accumulation successor;
+  for (;;) {
+    sum.merge(*batch);
+    count_merged(run.merged, *batch,
+                 plan.batch_end(run.next_batch) - plan.batch_begin(run.next_batch));
+    ++run.next_batch;
+    // The error only where the rule reads it (a noise tile from 16 spp on); where it is only
+    // stored, store_merge computes it once.
+    const uint32_t spp = plan.batch_end(run.next_batch - 1);
+    run.error_read = verdict_reads_error(unit.rule, spp);
+    run.verdict = judge_tile_given_error(unit.rule, unit.noise_target,
+                                         run.error_read ? estimate_relative_error(sum) : 0.0,
+                                         run.next_batch, plan.batch_count(), spp);
+    if (run.verdict.finished) break;
+    batch = waiting_successor(r, run.next_batch, staged, successor);
+    if (!batch) break;
+    ++waiting_merged_;
+  }
+  return run;
+}
+
+const Accumulation* TileMerger::waiting_successor(const UnitResult& r, uint32_t batch,
+                                                  Staged& staged, Accumulation& successor) {
+  if (const auto it = staged.waiting.find({r.job_id, r.tile, batch}); it != staged.waiting.end()) {
+    const Accumulation* kept = it->second;  // this transaction's upload: merged in place
+    staged.waiting.erase(it);
+    ++waiting_hits_;
+    return kept;
+  }
+  if (std::optional<Accumulation> kept = waiting_.take(r.job_id, r.tile, batch)) {
+    successor = std::move(*kept);
+    staged.taken.emplace(r.job_id, r.tile);
+    ++waiting_hits_;
+    return &successor;
+  }
+  if (!may_wait_in_store(r.job_id, r.tile)) return nullptr;  // every waiting one is in memory
+  const std::optional<std::string> row = ResultsTable(db_).find(r.job_id, r.tile, batch);
+  if (!row) return nullptr;
+  successor = decode_accumulation(*row);
+  return &successor;
+}
+
+void TileMerger::store_merge(const UnitResult& r, const UnitForResult& unit,
+                             MergeCache::Tile& cached, const MergeRun& run) {
+  const uint32_t next = run.next_batch;
+  cached.next_batch = next;
+  const bool checkpoint = run.verdict.finished || next - cached.checkpointed >= checkpoint_every_;
+  // The stored error (status, the output's provenance): after every merge where the rule reads
+  // it, else at each checkpoint (so exact when the tile ends) and when the tile's spp reaches a
+  // power of two; in between the tile keeps the one stored last. Computing it for every merged
+  // batch cost 2.4-4.2 % of the server's CPU (BENCHMARKS.md, "What a result and a job cost the
+  // server, counted").
+  std::optional<double> error;
+  if (run.error_read) {
+    error = run.verdict.relative_error;
+  } else if (checkpoint || std::has_single_bit(unit.plan.schedule().spp_after(next))) {
+    error = estimate_relative_error(cached.sum);
+  }
+  if (checkpoint) {
+    // The sum becomes the stored tile; the rows it covers (the successors merged here among
+    // them) go, and this result is never written.
+    write_checkpoint(r.job_id, r.tile, cached.sum, next);
+    cached.checkpointed = next;
+  } else {
+    // The uploaded bytes as they came; merged successors keep their rows, now below the tile's
+    // next_batch.
+    ResultsTable(db_).append(r.job_id, r.tile, r.batch, r.encoded);
+  }
+  if (run.verdict.finished) close_tile(r.job_id, r.tile, next);
+  const TileProgress progress{next, error, run.verdict.reason,
+                              unit.plan.schedule().spp_after(next)};
+  if (!TilesTable(db_).advance(r.job_id, r.tile, unit.next_batch, progress)) {
+    throw FarmError(ErrorCode::internal, "tile " + std::to_string(r.tile) + " of job " +
+                                             std::to_string(r.job_id) +
+                                             " changed during its merge");
+  }
 }
 
 void TileMerger::write_checkpoint(int64_t job_id, uint32_t tile, const Accumulation& sum,
                                   uint32_t next_batch) {
-  TilesTable(db_).write_checkpoint(job_id, tile, checkpoint_encoder_.encode(sum, kCheckpointEffort));
+  TilesTable(db_).write_checkpoint(job_id, tile,
+                                   checkpoint_encoder_.encode(sum, kCheckpointEffort));
   ResultsTable(db_).drop_merged(job_id, tile, next_batch);
 }
 

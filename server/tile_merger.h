@@ -31,10 +31,12 @@
 #include "accum/accumulation_codec.h"
 #include "clock.h"
 #include "job/stopping_rule.h"
-#include "store/jobs_table.h"
 #include "merge_cache.h"
-#include "waiting_results.h"
+#include "store/jobs_table.h"
+#include "store/merge_ledger.h"
 #include "store/sqlite.h"
+#include "store/units_table.h"
+#include "waiting_results.h"
 
 namespace tessera::server {
 
@@ -124,7 +126,8 @@ class TileMerger {
     waiting_.forget_job(job_id);
     jobs_seen_.erase(job_id);
     std::erase_if(store_only_, [job_id](const auto& key) { return key.first == job_id; });
-    std::erase_if(contributors_, [job_id](const Contributor& c) { return c.job_id == job_id; });
+    std::erase_if(contributors_,
+                  [job_id](const MergeLedger::Contributor& c) { return c.job_id == job_id; });
   }
 
   const MergeCache& cache() const { return cache_; }
@@ -134,41 +137,50 @@ class TileMerger {
   std::pair<uint64_t, uint64_t> waiting_merged() const { return {waiting_merged_, waiting_hits_}; }
 
  private:
-  /// A (job, worker, ISA) whose job_contributors row is committed: later results of the same
-  /// worker and ISA skip the INSERT OR IGNORE.
-  struct Contributor {
-    int64_t job_id = 0;
-    int64_t worker_id = 0;
-    std::string isa;
-    auto operator<=>(const Contributor&) const = default;
-  };
-  /// What a transaction in progress merged: tiles and contributors that go to the cache and
-  /// contributors_ once it commits.
+  /// What a transaction in progress merged: tiles that go to the cache once it commits, and
+  /// the counters and contributors its results add (written into it before it commits).
   struct Staged {
     std::map<std::pair<int64_t, uint32_t>, MergeCache::Tile> tiles;
-    std::set<Contributor> contributors;
     /// Results this transaction stored as waiting, decoded: (job, tile, batch) -> the upload's
     /// accumulation (moved into WaitingResults once the transaction has committed).
     std::map<std::tuple<int64_t, uint32_t, uint32_t>, Accumulation*> waiting;
-    /// The counters of the transaction's accepted results, per worker and per job, added to
-    /// the store once each before it commits (one UPDATE per worker and job, not per result).
-    struct Delivered {
-      uint64_t units = 0, samples = 0, nan = 0, inf = 0;
-    };
-    struct Accepted {
-      uint32_t units = 0;
-      MergedCounts merged;
-    };
-    std::map<int64_t, Delivered> delivered;  ///< by worker id
-    std::map<int64_t, Accepted> accepted;    ///< by job id
+    MergeLedger ledger;
     /// Tiles whose waiting results this transaction took from waiting_: should it roll back,
     /// their rows are waiting again but not in memory (store_only_).
     std::set<std::pair<int64_t, uint32_t>> taken;
+  };
+  /// What merging a result and its waiting successors into its tile's sum came to.
+  struct MergeRun {
+    uint32_t next_batch = 0;  ///< the tile's merged prefix after the merge
+    TileVerdict verdict;      ///< the stopping rule's verdict after the last batch merged
+    bool error_read = false;  ///< that verdict computed the tile's error
+    MergedCounts merged;
   };
 
   /// accept() inside the caller's transaction; what it merged goes to `staged`.
   AcceptOutcome accept_in_transaction(const UnitResult& result, Accumulation& decoded,
                                       Staged& staged);
+  /// The result's unit, with `decoded` checked against it (FarmError as accept()).
+  UnitForResult unit_for(const UnitResult& result, const Accumulation& decoded);
+  /// The result of a lease that is not the unit's current one: counted and dropped.
+  AcceptOutcome drop_stale(const UnitResult& result, const UnitForResult& unit);
+  /// Merges the result (the tile's next batch) and its waiting successors, and stores the
+  /// tile's progress; fills the outcome's merge fields.
+  MergedCounts merge(const UnitResult& result, const UnitForResult& unit, Accumulation& decoded,
+                     Staged& staged, AcceptOutcome& outcome);
+  /// Adds `first` and then every waiting successor to `sum`, strictly in batch order, judging the
+  /// tile by the job's stopping rule after each.
+  MergeRun merge_in_order(const UnitResult& result, const UnitForResult& unit, Accumulation& sum,
+                          const Accumulation& first, Staged& staged);
+  /// The waiting result of the tile's `batch`: decoded in memory when this transaction or an
+  /// earlier one kept it, else its row read back and decoded into `successor`; nullptr when it
+  /// has not arrived.
+  const Accumulation* waiting_successor(const UnitResult& result, uint32_t batch, Staged& staged,
+                                        Accumulation& successor);
+  /// Stores what merge_in_order merged: the error, a checkpoint or the result's row, the tile
+  /// closed by its rule, and its merged prefix (compare-and-set on the prefix it started from).
+  void store_merge(const UnitResult& result, const UnitForResult& unit, MergeCache::Tile& cached,
+                   const MergeRun& run);
 
   /// The tile's sum of batches [0, next_batch): from `staged` (merged earlier in this
   /// transaction), the cache, else its checkpoint plus its merged results in batch order.
@@ -199,7 +211,9 @@ class TileMerger {
   std::set<std::pair<int64_t, uint32_t>> store_only_;
   std::set<int64_t> jobs_seen_;  ///< jobs whose earlier rows are in store_only_
   uint64_t waiting_merged_ = 0, waiting_hits_ = 0;
-  std::set<Contributor> contributors_;
+  /// Contributors whose job_contributors row is committed: later results of the same worker
+  /// and ISA skip the INSERT OR IGNORE.
+  std::set<MergeLedger::Contributor> contributors_;
   uint32_t checkpoint_every_;
   /// Encodes the checkpoints (under the coordinator's store lock, like every call here): one
   /// zstd context for the server, not one per gRPC thread that happens to commit a group.
