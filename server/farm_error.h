@@ -2,6 +2,7 @@
 // person can act on.
 #pragma once
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -25,5 +26,13 @@ class FarmError : public std::runtime_error {
  private:
   ErrorCode code_;
 };
+
+inline FarmError invalid_argument(const std::string& message) {
+  return FarmError(ErrorCode::invalid_argument, message);
+}
+
+inline FarmError job_not_found(int64_t job_id) {
+  return FarmError(ErrorCode::not_found, "no job " + std::to_string(job_id));
+}
 
 }  // namespace tessera::server

@@ -12,7 +12,7 @@
 // e.g. the results a call carries) stays within `max_weight`, and always at least one call; the
 // calls left over wait for the next group. The coordinator's upload groups hold the store's
 // lock for the group's transaction but give way to a waiting lease between two calls
-// (Coordinator::commit_uploads).
+// (ResultIntake::commit_uploads).
 #pragma once
 
 #include <condition_variable>

@@ -4,7 +4,7 @@
 // after a server crash every lease is void (docs/reliability.md), so the store learns of a lease
 // after it was answered. The book keeps a journal of the leases it granted, which the coordinator
 // writes to the store in one transaction before any other store operation
-// (Coordinator::flush_leases): whatever reads or changes the store sees every lease answered before
+// (FarmStore::flush_leases): whatever reads or changes the store sees every lease answered before
 // it, and a result is accepted by the store's compare-and-set on its lease exactly as before.
 //
 // The book is loaded from the store at start-up and per job at the events that change a job's

@@ -77,7 +77,7 @@ class LeaseTable {
   ReleaseOutcome release(int64_t worker_id, const std::string& lease_id, ReleaseReason reason,
                          const std::string& message);
 
-  /// The time rule's bookkeeping, called periodically (Coordinator::expire_leases): every
+  /// The time rule's bookkeeping, called periodically (Leasing::expire_leases): every
   /// running `time` job past its budget is marked (budget_reached_unix_ms) and its queued units
   /// of batches > 0 skipped (UnitEvent::skip; units back from an expired lease are skipped on
   /// the next call; batch 0 is leased again, whatever the time: Scheduler). Leased units are

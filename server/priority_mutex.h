@@ -1,11 +1,11 @@
 // A mutex with a lane for short calls that must not queue behind long work (a lease's p99:
 // BENCHMARKS.md, "Lease latency and capacity"). The coordinator guards its store with it: an upload
-// group (up to Coordinator::kResultsPerCommit results in one transaction) takes it `Deferring`, and
-// every other call takes it plainly (lock/unlock, so std::lock_guard works); leases and heartbeats
-// do not take it at all (server/lease_book.h). A Deferring lock is granted only while no Urgent
-// caller waits: an urgent call waits for at most the work in progress, never for the uploads queued
-// behind it. Urgent callers cannot starve deferring ones for long: each worker makes one call at a
-// time and each urgent call is short.
+// group (up to ResultIntake::kResultsPerCommit results in one transaction) takes it `Deferring`,
+// and every other call takes it plainly (lock/unlock, so std::lock_guard works); leases and
+// heartbeats do not take it at all (server/lease_book.h). A Deferring lock is granted only while no
+// Urgent caller waits: an urgent call waits for at most the work in progress, never for the uploads
+// queued behind it. Urgent callers cannot starve deferring ones for long: each worker makes one
+// call at a time and each urgent call is short.
 //
 // Plain callers are not starved either (with std::mutex, which is unfair, a GetJob was seen to
 // wait more than 10 s behind back-to-back upload groups): while a plain caller waits, at most

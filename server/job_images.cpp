@@ -1,0 +1,154 @@
+#include "job_images.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "farm_error.h"
+#include "job_state.h"
+
+namespace tessera::server {
+namespace {
+
+std::optional<std::string> read_whole_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return std::move(ss).str();
+}
+
+}  // namespace
+
+bool JobImages::finishing(int64_t job_id) {
+  std::lock_guard lock(finishing_mu_);
+  return finishing_.contains(job_id);
+}
+
+void JobImages::finish_job(int64_t job_id) {
+  JobRecord record;
+  std::vector<TilePosition> tiles;
+  {
+    FarmStore::Lock lock(store_);
+    JobStore& jobs = store_.jobs();
+    std::optional<JobRecord> found = jobs.get(job_id);
+    if (!found || found->state != JobState::running || finishing(job_id)) return;
+    // Why it stopped goes into the output's provenance: settle before reading the record.
+    if (jobs.settle(job_id) == StopReason::none) return;
+    {
+      std::lock_guard guard(finishing_mu_);
+      finishing_.insert(job_id);
+    }
+    record = std::move(*jobs.get(job_id));
+    checkpoint_sums_(job_id);  // the merged sums, not just the last checkpoints
+    tiles = jobs.tile_positions(job_id);
+  }
+  const int64_t now = clock_.now_unix_ms();
+  record.finished_unix_ms = now;
+  // Every unit is merged: the job is done whatever happens to its files. A write that fails (a
+  // full disk) is logged and retried by the next `get` of the job and at the next start; the
+  // merged image stays in the store meanwhile (docs/design.md, "Leases and failures").
+  const OutputFiles files = output_.files(record);
+  try {
+    output_.write(record, tiles, checkpoint_reader(job_id));
+  } catch (const std::exception& e) {
+    std::cerr << "tessera-server: job " << job_id << " is done but its output was not written: "
+              << e.what() << "; the image stays in the store and is written again by the next"
+              << " `tessera get " << job_id << "` or server start" << std::endl;
+  }
+  {
+    FarmStore::Lock lock(store_);
+    {
+      std::lock_guard guard(finishing_mu_);
+      finishing_.erase(job_id);
+    }
+    if (store_.jobs().finish(job_id, files.exr.string(), files.png.string(), now)) {
+      store_.book().drop_job(job_id);
+    }
+  }
+  events_.notify(true);
+}
+
+JobImage JobImages::image(int64_t job_id, const std::string& format) {
+  if (format != "exr" && format != "png") throw invalid_argument("image format must be exr or png");
+  JobRecord record;
+  {
+    FarmStore::Lock lock(store_);
+    std::optional<JobRecord> found = store_.jobs().get(job_id);
+    if (!found) throw job_not_found(job_id);
+    record = std::move(*found);
+  }
+  JobImage out;
+  out.final = record.state == JobState::done;
+  out.spp = record.spp_merged;
+  out.width = record.options.width;
+  out.height = record.options.height;
+  if (out.final) {
+    const std::string& path = format == "exr" ? record.output_exr : record.output_png;
+    if (std::optional<std::string> bytes = read_whole_file(path)) {
+      out.bytes = std::move(*bytes);
+      return out;
+    }
+    // The file is missing (it could not be written, or was removed): the merged tiles are still
+    // in the store. Write the files again, and encode the answer from the tiles.
+    rewrite_missing_output(record);
+    if (std::optional<std::string> bytes = read_whole_file(path)) {
+      out.bytes = std::move(*bytes);
+      return out;
+    }
+  }
+  // A row of tiles at a time, as the files are written: tiles merged meanwhile show what they
+  // have when their row is read.
+  out.bytes = JobOutput::encode(record, checkpointed_tiles(job_id), checkpoint_reader(job_id),
+                                format);
+  return out;
+}
+
+void JobImages::rewrite_missing_outputs() {
+  std::vector<DoneOutput> done;
+  {
+    FarmStore::Lock lock(store_);
+    done = store_.jobs().done_outputs();
+  }
+  for (const DoneOutput& d : done) {
+    if (std::filesystem::exists(d.exr) && std::filesystem::exists(d.png)) continue;
+    std::optional<JobRecord> record;
+    {
+      FarmStore::Lock lock(store_);
+      record = store_.jobs().get(d.job_id);
+    }
+    if (record) rewrite_missing_output(*record);
+  }
+}
+
+void JobImages::rewrite_missing_output(const JobRecord& record) {
+  if (record.state != JobState::done) return;
+  if (std::filesystem::exists(record.output_exr) && std::filesystem::exists(record.output_png)) {
+    return;
+  }
+  const std::vector<TilePosition> tiles = checkpointed_tiles(record.id);
+  try {
+    output_.write(record, tiles, checkpoint_reader(record.id));
+  } catch (const std::exception& e) {
+    std::cerr << "tessera-server: job " << record.id << ": writing its output again failed: "
+              << e.what() << std::endl;
+  }
+}
+
+std::vector<TilePosition> JobImages::checkpointed_tiles(int64_t job_id) {
+  FarmStore::Lock lock(store_);
+  checkpoint_sums_(job_id);  // the merged sums, not just the last checkpoints
+  return store_.jobs().tile_positions(job_id);
+}
+
+TileCheckpointReader JobImages::checkpoint_reader(int64_t job_id) {
+  // The store's lock for each tile's read only, so that the writer's decoding, resolving and
+  // encoding of a large image never hold up leases and uploads.
+  return [this, job_id](uint32_t tile) {
+    FarmStore::Lock lock(store_);
+    return store_.jobs().tile_checkpoint(job_id, tile);
+  };
+}
+
+}  // namespace tessera::server
