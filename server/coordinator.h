@@ -150,7 +150,7 @@ class Coordinator {
 
   // ---- Counters for tests and BENCHMARKS.md --------------------------------------------------
   /// What the store has executed since the server started: the statements a lease or an
-  /// accepted result costs (tests/farm/store_cost_test.cpp).
+  /// accepted result costs (server/store/store_cost_test.cpp).
   StoreCounters store_counters();
   /// Leases granted from memory, and those of them void when written to the store (their job
   /// ended or tile closed first).

@@ -129,7 +129,7 @@ class StatementUse {
 
 /// What a connection has executed since it opened: the cost model of the store's operations
 /// (BENCHMARKS.md, "What a result and a job cost the server, counted";
-/// tests/farm/store_cost_test.cpp).
+/// server/store/store_cost_test.cpp).
 struct StoreCounters {
   uint64_t statements = 0;  ///< statements executed, BEGIN and COMMIT included
   /// Cached statements compiled again because a bound value may change their plan (a column
