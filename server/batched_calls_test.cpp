@@ -1,4 +1,4 @@
-// Batched calls (issue 14): LeaseUnit with max_units leases several units in one call and
+// Batched calls: LeaseUnit with max_units leases several units in one call and
 // UploadResults delivers several results in one transaction. Workers from before (no
 // max_units, UploadResult) keep working; a worker that dies holding K leases loses nothing
 // (every lease expires and is leased again; its late results are dropped, none merged twice).

@@ -1,5 +1,5 @@
 // A worker that stops says so (Deregister): it is offline at once, not three lease periods
-// later; calling again brings it back (issue 15).
+// later; calling again brings it back.
 #include <gtest/gtest.h>
 
 #include "coordinator.h"

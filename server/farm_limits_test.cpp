@@ -223,7 +223,7 @@ TEST(Limits, ImageSizeSppAndTile) {
   EXPECT_TRUE(farm.coordinator->jobs(100).empty());
 }
 
-// The job: 32x32 at 2147483647 spp is about 2.1 million units (1 tile x the progressive
+// The largest job: 32x32 at 2147483647 spp is about 2.1 million units (1 tile x the progressive
 // schedule); refused with one line giving the count and the cap, before anything is stored.
 TEST(Limits, WorkUnitsPerJob) {
   Farm farm(FarmLimits{});  // default: 1,000,000

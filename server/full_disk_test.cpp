@@ -1,4 +1,4 @@
-// A full output disk (issue 15): the job that completes while the disk is full stays done with
+// A full output disk: the job that completes while the disk is full stays done with
 // its merged image in the store; `get` answers the final image and writes the files again once
 // space is back, and so does the next server start. ENOSPC comes through the output opener's
 // seam (CoordinatorConfig::output_opener).

@@ -191,7 +191,7 @@ int64_t rows(Database& db, const std::string& table) {
   return q->int64(0);
 }
 
-// Lazy units (issue 14): a submit writes O(tiles) rows whatever the spp. 2^20 batches of 1 spp
+// Lazy units: a submit writes O(tiles) rows whatever the spp. 2^20 batches of 1 spp
 // on 4 tiles are 4,194,304 units, the store's limit; the submit writes 1 job, 4 tiles and 4
 // queue rows, and leasing creates a unit's row only when it is leased.
 TEST(JobStore, ASubmitWritesRowsPerTileNotPerUnit) {
@@ -370,7 +370,7 @@ TEST(WorkerRegistry, RegistersTouchesAndShowsTheLeasedUnit) {
   EXPECT_EQ(all[1].job_id, std::nullopt);
 }
 
-// Seeds are any 64-bit value (issue 15): SQLite's signed integer holds the bit pattern, and
+// Seeds are any 64-bit value: SQLite's signed integer holds the bit pattern, and
 // every value from 2^63 up reads back as it was written.
 TEST(JobStore, SeedsOfEverySixtyFourBitValueRoundTrip) {
   StoreFixture f;

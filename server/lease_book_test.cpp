@@ -1,4 +1,4 @@
-// Leases answered from memory (server/lease_book.h, issue 14 lease p99): a LeaseUnit or
+// Leases answered from memory (server/lease_book.h, for the lease p99): a LeaseUnit or
 // Heartbeat call takes no store lock and runs no statement; the book stays in step with the
 // store across a restart, expiry, cancel and delete; a grant the store no longer allows is void.
 // Counts (lock acquisitions, statements, units), never times.
@@ -108,8 +108,8 @@ TEST_F(LeaseBookTest, AnUploadTakesTheStoreLockOnlyForItsCommit) {
   // The upload's checks before its decode (the worker known, each result's tile and its size)
   // are answered from memory as a lease's are, once the server has seen the worker and the
   // tiles: a call takes the store's lock once, for the transaction that accepts its results,
-  // not once more before it (BENCHMARKS.md, "Issue 14: lease latency and capacity (branch
-  // farm16)": under load that second, plain acquisition waited behind every upload group).
+  // not once more before it (BENCHMARKS.md, "Lease latency and capacity": under load that
+  // second, plain acquisition waited behind every upload group).
   farm_->submit(tiny_bundle(), options_of(4), 0, "c");  // 16 tiles x 4 batches
   const int64_t worker = farm_->register_worker({"w", 4, "avx2", "test"});
   const auto upload = [&](const std::vector<LeasedUnit>& units) {
@@ -150,8 +150,7 @@ TEST_F(LeaseBookTest, AnUploadTakesTheStoreLockOnlyForItsCommit) {
 TEST_F(LeaseBookTest, UploadCallsWaitingTogetherCommitSixteenAtATime) {
   // 64 workers' calls of 16 results line up behind a commit: they are committed (and answered)
   // in groups of at most 256 results, 16 calls, so at most 16 workers come back at once
-  // (Coordinator::kResultsPerCommit; BENCHMARKS.md, "Issue 14: lease latency and capacity
-  // (branch farm16)").
+  // (ResultIntake::kResultsPerCommit; BENCHMARKS.md, "Lease latency and capacity").
   constexpr int kWorkers = 64;
   std::atomic<bool> held{false};
   config_.before_upload_commit = [&](size_t) {

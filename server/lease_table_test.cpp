@@ -17,7 +17,7 @@ TEST(LeaseTable, GrantSetsIdAndExpiry) {
   EXPECT_EQ(lease->lease_id, "lease-1");
   EXPECT_EQ(lease->worker_id, w);
   EXPECT_EQ(lease->expires_unix_ms, f.clock.now_unix_ms() + StoreFixture::kLeaseMs);
-  // Written to the store with the book's id (Coordinator::flush_leases).
+  // Written to the store with the book's id (FarmStore::flush_leases).
   const std::optional<Lease> held = UnitsTable(f.db).lease(w, lease->lease_id);
   ASSERT_TRUE(held);
   EXPECT_EQ(held->lease_id, lease->lease_id);

@@ -40,7 +40,7 @@ TEST(PriorityMutex, AnUrgentCallerGoesBeforeADeferringOneThatWaitedLonger) {
 }
 
 TEST(PriorityMutex, ADeferringHolderThatYieldsLetsTheWaitingUrgentCallerGoFirst) {
-  // An upload group yields between two calls (Coordinator::commit_uploads): a lease waiting
+  // An upload group yields between two calls (ResultIntake::commit_uploads): a lease waiting
   // then runs before the group's next transaction, not after the whole group.
   for (int round = 0; round < 50; ++round) {
     PriorityMutex m;

@@ -170,7 +170,7 @@ TEST(TileMerger, AWaitingResultTakenByARolledBackTransactionIsStillMerged) {
 }
 
 // An upload group ends its transaction between two calls when a lease waits for the store
-// (Coordinator::commit_uploads): accept_calls asks `stop` after each call but the last, commits
+// (ResultIntake::commit_uploads): accept_calls asks `stop` after each call but the last, commits
 // the calls so far, and leaves the others' leases current for the next transaction.
 TEST(TileMerger, AcceptCallsStopsBetweenCallsAndLeavesTheOthersForTheNextTransaction) {
   StoreFixture f;
@@ -266,7 +266,7 @@ TEST(TileMerger, ResultsOfACancelledJobAreDropped) {
   EXPECT_FALSE(f.merger.accept(result_for(lease, acc), acc).accepted);
   EXPECT_EQ(f.jobs.get(job)->counters.results_dropped, 1u);
   EXPECT_EQ(f.jobs.get(job)->state, JobState::cancelled);
-  // The user cancelled, the worker did not fail: nothing counts against it (issue 15).
+  // The user cancelled, the worker did not fail: nothing counts against it.
   EXPECT_EQ(f.workers.get(worker)->units_lost, 0u);
 }
 

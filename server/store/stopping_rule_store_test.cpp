@@ -284,7 +284,7 @@ TEST(Migration2, UpgradesAVersion1StoreKeepingItsJobs) {
 }
 
 // Start-up revokes the last run's leases by the partial index on leased units: it reads no
-// other unit row (issue 14: start-up stays fast whatever the store holds).
+// other unit row (start-up stays fast whatever the store holds).
 TEST(SchedulerQuery, RevokingLeasesReadsTheLeasedUnitsAlone) {
   StoreFixture f;
   auto q = f.db.prepare(

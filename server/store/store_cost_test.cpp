@@ -1,8 +1,9 @@
-// What the store costs per lease and per accepted result (issue 14, "where the time goes"):
-// statements executed, statements compiled again, and rows visited (SQLite's VM steps), counted
-// by the connection (StoreCounters) through the coordinator's real calls. Counts, not times: a
-// bound fails when a change adds statements to the hot paths, re-prepares a statement on every
-// call, or makes a lease or an accept visit rows in proportion to the units already done.
+// What the store costs per lease and per accepted result (BENCHMARKS.md, "What a result and a job
+// cost the server, counted"): statements executed, statements compiled again, and rows visited
+// (SQLite's VM steps), counted by the connection (StoreCounters) through the coordinator's real
+// calls. Counts, not times: a bound fails when a change adds statements to the hot paths,
+// re-prepares a statement on every call, or makes a lease or an accept visit rows in proportion to
+// the units already done.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -94,10 +95,10 @@ TEST_F(StoreCost, LeaseAndAcceptUseFewStatementsAndNoneIsCompiledAgain) {
   std::printf("statements per lease %.2f, per accepted result %.2f\n", per_lease, per_upload);
   EXPECT_EQ(reprepares, 0u);
   // The lease runs none (server/lease_book.h): its rows are written with the upload's call
-  // (Coordinator::flush_leases), so the upload carries them. Before the book: at most 10.5 per
+  // (FarmStore::flush_leases), so the upload carries them. Before the book: at most 10.5 per
   // lease and 11.5 per accepted result.
   EXPECT_EQ(lease_statements, 0u);
-  EXPECT_LE(per_upload, 17.0);  // 16.30 measured (farm11)
+  EXPECT_LE(per_upload, 17.0);  // 16.30 measured (BENCHMARKS.md)
 }
 
 // Batched calls: 16 leases in one call, 16 results in one transaction (BEGIN and COMMIT once,
@@ -134,7 +135,7 @@ TEST_F(StoreCost, BatchedCallsCostFewerStatementsPerResult) {
               per_lease, per_upload);
   // Before the lease book: at most 6.0 per leased unit and 5.25 per accepted result.
   EXPECT_EQ(lease_statements, 0u);
-  EXPECT_LE(per_upload, 7.75);  // 7.19 measured (farm11)
+  EXPECT_LE(per_upload, 7.75);  // 7.19 measured (BENCHMARKS.md)
 }
 
 TEST_F(StoreCost, RowsVisitedPerCycleDoNotGrowWithTheUnitsDone) {
@@ -161,7 +162,7 @@ TEST_F(StoreCost, RowsVisitedPerCycleDoNotGrowWithTheUnitsDone) {
 // An idle worker's long poll looks again at every wake-up; its looks, like every lease, are
 // answered from the lease book (server/lease_book.h): no statement, no store lock. (Before the
 // book, a look cost up to 47 statements with 20 jobs running, and empty looks were reused for
-// a second: BENCHMARKS.md, "Issue 14: server capacity (branch farm9)".)
+// a second.)
 TEST_F(StoreCost, AnIdleWorkersLooksCostNoStatementAndNoStoreLock) {
   submit(1);
   const int64_t busy = farm_->register_worker({"b", 4, "avx2", "test"});

@@ -1,6 +1,5 @@
-// The worker's reconnect backoff on a fake clock (issue 15: workers resumed 13 s after a server
-// outage ended). However long the outage, the first attempt after it ends comes within the
-// 2 s cap.
+// The worker's reconnect backoff on a fake clock (workers once resumed 13 s after a server outage
+// ended). However long the outage, the first attempt after it ends comes within the 2 s cap.
 #include <gtest/gtest.h>
 
 #include <chrono>

@@ -1,6 +1,6 @@
-// The farm end to end (issue 3's "Must show"): real tessera-server, tessera-worker and tessera
-// processes on 127.0.0.1. The tests poll the farm's state with a generous overall bound; none
-// depends on how fast the machine is.
+// The farm end to end: real tessera-server, tessera-worker and tessera processes on 127.0.0.1. The
+// tests poll the farm's state with a generous overall bound; none depends on how fast the machine
+// is.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -68,7 +68,7 @@ TEST(FarmE2E, CornellBitIdenticalToLocalRenderWith1And2And3Workers) {
                                             "--tile",  "32",  "--batch",  "16"};
   const auto local = render_locally(farm, kCornell, options, "local.exr");
 
-  // Two workers first (the issue's main case), then one, then three.
+  // Two workers first (the main case), then one, then three.
   for (int workers : {2, 1, 3}) {
     SCOPED_TRACE(std::to_string(workers) + " worker(s)");
     if (workers == 2) {
@@ -380,7 +380,7 @@ TEST(FarmE2E, CancelledJobStopsUsingWorkers) {
 
 struct BadScene {
   std::string file;    ///< in tests/render/bad
-  std::string reason;  ///< regex the one-line reason must match (the renderer issue's)
+  std::string reason;  ///< regex the one-line reason must match
 };
 
 TEST(FarmE2E, BadScenesAreRefusedAtSubmitAndTheServerKeepsServing) {
@@ -523,7 +523,7 @@ TEST(FarmE2E, CliStatusPreviewWatchAndGracefulWorkerStop) {
   // SIGTERM: the worker finishes its unit and exits 0; another one completes the job.
   farm.worker(first).signal(SIGTERM);
   EXPECT_EQ(farm.worker(first).wait_for(kPatience), 0);
-  // It deregistered on its way out: offline at once, not three lease periods later (issue 15).
+  // It deregistered on its way out: offline at once, not three lease periods later.
   const CommandResult workers = farm.cli({"workers", "--json"});
   ASSERT_EQ(workers.exit_code, 0) << workers.err;
   const nlohmann::json listed = nlohmann::json::parse(workers.out);
@@ -533,7 +533,7 @@ TEST(FarmE2E, CliStatusPreviewWatchAndGracefulWorkerStop) {
   const CommandResult watch = farm.cli({"watch", std::to_string(id)});
   EXPECT_EQ(watch.exit_code, 0) << watch.err;
   EXPECT_NE(watch.err.find("100.0%"), std::string::npos) << watch.err;
-  // stderr is a file here: plain lines, no '\r' frames (issue 15).
+  // stderr is a file here: plain lines, no '\r' frames.
   EXPECT_EQ(watch.err.find('\r'), std::string::npos) << watch.err;
   expect_every_unit_merged_once(farm.job(id));
 

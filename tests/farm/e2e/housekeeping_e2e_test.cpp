@@ -1,7 +1,7 @@
-// Housekeeping end to end (issue 14): one server per database (a second one is refused naming
-// the holder; a SIGKILLed one's successor gets the lock back), `tessera delete` of finished and
-// cancelled jobs (outputs and space returned; a running or unknown job refused, exit 1), and the
-// --max-units refusal at submit, and lazy units (a submit writes rows per tile, not per unit).
+// Housekeeping end to end: one server per database (a second one is refused naming the holder; a
+// SIGKILLed one's successor gets the lock back), `tessera delete` of finished and cancelled jobs
+// (outputs and space returned; a running or unknown job refused, exit 1), and the --max-units
+// refusal at submit, and lazy units (a submit writes rows per tile, not per unit).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -90,7 +90,7 @@ TEST(HousekeepingE2E, AJobOverTheUnitCapIsRefusedWithOneLine) {
   EXPECT_EQ(farm.cli({"list", "--json"}).out.find("\"id\""), std::string::npos);
 }
 
-// Lazy units: under a raised cap the issue's 2147483647-spp job (2,097,162 units) is accepted
+// Lazy units: under a raised cap a 2147483647-spp job (2,097,162 units) is accepted
 // and its submit writes one tile's rows, no unit; a `list` answers with it queued, and a cancel
 // and a delete of it succeed.
 TEST(HousekeepingE2E, AHugeJobWritesRowsPerTileNotPerUnit) {

@@ -1,8 +1,7 @@
-// Progressive jobs end to end (issue 14): a default job (progressive batches, no --batch) on two
-// workers is bit-identical to `tessera-worker render` of the same job, and the issue's time job
-// (`--time 2`, 192x192, two workers) ends with every tile above 0 spp and stop reason
-// time_budget. Nothing here times the machine: a tile's batch 0 always completes, whatever the
-// speed.
+// Progressive jobs end to end: a default job (progressive batches, no --batch) on two workers is
+// bit-identical to `tessera-worker render` of the same job, and a time-budget job (`--time 2`,
+// 192x192, two workers) ends with every tile above 0 spp and stop reason time_budget. Nothing here
+// times the machine: a tile's batch 0 always completes, whatever the speed.
 #include <gtest/gtest.h>
 
 #include <algorithm>

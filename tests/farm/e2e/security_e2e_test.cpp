@@ -168,7 +168,7 @@ TEST(SecurityE2E, WorkerAndClientTokensAreSeparateRolesAndReadFromFiles) {
   // The client token does not open the worker service: that worker gives up (exit 1).
   const size_t wrong = farm.start_worker({"--token", "client-role-token"});
   EXPECT_EQ(farm.worker(wrong).wait_for(kPatience), 1);
-  // It says which token it needs and where it reads one (issue 15).
+  // It says which token it needs and where it reads one.
   const std::string log = read_text(farm.dir() / ("worker-" + std::to_string(wrong) + ".log"));
   EXPECT_NE(log.find("the server wants its worker token"), std::string::npos) << log;
   EXPECT_NE(log.find("--token-file"), std::string::npos) << log;

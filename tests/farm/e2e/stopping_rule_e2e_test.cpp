@@ -1,9 +1,8 @@
-// Stopping rules end to end (the speed-versus-accuracy issue's "Must show"): a noise job on the
-// Cornell box meets its target tile by tile with fewer samples than uniform sampling and the
-// same bits with 1 and 3 workers and locally; a time job returns after its budget plus the
-// batches in flight and says what it reached; bad rules are refused naming the flag. Nothing
-// here times the machine: the time test bounds only from below by the budget (the server's
-// clock) and from above by a generous margin.
+// Stopping rules end to end: a noise job on the Cornell box meets its target tile by tile with
+// fewer samples than uniform sampling and the same bits with 1 and 3 workers and locally; a time
+// job returns after its budget plus the batches in flight and says what it reached; bad rules are
+// refused naming the flag. Nothing here times the machine: the time test bounds only from below by
+// the budget (the server's clock) and from above by a generous margin.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -28,7 +27,7 @@ std::vector<std::string> concat(std::vector<std::string> a, const std::vector<st
   return a;
 }
 
-/// The noise job of the issue: target 0.02 on the Cornell box, small enough for CI.
+/// The noise job: target 0.02 on the Cornell box, small enough for CI.
 constexpr uint32_t kMaxSpp = 2048;
 /// 32x32 pixels in 16 tiles of 8x8: a few million samples per run.
 const std::vector<std::string> kNoiseJob = {
