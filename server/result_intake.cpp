@@ -50,7 +50,7 @@ std::vector<AcceptOutcome> ResultIntake::upload_all(const std::vector<UnitResult
 std::vector<int64_t> ResultIntake::tile_pixels(const std::vector<UnitResult>& results) {
   // The unit's tile bounds what decoding may allocate: the codec sizes its buffers from the
   // result's header, and a few kilobytes of zstd can declare gigabytes (docs/reliability.md,
-  // "Known problems"). So the worker and the tiles are looked up first, and a header declaring
+  // "A hostile result"). So the worker and the tiles are looked up first, and a header declaring
   // more pixels than the tile is refused before anything is decompressed.
   // Both from memory, as a lease's check of the worker: no store lock unless the worker or a
   // tile is new to this server.
