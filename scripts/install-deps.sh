@@ -5,7 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake ninja-build pkg-config git ca-certificates
-  libembree-dev libopenimageio-dev openimageio-tools libglm-dev libtbb-dev libhwy-dev
+  libembree-dev libopenimageio-dev openimageio-tools libglm-dev libtbb-dev
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libsqlite3-dev libssl-dev libcpp-httplib-dev nlohmann-json3-dev libcli11-dev
   libtinyobjloader-dev libzstd-dev zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev libpugixml-dev
