@@ -4,7 +4,7 @@
 // Does supporting mirrors, glass, textures and masks cost a scene that has none? They have been
 // in the renderer from early on, so there is no "before" version to check out. This benchmark
 // therefore carries `diffuse_trace_path`: the integrator as it would be with constant diffuse
-// materials alone (trace_path of worker/render/integrator.cpp with every other material, masks,
+// materials alone (trace_path of worker/render/integrators/integrator.cpp with every other material, masks,
 // textures, environments and the eta^2 bookkeeping removed, nothing else changed: the same
 // LightSet calls, MIS weights and dimension layout), and renders a diffuse-only scene with it or
 // with the renderer's own trace_path, single-threaded by default so that
@@ -27,11 +27,11 @@
 
 #include <glm/geometric.hpp>
 
-#include "render/frame.h"
-#include "render/integrator.h"
-#include "render/path_vertex.h"
-#include "render/traceable_scene.h"
-#include "render/warp.h"
+#include "render/math/frame.h"
+#include "render/integrators/integrator.h"
+#include "render/integrators/path_vertex.h"
+#include "render/scene/traceable_scene.h"
+#include "render/sampling/warp.h"
 #include "scene/scene_loader.h"
 
 using namespace tessera;

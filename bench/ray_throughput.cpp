@@ -7,7 +7,7 @@
 // Raw rays: a pool of path-like rays — from the camera through random pixels, then from each
 // first hit in a cosine-distributed direction — traced with closest-hit queries in parallel,
 // nothing else done per ray (TraceableScene::intersect, which also builds the surface point).
-// --mode packet adds the packet tracer (worker/render/packet_tracer.h) on the same pool: for each
+// --mode packet adds the packet tracer (worker/render/scene/packet_tracer.h) on the same pool: for each
 // width, closest-hit (rtcIntersect1/4/8/16) and occlusion (rtcOccluded1/4/8/16, same rays and
 // t_max) queries, packets cut in pool order, 4096-ray chunks spread over the threads; every
 // query runs once per round, rounds interleaved with the scalar query, medians printed.
@@ -35,12 +35,12 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "render/frame.h"
-#include "render/packet_tracer.h"
+#include "render/math/frame.h"
+#include "render/scene/packet_tracer.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
-#include "render/traceable_scene.h"
-#include "render/warp.h"
+#include "render/scene/traceable_scene.h"
+#include "render/sampling/warp.h"
 
 using namespace tessera;
 

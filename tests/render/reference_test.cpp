@@ -8,7 +8,7 @@
 #include "accum/film.h"
 #include "image_compare.h"
 #include "local_render.h"
-#include "render/test_scenes.h"
+#include "render/testing/test_scenes.h"
 #include "scene/scene_loader.h"
 
 namespace tessera {

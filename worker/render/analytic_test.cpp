@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "renderer.h"
-#include "test_scenes.h"
+#include "render/testing/test_scenes.h"
 #include "test_statistics.h"
 #include "texture/texture_test_images.h"
 

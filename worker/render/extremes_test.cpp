@@ -7,10 +7,10 @@
 #include <gtest/gtest.h>
 
 #include "accum/film.h"
-#include "path_vertex.h"
+#include "render/integrators/path_vertex.h"
 #include "renderer.h"
 #include "scene/scene_loader.h"
-#include "test_scenes.h"
+#include "render/testing/test_scenes.h"
 #include "test_statistics.h"
 
 namespace tessera {

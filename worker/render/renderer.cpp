@@ -10,10 +10,10 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "integrator.h"
-#include "media/volpath.h"
-#include "packet_tracer.h"
-#include "traceable_scene.h"
+#include "render/integrators/integrator.h"
+#include "render/integrators/volpath.h"
+#include "render/scene/packet_tracer.h"
+#include "render/scene/traceable_scene.h"
 #include "wavefront/wavefront_integrator.h"
 
 namespace tessera {

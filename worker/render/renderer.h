@@ -7,9 +7,9 @@
 
 #include "accum/accumulation.h"
 #include "job/job_options.h"
-#include "pixel_filter.h"
-#include "ray.h"
-#include "sampler.h"
+#include "render/camera/pixel_filter.h"
+#include "render/math/ray.h"
+#include "render/sampling/sampler.h"
 #include "scene/scene.h"
 #include "scene/scene_loader.h"
 #include "wavefront/kernel_isa.h"
@@ -52,7 +52,7 @@ class Renderer {
   /// rendered (for example an Embree ISA the CPU lacks).
   /// `reader` serves the scene's referenced files (textures, environment maps) by bundle path.
   /// `integrator` chooses the path order (the bits are the same either way; a scene with media
-  /// always renders in the scalar order, with media/volpath.h, and integrator() says so); `kernel` the
+  /// always renders in the scalar order, with integrators/volpath.h, and integrator() says so); `kernel` the
   /// instruction set of the wavefront order's loop (kernel_isa.h: `automatic` is
   /// TESSERA_KERNEL_ISA or the best for the CPU; the same bits on each; throws
   /// std::invalid_argument when the CPU lacks it).

@@ -13,7 +13,7 @@
 #include "accum/accumulation.h"
 #include "renderer.h"
 #include "scene/scene.h"
-#include "test_scenes.h"
+#include "render/testing/test_scenes.h"
 
 namespace tessera::test {
 

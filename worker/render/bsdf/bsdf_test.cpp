@@ -13,8 +13,8 @@
 #include "render/bsdf/bsdf_test_cases.h"
 #include "render/bsdf/fresnel.h"
 #include "render/bsdf/rough_plastic_tables.h"
-#include "render/material.h"
-#include "render/path_vertex.h"
+#include "render/bsdf/material.h"
+#include "render/integrators/path_vertex.h"
 #include "render/texture/texture_set.h"
 
 namespace tessera::test {

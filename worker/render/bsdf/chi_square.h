@@ -16,7 +16,7 @@
 #include <glm/vec3.hpp>
 
 #include "render/bsdf/bsdf.h"
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera::test {
 

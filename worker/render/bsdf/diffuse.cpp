@@ -1,6 +1,6 @@
 #include "render/bsdf/diffuse.h"
 
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 

@@ -6,7 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "render/bsdf/fresnel.h"
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 namespace {

@@ -15,7 +15,7 @@
 #include "job/job_options.h"
 #include "local_render.h"
 #include "render/renderer.h"
-#include "render/mitsuba_mean_test_support.h"
+#include "mitsuba_mean_test_support.h"
 #include "render/test_statistics.h"
 #include "scene/scene_loader.h"
 

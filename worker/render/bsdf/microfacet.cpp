@@ -5,7 +5,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 namespace {

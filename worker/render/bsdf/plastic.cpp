@@ -1,7 +1,7 @@
 #include "render/bsdf/plastic.h"
 
 #include "render/bsdf/fresnel.h"
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 

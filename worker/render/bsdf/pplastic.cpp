@@ -6,7 +6,7 @@
 
 #include "render/bsdf/fresnel.h"
 #include "render/bsdf/plastic.h"
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 

@@ -12,7 +12,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera::principled {
 

@@ -6,7 +6,7 @@
 
 #include "accum/film.h"
 #include "render/renderer.h"
-#include "render/test_scenes.h"
+#include "render/testing/test_scenes.h"
 #include "render/test_statistics.h"
 
 namespace tessera {

@@ -7,7 +7,7 @@
 
 #include "render/bsdf/fresnel.h"
 #include "render/bsdf/principled_lobes.h"
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 namespace {

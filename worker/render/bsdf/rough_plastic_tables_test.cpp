@@ -8,7 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include "render/bsdf/rough_plastic_tables.h"
-#include "render/material.h"
+#include "render/bsdf/material.h"
 #include "scene/scene_error.h"
 
 namespace tessera::test {

@@ -7,7 +7,7 @@
 #include <embree3/rtcore.h>
 #include <glm/vec3.hpp>
 
-#include "render/geometry.h"
+#include "render/geometry/geometry.h"
 #include "scene/scene.h"
 
 namespace tessera {

@@ -11,10 +11,10 @@
 
 #include "accum/film.h"
 #include "render/renderer.h"
-#include "render/test_scenes.h"
+#include "render/testing/test_scenes.h"
 #include "render/test_statistics.h"
-#include "render/traceable_scene.h"
-#include "render/warp.h"
+#include "render/scene/traceable_scene.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 namespace {

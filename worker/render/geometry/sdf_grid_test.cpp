@@ -15,10 +15,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "render/ray_offset.h"
-#include "render/test_scenes.h"
-#include "render/traceable_scene.h"
-#include "render/warp.h"
+#include "render/math/ray_offset.h"
+#include "render/testing/test_scenes.h"
+#include "render/scene/traceable_scene.h"
+#include "render/sampling/warp.h"
 #include "scene/mesh/volume_grid_file.h"
 #include "scene/native/sdfgrid_shape.h"
 

@@ -8,10 +8,10 @@
 #include <utility>
 
 #include "accum/accumulation.h"
-#include "render/ray_offset.h"
+#include "render/math/ray_offset.h"
 #include "render/light/sphere_cone.h"
 #include "render/light/spherical_rectangle.h"
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 namespace {

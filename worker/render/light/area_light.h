@@ -13,7 +13,7 @@
 #include <glm/vec3.hpp>
 #include <optional>
 
-#include "render/geometry.h"
+#include "render/geometry/geometry.h"
 #include "render/light/light_bounds.h"
 #include "render/light/light_sample.h"
 #include "render/light/piecewise_constant.h"

@@ -12,7 +12,7 @@
 #include <optional>
 
 #include "render/light/light_test_support.h"
-#include "render/ray_offset.h"
+#include "render/math/ray_offset.h"
 
 namespace tessera {
 namespace {

@@ -1,7 +1,7 @@
 #include "render/light/constant_light.h"
 
 #include "accum/accumulation.h"
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 

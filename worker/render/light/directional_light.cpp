@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "accum/accumulation.h"
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 

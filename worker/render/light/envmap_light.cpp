@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "accum/accumulation.h"
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 #include "scene/scene_error.h"
 
 namespace tessera {

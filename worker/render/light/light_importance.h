@@ -10,7 +10,7 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
-#include "render/float4.h"
+#include "render/math/float4.h"
 #include "render/light/light_bounds.h"
 
 namespace tessera {
@@ -92,7 +92,7 @@ class LightImportance {
 
 namespace light_importance_detail {
 
-using namespace float4;  // Float4, Mask4 and their helpers (render/float4.h)
+using namespace float4;  // Float4, Mask4 and their helpers (render/math/float4.h)
 
 /// One light's constants in every lane of V (the same light at K points: the wavefront
 /// kernels), or four lights' constants, one per lane of Float4 (one point: evaluate_all).

@@ -8,7 +8,7 @@
 #include "render/light/light_bounds.h"
 #include "render/light/light_importance.h"
 #include "render/light/piecewise_constant.h"
-#include "render/ray_offset.h"
+#include "render/math/ray_offset.h"
 
 namespace tessera {
 

@@ -4,7 +4,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "render/ray_offset.h"
+#include "render/math/ray_offset.h"
 
 namespace tessera {
 

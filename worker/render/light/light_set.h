@@ -8,7 +8,7 @@
 #include <variant>
 #include <vector>
 
-#include "render/geometry.h"
+#include "render/geometry/geometry.h"
 #include "render/light/area_light.h"
 #include "render/light/constant_light.h"
 #include "render/light/directional_light.h"
@@ -18,7 +18,7 @@
 #include "render/light/point_light.h"
 #include "render/light/projector_light.h"
 #include "render/light/spot_light.h"
-#include "render/ray_offset.h"
+#include "render/math/ray_offset.h"
 #include "scene/scene.h"
 #include "scene/scene_loader.h"
 

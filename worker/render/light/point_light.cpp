@@ -4,7 +4,7 @@
 #include <glm/geometric.hpp>
 
 #include "accum/accumulation.h"
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 

@@ -5,7 +5,7 @@
 #include <glm/matrix.hpp>
 
 #include "accum/accumulation.h"
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 #include "scene/scene_error.h"
 
 namespace tessera {

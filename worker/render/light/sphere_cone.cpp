@@ -4,7 +4,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
-#include "render/warp.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 namespace {

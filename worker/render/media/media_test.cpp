@@ -1,6 +1,6 @@
 // Participating media: the phase function's sampling and normalisation, free flights and
 // transmittance against closed forms, furnaces and extremes rendered through the volumetric
-// path tracer (media/volpath.h), and its determinism.
+// path tracer (integrators/volpath.h), and its determinism.
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -13,7 +13,7 @@
 #include "render/media/phase.h"
 #include "render/renderer.h"
 #include "scene/mesh/volume_grid_file.h"
-#include "render/test_scenes.h"
+#include "render/testing/test_scenes.h"
 #include "render/test_statistics.h"
 
 namespace tessera {

@@ -20,7 +20,7 @@
 #include <glm/vec3.hpp>
 
 #include "render/media/phase.h"
-#include "render/sampler.h"
+#include "render/sampling/sampler.h"
 #include "scene/scene.h"
 #include "render/texture/texture_set.h"
 

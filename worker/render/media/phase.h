@@ -12,8 +12,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "render/frame.h"
-#include "render/warp.h"
+#include "render/math/frame.h"
+#include "render/sampling/warp.h"
 
 namespace tessera {
 

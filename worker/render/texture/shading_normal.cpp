@@ -5,7 +5,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "render/frame.h"
+#include "render/math/frame.h"
 
 namespace tessera {
 namespace {

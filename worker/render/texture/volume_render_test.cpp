@@ -6,7 +6,7 @@
 #include <string>
 
 #include "job/job_options.h"
-#include "render/mitsuba_mean_test_support.h"
+#include "mitsuba_mean_test_support.h"
 #include "scene/scene_loader.h"
 
 namespace tessera {

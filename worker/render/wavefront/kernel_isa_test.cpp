@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "render/sampler.h"
-#include "render/warp.h"
+#include "render/sampling/sampler.h"
+#include "render/sampling/warp.h"
 #include "render/wavefront/wavefront_kernels.h"
 
 namespace tessera {

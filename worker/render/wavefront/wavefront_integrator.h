@@ -5,10 +5,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "render/integrator.h"
-#include "render/ray.h"
-#include "render/sampler.h"
-#include "render/traceable_scene.h"
+#include "render/integrators/integrator.h"
+#include "render/math/ray.h"
+#include "render/sampling/sampler.h"
+#include "render/scene/traceable_scene.h"
 #include "render/wavefront/kernel_isa.h"
 
 namespace tessera {

@@ -14,9 +14,9 @@
 
 #include <vector>
 
-#include "render/integrator.h"
-#include "render/sampler.h"
-#include "render/traceable_scene.h"
+#include "render/integrators/integrator.h"
+#include "render/sampling/sampler.h"
+#include "render/scene/traceable_scene.h"
 #include "render/wavefront/wavefront_integrator.h"
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)

@@ -1,0 +1,598 @@
+// One vertex of the path tracer (path_vertex()), defined here so that both integrators inline
+// it: the scalar trace_path() (integrator.cpp) and the wavefront integrator
+// (wavefront/wavefront_integrator.h). Both call the same function, so a path's arithmetic and
+// sampler calls are the same in both and so are its bits.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include <glm/geometric.hpp>
+
+#include "render/bsdf/bsdf.h"
+#include "render/guiding/caustic_guide.h"
+#include "render/math/frame.h"
+#include "render/integrators/integrator.h"
+#include "render/guiding/target_mixture.h"
+#include "render/texture/shading_normal.h"
+#include "render/texture/texture_set.h"
+#include "render/sampling/warp.h"
+
+namespace tessera {
+namespace path_vertex_detail {
+
+/// Where the hit's material looks up its textures (mesh attributes from the shape hit, volume
+/// textures at the world position).
+inline TexturePoint texture_point(const Hit& hit) {
+  return {hit.uv, hit.geometry ? &hit.geometry->attributes : nullptr, hit.primitive,
+          hit.barycentric, hit.sp.p};
+}
+
+/// Dimension pairs per path vertex: (light choice, roulette), light point, BSDF direction,
+/// (BSDF lobe, mask). Pair 0 is an independent hash; pair 3 is a Sobol pair like 1 and 2: a
+/// smooth dielectric's reflect-or-refract choice is its only random decision, and drawn from
+/// an independent hash it raised cornell-sphere's 64-spp RMSE by 8 % (0.0410 -> 0.0438, seeds
+/// 0-2; BENCHMARKS.md, "Error per sample: the lobe choice").
+constexpr uint32_t kPairsPerVertex = 4;
+/// Russian roulette starts at this vertex (0 = the camera ray's hit).
+constexpr int kRouletteVertex = 3;
+constexpr float kMaxSurvival = 0.95f;
+/// Roulette spares this many consecutive delta vertices (mirror, smooth glass): a specular
+/// vertex does not branch, and light through glass onto a diffuse point (the caustic paths,
+/// about three quarters of cornell-sphere's and hexroom's variance) was rouletted at the glass
+/// with survival of about the diffuse albedo, which multiplied those rare, bright samples by
+/// 1 / albedo. Past this many in a row roulette applies again, so a path trapped by total
+/// internal reflection (throughput 1) still ends. Measured: BENCHMARKS.md, "Issue 13: where the
+/// glass scenes' error lives (branch shade11)".
+constexpr int kFreeSpecularVertices = 4;
+
+inline float max_component(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+/// The power heuristic (exponent 2), as Mitsuba's path tracer weighs its two strategies.
+inline float mis_weight(float pdf_a, float pdf_b) {
+  const float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+  const float w = a / (a + b);
+  return std::isfinite(w) ? w : 0.0f;
+}
+
+/// Where a shadow ray towards a point, spot or projector light ends, as a fraction of the way:
+/// Mitsuba's `Interaction::spawn_ray_to` ends every shadow ray at (1 - ShadowEpsilon) of the
+/// distance, ShadowEpsilon = 15000 * 2^-24. A delta light has no surface whose error bound could
+/// tell where it ends, and scenes put such lights on a surface (a spot on the floor, pointing
+/// up: langevin-mc-rendering's scene_directional.xml): ending at the light itself, the shadow
+/// ray would hit that surface at the light's own position and leave the scene black, where
+/// Mitsuba lights it.
+inline constexpr float kDeltaShadowEnd = 1.0f - 15000.0f * 0x1p-24f;
+
+/// Sets `q` to the shadow ray of light sample `ls` from `origin` (already offset off the
+/// surface): to the light's offset point (area lights), short of the light's position by
+/// kDeltaShadowEnd (point, spot, projector), or unbounded for lights at infinity.
+inline void set_shadow_ray(glm::vec3 origin, const LightSample& ls, ShadowQuery* q) {
+  q->o = origin;
+  if (std::isinf(ls.distance)) {
+    q->d = ls.wi;
+    q->t_max = std::numeric_limits<float>::infinity();
+  } else {
+    const glm::vec3 to = offset_ray_origin(ls.point, -ls.wi);
+    q->d = to - origin;
+    q->t_max = ls.delta ? kDeltaShadowEnd : 1.0f;
+  }
+}
+
+/// The shading frame at a hit: the interpolated normal, perturbed by a normal or bump map as
+/// Mitsuba's adapters do (texture/shading_normal.h), with its tangent along dpdu when the scene
+/// has uvs (anisotropic roughness is measured there). `wo` points to the previous vertex.
+struct ShadingFrame {
+  Frame frame;
+  glm::vec3 ns;            ///< the unperturbed shading normal
+  bool perturbed = false;  ///< a normal or bump map moved the normal
+};
+
+inline ShadingFrame shading_frame(const Hit& hit, const RenderMaterial& m, const TextureSet& textures,
+                           bool has_uv, glm::vec3 wo) {
+  ShadingFrame out{Frame(hit.ns), hit.ns, false};
+  glm::vec3 n = hit.ns;
+  if (m.normal_map >= 0) {
+    n = normal_mapped(textures.lookup(m.normal_map, hit.uv), hit.dpdu, hit.dpdv, hit.ns, wo);
+    out.perturbed = true;
+  } else if (m.bump_map >= 0) {
+    n = bump_mapped(textures.gradient(m.bump_map, hit.uv), m.bump_scale, hit.dpdu, hit.dpdv,
+                    hit.ns, hit.sp.ng, wo);
+    out.perturbed = true;
+  }
+  if (!std::isfinite(n.x + n.y + n.z) || !(glm::dot(n, n) > 0)) {
+    n = hit.ns;
+    out.perturbed = false;
+  }
+  if (!has_uv && !out.perturbed) return out;
+  const glm::vec3 s = out.perturbed ? perturbed_tangent(n, shading_tangent(hit.dpdu, hit.ns))
+                                    : shading_tangent(hit.dpdu, n);
+  out.frame.n = n;
+  out.frame.s = s;
+  out.frame.t = glm::cross(n, s);
+  return out;
+}
+
+/// The factor a perturbed normal puts on a BSDF value towards wi (Mitsuba's adapters): 0 when
+/// wi lies on different sides of the perturbed and the true shading normal, else the
+/// shadow-terminator softening.
+inline float perturbation_factor(const ShadingFrame& f, glm::vec3 wi) {
+  if (!f.perturbed) return 1.0f;
+  if (glm::dot(wi, f.ns) * glm::dot(wi, f.frame.n) <= 0) return 0.0f;
+  return shadow_terminator(f.frame.n, f.ns, wi);
+}
+
+/// A masked material's opacity at the hit (Mitsuba's mask: its constant times its texture,
+/// clamped to [0, 1]); 1 for a material without a mask.
+inline float opacity_at(const RenderMaterial& m, const TextureSet& textures, const Hit& hit) {
+  if (!m.masked()) return 1.0f;
+  return m.opacity.texture < 0
+             ? m.opacity.value
+             : std::clamp(m.opacity.value * textures.lookup_1(m.opacity.texture, texture_point(hit)), 0.0f, 1.0f);
+}
+
+/// The MIS weight of emission that the last bounce found at `hit` (an area emitter): 1 after a
+/// delta lobe or where no light sample was taken (`prev_delta`), else the power heuristic of the
+/// bounce's density `prev_pdf` against the light sampler's density of that point.
+inline float emitter_hit_weight(const LightSet& lights, bool prev_delta, float prev_pdf, const SurfacePoint& prev_sp,
+                                const Hit& hit) {
+  return prev_delta ? 1.0f
+                    : mis_weight(prev_pdf, lights.pdf_area(*hit.geometry, hit.primitive, prev_sp, hit.sp.p, hit.sp.ng));
+}
+
+/// The same for the environment, reached by an escaping ray along d.
+inline float environment_weight(const LightSet& lights, bool prev_delta, float prev_pdf, const SurfacePoint& prev_sp,
+                                glm::vec3 d) {
+  return prev_delta ? 1.0f : mis_weight(prev_pdf, lights.pdf_environment(prev_sp, d));
+}
+
+/// The material that shades a hit seen from `wo`, with `sp` and `hit` turned to face `wo`: a
+/// surface other than a dielectric seen from behind takes its back material (Mitsuba's
+/// twosided with two BSDFs) or, two-sided, its front one; a one-sided surface is black from
+/// behind (nullptr). A dielectric keeps its orientation (its inside is a side of its own).
+inline const RenderMaterial* facing_material(const TraceableScene& scene, const RenderMaterial* m, glm::vec3 wo,
+                                             SurfacePoint& sp, Hit& hit) {
+  if (glm::dot(wo, sp.ng) > 0 || m->dielectric()) return m;
+  if (m->back >= 0) {
+    m = &scene.material(uint32_t(m->back));
+  } else if (!m->two_sided) {
+    return nullptr;
+  }
+  sp.ng = -sp.ng;
+  hit.ns = -hit.ns;
+  return m;
+}
+
+/// What a light sample gives a vertex shaded by a general Bsdf: the BSDF's value toward it
+/// (with the perturbed normal's factor) and its MIS weight against the BSDF's own sampling,
+/// whose density counts the mask's `opacity` (see path_vertex). nullopt when the sample cannot
+/// contribute: no density or radiance, a zero value, or a reflection toward below the
+/// geometric surface (light must leave a reflecting surface on the side it arrived from).
+struct LightTerm {
+  glm::vec3 f;
+  float w;
+};
+/// `guide`, `at`: the caustic guide and its cell at the vertex when the bounce follows it too
+/// (see guided_bsdf_sample), else at.cell = -1.
+inline std::optional<LightTerm> light_term(const Bsdf& bsdf, const ShadingFrame& shading, glm::vec3 wo_local,
+                                           const LightSample& ls, const RenderMaterial& m, const SurfacePoint& sp,
+                                           float opacity, const CausticGuide* guide = nullptr,
+                                           CausticGuide::At at = {}) {
+  if (!(ls.pdf > 0) || ls.radiance == glm::vec3(0.0f)) return std::nullopt;
+  const glm::vec3 wi_local = shading.frame.to_local(ls.wi);
+  const glm::vec3 f = bsdf.eval(wo_local, wi_local) * perturbation_factor(shading, ls.wi);
+  const bool leaks = !m.dielectric() && glm::dot(sp.ng, ls.wi) <= 0;
+  if (f == glm::vec3(0.0f) || leaks) return std::nullopt;
+  if (ls.delta) return LightTerm{f, 1.0f};
+  const float bsdf_pdf = bsdf.pdf(wo_local, wi_local);
+  const float pdf = at.cell < 0 ? bsdf_pdf : guide->mixed_pdf(at, bsdf_pdf, ls.wi);
+  return LightTerm{f, mis_weight(ls.pdf, pdf * opacity)};
+}
+
+/// The bounce of a general Bsdf at a vertex in the caustic guide's cell `at.cell` (taken with
+/// probability p = at.probability, caustic_guide.h): below p, u_lobe (rescaled) picks the
+/// guide's bin and u_bsdf the direction in it, f |cos| from bsdf.eval; above, bsdf.sample with
+/// u_lobe rescaled. A non-delta sample's weight and pdf are those of the one-sample mixture,
+/// (1 - p) bsdf.pdf + p guide.pdf; a delta lobe's pdf and weight count the (1 - p) share of
+/// choosing the BSDF. *bsdf_pdf receives bsdf.pdf of the direction (for the roulette, which
+/// weighs the throughput as the BSDF's own sample would have left it).
+inline std::optional<BsdfSample> guided_bsdf_sample(const Bsdf& bsdf, const Frame& frame, glm::vec3 wo_local,
+                                                    float u_lobe, glm::vec2 u_bsdf, const CausticGuide& guide,
+                                                    CausticGuide::At at, float* bsdf_pdf) {
+  const float guided = at.probability;
+  if (u_lobe < guided) {
+    int bin = -1;
+    const glm::vec3 wi = guide.sample(at.cell, u_lobe / guided, u_bsdf, &bin);
+    BsdfSample s;
+    s.wi = frame.to_local(wi);
+    const glm::vec3 f = bsdf.eval(wo_local, s.wi);
+    *bsdf_pdf = bsdf.pdf(wo_local, s.wi);
+    s.pdf = guide.mixed_pdf(at, *bsdf_pdf, wi, bin);
+    if (!(s.pdf > 0) || f == glm::vec3(0.0f)) return std::nullopt;
+    s.weight = f / s.pdf;
+    return s;
+  }
+  std::optional<BsdfSample> s = bsdf.sample(wo_local, CausticGuide::other_strategy(u_lobe, guided), u_bsdf);
+  if (!s) return s;
+  *bsdf_pdf = s->pdf;
+  if (s->delta) {
+    s->weight /= 1.0f - guided;
+    s->pdf *= 1.0f - guided;
+    return s;
+  }
+  const float pdf = guide.mixed_pdf(at, s->pdf, frame.to_world(s->wi));
+  s->weight *= s->pdf / pdf;
+  s->pdf = pdf;
+  return s;
+}
+
+/// Whether a vertex shaded by the general Bsdf of `m` follows the caustic guide too: the
+/// diffuse materials (textured, or with a normal or bump map), whose bounce gathers light from
+/// the whole hemisphere as the untextured diffuse vertex's does, the plastics and principled
+/// surfaces, whose diffuse lobe does, and rough conductors, whose lobe can be broad enough to
+/// gather a caustic (the guided share scaled by Bsdf::caustic_guide_share: the diffuse lobe's
+/// probability, or min(1, 2 alpha); the other lobes are left to the BSDF).
+inline bool guided_material(const RenderMaterial& m) {
+  return m.type == MaterialType::diffuse || m.type == MaterialType::plastic ||
+         m.type == MaterialType::rough_plastic || m.type == MaterialType::principled ||
+         m.type == MaterialType::rough_conductor;
+}
+
+/// The unit world direction of BSDF sample `bs` and the perturbed normal's factor on its
+/// weight; nullopt when the path ends there: a degenerate direction, a reflection below the
+/// geometric surface, or a direction the perturbed normal's factor zeroes.
+struct ScatteredDirection {
+  glm::vec3 wi;
+  float perturbation;
+};
+inline std::optional<ScatteredDirection> scattered_direction(const ShadingFrame& shading, const BsdfSample& bs,
+                                                             const RenderMaterial& m, const SurfacePoint& sp) {
+  glm::vec3 wi = shading.frame.to_world(bs.wi);
+  const float len2 = glm::dot(wi, wi);
+  if (!(len2 > 0)) return std::nullopt;
+  wi /= std::sqrt(len2);
+  if (!m.dielectric() && glm::dot(wi, sp.ng) <= 0) return std::nullopt;
+  const float perturbation = perturbation_factor(shading, wi);
+  if (!(perturbation > 0)) return std::nullopt;
+  return ScatteredDirection{wi, perturbation};
+}
+
+/// Whether `m` is smooth glass, a mirror or a smooth conductor with constant parameters: only
+/// delta lobes (no light sample, no MIS), sampled by specular_sample without the general Bsdf.
+inline bool smooth_specular(const RenderMaterial& m) {
+  return !m.textured &&
+         (m.type == MaterialType::glass || m.type == MaterialType::mirror || m.type == MaterialType::conductor);
+}
+
+/// Bsdf(bsdf_params(m, ...)).sample(wo, u_lobe, u) for a material smooth_specular accepts, bit
+/// for bit: the BSDF built from the material's constants as bsdf_params would pass them
+/// (material.cpp), and Bsdf::sample's check of the result (bsdf.cpp). The general path built a
+/// BsdfParams (every material's fields) and a variant per glass or mirror vertex: about 360
+/// instructions of the vertex (BENCHMARKS.md, "Cost per sample, branch shade14").
+inline std::optional<BsdfSample> specular_sample(const RenderMaterial& m, glm::vec3 wo, float u_lobe) {
+  return checked_sample(
+      m.type == MaterialType::glass
+          ? DielectricBsdf(m.ior, m.specular_reflectance.value, m.specular_transmittance.value)
+                .sample(wo, u_lobe, glm::vec2(0.0f))
+          : ConductorBsdf(m.specular_reflectance.value, m.conductor_eta, m.conductor_k,
+                          m.perfect || m.type == MaterialType::mirror)
+                .sample(wo, u_lobe, glm::vec2(0.0f)));
+}
+
+}  // namespace path_vertex_detail
+
+/// Dimension pairs pair + 1 (the light point) and pair + 2 (the BSDF direction) of a vertex
+/// whose pairs are Sobol pairs, drawn ahead for many paths at once (the wavefront kernels,
+/// wavefront/wavefront_kernel.inc): exactly what PixelSampler::get2d returns for them.
+/// `bsdf_cosine` is square_to_cosine_hemisphere(bsdf) (warp.h), computed lane-wise with the
+/// same operations in the same order (wavefront_kernel.inc's cosine_lanes): a diffuse vertex
+/// takes it instead of warping the pair itself.
+struct PredrawnPairs {
+  glm::vec2 light;
+  glm::vec2 bsdf;
+  glm::vec3 bsdf_cosine;
+};
+
+/// TargetMixture::init or a function giving the same bits (path_vertex's `init_mixture`).
+using MixtureInit = bool (*)(TargetMixture& mix, const SpecularTargets& targets, glm::vec3 p, glm::vec3 n);
+
+namespace path_vertex_detail {
+/// Dimension pair `pair` of the path's sampler, or `*predrawn` when the kernel drew it ahead
+/// (the same numbers: PredrawnPairs); the sampler is not asked then.
+inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const glm::vec2* predrawn) {
+  if (predrawn) return *predrawn;
+  sampler.set_pair(pair);
+  return sampler.get2d();
+}
+}  // namespace path_vertex_detail
+
+/// Shades the vertex of `path` that its ray found: `hit` is the closest hit of path.ray
+/// (TraceableScene::intersect, or the same Hit built from a packet query), nullptr when the ray
+/// escaped; it may be changed (a back face flips its normals).
+///
+/// Adds what the vertex sees directly to path.radiance; asks for at most one shadow ray, in
+/// `*shadow`, returning `*has_shadow` (the caller traces it and adds its contribution when
+/// unblocked); then either samples the next direction, leaving the next ray in path.ray, and
+/// returns true, or returns false when the path ends (escaped, absorbed, roulette, depth).
+/// `sampler` is the path's own (pixel, sample index) stream; every dimension is set by pair
+/// index, so a vertex draws the same numbers whatever ran before it.
+///
+/// Lambertian surfaces get next-event estimation (one emitter chosen by power, one point on it
+/// by area, one shadow ray) plus a cosine-weighted bounce; other BSDFs combine both strategies
+/// by multiple importance sampling. Russian roulette from the third bounce on, survival
+/// min(max(beta * eta^2), 0.95), except at the first kFreeSpecularVertices delta vertices in a
+/// row: unbiased, and a path trapped by total internal reflection still ends. `max_depth`
+/// follows Mitsuba (path segments including the camera ray; -1 = unbounded).
+///
+/// Inlined into both integrators' loops (trace_path in integrator.cpp, the wavefront's lane
+/// loop), so that the shadow query and the locals stay in registers: called out of line it
+/// cost trace_path 2.4 % more instructions per sample.
+///
+/// `predrawn`, when given, holds the vertex's pairs pair + 1 and pair + 2 (the same numbers the
+/// sampler would give), and the sampler is not asked for them.
+///
+/// `init_mixture`, when given, builds the bounce mixture in place of TargetMixture::init (the
+/// same bits): the wavefront kernels pass their own, built for their instruction set with
+/// eight targets per operation (wavefront_kernel.inc).
+///
+/// `light_importance`, when given, holds every light's importance at the hit (the same bits
+/// as the light picker's own evaluation): the wavefront kernels work it out for a packet's
+/// lanes at once.
+[[gnu::always_inline]] inline bool path_vertex(const TraceableScene& scene, int max_depth, PixelSampler& sampler,
+                                               PathState& path, Hit* hit, ShadowQuery* shadow, bool* has_shadow,
+                                               const PredrawnPairs* predrawn = nullptr,
+                                               MixtureInit init_mixture = nullptr,
+                                               const PointImportance* light_importance = nullptr) {
+  using namespace path_vertex_detail;
+  const LightSet& lights = scene.lights();
+  const TextureSet& textures = scene.textures();
+  const bool have_lights = !lights.empty();
+  const int vertex = path.vertex;
+  Ray& ray = path.ray;
+  glm::dvec3& radiance = path.radiance;
+  glm::vec3& beta = path.beta;
+  *has_shadow = false;
+
+  if (!hit) {
+    if (lights.has_environment() && !(vertex == 0 && scene.hide_emitters())) {
+      const glm::vec3 le = lights.environment(ray.d);
+      const float w = environment_weight(lights, path.prev_delta, path.prev_pdf, path.prev_sp, ray.d);
+      radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
+    }
+    return false;
+  }
+  const glm::vec3 wo = -ray.d;  // every ray the integrator spawns has a unit direction
+  const Geometry& g = *hit->geometry;
+
+  if (g.emitter >= 0) {
+    if (vertex == 0 && scene.hide_emitters()) {
+      // Mitsuba's hide_emitters: the camera ray goes on through the emitter, as if unseen
+      // (the same vertex again).
+      ray.o = offset_ray_origin(hit->sp, ray.d);
+      ray.t_max = std::numeric_limits<float>::infinity();
+      return true;
+    }
+    const glm::vec3 le = lights.emitted(g, hit->primitive, hit->uv, hit->sp.ng, wo);
+    if (le != glm::vec3(0.0f)) {
+      const float w = emitter_hit_weight(lights, path.prev_delta, path.prev_pdf, path.prev_sp, *hit);
+      radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
+    }
+  }
+  // Vertex `vertex` closes segment vertex + 1; scattering here would add one more.
+  if (max_depth >= 0 && vertex + 2 > max_depth) return false;
+
+  // Each pair is drawn only where it is used (a pure function of its pair index, so the
+  // numbers are the same as drawing all of them).
+  const uint32_t pair = kCameraPairs + kPairsPerVertex * uint32_t(vertex);
+  const bool roulette = vertex + 1 >= kRouletteVertex;
+  const RenderMaterial* m = &scene.material(g.material);
+
+  // Mitsuba's mask: with probability 1 - opacity the hit is a null interaction, the path goes
+  // straight on (a vertex all the same, as in Mitsuba); shadow rays see the surface as opaque,
+  // and light through it arrives by this null scattering with full weight. Past this point the
+  // vertex was chosen with probability opacity, so its light sample and bounce are the nested
+  // material's, weighed by f alone (not opacity f: that would count opacity twice, an image
+  // darker by the factor opacity wherever it is fractional); the densities given to MIS
+  // (light sample here, BSDF hit at the next vertex) are both opacity times the nested
+  // material's, as Mitsuba's mask reports them, so the two weights still add to one.
+  float opacity = 1;
+  if (m->masked()) {
+    opacity = opacity_at(*m, textures, *hit);
+    sampler.set_pair(pair + 3);
+    const glm::vec2 u_mask = sampler.get2d();
+    if (u_mask.y >= opacity) {
+      float survival = 1;
+      if (roulette) {
+        sampler.set_pair(pair);
+        survival = std::min(max_component(beta) * path.eta_scale, kMaxSurvival);
+        if (sampler.get2d_independent().y >= survival) return false;
+        beta /= survival;
+      }
+      path.prev_delta = true;
+      path.prev_sp = hit->sp;
+      ray.o = offset_ray_origin(hit->sp, ray.d);
+      ray.t_max = std::numeric_limits<float>::infinity();
+      ++path.vertex;
+      return true;
+    }
+  }
+
+  SurfacePoint sp = hit->sp;
+  m = facing_material(scene, m, wo, sp, *hit);
+  if (!m) return false;  // one-sided surfaces are black from behind
+
+  glm::vec2 u_choice(0.0f);
+  glm::vec3 wi;
+  float bsdf_pdf = 0;
+  bool sampled_delta = false;
+
+  if (m->type == MaterialType::diffuse && !m->textured) {
+    // The common case, with nothing of the other materials in its way: Lambertian, constant
+    // albedo. Both the shadow ray and the bounce leave on the front side.
+    const glm::vec3 ns = hit->ns;
+    const glm::vec3 origin = offset_ray_origin(sp, sp.ng);
+    // Bounces toward the scene's glass and mirrors (specular_targets.h): a scene without them
+    // pays this one branch.
+    TargetMixture mix;
+    const bool mixture = !scene.specular_targets().empty() &&
+                         (init_mixture ? init_mixture(mix, scene.specular_targets(), sp.p, ns)
+                                       : mix.init(scene.specular_targets(), sp.p, ns));
+    // Bounces along the caustics (caustic_guide.h): with the cell's probability where the guide
+    // has a cell, the rest as above. A scene without one pays the empty() test.
+    const CausticGuide& guide = scene.caustic_guide();
+    const CausticGuide::At guided = guide.at(sp.p, sp.ng);
+    if (roulette || have_lights) {
+      sampler.set_pair(pair);
+      u_choice = sampler.get2d_independent();
+    }
+    if (have_lights) {
+      const glm::vec2 u_light =
+          pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
+      const LightSample ls = lights.sample(sp, u_choice.x, u_light, light_importance);
+      if (ls.pdf > 0) {
+        const float cos_surface = glm::dot(ns, ls.wi);
+        if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
+          // The bounce's density toward ls.wi: the mixture's when it has cones here.
+          const float w =
+              ls.delta            ? 1.0f
+              : guided.cell >= 0 ? mis_weight(ls.pdf, guide.mixed_pdf(guided,
+                                                                      mixture ? mix.pdf(ls.wi, cos_surface)
+                                                                              : cos_surface * kInvPi,
+                                                                      ls.wi) *
+                                                          opacity)
+              : mixture          ? mis_weight(ls.pdf, mix.pdf(ls.wi, cos_surface) * opacity)
+                                 : mis_weight(ls.pdf, cos_surface * (opacity * kInvPi));
+          set_shadow_ray(origin, ls, shadow);
+          // (albedo / pi) cos Le / pdf, in double so tiny, bright lights cannot overflow.
+          shadow->contribution = glm::dvec3(beta) * glm::dvec3(m->albedo) * glm::dvec3(ls.radiance) *
+                                 (double(cos_surface) * double(kInvPi) * double(w) / double(ls.pdf));
+          *has_shadow = true;
+        }
+      }
+    }
+    const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
+    if (!mixture && guided.cell < 0) {
+      // The cosine-weighted direction in the normal's frame, warped lane-wise with the pair when
+      // the kernel drew it.
+      const glm::vec3 local = predrawn ? predrawn->bsdf_cosine : square_to_cosine_hemisphere(u_bsdf);
+      wi = Frame(ns).to_world(local);
+      if (glm::dot(wi, sp.ng) <= 0) return false;
+      beta *= m->albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
+      bsdf_pdf = local.z * kInvPi * opacity;
+    } else {
+      // The strategy from pair + 3's x, which this path leaves free (a mask takes its y): the
+      // guide below the cell's probability (the number over it picks the bin), else the mixture
+      // (or the cosine where there are no cones) with the rest rescaled.
+      sampler.set_pair(pair + 3);
+      float u_strategy = sampler.get2d_x();
+      int bin = -1, cone = -1;
+      if (guided.cell >= 0) {
+        if (u_strategy < guided.probability) {
+          wi = guide.sample(guided.cell, u_strategy / guided.probability, u_bsdf, &bin);
+        } else {
+          u_strategy = CausticGuide::other_strategy(u_strategy, guided.probability);
+        }
+      }
+      if (bin < 0) {
+        cone = mixture ? mix.choose(u_strategy) : -1;
+        wi = cone >= 0  ? mix.sample_cone(cone, u_bsdf)
+             : predrawn ? Frame(ns).to_world(predrawn->bsdf_cosine)
+                        : Frame(ns).to_world(square_to_cosine_hemisphere(u_bsdf));
+      }
+      const float cos_n = glm::dot(wi, ns);
+      if (!(cos_n > 0) || glm::dot(wi, sp.ng) <= 0) return false;
+      const float unguided = mixture ? mix.pdf(wi, cos_n, cone) : cos_n * kInvPi;
+      const float pdf = guided.cell < 0 ? unguided : guide.mixed_pdf(guided, unguided, wi, bin);
+      beta *= m->albedo * (cos_n * kInvPi / pdf);  // f cos / pdf_mix, f = albedo / pi
+      bsdf_pdf = pdf * opacity;
+      // Russian roulette weighs the throughput as the cosine sample would have left it: a
+      // bounce toward a target carries a small beta by design, and ending it for that would
+      // undo what aiming it gained (measured: docs/renderer.md).
+      path.eta_scale *= pdf / (cos_n * kInvPi);
+    }
+    ray.o = origin;
+  } else {
+    const ShadingFrame shading = shading_frame(*hit, *m, textures, scene.has_uv(), wo);
+    const glm::vec3 wo_local = shading.frame.to_local(wo);
+    std::optional<BsdfSample> bs;
+    if (smooth_specular(*m)) {
+      // Delta lobes only: no light sample; the lobe choice from pair + 3's x, as below (the
+      // direction pair is not drawn: these BSDFs ignore it, and every draw sets its pair).
+      if (roulette) {
+        sampler.set_pair(pair);
+        u_choice = sampler.get2d_independent();
+      }
+      sampler.set_pair(pair + 3);
+      bs = specular_sample(*m, wo_local, sampler.get2d_x());
+    } else {
+      const Bsdf bsdf(bsdf_params(*m, textures, texture_point(*hit)));
+      // The caustic guide, as at an untextured diffuse vertex (above), for the materials that
+      // follow it.
+      const CausticGuide& guide = scene.caustic_guide();
+      CausticGuide::At guided = guided_material(*m) ? guide.at(sp.p, sp.ng) : CausticGuide::At{};
+      if (guided.cell >= 0 && m->type != MaterialType::diffuse) {
+        // The guide serves a plastic's or a principled surface's diffuse lobe, or a rough
+        // conductor's broad one: its share scaled (the same At for the light sample's MIS and
+        // the bounce, so any share is unbiased).
+        guided.probability *= bsdf.caustic_guide_share(wo_local);
+        if (!(guided.probability > 0)) guided = CausticGuide::At{};
+      }
+      if (roulette || (have_lights && bsdf.has_smooth_lobe())) {
+        sampler.set_pair(pair);
+        u_choice = sampler.get2d_independent();
+      }
+      if (have_lights && bsdf.has_smooth_lobe()) {
+        const glm::vec2 u_light =
+            pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
+        const LightSample ls = lights.sample(sp, u_choice.x, u_light, light_importance);
+        if (const std::optional<LightTerm> lt =
+                light_term(bsdf, shading, wo_local, ls, *m, sp, opacity, &guide, guided)) {
+          set_shadow_ray(offset_ray_origin(sp, ls.wi), ls, shadow);
+          shadow->contribution = glm::dvec3(beta) * glm::dvec3(lt->f) * glm::dvec3(ls.radiance) *
+                                 (double(lt->w) / double(ls.pdf));
+          *has_shadow = true;
+        }
+      }
+      sampler.set_pair(pair + 3);
+      const float u_lobe = sampler.get2d_x();
+      const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
+      if (guided.cell < 0) {
+        bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
+      } else {
+        float unguided_pdf = 0;
+        bs = guided_bsdf_sample(bsdf, shading.frame, wo_local, u_lobe, u_bsdf, guide, guided, &unguided_pdf);
+        // Roulette weighs the throughput as the BSDF's own sample would have left it (as at an
+        // untextured diffuse vertex).
+        if (bs && !bs->delta && unguided_pdf > 0) path.eta_scale *= bs->pdf / unguided_pdf;
+      }
+    }
+    if (!bs) return false;
+    const std::optional<ScatteredDirection> out = scattered_direction(shading, *bs, *m, sp);
+    if (!out) return false;
+    wi = out->wi;
+    beta *= bs->weight * out->perturbation;
+    bsdf_pdf = bs->pdf * opacity;
+    sampled_delta = bs->delta;
+    path.eta_scale *= bs->eta * bs->eta;
+    ray.o = offset_ray_origin(sp, wi);
+  }
+  if (!(max_component(beta) > 0)) return false;
+
+  path.specular_run = sampled_delta ? path.specular_run + 1 : 0;
+  if (roulette && !(sampled_delta && path.specular_run <= kFreeSpecularVertices)) {
+    const float survival = std::min(max_component(beta) * path.eta_scale, kMaxSurvival);
+    if (u_choice.y >= survival) return false;
+    beta /= survival;
+  }
+  path.prev_delta = sampled_delta;
+  path.prev_pdf = bsdf_pdf;
+  path.prev_sp = sp;
+  ray.d = wi;
+  ray.t_max = std::numeric_limits<float>::infinity();
+  ++path.vertex;
+  return true;
+}
+
+}  // namespace tessera

@@ -1,0 +1,251 @@
+#include "render/integrators/volpath.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+
+#include "render/bsdf/thin_dielectric.h"
+#include "render/media/medium.h"
+#include "render/integrators/path_vertex.h"
+
+namespace tessera {
+namespace {
+
+/// Russian roulette starts at this scattering event (counted from 1), as trace_path starts it
+/// at its third vertex.
+constexpr int kVolumeRouletteDepth = 3;
+constexpr double kVolumeMaxSurvival = 0.95;
+
+double max_channel(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+/// The key of the tracking streams of event pair `pair`: its independent pair's 48 bits, with
+/// `salt` to tell the free flight's stream from the shadow rays'.
+uint64_t stream_key(PixelSampler& sampler, uint32_t pair, uint64_t salt) {
+  sampler.set_pair(pair);
+  const glm::vec2 u = sampler.get2d_independent();
+  const uint64_t bits = uint64_t(u.x * 0x1p24f) << 24 | uint64_t(u.y * 0x1p24f);
+  return mix64(bits ^ (salt * 0x9e3779b97f4a7c15ull));
+}
+
+/// The medium a ray along d enters at hit `h` (`ng_front` the shape's front normal there):
+/// the shape's exterior when d leaves by its front, its interior otherwise; `current` when the
+/// shape bounds no medium (Mitsuba's is_medium_transition / target_medium).
+int32_t medium_after(const TraceableScene& scene, const Hit& h, glm::vec3 ng_front, glm::vec3 d,
+                     int32_t current) {
+  const glm::ivec2 sides = scene.medium_sides(h.geometry_id);
+  if (sides.x < 0 && sides.y < 0) return current;
+  return glm::dot(d, ng_front) > 0 ? sides.y : sides.x;
+}
+
+/// What passes straight through the surface at `h` along d (Mitsuba's eval_null_transmission):
+/// 1 - opacity of a mask (a null BSDF: all), plus opacity times a thindielectric's (1 - R')
+/// specular_transmittance; 0 for every other surface.
+glm::vec3 null_transmission(const TraceableScene& scene, const Hit& h, glm::vec3 d) {
+  const RenderMaterial& m = scene.material(h.geometry->material);
+  glm::vec3 thin(0.0f);
+  if (m.type == MaterialType::thin_glass) {
+    const BsdfParams p = bsdf_params(m, scene.textures(), path_vertex_detail::texture_point(h));
+    thin = (1.0f - thin_sheet_reflectance(std::abs(glm::dot(d, h.sp.ng)), p.eta)) * p.specular_transmittance;
+  }
+  if (!m.masked()) return thin;
+  const float opacity = path_vertex_detail::opacity_at(m, scene.textures(), h);
+  return (1.0f - opacity) + opacity * thin;
+}
+
+/// The fraction of light sample `ls` that reaches `origin` (already off its surface) through
+/// the media and null surfaces between, starting in `medium`.
+glm::dvec3 shadow_transmittance(const TraceableScene& scene, glm::vec3 origin, const LightSample& ls,
+                                int32_t medium, TrackingStream& stream, PathCounters& counters) {
+  glm::dvec3 tr(1.0);
+  glm::vec3 o = origin;
+  const bool at_infinity = std::isinf(ls.distance);
+  const glm::vec3 target = at_infinity ? glm::vec3(0.0f) : offset_ray_origin(ls.point, -ls.wi);
+  // As set_shadow_ray (path_vertex.h): a delta light's ray ends short of it.
+  const float end = ls.delta ? path_vertex_detail::kDeltaShadowEnd : 1.0f;
+  for (int crossing = 0; crossing < kMaxShadowCrossings; ++crossing) {
+    Ray r{o, ls.wi, std::numeric_limits<float>::infinity()};
+    if (!at_infinity) {
+      const glm::vec3 v = target - o;
+      const float length = glm::length(v);
+      if (!(length > 0)) return tr;
+      r.d = v / length;
+      r.t_max = length * end;
+    }
+    Hit h;
+    ++counters.shadow_rays;
+    const bool found = scene.intersect(r, &h);
+    const float segment = found ? glm::length(h.sp.p - o) : r.t_max;
+    if (medium >= 0) {
+      tr *= scene.medium(medium).transmittance(o, r.d, segment, stream, scene.textures());
+    }
+    if (!found || !(max_channel(tr) > 0)) return found ? glm::dvec3(0.0) : tr;
+    const glm::vec3 pass = null_transmission(scene, h, r.d);
+    if (!(std::max({pass.x, pass.y, pass.z}) > 0)) return glm::dvec3(0.0);
+    tr *= glm::dvec3(pass);
+    medium = medium_after(scene, h, h.sp.ng, r.d, medium);
+    o = offset_ray_origin(h.sp, r.d);
+  }
+  return glm::dvec3(0.0);
+}
+
+}  // namespace
+
+glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth, PixelSampler& sampler,
+                             PathCounters& counters) {
+  const LightSet& lights = scene.lights();
+  const TextureSet& textures = scene.textures();
+  const bool have_lights = !lights.empty();
+  const bool hide = scene.hide_emitters();
+  glm::dvec3 radiance(0.0), beta(1.0);
+  int32_t medium = scene.camera_medium();
+  int depth = 0;            // scattering events so far (null interactions do not count)
+  bool count_direct = true;  // an emitter hit counts fully: camera ray, delta chain, no NEE
+  float prev_pdf = 0;        // direction density of the last scattering event
+  SurfacePoint prev_sp{};    // where it was (ng 0 for a medium point)
+  double eta_scale = 1;
+
+  auto roulette = [&](float u) {
+    if (depth < kVolumeRouletteDepth) return true;
+    const double survival = std::min(max_channel(beta) * eta_scale, kVolumeMaxSurvival);
+    if (!(double(u) < survival)) return false;
+    beta /= survival;
+    return true;
+  };
+
+  for (uint32_t event = 0; event < kMaxVolumeEvents; ++event) {
+    if (max_depth >= 0 && depth >= max_depth) break;
+    const uint32_t pair = kCameraPairs + kVolumePairsPerEvent * event;
+    Hit hit;
+    ++counters.rays;
+    const bool found = scene.intersect(ray, &hit);
+    const float t_hit = found ? glm::length(hit.sp.p - ray.o) : std::numeric_limits<float>::infinity();
+
+    // ------------------------------------------------------------- the medium before the hit
+    if (medium >= 0) {
+      const RenderMedium& m = scene.medium(medium);
+      sampler.set_pair(pair);
+      const glm::vec2 u_flight = sampler.get2d();
+      TrackingStream stream(stream_key(sampler, pair + 5, 0));
+      const FreeFlight flight = m.sample_flight(ray.o, ray.d, t_hit, u_flight.x, u_flight.y, stream, textures);
+      beta *= flight.weight;
+      if (!(max_channel(beta) > 0)) break;
+      if (flight.scattered) {
+        const glm::vec3 p = ray.o + flight.t * ray.d;
+        ++depth;
+        if (max_depth >= 0 && depth >= max_depth) break;
+        const SurfacePoint sp{p, glm::vec3(0.0f), glm::vec3(0.0f)};
+        sampler.set_pair(pair + 1);
+        const glm::vec2 u_choice = sampler.get2d_independent();
+        if (m.sample_emitters && have_lights) {
+          sampler.set_pair(pair + 2);
+          const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
+          if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
+            const float phase = m.phase.eval(ray.d, ls.wi);
+            TrackingStream shadow_stream(stream_key(sampler, pair + 5, 1));
+            const glm::dvec3 tr = shadow_transmittance(scene, p, ls, medium, shadow_stream, counters);
+            const float w = ls.delta ? 1.0f : path_vertex_detail::mis_weight(ls.pdf, phase);
+            radiance += beta * glm::dvec3(ls.radiance) * tr * (double(phase) * double(w) / double(ls.pdf));
+          }
+        }
+        sampler.set_pair(pair + 3);
+        const PhaseSample ps = m.phase.sample(ray.d, sampler.get2d());
+        beta *= double(ps.weight);
+        prev_pdf = ps.pdf;
+        prev_sp = sp;
+        count_direct = !m.sample_emitters;
+        ray = Ray{p, ps.wi, std::numeric_limits<float>::infinity()};
+        if (!roulette(u_choice.y)) break;
+        continue;
+      }
+    }
+
+    // ------------------------------------------------------------- escaped: the environment
+    if (!found) {
+      if (lights.has_environment() && !(depth == 0 && hide)) {
+        const glm::vec3 le = lights.environment(ray.d);
+        const float w = path_vertex_detail::environment_weight(lights, count_direct, prev_pdf, prev_sp, ray.d);
+        radiance += beta * glm::dvec3(le) * double(w);
+      }
+      break;
+    }
+
+    // ------------------------------------------------------------- the surface
+    const Geometry& g = *hit.geometry;
+    const glm::vec3 wo = -ray.d;
+    const glm::vec3 ng_front = hit.sp.ng;
+    // Passes straight on: a mask's null part. No scattering event: depth and the MIS state stay.
+    auto pass_through = [&]() {
+      medium = medium_after(scene, hit, ng_front, ray.d, medium);
+      ray.o = offset_ray_origin(hit.sp, ray.d);
+      ray.t_max = std::numeric_limits<float>::infinity();
+    };
+    // Mitsuba's volpath hides an emitter the camera sees by leaving its emission out; the
+    // surface is shaded all the same (its path integrator and trace_path let the ray pass).
+    if (g.emitter >= 0 && !(depth == 0 && hide)) {
+      const glm::vec3 le = lights.emitted(g, hit.primitive, hit.uv, hit.sp.ng, wo);
+      if (le != glm::vec3(0.0f)) {
+        const float w = path_vertex_detail::emitter_hit_weight(lights, count_direct, prev_pdf, prev_sp, hit);
+        radiance += beta * glm::dvec3(le) * double(w);
+      }
+    }
+    const RenderMaterial* m = &scene.material(g.material);
+    float opacity = 1;
+    if (m->masked()) {
+      opacity = path_vertex_detail::opacity_at(*m, textures, hit);
+      sampler.set_pair(pair + 4);
+      if (sampler.get2d().y >= opacity) {
+        pass_through();
+        continue;
+      }
+    }
+    SurfacePoint sp = hit.sp;
+    m = path_vertex_detail::facing_material(scene, m, wo, sp, hit);
+    if (!m) break;  // one-sided surfaces are black from behind
+    const path_vertex_detail::ShadingFrame shading = path_vertex_detail::shading_frame(hit, *m, textures, scene.has_uv(), wo);
+    const Bsdf bsdf(bsdf_params(*m, textures, path_vertex_detail::texture_point(hit)));
+    const glm::vec3 wo_local = shading.frame.to_local(wo);
+    sampler.set_pair(pair + 1);
+    const glm::vec2 u_choice = sampler.get2d_independent();
+    // Mitsuba's volpath samples a light only where the next segment may still count.
+    if (have_lights && bsdf.has_smooth_lobe() && (max_depth < 0 || depth + 1 < max_depth)) {
+      sampler.set_pair(pair + 2);
+      const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
+      if (const std::optional<path_vertex_detail::LightTerm> lt =
+              path_vertex_detail::light_term(bsdf, shading, wo_local, ls, *m, sp, opacity)) {
+        const glm::vec3 origin = offset_ray_origin(sp, ls.wi);
+        const int32_t shadow_medium = medium_after(scene, hit, ng_front, ls.wi, medium);
+        TrackingStream shadow_stream(stream_key(sampler, pair + 5, 1));
+        const glm::dvec3 tr = shadow_transmittance(scene, origin, ls, shadow_medium, shadow_stream, counters);
+        radiance += beta * glm::dvec3(lt->f) * glm::dvec3(ls.radiance) * tr * (double(lt->w) / double(ls.pdf));
+      }
+    }
+    sampler.set_pair(pair + 4);
+    const float u_lobe = sampler.get2d().x;
+    sampler.set_pair(pair + 3);
+    const glm::vec2 u_bsdf = sampler.get2d();
+    const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
+    if (!bs) break;
+    const std::optional<path_vertex_detail::ScatteredDirection> out =
+        path_vertex_detail::scattered_direction(shading, *bs, *m, sp);
+    if (!out) break;
+    const glm::vec3 wi = out->wi;
+    beta *= glm::dvec3(bs->weight * out->perturbation);
+    if (!(max_channel(beta) > 0)) break;
+    // A thindielectric's straight transmission is a null interaction in Mitsuba (its BSDF
+    // samples it as BSDFFlags::Null): no depth, no new MIS state.
+    const bool null_event = m->type == MaterialType::thin_glass && glm::dot(wi, ng_front) * glm::dot(wo, ng_front) < 0;
+    medium = medium_after(scene, hit, ng_front, wi, medium);
+    ray = Ray{offset_ray_origin(sp, wi), wi, std::numeric_limits<float>::infinity()};
+    if (null_event) continue;
+    ++depth;
+    eta_scale *= double(bs->eta) * double(bs->eta);
+    prev_pdf = bs->pdf * opacity;
+    prev_sp = sp;
+    count_direct = bs->delta;
+    if (!roulette(u_choice.y)) break;
+  }
+  return radiance;
+}
+
+}  // namespace tessera
