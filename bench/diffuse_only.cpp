@@ -27,11 +27,11 @@
 
 #include <glm/geometric.hpp>
 
-#include "render/math/frame.h"
 #include "render/integrators/integrator.h"
 #include "render/integrators/path_vertex.h"
-#include "render/scene/traceable_scene.h"
+#include "render/math/frame.h"
 #include "render/sampling/warp.h"
+#include "render/scene/traceable_scene.h"
 #include "scene/scene_loader.h"
 
 using namespace tessera;

@@ -36,11 +36,11 @@
 #include <tbb/parallel_for.h>
 
 #include "render/math/frame.h"
-#include "render/scene/packet_tracer.h"
 #include "render/renderer.h"
-#include "scene/scene_loader.h"
-#include "render/scene/traceable_scene.h"
 #include "render/sampling/warp.h"
+#include "render/scene/packet_tracer.h"
+#include "render/scene/traceable_scene.h"
+#include "scene/scene_loader.h"
 
 using namespace tessera;
 

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "renderer.h"
 #include "render/testing/test_scenes.h"
+#include "renderer.h"
 #include "test_statistics.h"
 #include "texture/texture_test_images.h"
 

@@ -8,9 +8,9 @@
 
 #include "accum/film.h"
 #include "render/integrators/path_vertex.h"
+#include "render/testing/test_scenes.h"
 #include "renderer.h"
 #include "scene/scene_loader.h"
-#include "render/testing/test_scenes.h"
 #include "test_statistics.h"
 
 namespace tessera {

@@ -11,9 +11,9 @@
 #include <glm/vec3.hpp>
 
 #include "accum/accumulation.h"
+#include "render/testing/test_scenes.h"
 #include "renderer.h"
 #include "scene/scene.h"
-#include "render/testing/test_scenes.h"
 
 namespace tessera::test {
 

@@ -20,8 +20,8 @@
 #include "accum/film.h"
 #include "job/job_options.h"
 #include "local_render.h"
-#include "scene/scene_loader.h"
 #include "render/texture/texture_test_images.h"
+#include "scene/scene_loader.h"
 
 namespace tessera {
 namespace {

@@ -14,8 +14,8 @@
 #include "accum/film.h"
 #include "job/job_options.h"
 #include "local_render.h"
-#include "render/renderer.h"
 #include "mitsuba_mean_test_support.h"
+#include "render/renderer.h"
 #include "render/test_statistics.h"
 #include "scene/scene_loader.h"
 

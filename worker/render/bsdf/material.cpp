@@ -1,8 +1,8 @@
 #include "render/bsdf/material.h"
 
 #include "render/bsdf/rough_plastic_tables.h"
-#include "scene/scene_error.h"
 #include "render/texture/texture_set.h"
+#include "scene/scene_error.h"
 
 namespace tessera {
 namespace {

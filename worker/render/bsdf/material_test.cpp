@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "render/bsdf/rough_plastic_tables.h"
 #include "render/bsdf/material.h"
+#include "render/bsdf/rough_plastic_tables.h"
 #include "render/texture/texture_set.h"
 
 namespace tessera::test {

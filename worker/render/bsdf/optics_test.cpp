@@ -9,9 +9,9 @@
 #include <gtest/gtest.h>
 
 #include "render/bsdf/fresnel.h"
+#include "render/light/light_test_support.h"
 #include "render/math/frame.h"
 #include "render/sampling/warp.h"
-#include "render/light/light_test_support.h"
 
 namespace tessera {
 namespace {

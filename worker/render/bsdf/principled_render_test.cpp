@@ -6,8 +6,8 @@
 
 #include "accum/film.h"
 #include "render/renderer.h"
-#include "render/testing/test_scenes.h"
 #include "render/test_statistics.h"
+#include "render/testing/test_scenes.h"
 
 namespace tessera {
 namespace {

@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
-#include "render/bsdf/rough_plastic_tables.h"
 #include "render/bsdf/material.h"
+#include "render/bsdf/rough_plastic_tables.h"
 #include "scene/scene_error.h"
 
 namespace tessera::test {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <string>
 
-#include "scene/scene_error.h"
 #include "render/sampling/warp.h"
+#include "scene/scene_error.h"
 
 namespace tessera {
 namespace {

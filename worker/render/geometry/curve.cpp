@@ -6,8 +6,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "render/math/ray_offset.h"
 #include "render/geometry/hit.h"
+#include "render/math/ray_offset.h"
 #include "scene/mesh/curve_file.h"
 
 namespace tessera {

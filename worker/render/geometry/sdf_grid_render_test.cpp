@@ -13,8 +13,8 @@
 #include "accum/film.h"
 #include "job/job_options.h"
 #include "local_render.h"
-#include "render/integrators/integrator.h"
 #include "mitsuba_mean_test_support.h"
+#include "render/integrators/integrator.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
 

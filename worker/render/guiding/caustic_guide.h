@@ -21,8 +21,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "render/sampling/sampler.h"
 #include "render/guiding/test_switch.h"
+#include "render/sampling/sampler.h"
 
 namespace tessera {
 

@@ -19,10 +19,10 @@
 #include "render/bsdf/rough_plastic_tables.h"
 #include "render/integrators/path_vertex.h"
 #include "render/renderer.h"
-#include "scene/scene_loader.h"
-#include "render/testing/test_scenes.h"
-#include "render/test_statistics.h"
 #include "render/scene/traceable_scene.h"
+#include "render/test_statistics.h"
+#include "render/testing/test_scenes.h"
+#include "scene/scene_loader.h"
 
 namespace tessera {
 // A named namespace, not an anonymous one: the sanitizer pass builds the tests as unity files,

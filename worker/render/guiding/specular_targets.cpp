@@ -10,8 +10,8 @@
 #include <string>
 
 #include "accum/accumulation.h"
-#include "render/geometry/geometry.h"
 #include "render/bsdf/material.h"
+#include "render/geometry/geometry.h"
 #include "render/sampling/warp.h"
 
 namespace tessera {

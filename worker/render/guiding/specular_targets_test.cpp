@@ -19,10 +19,10 @@
 
 #include "render/bsdf/chi_square.h"
 #include "render/renderer.h"
-#include "scene/scene_loader.h"
-#include "render/testing/test_scenes.h"
-#include "render/test_statistics.h"
 #include "render/scene/traceable_scene.h"
+#include "render/test_statistics.h"
+#include "render/testing/test_scenes.h"
+#include "scene/scene_loader.h"
 
 namespace tessera {
 namespace {

@@ -13,9 +13,9 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "render/guiding/specular_targets.h"
 #include "render/math/float4.h"
 #include "render/math/frame.h"
-#include "render/guiding/specular_targets.h"
 #include "render/sampling/warp.h"
 
 namespace tessera {

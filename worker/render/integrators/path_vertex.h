@@ -13,12 +13,12 @@
 
 #include "render/bsdf/bsdf.h"
 #include "render/guiding/caustic_guide.h"
-#include "render/math/frame.h"
-#include "render/integrators/integrator.h"
 #include "render/guiding/target_mixture.h"
+#include "render/integrators/integrator.h"
+#include "render/math/frame.h"
+#include "render/sampling/warp.h"
 #include "render/texture/shading_normal.h"
 #include "render/texture/texture_set.h"
-#include "render/sampling/warp.h"
 
 namespace tessera {
 namespace path_vertex_detail {

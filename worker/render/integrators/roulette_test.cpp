@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "render/integrators/path_vertex.h"
-#include "render/testing/test_scenes.h"
 #include "render/scene/traceable_scene.h"
+#include "render/testing/test_scenes.h"
 
 namespace tessera {
 namespace {

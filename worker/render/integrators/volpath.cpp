@@ -6,8 +6,8 @@
 #include <limits>
 
 #include "render/bsdf/thin_dielectric.h"
-#include "render/media/medium.h"
 #include "render/integrators/path_vertex.h"
+#include "render/media/medium.h"
 
 namespace tessera {
 namespace {

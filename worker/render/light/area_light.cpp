@@ -8,9 +8,9 @@
 #include <utility>
 
 #include "accum/accumulation.h"
-#include "render/math/ray_offset.h"
 #include "render/light/sphere_cone.h"
 #include "render/light/spherical_rectangle.h"
+#include "render/math/ray_offset.h"
 #include "render/sampling/warp.h"
 
 namespace tessera {

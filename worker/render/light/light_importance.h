@@ -10,8 +10,8 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
-#include "render/math/float4.h"
 #include "render/light/light_bounds.h"
+#include "render/math/float4.h"
 
 namespace tessera {
 

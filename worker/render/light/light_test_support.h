@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "render/sampling/chi_square_p_value.h"
 #include "scene/scene_error.h"
 #include "scene/scene_loader.h"
 
@@ -42,13 +43,6 @@ class UniformFloats {
  private:
   std::mt19937_64 engine_;
 };
-
-/// Upper tail probability of the chi-square distribution (Wilson-Hilferty approximation).
-inline double chi_square_p_value(double chi2, int dof) {
-  const double k = dof;
-  const double z = (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
-  return 0.5 * std::erfc(z / std::sqrt(2.0));
-}
 
 /// Bins over the sphere in a frame: cos(theta) = dot(d, frame[2]),
 /// phi = atan2(dot(d, frame[1]), dot(d, frame[0])), both cut at the given ascending edges

@@ -12,9 +12,9 @@
 #include "render/media/medium.h"
 #include "render/media/phase.h"
 #include "render/renderer.h"
-#include "scene/mesh/volume_grid_file.h"
-#include "render/testing/test_scenes.h"
 #include "render/test_statistics.h"
+#include "render/testing/test_scenes.h"
+#include "scene/mesh/volume_grid_file.h"
 
 namespace tessera {
 namespace {

@@ -21,8 +21,8 @@
 
 #include "render/media/phase.h"
 #include "render/sampling/sampler.h"
-#include "scene/scene.h"
 #include "render/texture/texture_set.h"
+#include "scene/scene.h"
 
 namespace tessera {
 

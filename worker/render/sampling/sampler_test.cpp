@@ -8,7 +8,7 @@
 #include <glm/common.hpp>
 #include <gtest/gtest.h>
 
-#include "render/light/light_test_support.h"
+#include "render/sampling/chi_square_p_value.h"
 
 namespace tessera {
 namespace {

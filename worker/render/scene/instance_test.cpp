@@ -6,10 +6,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "scene/scene_error.h"
-#include "render/testing/test_scenes.h"
-#include "render/scene/traceable_scene.h"
 #include "render/sampling/warp.h"
+#include "render/scene/traceable_scene.h"
+#include "render/testing/test_scenes.h"
+#include "scene/scene_error.h"
 
 namespace tessera {
 namespace {

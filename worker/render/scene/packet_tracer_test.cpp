@@ -9,11 +9,11 @@
 
 #include <gtest/gtest.h>
 
-#include "scene/scene_loader.h"
 #include "render/geometry/sphere_intersector.h"
-#include "render/testing/test_scenes.h"
-#include "render/scene/traceable_scene.h"
 #include "render/sampling/warp.h"
+#include "render/scene/traceable_scene.h"
+#include "render/testing/test_scenes.h"
+#include "scene/scene_loader.h"
 
 namespace tessera {
 namespace {

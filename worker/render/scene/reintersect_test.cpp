@@ -6,9 +6,9 @@
 #include <gtest/gtest.h>
 
 #include "render/geometry/sphere_intersector.h"
-#include "render/testing/test_scenes.h"
-#include "render/scene/traceable_scene.h"
 #include "render/sampling/warp.h"
+#include "render/scene/traceable_scene.h"
+#include "render/testing/test_scenes.h"
 
 namespace tessera {
 namespace {

@@ -10,9 +10,9 @@
 
 #include "render/geometry/curve.h"
 #include "render/geometry/sdf_grid.h"
+#include "render/geometry/sphere_intersector.h"
 #include "render/sampling/warp.h"
 #include "scene/scene_error.h"
-#include "render/geometry/sphere_intersector.h"
 
 namespace tessera {
 namespace {

@@ -14,8 +14,8 @@
 #include <gtest/gtest.h>
 
 #include "render/scene/embree_packet.h"
-#include "render/testing/test_scenes.h"
 #include "render/scene/traceable_scene.h"
+#include "render/testing/test_scenes.h"
 
 namespace tessera {
 namespace {

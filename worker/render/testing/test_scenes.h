@@ -69,6 +69,19 @@ inline Shape box(glm::dvec3 lo, glm::dvec3 hi, uint32_t material, bool inward) {
   return sh;
 }
 
+/// A curves shape of one or more strands (`sizes`: control points per strand; empty = one).
+inline Shape curve(CurveBasis basis, std::vector<glm::dvec4> points, uint32_t material,
+                   std::vector<uint32_t> sizes = {}) {
+  Shape s;
+  s.kind = Shape::Kind::curves;
+  s.curve_basis = basis;
+  s.curve_sizes = sizes.empty() ? std::vector<uint32_t>{uint32_t(points.size())} : sizes;
+  s.control_points = std::move(points);
+  s.material = material;
+  s.origin = "test curve";
+  return s;
+}
+
 /// Scales every length of the scene by `k` (geometry and camera), keeping the image the same.
 inline void scale_scene(Scene& s, double k) {
   s.camera.position *= k;

@@ -9,6 +9,6 @@
 
 #include <immintrin.h>
 
-#include "render/scene/embree_packet.h"
 #include "render/integrators/path_vertex.h"
+#include "render/scene/embree_packet.h"
 #include "render/wavefront/wavefront_kernels.h"

@@ -1,6 +1,6 @@
 // Curves through Embree: hits on known tubes (point, normal, uv as Mitsuba defines them), no hit
-// from inside a tube, rays spawned off a tube never hitting it again, and an analytic render of
-// a tube under a directional light.
+// from inside a tube, and rays spawned off a tube never hitting it again (the analytic render of
+// a tube: geometry/curve_render_test.cpp).
 #include "render/geometry/curve.h"
 
 #include <cmath>
@@ -10,26 +10,12 @@
 #include <gtest/gtest.h>
 
 #include "accum/film.h"
-#include "render/renderer.h"
-#include "render/testing/test_scenes.h"
-#include "render/test_statistics.h"
-#include "render/scene/traceable_scene.h"
 #include "render/sampling/warp.h"
+#include "render/scene/traceable_scene.h"
+#include "render/testing/test_scenes.h"
 
 namespace tessera {
 namespace {
-
-Shape curve(CurveBasis basis, std::vector<glm::dvec4> points, uint32_t material,
-            std::vector<uint32_t> sizes = {}) {
-  Shape s;
-  s.kind = Shape::Kind::curves;
-  s.curve_basis = basis;
-  s.curve_sizes = sizes.empty() ? std::vector<uint32_t>{uint32_t(points.size())} : sizes;
-  s.control_points = std::move(points);
-  s.material = material;
-  s.origin = "test curve";
-  return s;
-}
 
 /// A scene holding `shape`, with a texture so that hits carry uv and tangents.
 Scene scene_with(Shape shape) {
@@ -52,7 +38,7 @@ void expect_near(glm::vec3 a, glm::vec3 b, float tolerance) {
 
 TEST(Curve, LinearTubeHitFromAbove) {
   const TraceableScene scene(
-      scene_with(curve(CurveBasis::linear, {{-1, 0, 0, 0.5}, {1, 0, 0, 0.5}}, 0)), 4, 4, "");
+      scene_with(test::curve(CurveBasis::linear, {{-1, 0, 0, 0.5}, {1, 0, 0, 0.5}}, 0)), 4, 4, "");
   ASSERT_TRUE(scene.has_uv());
   Hit hit;
   ASSERT_TRUE(scene.intersect(Ray{{0.3f, 0, 5}, {0, 0, -1}}, &hit));
@@ -78,7 +64,7 @@ TEST(Curve, ConeNormalTiltsWithTheRadius) {
   // Radius 0.2 to 0.6 over a length of 1: the side of the cone touching both spheres leans
   // back by asin(0.4) from +z.
   const TraceableScene scene(
-      scene_with(curve(CurveBasis::linear, {{0, 0, 0, 0.2}, {1, 0, 0, 0.6}}, 0)), 4, 4, "");
+      scene_with(test::curve(CurveBasis::linear, {{0, 0, 0, 0.2}, {1, 0, 0, 0.6}}, 0)), 4, 4, "");
   Hit hit;
   ASSERT_TRUE(scene.intersect(Ray{{0.5f, 0, 5}, {0, 0, -1}}, &hit));
   expect_near(hit.sp.ng, {-0.4f, 0, std::sqrt(1 - 0.16f)}, 1e-4f);
@@ -87,7 +73,7 @@ TEST(Curve, ConeNormalTiltsWithTheRadius) {
 TEST(Curve, RaysFromInsideATubeLeaveIt) {
   for (CurveBasis basis : {CurveBasis::linear, CurveBasis::bspline}) {
     const TraceableScene scene(
-        scene_with(curve(basis, {{-3, 0, 0, 1}, {-1, 0, 0, 1}, {1, 0, 0, 1}, {3, 0, 0, 1}}, 0)), 4,
+        scene_with(test::curve(basis, {{-3, 0, 0, 1}, {-1, 0, 0, 1}, {1, 0, 0, 1}, {3, 0, 0, 1}}, 0)), 4,
         4, "");
     Hit hit;
     EXPECT_FALSE(scene.intersect(Ray{{0, 0, 0}, {0, 0.6f, 0.8f}}, &hit));
@@ -101,7 +87,7 @@ TEST(Curve, RaysFromInsideATubeLeaveIt) {
 TEST(Curve, InstancedCurvesArePlacedWithTheirRadii) {
   // A group's tube placed by an instance that scales by 2 and lifts by 1: Embree scales the
   // whole tube, radius included (Mitsuba instances curves the same way).
-  Scene s = scene_with(curve(CurveBasis::linear, {{-1, 0, 0, 0.5}, {1, 0, 0, 0.5}}, 0));
+  Scene s = scene_with(test::curve(CurveBasis::linear, {{-1, 0, 0, 0.5}, {1, 0, 0, 0.5}}, 0));
   ShapeGroup group;
   group.name = "g";
   group.shapes.push_back(s.shapes[0]);
@@ -126,7 +112,7 @@ TEST(Curve, BsplineHitsFollowTheSpline) {
   // Control points on a line: the centre line runs from x = -0.5 to 0.5 (the uniform cubic
   // B-spline's ends are (p0 + 4 p1 + p2) / 6 and (p1 + 4 p2 + p3) / 6), radius 0.25.
   const TraceableScene scene(
-      scene_with(curve(CurveBasis::bspline,
+      scene_with(test::curve(CurveBasis::bspline,
                        {{-1.5, 0, 0, 0.25}, {-0.5, 0, 0, 0.25}, {0.5, 0, 0, 0.25}, {1.5, 0, 0, 0.25}},
                        0)),
       4, 4, "");
@@ -146,7 +132,7 @@ TEST(Curve, BsplineHitsFollowTheSpline) {
 TEST(Curve, BentBsplineNormalIsPerpendicularToTheSurface) {
   // A quarter arc: the normal from Mitsuba's formula is perpendicular to dp/du and dp/dv.
   const TraceableScene scene(
-      scene_with(curve(CurveBasis::bspline,
+      scene_with(test::curve(CurveBasis::bspline,
                        {{0, 0, 0, 0.1}, {1, 0, 0, 0.15}, {2, 1, 0, 0.2}, {2, 2, 0, 0.25}, {2, 3, 1, 0.1}},
                        0)),
       4, 4, "");
@@ -186,7 +172,7 @@ TEST(Curve, SpawnedRaysDoNotHitTheTubeAgain) {
       std::vector<glm::dvec4> points;
       const int n = basis == CurveBasis::linear ? 2 : 4;
       for (int k = 0; k < n; ++k) points.emplace_back(base + (k - 0.5 * (n - 1)) * scale * axis, 0.2 * scale);
-      const TraceableScene scene(scene_with(curve(basis, points, 0)), 4, 4, "");
+      const TraceableScene scene(scene_with(test::curve(basis, points, 0)), 4, 4, "");
       for (int r = 0; r < 300; ++r) {
         const glm::dvec3 target = base + (u(rng) - 0.5) * 0.8 * scale * axis;
         const glm::dvec3 d(square_to_uniform_sphere({u(rng), u(rng)}));
@@ -204,40 +190,6 @@ TEST(Curve, SpawnedRaysDoNotHitTheTubeAgain) {
     }
   }
   EXPECT_GT(checked, 10000);
-}
-
-TEST(Curve, DirectionalLightOnATubeGivesLambertsCosine) {
-  // An orthographic camera looks down -z at a tube along x of radius 1 lit from +z: the pixel
-  // row at height y sees the normal (0, y, sqrt(1 - y^2)), so radiance rho E n_z / pi.
-  for (CurveBasis basis : {CurveBasis::linear, CurveBasis::bspline}) {
-    Scene s;
-    const uint32_t m = test::add_diffuse(s, {0.5, 0.5, 0.5});
-    s.shapes.push_back(curve(basis, {{-4, 0, 0, 1}, {-2, 0, 0, 1}, {2, 0, 0, 1}, {4, 0, 0, 1}}, m));
-    s.camera.projection = Projection::orthographic;
-    s.camera.position = {0, 0, 5};
-    s.camera.look_at = {0, 0, 0};
-    s.camera.view_size = {2, 2};
-    Light sun;
-    sun.kind = LightKind::directional;
-    sun.to_world = glm::dmat4(1.0);
-    sun.to_world[1] = glm::dvec4(0, -1, 0, 0);  // half a turn about x: light travels along -z
-    sun.to_world[2] = glm::dvec4(0, 0, -1, 0);
-    sun.value = glm::dvec3(3.0);
-    s.lights.push_back(sun);
-    const int size = 16;
-    const Renderer renderer(s, test::test_job(size, size, 64));
-    const Accumulation acc = renderer.render({0, 0, size, size}, 0, 64, nullptr);
-    ASSERT_TRUE(test::all_finite(acc));
-    for (int row = 1; row < size - 1; ++row) {
-      // The pixel row spans y in [y0, y1]: the mean of n_z = sqrt(1 - y^2) over it.
-      const double y1 = 1 - 2.0 * row / size, y0 = y1 - 2.0 / size;
-      auto integral = [](double y) { return 0.5 * (y * std::sqrt(1 - y * y) + std::asin(y)); };
-      const double expected = 0.5 * 3.0 / M_PI * (integral(y1) - integral(y0)) / (y1 - y0);
-      const size_t i = size_t(row) * size + size / 2;
-      const double got = acc.rgb[3 * i] / double(acc.count[i]);
-      EXPECT_NEAR(got, expected, 0.03 * expected) << "row " << row;
-    }
-  }
 }
 
 }  // namespace

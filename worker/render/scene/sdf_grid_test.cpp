@@ -16,9 +16,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "render/math/ray_offset.h"
-#include "render/testing/test_scenes.h"
-#include "render/scene/traceable_scene.h"
 #include "render/sampling/warp.h"
+#include "render/scene/traceable_scene.h"
+#include "render/testing/test_scenes.h"
 #include "scene/mesh/volume_grid_file.h"
 #include "scene/native/sdfgrid_shape.h"
 
