@@ -44,8 +44,8 @@ constexpr float kMaxSurvival = 0.95f;
 /// about three quarters of cornell-sphere's and hexroom's variance) was rouletted at the glass
 /// with survival of about the diffuse albedo, which multiplied those rare, bright samples by
 /// 1 / albedo. Past this many in a row roulette applies again, so a path trapped by total
-/// internal reflection (throughput 1) still ends. Measured: BENCHMARKS.md, "Issue 13: where the
-/// glass scenes' error lives (branch shade11)".
+/// internal reflection (throughput 1) still ends. Measured: BENCHMARKS.md, "Where the glass
+/// scenes' error lives".
 constexpr int kFreeSpecularVertices = 4;
 
 inline float max_component(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
@@ -270,7 +270,7 @@ inline bool smooth_specular(const RenderMaterial& m) {
 /// for bit: the BSDF built from the material's constants as bsdf_params would pass them
 /// (material.cpp), and Bsdf::sample's check of the result (bsdf.cpp). The general path built a
 /// BsdfParams (every material's fields) and a variant per glass or mirror vertex: about 360
-/// instructions of the vertex (BENCHMARKS.md, "Cost per sample, branch shade14").
+/// instructions of the vertex (BENCHMARKS.md, "Cost per sample").
 inline std::optional<BsdfSample> specular_sample(const RenderMaterial& m, glm::vec3 wo, float u_lobe) {
   return checked_sample(
       m.type == MaterialType::glass
@@ -306,6 +306,297 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
   sampler.set_pair(pair);
   return sampler.get2d();
 }
+}  // namespace path_vertex_detail
+
+namespace path_vertex_detail {
+
+/// What the parts of one vertex share: the scene, the path and its sampler, where the shadow
+/// query goes, the numbers the caller drew or worked out ahead (path_vertex's `predrawn`,
+/// `init_mixture`, `light_importance`), the vertex's first dimension pair, and whether
+/// roulette applies at it.
+struct VertexContext {
+  const TraceableScene& scene;
+  PixelSampler& sampler;
+  PathState& path;
+  ShadowQuery* shadow;
+  bool* has_shadow;
+  const PredrawnPairs* predrawn;
+  MixtureInit init_mixture;
+  const PointImportance* light_importance;
+  uint32_t pair;
+  bool roulette;
+  bool have_lights;
+};
+
+/// How a surface vertex scattered: the numbers of its pair 0 (x chose the light, y decides
+/// roulette; zero when not drawn), the new direction, its solid-angle density as the next
+/// vertex's MIS sees it, and whether it came from a delta lobe.
+struct Scatter {
+  glm::vec2 u_choice{0.0f};
+  glm::vec3 wi;
+  float bsdf_pdf = 0;
+  bool delta = false;
+};
+
+/// An escaped ray: the environment's light, weighed against the BSDF sample that aimed it.
+[[gnu::always_inline]] inline void add_environment(const TraceableScene& scene, PathState& path) {
+  const LightSet& lights = scene.lights();
+  if (lights.has_environment() && !(path.vertex == 0 && scene.hide_emitters())) {
+    const glm::vec3 le = lights.environment(path.ray.d);
+    const float w = environment_weight(lights, path.prev_delta, path.prev_pdf, path.prev_sp, path.ray.d);
+    path.radiance += glm::dvec3(path.beta) * glm::dvec3(le) * double(w);
+  }
+}
+
+/// The light of the emitter `hit` lies on, seen from `wo`, weighed against the BSDF sample
+/// that found it.
+[[gnu::always_inline]] inline void add_emission(const TraceableScene& scene, PathState& path, const Hit& hit,
+                                                glm::vec3 wo) {
+  const LightSet& lights = scene.lights();
+  const glm::vec3 le = lights.emitted(*hit.geometry, hit.primitive, hit.uv, hit.sp.ng, wo);
+  if (le != glm::vec3(0.0f)) {
+    const float w = emitter_hit_weight(lights, path.prev_delta, path.prev_pdf, path.prev_sp, hit);
+    path.radiance += glm::dvec3(path.beta) * glm::dvec3(le) * double(w);
+  }
+}
+
+/// The ray goes straight on through `hit`, from just past it.
+[[gnu::always_inline]] inline void pass_through(Ray& ray, const Hit& hit) {
+  ray.o = offset_ray_origin(hit.sp, ray.d);
+  ray.t_max = std::numeric_limits<float>::infinity();
+}
+
+/// A masked surface's null interaction: the path goes straight on (a vertex all the same, as
+/// in Mitsuba), after roulette where it applies. False when roulette ends the path.
+[[gnu::always_inline]] inline bool null_scatter(const VertexContext& c, const Hit& hit) {
+  PathState& path = c.path;
+  if (c.roulette) {
+    c.sampler.set_pair(c.pair);
+    const float survival = std::min(max_component(path.beta) * path.eta_scale, kMaxSurvival);
+    if (c.sampler.get2d_independent().y >= survival) return false;
+    path.beta /= survival;
+  }
+  path.prev_delta = true;
+  path.prev_sp = hit.sp;
+  pass_through(path.ray, hit);
+  ++path.vertex;
+  return true;
+}
+
+/// Next-event estimation at an untextured diffuse vertex: one light sample, its shadow ray from
+/// `origin`, weighed against the bounce's density toward it (the caustic guide's and the
+/// target mixture's when they have a say here).
+[[gnu::always_inline]] inline void diffuse_light_sample(const VertexContext& c, const RenderMaterial& m,
+                                                        const SurfacePoint& sp, glm::vec3 ns, glm::vec3 origin,
+                                                        float opacity, const TargetMixture& mix, bool mixture,
+                                                        const CausticGuide::At& guided, glm::vec2 u_choice) {
+  const CausticGuide& guide = c.scene.caustic_guide();
+  const glm::vec2 u_light = pair_or_predrawn(c.sampler, c.pair + 1, c.predrawn ? &c.predrawn->light : nullptr);
+  const LightSample ls = c.scene.lights().sample(sp, u_choice.x, u_light, c.light_importance);
+  if (ls.pdf > 0) {
+    const float cos_surface = glm::dot(ns, ls.wi);
+    if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
+      // The bounce's density toward ls.wi: the mixture's when it has cones here.
+      const float w =
+          ls.delta            ? 1.0f
+          : guided.cell >= 0 ? mis_weight(ls.pdf, guide.mixed_pdf(guided,
+                                                                  mixture ? mix.pdf(ls.wi, cos_surface)
+                                                                          : cos_surface * kInvPi,
+                                                                  ls.wi) *
+                                                      opacity)
+          : mixture          ? mis_weight(ls.pdf, mix.pdf(ls.wi, cos_surface) * opacity)
+                             : mis_weight(ls.pdf, cos_surface * (opacity * kInvPi));
+      set_shadow_ray(origin, ls, c.shadow);
+      // (albedo / pi) cos Le / pdf, in double so tiny, bright lights cannot overflow.
+      c.shadow->contribution = glm::dvec3(c.path.beta) * glm::dvec3(m.albedo) * glm::dvec3(ls.radiance) *
+                               (double(cos_surface) * double(kInvPi) * double(w) / double(ls.pdf));
+      *c.has_shadow = true;
+    }
+  }
+}
+
+/// The bounce of an untextured diffuse vertex: the cosine-weighted direction, or, where the
+/// target mixture or the caustic guide has a say, one of their strategies chosen by pair + 3's
+/// x. Updates the throughput; false when the direction falls below the surface.
+[[gnu::always_inline]] inline bool diffuse_bounce(const VertexContext& c, const RenderMaterial& m,
+                                                  const SurfacePoint& sp, glm::vec3 ns, float opacity,
+                                                  TargetMixture& mix, bool mixture, const CausticGuide::At& guided,
+                                                  Scatter* s) {
+  PathState& path = c.path;
+  const CausticGuide& guide = c.scene.caustic_guide();
+  const glm::vec2 u_bsdf = pair_or_predrawn(c.sampler, c.pair + 2, c.predrawn ? &c.predrawn->bsdf : nullptr);
+  if (!mixture && guided.cell < 0) {
+    // The cosine-weighted direction in the normal's frame, warped lane-wise with the pair when
+    // the kernel drew it.
+    const glm::vec3 local = c.predrawn ? c.predrawn->bsdf_cosine : square_to_cosine_hemisphere(u_bsdf);
+    s->wi = Frame(ns).to_world(local);
+    if (glm::dot(s->wi, sp.ng) <= 0) return false;
+    path.beta *= m.albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
+    s->bsdf_pdf = local.z * kInvPi * opacity;
+    return true;
+  }
+  // The strategy from pair + 3's x, which this path leaves free (a mask takes its y): the
+  // guide below the cell's probability (the number over it picks the bin), else the mixture
+  // (or the cosine where there are no cones) with the rest rescaled.
+  c.sampler.set_pair(c.pair + 3);
+  float u_strategy = c.sampler.get2d_x();
+  int bin = -1, cone = -1;
+  if (guided.cell >= 0) {
+    if (u_strategy < guided.probability) {
+      s->wi = guide.sample(guided.cell, u_strategy / guided.probability, u_bsdf, &bin);
+    } else {
+      u_strategy = CausticGuide::other_strategy(u_strategy, guided.probability);
+    }
+  }
+  if (bin < 0) {
+    cone = mixture ? mix.choose(u_strategy) : -1;
+    s->wi = cone >= 0    ? mix.sample_cone(cone, u_bsdf)
+            : c.predrawn ? Frame(ns).to_world(c.predrawn->bsdf_cosine)
+                         : Frame(ns).to_world(square_to_cosine_hemisphere(u_bsdf));
+  }
+  const float cos_n = glm::dot(s->wi, ns);
+  if (!(cos_n > 0) || glm::dot(s->wi, sp.ng) <= 0) return false;
+  const float unguided = mixture ? mix.pdf(s->wi, cos_n, cone) : cos_n * kInvPi;
+  const float pdf = guided.cell < 0 ? unguided : guide.mixed_pdf(guided, unguided, s->wi, bin);
+  path.beta *= m.albedo * (cos_n * kInvPi / pdf);  // f cos / pdf_mix, f = albedo / pi
+  s->bsdf_pdf = pdf * opacity;
+  // Russian roulette weighs the throughput as the cosine sample would have left it: a
+  // bounce toward a target carries a small beta by design, and ending it for that would
+  // undo what aiming it gained (measured: docs/renderer.md).
+  path.eta_scale *= pdf / (cos_n * kInvPi);
+  return true;
+}
+
+/// The common case, with nothing of the other materials in its way: a Lambertian surface of
+/// constant albedo. Both the shadow ray and the bounce leave on the front side. False when the
+/// path ends here.
+[[gnu::always_inline]] inline bool diffuse_vertex(const VertexContext& c, const RenderMaterial& m, const Hit& hit,
+                                                  const SurfacePoint& sp, float opacity, Scatter* s) {
+  const TraceableScene& scene = c.scene;
+  const glm::vec3 ns = hit.ns;
+  const glm::vec3 origin = offset_ray_origin(sp, sp.ng);
+  // Bounces toward the scene's glass and mirrors (specular_targets.h): a scene without them
+  // pays this one branch.
+  TargetMixture mix;
+  const bool mixture = !scene.specular_targets().empty() &&
+                       (c.init_mixture ? c.init_mixture(mix, scene.specular_targets(), sp.p, ns)
+                                       : mix.init(scene.specular_targets(), sp.p, ns));
+  // Bounces along the caustics (caustic_guide.h): with the cell's probability where the guide
+  // has a cell, the rest as above. A scene without one pays the empty() test.
+  const CausticGuide::At guided = scene.caustic_guide().at(sp.p, sp.ng);
+  if (c.roulette || c.have_lights) {
+    c.sampler.set_pair(c.pair);
+    s->u_choice = c.sampler.get2d_independent();
+  }
+  if (c.have_lights) diffuse_light_sample(c, m, sp, ns, origin, opacity, mix, mixture, guided, s->u_choice);
+  if (!diffuse_bounce(c, m, sp, ns, opacity, mix, mixture, guided, s)) return false;
+  c.path.ray.o = origin;
+  return true;
+}
+
+/// A general BSDF's light sample and direction (any material but smooth specular ones and
+/// untextured diffuse ones), with the caustic guide where the material follows it. Empty when
+/// the BSDF gives no direction.
+[[gnu::always_inline]] inline std::optional<BsdfSample> bsdf_sample_vertex(const VertexContext& c,
+                                                                           const RenderMaterial& m, const Hit& hit,
+                                                                           const SurfacePoint& sp,
+                                                                           const ShadingFrame& shading,
+                                                                           glm::vec3 wo_local, float opacity,
+                                                                           glm::vec2* u_choice) {
+  const Bsdf bsdf(bsdf_params(m, c.scene.textures(), texture_point(hit)));
+  // The caustic guide, as at an untextured diffuse vertex (diffuse_vertex), for the materials
+  // that follow it.
+  const CausticGuide& guide = c.scene.caustic_guide();
+  CausticGuide::At guided = guided_material(m) ? guide.at(sp.p, sp.ng) : CausticGuide::At{};
+  if (guided.cell >= 0 && m.type != MaterialType::diffuse) {
+    // The guide serves a plastic's or a principled surface's diffuse lobe, or a rough
+    // conductor's broad one: its share scaled (the same At for the light sample's MIS and
+    // the bounce, so any share is unbiased).
+    guided.probability *= bsdf.caustic_guide_share(wo_local);
+    if (!(guided.probability > 0)) guided = CausticGuide::At{};
+  }
+  if (c.roulette || (c.have_lights && bsdf.has_smooth_lobe())) {
+    c.sampler.set_pair(c.pair);
+    *u_choice = c.sampler.get2d_independent();
+  }
+  if (c.have_lights && bsdf.has_smooth_lobe()) {
+    const glm::vec2 u_light = pair_or_predrawn(c.sampler, c.pair + 1, c.predrawn ? &c.predrawn->light : nullptr);
+    const LightSample ls = c.scene.lights().sample(sp, u_choice->x, u_light, c.light_importance);
+    if (const std::optional<LightTerm> lt = light_term(bsdf, shading, wo_local, ls, m, sp, opacity, &guide, guided)) {
+      set_shadow_ray(offset_ray_origin(sp, ls.wi), ls, c.shadow);
+      c.shadow->contribution = glm::dvec3(c.path.beta) * glm::dvec3(lt->f) * glm::dvec3(ls.radiance) *
+                               (double(lt->w) / double(ls.pdf));
+      *c.has_shadow = true;
+    }
+  }
+  c.sampler.set_pair(c.pair + 3);
+  const float u_lobe = c.sampler.get2d_x();
+  const glm::vec2 u_bsdf = pair_or_predrawn(c.sampler, c.pair + 2, c.predrawn ? &c.predrawn->bsdf : nullptr);
+  if (guided.cell < 0) return bsdf.sample(wo_local, u_lobe, u_bsdf);
+  float unguided_pdf = 0;
+  const std::optional<BsdfSample> bs =
+      guided_bsdf_sample(bsdf, shading.frame, wo_local, u_lobe, u_bsdf, guide, guided, &unguided_pdf);
+  // Roulette weighs the throughput as the BSDF's own sample would have left it (as at an
+  // untextured diffuse vertex).
+  if (bs && !bs->delta && unguided_pdf > 0) c.path.eta_scale *= bs->pdf / unguided_pdf;
+  return bs;
+}
+
+/// Every material but an untextured diffuse one: the shading frame, a smooth specular lobe
+/// drawn directly or a general BSDF's light sample and direction, then the direction through
+/// the shading normal. False when the path ends here.
+[[gnu::always_inline]] inline bool bsdf_vertex(const VertexContext& c, const RenderMaterial& m, const Hit& hit,
+                                               const SurfacePoint& sp, glm::vec3 wo, float opacity, Scatter* s) {
+  PathState& path = c.path;
+  const ShadingFrame shading = shading_frame(hit, m, c.scene.textures(), c.scene.has_uv(), wo);
+  const glm::vec3 wo_local = shading.frame.to_local(wo);
+  std::optional<BsdfSample> bs;
+  if (smooth_specular(m)) {
+    // Delta lobes only: no light sample; the lobe choice from pair + 3's x, as for the general
+    // BSDFs (the direction pair is not drawn: these BSDFs ignore it, and every draw sets its
+    // pair).
+    if (c.roulette) {
+      c.sampler.set_pair(c.pair);
+      s->u_choice = c.sampler.get2d_independent();
+    }
+    c.sampler.set_pair(c.pair + 3);
+    bs = specular_sample(m, wo_local, c.sampler.get2d_x());
+  } else {
+    bs = bsdf_sample_vertex(c, m, hit, sp, shading, wo_local, opacity, &s->u_choice);
+  }
+  if (!bs) return false;
+  const std::optional<ScatteredDirection> out = scattered_direction(shading, *bs, m, sp);
+  if (!out) return false;
+  s->wi = out->wi;
+  path.beta *= bs->weight * out->perturbation;
+  s->bsdf_pdf = bs->pdf * opacity;
+  s->delta = bs->delta;
+  path.eta_scale *= bs->eta * bs->eta;
+  path.ray.o = offset_ray_origin(sp, s->wi);
+  return true;
+}
+
+/// After a surface scattered: roulette where it applies (sparing the first
+/// kFreeSpecularVertices delta vertices in a row), then the next ray along `s.wi` from
+/// path.ray.o. False when the path ends here.
+[[gnu::always_inline]] inline bool next_ray(PathState& path, const Scatter& s, const SurfacePoint& sp,
+                                            bool roulette) {
+  if (!(max_component(path.beta) > 0)) return false;
+  path.specular_run = s.delta ? path.specular_run + 1 : 0;
+  if (roulette && !(s.delta && path.specular_run <= kFreeSpecularVertices)) {
+    const float survival = std::min(max_component(path.beta) * path.eta_scale, kMaxSurvival);
+    if (s.u_choice.y >= survival) return false;
+    path.beta /= survival;
+  }
+  path.prev_delta = s.delta;
+  path.prev_pdf = s.bsdf_pdf;
+  path.prev_sp = sp;
+  path.ray.d = s.wi;
+  path.ray.t_max = std::numeric_limits<float>::infinity();
+  ++path.vertex;
+  return true;
+}
+
 }  // namespace path_vertex_detail
 
 /// Shades the vertex of `path` that its ray found: `hit` is the closest hit of path.ray
@@ -346,253 +637,65 @@ inline glm::vec2 pair_or_predrawn(PixelSampler& sampler, uint32_t pair, const gl
                                                MixtureInit init_mixture = nullptr,
                                                const PointImportance* light_importance = nullptr) {
   using namespace path_vertex_detail;
-  const LightSet& lights = scene.lights();
-  const TextureSet& textures = scene.textures();
-  const bool have_lights = !lights.empty();
   const int vertex = path.vertex;
-  Ray& ray = path.ray;
-  glm::dvec3& radiance = path.radiance;
-  glm::vec3& beta = path.beta;
   *has_shadow = false;
-
   if (!hit) {
-    if (lights.has_environment() && !(vertex == 0 && scene.hide_emitters())) {
-      const glm::vec3 le = lights.environment(ray.d);
-      const float w = environment_weight(lights, path.prev_delta, path.prev_pdf, path.prev_sp, ray.d);
-      radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
-    }
+    add_environment(scene, path);
     return false;
   }
-  const glm::vec3 wo = -ray.d;  // every ray the integrator spawns has a unit direction
+  const glm::vec3 wo = -path.ray.d;  // every ray the integrator spawns has a unit direction
   const Geometry& g = *hit->geometry;
-
   if (g.emitter >= 0) {
     if (vertex == 0 && scene.hide_emitters()) {
       // Mitsuba's hide_emitters: the camera ray goes on through the emitter, as if unseen
       // (the same vertex again).
-      ray.o = offset_ray_origin(hit->sp, ray.d);
-      ray.t_max = std::numeric_limits<float>::infinity();
+      pass_through(path.ray, *hit);
       return true;
     }
-    const glm::vec3 le = lights.emitted(g, hit->primitive, hit->uv, hit->sp.ng, wo);
-    if (le != glm::vec3(0.0f)) {
-      const float w = emitter_hit_weight(lights, path.prev_delta, path.prev_pdf, path.prev_sp, *hit);
-      radiance += glm::dvec3(beta) * glm::dvec3(le) * double(w);
-    }
+    add_emission(scene, path, *hit, wo);
   }
   // Vertex `vertex` closes segment vertex + 1; scattering here would add one more.
   if (max_depth >= 0 && vertex + 2 > max_depth) return false;
 
   // Each pair is drawn only where it is used (a pure function of its pair index, so the
   // numbers are the same as drawing all of them).
-  const uint32_t pair = kCameraPairs + kPairsPerVertex * uint32_t(vertex);
-  const bool roulette = vertex + 1 >= kRouletteVertex;
+  const VertexContext c{.scene = scene,
+                        .sampler = sampler,
+                        .path = path,
+                        .shadow = shadow,
+                        .has_shadow = has_shadow,
+                        .predrawn = predrawn,
+                        .init_mixture = init_mixture,
+                        .light_importance = light_importance,
+                        .pair = kCameraPairs + kPairsPerVertex * uint32_t(vertex),
+                        .roulette = vertex + 1 >= kRouletteVertex,
+                        .have_lights = !scene.lights().empty()};
   const RenderMaterial* m = &scene.material(g.material);
 
   // Mitsuba's mask: with probability 1 - opacity the hit is a null interaction, the path goes
-  // straight on (a vertex all the same, as in Mitsuba); shadow rays see the surface as opaque,
-  // and light through it arrives by this null scattering with full weight. Past this point the
-  // vertex was chosen with probability opacity, so its light sample and bounce are the nested
-  // material's, weighed by f alone (not opacity f: that would count opacity twice, an image
-  // darker by the factor opacity wherever it is fractional); the densities given to MIS
-  // (light sample here, BSDF hit at the next vertex) are both opacity times the nested
-  // material's, as Mitsuba's mask reports them, so the two weights still add to one.
+  // straight on (null_scatter); shadow rays see the surface as opaque, and light through it
+  // arrives by this null scattering with full weight. Past this point the vertex was chosen
+  // with probability opacity, so its light sample and bounce are the nested material's,
+  // weighed by f alone (not opacity f: that would count opacity twice, an image darker by the
+  // factor opacity wherever it is fractional); the densities given to MIS (light sample here,
+  // BSDF hit at the next vertex) are both opacity times the nested material's, as Mitsuba's
+  // mask reports them, so the two weights still add to one.
   float opacity = 1;
   if (m->masked()) {
-    opacity = opacity_at(*m, textures, *hit);
-    sampler.set_pair(pair + 3);
+    opacity = opacity_at(*m, scene.textures(), *hit);
+    sampler.set_pair(c.pair + 3);
     const glm::vec2 u_mask = sampler.get2d();
-    if (u_mask.y >= opacity) {
-      float survival = 1;
-      if (roulette) {
-        sampler.set_pair(pair);
-        survival = std::min(max_component(beta) * path.eta_scale, kMaxSurvival);
-        if (sampler.get2d_independent().y >= survival) return false;
-        beta /= survival;
-      }
-      path.prev_delta = true;
-      path.prev_sp = hit->sp;
-      ray.o = offset_ray_origin(hit->sp, ray.d);
-      ray.t_max = std::numeric_limits<float>::infinity();
-      ++path.vertex;
-      return true;
-    }
+    if (u_mask.y >= opacity) return null_scatter(c, *hit);
   }
 
   SurfacePoint sp = hit->sp;
   m = facing_material(scene, m, wo, sp, *hit);
   if (!m) return false;  // one-sided surfaces are black from behind
-
-  glm::vec2 u_choice(0.0f);
-  glm::vec3 wi;
-  float bsdf_pdf = 0;
-  bool sampled_delta = false;
-
-  if (m->type == MaterialType::diffuse && !m->textured) {
-    // The common case, with nothing of the other materials in its way: Lambertian, constant
-    // albedo. Both the shadow ray and the bounce leave on the front side.
-    const glm::vec3 ns = hit->ns;
-    const glm::vec3 origin = offset_ray_origin(sp, sp.ng);
-    // Bounces toward the scene's glass and mirrors (specular_targets.h): a scene without them
-    // pays this one branch.
-    TargetMixture mix;
-    const bool mixture = !scene.specular_targets().empty() &&
-                         (init_mixture ? init_mixture(mix, scene.specular_targets(), sp.p, ns)
-                                       : mix.init(scene.specular_targets(), sp.p, ns));
-    // Bounces along the caustics (caustic_guide.h): with the cell's probability where the guide
-    // has a cell, the rest as above. A scene without one pays the empty() test.
-    const CausticGuide& guide = scene.caustic_guide();
-    const CausticGuide::At guided = guide.at(sp.p, sp.ng);
-    if (roulette || have_lights) {
-      sampler.set_pair(pair);
-      u_choice = sampler.get2d_independent();
-    }
-    if (have_lights) {
-      const glm::vec2 u_light =
-          pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
-      const LightSample ls = lights.sample(sp, u_choice.x, u_light, light_importance);
-      if (ls.pdf > 0) {
-        const float cos_surface = glm::dot(ns, ls.wi);
-        if (cos_surface > 0 && glm::dot(sp.ng, ls.wi) > 0 && ls.radiance != glm::vec3(0.0f)) {
-          // The bounce's density toward ls.wi: the mixture's when it has cones here.
-          const float w =
-              ls.delta            ? 1.0f
-              : guided.cell >= 0 ? mis_weight(ls.pdf, guide.mixed_pdf(guided,
-                                                                      mixture ? mix.pdf(ls.wi, cos_surface)
-                                                                              : cos_surface * kInvPi,
-                                                                      ls.wi) *
-                                                          opacity)
-              : mixture          ? mis_weight(ls.pdf, mix.pdf(ls.wi, cos_surface) * opacity)
-                                 : mis_weight(ls.pdf, cos_surface * (opacity * kInvPi));
-          set_shadow_ray(origin, ls, shadow);
-          // (albedo / pi) cos Le / pdf, in double so tiny, bright lights cannot overflow.
-          shadow->contribution = glm::dvec3(beta) * glm::dvec3(m->albedo) * glm::dvec3(ls.radiance) *
-                                 (double(cos_surface) * double(kInvPi) * double(w) / double(ls.pdf));
-          *has_shadow = true;
-        }
-      }
-    }
-    const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
-    if (!mixture && guided.cell < 0) {
-      // The cosine-weighted direction in the normal's frame, warped lane-wise with the pair when
-      // the kernel drew it.
-      const glm::vec3 local = predrawn ? predrawn->bsdf_cosine : square_to_cosine_hemisphere(u_bsdf);
-      wi = Frame(ns).to_world(local);
-      if (glm::dot(wi, sp.ng) <= 0) return false;
-      beta *= m->albedo;  // f * cos / pdf = (albedo / pi) * cos / (cos / pi)
-      bsdf_pdf = local.z * kInvPi * opacity;
-    } else {
-      // The strategy from pair + 3's x, which this path leaves free (a mask takes its y): the
-      // guide below the cell's probability (the number over it picks the bin), else the mixture
-      // (or the cosine where there are no cones) with the rest rescaled.
-      sampler.set_pair(pair + 3);
-      float u_strategy = sampler.get2d_x();
-      int bin = -1, cone = -1;
-      if (guided.cell >= 0) {
-        if (u_strategy < guided.probability) {
-          wi = guide.sample(guided.cell, u_strategy / guided.probability, u_bsdf, &bin);
-        } else {
-          u_strategy = CausticGuide::other_strategy(u_strategy, guided.probability);
-        }
-      }
-      if (bin < 0) {
-        cone = mixture ? mix.choose(u_strategy) : -1;
-        wi = cone >= 0  ? mix.sample_cone(cone, u_bsdf)
-             : predrawn ? Frame(ns).to_world(predrawn->bsdf_cosine)
-                        : Frame(ns).to_world(square_to_cosine_hemisphere(u_bsdf));
-      }
-      const float cos_n = glm::dot(wi, ns);
-      if (!(cos_n > 0) || glm::dot(wi, sp.ng) <= 0) return false;
-      const float unguided = mixture ? mix.pdf(wi, cos_n, cone) : cos_n * kInvPi;
-      const float pdf = guided.cell < 0 ? unguided : guide.mixed_pdf(guided, unguided, wi, bin);
-      beta *= m->albedo * (cos_n * kInvPi / pdf);  // f cos / pdf_mix, f = albedo / pi
-      bsdf_pdf = pdf * opacity;
-      // Russian roulette weighs the throughput as the cosine sample would have left it: a
-      // bounce toward a target carries a small beta by design, and ending it for that would
-      // undo what aiming it gained (measured: docs/renderer.md).
-      path.eta_scale *= pdf / (cos_n * kInvPi);
-    }
-    ray.o = origin;
-  } else {
-    const ShadingFrame shading = shading_frame(*hit, *m, textures, scene.has_uv(), wo);
-    const glm::vec3 wo_local = shading.frame.to_local(wo);
-    std::optional<BsdfSample> bs;
-    if (smooth_specular(*m)) {
-      // Delta lobes only: no light sample; the lobe choice from pair + 3's x, as below (the
-      // direction pair is not drawn: these BSDFs ignore it, and every draw sets its pair).
-      if (roulette) {
-        sampler.set_pair(pair);
-        u_choice = sampler.get2d_independent();
-      }
-      sampler.set_pair(pair + 3);
-      bs = specular_sample(*m, wo_local, sampler.get2d_x());
-    } else {
-      const Bsdf bsdf(bsdf_params(*m, textures, texture_point(*hit)));
-      // The caustic guide, as at an untextured diffuse vertex (above), for the materials that
-      // follow it.
-      const CausticGuide& guide = scene.caustic_guide();
-      CausticGuide::At guided = guided_material(*m) ? guide.at(sp.p, sp.ng) : CausticGuide::At{};
-      if (guided.cell >= 0 && m->type != MaterialType::diffuse) {
-        // The guide serves a plastic's or a principled surface's diffuse lobe, or a rough
-        // conductor's broad one: its share scaled (the same At for the light sample's MIS and
-        // the bounce, so any share is unbiased).
-        guided.probability *= bsdf.caustic_guide_share(wo_local);
-        if (!(guided.probability > 0)) guided = CausticGuide::At{};
-      }
-      if (roulette || (have_lights && bsdf.has_smooth_lobe())) {
-        sampler.set_pair(pair);
-        u_choice = sampler.get2d_independent();
-      }
-      if (have_lights && bsdf.has_smooth_lobe()) {
-        const glm::vec2 u_light =
-            pair_or_predrawn(sampler, pair + 1, predrawn ? &predrawn->light : nullptr);
-        const LightSample ls = lights.sample(sp, u_choice.x, u_light, light_importance);
-        if (const std::optional<LightTerm> lt =
-                light_term(bsdf, shading, wo_local, ls, *m, sp, opacity, &guide, guided)) {
-          set_shadow_ray(offset_ray_origin(sp, ls.wi), ls, shadow);
-          shadow->contribution = glm::dvec3(beta) * glm::dvec3(lt->f) * glm::dvec3(ls.radiance) *
-                                 (double(lt->w) / double(ls.pdf));
-          *has_shadow = true;
-        }
-      }
-      sampler.set_pair(pair + 3);
-      const float u_lobe = sampler.get2d_x();
-      const glm::vec2 u_bsdf = pair_or_predrawn(sampler, pair + 2, predrawn ? &predrawn->bsdf : nullptr);
-      if (guided.cell < 0) {
-        bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
-      } else {
-        float unguided_pdf = 0;
-        bs = guided_bsdf_sample(bsdf, shading.frame, wo_local, u_lobe, u_bsdf, guide, guided, &unguided_pdf);
-        // Roulette weighs the throughput as the BSDF's own sample would have left it (as at an
-        // untextured diffuse vertex).
-        if (bs && !bs->delta && unguided_pdf > 0) path.eta_scale *= bs->pdf / unguided_pdf;
-      }
-    }
-    if (!bs) return false;
-    const std::optional<ScatteredDirection> out = scattered_direction(shading, *bs, *m, sp);
-    if (!out) return false;
-    wi = out->wi;
-    beta *= bs->weight * out->perturbation;
-    bsdf_pdf = bs->pdf * opacity;
-    sampled_delta = bs->delta;
-    path.eta_scale *= bs->eta * bs->eta;
-    ray.o = offset_ray_origin(sp, wi);
-  }
-  if (!(max_component(beta) > 0)) return false;
-
-  path.specular_run = sampled_delta ? path.specular_run + 1 : 0;
-  if (roulette && !(sampled_delta && path.specular_run <= kFreeSpecularVertices)) {
-    const float survival = std::min(max_component(beta) * path.eta_scale, kMaxSurvival);
-    if (u_choice.y >= survival) return false;
-    beta /= survival;
-  }
-  path.prev_delta = sampled_delta;
-  path.prev_pdf = bsdf_pdf;
-  path.prev_sp = sp;
-  ray.d = wi;
-  ray.t_max = std::numeric_limits<float>::infinity();
-  ++path.vertex;
-  return true;
+  Scatter s;
+  const bool scattered = m->type == MaterialType::diffuse && !m->textured
+                             ? diffuse_vertex(c, *m, *hit, sp, opacity, &s)
+                             : bsdf_vertex(c, *m, *hit, sp, wo, opacity, &s);
+  return scattered && next_ray(path, s, sp, c.roulette);
 }
 
 }  // namespace tessera
