@@ -67,8 +67,8 @@ TEST_P(WhiteFurnace, ConvergesToEmissionOverOneMinusAlbedo) {
   // sphere), so the estimator is nearly noise-free. In a box, light points near an edge of the
   // shading face make 1/d^2 heavy-tailed: unbiased, but it needs many more samples.
   // Albedo 0.8 makes paths long and their length (roulette) noisy: at 512 spp the image mean
-  // strays past 1 % for about 1 in 5 seeds and some pixel past 6 % for most (measured with main
-  // cf0ed90's sampler and branch lights6's alike, 24 seeds), so it takes 4096.
+  // strays past 1 % for about 1 in 5 seeds and some pixel past 6 % for most (measured with two
+  // samplers alike, 24 seeds), so it takes 4096.
   const uint32_t spp = c.sphere ? (c.albedo >= 0.8 ? 4096 : 512) : 16384;
   const double pixel_tolerance = c.sphere ? 0.06 : 0.12;
   const Renderer renderer(s, small_job(4, 4, spp));

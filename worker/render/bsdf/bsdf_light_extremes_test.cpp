@@ -172,9 +172,8 @@ struct MaterialCase {
   /// texels may be black, so only the image mean must be > 0.
   bool black_allowed = false;
   /// Samples per pixel of the stage render. 16 leaves a pixel black by chance where few
-  /// directions get light back (a normal-mapped anisotropic conductor: at 16 spp 10 of seeds
-  /// 1-16 gave a black pixel with main cf0ed90's sampler and 11 with branch lights6's, at 64
-  /// spp none), so such a case takes more, asserting the same.
+  /// directions get light back (a normal-mapped anisotropic conductor: at 16 spp 10 or 11 of
+  /// seeds 1-16 gave a black pixel, by the sampler, at 64 spp none), so such a case takes more, asserting the same.
   int stage_spp = 16;
 };
 

@@ -56,8 +56,8 @@ TEST(Camera, RaysMatchMitsubasSensors) {
 // the same sensor with a film of that size does, as Mitsuba frames a film of that size: a
 // diagonal field of view (and focal_length, Mitsuba's default, a diagonal angle) becomes the
 // horizontal one for the image's aspect, an orthographic view's height follows the aspect.
-// Until session 20 both were fixed at the scene's film's aspect: rendered 96 x 32 from a
-// 64 x 48 film, a default-lens view came out 16 % narrower than Mitsuba's (docs/mitsuba.md).
+// Fixed at the scene's film's aspect instead, a default-lens view rendered 96 x 32 from a
+// 64 x 48 film would come out 16 % narrower than Mitsuba's (docs/mitsuba.md).
 TEST(Camera, AnotherImageSizeFramesAsAFilmOfThatSize) {
   const auto sensor = [](const std::string& lens, int width, int height) {
     return std::string("<sensor type=\"") + (lens == "ortho" ? "orthographic" : "perspective") + "\">" +

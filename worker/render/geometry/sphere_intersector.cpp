@@ -82,7 +82,7 @@ void sphere_bounds(const RTCBoundsFunctionArguments* args) {
 // (worker/render/scene/packet_tracer.h), lanes switched off by valid[i] == 0; each lane is solved
 // alone, with the same double-precision arithmetic whatever N is. Only the fields the solve
 // needs are read (not rtcGetRayFromRayN's whole ray: the callbacks are 6 % of a render of
-// the hexroom, issue 13).
+// the hexroom).
 void sphere_intersect(const RTCIntersectFunctionNArguments* args) {
   const auto* s = static_cast<const Geometry*>(args->geometryUserPtr);
   const unsigned N = args->N;

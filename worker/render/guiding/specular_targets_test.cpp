@@ -393,7 +393,7 @@ TEST(SpecularTargets, GlassSceneMeanIsTheSameWithAndWithoutTheMixture) {
 }
 
 /// The mixture's cones by the per-cone scalar loop TargetMixture::init had before it went four
-/// lanes at a time (branch shade14): the specification its lanes must match bit for bit.
+/// lanes at a time: the specification its lanes must match bit for bit.
 struct ScalarMixture {
   struct Cone {
     glm::vec3 axis;

@@ -77,7 +77,7 @@ class TargetMixture {
     // the scalar loop it replaces (the cone's numbers are the same operations on the same
     // values, so the same bits: SpecularTargets.ConesFourAtATimeAreTheScalarLoopsBits; the
     // scalar loop's branches cost hexroom 827 instructions a call, BENCHMARKS.md, "Cost per
-    // sample, branch shade14"). r^2 precomputed per scene, one square root and one division
+    // sample"). r^2 precomputed per scene, one square root and one division
     // for the axis, and no division for the density (p_k / solid_angle_k reduces to
     // kMassFactor cos(axis) scale / pi).
     using namespace float4;
@@ -245,7 +245,7 @@ class TargetMixture {
   /// past kMaxCones), q_k added in cone order as the lane loop adds them, so the same bits;
   /// the lane loop that extracted each kept lane was about 3-4 % of hexroom's and
   /// cornell-sphere's samples in a `perf` profile (BENCHMARKS.md, "Cost per sample against
-  /// Mitsuba's, by depth (issue 13, session 19)").
+  /// Mitsuba's, by depth").
   template <class V, class M>
   [[gnu::always_inline]] void append(unsigned bits, V ax, V ay, V az, V one_minus_cos, V mass_cos, V qk,
                                      float* mass_cos_out, float* q_out, float* sum_p) {

@@ -1,6 +1,6 @@
 // Closest-hit and occlusion queries for many rays at once, through Embree's ray packets
 // (rtcIntersect4/8/16, rtcOccluded4/8/16): the geometry half of a wavefront or packet
-// integrator (issue 13). It only reads an Embree scene built elsewhere (TraceableScene's).
+// integrator. It only reads an Embree scene built elsewhere (TraceableScene's).
 #pragma once
 
 #include <cstddef>
