@@ -4,11 +4,11 @@
 An exact trace (vector refraction at the sphere, the Fresnel choices as the path tracer makes
 them, up to two internal reflections) of the light that diffuse points on the floor around each
 glass sphere receive from the scene's area lamps through it, and the variance of the one-sample
-bounce estimate of that light under the bounce mixture of worker/render/guiding/target_mixture.h, with
-the scene's targets and lamp images built as worker/render/guiding/specular_targets.cpp builds them (the
-same formulas and rules, in numpy double), and with candidate models of the lens in their place
-(MODELS). docs/renderer.md and BENCHMARKS.md, "Tried, and why not" (images of the ball lens's
-zones: measured, not built).
+bounce estimate of that light under the bounce mixture of
+worker/render/guiding/target_mixture.h, with the scene's targets and lamp images built as
+worker/render/guiding/specular_targets.cpp builds them (the same formulas and rules, in numpy
+double), and with candidate models of the lens in their place (MODELS). docs/renderer.md and
+BENCHMARKS.md, "Tried, and why not" (images of the ball lens's zones: measured, not built).
 
 Prints, per (lamp, glass sphere): the paraxial image's distance and, for rays from the lamp's
 centre at impact parameters b (the line's distance from the centre, the same on both sides of
@@ -166,7 +166,7 @@ def hit_lamps(o, w, lamps):
     return L, which
 
 
-# --- the sources of worker/render/guiding/specular_targets.cpp -------------------------------------------
+# --- the sources of worker/render/guiding/specular_targets.cpp ------------------------------------
 
 def source(center, r, gate_n, gate_off, win_c, win_r, mass, always, band=None):
     return dict(c=np.asarray(center, float), r=float(r), g=np.asarray(gate_n, float), go=float(gate_off),
