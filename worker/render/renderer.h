@@ -94,8 +94,8 @@ class Renderer {
   PixelFilterSampler filter_;  ///< draws each camera sample's film position (Scene::film.filter)
   /// Each thread's buffers for render_wavefront's groups (renderer.cpp), kept for the
   /// renderer's life: allocated per group they cost the Cornell box about a tenth of its render
-  /// time in page faults, reallocations and the kernel's unmapping (BENCHMARKS.md, "The
-  /// wavefront groups' buffers, once per thread").
+  /// time in page faults, reallocations and the kernel's unmapping (docs/renderer.md, "The
+  /// wavefront's hot path").
   struct Scratch;
   std::unique_ptr<Scratch> scratch_;
 };

@@ -76,8 +76,8 @@ class TargetMixture {
     // every test computed lane-wise, and its cone kept where all of them pass, in the order of
     // the scalar loop it replaces (the cone's numbers are the same operations on the same
     // values, so the same bits: SpecularTargets.ConesFourAtATimeAreTheScalarLoopsBits; the
-    // scalar loop's branches cost hexroom 827 instructions a call, BENCHMARKS.md, "Cost per
-    // sample"). r^2 precomputed per scene, one square root and one division
+    // scalar loop's branches cost hexroom 827 instructions a call, BENCHMARKS.md, "Instructions
+    // per sample"). r^2 precomputed per scene, one square root and one division
     // for the axis, and no division for the density (p_k / solid_angle_k reduces to
     // kMassFactor cos(axis) scale / pi).
     using namespace float4;

@@ -34,7 +34,7 @@ inline TexturePoint texture_point(const Hit& hit) {
 /// (BSDF lobe, mask). Pair 0 is an independent hash; pair 3 is a Sobol pair like 1 and 2: a
 /// smooth dielectric's reflect-or-refract choice is its only random decision, and drawn from
 /// an independent hash it raised cornell-sphere's 64-spp RMSE by 8 % (0.0410 -> 0.0438, seeds
-/// 0-2; BENCHMARKS.md, "Error per sample: the lobe choice").
+/// 0-2; docs/renderer.md, "BSDFs").
 constexpr uint32_t kPairsPerVertex = 4;
 /// Russian roulette starts at this vertex (0 = the camera ray's hit).
 constexpr int kRouletteVertex = 3;
@@ -44,8 +44,8 @@ constexpr float kMaxSurvival = 0.95f;
 /// about three quarters of cornell-sphere's and hexroom's variance) was rouletted at the glass
 /// with survival of about the diffuse albedo, which multiplied those rare, bright samples by
 /// 1 / albedo. Past this many in a row roulette applies again, so a path trapped by total
-/// internal reflection (throughput 1) still ends. Measured: BENCHMARKS.md, "Where the glass
-/// scenes' error lives".
+/// internal reflection (throughput 1) still ends. Measured: docs/renderer.md, "Light
+/// transport" (where the glass scenes' error lives).
 constexpr int kFreeSpecularVertices = 4;
 
 inline float max_component(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
@@ -270,7 +270,7 @@ inline bool smooth_specular(const RenderMaterial& m) {
 /// for bit: the BSDF built from the material's constants as bsdf_params would pass them
 /// (material.cpp), and Bsdf::sample's check of the result (bsdf.cpp). The general path built a
 /// BsdfParams (every material's fields) and a variant per glass or mirror vertex: about 360
-/// instructions of the vertex (BENCHMARKS.md, "Cost per sample").
+/// instructions of the vertex (BENCHMARKS.md, "Instructions per sample").
 inline std::optional<BsdfSample> specular_sample(const RenderMaterial& m, glm::vec3 wo, float u_lobe) {
   return checked_sample(
       m.type == MaterialType::glass

@@ -18,8 +18,8 @@ inline constexpr double kPiD = 3.14159265358979323846;
 /// (sinf.c, cosf.c: within about 1 ulp of the exact values there). Ours rather than libm's
 /// sinf/cosf so that every caller, scalar or lane-wise, and every kernel instruction set gets the
 /// same bits from plain IEEE multiplies and adds (-ffp-contract=off: no fused multiply-add), and
-/// so that the hot cosine-weighted direction needs no call into libm (BENCHMARKS.md, "Cost per
-/// sample, cost8"). A template so that the wavefront kernels' lane-wise copy (F a GCC vector of
+/// so that the hot cosine-weighted direction needs no call into libm (docs/renderer.md, "Random
+/// numbers"). A template so that the wavefront kernels' lane-wise copy (F a GCC vector of
 /// floats: wavefront/wavefront_kernel.inc) runs this very expression, operation for operation.
 template <typename F>
 [[gnu::always_inline]] inline void sincos_quarter_pi(F x, F* sin_x, F* cos_x) {
