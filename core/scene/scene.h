@@ -1,7 +1,7 @@
 // The editable scene description: what a scene file says, resolved to world space.
 //
 // This is the description, not the render-ready scene: the worker turns it
-// into an immutable Embree scene (worker/render/traceable_scene.h). Everything here is plain data
+// into an immutable Embree scene (worker/render/scene/traceable_scene.h). Everything here is plain data
 // so that the server and the client can parse and validate scenes without linking the renderer.
 #pragma once
 
