@@ -7,6 +7,8 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include "render/math/float_rounding.h"
+
 namespace tessera {
 namespace {
 
@@ -75,16 +77,6 @@ double refine_root(const Cubic& c, double lo, double hi, double f_lo, double f_h
     if (done) break;
   }
   return s;
-}
-
-float round_down(double x) {
-  const float f = float(x);
-  return double(f) > x ? std::nextafter(f, -INFINITY) : f;
-}
-
-float round_up(double x) {
-  const float f = float(x);
-  return double(f) < x ? std::nextafter(f, INFINITY) : f;
 }
 
 /// The box of the surface within a voxel with corner values f, in local [0, 1]^3 coordinates:

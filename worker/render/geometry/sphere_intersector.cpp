@@ -5,6 +5,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "render/math/float_rounding.h"
+
 namespace tessera {
 
 namespace {
@@ -45,16 +47,6 @@ bool intersect_sphere(const glm::dvec3& center, double radius, const glm::dvec3&
 }
 
 namespace {
-
-float round_down(double x) {
-  const float f = float(x);
-  return double(f) > x ? std::nextafter(f, -INFINITY) : f;
-}
-
-float round_up(double x) {
-  const float f = float(x);
-  return double(f) < x ? std::nextafter(f, INFINITY) : f;
-}
 
 void sphere_bounds(const RTCBoundsFunctionArguments* args) {
   const auto* s = static_cast<const Geometry*>(args->geometryUserPtr);

@@ -12,17 +12,17 @@
 namespace tessera {
 namespace {
 
-struct Reference {
+struct ProjectorReference {
   glm::vec3 p;         ///< world point
   glm::vec3 radiance;  ///< what Mitsuba's projector sends to it
 };
 
 #define TEXTURED_PROJECTOR
-const Reference kTextured[] = {
+const ProjectorReference kTextured[] = {
 #include "render/light/mitsuba_projector_reference.inc"
 };
 #undef TEXTURED_PROJECTOR
-const Reference kConstant[] = {
+const ProjectorReference kConstant[] = {
 #include "render/light/mitsuba_projector_reference.inc"
 };
 
@@ -39,7 +39,7 @@ Light textured_projector() {
   return l;
 }
 
-void expect_matches(const ProjectorLight& light, const Reference& r) {
+void expect_matches(const ProjectorLight& light, const ProjectorReference& r) {
   const LightSample s = light.sample(r.p);
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(s.radiance[c], r.radiance[c], 2e-4f * r.radiance[c] + 1e-6f)
@@ -58,7 +58,7 @@ TEST(ProjectorLight, TexturedImageMatchesMitsuba) {
     return textures.lookup(texture, uv);
   });
   int lit = 0;
-  for (const Reference& r : kTextured) {
+  for (const ProjectorReference& r : kTextured) {
     expect_matches(light, r);
     lit += r.radiance.x > 0;
   }
@@ -74,7 +74,7 @@ TEST(ProjectorLight, ConstantIrradianceMatchesMitsuba) {
   l.fov_x_deg = 60;
   l.aspect = 1;  // Mitsuba: a constant's resolution is 1 x 1
   const ProjectorLight light(l);
-  for (const Reference& r : kConstant) expect_matches(light, r);
+  for (const ProjectorReference& r : kConstant) expect_matches(light, r);
   // On the image plane z = 1 facing it, the irradiance is pi * value (Mitsuba's convention).
   const LightSample s = light.sample({0.2f, -0.1f, 1.0f});
   const float cos_surface = -s.wi.z;  // the plane faces the projector: normal -z

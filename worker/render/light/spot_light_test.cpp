@@ -13,12 +13,12 @@
 namespace tessera {
 namespace {
 
-struct Reference {
+struct SpotReference {
   glm::vec3 p;         ///< world point
   glm::vec3 radiance;  ///< what Mitsuba's spot sends to it
 };
 
-const Reference kMitsuba[] = {
+const SpotReference kMitsuba[] = {
 #include "render/light/mitsuba_spot_reference.inc"
 };
 
@@ -39,7 +39,7 @@ TEST(SpotLight, TextureOverTheConeMatchesMitsuba) {
   const TextureSet textures = test::reference_light_texture("spot", "spot.exr");
   const SpotLight spot(reference_spot(),
                        [&](int32_t texture, glm::vec2 uv) { return textures.lookup(texture, uv); });
-  for (const Reference& r : kMitsuba) {
+  for (const SpotReference& r : kMitsuba) {
     const LightSample s = spot.sample(r.p);
     for (int c = 0; c < 3; ++c) {
       // float32 in both; the falloff's acos and the frame's rotation round differently.
