@@ -490,12 +490,14 @@ namespace {
               " (a .pbsdf polarimetric BRDF tensor measured in five wavelength bands)");
 }
 
-/// A BSDF as a cycle's message names it: its id, else its type and line.
+/// A BSDF's name: its id, else its type and where it is ("diffuse (scene.xml line 12)"). The
+/// material takes it, and a cycle's message names its BSDFs by it.
 std::string bsdf_name(const MitsubaElement& bsdf) {
   const std::string* id = bsdf.attribute("id");
-  if (id && !id->empty()) return "\"" + printable(*id) + "\"";
+  if (id && !id->empty()) return *id;
   const std::string* type = bsdf.attribute("type");
-  return (type ? printable(*type) : std::string("bsdf")) + " at line " + std::to_string(bsdf.line);
+  return (type ? *type : std::string("bsdf")) + " (" + bsdf.file + " line " +
+         std::to_string(bsdf.line) + ")";
 }
 
 }  // namespace
@@ -505,8 +507,11 @@ Material MitsubaMaterials::read(const MitsubaElement& bsdf) {
   auto repeat = std::find(reading_.begin(), reading_.end(), &bsdf);
   if (repeat != reading_.end()) {
     std::string cycle;
-    for (auto it = repeat; it != reading_.end(); ++it) cycle += bsdf_name(**it) + " -> ";
-    fail_at(bsdf, "contains itself through <ref> (" + cycle + bsdf_name(bsdf) + ")");
+    for (auto it = repeat; it != reading_.end(); ++it) {
+      cycle += "\"" + printable(bsdf_name(**it)) + "\" -> ";
+    }
+    fail_at(bsdf, "contains itself through <ref> (" + cycle + "\"" + printable(bsdf_name(bsdf)) +
+                      "\")");
   }
   if (reading_.size() >= size_t(kMaxMitsubaElementDepth)) {
     fail_at(bsdf, "BSDFs nested more than " + std::to_string(kMaxMitsubaElementDepth) +
@@ -571,16 +576,7 @@ uint32_t MitsubaMaterials::add_named(Material material, const std::string& name)
 }
 
 uint32_t MitsubaMaterials::add(Material material, const MitsubaElement& bsdf) {
-  std::string name;
-  const std::string* id = bsdf.attribute("id");
-  if (id && !id->empty()) {
-    name = *id;
-  } else {
-    const std::string* type = bsdf.attribute("type");
-    name = (type ? *type : std::string("bsdf")) + " (" + bsdf.file + " line " +
-           std::to_string(bsdf.line) + ")";
-  }
-  return add_named(std::move(material), name);
+  return add_named(std::move(material), bsdf_name(bsdf));
 }
 
 uint32_t MitsubaMaterials::of(const MitsubaElement& bsdf) {
