@@ -7,7 +7,7 @@
 namespace tessera::server {
 
 Scheduler::OrderKey Scheduler::order_key(const Job& j) {
-  return {-j.priority, j.submitted_unix_ms, j.id};
+  return {-int64_t{j.priority}, j.submitted_unix_ms, j.id};
 }
 
 void Scheduler::set_block_policy(int failures_to_block, int64_t forgive_ms) {

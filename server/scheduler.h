@@ -97,7 +97,8 @@ class Scheduler {
     std::set<std::pair<uint32_t, uint32_t>> open;
     std::set<Requeued> requeued;
   };
-  using OrderKey = std::tuple<int, int64_t, int64_t>;  ///< (-priority, submitted, id)
+  /// (-priority, submitted, id); the priority negated in 64 bits, where INT_MIN's negation fits.
+  using OrderKey = std::tuple<int64_t, int64_t, int64_t>;
   static OrderKey order_key(const Job& j);
 
   bool eligible(const State& s, uint32_t tile) const;

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <set>
 
 #include "store_fixture.h"
@@ -45,6 +46,17 @@ TEST(SchedulerPolicy, JobsByPriorityThenAgeThenId) {
   for (const Scheduler::Pick& p : s.pick(/*worker=*/7, /*now=*/100, 10)) jobs.push_back(p.job_id);
   EXPECT_EQ(jobs, (std::vector<int64_t>{3, 4, 2, 1}));
   EXPECT_TRUE(s.pick(7, 100, 10).empty());
+}
+
+TEST(SchedulerPolicy, TheLowestPriorityRunsLastAndTheHighestFirst) {
+  // The order negates the priority: in 32 bits INT_MIN's negation overflowed and ran it first.
+  Scheduler s;
+  s.put_job(policy_job(1, 1, 1, std::numeric_limits<int>::min(), 0));
+  s.put_job(policy_job(2, 1, 1, 0, 10));
+  s.put_job(policy_job(3, 1, 1, std::numeric_limits<int>::max(), 20));
+  std::vector<int64_t> jobs;
+  for (const Scheduler::Pick& p : s.pick(/*worker=*/7, /*now=*/100, 10)) jobs.push_back(p.job_id);
+  EXPECT_EQ(jobs, (std::vector<int64_t>{3, 2, 1}));
 }
 
 TEST(SchedulerPolicy, APriorityChangeReorders) {
