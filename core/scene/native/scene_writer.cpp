@@ -701,7 +701,7 @@ std::string block(size_t count, char open, char close, F item) {
 
 std::string write_scene_json(const Scene& scene, const std::string& comment) {
   std::string out;
-  if (!comment.empty()) out += "// " + valid_utf8(printable(comment)) + "\n";
+  if (!comment.empty()) out += "// " + valid_utf8(printable_whole(comment)) + "\n";
   out += "{\n  \"tessera\": 1,\n";
   Names names{unique_names(scene.textures, "texture"), unique_names(scene.materials, "material"),
               unique_names(scene.groups, "group"), unique_names(scene.media, "medium")};
