@@ -9,6 +9,7 @@
 
 #include "cli/output_path.h"
 #include "json_view.h"
+#include "scene/native/json_value.h"
 #include "progress_view.h"
 
 namespace tessera::client {
@@ -42,11 +43,9 @@ void add_json_flag(CLI::App* command, GlobalOptions& g) {
 void add_job_argument(CLI::App* command, uint64_t& job_id) {
   const CLI::Validator job_id_text(
       [](std::string& text) -> std::string {
-        if (!text.empty() && text.find_first_not_of("-0123456789") == std::string::npos &&
-            text.find('-', 1) == std::string::npos) {
-          return {};
-        }
-        return "must be a job id, a whole number (got \"" + text + "\")";
+        // Digits only: CLI11 would read "-5" into the unsigned id as 2^64 - 5.
+        if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos) return {};
+        return "must be a job id, a whole number (got \"" + printable(text) + "\")";
       },
       "JOB");
   command->add_option("job", job_id, "Job id")->required()->check(job_id_text);

@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "cli/define_option.h"
 #include "command_support.h"
 #include "job/job_flags.h"
 #include "job/job_options.h"
@@ -81,9 +82,7 @@ Command add_submit_command(CLI::App& app, GlobalOptions& g) {
   cmd->add_option("--root", s->root,
                   "Bundle root: the folder every file the scene names must be in (default: the "
                   "common folder of them all)");
-  cmd->add_option("-D", s->defines,
-                  "name=value: the Mitsuba scene's parameter $name, overriding its "
-                  "<default> (repeatable)");
+  cli::add_define_option(cmd, s->defines);
   add_job_override_flags(cmd, s->overrides);
   cmd->add_option("--priority", s->priority, "Higher runs first (default 0)");
   cmd->add_flag("--wait", s->wait, "Follow the job until it ends (progress on stderr)");

@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "accum/film.h"
+#include "cli/define_option.h"
 #include "cli/host_port.h"
 #include "cli/output_path.h"
 #include "cli/usage_exit.h"
@@ -197,9 +198,6 @@ int run_convert(const ConvertArgs& args) {
   return 0;
 }
 
-constexpr const char* kDefineHelp =
-    "name=value: the Mitsuba scene's parameter $name, overriding its <default> (repeatable)";
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -213,7 +211,7 @@ int main(int argc, char** argv) {
       "render", "Render a scene locally through the farm's tile/batch/merge path");
   render_cmd->add_option("scene", render.scene, "Scene file: Tessera JSON (.json) or Mitsuba 3 XML (.xml)")->required();
   render_cmd->add_option("--root", render.root, "Bundle root: the folder every file the scene names must be in (default: the common folder of them all)");
-  render_cmd->add_option("-D", render.defines, kDefineHelp);
+  tessera::cli::add_define_option(render_cmd, render.defines);
   render_cmd->add_option("-o,--output", render.outputs, "Output image(s): .exr (linear float) or .png (sRGB)")
       ->required();
   tessera::add_job_override_flags(render_cmd, render.overrides);
@@ -235,7 +233,7 @@ int main(int argc, char** argv) {
       "convert", "Convert a scene (Mitsuba 3 .xml, or .json) to Tessera's native JSON");
   convert_cmd->add_option("scene", convert.scene, "Scene file (.xml or .json)")->required();
   convert_cmd->add_option("--root", convert.root, "Bundle root: the folder every file the scene names must be in (default: the common folder of them all)");
-  convert_cmd->add_option("-D", convert.defines, kDefineHelp);
+  tessera::cli::add_define_option(convert_cmd, convert.defines);
   convert_cmd->add_option("-o,--output", convert.output, "Output scene (.json)")->required();
 
   tessera::ConvergeCommand converge;

@@ -200,13 +200,16 @@ TEST(StoppingRuleE2E, BadRulesAreRefusedNamingTheFlag) {
   }
   // A job id that is not a number is a usage error naming the argument; a folder given as the
   // scene is named for what it is (exit 1: the command line parsed, the file is wrong).
-  for (const char* command : {"status", "get", "cancel", "delete", "watch"}) {
-    std::vector<std::string> args = {command, "abc"};
-    if (std::string(command) == "get") args.insert(args.end(), {"-o", "x.png"});
-    const CommandResult r = farm.cli(args);
-    EXPECT_EQ(r.exit_code, 2) << command;
-    EXPECT_NE(r.err.find("job: must be a job id, a whole number (got \"abc\")"), std::string::npos)
-        << r.err;
+  for (const std::string id : {"abc", "-5"}) {
+    for (const char* command : {"status", "get", "cancel", "delete", "watch"}) {
+      std::vector<std::string> args = {command, id};
+      if (std::string(command) == "get") args.insert(args.end(), {"-o", "x.png"});
+      const CommandResult r = farm.cli(args);
+      EXPECT_EQ(r.exit_code, 2) << command << " " << id;
+      EXPECT_NE(r.err.find("job: must be a job id, a whole number (got \"" + id + "\")"),
+                std::string::npos)
+          << r.err;
+    }
   }
   const CommandResult folder = farm.cli({"submit", farm.dir().string()});
   EXPECT_EQ(folder.exit_code, 1);
