@@ -83,7 +83,9 @@ ResolvedRule resolve_rule(const Scene& scene, const JobOverrides& o, const JobLi
   }
   if (!noise && !o.time_s) {
     if (o.max_spp) throw std::invalid_argument("--max-spp: only with --noise, --time or a noise preset");
-    r.spp = in_range("--spp", o.spp.value_or(scene.render.spp), 1, limits.max_spp);
+    // A value from the scene is named as the scene's, so that the user looks in the file.
+    r.spp = in_range(o.spp ? "--spp" : "the scene's spp (render.spp; --spp overrides it)",
+                     o.spp.value_or(scene.render.spp), 1, limits.max_spp);
     return r;
   }
   r.spp = in_range("--max-spp", cap.value_or(kDefaultMaxSpp), 1, limits.max_spp);
@@ -105,9 +107,11 @@ JobPlan JobOptions::plan() const {
 
 JobOptions resolve_job_options(const Scene& scene, const JobOverrides& o, const JobLimits& limits) {
   JobOptions job;
-  job.width = int(in_range("--width", o.width.value_or(scene.film.width), 1, limits.max_dimension));
-  job.height =
-      int(in_range("--height", o.height.value_or(scene.film.height), 1, limits.max_dimension));
+  // A value from the scene is named as the scene's, so that the user looks in the file.
+  job.width = int(in_range(o.width ? "--width" : "the scene's width (film.width; --width overrides it)",
+                           o.width.value_or(scene.film.width), 1, limits.max_dimension));
+  job.height = int(in_range(o.height ? "--height" : "the scene's height (film.height; --height overrides it)",
+                            o.height.value_or(scene.film.height), 1, limits.max_dimension));
   const ResolvedRule rule = resolve_rule(scene, o, limits);
   job.spp = uint32_t(rule.spp);
   job.rule = rule.rule;

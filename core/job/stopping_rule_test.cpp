@@ -82,6 +82,28 @@ Scene scene() {
   return s;
 }
 
+TEST(ResolveJobOptions, AValueFromTheSceneIsBlamedOnTheScene) {
+  Scene s = scene();
+  s.render.spp = int64_t{1} << 32;
+  s.film.width = 0;
+  auto error = [](const Scene& sc, const JobOverrides& o) -> std::string {
+    try {
+      resolve_job_options(sc, o);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(error(s, {}),
+            "the scene's width (film.width; --width overrides it): must be in [1, 32768] (got 0)");
+  s.film.width = 64;
+  EXPECT_EQ(error(s, {}), "the scene's spp (render.spp; --spp overrides it): must be in [1, "
+                          "2147483648] (got 4294967296)");
+  JobOverrides o;
+  o.spp = 0;
+  EXPECT_EQ(error(s, o), "--spp: must be in [1, 2147483648] (got 0)");
+}
+
 std::string resolve_error(const JobOverrides& o) {
   try {
     resolve_job_options(scene(), o);
