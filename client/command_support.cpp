@@ -8,9 +8,10 @@
 #include <iostream>
 
 #include "cli/output_path.h"
+#include "job/tile_summary.h"
 #include "json_view.h"
-#include "scene/native/json_value.h"
 #include "progress_view.h"
+#include "scene/native/json_value.h"
 
 namespace tessera::client {
 namespace {
@@ -106,12 +107,13 @@ std::string finished_line(const v1::JobInfo& job) {
   char buf[320];
   std::snprintf(buf, sizeof buf,
                 "job %llu %s, rule %s, in %.1f s: spp min %u / mean %.1f / max %u, estimated error "
-                "max %.4f / mean %.4f, NaN/Inf dropped %llu",
+                "max %s / mean %s, NaN/Inf dropped %llu",
                 static_cast<unsigned long long>(job.id()),
                 reason_name(job.stop_reason()).empty() ? "ended"
                                                        : ("stopped by " + reason_name(job.stop_reason())).c_str(),
                 rule_text(job.options()).c_str(), job.wall_time_s(), r.spp_min(), r.spp_mean(),
-                r.spp_max(), r.error_max(), r.error_mean(),
+                r.spp_max(), error_text(r.error_max(), r.spp_max()).c_str(),
+                error_text(r.error_mean(), r.spp_max()).c_str(),
                 static_cast<unsigned long long>(job.counters().nan_dropped() +
                                                 job.counters().inf_dropped()));
   return buf;

@@ -7,6 +7,7 @@
 
 #include "build_text.h"
 #include "command_support.h"
+#include "job/tile_summary.h"
 #include "json_view.h"
 
 namespace tessera::client {
@@ -25,13 +26,14 @@ std::string local_time_text(int64_t unix_ms) {
 void print_reached(const v1::JobInfo& job) {
   const auto& c = job.counters();
   const auto& r = job.reached();
-  std::printf("  reached   %s%sspp min %u / mean %.1f / max %u, estimated error max %.4f / mean "
-              "%.4f, %u tiles finished, wall time %.1f s, NaN/Inf dropped %llu\n",
+  std::printf("  reached   %s%sspp min %u / mean %.1f / max %u, estimated error max %s / mean "
+              "%s, %u tiles finished, wall time %.1f s, NaN/Inf dropped %llu\n",
               reason_name(job.stop_reason()).empty() ? "" : "stopped by ",
               reason_name(job.stop_reason()).empty()
                   ? ""
                   : (reason_name(job.stop_reason()) + ": ").c_str(),
-              r.spp_min(), r.spp_mean(), r.spp_max(), r.error_max(), r.error_mean(),
+              r.spp_min(), r.spp_mean(), r.spp_max(), error_text(r.error_max(), r.spp_max()).c_str(),
+              error_text(r.error_mean(), r.spp_max()).c_str(),
               r.tiles_finished(), job.wall_time_s(),
               static_cast<unsigned long long>(c.nan_dropped() + c.inf_dropped()));
 }

@@ -136,7 +136,7 @@ int run_render(const RenderArgs& args) {
   std::fprintf(stderr,
                "rendered %dx%d in %.2f s (%s rule, stopped: %s): spp min %u mean %.1f max %u, "
                "%llu samples, %s samples/s, %s rays/s (%llu rays, %llu shadow rays), estimated "
-               "relative error %.4f (tiles: max %.4f, mean %.4f), NaN/Inf dropped %llu, isa %s, kernel %s\n",
+               "relative error %s (tiles: max %s, mean %s), NaN/Inf dropped %llu, isa %s, kernel %s\n",
                options.width, options.height, seconds,
                std::string(tessera::to_string(options.rule)).c_str(),
                std::string(tessera::to_string(result.reason)).c_str(), summary.spp_min,
@@ -144,8 +144,11 @@ int run_render(const RenderArgs& args) {
                tessera::si_count(double(result.stats.samples) / seconds).c_str(),
                tessera::si_count(double(result.stats.rays + result.stats.shadow_rays) / seconds).c_str(),
                static_cast<unsigned long long>(result.stats.rays),
-               static_cast<unsigned long long>(result.stats.shadow_rays), rel_error,
-               summary.error_max, summary.error_mean, static_cast<unsigned long long>(nan + inf),
+               static_cast<unsigned long long>(result.stats.shadow_rays),
+               tessera::error_text(rel_error, summary.spp_max).c_str(),
+               tessera::error_text(summary.error_max, summary.spp_max).c_str(),
+               tessera::error_text(summary.error_mean, summary.spp_max).c_str(),
+               static_cast<unsigned long long>(nan + inf),
                result.isa.c_str(), result.kernel_isa.c_str());
   return 0;
 }

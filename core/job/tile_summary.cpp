@@ -1,6 +1,7 @@
 #include "job/tile_summary.h"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace tessera {
 
@@ -21,6 +22,13 @@ TileSummary summarize_tiles(const std::vector<uint32_t>& tile_spp,
     s.error_mean = sum / double(tile_error.size());
   }
   return s;
+}
+
+std::string error_text(double error, uint32_t spp_max) {
+  if (spp_max < 2) return "n/a";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f", error);
+  return buf;
 }
 
 std::vector<float> spp_channel(int width, int height, const std::vector<TileRect>& tiles,

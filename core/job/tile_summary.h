@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "accum/tile_rect.h"
@@ -19,6 +20,10 @@ struct TileSummary {
 /// Summary of per-tile values (the two vectors have one entry per tile); zeros when empty.
 TileSummary summarize_tiles(const std::vector<uint32_t>& tile_spp,
                             const std::vector<double>& tile_error);
+
+/// An estimated error for a report: "0.0123", or "n/a" when no tile has 2 samples per pixel
+/// (`spp_max` < 2), where the estimate has no data and is 0.
+std::string error_text(double error, uint32_t spp_max);
 
 /// Each pixel's samples per pixel (its tile's), row-major over width x height: the EXR "spp"
 /// channel of `noise` and `time` jobs, whose tiles may stop at different spp.
