@@ -49,7 +49,7 @@ int delete_job(const GlobalOptions& g, uint64_t job_id) {
 Command add_delete_command(CLI::App& app, GlobalOptions& g) {
   const auto job_id = std::make_shared<uint64_t>(0);
   CLI::App* cmd =
-      app.add_subcommand("delete", "Delete a finished or cancelled job and its outputs");
+      app.add_subcommand("delete", "Delete a finished, failed or cancelled job and its outputs");
   add_job_argument(cmd, *job_id);
   add_json_flag(cmd, g);
   return {cmd, [&g, job_id] { return delete_job(g, *job_id); }};

@@ -1,5 +1,6 @@
 #include "cli/output_path.h"
 
+#include <stdlib.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -35,10 +36,16 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
   }
   // The image is written through a temporary file beside it and renamed: the folder must be
   // writable, and an existing file is replaced.
-  if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+  // access() answers yes for root whatever the folder (/proc, a read-only mount): try what the
+  // write will do, a new file in the folder, and remove it at once.
+  std::string probe = (folder / ".tessera-write-check-XXXXXX").string();
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0) {
     throw std::runtime_error(where + "cannot write in folder " + folder.string() + ": " +
                              std::strerror(errno));
   }
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
 }  // namespace tessera::cli

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <iterator>
 #include <stdexcept>
 
 namespace tessera::cli {
@@ -29,7 +30,18 @@ TEST(OutputPath, AcceptsAWritableFolderAndRefusesTheRestBeforeAnyWork) {
   EXPECT_EQ(output_path_error((dir / "x.png" / "y.tiff").string()),
             "-o " + (dir / "x.png" / "y.tiff").string() + ": the output must end in .exr or .png");
   EXPECT_EQ(output_path_error("/etc/passwd/x.png"), "-o /etc/passwd/x.png: /etc/passwd is not a folder");
+  // Nothing is left behind by the check.
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
+                          std::filesystem::directory_iterator()),
+            1);
   std::filesystem::remove_all(dir);
+}
+
+TEST(OutputPath, AFolderThatTakesNoNewFileIsRefusedEvenForRoot) {
+  // /proc refuses a new file to every user, root included, for whom access(W_OK) says yes.
+  if (!std::filesystem::is_directory("/proc/self")) GTEST_SKIP() << "no /proc here";
+  const std::string error = output_path_error("/proc/version.png");
+  EXPECT_EQ(error.rfind("-o /proc/version.png: cannot write in folder /proc: ", 0), 0u) << error;
 }
 
 }  // namespace
