@@ -6,7 +6,7 @@ import { state } from './state.js';
 function jobRow(j) {
   const sel = j.id === state.selected ? ' class="selected"' : '';
   return `<tr data-job-id="${j.id}" data-state="${esc(j.state)}"${sel}>
-    <td class="num">${j.id}</td><td>${esc(j.scene_file)}</td>
+    <td class="num">${j.id}</td><td class="scene" title="${esc(j.scene_file)}">${esc(j.scene_file)}</td>
     <td><span class="state state-${esc(j.state)}">${esc(j.state)}</span></td>
     <td class="progress-col"><div class="bar" data-progress="${j.progress}"><span style="width:${(100 * j.progress).toFixed(2)}%"></span><b>${percent(j.progress)}</b></div></td>
     <td class="num">${j.spp_merged}/${j.options.spp}</td><td class="num wide">${rate(j.samples_per_s)}</td>

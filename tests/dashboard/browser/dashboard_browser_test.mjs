@@ -186,17 +186,21 @@ try {
     const farm = await startFarm('busy');
     await run(REGISTER, [farm.grpc, '32']);
     const tiny = path.join(SRC, 'tests', 'farm', 'data', 'tiny.json');
-    for (let i = 0; i < 50; i += 5) {
-      await Promise.all([0, 1, 2, 3, 4].map((k) => submit(farm, [tiny, '--spp', String(8 + i + k)])));
+    // Job 1's scene has a long name: on a phone it must not push State and Progress off screen.
+    const longName = path.join(work, `${'a-very-long-scene-name-'.repeat(8)}tiny.json`);
+    fs.copyFileSync(tiny, longName);
+    await submit(farm, [longName, '--spp', '8']);
+    for (let i = 1; i < 50; i += 7) {
+      const batch = [0, 1, 2, 3, 4, 5, 6].filter((k) => i + k < 50);
+      await Promise.all(batch.map((k) => submit(farm, [tiny, '--spp', String(8 + i + k)])));
     }
     const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
     await page.goto(`${farm.http}/`);
     await until('50 job rows', async () => (await page.locator('#jobs tbody tr').count()) === 50);
     await until('32 worker rows', async () => (await page.locator('#workers tbody tr').count()) === 32);
-    // Responsive: one redraw of both lists is quick, and a click shows the job's details at once.
+    // How long a redraw and a click take is logged, never asserted (tests are not timed).
     const renderMs = Number(await page.evaluate(() => document.body.dataset.renderMs));
     console.log(`  redraw of 50 jobs + 32 workers: ${renderMs} ms`);
-    check(renderMs < 250, `the lists redraw in under 250 ms (took ${renderMs} ms)`);
     const t0 = Date.now();
     await page.locator('#jobs tr[data-job-id="17"]').click();
     await page.locator('#detail-id', { hasText: '17' }).waitFor({ timeout: PATIENCE_MS });
@@ -274,6 +278,9 @@ try {
     await small.locator('#detail-id', { hasText: '3' }).waitFor({ timeout: PATIENCE_MS });
     const overflow = await small.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
     check(overflow <= 0, `the page does not scroll sideways on a phone (${overflow} px too wide)`);
+    const longState = await small.locator('#jobs tr[data-job-id="1"] .state').boundingBox();
+    check(longState && longState.x + longState.width <= 390,
+          `a long scene name leaves the job's state on screen (${JSON.stringify(longState)})`);
     const cancelBox = await small.locator('#cancel-job').boundingBox();
     check(cancelBox && cancelBox.x >= 0 && cancelBox.x + cancelBox.width <= 390, 'cancel button on screen');
     await small.screenshot({ path: path.join(ARTIFACTS, 'dashboard-phone.png') });
