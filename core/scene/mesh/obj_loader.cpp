@@ -1,8 +1,12 @@
 #include "scene/mesh/obj_loader.h"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <sstream>
+#include <string_view>
+#include <system_error>
 #include <unordered_map>
 
 #include "scene/native/json_value.h"
@@ -23,25 +27,95 @@ struct PendingGroup {
   bool all_uvs = true;      ///< every corner has a vt
 };
 
-/// Refuses files with too many vertex or face lines before tinyobjloader allocates for them.
-void check_line_counts(const std::string& bytes, const std::string& path) {
-  uint64_t vertices = 0;
-  uint64_t faces = 0;
+/// The lines of an OBJ file, each with its 1-based number and without leading blanks.
+template <typename Visit>
+void for_each_obj_line(const std::string& bytes, Visit&& visit) {
   size_t pos = 0;
+  uint64_t number = 0;
   while (pos < bytes.size()) {
-    size_t start = bytes.find_first_not_of(" \t", pos);
-    if (start != std::string::npos && start + 1 < bytes.size()) {
-      bool blank = bytes[start + 1] == ' ' || bytes[start + 1] == '\t';
-      vertices += bytes[start] == 'v' && blank;
-      faces += bytes[start] == 'f' && blank;
-    }
+    ++number;
     size_t end = bytes.find('\n', pos);
-    pos = end == std::string::npos ? bytes.size() : end + 1;
+    if (end == std::string::npos) end = bytes.size();
+    const size_t start = std::min(bytes.find_first_not_of(" \t", pos), end);
+    visit(std::string_view(bytes).substr(start, end - start), number);
+    pos = end + 1;
   }
-  if (vertices > kMaxMeshElements || faces > kMaxMeshElements) {
+}
+
+/// Whether `line` is a statement `keyword` ("v", "vt", "f", ...) followed by a blank.
+bool obj_statement(std::string_view line, std::string_view keyword) {
+  return line.size() > keyword.size() && line.substr(0, keyword.size()) == keyword &&
+         (line[keyword.size()] == ' ' || line[keyword.size()] == '\t');
+}
+
+/// Counts of the OBJ elements faces refer to, in the whole file or up to a line.
+struct ObjElementCounts {
+  uint64_t positions = 0, uvs = 0, normals = 0;
+};
+
+/// Refuses files with too many vertex or face lines before tinyobjloader allocates for them, and
+/// faces whose indices point at nothing, naming the line and the index as written: tinyobjloader
+/// reads an index into an int (99999999999 wraps) and resolves a negative one before the loader
+/// sees it, so its message would name another number.
+void check_obj_lines(const std::string& bytes, const std::string& path) {
+  ObjElementCounts total;
+  uint64_t faces = 0;
+  for_each_obj_line(bytes, [&](std::string_view line, uint64_t) {
+    total.positions += obj_statement(line, "v");
+    total.uvs += obj_statement(line, "vt");
+    total.normals += obj_statement(line, "vn");
+    faces += obj_statement(line, "f");
+  });
+  if (total.positions > kMaxMeshElements || faces > kMaxMeshElements) {
     throw SceneError(path + ": more than " + std::to_string(kMaxMeshElements) +
                      " vertices or faces");
   }
+  ObjElementCounts so_far;
+  for_each_obj_line(bytes, [&](std::string_view line, uint64_t number) {
+    so_far.positions += obj_statement(line, "v");
+    so_far.uvs += obj_statement(line, "vt");
+    so_far.normals += obj_statement(line, "vn");
+    if (!obj_statement(line, "f")) return;
+    const std::string where = path + ": line " + std::to_string(number) + ": a face refers to ";
+    // One index: "7" or "-2" of a corner "7/-2/3"; slot 0 vertex, 1 texture coordinate, 2 normal.
+    auto check = [&](std::string_view text, int slot) {
+      static constexpr const char* kNames[] = {"vertex", "texture coordinate", "normal"};
+      const uint64_t all[] = {total.positions, total.uvs, total.normals};
+      const uint64_t before[] = {so_far.positions, so_far.uvs, so_far.normals};
+      int64_t index = 0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), index);
+      const std::string named = where + kNames[slot] + " " + printable(text);
+      if (ec == std::errc::result_out_of_range) {
+        throw SceneError(named + " but the file has " + std::to_string(all[slot]));
+      }
+      if (ec != std::errc() || end != text.data() + text.size()) return;  // tinyobjloader's to say
+      if (index == 0) throw SceneError(named + " (OBJ counts from 1)");
+      if (index > 0 && uint64_t(index) > all[slot]) {
+        throw SceneError(named + " but the file has " + std::to_string(all[slot]));
+      }
+      if (index < 0 && uint64_t(-(index + 1)) + 1 > before[slot]) {
+        throw SceneError(named + ", " + std::to_string(uint64_t(-(index + 1)) + 1) +
+                         " back, but only " + std::to_string(before[slot]) + " come before it");
+      }
+    };
+    size_t pos = 1;
+    while (pos < line.size()) {
+      const size_t start = line.find_first_not_of(" \t\r", pos);
+      if (start == std::string_view::npos) break;
+      size_t end = line.find_first_of(" \t\r", start);
+      if (end == std::string_view::npos) end = line.size();
+      const std::string_view corner = line.substr(start, end - start);
+      if (corner.front() == '#') break;
+      size_t field_start = 0;
+      for (int slot = 0; slot < 3 && field_start <= corner.size(); ++slot) {
+        size_t slash = corner.find('/', field_start);
+        if (slash == std::string_view::npos) slash = corner.size();
+        if (slash > field_start) check(corner.substr(field_start, slash - field_start), slot);
+        field_start = slash + 1;
+      }
+      pos = end;
+    }
+  });
 }
 
 /// Sorts the faces of all of tinyobjloader's shapes into one group per material.
@@ -210,7 +284,7 @@ ObjGroup make_group(const PendingGroup& pending, const tinyobj::attrib_t& attrib
 
 ObjMesh load_obj(const std::string& path, const std::string& bytes, const FileReader& reader,
                  const ObjOptions& options) {
-  check_line_counts(bytes, path);
+  check_obj_lines(bytes, path);
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
   std::vector<tinyobj::material_t> materials;

@@ -244,7 +244,7 @@ f 1/4 3/3 4/1
   files["t.obj"] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n";
   EXPECT_EQ(error_of(scene_with_shapes(R"({"type": "mesh", "file": "t.obj", "material": "white"})"),
                      files),
-            "shapes[0].file: t.obj: a face refers to texture coordinate 2 but the file has 1");
+            "shapes[0].file: t.obj: line 5: a face refers to texture coordinate 2 but the file has 1");
 }
 
 TEST(ObjLoader, DegenerateFacesAreDroppedAndCounted) {
@@ -289,12 +289,27 @@ TEST(ObjLoader, BadFilesNameTheFileAndWhatIsWrong) {
             "shapes[0].file: meshes/m.obj: MTL material \"g\": Ni must be > 0 for glass (illum 7) "
             "(got 0)");
   EXPECT_EQ(error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"),
-            "shapes[0].file: meshes/m.obj: a face refers to vertex 9 but the file has 3");
+            "shapes[0].file: meshes/m.obj: line 4: a face refers to vertex 9 but the file has 3");
+  // As written, never wrapped into an int or resolved from the end.
+  EXPECT_EQ(error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999\n"),
+            "shapes[0].file: meshes/m.obj: line 4: a face refers to vertex 99999999999 but the file "
+            "has 3");
+  EXPECT_EQ(error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n"),
+            "shapes[0].file: meshes/m.obj: line 4: a face refers to vertex 99999999999999999999 "
+            "but the file has 3");
+  EXPECT_EQ(error("v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n"),
+            "shapes[0].file: meshes/m.obj: line 3: a face refers to vertex -3, 3 back, but only 2 "
+            "come before it");
+  EXPECT_EQ(error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n"),
+            "shapes[0].file: meshes/m.obj: line 5: a face refers to texture coordinate 2 but the "
+            "file has 1");
+  EXPECT_EQ(error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//-4\n"),
+            "shapes[0].file: meshes/m.obj: line 5: a face refers to normal -4, 4 back, but only 1 "
+            "come before it");
   EXPECT_EQ(error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
             "shapes[0].material: required (the mesh file gives no material to some of its faces)");
   EXPECT_EQ(error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", {}, R"(, "material": "white")"),
-            "shapes[0].file: meshes/m.obj: Failed parse `f' line(e.g. zero value for face index. "
-            "line 4.)");
+            "shapes[0].file: meshes/m.obj: line 4: a face refers to vertex 0 (OBJ counts from 1)");
   std::string big = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf";
   for (int k = 0; k < 300; ++k) big += " " + std::to_string(1 + k % 3);
   EXPECT_EQ(error(big + "\n", {}, R"(, "material": "white")"),
