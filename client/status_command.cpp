@@ -22,6 +22,19 @@ std::string local_time_text(int64_t unix_ms) {
   return buf;
 }
 
+/// The batch schedule: "batch 64", or "batches 1, 1, 2, 4, ... 64" for a progressive one.
+std::string batches_text(const v1::ResolvedJobOptions& o) {
+  if (o.batch_schedule() != "progressive") return "batch " + std::to_string(o.batch_spp());
+  std::string text = "batches 1";
+  uint32_t shown = 0;
+  for (uint32_t b = 1; b <= o.batch_spp() && shown < 4; b *= 2, ++shown) {
+    text += ", " + std::to_string(b);
+  }
+  if (shown == 4 && o.batch_spp() > 8) text += ", ...";
+  if (o.batch_spp() > 8) text += " " + std::to_string(o.batch_spp());
+  return text + " spp";
+}
+
 /// The "reached" line: the stop reason, spp per tile, the error estimate and the drops.
 void print_reached(const v1::JobInfo& job) {
   const auto& c = job.counters();
@@ -47,9 +60,9 @@ void print_status(const v1::JobInfo& job) {
               100.0 * job.progress(), job.spp_merged(), o.spp(), job.priority());
   std::printf("  scene     %s (bundle sha256 %s)\n", job.scene_file().c_str(),
               job.bundle_sha256().c_str());
-  std::printf("  options   %dx%d, %u spp, max depth %d, seed %llu, tile %d, batch %u%s%s\n",
+  std::printf("  options   %dx%d, %u spp, max depth %d, seed %llu, tile %d, %s%s%s\n",
               o.width(), o.height(), o.spp(), o.max_depth(),
-              static_cast<unsigned long long>(o.seed()), o.tile_size(), o.batch_spp(),
+              static_cast<unsigned long long>(o.seed()), o.tile_size(), batches_text(o).c_str(),
               o.isa().empty() ? "" : ", isa ", o.isa().c_str());
   std::printf("  units     %u total, %u done, %u leased, %u merged\n", c.units_total(),
               c.units_done(), c.units_leased(), c.results_merged());

@@ -36,9 +36,11 @@ nlohmann::json job_json(const v1::JobInfo& job) {
         {"height", o.height()},
         {"spp", o.spp()},
         {"max_depth", o.max_depth()},
-        {"seed", o.seed()},
+        // A string: a 64-bit seed is beyond the integers a JSON number holds exactly (2^53).
+        {"seed", std::to_string(o.seed())},
         {"tile_size", o.tile_size()},
         {"batch_spp", o.batch_spp()},
+        {"batch_schedule", o.batch_schedule().empty() ? "fixed" : o.batch_schedule()},
         {"isa", o.isa()},
         {"time_budget_s", o.time_budget_s()},
         {"noise_target", o.noise_target()}}},

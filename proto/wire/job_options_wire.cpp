@@ -2,7 +2,10 @@
 
 #include <google/protobuf/util/json_util.h>
 
+#include <optional>
 #include <stdexcept>
+
+#include "scene/native/json_value.h"
 
 namespace tessera::wire {
 
@@ -93,6 +96,7 @@ v1::ResolvedJobOptions options_to_proto(const JobOptions& o) {
   out.set_stop_rule(stop_rule_to_proto(o.rule));
   out.set_time_budget_s(o.time_budget_s);
   out.set_noise_target(o.noise_target);
+  out.set_batch_schedule(std::string(to_string(o.batch_kind)));
   return out;
 }
 
@@ -109,6 +113,13 @@ JobOptions options_from_proto(const v1::ResolvedJobOptions& o) {
   out.rule = stop_rule_from_proto(o.stop_rule());
   out.time_budget_s = o.time_budget_s();
   out.noise_target = o.noise_target();
+  if (!o.batch_schedule().empty()) {
+    const std::optional<BatchKind> kind = batch_kind_from_string(o.batch_schedule());
+    if (!kind) {
+      throw std::invalid_argument("options: unknown batch schedule \"" + printable(o.batch_schedule()) + "\"");
+    }
+    out.batch_kind = *kind;
+  }
   return out;
 }
 

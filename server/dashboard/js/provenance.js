@@ -15,7 +15,14 @@ const PROVENANCE_LABELS = {
 function provenanceValue(key, v) {
   if (key === 'wall_time_s' || key === 'time_budget_s') return duration(Number(v));
   if (key === 'estimated_relative_error' || key.startsWith('tile_error')) return errorText(Number(v));
-  if (/^-?\d+(\.\d+)?(e[-+]?\d+)?$/i.test(v)) return String(Number(Number(v).toPrecision(6)));
+  // Whole numbers exactly, whatever their size (a Number rounds past 2^53 and toPrecision past
+  // six digits); others without trailing zeros, to six significant digits.
+  if (/^-?\d+$/.test(v)) return BigInt(v).toLocaleString('en-US');
+  if (/^-?\d+(\.\d+)?(e[-+]?\d+)?$/i.test(v)) {
+    const x = Number(v);
+    return Math.abs(x) >= 1e6 ? x.toLocaleString('en-US', { maximumFractionDigits: 1 })
+                              : String(Number(x.toPrecision(6)));
+  }
   return String(v).replace(/_/g, ' ');
 }
 export function provenanceRows(provenance) {
