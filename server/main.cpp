@@ -134,6 +134,9 @@ std::unique_ptr<tessera::server::DashboardServer> start_dashboard(
     config.tls_cert_file = flags.tls.cert_file;
     config.tls_key_file = flags.tls.key_file;
   }
+  config.allowed_hosts = flags.allowed_hosts;
+  config.limits.connections_per_client = flags.http_connections_per_client;
+  config.limits.head_timeout_ms = int64_t(flags.http_head_timeout_s * 1000.0);
   auto dashboard =
       std::make_unique<tessera::server::DashboardServer>(coordinator, metrics, std::move(config));
   const int http_port = dashboard->start(flags.http_address);

@@ -29,6 +29,29 @@ void add_listen_flags(CLI::App& app, Flags& flags) {
       ->capture_default_str();
 }
 
+void add_http_flags(CLI::App& app, Flags& flags) {
+  // The dashboard's HTTP front (docs/security.md, "The dashboard's HTTP front").
+  app.add_option("--allowed-host", flags.allowed_hosts,
+                 "a host name the dashboard's requests may name in Host and Origin besides IP "
+                 "addresses, localhost and the --http host (a proxy's or ingress's name); "
+                 "repeatable, or comma-separated in the variable")
+      ->envname("TESSERA_ALLOWED_HOST")
+      ->delimiter(',')
+      ->take_all();
+  app.add_option("--http-connections-per-client", flags.http_connections_per_client,
+                 "HTTP connections one client address may hold reading their head, and as many "
+                 "past it; more get 503 (health probes excepted)")
+      ->envname("TESSERA_HTTP_CONNECTIONS_PER_CLIENT")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  app.add_option("--http-head-timeout", flags.http_head_timeout_s,
+                 "seconds an HTTP client has from connecting to the end of its request's head "
+                 "(TLS handshake included); a body gets as long again")
+      ->envname("TESSERA_HTTP_HEAD_TIMEOUT")
+      ->check(CLI::Range(0.1, 3600.0))
+      ->capture_default_str();
+}
+
 void add_security_flags(CLI::App& app, Flags& flags) {
   // Authentication and transport (docs/security.md).
   app.add_option(
@@ -152,6 +175,7 @@ void add_store_flags(CLI::App& app, Flags& flags) {
 void add_server_flags(CLI::App& app, Flags& flags) {
   // In this order in --help.
   add_listen_flags(app, flags);
+  add_http_flags(app, flags);
   add_security_flags(app, flags);
   add_run_flags(app, flags);
   add_limit_flags(app, flags);

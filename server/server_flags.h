@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "coordinator.h"
 #include "farm_limits.h"
@@ -33,6 +34,9 @@ struct Flags {
   double retention_days = 0;  ///< --retention-days (0: keep finished jobs)
   uint64_t merge_cache_mb = 1024;  ///< --merge-cache-mb
   std::string http_port_file;
+  std::vector<std::string> allowed_hosts;  ///< --allowed-host (repeatable)
+  int http_connections_per_client = 16;    ///< --http-connections-per-client
+  double http_head_timeout_s = 10;         ///< --http-head-timeout
 };
 
 /// Registers every flag of tessera-server on `app`, bound to `flags`.

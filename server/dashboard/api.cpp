@@ -1,6 +1,5 @@
 #include "dashboard/api.h"
 
-#include <httplib.h>
 #include <openssl/crypto.h>
 
 #include <algorithm>
@@ -25,12 +24,12 @@
 #include "wire/job_options_wire.h"
 
 namespace tessera::server {
-namespace {
 
 using nlohmann::json;
 
-/// The largest request body the API reads: its bodies are a few bytes of JSON.
-constexpr size_t kMaxBodyBytes = 64 * 1024;
+namespace {
+
+constexpr size_t kMaxBodyBytes = DashboardRoutes::kMaxBodyBytes;
 
 json optional_number(std::optional<double> v) { return v ? json(*v) : json(nullptr); }
 
@@ -38,14 +37,14 @@ uint64_t samples_total(const JobRecord& job) {
   return uint64_t(job.options.width) * uint64_t(job.options.height) * job.options.spp;
 }
 
-void send_json(httplib::Response& res, int status, const json& body) {
+void send_json(HttpResponse& res, int status, const json& body) {
   res.status = status;
   res.set_header("Cache-Control", "no-store");
   res.set_content(body.dump(), "application/json");
 }
 
-void send_error(httplib::Response& res, int status, const std::string& message) {
-  send_json(res, status, json{{"error", message}});
+void send_error(HttpResponse& res, int status, const std::string& message) {
+  set_json_error(res, status, message);
 }
 
 int status_of(ErrorCode code) {
@@ -60,23 +59,29 @@ int status_of(ErrorCode code) {
 }
 
 /// The {id} of a route: digits only (the route's regex), 1..INT64_MAX. Throws FarmError.
-int64_t job_id_of(const httplib::Request& req) {
-  const std::string& text = req.matches[1].str();
+int64_t job_id_of(const HttpRequest& req) {
+  const std::string& text = req.matches.at(1);
   if (text.size() > 18 || std::stoll(text) < 1) {
     throw FarmError(ErrorCode::not_found, "no job " + text);
   }
   return std::stoll(text);
 }
 
-/// Everything the routes share; owned by the handlers' closures.
-class Api {
+}  // namespace
+
+/// Everything the routes share; owned by the routes and their handlers' closures.
+class DashboardApi {
  public:
-  Api(Coordinator& coordinator, const FarmMetrics& metrics, DashboardConfig config)
-      : coordinator_(coordinator), metrics_(metrics), config_(std::move(config)) {}
+  DashboardApi(Coordinator& coordinator, const FarmMetrics& metrics, DashboardConfig config,
+               HostCheck hosts)
+      : coordinator_(coordinator),
+        metrics_(metrics),
+        config_(std::move(config)),
+        hosts_(std::move(hosts)) {}
 
   /// Runs a handler, mapping FarmError and other exceptions to JSON errors.
   template <typename F>
-  void guarded(httplib::Response& res, F&& handler) {
+  void guarded(HttpResponse& res, F&& handler) {
     try {
       handler();
     } catch (const FarmError& e) {
@@ -88,10 +93,10 @@ class Api {
 
   /// True when the request carries the token (or the server has none); otherwise answers 401
   /// and returns false. Called before anything of the request's body is read.
-  bool authorised(const httplib::Request& req, httplib::Response& res) const {
+  bool authorised(const HttpRequest& req, HttpResponse& res) const {
     if (config_.token.empty()) return true;
     const std::string expected = "Bearer " + config_.token;
-    const std::string given = req.get_header_value("Authorization");
+    const std::string given = req.header("Authorization");
     // Constant-time comparison: the time taken never tells how much of the token matched.
     if (given.size() != expected.size() ||
         CRYPTO_memcmp(given.data(), expected.data(), expected.size()) != 0) {
@@ -180,6 +185,28 @@ class Api {
     return prometheus_text(s);
   }
 
+  /// True when the request names a host of this server (docs/security.md, "DNS rebinding"): its
+  /// Host, and for requests with a body its Origin when it sends one; otherwise answers 403 and
+  /// returns false. Requests without Host (HTTP/1.0 tools) pass: a browser always sends one.
+  bool host_allowed(const HttpRequest& req, HttpResponse& res) const {
+    if (req.has_header("Host") && !hosts_.allows_host(req.header("Host"))) {
+      send_error(res, 403,
+                 "Host \"" + req.header("Host") +
+                     "\" is not an address of this server: use its IP address or localhost, or "
+                     "start the server with --allowed-host NAME");
+      return false;
+    }
+    if (DashboardRoutes::carries_body(req.method) && req.has_header("Origin") &&
+        !hosts_.allows_origin(req.header("Origin"))) {
+      send_error(res, 403,
+                 "Origin \"" + req.header("Origin") +
+                     "\" may not change this server: only pages it serves itself (or a host "
+                     "given with --allowed-host) may");
+      return false;
+    }
+    return true;
+  }
+
   Coordinator& coordinator() { return coordinator_; }
 
  private:
@@ -240,19 +267,22 @@ class Api {
   Coordinator& coordinator_;
   const FarmMetrics& metrics_;
   const DashboardConfig config_;
+  const HostCheck hosts_;
   std::mutex mu_;  ///< guards maps_ (handlers run on a thread pool)
   std::map<int64_t, CachedMap> maps_;
 };
 
+namespace {
+
 /// Paths anyone may read, token or not: the page and what it loads (it asks for the token),
 /// and the probes.
 bool is_open_path(const std::string& path) {
-  if (path == "/healthz" || path == "/readyz") return true;
+  if (DashboardRoutes::is_probe(path)) return true;
   return std::any_of(std::begin(dashboard_assets::kAssets), std::end(dashboard_assets::kAssets),
                      [&](const dashboard_assets::Asset& asset) { return asset.path == path; });
 }
 
-/// httplib's route pattern (a regex) matching `path` alone.
+/// A route pattern (a regex) matching `path` alone.
 std::string exact_route(std::string_view path) {
   std::string pattern;
   for (const char c : path) {
@@ -262,62 +292,7 @@ std::string exact_route(std::string_view path) {
   return pattern;
 }
 
-/// Methods whose requests httplib reads a body for.
-bool carries_body(const std::string& method) {
-  return method == "POST" || method == "PUT" || method == "PATCH" || method == "DELETE";
-}
-
-/// Runs on the request's headers alone, before httplib reads any body (docs/security.md,
-/// "The dashboard"): the token (401), then for requests with a body its type (415), a declared
-/// length (411) and its size (413). Returns true when it answered.
-bool refuse_before_body(const Api& api, const httplib::Request& req, httplib::Response& res) {
-  if (!is_open_path(req.path) && !api.authorised(req, res)) return true;
-  if (!carries_body(req.method)) return false;
-  // A JSON body type also keeps cross-site forms out (they cannot send it without a CORS
-  // preflight, which this server never grants).
-  if (req.get_header_value("Content-Type").rfind("application/json", 0) != 0) {
-    send_error(res, 415, "requests that change state must be sent as application/json");
-    return true;
-  }
-  const bool chunked = req.get_header_value("Transfer-Encoding").find("chunked") !=
-                       std::string::npos;
-  if (!req.has_header("Content-Length")) {
-    if (chunked) return false;  // read_body stops past kMaxBodyBytes (413)
-    send_error(res, 411, "send the body's length (Content-Length)");
-    return true;
-  }
-  const std::string length = req.get_header_value("Content-Length");
-  if (length.empty() || length.find_first_not_of("0123456789") != std::string::npos) {
-    send_error(res, 400, "Content-Length must be a number of bytes (got \"" + length + "\")");
-    return true;
-  }
-  if (length.size() > 7 || std::stoul(length) > kMaxBodyBytes) {
-    send_error(res, 413, "the body may be at most " + std::to_string(kMaxBodyBytes) +
-                             " bytes (Content-Length " + length + ")");
-    return true;
-  }
-  return false;
-}
-
-/// Reads the request's body into `body`, at most kMaxBodyBytes; answers 413 and returns false
-/// past that (the rest is never read: the connection closes after this request).
-bool read_body(const httplib::ContentReader& reader, httplib::Response& res, std::string& body) {
-  bool too_large = false;
-  reader([&](const char* data, size_t length) {
-    if (body.size() + length > kMaxBodyBytes) {
-      too_large = true;
-      return false;
-    }
-    body.append(data, length);
-    return true;
-  });
-  if (too_large) {
-    send_error(res, 413, "the body may be at most " + std::to_string(kMaxBodyBytes) + " bytes");
-  }
-  return !too_large;
-}
-
-void send_image(Api& api, const httplib::Request& req, httplib::Response& res,
+void send_image(DashboardApi& api, const HttpRequest& req, HttpResponse& res,
                 const std::string& format) {
   api.guarded(res, [&] {
     const JobImage image = api.coordinator().image(job_id_of(req), format);
@@ -374,27 +349,93 @@ json tiles_json(const std::vector<TileView>& tiles) {
   return list;
 }
 
-void install_dashboard_routes(httplib::Server& http, Coordinator& coordinator,
-                              const FarmMetrics& metrics, DashboardConfig config) {
-  auto api = std::make_shared<Api>(coordinator, metrics, std::move(config));
-  http.set_pre_routing_handler([api](const httplib::Request& req, httplib::Response& res) {
-    return refuse_before_body(*api, req, res) ? httplib::Server::HandlerResponse::Handled
-                                              : httplib::Server::HandlerResponse::Unhandled;
-  });
-  http.set_payload_max_length(kMaxBodyBytes);  // a second guard: the routes read at most this
+bool DashboardRoutes::is_probe(std::string_view path) {
+  return path == "/healthz" || path == "/readyz";
+}
+
+bool DashboardRoutes::carries_body(std::string_view method) {
+  return method == "POST" || method == "PUT" || method == "PATCH" || method == "DELETE";
+}
+
+void DashboardRoutes::body_too_large(HttpResponse& res) {
+  send_error(res, 413, "the body may be at most " + std::to_string(kMaxBodyBytes) + " bytes");
+}
+
+// Runs on the request's head alone, before any body is read (docs/security.md, "The dashboard"):
+// Host and Origin (403), the token (401), then for requests with a body its type (415), a
+// declared length (411) and its size (413). The probes pass the first two: they tell nothing and
+// change nothing, and an orchestrator probing by a name no --allowed-host lists must not restart
+// a healthy server.
+bool DashboardRoutes::answer_head(const HttpRequest& req, HttpResponse& res) const {
+  if (is_probe(req.path)) return false;
+  if (!api_->host_allowed(req, res)) return true;
+  if (!is_open_path(req.path) && !api_->authorised(req, res)) return true;
+  if (!carries_body(req.method)) return false;
+  // A JSON body type also keeps cross-site forms out (they cannot send it without a CORS
+  // preflight, which this server never grants).
+  if (req.header("Content-Type").rfind("application/json", 0) != 0) {
+    send_error(res, 415, "requests that change state must be sent as application/json");
+    return true;
+  }
+  const bool chunked = req.header("Transfer-Encoding").find("chunked") != std::string::npos;
+  if (!req.has_header("Content-Length")) {
+    if (chunked) return false;  // the listener stops reading past kMaxBodyBytes (413)
+    send_error(res, 411, "send the body's length (Content-Length)");
+    return true;
+  }
+  const std::string length = req.header("Content-Length");
+  if (length.empty() || length.find_first_not_of("0123456789") != std::string::npos) {
+    send_error(res, 400, "Content-Length must be a number of bytes (got \"" + length + "\")");
+    return true;
+  }
+  if (length.size() > 7 || std::stoul(length) > kMaxBodyBytes) {
+    send_error(res, 413, "the body may be at most " + std::to_string(kMaxBodyBytes) +
+                             " bytes (Content-Length " + length + ")");
+    return true;
+  }
+  return false;
+}
+
+void DashboardRoutes::answer(HttpRequest req, HttpResponse& res) const {
+  // HEAD is GET without the body (the listener leaves it out).
+  const std::string method = req.method == "HEAD" ? "GET" : req.method;
+  for (const Route& route : routes_) {
+    if (route.method != method) continue;
+    std::smatch match;
+    if (!std::regex_match(req.path, match, route.pattern)) continue;
+    req.matches.assign(match.begin(), match.end());
+    route.handler(req, res);
+    return;
+  }
+  // Everything else (unknown paths, wrong methods): a JSON error, never an empty body.
+  send_error(res, 404, "not found: " + req.path);
+}
+
+DashboardRoutes::~DashboardRoutes() = default;
+
+DashboardRoutes::DashboardRoutes(Coordinator& coordinator, const FarmMetrics& metrics,
+                                 DashboardConfig config, HostCheck hosts)
+    : api_(std::make_shared<DashboardApi>(coordinator, metrics, std::move(config),
+                                          std::move(hosts))) {
+  using Handler = std::function<void(const HttpRequest&, HttpResponse&)>;
+  auto add = [this](std::string method, const std::string& pattern, Handler handler) {
+    routes_.push_back(Route{std::move(method), std::regex(pattern), std::move(handler)});
+  };
+  const std::shared_ptr<DashboardApi> api = api_;
 
   for (const dashboard_assets::Asset& asset : dashboard_assets::kAssets) {
-    http.Get(exact_route(asset.path), [asset](const httplib::Request&, httplib::Response& res) {
+    add("GET", exact_route(asset.path), [asset](const HttpRequest&, HttpResponse& res) {
       res.set_header("Cache-Control", "no-cache");
-      res.set_content(asset.body.data(), asset.body.size(), std::string(asset.content_type));
+      res.set_content(std::string(asset.body.data(), asset.body.size()),
+                      std::string(asset.content_type));
     });
   }
 
-  http.Get("/api/jobs", [api](const httplib::Request& req, httplib::Response& res) {
+  add("GET", "/api/jobs", [api](const HttpRequest& req, HttpResponse& res) {
     api->guarded(res, [&] {
       uint32_t limit = 1000;
       if (req.has_param("limit")) {
-        const std::string text = req.get_param_value("limit");
+        const std::string text = req.param("limit");
         if (text.empty() || text.size() > 6 || text.find_first_not_of("0123456789") != std::string::npos ||
             std::stoul(text) == 0) {
           throw FarmError(ErrorCode::invalid_argument, "limit must be 1..999999 (got \"" + text + "\")");
@@ -404,74 +445,55 @@ void install_dashboard_routes(httplib::Server& http, Coordinator& coordinator,
       send_json(res, 200, api->jobs(limit));
     });
   });
-  http.Get(R"(/api/jobs/(\d+))", [api](const httplib::Request& req, httplib::Response& res) {
+  add("GET", R"(/api/jobs/(\d+))", [api](const HttpRequest& req, HttpResponse& res) {
     api->guarded(res, [&] { send_json(res, 200, api->job_detail(job_id_of(req))); });
   });
-  http.Get(R"(/api/jobs/(\d+)/preview\.png)",
-           [api](const httplib::Request& req, httplib::Response& res) {
-             send_image(*api, req, res, "png");
-           });
-  http.Get(R"(/api/jobs/(\d+)/image\.exr)",
-           [api](const httplib::Request& req, httplib::Response& res) {
-             send_image(*api, req, res, "exr");
-           });
-  // Bodies are read through a content reader, at most kMaxBodyBytes of them: a chunked body
-  // (whose length no header declares) is cut off there with 413.
-  http.Post(R"(/api/jobs/(\d+)/cancel)",
-            [api](const httplib::Request& req, httplib::Response& res,
-                  const httplib::ContentReader& reader) {
-              std::string body;
-              if (!read_body(reader, res, body)) return;
-              api->guarded(res, [&] {
-                const JobRecord job = api->coordinator().cancel(job_id_of(req));
-                send_json(res, 200,
-                          api->job_summary(job, api->coordinator().clock().now_unix_ms()));
-              });
-            });
-  http.Post(R"(/api/jobs/(\d+)/priority)",
-            [api](const httplib::Request& req, httplib::Response& res,
-                  const httplib::ContentReader& reader) {
-              std::string text;
-              if (!read_body(reader, res, text)) return;
-              api->guarded(res, [&] {
-                const json body = json::parse(text, nullptr, /*allow_exceptions=*/false);
-                if (!body.is_object() || !body.contains("priority") ||
-                    !body["priority"].is_number_integer() ||
-                    body["priority"].get<int64_t>() < INT_MIN ||
-                    body["priority"].get<int64_t>() > INT_MAX) {
-                  throw FarmError(ErrorCode::invalid_argument,
-                                  "body must be {\"priority\": INTEGER} (a 32-bit integer)");
-                }
-                const JobRecord job = api->coordinator().set_priority(
-                    job_id_of(req), int(body["priority"].get<int64_t>()));
-                send_json(res, 200, api->job_summary(job, api->coordinator().clock().now_unix_ms()));
-              });
-            });
-  http.Get("/api/store", [api](const httplib::Request&, httplib::Response& res) {
+  add("GET", R"(/api/jobs/(\d+)/preview\.png)", [api](const HttpRequest& req, HttpResponse& res) {
+    send_image(*api, req, res, "png");
+  });
+  add("GET", R"(/api/jobs/(\d+)/image\.exr)", [api](const HttpRequest& req, HttpResponse& res) {
+    send_image(*api, req, res, "exr");
+  });
+  // Bodies were read by the listener, at most kMaxBodyBytes of them (a chunked body, whose
+  // length no header declares, is cut off there with 413).
+  add("POST", R"(/api/jobs/(\d+)/cancel)", [api](const HttpRequest& req, HttpResponse& res) {
+    api->guarded(res, [&] {
+      const JobRecord job = api->coordinator().cancel(job_id_of(req));
+      send_json(res, 200, api->job_summary(job, api->coordinator().clock().now_unix_ms()));
+    });
+  });
+  add("POST", R"(/api/jobs/(\d+)/priority)", [api](const HttpRequest& req, HttpResponse& res) {
+    api->guarded(res, [&] {
+      const json body = json::parse(req.body, nullptr, /*allow_exceptions=*/false);
+      if (!body.is_object() || !body.contains("priority") ||
+          !body["priority"].is_number_integer() ||
+          body["priority"].get<int64_t>() < INT_MIN ||
+          body["priority"].get<int64_t>() > INT_MAX) {
+        throw FarmError(ErrorCode::invalid_argument,
+                        "body must be {\"priority\": INTEGER} (a 32-bit integer)");
+      }
+      const JobRecord job = api->coordinator().set_priority(
+          job_id_of(req), int(body["priority"].get<int64_t>()));
+      send_json(res, 200, api->job_summary(job, api->coordinator().clock().now_unix_ms()));
+    });
+  });
+  add("GET", "/api/store", [api](const HttpRequest&, HttpResponse& res) {
     api->guarded(res, [&] { send_json(res, 200, store_json(store_status(api->coordinator()))); });
   });
-  http.Get("/api/workers", [api](const httplib::Request&, httplib::Response& res) {
+  add("GET", "/api/workers", [api](const HttpRequest&, HttpResponse& res) {
     api->guarded(res, [&] { send_json(res, 200, api->workers()); });
   });
-  http.Get("/metrics", [api](const httplib::Request&, httplib::Response& res) {
+  add("GET", "/metrics", [api](const HttpRequest&, HttpResponse& res) {
     api->guarded(res, [&] {
       res.set_content(api->metrics_text(), "text/plain; version=0.0.4; charset=utf-8");
     });
   });
-  http.Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
+  add("GET", "/healthz", [](const HttpRequest&, HttpResponse& res) {
     send_json(res, 200, json{{"status", "ok"}});
   });
-  http.Get("/readyz", [api](const httplib::Request&, httplib::Response& res) {
+  add("GET", "/readyz", [api](const HttpRequest&, HttpResponse& res) {
     const bool ready = !api->coordinator().changes().stopped() && api->coordinator().store_ready();
     send_json(res, ready ? 200 : 503, json{{"status", ready ? "ready" : "not ready"}});
-  });
-  // Everything else (unknown paths, wrong methods): a JSON error, never an empty body.
-  http.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
-    if (!res.body.empty()) return;
-    const std::string what = res.status == 404 ? "not found: " + req.path
-                             : res.status == 405 ? "method not allowed: " + req.method + " " + req.path
-                                                 : "HTTP error " + std::to_string(res.status);
-    send_json(res, res.status, json{{"error", what}});
   });
 }
 
