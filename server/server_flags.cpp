@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "cli/host_port.h"
+#include "dashboard/host_check.h"
 #include "wire/bearer_token.h"
 
 namespace tessera::server {
@@ -37,7 +38,17 @@ void add_http_flags(CLI::App& app, Flags& flags) {
                  "repeatable, or comma-separated in the variable")
       ->envname("TESSERA_ALLOWED_HOST")
       ->delimiter(',')
-      ->take_all();
+      ->take_all()
+      ->check(CLI::Validator(
+          [](std::string& name) -> std::string {
+            try {
+              HostCheck::normalise_name(name);
+              return "";
+            } catch (const std::invalid_argument& e) {
+              return e.what();
+            }
+          },
+          "NAME"));
   app.add_option("--http-connections-per-client", flags.http_connections_per_client,
                  "HTTP connections one client address may hold reading their head, and as many "
                  "past it; more get 503 (health probes excepted)")
