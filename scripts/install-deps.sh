@@ -8,6 +8,7 @@ PACKAGES=(
   libembree-dev libopenimageio-dev openimageio-tools libglm-dev libtbb-dev
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libsqlite3-dev libssl-dev libcpp-httplib-dev nlohmann-json3-dev libcli11-dev
+  libboost1.74-dev   # Boost.Beast and Asio (header-only): the dashboard's HTTP server
   libtinyobjloader-dev libzstd-dev zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev libpugixml-dev
   python3
   fonts-dejavu-core   # the labels of tessera-worker converge's plot

@@ -52,6 +52,9 @@ class DashboardRoutes {
 
   /// /healthz and /readyz: answered whatever the limits, the Host or the token.
   static bool is_probe(std::string_view path);
+  /// /healthz: its answer reads nothing (it says the process serves HTTP), so the listener may
+  /// give it on its I/O thread, never queued behind a handler that waits on the store.
+  static bool answers_without_waiting(std::string_view path) { return path == "/healthz"; }
   /// Methods whose requests carry a body the routes read (POST, PUT, PATCH, DELETE).
   static bool carries_body(std::string_view method);
 

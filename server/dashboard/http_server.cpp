@@ -43,7 +43,8 @@ constexpr int kHttpIoThreads = 2;
 // their own pool so that the I/O threads never wait for them. Eight, as many requests at once as
 // the listener ever computed; more wait for a thread, holding a socket but no thread.
 constexpr int kHttpHandlerThreads = 8;
-// /healthz and /readyz run on a thread of their own, never queued behind slow API requests.
+// /readyz runs on a thread of its own, never queued behind slow API requests (/healthz, which
+// reads nothing, is answered on the I/O thread).
 constexpr int kHttpProbeThreads = 1;
 // The request line and headers together; a longer head gets 431.
 constexpr uint32_t kHttpMaxHeadBytes = 16 * 1024;
@@ -337,6 +338,11 @@ class HttpSession : public HttpSessionBase,
   }
 
   void run_handler() {
+    if (DashboardRoutes::answers_without_waiting(req_.path)) {
+      HttpResponse res;
+      listener_.routes().answer(req_, res);
+      return write(std::move(res));
+    }
     tcp().expires_never();  // the handler may take its time; nothing is read meanwhile
     asio::post(listener_.pool(probe_), [self = this->shared_from_this()] {
       HttpResponse res;
