@@ -20,6 +20,7 @@
 #include "farm_error.h"
 #include "job_output.h"
 #include "proto_convert.h"
+#include "scene/native/json_value.h"
 #include "wire/job_json.h"
 #include "wire/job_options_wire.h"
 
@@ -191,7 +192,7 @@ class DashboardApi {
   bool host_allowed(const HttpRequest& req, HttpResponse& res) const {
     if (req.has_header("Host") && !hosts_.allows_host(req.header("Host"))) {
       send_error(res, 403,
-                 "Host \"" + req.header("Host") +
+                 "Host \"" + printable(req.header("Host")) +
                      "\" is not an address of this server: use its IP address or localhost, or "
                      "start the server with --allowed-host NAME");
       return false;
@@ -199,7 +200,7 @@ class DashboardApi {
     if (DashboardRoutes::carries_body(req.method) && req.has_header("Origin") &&
         !hosts_.allows_origin(req.header("Origin"))) {
       send_error(res, 403,
-                 "Origin \"" + req.header("Origin") +
+                 "Origin \"" + printable(req.header("Origin")) +
                      "\" may not change this server: only pages it serves itself (or a host "
                      "given with --allowed-host) may");
       return false;
@@ -408,7 +409,7 @@ void DashboardRoutes::answer(HttpRequest req, HttpResponse& res) const {
     return;
   }
   // Everything else (unknown paths, wrong methods): a JSON error, never an empty body.
-  send_error(res, 404, "not found: " + req.path);
+  send_error(res, 404, "not found: " + printable(req.path));
 }
 
 DashboardRoutes::~DashboardRoutes() = default;
