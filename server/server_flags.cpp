@@ -50,8 +50,8 @@ void add_http_flags(CLI::App& app, Flags& flags) {
           },
           "NAME"));
   app.add_option("--http-connections-per-client", flags.http_connections_per_client,
-                 "HTTP connections one client address may hold reading their head, and as many "
-                 "past it; more get 503 (health probes excepted)")
+                 "per client address: HTTP requests still sending their head (past it the oldest "
+                 "is dropped) and requests being served (past it 503); health probes exempt")
       ->envname("TESSERA_HTTP_CONNECTIONS_PER_CLIENT")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();

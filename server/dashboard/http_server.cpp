@@ -103,6 +103,10 @@ asio::ssl::context make_tls_context(const std::string& cert_file, const std::str
   return tls;
 }
 
+}  // namespace
+
+/// One connection of the listener (HttpSession below, plain or TLS). Outside the anonymous
+/// namespace: the Listener, declared in the header, holds pointers to it.
 class HttpSessionBase {
  public:
   virtual ~HttpSessionBase() = default;
@@ -111,8 +115,6 @@ class HttpSessionBase {
   /// Closes the connection from any thread; what it was doing ends with an error.
   virtual void abort() = 0;
 };
-
-}  // namespace
 
 /// What the sessions share: the I/O context and its threads, the handler pools, the routes and
 /// the connection table. Members are destroyed in reverse order: the I/O context (and with it any
