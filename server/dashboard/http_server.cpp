@@ -7,6 +7,7 @@
 #include <utility>
 // clang-format off: the include above must come first
 #include <algorithm>
+#include <array>
 #include <boost/asio.hpp>
 #include <boost/asio/ssl.hpp>
 #include <boost/beast/core.hpp>
@@ -54,6 +55,10 @@ constexpr auto kHttpWriteGrace = std::chrono::seconds(30);
 constexpr size_t kHttpMinWriteBytesPerS = 256 * 1024;
 // TLS close_notify exchange after the response.
 constexpr auto kHttpTlsShutdown = std::chrono::seconds(2);
+// After the response, what the client still sends is read and dropped for at most this long and
+// this much before the connection closes (finish()).
+constexpr auto kHttpLinger = std::chrono::seconds(2);
+constexpr size_t kHttpMaxLingerBytes = 256 * 1024;
 // stop(): how long requests past their head may take to finish.
 constexpr auto kHttpStopGrace = std::chrono::seconds(5);
 
@@ -395,17 +400,31 @@ class HttpSession : public HttpSessionBase,
       tcp().expires_after(kHttpTlsShutdown);
       stream_.async_shutdown([self = this->shared_from_this()](beast::error_code) { self->close(); });
     } else {
+      // A lingering close: what the client still sends (the body of a refused request) is read
+      // and dropped for a moment, since closing with unread data resets the connection, and the
+      // client could lose the answer before reading it.
       beast::error_code ignored;
       tcp().socket().shutdown(tcp::socket::shutdown_send, ignored);
-      close();
+      tcp().expires_after(kHttpLinger);
+      drain();
     }
+  }
+
+  void drain() {
+    tcp().async_read_some(asio::buffer(drain_buffer_),
+                          [self = this->shared_from_this()](beast::error_code ec, size_t n) {
+                            self->drained_bytes_ += n;
+                            if (ec || self->drained_bytes_ > kHttpMaxLingerBytes) {
+                              return self->close();
+                            }
+                            self->drain();
+                          });
   }
 
   void close() {
     if (closed_) return;
     closed_ = true;
-    beast::error_code ignored;
-    tcp().socket().close(ignored);
+    tcp().close();  // the socket and the deadline's timer
     listener_.closed(id_);
   }
 
@@ -420,6 +439,8 @@ class HttpSession : public HttpSessionBase,
   HttpRequest req_;
   bool probe_ = false;
   bool bad_content_length_ = false;
+  std::array<char, 4096> drain_buffer_;
+  size_t drained_bytes_ = 0;
   bool closed_ = false;
   bhttp::response<bhttp::string_body> response_;
 };
