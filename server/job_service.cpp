@@ -1,5 +1,8 @@
 #include "job_service.h"
 
+#include <algorithm>
+#include <optional>
+
 #include "proto_convert.h"
 #include "rpc_guard.h"
 #include "wire/rpc_channel.h"
@@ -38,12 +41,34 @@ void tell_store_damage(const Coordinator& coordinator, grpc::ServerContext& cont
   context.AddTrailingMetadata(wire::kStoreDamageMetadata, damage);
 }
 
+/// How long a submit may wait for budget: `max_wait`, or less to answer before the client's
+/// deadline.
+std::chrono::milliseconds submit_wait(const grpc::ServerContext& context,
+                                      std::chrono::milliseconds max_wait) {
+  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+      context.deadline() - std::chrono::system_clock::now());
+  return std::clamp(left - std::chrono::milliseconds(500), std::chrono::milliseconds(0), max_wait);
+}
+
 }  // namespace
 
 grpc::Status JobServiceImpl::SubmitJob(grpc::ServerContext* context,
                                        const v1::SubmitJobRequest* request,
                                        v1::SubmitJobResponse* response) {
   return guarded(auth_, *context, "SubmitJob", [&] {
+    // The check's memory is reserved from the headers before anything is decoded, and held
+    // until the answer (docs/farm.md, "The server's memory").
+    const SubmitCost cost = submit_check_cost(request->bundle(), submit_.max_texture_values);
+    std::optional<SubmitBudget::Reservation> reservation;
+    if (submit_.budget != nullptr) {
+      const std::string detail =
+          cost.largest_file.empty()
+              ? ""
+              : "the most for " + cost.largest_file + ": " +
+                    std::to_string((cost.largest_file_bytes + (1 << 20) - 1) >> 20) + " MiB";
+      reservation.emplace(submit_.budget->reserve(cost.bytes, request->bundle().scene_file(),
+                                                  detail, submit_wait(*context, submit_.max_wait)));
+    }
     *response->mutable_job() = to_proto(coordinator_.submit(
         request->bundle(), request->options(), request->priority(), client_of(*context)));
     return grpc::Status::OK;

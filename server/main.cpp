@@ -220,7 +220,10 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
 
   tessera::wire::BearerTokenCheck client_auth(tokens.client);
   tessera::wire::BearerTokenCheck worker_auth(tokens.worker);
-  ts::JobServiceImpl job_service(coordinator, client_auth);
+  ts::SubmitBudget submit_budget(flags.submit_memory_mb << 20);
+  metrics.set_submit_budget(&submit_budget);
+  ts::JobServiceImpl job_service(coordinator, client_auth,
+                                 {&submit_budget, flags.max_texture_values});
   ts::WorkerServiceImpl worker_service(coordinator, worker_auth);
   int port = 0;
   const bool open = !client_auth.enabled() && !worker_auth.enabled();

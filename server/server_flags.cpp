@@ -181,6 +181,22 @@ void add_store_flags(CLI::App& app, Flags& flags) {
       ->envname("TESSERA_HTTP_PORT_FILE");
 }
 
+void add_submit_flags(CLI::App& app, Flags& flags) {
+  // The checks of submitted bundles (docs/farm.md, "The server's memory").
+  limit_option(app, "--submit-memory-mb", flags.submit_memory_mb, "TESSERA_SUBMIT_MEMORY_MB",
+               "memory for checking submitted bundles, all submits together, MiB: each reserves "
+               "three times its bytes plus what decoding its meshes and images takes (from their "
+               "headers) before it is checked; a bundle needing more is refused, submits that do "
+               "not fit beside the others wait up to 60 s, then get RESOURCE_EXHAUSTED")
+      ->check(CLI::Range(uint64_t(16), uint64_t(1) << 20));
+  limit_option(app, "--max-texture-values", flags.max_texture_values,
+               "TESSERA_MAX_TEXTURE_VALUES",
+               "most values (width x height x channels) of one image file of a bundle (textures, "
+               "environment maps); the default, a 16384 x 8192 RGBA map, is also the local CLI's "
+               "limit and the most this flag allows")
+      ->check(CLI::Range(uint64_t(1), kMaxImageValues));
+}
+
 }  // namespace
 
 void add_server_flags(CLI::App& app, Flags& flags) {
@@ -192,6 +208,7 @@ void add_server_flags(CLI::App& app, Flags& flags) {
   add_limit_flags(app, flags);
   add_health_flags(app, flags);
   add_store_flags(app, flags);
+  add_submit_flags(app, flags);
 }
 
 Tokens resolve_tokens(const Flags& flags) {

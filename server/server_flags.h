@@ -9,6 +9,7 @@
 
 #include "coordinator.h"
 #include "farm_limits.h"
+#include "scene/image_check.h"
 #include "wire/transport_security.h"
 
 namespace tessera::server {
@@ -37,6 +38,8 @@ struct Flags {
   std::vector<std::string> allowed_hosts;  ///< --allowed-host (repeatable)
   int http_connections_per_client = 16;    ///< --http-connections-per-client
   double http_head_timeout_s = 10;         ///< --http-head-timeout
+  uint64_t submit_memory_mb = 2048;                ///< --submit-memory-mb
+  uint64_t max_texture_values = kMaxImageValues;  ///< --max-texture-values
 };
 
 /// Registers every flag of tessera-server on `app`, bound to `flags`.

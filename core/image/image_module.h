@@ -16,13 +16,14 @@ namespace tessera {
 
 /// Bumped with any change of ImageModule or ImageIo; the loader refuses a module of another
 /// version.
-inline constexpr uint32_t kImageModuleVersion = 3;
+inline constexpr uint32_t kImageModuleVersion = 4;
 
-/// What the module exports: the image functions' table and the bundle's image check.
+/// What the module exports: the image functions' table and the bundle's image check and probe.
 struct ImageModule {
   uint32_t version = kImageModuleVersion;
   const ImageIo* io = nullptr;
-  ImageCheck (*check_image_bytes)(const std::string&, std::string_view) = nullptr;
+  ImageCheck (*check_image_bytes)(const std::string&, std::string_view, uint64_t) = nullptr;
+  ImageHeader (*probe_image_bytes)(const std::string&, std::string_view) = nullptr;
   std::vector<std::string> (*scene_image_files)(const Scene&) = nullptr;
 };
 

@@ -6,6 +6,7 @@ tessera_image_module() {
   static const tessera::ImageModule module{tessera::kImageModuleVersion,
                                            &tessera::oiio_image_io(),
                                            &tessera::check_image_bytes,
-                                           &tessera::scene_image_files};
+                                           &tessera::scene_image_files,
+                                           &tessera::probe_image_bytes};
   return &module;
 }

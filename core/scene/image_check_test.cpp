@@ -118,6 +118,59 @@ TEST(ImageCheck, RefusesBadValuesNamingThePixel) {
             "values >= 0");
 }
 
+// Rows 3.6 MB wide: the check decodes two rows at a time, and names a pixel of a later band by
+// its row in the image.
+TEST(ImageCheck, NamesThePixelInALaterBandOfRows) {
+  const int width = 300'000;
+  std::vector<float> pixels(size_t(width) * 3 * 3, 0.25f);
+  pixels[(size_t(2) * width + 5) * 3 + 1] = -1.0f;
+  EXPECT_EQ(check_error("wide.exr", encode(".exr", width, 3, pixels)),
+            "wide.exr: pixel (5, 2) channel G is negative (-1.000000); images must hold finite "
+            "values >= 0");
+}
+
+TEST(ImageCheck, RefusesMoreValuesThanTheLimitFromTheHeader) {
+  const std::string exr = encode(".exr", 5, 3, ramp(5, 3));
+  try {
+    check_image_bytes("big.exr", exr, 44);
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), "big.exr: 5 x 3 x 3 values (at most 44)");
+  }
+  EXPECT_EQ(check_image_bytes("big.exr", exr, 45).width, 5);
+  // The default takes a 16k environment map, RGB or RGBA.
+  EXPECT_GE(kMaxImageValues, uint64_t(16384) * 8192 * 4);
+}
+
+TEST(ImageCheck, ProbeReadsTheHeaderAndEstimatesTheCheck) {
+  const ImageHeader exr = probe_image_bytes("a.exr", encode(".exr", 5, 3, ramp(5, 3)));
+  EXPECT_EQ(exr.width, 5);
+  EXPECT_EQ(exr.height, 3);
+  EXPECT_EQ(exr.channels, 3);
+  EXPECT_EQ(exr.format, "openexr");
+  EXPECT_EQ(exr.values(), 45u);
+  const ImageHeader png =
+      probe_image_bytes("a.png", encode(".png", 4, 2, ramp(4, 2), OIIO::TypeDesc::UINT8));
+  EXPECT_EQ(png.bytes_per_value, 1);
+  // PNG: the decoded image in its pixel type (24 bytes) and a band of 2 rows of floats.
+  EXPECT_EQ(image_check_memory(png), 24u + 2 * 4 * 3 * 4);
+  // A 16k RGB float environment map in EXR: the decoder's allowance and 8 MiB of rows.
+  ImageHeader sky = exr;
+  sky.width = 16384;
+  sky.height = 8192;
+  sky.bytes_per_value = 4;
+  EXPECT_LT(image_check_memory(sky), uint64_t(80) << 20);
+  sky.format = "png";
+  EXPECT_GT(image_check_memory(sky), sky.values() * 4);
+  std::string error;
+  try {
+    probe_image_bytes("t.png", "not an image");
+  } catch (const SceneError& e) {
+    error = e.what();
+  }
+  EXPECT_EQ(error.rfind("t.png: cannot be read as an image (", 0), 0u) << error;
+}
+
 TEST(ImageCheck, RefusesWhatIsNotAnImage) {
   EXPECT_EQ(check_error("a.png", ""), "a.png: empty file, not an image");
   std::string not_png = check_error("a.png", "this is text, not a PNG file");

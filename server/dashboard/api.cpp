@@ -182,6 +182,7 @@ class DashboardApi {
     s.results_accepted = m.results_accepted();
     s.results_dropped_session = m.results_dropped();
     s.merge = m.merge_latency();
+    if (const SubmitBudget* budget = m.submit_budget()) s.submit_memory = budget->counters();
     s.store = store_status(coordinator_);
     return prometheus_text(s);
   }

@@ -11,6 +11,7 @@
 #include <mutex>
 
 #include "clock.h"
+#include "submit_budget.h"
 #include "upload_observer.h"
 
 namespace tessera::server {
@@ -47,7 +48,13 @@ class FarmMetrics : public UploadObserver {
   uint64_t results_dropped() const;
   MergeHistogram merge_latency() const;
 
+  /// The submit checks' memory budget shown with the rest (tessera_submit_memory_*); none until
+  /// set. It must outlive this object.
+  void set_submit_budget(const SubmitBudget* budget) { submit_budget_ = budget; }
+  const SubmitBudget* submit_budget() const { return submit_budget_; }
+
  private:
+  const SubmitBudget* submit_budget_ = nullptr;
   struct Event {
     int64_t t_unix_ms;
     int64_t worker_id, job_id;

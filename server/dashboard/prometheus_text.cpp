@@ -96,6 +96,27 @@ std::string prometheus_text(const FarmSnapshotForMetrics& s) {
   w.sample("tessera_merge_latency_seconds_bucket", "le=\"+Inf\"", std::to_string(s.merge.count));
   w.sample("tessera_merge_latency_seconds_sum", "", number(s.merge.sum_s));
   w.sample("tessera_merge_latency_seconds_count", "", std::to_string(s.merge.count));
+  if (s.submit_memory) {
+    // docs/farm.md, "The server's memory".
+    const SubmitBudget::Counters& m = *s.submit_memory;
+    w.single("tessera_submit_memory_budget_bytes", "gauge",
+             "Memory for checking submitted bundles (--submit-memory-mb).", m.capacity_bytes);
+    w.single("tessera_submit_memory_reserved_bytes", "gauge",
+             "Submit check memory reserved now.", m.reserved_bytes);
+    w.single("tessera_submit_memory_peak_bytes", "gauge",
+             "The most submit check memory reserved at once since the server started.",
+             m.peak_reserved_bytes);
+    w.family("tessera_submits_checked_total", "counter",
+             "Submits by what the memory budget did with them: admitted at once, admitted after "
+             "waiting, refused as larger than the budget, refused after waiting.");
+    w.sample("tessera_submits_checked_total", "budget=\"admitted\"",
+             std::to_string(m.admitted - m.waited));
+    w.sample("tessera_submits_checked_total", "budget=\"waited\"", std::to_string(m.waited));
+    w.sample("tessera_submits_checked_total", "budget=\"too_large\"",
+             std::to_string(m.refused_too_large));
+    w.sample("tessera_submits_checked_total", "budget=\"busy\"",
+             std::to_string(m.refused_busy));
+  }
   return w.str();
 }
 

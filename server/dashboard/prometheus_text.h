@@ -2,6 +2,7 @@
 // counts and the FarmMetrics recorder, every family with HELP and TYPE.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "coordinator.h"
@@ -21,6 +22,8 @@ struct FarmSnapshotForMetrics {
   /// False when the store is damaged where `totals` and the worker counts are read: their
   /// families are left out (the store's gauges and this process's counters remain).
   bool store_readable = true;
+  /// The submit checks' memory budget (--submit-memory-mb), when the server has one.
+  std::optional<SubmitBudget::Counters> submit_memory;
 };
 
 std::string prometheus_text(const FarmSnapshotForMetrics& s);

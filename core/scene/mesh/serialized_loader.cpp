@@ -21,9 +21,11 @@ constexpr uint32_t kHasNormals = 0x0001;
 constexpr uint32_t kHasUvs = 0x0002;
 constexpr uint32_t kHasColors = 0x0008;
 constexpr uint32_t kDoublePrecision = 0x2000;
-/// Deflate expands at most about 1032:1; a shape that declares more data than its compressed
-/// bytes could hold is refused before its arrays are allocated.
-constexpr uint64_t kMaxInflateRatio = 1040;
+/// The most bytes a shape's arrays may declare per compressed byte. Deflate can expand zeros
+/// about 1032:1, so a 0.5 MB file could declare 20M zero vertices and triangles (0.5 GB of
+/// arrays, 1.8 GB of server memory while checked); real meshes inflate 2-3:1 (the shapes of
+/// tests/data/mitsuba/common/meshes/matpreview.serialized: 2.0, 2.4 and 3.0).
+constexpr uint64_t kMaxInflateRatio = kMaxSerializedInflateRatio;
 constexpr size_t kMaxShapeName = 4096;
 
 template <typename T>
@@ -143,27 +145,37 @@ std::string read_shape_name(ZlibReader& in, const std::string& name) {
   }
 }
 
-/// Reads count * dim reals (float or double) into doubles.
-std::vector<double> read_reals(ZlibReader& in, uint64_t count, bool doubles, const char* what) {
-  std::vector<double> values(count);
-  if (doubles) {
-    std::vector<unsigned char> raw(count * 8);
-    in.read(raw.data(), raw.size(), what);
-    for (uint64_t i = 0; i < count; ++i) {
-      uint64_t bits = little_endian<uint64_t>(raw.data() + 8 * i);
-      std::memcpy(&values[i], &bits, 8);
-    }
-  } else {
-    std::vector<unsigned char> raw(count * 4);
-    in.read(raw.data(), raw.size(), what);
-    for (uint64_t i = 0; i < count; ++i) {
-      uint32_t bits = little_endian<uint32_t>(raw.data() + 4 * i);
-      float f;
-      std::memcpy(&f, &bits, 4);
-      values[i] = f;
+/// Reads `count` reals (float or double) a chunk at a time and hands each to `take(index,
+/// value)`: no array of the whole stream's bytes is held beside the mesh being filled (a 20M
+/// vertex mesh read into raw and converted arrays first took 3x its final size).
+template <typename Take>
+void read_reals(ZlibReader& in, uint64_t count, bool doubles, const char* what, Take take) {
+  const size_t size = doubles ? 8 : 4;
+  constexpr uint64_t kChunk = 1 << 14;
+  std::vector<unsigned char> raw(size_t(std::min(count, kChunk)) * size);
+  for (uint64_t first = 0; first < count; first += kChunk) {
+    const uint64_t n = std::min(kChunk, count - first);
+    in.read(raw.data(), size_t(n) * size, what);
+    for (uint64_t i = 0; i < n; ++i) {
+      double value;
+      if (doubles) {
+        uint64_t bits = little_endian<uint64_t>(raw.data() + 8 * i);
+        std::memcpy(&value, &bits, 8);
+      } else {
+        uint32_t bits = little_endian<uint32_t>(raw.data() + 4 * i);
+        float f;
+        std::memcpy(&f, &bits, 4);
+        value = f;
+      }
+      take(first + i, value);
     }
   }
-  return values;
+}
+
+uint64_t bytes_per_vertex(uint32_t flags) {
+  uint64_t real = (flags & kDoublePrecision) ? 8 : 4;
+  return real * (3 + ((flags & kHasNormals) ? 3 : 0) + ((flags & kHasUvs) ? 2 : 0) +
+                 ((flags & kHasColors) ? 3 : 0));
 }
 
 void check_counts(uint64_t vertices, uint64_t triangles, uint64_t bytes_per_vertex,
@@ -178,65 +190,36 @@ void check_counts(uint64_t vertices, uint64_t triangles, uint64_t bytes_per_vert
   }
   uint64_t declared = vertices * bytes_per_vertex + triangles * 12;
   if (declared > compressed * kMaxInflateRatio) {
-    throw SceneError(name + ": truncated: " + std::to_string(vertices) + " vertices and " +
-                     std::to_string(triangles) + " triangles cannot fit in " +
-                     std::to_string(compressed) + " compressed bytes");
+    throw SceneError(name + ": " + std::to_string(vertices) + " vertices and " +
+                     std::to_string(triangles) + " triangles (" + std::to_string(declared) +
+                     " bytes) declared in " + std::to_string(compressed) +
+                     " compressed bytes, more than " + std::to_string(kMaxInflateRatio) +
+                     " times as many (truncated, or a decompression bomb)");
   }
 }
 
-void read_arrays(ZlibReader& in, uint32_t flags, uint64_t vertices, uint64_t triangles,
-                 bool read_normals, const std::string& name, TriangleMesh& mesh) {
-  bool doubles = (flags & kDoublePrecision) != 0;
-  std::vector<double> p = read_reals(in, 3 * vertices, doubles, "vertex positions");
-  mesh.positions.resize(vertices);
-  for (uint64_t i = 0; i < vertices; ++i) {
-    mesh.positions[i] = {p[3 * i], p[3 * i + 1], p[3 * i + 2]};
-    if (!std::isfinite(p[3 * i]) || !std::isfinite(p[3 * i + 1]) || !std::isfinite(p[3 * i + 2])) {
-      throw SceneError(name + ": vertex " + std::to_string(i) + ": position is not finite");
-    }
-  }
-  if (flags & kHasNormals) {
-    std::vector<double> n = read_reals(in, 3 * vertices, doubles, "vertex normals");
-    if (read_normals) {
-      mesh.normals.resize(vertices);
-      for (uint64_t i = 0; i < vertices; ++i) {
-        mesh.normals[i] = {n[3 * i], n[3 * i + 1], n[3 * i + 2]};
-      }
-    }
-  }
-  if (flags & kHasUvs) {
-    std::vector<double> uv = read_reals(in, 2 * vertices, doubles, "texture coordinates");
-    mesh.uvs.resize(vertices);
-    for (uint64_t i = 0; i < vertices; ++i) {
-      mesh.uvs[i] = {uv[2 * i], uv[2 * i + 1]};
-      if (!std::isfinite(uv[2 * i]) || !std::isfinite(uv[2 * i + 1])) {
-        throw SceneError(name + ": vertex " + std::to_string(i) +
-                         ": texture coordinate is not finite");
-      }
-    }
-  }
-  if (flags & kHasColors) in.skip(3 * vertices * (doubles ? 8 : 4), "vertex colours");
-  std::vector<unsigned char> raw(12 * triangles);
-  in.read(raw.data(), raw.size(), "triangle indices");
-  mesh.indices.resize(triangles);
-  for (uint64_t t = 0; t < triangles; ++t) {
-    for (int k = 0; k < 3; ++k) {
-      uint32_t index = little_endian<uint32_t>(raw.data() + 12 * t + 4 * k);
-      if (index >= vertices) {
-        throw SceneError(name + ": triangle " + std::to_string(t) + ": vertex index " +
-                         std::to_string(index) + " out of range (" + std::to_string(vertices) +
-                         " vertices)");
-      }
-      mesh.indices[t][k] = index;
-    }
-  }
-  if (!normals_usable(mesh)) mesh.normals.clear();
+/// What a shape's stream holds before its arrays, read and checked (check_counts).
+struct ShapeHeader {
+  uint32_t flags = 0;
+  std::string shape_name;
+  uint64_t vertices = 0;
+  uint64_t triangles = 0;
+};
+
+ShapeHeader read_shape_header(ZlibReader& in, uint16_t version, uint64_t compressed,
+                              const std::string& name) {
+  ShapeHeader header;
+  header.flags = in.value<uint32_t>("flags");
+  if (version == kVersion4) header.shape_name = read_shape_name(in, name);
+  header.vertices = in.value<uint64_t>("vertex count");
+  header.triangles = in.value<uint64_t>("triangle count");
+  check_counts(header.vertices, header.triangles, bytes_per_vertex(header.flags), compressed,
+               name);
+  return header;
 }
 
-}  // namespace
-
-SerializedMesh load_serialized_mesh(std::string_view bytes, const std::string& name,
-                                    int shape_index, bool read_normals) {
+/// The file's version, after its magic number and version are checked.
+uint16_t file_version(std::string_view bytes, const std::string& name) {
   if (bytes.size() < 4) throw SceneError(name + ": truncated: no serialized file header");
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   uint16_t magic = little_endian<uint16_t>(data);
@@ -248,6 +231,62 @@ SerializedMesh load_serialized_mesh(std::string_view bytes, const std::string& n
     throw SceneError(name + ": unsupported serialized format version " + std::to_string(version) +
                      " (expected 3 or 4)");
   }
+  return version;
+}
+
+void read_arrays(ZlibReader& in, uint32_t flags, uint64_t vertices, uint64_t triangles,
+                 bool read_normals, const std::string& name, TriangleMesh& mesh) {
+  bool doubles = (flags & kDoublePrecision) != 0;
+  mesh.positions.resize(vertices);
+  read_reals(in, 3 * vertices, doubles, "vertex positions", [&](uint64_t i, double v) {
+    if (!std::isfinite(v)) {
+      throw SceneError(name + ": vertex " + std::to_string(i / 3) + ": position is not finite");
+    }
+    mesh.positions[i / 3][int(i % 3)] = v;
+  });
+  if (flags & kHasNormals) {
+    if (read_normals) mesh.normals.resize(vertices);
+    read_reals(in, 3 * vertices, doubles, "vertex normals", [&](uint64_t i, double v) {
+      if (read_normals) mesh.normals[i / 3][int(i % 3)] = v;
+    });
+  }
+  if (flags & kHasUvs) {
+    mesh.uvs.resize(vertices);
+    read_reals(in, 2 * vertices, doubles, "texture coordinates", [&](uint64_t i, double v) {
+      if (!std::isfinite(v)) {
+        throw SceneError(name + ": vertex " + std::to_string(i / 2) +
+                         ": texture coordinate is not finite");
+      }
+      mesh.uvs[i / 2][int(i % 2)] = v;
+    });
+  }
+  if (flags & kHasColors) in.skip(3 * vertices * (doubles ? 8 : 4), "vertex colours");
+  mesh.indices.resize(triangles);
+  constexpr uint64_t kChunk = 1 << 14;
+  std::vector<unsigned char> raw(12 * size_t(std::min(triangles, kChunk)));
+  for (uint64_t first = 0; first < triangles; first += kChunk) {
+    const uint64_t n = std::min(kChunk, triangles - first);
+    in.read(raw.data(), 12 * size_t(n), "triangle indices");
+    for (uint64_t t = first; t < first + n; ++t) {
+      for (int k = 0; k < 3; ++k) {
+        uint32_t index = little_endian<uint32_t>(raw.data() + 12 * (t - first) + 4 * k);
+        if (index >= vertices) {
+          throw SceneError(name + ": triangle " + std::to_string(t) + ": vertex index " +
+                           std::to_string(index) + " out of range (" + std::to_string(vertices) +
+                           " vertices)");
+        }
+        mesh.indices[t][k] = index;
+      }
+    }
+  }
+  if (!normals_usable(mesh)) mesh.normals.clear();
+}
+
+}  // namespace
+
+SerializedMesh load_serialized_mesh(std::string_view bytes, const std::string& name,
+                                    int shape_index, bool read_normals) {
+  const uint16_t version = file_version(bytes, name);
   if (shape_index < 0) {
     throw SceneError(name + ": shape_index must be >= 0 (got " + std::to_string(shape_index) + ")");
   }
@@ -255,18 +294,43 @@ SerializedMesh load_serialized_mesh(std::string_view bytes, const std::string& n
   check_header(bytes, offset, name, version);
   std::string_view compressed = bytes.substr(offset + 4);
   ZlibReader in(compressed, name);
-
+  const ShapeHeader header = read_shape_header(in, version, compressed.size(), name);
   SerializedMesh out;
-  uint32_t flags = in.value<uint32_t>("flags");
-  if (version == kVersion4) out.shape_name = read_shape_name(in, name);
-  uint64_t vertices = in.value<uint64_t>("vertex count");
-  uint64_t triangles = in.value<uint64_t>("triangle count");
-  uint64_t real = (flags & kDoublePrecision) ? 8 : 4;
-  uint64_t per_vertex = real * (3 + ((flags & kHasNormals) ? 3 : 0) + ((flags & kHasUvs) ? 2 : 0) +
-                                ((flags & kHasColors) ? 3 : 0));
-  check_counts(vertices, triangles, per_vertex, compressed.size(), name);
-  read_arrays(in, flags, vertices, triangles, read_normals, name, out.mesh);
+  out.shape_name = header.shape_name;
+  read_arrays(in, header.flags, header.vertices, header.triangles, read_normals, name, out.mesh);
   return out;
+}
+
+uint64_t serialized_load_bytes(std::string_view bytes, const std::string& name) {
+  uint16_t version = 0;
+  uint64_t shapes = 1;
+  try {
+    version = file_version(bytes, name);
+    if (bytes.size() >= 8) {
+      const auto* end = reinterpret_cast<const unsigned char*>(bytes.data()) + bytes.size();
+      shapes = std::max<uint64_t>(1, little_endian<uint32_t>(end - 4));
+    }
+  } catch (const SceneError&) {
+    return 0;  // refused before anything is allocated
+  }
+  uint64_t total = 0;
+  for (uint64_t index = 0; index < shapes; ++index) {
+    try {
+      const uint64_t offset = shape_offset(bytes, version, int(std::min<uint64_t>(index, INT32_MAX)), name);
+      check_header(bytes, offset, name, version);
+      std::string_view compressed = bytes.substr(offset + 4);
+      ZlibReader in(compressed, name);
+      const ShapeHeader header = read_shape_header(in, version, compressed.size(), name);
+      // TriangleMesh: dvec3 positions and normals, dvec2 uvs, u32vec3 triangles.
+      total += header.vertices * (24 + ((header.flags & kHasNormals) ? 24 : 0) +
+                                  ((header.flags & kHasUvs) ? 16 : 0)) +
+               header.triangles * 12;
+    } catch (const SceneError&) {
+      if (index == 0) return 0;
+      break;  // a bad dictionary: only the shapes before it can be loaded
+    }
+  }
+  return total;
 }
 
 }  // namespace tessera

@@ -11,6 +11,11 @@
 
 namespace tessera {
 
+/// The most bytes a shape's arrays may declare per byte of its compressed stream (the bytes from
+/// the shape's header to the end of the file). Real meshes inflate 2-3:1; zeros inflate about
+/// 1032:1, so a file half a megabyte long could otherwise declare half a gigabyte of arrays.
+inline constexpr uint64_t kMaxSerializedInflateRatio = 64;
+
 /// One shape of a serialized file.
 struct SerializedMesh {
   std::string shape_name;  ///< the name stored with the shape (version 4); "" for version 3
@@ -32,9 +37,18 @@ struct SerializedMesh {
 /// 64-bit indices, which the format uses only beyond 2^32 vertices, never occur: more than
 /// kMaxMeshElements vertices or triangles are refused before anything is allocated.
 /// Throws SceneError("<name>: ...") for a bad magic number or version, a negative or missing
-/// shape index, a truncated or corrupt stream, counts beyond the limits or beyond what the
-/// compressed bytes can hold, non-finite positions or uvs, and vertex indices out of range.
+/// shape index, a truncated or corrupt stream, counts beyond the limits or declaring more than
+/// kMaxSerializedInflateRatio times the compressed bytes, non-finite positions or uvs, and
+/// vertex indices out of range. The arrays are read a chunk at a time: the memory it takes is
+/// the mesh's own (serialized_load_bytes).
 SerializedMesh load_serialized_mesh(std::string_view bytes, const std::string& name,
                                     int shape_index, bool read_normals);
+
+/// The memory load_serialized_mesh allocates to load every shape of `bytes` once, from the
+/// shapes' headers alone (a few bytes of each stream inflated): per shape, 24 bytes a vertex,
+/// 24 more with normals, 16 more with uvs, and 12 bytes a triangle. A shape that load would
+/// refuse before allocating (bad header, counts over the limits or the inflate ratio) counts
+/// 0, and so do the shapes after a bad dictionary entry. Never throws.
+uint64_t serialized_load_bytes(std::string_view bytes, const std::string& name);
 
 }  // namespace tessera

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -220,7 +221,62 @@ TEST(SerializedLoader, RefusesCountsBeforeAllocating) {
   Bytes c;
   c.put<uint32_t>(0x2000).text("").put<uint64_t>(50'000'000).put<uint64_t>(50'000'000);
   std::string big = std::string("\x1c\x04\x04\x00", 4) + compress(c.data);
-  EXPECT_NE(serialized_error(big).find("cannot fit in"), std::string::npos) << serialized_error(big);
+  EXPECT_NE(serialized_error(big).find("more than 64 times as many"), std::string::npos)
+      << serialized_error(big);
+  EXPECT_EQ(serialized_load_bytes(big, "m.serialized"), 0u);
+}
+
+// 20M zero vertices and triangles deflate to under half a megabyte (about 1029:1): refused from
+// the header, before the 0.5 GB of arrays it declares are allocated.
+TEST(SerializedLoader, RefusesADecompressionBombFromItsHeader) {
+  const uint64_t count = 20'000'000;
+  Bytes head;
+  head.put<uint32_t>(0x1000).text("bomb").put<uint64_t>(count).put<uint64_t>(count);
+  z_stream z{};
+  ASSERT_EQ(deflateInit(&z, 9), Z_OK);
+  std::string out(1 << 20, '\0');
+  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  z.avail_out = uInt(out.size());
+  z.next_in = reinterpret_cast<Bytef*>(head.data.data());
+  z.avail_in = uInt(head.data.size());
+  ASSERT_EQ(deflate(&z, Z_NO_FLUSH), Z_OK);
+  const std::string zeros(1 << 20, '\0');
+  for (uint64_t left = count * 24; left > 0;) {  // 12 bytes per vertex and per triangle
+    const uInt n = uInt(std::min<uint64_t>(left, zeros.size()));
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(zeros.data()));
+    z.avail_in = n;
+    ASSERT_EQ(deflate(&z, Z_NO_FLUSH), Z_OK);
+    left -= n;
+  }
+  ASSERT_EQ(deflate(&z, Z_FINISH), Z_STREAM_END);
+  out.resize(z.total_out);
+  deflateEnd(&z);
+  const std::string bomb = std::string("\x1c\x04\x04\x00", 4) + out;
+  EXPECT_LT(bomb.size(), 500'000u);
+  const std::string error = serialized_error(bomb);
+  EXPECT_EQ(error.rfind("m.serialized: 20000000 vertices and 20000000 triangles (480000000 bytes)"
+                        " declared in ",
+                        0),
+            0u)
+      << error;
+  EXPECT_EQ(serialized_load_bytes(bomb, "m.serialized"), 0u);
+}
+
+TEST(SerializedLoader, LoadBytesCountEveryShapeFromItsHeader) {
+  ShapeSpec a = quad(0);
+  ShapeSpec b = quad(1);
+  b.flags |= 0x3;  // normals and uvs
+  b.normals = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  b.uvs = {0, 0, 1, 0, 1, 1, 0, 1};
+  // a: 4 vertices x 24 + 2 triangles x 12; b: 4 x (24 + 24 + 16) + 2 x 12.
+  EXPECT_EQ(serialized_load_bytes(file_bytes({a, b}), "m.serialized"), 120u + 280u);
+  EXPECT_EQ(serialized_load_bytes(file_bytes({a}, 3), "m.serialized"), 120u);
+  EXPECT_EQ(serialized_load_bytes("not a mesh", "m.serialized"), 0u);
+  // A bad second dictionary entry: only the first shape can be loaded.
+  std::string file = file_bytes({a, b});
+  uint64_t wrong = 7;
+  std::memcpy(file.data() + file.size() - 4 - 8, &wrong, 8);
+  EXPECT_EQ(serialized_load_bytes(file, "m.serialized"), 120u);
 }
 
 TEST(SerializedLoader, BadDictionaryIsNamed) {

@@ -61,6 +61,8 @@ class FarmCluster {
   /// The dashboard's HTTP port (the server listens on 127.0.0.1:0 for it).
   int http_port() const { return http_port_; }
   const std::filesystem::path& dir() const { return dir_; }
+  /// The running server's process id (its /proc/PID/status for memory checks).
+  pid_t server_pid() const { return server_->pid(); }
   std::filesystem::path db_path() const { return dir_ / "farm.db"; }
 
   v1::JobService::Stub& jobs() { return *jobs_; }
