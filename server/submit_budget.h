@@ -83,8 +83,9 @@ struct SubmitCost {
 /// The memory the submit check of `bundle` may take, from its bytes and its files' headers
 /// (nothing is decoded): three copies of the bundle's bytes (the parsed contents, the file
 /// reader's and the canonical bundle), plus per file what decoding it takes: a Mitsuba
-/// serialized mesh its shapes' arrays (serialized_load_bytes), a PLY or OBJ mesh 8 times its
-/// bytes, an image image_check_memory of its header. Files are counted once: a scene that loads
+/// serialized mesh three times its shapes' arrays (serialized_load_bytes: the loaded arrays, the
+/// scene's copy, what the parser adds), a PLY or OBJ mesh 8 times its
+/// bytes, a volume grid (.vol) its bytes, an image image_check_memory of its header. Files are counted once: a scene that loads
 /// one mesh file many times costs more (docs/farm.md). Throws FarmError(invalid_argument)
 /// naming the file for an image of more than `max_texture_values` values (--max-texture-values).
 SubmitCost submit_check_cost(const v1::SceneBundle& bundle, uint64_t max_texture_values);

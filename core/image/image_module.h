@@ -23,8 +23,8 @@ struct ImageModule {
   uint32_t version = kImageModuleVersion;
   const ImageIo* io = nullptr;
   ImageCheck (*check_image_bytes)(const std::string&, std::string_view, uint64_t) = nullptr;
-  ImageHeader (*probe_image_bytes)(const std::string&, std::string_view) = nullptr;
   std::vector<std::string> (*scene_image_files)(const Scene&) = nullptr;
+  ImageHeader (*probe_image_bytes)(const std::string&, std::string_view) = nullptr;
 };
 
 /// Loads the image module now (a no-op once loaded), so that the first image call does not

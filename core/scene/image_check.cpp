@@ -28,11 +28,6 @@ const char* channel_name(const OIIO::ImageSpec& spec, int c, std::string& storag
   return storage.c_str();
 }
 
-/// Rows of floats decoded at once: a band of about this many bytes, at least one row.
-constexpr uint64_t kImageCheckBandBytes = uint64_t(8) << 20;
-/// What a decoder that reads a few rows at a time may hold besides them (measured above).
-constexpr uint64_t kStreamedDecoderBytes = uint64_t(64) << 20;
-
 int band_rows(const OIIO::ImageSpec& spec) {
   const uint64_t row = uint64_t(spec.width) * uint64_t(spec.nchannels) * sizeof(float);
   return int(std::clamp<uint64_t>(kImageCheckBandBytes / row, 1, uint64_t(spec.height)));
@@ -88,21 +83,6 @@ ImageHeader probe_image_bytes(const std::string& path, std::string_view bytes) {
   header.bytes_per_value = int(spec.format.size());
   header.format = in->format_name();
   return header;
-}
-
-uint64_t image_check_memory(const ImageHeader& header) {
-  const uint64_t row = uint64_t(header.width) * uint64_t(header.channels) * sizeof(float);
-  const uint64_t band = std::max(row, std::min(kImageCheckBandBytes, row * uint64_t(header.height)));
-  // OpenImageIO 2.4 reads these a few rows (or a row of tiles) at a time: checking 16384 x 8192
-  // RGB images band by band peaked 45 MB above the file's bytes for float EXR (ZIP), 16 MB for
-  // HDR, 17 MB for float TIFF and 10 MB for JPEG. Other decoders (PNG's for interlaced files
-  // among them) may hold the whole image in its own pixel type.
-  static constexpr std::string_view kStreamed[] = {"openexr", "hdr", "tiff", "jpeg"};
-  const bool streamed = std::find(std::begin(kStreamed), std::end(kStreamed), header.format) !=
-                        std::end(kStreamed);
-  const uint64_t decoder = streamed ? kStreamedDecoderBytes + 4 * row
-                                    : header.values() * uint64_t(std::max(header.bytes_per_value, 1));
-  return decoder + band;
 }
 
 ImageCheck check_image_bytes(const std::string& path, std::string_view bytes,

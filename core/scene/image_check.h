@@ -26,6 +26,10 @@ struct ImageCheck {
 /// --max-texture-values may lower it (docs/security.md, "Limits").
 inline constexpr uint64_t kMaxImageValues = uint64_t(16384) * 8192 * 4;
 
+/// check_image_bytes decodes a band of rows of about this many bytes of floats at a time (at
+/// least one row).
+inline constexpr uint64_t kImageCheckBandBytes = uint64_t(8) << 20;
+
 /// What an image's header says, read without decoding a pixel (probe_image_bytes).
 struct ImageHeader {
   int width = 0;
