@@ -84,10 +84,11 @@ struct SubmitCost {
 /// (nothing is decoded): three copies of the bundle's bytes (the parsed contents, the file
 /// reader's and the canonical bundle), plus per file what decoding it takes: a Mitsuba
 /// serialized mesh three times its shapes' arrays (serialized_load_bytes: the loaded arrays, the
-/// scene's copy, what the parser adds), a PLY or OBJ mesh 8 times its
-/// bytes, a volume grid (.vol) its bytes, an image image_check_memory of its header. Files are counted once: a scene that loads
-/// one mesh file many times costs more (docs/farm.md). Throws FarmError(invalid_argument)
-/// naming the file for an image of more than `max_texture_values` values (--max-texture-values).
+/// scene's copy, what the parser adds), a PLY or OBJ mesh 8 times its bytes, a volume grid
+/// (.vol) its bytes, an image image_check_memory of its header. Files are counted once: a scene
+/// that loads one mesh file many times costs more (docs/farm.md). Throws
+/// FarmError(invalid_argument) naming the file for an image of more than `max_texture_values`
+/// values (--max-texture-values).
 SubmitCost submit_check_cost(const v1::SceneBundle& bundle, uint64_t max_texture_values);
 
 }  // namespace tessera::server

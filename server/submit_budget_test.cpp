@@ -105,7 +105,8 @@ TEST(SubmitBudget, WaitersAreAdmittedFirstComeFirstServedAsMemoryIsReleased) {
 
 /// A serialized file of one float shape declaring `vertices` and `triangles`, whose stream holds
 /// `payload` (compressed as it is).
-std::string budget_test_serialized(uint64_t vertices, uint64_t triangles, const std::string& payload) {
+std::string budget_test_serialized(uint64_t vertices, uint64_t triangles,
+                                   const std::string& payload) {
   std::string body(4, '\0');
   const uint32_t flags = 0x1000;
   std::memcpy(body.data(), &flags, 4);

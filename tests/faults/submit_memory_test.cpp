@@ -102,7 +102,9 @@ v1::SubmitJobRequest submit_test_request(const std::string& mesh) {
   scene->set_path("scene.xml");
   scene->set_data(R"(<scene version="3.0.0">
     <sensor type="perspective">
-        <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
+        <film type="hdrfilm">
+            <integer name="width" value="16"/><integer name="height" value="16"/>
+        </film>
     </sensor>
     <shape type="serialized"><string name="filename" value="mesh.serialized"/></shape>
     <emitter type="constant"/>
@@ -115,8 +117,8 @@ v1::SubmitJobRequest submit_test_request(const std::string& mesh) {
 }
 
 /// Sends every request at once, each on its own thread; returns their statuses.
-std::vector<grpc::Status> submit_test_all_at_once(FarmCluster& farm,
-                                                  const std::vector<v1::SubmitJobRequest>& requests) {
+std::vector<grpc::Status> submit_test_all_at_once(
+    FarmCluster& farm, const std::vector<v1::SubmitJobRequest>& requests) {
   std::vector<std::future<grpc::Status>> calls;
   for (const v1::SubmitJobRequest& request : requests) {
     calls.push_back(std::async(std::launch::async, [&farm, &request] {
@@ -137,7 +139,8 @@ uint64_t submit_test_metric(const FarmCluster& farm, const std::string& name) {
   if (!metrics) return 0;
   const std::regex line("(^|\n)" + name + " ([0-9]+)\n");
   std::smatch match;
-  EXPECT_TRUE(std::regex_search(metrics->body, match, line)) << name << " not in\n" << metrics->body;
+  EXPECT_TRUE(std::regex_search(metrics->body, match, line))
+      << name << " not in\n" << metrics->body;
   return match.empty() ? 0 : std::stoull(match[2]);
 }
 
@@ -148,7 +151,7 @@ TEST(SubmitMemory, ZeroMeshBombsAreRefusedFromTheirHeaderInBoundedMemory) {
   ASSERT_LT(bomb.size(), 600'000u);
   const uint64_t before = submit_test_vm_hwm(farm.server_pid());
   const std::vector<grpc::Status> statuses =
-      submit_test_all_at_once(farm, std::vector<v1::SubmitJobRequest>(4, submit_test_request(bomb)));
+      submit_test_all_at_once(farm, std::vector(4, submit_test_request(bomb)));
   for (const grpc::Status& status : statuses) {
     EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
     EXPECT_NE(status.error_message().find("mesh.serialized: 20000000 vertices and 20000000 "
@@ -182,7 +185,8 @@ TEST(SubmitMemory, ConcurrentSubmitsShareTheBudgetAndOneLargerThanItIsRefused) {
     if (status.ok()) {
       ++accepted;
     } else {
-      EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
+      EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED)
+          << status.error_message();
       EXPECT_NE(status.error_message().find("--submit-memory-mb"), std::string::npos)
           << status.error_message();
     }

@@ -316,7 +316,8 @@ uint64_t serialized_load_bytes(std::string_view bytes, const std::string& name) 
   uint64_t total = 0;
   for (uint64_t index = 0; index < shapes; ++index) {
     try {
-      const uint64_t offset = shape_offset(bytes, version, int(std::min<uint64_t>(index, INT32_MAX)), name);
+      const int shape_index = int(std::min<uint64_t>(index, INT32_MAX));
+      const uint64_t offset = shape_offset(bytes, version, shape_index, name);
       check_header(bytes, offset, name, version);
       std::string_view compressed = bytes.substr(offset + 4);
       ZlibReader in(compressed, name);
