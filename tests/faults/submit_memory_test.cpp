@@ -161,7 +161,8 @@ TEST(SubmitMemory, ZeroMeshBombsAreRefusedFromTheirHeaderInBoundedMemory) {
   }
   const uint64_t after = submit_test_vm_hwm(farm.server_pid());
   std::cout << "server VmHWM: " << before / kSubmitTestMiB << " MiB before, "
-            << after / kSubmitTestMiB << " MiB after four bombs at once\n";
+            << after / kSubmitTestMiB << " MiB after four bombs of " << bomb.size()
+            << " bytes at once\n";
   if (after > 0) {
     EXPECT_LT(after, (kSubmitTestBudgetMiB + kSubmitTestSlackMiB) * kSubmitTestMiB);
   }
