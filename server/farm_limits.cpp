@@ -61,6 +61,29 @@ void check_unit_count(const JobOptions& options, const FarmLimits& limits) {
   }
 }
 
+void check_unit_samples(const JobOptions& options, const FarmLimits& limits) {
+  const BatchSchedule schedule = options.plan().schedule();
+  // The largest batch: a fixed schedule's first, a progressive one's cap or its last blocks.
+  // Called after check_unit_count, so the batches are few enough to visit.
+  uint64_t batch = 0;
+  const uint32_t batches = schedule.count();
+  for (uint32_t b = 0; b < batches; ++b) {
+    batch = std::max<uint64_t>(batch, schedule.end(b) - schedule.begin(b));
+  }
+  const uint64_t tile_w = uint64_t(std::min(options.tile_size, options.width));
+  const uint64_t tile_h = uint64_t(std::min(options.tile_size, options.height));
+  const uint64_t samples = tile_w * tile_h * batch;
+  if (samples > limits.max_unit_samples) {
+    throw FarmError(ErrorCode::invalid_argument,
+                    "a work unit of this job has " + std::to_string(samples) + " samples (" +
+                        std::to_string(tile_w) + " x " + std::to_string(tile_h) +
+                        " tile pixels x " + std::to_string(batch) +
+                        " samples per pixel per batch), over the farm's limit of " +
+                        std::to_string(limits.max_unit_samples) +
+                        " (server flag --max-unit-samples): use a smaller --batch or --tile");
+  }
+}
+
 void check_pixel_count(const JobOptions& options, const FarmLimits& limits) {
   const uint64_t pixels = uint64_t(options.width) * uint64_t(options.height);
   if (pixels > limits.max_pixels_per_job) {

@@ -29,6 +29,12 @@ struct FarmLimits {
   /// stored, the image, the encoded files), so this bounds its memory per job: an 8192 x 8192
   /// job at 1 spp peaked at 4.4 GiB of server memory (docs/security.md, "Limits"); 8K UHD fits.
   uint64_t max_pixels_per_job = uint64_t(8192) * 8192;
+  /// Samples of one work unit, tile pixels x the batch's samples per pixel
+  /// (--max-unit-samples). A worker finishes the unit in hand on its first SIGTERM, so this
+  /// bounds how long that takes: 2^28 is 256 default units (default_batch_spp aims at 2^20),
+  /// about half a minute of an 8-core worker on the Cornell box (a million samples per second
+  /// per thread, BENCHMARKS.md).
+  uint64_t max_unit_samples = uint64_t(1) << 28;
 };
 
 /// The job's work units (tiles x batches of its schedule) against --max-units, computed without
@@ -39,6 +45,11 @@ void check_unit_count(const JobOptions& options, const FarmLimits& limits);
 /// The job's width x height against --max-pixels. Throws FarmError(invalid_argument) with one
 /// line giving the count and the cap.
 void check_pixel_count(const JobOptions& options, const FarmLimits& limits);
+
+/// The job's largest work unit (a full tile's pixels x its largest batch) against
+/// --max-unit-samples. Throws FarmError(invalid_argument) with one line giving the numbers and
+/// the cap.
+void check_unit_samples(const JobOptions& options, const FarmLimits& limits);
 
 /// Bundle size and file count, on the request as received (before anything is copied).
 /// Throws FarmError(invalid_argument).

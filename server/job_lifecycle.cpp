@@ -76,6 +76,7 @@ NewJob JobLifecycle::validated(const v1::SceneBundle& bundle, const v1::JobReque
   }
   check_pixel_count(resolved, limits_);
   check_unit_count(resolved, limits_);
+  check_unit_samples(resolved, limits_);
   NewJob job;
   job.bundle_bytes = wire::canonical_bytes(contents);
   job.bundle_sha256 = wire::sha256_hex(job.bundle_bytes);

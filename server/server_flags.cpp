@@ -139,6 +139,10 @@ void add_limit_flags(CLI::App& app, Flags& flags) {
   limit_option(app, "--max-units", limits.max_units_per_job, "TESSERA_MAX_UNITS",
                "most work units (tiles x batches) per job")
       ->check(CLI::Range(uint64_t(1), uint64_t(1) << 22));
+  limit_option(app, "--max-unit-samples", limits.max_unit_samples, "TESSERA_MAX_UNIT_SAMPLES",
+               "most samples in one work unit (tile pixels x the batch's samples per pixel); a "
+               "worker stopping finishes its unit first, so this bounds how long that takes")
+      ->check(CLI::Range(uint64_t(1), uint64_t(1) << 40));
   limit_option(app, "--max-pixels", limits.max_pixels_per_job, "TESSERA_MAX_PIXELS",
                "most pixels (width x height) per job; the server holds a job's whole image when "
                "it writes it, about 70 bytes a pixel")

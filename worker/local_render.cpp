@@ -9,7 +9,7 @@ namespace tessera {
 
 LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
                              const std::function<void(uint64_t)>& on_progress, IntegratorKind integrator,
-                             KernelIsa kernel) {
+                             KernelIsa kernel, const RenderCancellation* cancel) {
   const auto start = std::chrono::steady_clock::now();
   LocalRenderResult result;
   result.options = options;
@@ -42,7 +42,7 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
     tbb::parallel_for(size_t(0), open.size(), [&](size_t i) {
       const size_t t = open[i];
       RenderStats stats;
-      batch_results[t] = renderer.render(tiles[t], begin, end, &stats);
+      batch_results[t] = renderer.render(tiles[t], begin, end, &stats, cancel);
       const std::lock_guard lock(progress_mutex);
       batch_stats[t].samples += stats.samples;
       batch_stats[t].rays += stats.rays;

@@ -33,10 +33,13 @@ struct LocalRenderResult {
 /// bits. A `time` job starts no batch after its budget (steady clock) and keeps what is merged.
 /// `on_progress(samples_done_total)` is called after each unit, from rendering threads but
 /// never concurrently. `integrator` chooses the renderer's path order and `kernel` the
-/// instruction set of its wavefront loop (the same bits either way).
+/// instruction set of its wavefront loop (the same bits either way). `cancel`, when given and
+/// cancelled, stops the render within RenderCancellation::kPollSamples samples per thread and
+/// throws RenderCancelled (cancellation.h); nothing rendered is returned.
 LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
                              const std::function<void(uint64_t)>& on_progress = {},
                              IntegratorKind integrator = IntegratorKind::wavefront,
-                             KernelIsa kernel = KernelIsa::automatic);
+                             KernelIsa kernel = KernelIsa::automatic,
+                             const RenderCancellation* cancel = nullptr);
 
 }  // namespace tessera

@@ -30,6 +30,7 @@
 #include "scene/scene_error.h"
 #include "scene/scene_loader.h"
 #include "scene/native/scene_writer.h"
+#include "signal_cancellation.h"
 #ifdef TESSERA_HAVE_FARM
 #include "farm/farm_worker.h"
 #include "wire/client_tls_flags.h"
@@ -56,6 +57,10 @@ std::optional<std::filesystem::path> bundle_root(const std::string& root) {
 }
 
 int run_render(const RenderArgs& args) {
+  // First, before any thread starts: Ctrl-C and SIGTERM then cancel the render (the threads
+  // inherit the blocked signals) rather than kill the process wherever it is.
+  tessera::RenderCancellation cancel;
+  const tessera::SignalCancellation signals(cancel);
   // Every output is checked before the scene is read: a render never runs to be thrown away.
   for (const std::string& out : args.outputs) tessera::cli::check_output_path(out, {".exr", ".png"});
   const tessera::Scene scene = tessera::load_scene_file(args.scene, bundle_root(args.root),
@@ -68,10 +73,17 @@ int run_render(const RenderArgs& args) {
   }
   const uint64_t total = uint64_t(options.width) * uint64_t(options.height) * options.spp;
   tessera::ProgressBar bar(args.quiet ? nullptr : stderr, total);
-  const tessera::LocalRenderResult result =
-      tessera::render_job(scene, options, [&](uint64_t done) { bar.update(done); },
-                          tessera::integrator_kind_from_name(args.integrator),
-                          tessera::kernel_isa_from_name(args.kernel_isa));
+  tessera::LocalRenderResult result;
+  try {
+    result = tessera::render_job(scene, options, [&](uint64_t done) { bar.update(done); },
+                                 tessera::integrator_kind_from_name(args.integrator),
+                                 tessera::kernel_isa_from_name(args.kernel_isa), &cancel);
+  } catch (const tessera::RenderCancelled&) {
+    const int signal_number = signals.signal_number();
+    std::fprintf(stderr, "\ntessera-worker: render cancelled by %s; no image written\n",
+                 signal_number == SIGTERM ? "SIGTERM" : "SIGINT");
+    return 128 + signal_number;
+  }
   bar.finish(total);
 
   const tessera::RgbImage image = tessera::resolve_image(options.width, options.height, result.tiles);

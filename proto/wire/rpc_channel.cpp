@@ -6,22 +6,26 @@ std::shared_ptr<grpc::Channel> make_channel(const std::string& address) {
   return make_channel(address, ClientTls{});
 }
 
-std::shared_ptr<grpc::Channel> make_channel(const std::string& address, const ClientTls& tls) {
+grpc::ChannelArguments channel_arguments(const ReconnectBackoff& reconnect) {
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(kMaxMessageBytes);
   args.SetMaxSendMessageSize(kMaxMessageBytes);
   args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, kKeepaliveTimeMs);
   args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, kKeepaliveTimeoutMs);
   args.SetInt(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
-  // Reconnect quickly after a server restart: the worker has its own backoff on top.
-  args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 100);
-  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
-  // Not a backoff despite its name: gRPC core uses GRPC_ARG_MIN_RECONNECT_BACKOFF_MS as the
-  // minimum *connect timeout* (subchannel.cc, ParseArgsForBackoffValues). At 100 ms a TCP +
-  // HTTP/2 handshake that takes longer (a loaded machine, a link with 50 ms of latency, TLS)
-  // always failed with "connection attempt timed out before receiving SETTINGS frame" (seen by
-  // tests/faults). gRPC's default, 20 s, is what a connection attempt deserves.
-  args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 20000);
+  // Reconnect quickly after a server restart (gRPC's defaults: 1 s growing to 120 s).
+  args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, reconnect.initial_ms);
+  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, reconnect.max_ms);
+  args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, reconnect.min_connect_timeout_ms);
+  return args;
+}
+
+std::shared_ptr<grpc::Channel> make_channel(const std::string& address, const ClientTls& tls) {
+  return make_channel(address, tls, channel_arguments());
+}
+
+std::shared_ptr<grpc::Channel> make_channel(const std::string& address, const ClientTls& tls,
+                                            const grpc::ChannelArguments& args) {
   return grpc::CreateCustomChannel(address, channel_credentials(tls), args);
 }
 

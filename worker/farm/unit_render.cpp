@@ -1,7 +1,5 @@
 #include "unit_render.h"
 
-#include <tbb/task_group.h>
-
 #include <atomic>
 #include <condition_variable>
 #include <mutex>
@@ -16,7 +14,7 @@ UnitRenderResult render_unit(const Renderer& renderer, tbb::task_arena& arena, c
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   UnitRenderResult out;
-  tbb::task_group_context context;
+  RenderCancellation cancellation;
   std::atomic<int> cancelled_as{0};  // 0 none, 1 lease lost, 2 abandoned
   std::mutex mu;
   std::condition_variable cv;
@@ -31,7 +29,7 @@ UnitRenderResult render_unit(const Renderer& renderer, tbb::task_arena& arena, c
       if (done) break;
       if (stop.count() >= 2) {
         cancelled_as = 2;
-        context.cancel_group_execution();
+        cancellation.cancel();
         break;
       }
       if (clock::now() < next_heartbeat) continue;
@@ -41,24 +39,35 @@ UnitRenderResult render_unit(const Renderer& renderer, tbb::task_arena& arena, c
       next_heartbeat = clock::now() + heartbeat_interval;
       if (check == LeaseCheck::gone) {
         cancelled_as = 1;
-        context.cancel_group_execution();
+        cancellation.cancel();
         break;
       }
     }
   });
 
-  arena.execute([&] {
-    tbb::task_group group(context);
-    group.run_and_wait([&] { out.result = renderer.render(tile, sample_begin, sample_end); });
-  });
-  {
-    std::lock_guard lock(mu);
-    done = true;
+  const auto stop_watchdog = [&] {
+    {
+      std::lock_guard lock(mu);
+      done = true;
+    }
+    cv.notify_all();
+    watchdog.join();
+  };
+  try {
+    arena.execute([&] {
+      out.result = renderer.render(tile, sample_begin, sample_end, &out.stats, &cancellation);
+    });
+  } catch (const RenderCancelled&) {
+    // cancelled_as says why; the partial sums went with the renderer's stack.
+  } catch (...) {
+    stop_watchdog();
+    throw;
   }
-  cv.notify_all();
-  watchdog.join();
+  stop_watchdog();
 
   out.elapsed = std::chrono::duration_cast<std::chrono::milliseconds>(clock::now() - start);
+  // A unit cancelled after its last poll may have finished: it is dropped all the same.
+  if (cancelled_as != 0) out.result = Accumulation();
   if (cancelled_as == 1) out.outcome = UnitOutcome::lease_lost;
   if (cancelled_as == 2) out.outcome = UnitOutcome::abandoned;
   return out;

@@ -1,6 +1,8 @@
 // Rendering one leased unit: all of the worker's cores (its TBB arena) on the unit, while a
 // watchdog thread heartbeats the lease and cancels the render when the lease is gone (expired,
-// job cancelled) or a second stop signal asks to abandon the unit.
+// job cancelled) or a second stop signal asks to abandon the unit. The render polls the
+// cancellation inside its sample loops (render/cancellation.h), so even one pixel's whole batch
+// stops within a few thousand samples.
 #pragma once
 
 #include <tbb/task_arena.h>
@@ -25,14 +27,19 @@ enum class UnitOutcome {
 
 struct UnitRenderResult {
   UnitOutcome outcome = UnitOutcome::rendered;
+  /// The unit's accumulation when `rendered`; empty otherwise (a cancelled render's partial
+  /// sums are never returned, so they cannot be uploaded).
   Accumulation result;
   std::chrono::milliseconds elapsed{0};
+  RenderStats stats;  ///< the work done, also when cancelled
 };
 
 /// Renders samples [sample_begin, sample_end) of `tile` in `arena`. `heartbeat()` is called
 /// every `heartbeat_interval` from the watchdog thread; when it returns LeaseCheck::gone the
-/// render is cancelled (TBB group cancellation) and lease_lost returned. `unreachable` keeps
-/// rendering: the lease may still be current when the server is back.
+/// render is cancelled (RenderCancellation, polled in the sample loop) and lease_lost returned;
+/// when `stop` counts a second signal, likewise abandoned. `unreachable` keeps rendering: the
+/// lease may still be current when the server is back. Exceptions of the renderer other than
+/// the cancellation's go on up.
 UnitRenderResult render_unit(const Renderer& renderer, tbb::task_arena& arena, const TileRect& tile,
                              uint32_t sample_begin, uint32_t sample_end,
                              const std::function<LeaseCheck()>& heartbeat,

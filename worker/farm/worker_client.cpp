@@ -16,9 +16,11 @@ constexpr milliseconds kReleaseTimeout{10'000};
 
 }  // namespace
 
+grpc::ChannelArguments worker_channel_arguments() { return wire::channel_arguments(kWorkerReconnect); }
+
 WorkerClient::WorkerClient(const std::string& server, std::string token, const wire::ClientTls& tls)
     : token_(std::move(token)),
-      stub_(v1::WorkerService::NewStub(wire::make_channel(server, tls))) {}
+      stub_(v1::WorkerService::NewStub(wire::make_channel(server, tls, worker_channel_arguments()))) {}
 
 void WorkerClient::prepare(grpc::ClientContext& context, milliseconds timeout) const {
   wire::prepare_context(context, token_, timeout);
@@ -28,6 +30,7 @@ grpc::Status WorkerClient::register_worker(const v1::RegisterRequest& request,
                                            v1::RegisterResponse* response) {
   grpc::ClientContext context;
   prepare(context, kRegisterTimeout);
+  context.set_wait_for_ready(true);
   return stub_->Register(&context, request, response);
 }
 
@@ -35,6 +38,7 @@ grpc::Status WorkerClient::lease(const v1::LeaseUnitRequest& request,
                                  v1::LeaseUnitResponse* response, StopSignal& stop) {
   grpc::ClientContext context;
   prepare(context, milliseconds(request.wait_ms()) + kLeaseMargin);
+  context.set_wait_for_ready(true);
   stop.set_cancellable(&context);
   grpc::Status status = stub_->LeaseUnit(&context, request, response);
   stop.set_cancellable(nullptr);

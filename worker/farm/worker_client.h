@@ -14,13 +14,25 @@
 
 namespace tessera::farm {
 
+/// gRPC's reconnect backoff on the worker's channel: while the server is down, a connection
+/// attempt at least every max_ms x wire::kReconnectJitter = 1.2 s, within the 2 s of
+/// docs/farm.md ("Server restart") by which a worker is back after the server returns. Its
+/// LeaseUnit and Register calls wait for the connection (wait_for_ready) rather than fail while
+/// gRPC is between attempts, so the worker's own Backoff (backoff.h) does not add to it.
+inline constexpr wire::ReconnectBackoff kWorkerReconnect{100, 1000, 20'000};
+
+/// The arguments of the worker's channel: wire::channel_arguments(kWorkerReconnect).
+grpc::ChannelArguments worker_channel_arguments();
+
 class WorkerClient {
  public:
   WorkerClient(const std::string& server, std::string token, const wire::ClientTls& tls = {});
 
+  /// Waits for the connection (wait_for_ready) within its deadline.
   grpc::Status register_worker(const v1::RegisterRequest& request, v1::RegisterResponse* response);
-  /// Long poll: the deadline covers the server's wait (request.wait_ms) plus a margin. The call
-  /// is cancelled at once when `stop` receives a signal.
+  /// Long poll: the deadline covers the server's wait (request.wait_ms) plus a margin, and the
+  /// call waits for the connection within it (wait_for_ready), so that it goes out as soon as a
+  /// restarted server accepts one. The call is cancelled at once when `stop` receives a signal.
   grpc::Status lease(const v1::LeaseUnitRequest& request, v1::LeaseUnitResponse* response,
                      StopSignal& stop);
   /// One LeaseUnit call with wait_ms 0 that no signal cancels (a short deadline): after a long

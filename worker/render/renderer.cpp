@@ -87,6 +87,24 @@ void add_stats(tbb::combinable<RowResult>& work, RenderStats* stats) {
   });
 }
 
+/// The scalar loop polls its RenderCancellation when a thread's sample count is a multiple of
+/// kPollSamples.
+constexpr uint64_t kPollMask = RenderCancellation::kPollSamples - 1;
+static_assert(kWavefrontPaths <= RenderCancellation::kPollSamples,
+              "the wavefront loop polls once per pass of kWavefrontPaths paths");
+
+/// Runs `trace` (a parallel_for over the tile); when a render thread gave up on a cancellation,
+/// the work counters done so far still reach `stats` before RenderCancelled goes on up.
+template <typename Trace>
+void run_cancellable(const Trace& trace, tbb::combinable<RowResult>& work, RenderStats* stats) {
+  try {
+    trace();
+  } catch (const RenderCancelled&) {
+    add_stats(work, stats);
+    throw;
+  }
+}
+
 /// One thread's buffers for render_wavefront's groups: cleared, never freed, between groups,
 /// tiles and render() calls, so a group neither allocates nor touches fresh pages. A thread
 /// uses its buffers only inside one parallel_for body, which waits on nothing, so TBB cannot
@@ -172,18 +190,19 @@ Ray Renderer::camera_ray(int x, int y, glm::vec2 u_film, PixelSampler& sampler, 
 }
 
 Accumulation Renderer::render(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
-                              RenderStats* stats) const {
+                              RenderStats* stats, const RenderCancellation* cancel) const {
   if (tile.x0 < 0 || tile.y0 < 0 || tile.x1 > options_.width || tile.y1 > options_.height ||
       tile.width() <= 0 || tile.height() <= 0) {
     throw std::invalid_argument("Renderer::render: tile outside the image");
   }
   if (sample_end <= sample_begin) throw std::invalid_argument("Renderer::render: empty sample range");
-  return wavefront_ ? render_wavefront(tile, sample_begin, sample_end, stats)
-                    : render_scalar(tile, sample_begin, sample_end, stats);
+  if (cancel && cancel->cancelled()) throw RenderCancelled();
+  return wavefront_ ? render_wavefront(tile, sample_begin, sample_end, stats, cancel)
+                    : render_scalar(tile, sample_begin, sample_end, stats, cancel);
 }
 
 Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
-                                     RenderStats* stats) const {
+                                     RenderStats* stats, const RenderCancellation* cancel) const {
   Accumulation acc(tile);
   std::vector<DropLog> dropped_by_row(size_t(tile.height()));
   tbb::combinable<RowResult> work;
@@ -194,7 +213,7 @@ Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin
   const bool volumetric = scene.has_media();
   const bool weighted = filter_.signed_weights();
 
-  tbb::parallel_for(tbb::blocked_range<int>(tile.y0, tile.y1), [&](const tbb::blocked_range<int>& rows) {
+  const auto trace_rows = [&](const tbb::blocked_range<int>& rows) {
     RowResult& local = work.local();
     for (int y = rows.begin(); y != rows.end(); ++y) {
       const size_t row = size_t(y - tile.y0);
@@ -210,11 +229,16 @@ Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin
           if (weighted) l *= weight;  // a filter's negative lobe (other filters keep their bits)
           ++local.samples;
           add_sample(l, x, y, s, sum, dropped_by_row[row]);
+          // The thread's sample counter says when to poll: one test of its low bits per sample.
+          if ((local.samples & kPollMask) == 0 && cancel && cancel->poll(RenderCancellation::kPollSamples)) {
+            throw RenderCancelled();
+          }
         }
         store(sum, row * size_t(tile.width()) + size_t(x - tile.x0), acc);
       }
     }
-  });
+  };
+  run_cancellable([&] { tbb::parallel_for(tbb::blocked_range<int>(tile.y0, tile.y1), trace_rows); }, work, stats);
   merge_drops(dropped_by_row, acc);
   add_stats(work, stats);
   return acc;
@@ -226,7 +250,7 @@ Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin
 // summed per pixel in sample order as they come back, as render_scalar sums them. The groups
 // depend only on the tile and the sample range, and no path's bits depend on its group.
 Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
-                                        RenderStats* stats) const {
+                                        RenderStats* stats, const RenderCancellation* cancel) const {
   Accumulation acc(tile);
   const size_t width = size_t(tile.width());
   const size_t pixels = width * size_t(tile.height());
@@ -238,7 +262,7 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
   const uint64_t seed = options_.seed;
   const bool weighted = filter_.signed_weights();
 
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, 1), [&](const tbb::blocked_range<size_t>& range) {
+  const auto trace_groups = [&](const tbb::blocked_range<size_t>& range) {
     RowResult& local = work.local();
     WavefrontBuffers& buffers = scratch_->per_thread.local();
     std::vector<PathState>& paths = buffers.paths;
@@ -279,6 +303,9 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
         }
         wavefront_->trace(paths, samplers, local.counters, workspace);
         local.samples += last - first;
+        // One poll per pass of at most kWavefrontPaths (= kPollSamples) paths. The thread's
+        // buffers are cleared at the start of every pass, so leaving them here is safe.
+        if (cancel && cancel->poll(last - first)) throw RenderCancelled();
         for (size_t k = first; k < last; ++k) {
           const size_t p = p0 + k / spp;
           const int x = tile.x0 + int(p % width), y = tile.y0 + int(p / width);
@@ -289,7 +316,8 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
       }
       for (size_t p = p0; p < p1; ++p) store(sums[p - p0], p, acc);
     }
-  });
+  };
+  run_cancellable([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, 1), trace_groups); }, work, stats);
   merge_drops(dropped_by_group, acc);
   add_stats(work, stats);
   return acc;

@@ -8,6 +8,7 @@
 #include "accum/accumulation.h"
 #include "job/job_options.h"
 #include "render/camera/pixel_filter.h"
+#include "render/cancellation.h"
 #include "render/math/ray.h"
 #include "render/sampling/sampler.h"
 #include "scene/scene.h"
@@ -65,8 +66,12 @@ class Renderer {
   /// Renders samples [sample_begin, sample_end) of every pixel of `tile`, in parallel over the
   /// calling thread's TBB arena. `tile` must lie inside the image; sample_end > sample_begin.
   /// `stats`, when given, receives the work counters (added to what it holds).
+  /// `cancel`, when given, is polled in the sample loops (cancellation.h): once it is cancelled
+  /// each render thread stops within RenderCancellation::kPollSamples samples and render()
+  /// throws RenderCancelled, returning nothing of the partial sums (`stats` still receives the
+  /// work done). A render that is never cancelled gives the same bits with or without `cancel`.
   Accumulation render(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
-                      RenderStats* stats = nullptr) const;
+                      RenderStats* stats = nullptr, const RenderCancellation* cancel = nullptr) const;
 
   const JobOptions& options() const;
   /// The instruction set Embree uses, for provenance ("avx2", ...).
@@ -77,9 +82,9 @@ class Renderer {
 
  private:
   Accumulation render_scalar(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
-                             RenderStats* stats) const;
+                             RenderStats* stats, const RenderCancellation* cancel) const;
   Accumulation render_wavefront(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
-                                RenderStats* stats) const;
+                                RenderStats* stats, const RenderCancellation* cancel) const;
   /// The camera ray of sample `s` of pixel (x, y), drawn from `sampler`'s camera pairs, and in
   /// `*weight` the filter's weight of the sample (PixelFilterSampler::film_sample: 1 unless the
   /// filter has negative lobes).
