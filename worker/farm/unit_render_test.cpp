@@ -77,7 +77,9 @@ TEST(UnitRender, AnUnreachableServerKeepsRenderingTheUnit) {
   Accumulation direct;
   arena.execute([&] { direct = renderer.render(tile, 0, 256); });
   ASSERT_EQ(r.result.rgb.size(), direct.rgb.size());
-  EXPECT_EQ(std::memcmp(r.result.rgb.data(), direct.rgb.data(), direct.rgb.size() * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(r.result.rgb.data(), direct.rgb.data(),
+                        direct.rgb.size() * sizeof(double)),
+            0);
   EXPECT_EQ(r.result.count, direct.count);
 }
 

@@ -16,11 +16,14 @@ constexpr milliseconds kReleaseTimeout{10'000};
 
 }  // namespace
 
-grpc::ChannelArguments worker_channel_arguments() { return wire::channel_arguments(kWorkerReconnect); }
+grpc::ChannelArguments worker_channel_arguments() {
+  return wire::channel_arguments(kWorkerReconnect);
+}
 
 WorkerClient::WorkerClient(const std::string& server, std::string token, const wire::ClientTls& tls)
     : token_(std::move(token)),
-      stub_(v1::WorkerService::NewStub(wire::make_channel(server, tls, worker_channel_arguments()))) {}
+      stub_(v1::WorkerService::NewStub(
+          wire::make_channel(server, tls, worker_channel_arguments()))) {}
 
 void WorkerClient::prepare(grpc::ClientContext& context, milliseconds timeout) const {
   wire::prepare_context(context, token_, timeout);

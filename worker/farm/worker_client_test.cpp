@@ -26,9 +26,11 @@ std::optional<int> worker_channel_int(const grpc::ChannelArguments& args, const 
 
 TEST(WorkerChannel, ReconnectBackoffIsCappedWithinTheWorkersPromise) {
   const grpc::ChannelArguments args = worker_channel_arguments();
-  const std::optional<int> initial = worker_channel_int(args, GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS);
+  const std::optional<int> initial =
+      worker_channel_int(args, GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS);
   const std::optional<int> max = worker_channel_int(args, GRPC_ARG_MAX_RECONNECT_BACKOFF_MS);
-  const std::optional<int> connect_timeout = worker_channel_int(args, GRPC_ARG_MIN_RECONNECT_BACKOFF_MS);
+  const std::optional<int> connect_timeout =
+      worker_channel_int(args, GRPC_ARG_MIN_RECONNECT_BACKOFF_MS);
   ASSERT_TRUE(initial && max && connect_timeout);
   EXPECT_EQ(*initial, kWorkerReconnect.initial_ms);
   EXPECT_EQ(*max, kWorkerReconnect.max_ms);

@@ -71,7 +71,8 @@ TEST(RenderCancellation, OnePixelsWholeBatchStopsWithinTheBoundAfterTheTrip) {
     CancellationTrip trip;
     trip.arm(cancel, 5000);
     RenderStats stats;
-    EXPECT_THROW(renderer.render(TileRect{3, 2, 4, 3}, 0, kSamples, &stats, &cancel), RenderCancelled)
+    EXPECT_THROW(renderer.render(TileRect{3, 2, 4, 3}, 0, kSamples, &stats, &cancel),
+                 RenderCancelled)
         << c.name;
     ASSERT_TRUE(trip.tripped) << c.name;
     EXPECT_GE(stats.samples, trip.at_trip.load()) << c.name;
@@ -91,7 +92,8 @@ TEST(RenderCancellation, EveryThreadStopsWithinTheBoundAfterTheTrip) {
     CancellationTrip trip;
     trip.arm(cancel, 20'000);
     RenderStats stats;
-    EXPECT_THROW(renderer.render(TileRect{0, 0, 16, 16}, 0, kSamples, &stats, &cancel), RenderCancelled)
+    EXPECT_THROW(renderer.render(TileRect{0, 0, 16, 16}, 0, kSamples, &stats, &cancel),
+                 RenderCancelled)
         << c.name;
     ASSERT_TRUE(trip.tripped) << c.name;
     EXPECT_LE(stats.samples - trip.at_trip, threads * RenderCancellation::kMaxSamplesAfterCancel)
@@ -106,7 +108,8 @@ TEST(RenderCancellation, ACancelBeforeTheRenderTracesNothing) {
     RenderCancellation cancel;
     cancel.cancel();
     RenderStats stats;
-    EXPECT_THROW(renderer.render(TileRect{0, 0, 16, 16}, 0, 64, &stats, &cancel), RenderCancelled) << c.name;
+    EXPECT_THROW(renderer.render(TileRect{0, 0, 16, 16}, 0, 64, &stats, &cancel), RenderCancelled)
+        << c.name;
     EXPECT_EQ(stats.samples, 0u) << c.name;
   }
 }
@@ -140,8 +143,9 @@ TEST(RenderCancellation, ALocalRenderStopsAndReturnsNothing) {
   RenderCancellation cancel;
   CancellationTrip trip;
   trip.arm(cancel, 3000);
-  EXPECT_THROW(render_job(scene, options, {}, IntegratorKind::wavefront, KernelIsa::automatic, &cancel),
-               RenderCancelled);
+  EXPECT_THROW(
+      render_job(scene, options, {}, IntegratorKind::wavefront, KernelIsa::automatic, &cancel),
+      RenderCancelled);
   EXPECT_TRUE(trip.tripped);
 }
 

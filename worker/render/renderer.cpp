@@ -230,7 +230,8 @@ Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin
           ++local.samples;
           add_sample(l, x, y, s, sum, dropped_by_row[row]);
           // The thread's sample counter says when to poll: one test of its low bits per sample.
-          if ((local.samples & kPollMask) == 0 && cancel && cancel->poll(RenderCancellation::kPollSamples)) {
+          if ((local.samples & kPollMask) == 0 && cancel &&
+              cancel->poll(RenderCancellation::kPollSamples)) {
             throw RenderCancelled();
           }
         }
@@ -238,7 +239,9 @@ Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin
       }
     }
   };
-  run_cancellable([&] { tbb::parallel_for(tbb::blocked_range<int>(tile.y0, tile.y1), trace_rows); }, work, stats);
+  run_cancellable(
+      [&] { tbb::parallel_for(tbb::blocked_range<int>(tile.y0, tile.y1), trace_rows); }, work,
+      stats);
   merge_drops(dropped_by_row, acc);
   add_stats(work, stats);
   return acc;
@@ -249,8 +252,9 @@ Accumulation Renderer::render_scalar(const TileRect& tile, uint32_t sample_begin
 // then sample index) go through the wavefront integrator kWavefrontPaths at a time, and are
 // summed per pixel in sample order as they come back, as render_scalar sums them. The groups
 // depend only on the tile and the sample range, and no path's bits depend on its group.
-Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
-                                        RenderStats* stats, const RenderCancellation* cancel) const {
+Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_begin,
+                                        uint32_t sample_end, RenderStats* stats,
+                                        const RenderCancellation* cancel) const {
   Accumulation acc(tile);
   const size_t width = size_t(tile.width());
   const size_t pixels = width * size_t(tile.height());
@@ -317,7 +321,9 @@ Accumulation Renderer::render_wavefront(const TileRect& tile, uint32_t sample_be
       for (size_t p = p0; p < p1; ++p) store(sums[p - p0], p, acc);
     }
   };
-  run_cancellable([&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, 1), trace_groups); }, work, stats);
+  run_cancellable(
+      [&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, 1), trace_groups); }, work,
+      stats);
   merge_drops(dropped_by_group, acc);
   add_stats(work, stats);
   return acc;

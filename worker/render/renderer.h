@@ -71,7 +71,8 @@ class Renderer {
   /// throws RenderCancelled, returning nothing of the partial sums (`stats` still receives the
   /// work done). A render that is never cancelled gives the same bits with or without `cancel`.
   Accumulation render(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
-                      RenderStats* stats = nullptr, const RenderCancellation* cancel = nullptr) const;
+                      RenderStats* stats = nullptr,
+                      const RenderCancellation* cancel = nullptr) const;
 
   const JobOptions& options() const;
   /// The instruction set Embree uses, for provenance ("avx2", ...).
