@@ -246,6 +246,38 @@ TEST(Limits, WorkUnitsPerJob) {
   expect_refused(capped.refusal(bundle(tiny_scene()), four), "--max-units");
 }
 
+// A worker finishes the unit in hand on its first SIGTERM, so one unit's samples are capped
+// (--max-unit-samples, default 2^28): a full tile's pixels x the largest batch's spp, the
+// progressive schedule's cap included; the tile at the image's edge does not lower it.
+TEST(Limits, SamplesPerWorkUnit) {
+  Farm farm(FarmLimits{});
+  v1::JobRequestOptions huge;
+  huge.set_width(32);
+  huge.set_height(32);
+  huge.set_spp(2147483647);
+  huge.set_batch_spp(2147483647);
+  EXPECT_EQ(farm.refusal(bundle(tiny_scene()), huge),
+            "a work unit of this job has 2199023254528 samples (32 x 32 tile pixels x 2147483647 "
+            "samples per pixel per batch), over the farm's limit of 268435456 (server flag "
+            "--max-unit-samples): use a smaller --batch or --tile");
+  EXPECT_TRUE(farm.coordinator->jobs(100).empty());
+  FarmLimits small;
+  small.max_unit_samples = 16 * 16 * 4;  // the tiny scene is 16 x 16: one tile
+  Farm capped(small);
+  v1::JobRequestOptions options;
+  options.set_spp(8);  // progressive: batches 1, 1, 2, 4
+  EXPECT_EQ(capped.refusal(bundle(tiny_scene()), options), "");
+  options.set_spp(16);  // batches 1, 1, 2, 4, 8: 2048 samples in the last unit
+  expect_refused(capped.refusal(bundle(tiny_scene()), options), "--max-unit-samples");
+  options.set_batch_spp(4);  // fixed batches of 4
+  EXPECT_EQ(capped.refusal(bundle(tiny_scene()), options), "");
+  options.set_batch_spp(5);
+  options.set_tile_size(8);  // 8 x 8 tiles: 320 samples a unit
+  EXPECT_EQ(capped.refusal(bundle(tiny_scene()), options), "");
+  options.set_tile_size(15);  // 15 x 15 tiles (the edge ones 1 wide): 1125
+  expect_refused(capped.refusal(bundle(tiny_scene()), options), "--max-unit-samples");
+}
+
 // The server holds a job's whole image when it writes it and when it answers a preview, so the
 // pixels per job are capped (--max-pixels, default 8192 x 8192): the largest image the flags
 // allow (32768 x 32768) is refused at submit with one line, before anything is stored.

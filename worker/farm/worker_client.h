@@ -10,6 +10,7 @@
 
 #include "stop_signal.h"
 #include "tessera/v1/worker_service.grpc.pb.h"
+#include "wire/rpc_channel.h"
 #include "wire/transport_security.h"
 
 namespace tessera::farm {

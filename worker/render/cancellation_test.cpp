@@ -118,14 +118,16 @@ TEST(RenderCancellation, ACancelBeforeTheRenderTracesNothing) {
 TEST(RenderCancellation, AnUncancelledRenderKeepsItsBits) {
   const Scene scene = test::mixed_room();
   for (const CancellationCase& c : kCancellationCases) {
-    const Renderer renderer(scene, cancellation_job(3000), {}, c.integrator);
-    const TileRect tile{4, 2, 20, 18};
+    // More samples per pixel than one wavefront pass holds, so pixels span passes and polls.
+    constexpr uint32_t kSpp = 1100;
+    const Renderer renderer(scene, cancellation_job(kSpp), {}, c.integrator);
+    const TileRect tile{4, 2, 12, 10};
     RenderStats plain_stats, polled_stats;
-    const Accumulation plain = renderer.render(tile, 0, 3000, &plain_stats);
+    const Accumulation plain = renderer.render(tile, 0, kSpp, &plain_stats);
     RenderCancellation cancel;
     std::atomic<uint64_t> polls{0};
     cancel.set_poll_hook([&](uint64_t) { ++polls; });
-    const Accumulation polled = renderer.render(tile, 0, 3000, &polled_stats, &cancel);
+    const Accumulation polled = renderer.render(tile, 0, kSpp, &polled_stats, &cancel);
     EXPECT_GT(polls.load(), 0u) << c.name;
     EXPECT_TRUE(cancellation_same_bits(plain.rgb, polled.rgb)) << c.name;
     EXPECT_TRUE(cancellation_same_bits(plain.lum2, polled.lum2)) << c.name;

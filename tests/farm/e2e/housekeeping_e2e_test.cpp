@@ -6,6 +6,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <string>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -88,6 +93,47 @@ TEST(HousekeepingE2E, AJobOverTheUnitCapIsRefusedWithOneLine) {
             "limit of 1000000 (server flag --max-units): use fewer spp, a larger --tile or "
             "--batch\n");
   EXPECT_EQ(farm.cli({"list", "--json"}).out.find("\"id\""), std::string::npos);
+}
+
+// One unit of one pixel's 2^31 samples per batch: its worker could not be stopped short of
+// SIGKILL, so --max-unit-samples refuses it at submit.
+TEST(HousekeepingE2E, AJobOverTheUnitSampleCapIsRefusedWithOneLine) {
+  FarmCluster farm("max-unit-samples");
+  farm.start_server();
+  const CommandResult r = farm.cli({"submit", kTiny, "--spp", "2147483647", "--batch",
+                                    "2147483647", "--width", "32", "--height", "32"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err,
+            "tessera: a work unit of this job has 2199023254528 samples (32 x 32 tile pixels x "
+            "2147483647 samples per pixel per batch), over the farm's limit of 268435456 (server "
+            "flag --max-unit-samples): use a smaller --batch or --tile\n");
+  EXPECT_EQ(farm.cli({"list", "--json"}).out.find("\"id\""), std::string::npos);
+}
+
+// Under a raised cap the same kind of unit is leased; cancelling the job stops its render in
+// the middle of the pixels' samples (the worker logs the unit dropped), and the idle worker then
+// stops on one SIGTERM. Before the sample loop polled the cancellation, neither happened.
+TEST(HousekeepingE2E, ACancelledJobStopsAWorkerInTheMiddleOfAHugeBatch) {
+  FarmCluster farm("cancel-in-batch");
+  farm.start_server({"--lease-seconds", "2", "--max-unit-samples", "1099511627776"});
+  const size_t worker = farm.start_worker({"--threads", "2"});
+  const uint64_t id = farm.submit({kTiny, "--spp", "2147483647", "--batch", "2147483647",
+                                   "--width", "8", "--height", "8"});
+  ASSERT_NE(id, 0u);
+  farm.wait_job(
+      id, [](const v1::JobInfo& j) { return j.counters().units_leased() >= 1; }, "a lease");
+  ASSERT_EQ(farm.cli({"cancel", std::to_string(id)}).exit_code, 0);
+  const std::filesystem::path log = farm.dir() / ("worker-" + std::to_string(worker) + ".log");
+  const auto give_up = std::chrono::steady_clock::now() + kPatience;
+  std::string text;
+  while ((text = read_text(log)).find("unit dropped") == std::string::npos &&
+         std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_NE(text.find("job " + std::to_string(id) + ": lease gone"), std::string::npos) << text;
+  farm.worker(worker).signal(SIGTERM);
+  EXPECT_EQ(farm.worker(worker).wait_for(kPatience), 0);
+  EXPECT_EQ(farm.job(id).counters().samples_merged(), 0u);
 }
 
 // Lazy units: under a raised cap a 2147483647-spp job (2,097,162 units) is accepted
