@@ -1,7 +1,8 @@
 // Housekeeping end to end: one server per database (a second one is refused naming the holder; a
 // SIGKILLed one's successor gets the lock back), `tessera delete` of finished and cancelled jobs
-// (outputs and space returned; a running or unknown job refused, exit 1), and the --max-units
-// refusal at submit, and lazy units (a submit writes rows per tile, not per unit).
+// (outputs and space returned; a running or unknown job refused, exit 1), the --max-units and
+// --max-unit-samples refusals at submit, a cancel stopping a worker in the middle of a huge
+// batch, and lazy units (a submit writes rows per tile, not per unit).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
