@@ -233,7 +233,8 @@ TEST(SerializedLoader, RefusesADecompressionBombFromItsHeader) {
   Bytes head;
   head.put<uint32_t>(0x1000).text("bomb").put<uint64_t>(count).put<uint64_t>(count);
   z_stream z{};
-  ASSERT_EQ(deflateInit(&z, 9), Z_OK);
+  // Z_RLE: the same stream as level 9 gives for zeros (466,792 bytes), in a fifth of the time.
+  ASSERT_EQ(deflateInit2(&z, 9, Z_DEFLATED, 15, 8, Z_RLE), Z_OK);
   std::string out(1 << 20, '\0');
   z.next_out = reinterpret_cast<Bytef*>(out.data());
   z.avail_out = uInt(out.size());
