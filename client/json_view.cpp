@@ -39,6 +39,7 @@ nlohmann::json to_json(const v1::WorkerInfo& w) {
       {"job_id", w.job_id() == 0 ? nlohmann::json(nullptr) : nlohmann::json(w.job_id())},
       {"tile", w.tile()},
       {"batch", w.batch()},
+      {"units_held", w.units_held()},
       {"units_done", w.units_done()},
       {"units_lost", w.units_lost()},
       {"samples_returned", w.samples_returned()},

@@ -1,5 +1,5 @@
-// `tessera workers`: the registered workers, what each is rendering and its health (or a JSON
-// array).
+// `tessera workers`: the registered workers, what each is rendering, how many units it holds
+// and its health (or a JSON array).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
@@ -11,17 +11,17 @@ namespace tessera::client {
 namespace {
 
 void print_workers(const v1::ListWorkersResponse& workers) {
-  std::printf("%4s  %-24s  %-7s  %7s  %-7s  %-22s  %6s  %5s\n", "ID", "NAME", "STATUS",
-              "THREADS", "ISA", "UNIT", "DONE", "LOST");
+  std::printf("%4s  %-24s  %-7s  %7s  %-7s  %-22s  %4s  %6s  %5s\n", "ID", "NAME", "STATUS",
+              "THREADS", "ISA", "UNIT", "HELD", "DONE", "LOST");
   for (const auto& w : workers.workers()) {
     const std::string unit = w.job_id() == 0 ? "-"
                                              : "job " + std::to_string(w.job_id()) + " t" +
                                                    std::to_string(w.tile()) + " b" +
                                                    std::to_string(w.batch());
-    std::printf("%4llu  %-24s  %-7s  %7u  %-7s  %-22s  %6llu  %5llu\n",
+    std::printf("%4llu  %-24s  %-7s  %7u  %-7s  %-22s  %4u  %6llu  %5llu\n",
                 static_cast<unsigned long long>(w.id()), w.name().c_str(),
                 w.online() ? "online" : "offline", w.threads(),
-                w.isa().empty() ? "-" : w.isa().c_str(), unit.c_str(),
+                w.isa().empty() ? "-" : w.isa().c_str(), unit.c_str(), w.units_held(),
                 static_cast<unsigned long long>(w.units_done()),
                 static_cast<unsigned long long>(w.units_lost()));
     if (!w.health_warning().empty()) {
@@ -48,7 +48,10 @@ int workers(const GlobalOptions& g) {
 }  // namespace
 
 Command add_workers_command(CLI::App& app, GlobalOptions& g) {
-  CLI::App* cmd = app.add_subcommand("workers", "List workers");
+  CLI::App* cmd = app.add_subcommand(
+      "workers",
+      "List workers: status, threads, the unit each renders, HELD (units leased to it now, "
+      "bounded by about a second of its measured rate), DONE and LOST");
   add_json_flag(cmd, g);
   return {cmd, [&g] { return workers(g); }};
 }

@@ -202,7 +202,8 @@ LeasedUnit LeaseBook::leased_unit(const Job& job, const Lease& lease) const {
 }
 
 std::vector<LeasedUnit> LeaseBook::lease_up_to(int64_t worker_id, uint32_t max_units,
-                                               const std::vector<std::string>& delivering) {
+                                               const std::vector<std::string>& delivering,
+                                               uint64_t max_samples) {
   const int64_t asked_ns = call_trace::now_ns();
   std::lock_guard lock(mu_);
   const int64_t got_ns = call_trace::now_ns();
@@ -230,7 +231,21 @@ std::vector<LeasedUnit> LeaseBook::lease_up_to(int64_t worker_id, uint32_t max_u
   }
   max_units = std::max(1u, max_units);
   if (out.size() >= max_units) return out;
-  for (const Scheduler::Pick& p : scheduler_.pick(worker_id, now, max_units - out.size())) {
+  Scheduler::SampleBound bound;
+  if (max_samples != kNoSampleBound) {
+    uint64_t held_samples = 0;
+    for (const LeasedUnit& u : out) held_samples += u.samples();
+    if (!out.empty() && held_samples >= max_samples) return out;
+    bound.max_samples = max_samples - std::min(held_samples, max_samples);
+    bound.first_free = out.empty();
+    bound.samples_of = [this](const Scheduler::Pick& p) {
+      const Job& job = jobs_.at(p.job_id);
+      return uint64_t(job.rects[p.tile].pixel_count()) *
+             (job.plan.batch_end(p.batch) - job.plan.batch_begin(p.batch));
+    };
+  }
+  for (const Scheduler::Pick& p :
+       scheduler_.pick(worker_id, now, max_units - out.size(), bound)) {
     Lease lease;
     lease.lease_id = new_id_();
     lease.unit_id = p.unit_id;
@@ -303,6 +318,13 @@ void LeaseBook::revoke_all() {
 size_t LeaseBook::leases_held() {
   std::lock_guard lock(mu_);
   return leases_.size();
+}
+
+std::map<int64_t, size_t> LeaseBook::held_by_worker() {
+  std::lock_guard lock(mu_);
+  std::map<int64_t, size_t> out;
+  for (const auto& [worker, ids] : by_worker_) out[worker] = ids.size();
+  return out;
 }
 
 std::vector<LeaseBook::Grant> LeaseBook::take_journal() {

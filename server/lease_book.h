@@ -52,6 +52,8 @@ struct LeasedUnit {
   uint32_t sample_begin = 0, sample_end = 0;
   JobOptions options;
   std::string bundle_sha256;
+  /// Pixel samples the unit renders: the tile's pixels times the batch's samples per pixel.
+  uint64_t samples() const { return uint64_t(rect.pixel_count()) * (sample_end - sample_begin); }
 };
 
 /// What the book loads of one unfinished job (load_lease_book_job).
@@ -104,11 +106,17 @@ class LeaseBook {
   void tile_merged(int64_t job_id, uint32_t tile, uint32_t next_batch, bool closed);
 
   // ---- Leases -----------------------------------------------------------------------------
+  /// No bound on a call's samples (lease_up_to): only max_units bounds it.
+  static constexpr uint64_t kNoSampleBound = UINT64_MAX;
   /// Every lease the worker holds (expiry extended) and new ones up to `max_units`, picked by
-  /// the scheduling policy (Scheduler::pick). Empty: no work. The leases named in `delivering`
-  /// (results on their way in another call) are extended but neither returned nor counted.
+  /// the scheduling policy (Scheduler::pick), while the samples of the leases returned add up
+  /// to at most `max_samples` (Leasing's lease_sample_budget): the held ones count first, and
+  /// the call returns at least one unit when the worker holds one or one is leasable. Empty:
+  /// no work. The leases named in `delivering` (results on their way in another call) are
+  /// extended but neither returned nor counted.
   std::vector<LeasedUnit> lease_up_to(int64_t worker_id, uint32_t max_units,
-                                      const std::vector<std::string>& delivering = {});
+                                      const std::vector<std::string>& delivering = {},
+                                      uint64_t max_samples = kNoSampleBound);
   /// A heartbeat: the lease's new expiry, nullopt when it is not current for the worker.
   std::optional<int64_t> extend(int64_t worker_id, const std::string& lease_id);
   /// The lease `lease_id` of `worker_id`, when current.
@@ -120,6 +128,8 @@ class LeaseBook {
   /// The store requeued the lease's unit (expired or released): the unit is leasable again.
   void requeued(const Lease& lease);
   size_t leases_held();
+  /// The leases each worker holds now (workers holding none left out).
+  std::map<int64_t, size_t> held_by_worker();
   /// Every lease the store has written -> its unit queued again (the store's revoke_all at
   /// start-up: LeaseTable::revoke_all).
   void revoke_all();

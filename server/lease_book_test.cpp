@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <thread>
 
@@ -13,6 +14,8 @@
 #include "fake_clock.h"
 #include "farm_error.h"
 #include "lease_book.h"
+#include "leasing.h"
+#include "worker_rates.h"
 #include "store_fixture.h"
 
 namespace tessera::server {
@@ -28,6 +31,18 @@ v1::JobRequestOptions options_of(uint32_t spp) {
   options.set_tile_size(8);
   options.set_spp(spp);
   options.set_batch_spp(1);
+  return options;
+}
+
+/// A job of 16 units, one batch of `spp` per tile: 32x32 in 8x8 tiles (unit: 64 x spp samples),
+/// or, with `tile` 64, 256x256 in 64x64 tiles (4096 x spp).
+v1::JobRequestOptions one_batch_units(uint32_t spp, int tile = 8) {
+  v1::JobRequestOptions options;
+  options.set_width(4 * tile);
+  options.set_height(4 * tile);
+  options.set_tile_size(tile);
+  options.set_spp(spp);
+  options.set_batch_spp(spp);
   return options;
 }
 
@@ -281,6 +296,97 @@ TEST_F(LeaseBookTest, PriorityAndAFailureBlockAreFollowed) {
   EXPECT_EQ(theirs[0].lease.tile, two[0].lease.tile);
 }
 
+// ---- Leasing by samples (leasing.h, lease_sample_budget) ----------------------------------
+
+TEST(LeaseSampleBudget, OneSecondOfTheMeasuredRateOrASmallShareBeforeAnyResult) {
+  WorkerRates::Rate rate;
+  rate.threads = 4;
+  EXPECT_EQ(lease_sample_budget(rate), 4 * kUnmeasuredSamples);
+  rate.threads = 0;  // a worker that did not say: one thread
+  EXPECT_EQ(lease_sample_budget(rate), kUnmeasuredSamples);
+  rate.threads = 4;
+  rate.samples_per_s = 3200.0 * 4;  // 3,200 samples/s per thread, 4 threads
+  EXPECT_EQ(lease_sample_budget(rate), 12'800u);
+  rate.samples_per_s = 0.0;
+  EXPECT_EQ(lease_sample_budget(rate), 0u);  // one unit a call (LeaseBook::lease_up_to)
+}
+
+TEST(WorkerRates, SamplesOverRenderTimeRecentResultsWeighingMore) {
+  WorkerRates rates;
+  EXPECT_FALSE(rates.of(1).samples_per_s.has_value());
+  EXPECT_EQ(rates.of(1).threads, 1u);
+  rates.set_threads(1, 8);
+  rates.record(1, 1000, 10);
+  EXPECT_EQ(rates.of(1).threads, 8u);
+  EXPECT_DOUBLE_EQ(*rates.of(1).samples_per_s, 100'000.0);
+  rates.record(1, 100, 10);  // (1000 x 0.75 + 100) / (10 x 0.75 + 10) per ms
+  EXPECT_DOUBLE_EQ(*rates.of(1).samples_per_s, 850.0 / 17.5 * 1000.0);
+  rates.record(2, 500, 0);  // under a millisecond counts as one
+  EXPECT_DOUBLE_EQ(*rates.of(2).samples_per_s, 500'000.0);
+  EXPECT_FALSE(rates.of(3).samples_per_s.has_value());
+}
+
+// A worker whose results measure R samples/s per thread on T threads, asking for 16 units of S
+// samples, gets max(1, floor(R x T x 1 s / S)) of them; the workers list shows what it holds.
+TEST_F(LeaseBookTest, AMeasuredWorkerLeasesAboutOneSecondOfItsRateAndAtLeastOneUnit) {
+  const int64_t w = farm_->register_worker({"w", 4, "avx2", "test"});
+  farm_->submit(tiny_bundle(), options_of(1), 0, "c");  // 16 units of 64 samples
+  const std::vector<LeasedUnit> tiny = look(w, 16);
+  ASSERT_EQ(tiny.size(), 16u);  // 1,024 samples, within 4 x 65,536 before any result
+  std::vector<UnitResult> results;
+  for (const LeasedUnit& u : tiny) {
+    results.push_back(result(u));
+    results.back().render_ms = 5;  // 64 samples in 5 ms: R x T = 12,800 samples/s
+  }
+  for (const AcceptOutcome& o : farm_->upload_all(results)) ASSERT_TRUE(o.accepted) << o.reason;
+  // S = 64 x 16 = 1,024: floor(12,800 / 1,024) = 12 of the 16 asked.
+  farm_->submit(tiny_bundle(), one_batch_units(16), 0, "c");
+  const std::vector<LeasedUnit> held = look(w, 16);
+  EXPECT_EQ(held.size(), 12u);
+  // Asked again (a reply lost): the same 12, and nothing more while they fill the budget.
+  EXPECT_EQ(look(w, 16).size(), 12u);
+  ASSERT_EQ(farm_->workers().size(), 1u);
+  EXPECT_EQ(farm_->workers().front().units_held, 12u);
+  // Named as delivering they no longer count: the 4 left fit.
+  std::vector<std::string> delivering;
+  for (const LeasedUnit& u : held) delivering.push_back(u.lease.lease_id);
+  EXPECT_EQ(farm_->lease_units(w, 16, std::chrono::milliseconds(0), nullptr, delivering).size(),
+            4u);
+  EXPECT_EQ(farm_->workers().front().units_held, 16u);
+  std::vector<UnitResult> next;
+  for (const LeasedUnit& u : look(w, 16)) next.push_back(result(u));
+  for (UnitResult& r : next) r.render_ms = 80;  // 1,024 samples in 80 ms: the same rate
+  for (const AcceptOutcome& o : farm_->upload_all(next)) ASSERT_TRUE(o.accepted) << o.reason;
+  EXPECT_EQ(farm_->workers().front().units_held, 0u);
+  // Units of 4,096 x 1,024 samples (over a second of this worker's work each): one at a time.
+  farm_->submit(tiny_bundle(), one_batch_units(1024, 64), 0, "c");
+  EXPECT_EQ(look(w, 16).size(), 1u);
+  EXPECT_EQ(look(w, 16).size(), 1u);  // the same one
+}
+
+// Before any result a worker leases 65,536 samples per render thread: small units travel many
+// to a call, large ones one at a time, and two workers asking for a large job's 16 units get
+// one each (the farm's finding: one worker held them all while the other idled).
+TEST_F(LeaseBookTest, AnUnmeasuredWorkerLeasesASmallShareAndTheOtherWorkerGetsUnitsToo) {
+  const int64_t two = farm_->register_worker({"two", 2, "avx2", "test"});
+  const int64_t one = farm_->register_worker({"one", 1, "avx2", "test"});
+  farm_->submit(tiny_bundle(), one_batch_units(1024), 0, "c");  // 16 units of 65,536 samples
+  EXPECT_EQ(look(two, 16).size(), 2u);
+  EXPECT_EQ(look(one, 16).size(), 1u);
+  // 16 units of 4 M samples, first by priority.
+  const int64_t large = farm_->submit(tiny_bundle(), one_batch_units(1024, 64), 5, "c").id;
+  const int64_t a = farm_->register_worker({"a", 1, "avx2", "test"});
+  const int64_t b = farm_->register_worker({"b", 1, "avx2", "test"});
+  for (const int64_t w : {a, b}) {
+    const std::vector<LeasedUnit> got = look(w, 16);
+    ASSERT_EQ(got.size(), 1u);
+    EXPECT_EQ(got[0].lease.job_id, large);
+  }
+  std::map<int64_t, uint32_t> held;
+  for (const WorkerRecord& w : farm_->workers()) held[w.id] = w.units_held;
+  EXPECT_EQ(held, (std::map<int64_t, uint32_t>{{two, 2}, {one, 1}, {a, 1}, {b, 1}}));
+}
+
 /// Job 7, running: two 8x8 tiles of 4 batches of 1 spp, every unit queued.
 LeaseBookJob two_tile_job() {
   LeaseBookJob job;
@@ -349,6 +455,20 @@ TEST(LeaseBook, LeasesBeingDeliveredAreExtendedButNotReturnedOrCounted) {
   EXPECT_TRUE(book.due(clock.now_unix_ms()).empty());
   // Without the names (a retry after a lost reply), every lease held comes back.
   EXPECT_EQ(book.lease_up_to(1, 2).size(), 4u);
+}
+
+// The book's sample bound: the held leases count first; at least one unit when none is held.
+TEST(LeaseBook, HeldLeasesCountAgainstTheSampleBound) {
+  testing::FakeClock clock;
+  LeaseBook book(clock, 1000);
+  book.add_worker(1);
+  book.put_job(two_tile_job());  // units of 64 samples
+  EXPECT_EQ(book.lease_up_to(1, 8, {}, 0).size(), 1u);
+  EXPECT_EQ(book.lease_up_to(1, 8, {}, 0).size(), 1u);    // the same one, nothing new
+  EXPECT_EQ(book.lease_up_to(1, 8, {}, 191).size(), 2u);  // 64 held + 64 (a third: 192)
+  EXPECT_EQ(book.lease_up_to(1, 8, {}, 64 * 5).size(), 5u);
+  EXPECT_EQ(book.held_by_worker(), (std::map<int64_t, size_t>{{1, 5}}));
+  EXPECT_EQ(book.lease_up_to(1, 8).size(), 8u);  // no bound: the count alone
 }
 
 }  // namespace

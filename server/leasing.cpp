@@ -1,11 +1,20 @@
 #include "leasing.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "call_trace.h"
 #include "farm_error.h"
 
 namespace tessera::server {
+
+uint64_t lease_sample_budget(const WorkerRates::Rate& rate) {
+  if (!rate.samples_per_s) return kUnmeasuredSamples * std::max(1u, rate.threads);
+  const double samples = *rate.samples_per_s * double(kLeaseSpanMs) / 1000.0;
+  if (!(samples > 0)) return 0;  // (NaN too) at least one unit all the same
+  if (samples >= 1.8e19) return LeaseBook::kNoSampleBound - 1;
+  return uint64_t(std::floor(samples));
+}
 
 std::vector<LeasedUnit> Leasing::lease_units(int64_t worker_id, uint32_t max_units,
                                              std::chrono::milliseconds wait,
@@ -24,8 +33,10 @@ std::vector<LeasedUnit> Leasing::lease_units(int64_t worker_id, uint32_t max_uni
     // Read the version before looking, so a change made while we look wakes the wait below.
     const uint64_t seen = events_.work.version();
     presence_.touch_in_memory(worker_id, call);
+    // Read at each look: a result delivered while the call waits moves the budget.
+    const uint64_t budget = lease_sample_budget(presence_.rates().of(worker_id));
     std::vector<LeasedUnit> units =
-        store_.book().lease_up_to(worker_id, std::max(1u, max_units), delivering);
+        store_.book().lease_up_to(worker_id, std::max(1u, max_units), delivering, budget);
     if (!units.empty()) {
       events_.notify(false);  // progress (the job may have started); no work for others
       return units;

@@ -19,6 +19,19 @@
 
 namespace tessera::server {
 
+/// The samples one LeaseUnit call may lease a worker (docs/farm.md, "Leasing by samples"):
+/// about kLeaseSpanMs of its work, so that one worker never holds a large job's units while
+/// others idle, and a unit it holds waits at most about that long for its turn.
+/// - Measured (WorkerRates): `samples_per_s` x kLeaseSpanMs, the rate being the whole worker's
+///   (its units render on all its threads: per render thread, the thread's rate x 1 s).
+/// - Not measured yet (a new worker, or any worker after a server start): kUnmeasuredSamples
+///   per render thread, the figure tessera-worker asks by (a few tens of milliseconds of work
+///   per thread): a batch of small units still travels in one call, a large unit alone.
+/// The call still returns at least one unit when there is work (LeaseBook::lease_up_to).
+inline constexpr int64_t kLeaseSpanMs = 1000;
+inline constexpr uint64_t kUnmeasuredSamples = uint64_t(1) << 16;
+uint64_t lease_sample_budget(const WorkerRates::Rate& rate);
+
 class Leasing {
  public:
   /// Called, outside the store's lock, for each job whose time is up (JobImages::finish_job).
@@ -37,8 +50,8 @@ class Leasing {
   /// Most lease ids one heartbeat may name.
   static constexpr size_t kMaxLeasesPerHeartbeat = 64;
 
-  /// Every lease the worker holds and new ones up to `max_units` (LeaseBook::lease_up_to),
-  /// waiting up to `wait` while there are none (long poll) unless `cancelled()` says the caller
+  /// Every lease the worker holds and new ones up to `max_units` and the worker's sample
+  /// budget (lease_sample_budget; LeaseBook::lease_up_to), waiting up to `wait` while there are none (long poll) unless `cancelled()` says the caller
   /// went away. Empty: no work. `delivering`: leases whose results the worker is delivering,
   /// left out (at most kMaxDelivering; more throws FarmError(invalid_argument)). Throws
   /// FarmError(failed_precondition) for an unknown worker id (register again).

@@ -77,6 +77,7 @@ v1::WorkerInfo to_proto(const WorkerRecord& w, bool online) {
   out.set_nan_dropped(w.nan_dropped);
   out.set_inf_dropped(w.inf_dropped);
   out.set_health_warning(w.health_warning);
+  out.set_units_held(w.units_held);
   return out;
 }
 

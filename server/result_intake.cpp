@@ -112,6 +112,10 @@ void ResultIntake::answered(const std::vector<UnitResult>& results,
       observer_->record_result(results[i].worker_id, results[i].job_id, outcomes[i].accepted,
                                outcomes[i].samples, seconds);
     }
+    // The worker's rate, which bounds its next leases (leasing.h, lease_sample_budget).
+    if (outcomes[i].accepted) {
+      presence_.rates().record(results[i].worker_id, outcomes[i].samples, results[i].render_ms);
+    }
     if (outcomes[i].job_complete) complete.insert(results[i].job_id);
     frees_work = frees_work || outcomes[i].frees_work;
   }

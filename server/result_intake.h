@@ -86,8 +86,9 @@ class ResultIntake {
   /// decode by them. Takes the store's lock only for a tile not kept yet; must not be called
   /// under tile_rects_mu_.
   std::vector<std::optional<TileRect>> tile_rects(const std::vector<UnitResult>& results);
-  /// Reports the answered call to the observer, wakes watchers (and idle workers when a merge
-  /// may have freed work) and finishes the jobs it completed.
+  /// Reports the answered call to the observer, records the worker's rate from its accepted
+  /// results (WorkerRates), wakes watchers (and idle workers when a merge may have freed work)
+  /// and finishes the jobs it completed.
   void answered(const std::vector<UnitResult>& results, const std::vector<AcceptOutcome>& outcomes,
                 double seconds);
   /// Commits a group of upload calls (GroupCommit's commit): one transaction for all, or, when

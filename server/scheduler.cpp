@@ -95,7 +95,7 @@ void Scheduler::start(State& s, int64_t at) {
   s.job.started_unix_ms = at;
 }
 
-bool Scheduler::pick_one(State& s, int64_t now, Pick& out) {
+bool Scheduler::next_unit(const State& s, int64_t now, Pick& out) const {
   // Past its budget a time job gets batch 0 only: every tile gets its first batch.
   // (started_unix_ms > 0: as JobsTable::running_over_budget decides it in the store.)
   const bool over_budget = s.job.time_budget_ms > 0 && s.job.running &&
@@ -121,28 +121,53 @@ bool Scheduler::pick_one(State& s, int64_t now, Pick& out) {
     out.batch = unborn->first;
     out.tile = unborn->second;
     out.unborn = true;
-    lease_unborn(s, out.tile);
   } else {
     out.batch = requeued->batch;
     out.tile = requeued->tile;
     out.unit_id = requeued->unit_id;
-    s.requeued.erase(*requeued);
   }
-  start(s, now);
   return true;
 }
 
-std::vector<Scheduler::Pick> Scheduler::pick(int64_t worker_id, int64_t now_unix_ms, size_t n) {
+void Scheduler::take_next(State& s, const Pick& unit, int64_t now) {
+  if (unit.unborn) {
+    lease_unborn(s, unit.tile);
+  } else {
+    s.requeued.erase({unit.batch, unit.tile, unit.unit_id});
+  }
+  start(s, now);
+}
+
+std::vector<Scheduler::Pick> Scheduler::pick(int64_t worker_id, int64_t now_unix_ms, size_t n,
+                                             const SampleBound& bound) {
   std::vector<Pick> out;
+  uint64_t samples = 0;
   for (const OrderKey& key : order_) {
     if (out.size() >= n) break;
     State& s = jobs_.at(std::get<2>(key));
     if (s.open.empty() && s.requeued.empty()) continue;
     if (blocked(s, worker_id, now_unix_ms)) continue;
     Pick p;
-    while (out.size() < n && pick_one(s, now_unix_ms, p)) out.push_back(p);
+    while (out.size() < n && next_unit(s, now_unix_ms, p)) {
+      if (bound.samples_of) {
+        const uint64_t unit = bound.samples_of(p);
+        const bool free = out.empty() && bound.first_free;
+        // The first unit over the bound ends the call: later jobs' smaller units wait their
+        // turn rather than pass a larger one.
+        if (!free && (samples + unit > bound.max_samples || samples + unit < samples)) {
+          return out;
+        }
+        samples += unit;
+      }
+      take_next(s, p, now_unix_ms);
+      out.push_back(p);
+    }
   }
   return out;
+}
+
+std::vector<Scheduler::Pick> Scheduler::pick(int64_t worker_id, int64_t now_unix_ms, size_t n) {
+  return pick(worker_id, now_unix_ms, n, SampleBound{});
 }
 
 bool Scheduler::take(const Pick& unit, int64_t at_unix_ms) {

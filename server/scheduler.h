@@ -11,13 +11,17 @@
 // - a `time` job past its budget (started + budget <= now) gets what is left of batch 0 only:
 //   every tile gets its first batch, nothing else starts;
 // - a `noise` tile is leased at most kNoiseLookahead batches past its merged prefix
-//   (speculation the rule may waste, never a change of bits: see tile_merger.h).
+//   (speculation the rule may waste, never a change of bits: see tile_merger.h);
+// - one call's units may be bounded by their samples (SampleBound, the lease's budget: see
+//   leasing.h): the picks stop at the first unit that would go over it, so a call never skips
+//   a large unit for smaller ones of a later job.
 // Each pick is O(log n) in the job's tiles and units back in the queue. Not thread-safe: the
 // book calls it under its own mutex.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <set>
 #include <tuple>
@@ -66,6 +70,15 @@ class Scheduler {
     bool operator==(const Pick&) const = default;
   };
 
+  /// A bound on the samples of one pick()'s units: they add up to at most `max_samples`, except
+  /// that the first unit is picked whatever its samples when `first_free` (a call always
+  /// leases something when there is work). Without `samples_of`, no bound.
+  struct SampleBound {
+    std::function<uint64_t(const Pick&)> samples_of;
+    uint64_t max_samples = 0;
+    bool first_free = true;
+  };
+
   /// WorkerHealthPolicy's blocking half (server/lease_table.h).
   void set_block_policy(int failures_to_block, int64_t forgive_ms);
 
@@ -79,8 +92,12 @@ class Scheduler {
   /// A leased unit came back to the queue (its lease expired or was released).
   void requeued(int64_t job_id, const Requeued& unit);
 
-  /// Up to `n` units for `worker_id` at `now_unix_ms`, taken (never picked again unless
-  /// requeued), in the order above; the job of the first starts at `now_unix_ms` if queued.
+  /// Up to `n` units for `worker_id` at `now_unix_ms`, within `bound`, taken (never picked
+  /// again unless requeued), in the order above; the job of the first starts at `now_unix_ms`
+  /// if queued.
+  std::vector<Pick> pick(int64_t worker_id, int64_t now_unix_ms, size_t n,
+                         const SampleBound& bound);
+  /// pick() with no bound on the samples.
   std::vector<Pick> pick(int64_t worker_id, int64_t now_unix_ms, size_t n);
   /// Takes the given unit, picked earlier (the book applies its unwritten grants again after a
   /// job was put again): false when the job no longer has it leasable.
@@ -108,8 +125,10 @@ class Scheduler {
   /// Leases the tile's next unborn unit: moves its next_lease on, keeping s.open in step.
   void lease_unborn(State& s, uint32_t tile);
   bool blocked(const State& s, int64_t worker_id, int64_t now) const;
-  /// The job's first leasable unit, taken, or false.
-  bool pick_one(State& s, int64_t now, Pick& out);
+  /// The job's first leasable unit (not taken), or false.
+  bool next_unit(const State& s, int64_t now, Pick& out) const;
+  /// Takes `unit`, which next_unit() just gave.
+  void take_next(State& s, const Pick& unit, int64_t now);
   static void start(State& s, int64_t at);
 
   int failures_to_block_ = 2;

@@ -59,6 +59,38 @@ TEST(SchedulerPolicy, TheLowestPriorityRunsLastAndTheHighestFirst) {
   EXPECT_EQ(jobs, (std::vector<int64_t>{3, 2, 1}));
 }
 
+// A sample bound (the lease's budget, leasing.h) stops a call at the first unit over it: the
+// first unit is free, and a later job's smaller units never pass a larger one.
+TEST(SchedulerPolicy, ASampleBoundStopsAtTheFirstUnitOverItAndSkipsNothing) {
+  Scheduler s;
+  s.put_job(policy_job(1, 4, 1, 0, 0));   // 4 units of 100 samples
+  s.put_job(policy_job(2, 4, 1, 0, 10));  // 4 units of 10 samples
+  Scheduler::SampleBound bound;
+  bound.samples_of = [](const Scheduler::Pick& p) -> uint64_t { return p.job_id == 1 ? 100 : 10; };
+  bound.max_samples = 250;
+  const std::vector<Scheduler::Pick> first = s.pick(7, 0, 16, bound);
+  ASSERT_EQ(first.size(), 2u);  // 100 + 100; a third would make 300
+  EXPECT_EQ(first[1].job_id, 1);
+  // Over the bound from the first unit: one unit all the same, none without first_free.
+  bound.max_samples = 50;
+  bound.first_free = false;
+  EXPECT_TRUE(s.pick(7, 0, 16, bound).empty());
+  bound.first_free = true;
+  const std::vector<Scheduler::Pick> one = s.pick(7, 0, 16, bound);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_EQ(one[0].job_id, 1);
+  // Job 1's last unit (100 samples) stops the call before job 2's small ones.
+  bound.max_samples = 150;
+  const std::vector<Scheduler::Pick> last = s.pick(7, 0, 16, bound);
+  ASSERT_EQ(last.size(), 1u);
+  EXPECT_EQ(last[0].job_id, 1);
+  // Job 2's units, 10 samples each: as many as the bound holds.
+  bound.max_samples = 35;
+  EXPECT_EQ(s.pick(7, 0, 16, bound).size(), 3u);
+  // Without the function, only the count bounds.
+  EXPECT_EQ(s.pick(7, 0, 16, Scheduler::SampleBound{}).size(), 1u);
+}
+
 TEST(SchedulerPolicy, APriorityChangeReorders) {
   Scheduler s;
   s.put_job(policy_job(1, 1, 2, 0, 0));

@@ -48,6 +48,7 @@ struct UnitResult {
   uint32_t batch = 0;
   std::string encoded;  ///< encode_accumulation bytes, as uploaded (stored if it must wait)
   std::string isa;      ///< the ISA the worker rendered with
+  uint32_t render_ms = 0;  ///< wall time the worker says it rendered the unit (its rate)
 };
 
 struct AcceptOutcome {

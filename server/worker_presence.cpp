@@ -23,6 +23,7 @@ int64_t WorkerPresence::register_worker(const WorkerRegistration& info) {
     FarmStore::Lock lock(store_);
     id = store_.workers().register_worker(info, clock_.now_unix_ms());
     store_.book().add_worker(id);
+    rates_.set_threads(id, info.threads);
   }
   events_.notify(true);
   return id;
@@ -44,7 +45,11 @@ bool WorkerPresence::online(const WorkerRecord& worker) const {
 std::vector<WorkerRecord> WorkerPresence::workers() {
   FarmStore::Lock lock(store_);
   std::vector<WorkerRecord> list = store_.workers().list();
-  for (WorkerRecord& w : list) w.health_warning = health_warning(w, nan_report_fraction_);
+  const std::map<int64_t, size_t> held = store_.book().held_by_worker();
+  for (WorkerRecord& w : list) {
+    w.health_warning = health_warning(w, nan_report_fraction_);
+    if (const auto h = held.find(w.id); h != held.end()) w.units_held = uint32_t(h->second);
+  }
   return list;
 }
 
@@ -65,8 +70,10 @@ void WorkerPresence::touch_in_memory(int64_t worker_id, uint64_t call) {
     // Its first call since the server started (or an unknown id): the one lease or heartbeat
     // of a worker that asks the store.
     FarmStore::Lock lock(store_);
-    if (!store_.workers().get(worker_id)) throw unknown_worker(worker_id);
+    const std::optional<WorkerRecord> known = store_.workers().get(worker_id);
+    if (!known) throw unknown_worker(worker_id);
     book.add_worker(worker_id);
+    rates_.set_threads(worker_id, known->info.threads);
   }
   book.touch(worker_id, clock_.now_unix_ms());  // last_seen written by the next flush
   call_trace::record("touch", began_ns, call_trace::now_ns());

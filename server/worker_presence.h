@@ -1,6 +1,7 @@
 // Which workers are there: registration, the check of a worker's id on each of its calls (its
-// last call recorded), deregistration, whether a worker is online, and the one-time warning
-// for a worker whose NaN/Inf share crossed the report threshold. A lease's or heartbeat's
+// last call recorded), deregistration, whether a worker is online, how fast each renders (its
+// measured rate, which bounds its leases), and the one-time warning for a worker whose NaN/Inf
+// share crossed the report threshold. A lease's or heartbeat's
 // check is answered from memory (the lease book's known workers); the store is asked only for
 // a worker new to this server.
 #pragma once
@@ -15,6 +16,7 @@
 #include "clock.h"
 #include "farm_events.h"
 #include "farm_store.h"
+#include "worker_rates.h"
 #include "worker_registry.h"
 
 namespace tessera::server {
@@ -35,8 +37,10 @@ class WorkerPresence {
   /// True when the worker called within the last three lease periods and did not deregister
   /// since.
   bool online(const WorkerRecord& worker) const;
-  /// Every worker, with its health warning.
+  /// Every worker, with its health warning and the units it holds now (the lease book's).
   std::vector<WorkerRecord> workers();
+  /// Each worker's render threads and measured rate (results record into it: ResultIntake).
+  WorkerRates& rates() { return rates_; }
 
   /// The number of a call, taken when the call begins: a call that began before its worker
   /// deregistered (a long poll still waiting) does not bring it back online.
@@ -65,6 +69,7 @@ class WorkerPresence {
   /// begun when it deregistered (calls numbered from there on began after it).
   std::map<int64_t, uint64_t> departed_;
   std::atomic<uint64_t> calls_begun_{0};
+  WorkerRates rates_;
   std::mutex reported_mu_;
   std::set<int64_t> reported_workers_;  ///< NaN/Inf warning logged (guarded by reported_mu_)
 };

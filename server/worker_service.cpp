@@ -135,6 +135,7 @@ UnitResult result_of(const v1::UploadResultRequest& request, uint64_t worker_id)
   result.batch = request.batch();
   result.encoded = request.accumulation();
   result.isa = request.isa();
+  result.render_ms = request.render_ms();
   return result;
 }
 

@@ -154,6 +154,7 @@ class DashboardApi {
           {"state", !online ? "offline" : w.job_id ? "busy" : "idle"},
           {"online", online},
           {"unit", unit},
+          {"units_held", w.units_held},
           {"samples_per_s", metrics_.worker_samples_per_s(w.id)},
           {"registered_unix_ms", w.registered_unix_ms},
           {"last_seen_unix_ms", w.last_seen_unix_ms},

@@ -30,6 +30,8 @@ struct WorkerRecord {
   uint64_t nan_dropped = 0, inf_dropped = 0;
   /// Filled by the coordinator from its policy: empty when healthy (see health_warning()).
   std::string health_warning;
+  /// Filled by the coordinator from the lease book: the leases it holds now.
+  uint32_t units_held = 0;
   /// The unit it holds a lease on, if any (the oldest of its leases when it holds several).
   std::optional<int64_t> job_id;
   uint32_t tile = 0, batch = 0;

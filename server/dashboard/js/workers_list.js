@@ -1,4 +1,5 @@
-// The workers table: one row per registered worker, what it renders and its counts.
+// The workers table: one row per registered worker, what it renders, the units it holds and its
+// counts.
 import { $, esc } from './dom.js';
 import { duration, rate } from './format.js';
 import { state } from './state.js';
@@ -8,6 +9,7 @@ function workerRow(w) {
   return `<tr data-worker-id="${w.id}" data-state="${esc(w.state)}">
     <td>${esc(w.name)}</td><td class="num">${w.threads}</td>
     <td><span class="state state-${esc(w.state)}">${esc(w.state)}</span></td><td>${unit}</td>
+    <td class="num">${w.units_held ?? 0}</td>
     <td class="num">${rate(w.samples_per_s)}</td><td class="num wide">${duration(w.last_seen_s)} ago</td>
     <td class="num wide">${w.units_done}</td><td class="num">${w.failures}</td></tr>`;
 }
