@@ -51,8 +51,8 @@ class Leasing {
   static constexpr size_t kMaxLeasesPerHeartbeat = 64;
 
   /// Every lease the worker holds and new ones up to `max_units` and the worker's sample
-  /// budget (lease_sample_budget; LeaseBook::lease_up_to), waiting up to `wait` while there are none (long poll) unless `cancelled()` says the caller
-  /// went away. Empty: no work. `delivering`: leases whose results the worker is delivering,
+  /// budget (lease_sample_budget; LeaseBook::lease_up_to), waiting up to `wait` while there
+  /// are none (long poll) unless `cancelled()` says the caller went away. Empty: no work. `delivering`: leases whose results the worker is delivering,
   /// left out (at most kMaxDelivering; more throws FarmError(invalid_argument)). Throws
   /// FarmError(failed_precondition) for an unknown worker id (register again).
   std::vector<LeasedUnit> lease_units(int64_t worker_id, uint32_t max_units,

@@ -79,10 +79,14 @@ TEST(SchedulerPolicy, ASampleBoundStopsAtTheFirstUnitOverItAndSkipsNothing) {
   const std::vector<Scheduler::Pick> one = s.pick(7, 0, 16, bound);
   ASSERT_EQ(one.size(), 1u);
   EXPECT_EQ(one[0].job_id, 1);
-  // Job 1's last unit (100 samples) stops the call before job 2's small ones.
-  bound.max_samples = 150;
+  // Job 1's last unit (100 samples) is over the bound: the call ends there, job 2's units of 10
+  // samples (which would fit) wait their turn.
+  bound.max_samples = 50;
+  bound.first_free = false;
+  EXPECT_TRUE(s.pick(7, 0, 16, bound).empty());
+  bound.first_free = true;
   const std::vector<Scheduler::Pick> last = s.pick(7, 0, 16, bound);
-  ASSERT_EQ(last.size(), 1u);
+  ASSERT_EQ(last.size(), 1u);  // free; then 100 + 10 > 50
   EXPECT_EQ(last[0].job_id, 1);
   // Job 2's units, 10 samples each: as many as the bound holds.
   bound.max_samples = 35;

@@ -212,6 +212,7 @@ TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
   EXPECT_EQ(w["name"], "e2e-worker-0");
   EXPECT_EQ(w["threads"], 1);
   EXPECT_EQ(w["units_done"], 16);
+  EXPECT_EQ(w["units_held"], 0);  // every result in
   EXPECT_EQ(w["failures"], 0);
   EXPECT_TRUE(w["online"].get<bool>());
   EXPECT_TRUE(w["state"] == "idle" || w["state"] == "busy");

@@ -14,7 +14,8 @@
 namespace tessera::e2e {
 namespace {
 
-const std::string kLeaseShareScene = (source_dir() / "tests" / "farm" / "data" / "tiny.json").string();
+const std::string kLeaseShareScene =
+    (source_dir() / "tests" / "farm" / "data" / "tiny.json").string();
 
 /// `tessera workers --json`: worker id -> its object.
 std::map<uint64_t, nlohmann::json> lease_share_workers(FarmCluster& farm) {
@@ -22,7 +23,9 @@ std::map<uint64_t, nlohmann::json> lease_share_workers(FarmCluster& farm) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   std::map<uint64_t, nlohmann::json> out;
   if (r.exit_code != 0) return out;
-  for (const nlohmann::json& w : nlohmann::json::parse(r.out)) out[w.at("id").get<uint64_t>()] = w;
+  for (const nlohmann::json& w : nlohmann::json::parse(r.out)) {
+    out[w.at("id").get<uint64_t>()] = w;
+  }
   return out;
 }
 
