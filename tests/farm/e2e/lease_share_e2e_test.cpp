@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -42,7 +43,7 @@ TEST(LeaseShare, AfterTinyJobsALargeJobsUnitsGoToBothWorkers) {
   }
   ASSERT_EQ(workers.size(), 2u) << "both workers registered";
 
-  // Tiny jobs (one 16x16 unit of 256 samples each) until both workers delivered some: each then
+  // Tiny jobs (one 8x8 unit of 64 samples each) until both workers delivered some: each then
   // asks for 16 units of that size at its next call.
   const auto units_done = [&](const std::map<uint64_t, nlohmann::json>& list) {
     std::map<uint64_t, uint64_t> done;
@@ -50,12 +51,14 @@ TEST(LeaseShare, AfterTinyJobsALargeJobsUnitsGoToBothWorkers) {
     return done;
   };
   std::map<uint64_t, uint64_t> before;
+  int tiny_jobs = 0;
   for (int job = 0; job < 60; ++job) {
+    ++tiny_jobs;
     const uint64_t id =
-        farm.submit({kLeaseShareScene, "--width", "16", "--height", "16", "--spp", "1"});
+        farm.submit({kLeaseShareScene, "--width", "8", "--height", "8", "--spp", "1"});
     ASSERT_EQ(farm.wait_final(id).state(), v1::JOB_STATE_DONE);
     before = units_done(lease_share_workers(farm));
-    if (job >= 3 && before.size() == 2 && before.begin()->second > 0 &&
+    if (before.size() == 2 && before.begin()->second > 0 &&
         before.rbegin()->second > 0) {
       break;
     }
@@ -63,11 +66,12 @@ TEST(LeaseShare, AfterTinyJobsALargeJobsUnitsGoToBothWorkers) {
   ASSERT_EQ(before.size(), 2u);
   for (const auto& [id, done] : before) ASSERT_GT(done, 0u) << "worker " << id << " rendered none";
 
-  // 16 units of 64x64 pixels x 64 spp = 262,144 samples: more than a second of what a worker's
-  // tiny units measured (at most 256 samples a millisecond), so each call is granted one unit
-  // until the worker's rate is measured on this job.
+  // 16 units of 32x32 pixels x 64 spp = 65,536 samples: more than a second of what a worker's
+  // tiny units measured (at most 64 samples a millisecond), so each call is granted one unit
+  // until the worker's rate is measured on this job. Without the bound the first worker to ask
+  // is granted all 16.
   const uint64_t large =
-      farm.submit({kLeaseShareScene, "--width", "256", "--height", "256", "--tile", "64", "--spp",
+      farm.submit({kLeaseShareScene, "--width", "128", "--height", "128", "--tile", "32", "--spp",
                    "64", "--batch", "64"});
   const v1::JobInfo done = farm.wait_final(large);
   ASSERT_EQ(done.state(), v1::JOB_STATE_DONE) << done.error();
@@ -75,17 +79,24 @@ TEST(LeaseShare, AfterTinyJobsALargeJobsUnitsGoToBothWorkers) {
 
   const std::map<uint64_t, nlohmann::json> after = lease_share_workers(farm);
   ASSERT_EQ(after.size(), 2u);
-  uint64_t delivered = 0;
+  std::map<uint64_t, uint64_t> contributed;
+  std::cout << "[lease-share] " << tiny_jobs << " tiny jobs; the large job's units by worker:";
   for (const auto& [id, w] : after) {
-    const uint64_t units = w.at("units_done").get<uint64_t>() - before.at(id);
+    contributed[id] = w.at("units_done").get<uint64_t>() - before.at(id);
+    std::cout << " " << contributed[id];
+  }
+  std::cout << " (its wall time " << done.wall_time_s() << " s)" << std::endl;
+  uint64_t delivered = 0;
+  for (const auto& [id, units] : contributed) {
     EXPECT_GT(units, 0u) << "worker " << id << " contributed nothing to the large job";
     delivered += units;
-    // The held units are listed (none once every result is in).
-    ASSERT_TRUE(w.contains("units_held")) << w.dump();
-    EXPECT_EQ(w.at("units_held").get<uint64_t>(), 0u);
   }
   EXPECT_EQ(delivered, 16u);
-  if (HasFailure()) farm.dump_logs();
+  // The units each worker holds are listed (none once every result is in).
+  for (const auto& [id, w] : after) {
+    ASSERT_TRUE(w.contains("units_held")) << w.dump();
+    EXPECT_EQ(w.at("units_held").get<uint64_t>(), 0u) << "worker " << id;
+  }
 }
 
 }  // namespace
