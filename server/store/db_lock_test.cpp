@@ -1,5 +1,6 @@
 // One server per database (store/db_lock.h): a second lock on the same database is refused
-// naming the holder's pid and host; a holder killed with SIGKILL releases it.
+// naming the holder's pid and host, also through a symbolic or a hard link to the file; a holder
+// killed with SIGKILL releases it.
 #include "store/db_lock.h"
 
 #include <gtest/gtest.h>
@@ -45,6 +46,55 @@ TEST(DatabaseLock, ASecondHolderIsRefusedNamingTheFirst) {
   }
   EXPECT_EQ(refusal(db), "");  // released with its holder
   EXPECT_EQ(refusal(":memory:"), "");
+}
+
+TEST(DatabaseLock, ASecondHolderThroughASymbolicLinkIsRefusedNamingBothPaths) {
+  const std::filesystem::path dir = fresh_dir("symlink");
+  const std::string db = (dir / "farm.db").string();
+  const std::string link = (dir / "link.db").string();
+  std::string why;
+  {
+    DatabaseLock first(db);
+    std::filesystem::create_symlink(db, link);
+    why = refusal(link);
+    EXPECT_NE(why.find("database " + link + " is in use by tessera-server pid " +
+                       std::to_string(::getpid()) + " on host "),
+              std::string::npos)
+        << why;
+    EXPECT_NE(why.find(" through " + db), std::string::npos) << why;
+  }
+  EXPECT_EQ(refusal(link), "");  // released with its holder
+  // And the other way round: a holder through the link refuses the file's own path.
+  DatabaseLock through_link(link);
+  why = refusal(db);
+  EXPECT_NE(why.find("database " + db + " is in use by tessera-server pid "), std::string::npos)
+      << why;
+  EXPECT_NE(why.find(" through " + link), std::string::npos) << why;
+}
+
+TEST(DatabaseLock, ASecondHolderThroughAHardLinkIsRefused) {
+  const std::filesystem::path dir = fresh_dir("hardlink");
+  std::filesystem::create_directories(dir / "elsewhere");
+  const std::string db = (dir / "farm.db").string();
+  const std::string link = (dir / "elsewhere" / "farm.db").string();
+  DatabaseLock first(db);
+  std::filesystem::create_hard_link(db, link);
+  const std::string why = refusal(link);
+  // Its note is beside the other name: the refusal names the file by device and inode.
+  EXPECT_NE(why.find("database " + link + " is in use by another tessera-server through another"
+                     " path to the same file (device "),
+            std::string::npos)
+      << why;
+  EXPECT_NE(why.find("; a hard link?"), std::string::npos) << why;
+  EXPECT_NE(refusal(db).find("pid " + std::to_string(::getpid())), std::string::npos);
+}
+
+TEST(DatabaseLock, AMissingDatabaseIsCreatedEmptyAndLocked) {
+  const std::string db = (fresh_dir("missing") / "farm.db").string();
+  DatabaseLock first(db);
+  EXPECT_TRUE(std::filesystem::exists(db));
+  EXPECT_EQ(std::filesystem::file_size(db), 0u);
+  EXPECT_NE(refusal(db), "");
 }
 
 TEST(DatabaseLock, AHolderKilledWithSigkillReleasesIt) {

@@ -1,8 +1,9 @@
-// Housekeeping end to end: one server per database (a second one is refused naming the holder; a
-// SIGKILLed one's successor gets the lock back), `tessera delete` of finished and cancelled jobs
-// (outputs and space returned; a running or unknown job refused, exit 1), the --max-units and
-// --max-unit-samples refusals at submit, a cancel stopping a worker in the middle of a huge
-// batch, and lazy units (a submit writes rows per tile, not per unit).
+// Housekeeping end to end: one server per database (a second one is refused naming the holder,
+// also through a symbolic or a hard link to the file; a SIGKILLed one's successor gets the lock
+// back), `tessera delete` of finished and cancelled jobs (outputs and space returned; a running
+// or unknown job refused, exit 1), the --max-units and --max-unit-samples refusals at submit, a
+// cancel stopping a worker in the middle of a huge batch, and lazy units (a submit writes rows
+// per tile, not per unit).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -45,6 +46,41 @@ TEST(HousekeepingE2E, ASecondServerOnTheSameDatabaseIsRefused) {
   farm.start_server();
   const uint64_t id = farm.submit({kTiny, "--spp", "2"});
   EXPECT_NE(id, 0u);
+  if (HasFailure()) farm.dump_logs();
+}
+
+TEST(HousekeepingE2E, ASecondServerThroughALinkToTheDatabaseIsRefused) {
+  FarmCluster farm("db-lock-links");
+  farm.start_server();
+  const std::filesystem::path symlink = farm.dir() / "link.db";
+  std::filesystem::create_directories(farm.dir() / "elsewhere");
+  const std::filesystem::path hardlink = farm.dir() / "elsewhere" / "farm.db";
+  std::filesystem::create_symlink(farm.db_path(), symlink);
+  std::filesystem::create_hard_link(farm.db_path(), hardlink);
+  const auto second_server = [&](const std::filesystem::path& db, const std::string& name) {
+    return run_command({TESSERA_SERVER_BIN, "--db", db.string(), "--grpc", "127.0.0.1:0", "--http",
+                        "127.0.0.1:0", "--output-dir", (farm.dir() / ("outputs-" + name)).string()},
+                       farm.dir() / ("server-" + name), {}, std::chrono::seconds(60));
+  };
+  const CommandResult through_symlink = second_server(symlink, "symlink");
+  EXPECT_EQ(through_symlink.exit_code, 1);
+  EXPECT_NE(through_symlink.err.find("database " + symlink.string() +
+                                     " is in use by tessera-server pid "),
+            std::string::npos)
+      << through_symlink.err;
+  EXPECT_NE(through_symlink.err.find(" through " + farm.db_path().string()), std::string::npos)
+      << through_symlink.err;
+  const CommandResult through_hardlink = second_server(hardlink, "hardlink");
+  EXPECT_EQ(through_hardlink.exit_code, 1);
+  EXPECT_NE(through_hardlink.err.find("database " + hardlink.string() + " is in use by another"
+                                      " tessera-server through another path to the same file"),
+            std::string::npos)
+      << through_hardlink.err;
+  // Neither wrote an output folder: they never served.
+  EXPECT_FALSE(std::filesystem::exists(farm.dir() / "outputs-symlink"));
+  EXPECT_FALSE(std::filesystem::exists(farm.dir() / "outputs-hardlink"));
+  // The first server still serves.
+  EXPECT_NE(farm.submit({kTiny, "--spp", "2"}), 0u);
   if (HasFailure()) farm.dump_logs();
 }
 
