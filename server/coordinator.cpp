@@ -16,7 +16,9 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       lifecycle_(store_, events_, clock_, images_, intake_, config.limits,
                  config.retention_days),
       views_(store_, intake_),
-      health_(store_, events_, config.db_path) {}
+      health_(store_, events_, config.db_path) {
+  if (config.on_store_open) config.on_store_open(store_.db());
+}
 
 std::optional<LeasedUnit> Coordinator::lease(int64_t worker_id, std::chrono::milliseconds wait,
                                              const std::function<bool()>& cancelled) {

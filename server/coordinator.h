@@ -49,6 +49,10 @@ struct CoordinatorConfig {
   size_t merge_cache_bytes = MergeCache::kDefaultBudgetBytes;
   /// Opens the output files (empty: ImageFileStream); tests inject a full disk here.
   ImageFileOpener output_opener;
+  /// Called with the store's connection once the coordinator is built (the store opened and
+  /// migrated); tests make the store's disk full through it (PRAGMA max_page_count). Empty in
+  /// the server.
+  std::function<void(Database&)> on_store_open;
   /// Called as each upload group's commit begins, before it takes the store lock, with the
   /// number of results the group holds (tests line calls up here); empty in the server.
   std::function<void(size_t results)> before_upload_commit;
@@ -134,6 +138,10 @@ class Coordinator {
   TileMap tile_map(int64_t job_id) { return views_.tile_map(job_id); }
   FarmTotals totals() { return views_.totals(); }
   bool store_ready() { return health_.ready(); }
+  /// Why the server is not ready on the store's side ("" when it is): StoreHealth.
+  std::string store_unready_reason() { return health_.unready_reason(); }
+  /// Why the store cannot write ("" when it can): StoreHealth::write_error.
+  std::string store_write_error() { return health_.write_error(); }
   std::optional<IntegrityState> store_check() const { return health_.check(); }
   std::optional<double> store_check_progress() const { return health_.check_progress(); }
   std::optional<IntegrityState> wait_for_store_check() const { return health_.wait_for_check(); }

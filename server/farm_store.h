@@ -44,6 +44,24 @@ class FarmStore {
     std::lock_guard<PriorityMutex> lock_;
   };
 
+  /// The store's lock for a read: the journal is written first when the store can write, and
+  /// when it cannot (a full disk: SqliteError) the read goes on without the leases granted since
+  /// (they stay in the journal for the next writer), so that reads keep working while writes
+  /// fail (docs/reliability.md, "A full disk").
+  class ReadLock {
+   public:
+    explicit ReadLock(FarmStore& store) : lock_(store.mu_) {
+      try {
+        store.flush_leases();
+      } catch (const SqliteError&) {
+        // Written by the next Lock or read once the store can write again.
+      }
+    }
+
+   private:
+    std::lock_guard<PriorityMutex> lock_;
+  };
+
   /// Writes the leases the book granted since the last call (and the workers' last calls) in
   /// one transaction; a lease the store refuses is void. Requires the lock. On a store error the
   /// journal is kept for the next call and the error is thrown.
@@ -66,6 +84,7 @@ class FarmStore {
   LeaseTable& leases() { return leases_; }
   LeaseBook& book() { return book_; }
   int64_t lease_ms() const { return leases_.lease_ms(); }
+  const Clock& clock() const { return clock_; }
 
  private:
   /// last_seen's granularity: an eighth of a lease, at most a second (a worker is online for

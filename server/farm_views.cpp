@@ -26,11 +26,16 @@ TileMap FarmViews::tile_map(int64_t job_id) {
   JobRecord job;
   std::vector<TileRecord> tiles;
   {
-    FarmStore::Lock lock(store_);
+    FarmStore::ReadLock lock(store_);
     std::optional<JobRecord> found = store_.jobs().get(job_id);
     if (!found) throw job_not_found(job_id);
     job = std::move(*found);
-    intake_.checkpoint_job(job_id);
+    try {
+      intake_.checkpoint_job(job_id);
+    } catch (const SqliteError&) {
+      // The store cannot write (a full disk): the map shows each tile's error as of its last
+      // checkpoint rather than failing (docs/reliability.md, "A full disk").
+    }
     tiles = store_.jobs().tiles(job_id);
   }
   const JobPlan plan = job.options.plan();
@@ -63,7 +68,7 @@ FarmTotals FarmViews::totals() {
                      JobState::cancelled}) {
     totals.jobs_by_state[std::string(to_string(s))] = 0;
   }
-  FarmStore::Lock lock(store_);
+  FarmStore::ReadLock lock(store_);
   for (const auto& [state, sums] : JobsTable(store_.db()).totals_by_state()) {
     totals.jobs_by_state[state] = sums.jobs;
     totals.units_done += sums.units_done;

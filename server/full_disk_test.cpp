@@ -1,7 +1,10 @@
 // A full output disk: the job that completes while the disk is full stays done with
 // its merged image in the store; `get` answers the final image and writes the files again once
 // space is back, and so does the next server start. ENOSPC comes through the output opener's
-// seam (CoordinatorConfig::output_opener).
+// seam (CoordinatorConfig::output_opener). A full database disk: the store at its PRAGMA
+// max_page_count (CoordinatorConfig::on_store_open) refuses uploads with SQLITE_FULL while reads,
+// the job list, the tile map and the preview still answer, the store reports it cannot write and
+// is not ready, and is ready again once a probe write commits.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -104,6 +107,82 @@ TEST(FullDisk, AJobStaysDoneAndItsFilesAreWrittenByTheNextGetOrStart) {
     EXPECT_TRUE(std::filesystem::exists(job.output_exr));
     EXPECT_TRUE(std::filesystem::exists(job.output_png));
   }
+  std::filesystem::remove_all(dir);
+}
+
+std::filesystem::path full_disk_fresh_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("tessera-full-disk-" + name + "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+/// The store's page count now (every page of the file and its WAL).
+int64_t full_disk_page_count(Database& db) {
+  return db.prepare("PRAGMA page_count")->first_row([](const Statement& q) { return q.int64(0); })
+      .value_or(0);
+}
+
+TEST(FullDisk, AFullStoreKeepsReadsWorkingAndSaysItCannotWriteUntilItCan) {
+  const auto dir = full_disk_fresh_dir("store");
+  testing::FakeClock clock;
+  Database* db = nullptr;
+  CoordinatorConfig config;
+  config.db_path = (dir / "tessera.db").string();
+  config.output_dir = dir / "outputs";
+  config.on_store_open = [&db](Database& opened) { db = &opened; };
+  Coordinator farm(config, clock);
+  ASSERT_NE(db, nullptr);
+  const int64_t id = farm.submit(testing::tiny_bundle(), testing::small_units(), 0, "test").id;
+  const int64_t worker = farm.register_worker({"w", 1, "avx2", "test"});
+  EXPECT_EQ(farm.store_write_error(), "");
+  EXPECT_TRUE(farm.store_ready());
+
+  // Merge a few results, then the disk is full: the file may not grow by a page.
+  auto deliver = [&](int units) {
+    int refused = 0;
+    for (int i = 0; i < units; ++i) {
+      const std::optional<LeasedUnit> unit =
+          farm.lease(worker, std::chrono::milliseconds(0), [] { return false; });
+      if (!unit) break;
+      const Accumulation acc = testing::StoreFixture::synthetic(
+          unit->rect, unit->lease.batch, unit->sample_end - unit->sample_begin);
+      try {
+        if (!farm.upload(testing::result_for(unit->lease, acc)).accepted) ++refused;
+      } catch (const std::exception&) {
+        ++refused;
+      }
+    }
+    return refused;
+  };
+  EXPECT_EQ(deliver(4), 0);
+  db->exec("PRAGMA max_page_count = " + std::to_string(full_disk_page_count(*db)));
+  EXPECT_GT(deliver(40), 0);
+
+  const std::string why = farm.store_write_error();
+  EXPECT_NE(why.find("database or disk is full"), std::string::npos) << why;
+  EXPECT_FALSE(farm.store_ready());
+  EXPECT_NE(farm.store_unready_reason().find("the store cannot write: "), std::string::npos)
+      << farm.store_unready_reason();
+
+  // Reads answer: the job, the list, the workers, the totals, the tile map and the preview.
+  EXPECT_EQ(farm.job(id).state, JobState::running);
+  EXPECT_EQ(farm.jobs(10).size(), 1u);
+  EXPECT_EQ(farm.workers().size(), 1u);
+  EXPECT_EQ(farm.totals().jobs_by_state["running"], 1u);
+  EXPECT_EQ(farm.tile_map(id).tiles.size(), 16u);
+  EXPECT_FALSE(farm.image(id, "png").bytes.empty());
+
+  // Still full at the next probe; space again: the probe after that commits.
+  clock.advance(StoreHealth::kProbeIntervalMs);
+  EXPECT_NE(farm.store_write_error(), "");
+  db->exec("PRAGMA max_page_count = 1073741823");
+  EXPECT_NE(farm.store_write_error(), "");  // not probed again yet
+  clock.advance(StoreHealth::kProbeIntervalMs);
+  EXPECT_EQ(farm.store_write_error(), "");
+  EXPECT_TRUE(farm.store_ready());
+  EXPECT_EQ(deliver(4), 0);
   std::filesystem::remove_all(dir);
 }
 

@@ -74,7 +74,7 @@ JobImage JobImages::image(int64_t job_id, const std::string& format) {
   if (format != "exr" && format != "png") throw invalid_argument("image format must be exr or png");
   JobRecord record;
   {
-    FarmStore::Lock lock(store_);
+    FarmStore::ReadLock lock(store_);
     std::optional<JobRecord> found = store_.jobs().get(job_id);
     if (!found) throw job_not_found(job_id);
     record = std::move(*found);
@@ -100,8 +100,8 @@ JobImage JobImages::image(int64_t job_id, const std::string& format) {
   }
   // A row of tiles at a time, as the files are written: tiles merged meanwhile show what they
   // have when their row is read.
-  out.bytes = JobOutput::encode(record, checkpointed_tiles(job_id), checkpoint_reader(job_id),
-                                format);
+  out.bytes = JobOutput::encode(record, checkpointed_tiles(job_id, /*preview=*/true),
+                                checkpoint_reader(job_id), format);
   return out;
 }
 
@@ -136,9 +136,18 @@ void JobImages::rewrite_missing_output(const JobRecord& record) {
   }
 }
 
-std::vector<TilePosition> JobImages::checkpointed_tiles(int64_t job_id) {
-  FarmStore::Lock lock(store_);
-  checkpoint_sums_(job_id);  // the merged sums, not just the last checkpoints
+std::vector<TilePosition> JobImages::checkpointed_tiles(int64_t job_id, bool preview) {
+  if (!preview) {
+    FarmStore::Lock lock(store_);
+    checkpoint_sums_(job_id);  // the merged sums, not just the last checkpoints
+    return store_.jobs().tile_positions(job_id);
+  }
+  FarmStore::ReadLock lock(store_);
+  try {
+    checkpoint_sums_(job_id);
+  } catch (const SqliteError&) {
+    // The store cannot write: the preview shows each tile as of its last checkpoint.
+  }
   return store_.jobs().tile_positions(job_id);
 }
 
@@ -146,7 +155,7 @@ TileCheckpointReader JobImages::checkpoint_reader(int64_t job_id) {
   // The store's lock for each tile's read only, so that the writer's decoding, resolving and
   // encoding of a large image never hold up leases and uploads.
   return [this, job_id](uint32_t tile) {
-    FarmStore::Lock lock(store_);
+    FarmStore::ReadLock lock(store_);
     return store_.jobs().tile_checkpoint(job_id, tile);
   };
 }

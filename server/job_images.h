@@ -54,7 +54,9 @@ class JobImages {
   /// or a file removed since). Failures are logged: the image stays in the store.
   void rewrite_missing_output(const JobRecord& record);
   /// Every tile's position, with the merged sums checkpointed first. Takes the store's lock.
-  std::vector<TilePosition> checkpointed_tiles(int64_t job_id);
+  /// `preview`: when the store cannot write the checkpoints (a full disk), each tile as of its
+  /// last checkpoint rather than an error; files are never written from that.
+  std::vector<TilePosition> checkpointed_tiles(int64_t job_id, bool preview = false);
   /// Reads a job's tile checkpoints for JobOutput::write, each under the store's lock.
   TileCheckpointReader checkpoint_reader(int64_t job_id);
 

@@ -115,7 +115,7 @@ JobRecord JobLifecycle::submit(const v1::SceneBundle& bundle, const v1::JobReque
 }
 
 JobRecord JobLifecycle::job(int64_t job_id) {
-  FarmStore::Lock lock(store_);
+  FarmStore::ReadLock lock(store_);
   std::optional<JobRecord> record = store_.jobs().get(job_id);
   if (!record) throw job_not_found(job_id);
   record->read_unix_ms = clock_.now_unix_ms();
@@ -123,7 +123,7 @@ JobRecord JobLifecycle::job(int64_t job_id) {
 }
 
 std::vector<JobRecord> JobLifecycle::jobs(uint32_t limit) {
-  FarmStore::Lock lock(store_);
+  FarmStore::ReadLock lock(store_);
   std::vector<JobRecord> out = store_.jobs().list(limit);
   for (JobRecord& r : out) r.read_unix_ms = clock_.now_unix_ms();
   return out;
@@ -134,7 +134,7 @@ std::string JobLifecycle::bundle(const std::string& sha256) {
     throw invalid_argument("bundle hash must be 64 lowercase hex characters (got \"" + sha256 +
                            "\")");
   }
-  FarmStore::Lock lock(store_);
+  FarmStore::ReadLock lock(store_);
   std::optional<std::string> bytes = store_.jobs().bundle_bytes(sha256);
   if (!bytes) throw FarmError(ErrorCode::not_found, "no bundle " + sha256);
   return std::move(*bytes);

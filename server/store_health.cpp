@@ -83,11 +83,57 @@ void StoreHealth::set_damage_observer(std::function<void(const std::string&)> ob
   if (!damage_.empty() && damage_observer_) damage_observer_(damage_);
 }
 
-bool StoreHealth::ready() {
-  if (!damage().empty()) return false;
+std::string StoreHealth::unready_reason() {
+  if (const std::string d = damage(); !d.empty()) return "the store is damaged: " + d;
   try {
-    FarmStore::Lock lock(store_);
+    FarmStore::ReadLock lock(store_);
     migrations_applied(store_.db());
+  } catch (const SqliteError& e) {
+    return std::string("the store does not answer: ") + e.what();
+  }
+  if (const std::string w = write_error(); !w.empty()) return "the store cannot write: " + w;
+  return "";
+}
+
+std::string StoreHealth::write_error() {
+  FarmStore::ReadLock lock(store_);
+  const int64_t now = store_.clock().now_unix_ms();
+  const SpaceFailures& failures = store_.db().space_failures();
+  if (failures.count != space_failures_seen_) {
+    space_failures_seen_ = failures.count;
+    probed_unix_ms_ = now;
+    if (write_error_.empty()) {
+      std::cerr << "tessera-server: ERROR: the store cannot write (" << failures.last
+                << "): uploads and submissions fail until there is space; reads go on, /readyz"
+                   " answers 503"
+                << std::endl;
+    }
+    write_error_ = failures.last;
+  } else if (!write_error_.empty() && now - probed_unix_ms_ >= kProbeIntervalMs) {
+    probed_unix_ms_ = now;
+    const bool wrote = probe_write();
+    space_failures_seen_ = store_.db().space_failures().count;  // the probe's own failures
+    if (wrote) {
+      write_error_.clear();
+      std::cerr << "tessera-server: the store writes again" << std::endl;
+    }
+  }
+  return write_error_;
+}
+
+bool StoreHealth::probe_write() {
+  Database& db = store_.db();
+  try {
+    {
+      Transaction tx(db);
+      db.exec("CREATE TABLE IF NOT EXISTS store_write_probe (bytes BLOB NOT NULL)");
+      db.exec("INSERT INTO store_write_probe VALUES (zeroblob(" + std::to_string(kProbeBytes) +
+              "))");
+      tx.commit();
+    }
+    Transaction tx(db);
+    db.exec("DROP TABLE store_write_probe");
+    tx.commit();
     return true;
   } catch (const SqliteError&) {
     return false;

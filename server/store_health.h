@@ -1,7 +1,8 @@
 // The store's health: the whole-file check (PRAGMA quick_check) after a start that followed no
-// clean shutdown, run beside serving; what it found; readiness; and the clean shutdown's mark
-// and WAL checkpoint. When the check finds damage the farm stops leasing and is no longer
-// ready, and the server logs it.
+// clean shutdown, run beside serving; what it found; whether the store can write (a full disk);
+// readiness; and the clean shutdown's mark and WAL checkpoint. When the check finds damage the
+// farm stops leasing and is no longer ready, and the server logs it. While the store cannot
+// write the server is not ready and says why; it serves reads all the same.
 #pragma once
 
 #include <functional>
@@ -36,8 +37,21 @@ class StoreHealth {
   /// coordinator. Replacing it (nullptr) waits for a call in progress, so an observer is never
   /// called after it was replaced.
   void set_damage_observer(std::function<void(const std::string&)> observer);
-  /// True when the store answers a query and no damage was found (for /readyz).
-  bool ready();
+  /// Why the store cannot write, or "": the message of the last write that failed for lack of
+  /// space (SQLITE_FULL: a full disk, or the database at its max_page_count), until a probe
+  /// write of kProbeBytes commits again, tried at most once per kProbeIntervalMs of the farm's
+  /// clock while the error stands. Logs each change. Takes the store's lock.
+  std::string write_error();
+  /// "" when the store answers a query, no damage was found and it can write (write_error);
+  /// else why not, in one line (for /readyz).
+  std::string unready_reason();
+  /// unready_reason() is "".
+  bool ready() { return unready_reason().empty(); }
+
+  /// The probe's blob: a few pages more than a result of a 32-px tile (about 19 KB), so a store
+  /// that takes the probe takes the uploads that failed.
+  static constexpr int kProbeBytes = 64 * 1024;
+  static constexpr int64_t kProbeIntervalMs = 2000;
   /// Stops the check if it still runs, marks the store as shut down cleanly unless a check was
   /// due and did not end `ok` (so the next start checks again), and checkpoints the WAL into the
   /// database file. Returns false when the checkpoint could not complete.
@@ -46,12 +60,19 @@ class StoreHealth {
  private:
   /// The check found damage: log it, stop leasing, tell the observer (from the check's thread).
   void damaged(const std::string& message);
+  /// Writes and commits kProbeBytes in a table of its own, then drops it. True when both
+  /// committed. Requires the store's lock.
+  bool probe_write();
 
   FarmStore& store_;
   FarmEvents& events_;
   mutable std::mutex damage_mu_;
   std::string damage_;                                      ///< guarded by damage_mu_
   std::function<void(const std::string&)> damage_observer_;  ///< guarded by damage_mu_
+  // Guarded by the store's lock:
+  uint64_t space_failures_seen_ = 0;  ///< SpaceFailures::count when last looked at
+  std::string write_error_;           ///< why the store cannot write, or ""
+  int64_t probed_unix_ms_ = 0;        ///< when write_error_ was set or last probed
   /// Last, so that it is stopped (its thread joined) before anything it calls is destroyed.
   std::unique_ptr<BackgroundIntegrityCheck> check_;
 };

@@ -43,7 +43,7 @@ bool WorkerPresence::online(const WorkerRecord& worker) const {
 }
 
 std::vector<WorkerRecord> WorkerPresence::workers() {
-  FarmStore::Lock lock(store_);
+  FarmStore::ReadLock lock(store_);
   std::vector<WorkerRecord> list = store_.workers().list();
   const std::map<int64_t, size_t> held = store_.book().held_by_worker();
   for (WorkerRecord& w : list) {

@@ -495,8 +495,12 @@ DashboardRoutes::DashboardRoutes(Coordinator& coordinator, const FarmMetrics& me
     send_json(res, 200, json{{"status", "ok"}});
   });
   add("GET", "/readyz", [api](const HttpRequest&, HttpResponse& res) {
-    const bool ready = !api->coordinator().changes().stopped() && api->coordinator().store_ready();
-    send_json(res, ready ? 200 : 503, json{{"status", ready ? "ready" : "not ready"}});
+    const bool stopped = api->coordinator().changes().stopped();
+    const std::string why = stopped ? "" : api->coordinator().store_unready_reason();
+    const bool ready = !stopped && why.empty();
+    json body{{"status", ready ? "ready" : "not ready"}};
+    if (!why.empty()) body["reason"] = why;
+    send_json(res, ready ? 200 : 503, body);
   });
 }
 

@@ -86,6 +86,11 @@ std::string prometheus_text(const FarmSnapshotForMetrics& s) {
   w.single("tessera_store_check_running", "gauge",
            "1 while the database is checked (PRAGMA quick_check) after an unclean stop, else 0.",
            s.store.checking() ? 1 : 0);
+  // Alert on tessera_store_full == 1: uploads and submissions fail until there is space
+  // (docs/reliability.md, "A full disk").
+  w.single("tessera_store_full", "gauge",
+           "1 while the database cannot write for lack of space (SQLITE_FULL), else 0.",
+           s.store.full() ? 1 : 0);
   w.family("tessera_merge_latency_seconds", "histogram",
            "Time from receiving a result to its commit (decode, lock, compare-and-set, merge).");
   for (size_t i = 0; i < FarmMetrics::kMergeBuckets.size(); ++i) {

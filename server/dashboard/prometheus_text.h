@@ -18,7 +18,7 @@ struct FarmSnapshotForMetrics {
   uint64_t results_accepted = 0;          ///< since the server started
   uint64_t results_dropped_session = 0;   ///< since the server started
   FarmMetrics::MergeHistogram merge;
-  StoreStatus store;  ///< tessera_store_damaged, tessera_store_check_running
+  StoreStatus store;  ///< tessera_store_damaged, tessera_store_check_running, tessera_store_full
   /// False when the store is damaged where `totals` and the worker counts are read: their
   /// families are left out (the store's gauges and this process's counters remain).
   bool store_readable = true;

@@ -14,6 +14,7 @@ StoreStatus store_status(Coordinator& coordinator) {
   }
   s.damage = coordinator.store_damage();
   s.leasing = !coordinator.changes().stopped();
+  s.write_error = coordinator.store_write_error();
   return s;
 }
 
@@ -24,6 +25,7 @@ nlohmann::json store_json(const StoreStatus& s) {
       {"check_progress", s.check_progress ? nlohmann::json(*s.check_progress) : nullptr},
       {"damage", s.damage},
       {"leasing", s.leasing},
+      {"write_error", s.write_error},
   };
 }
 

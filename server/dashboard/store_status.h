@@ -1,7 +1,7 @@
 // What the dashboard, /api/store, /metrics and the CLI's warning say about the SQLite store:
 // whether the whole-file check that follows an unclean stop is running, how far it has read,
-// and the damage it found (docs/dashboard.md, "The store"; docs/reliability.md, "A consistent
-// database after any crash").
+// the damage it found, and why the store cannot write (docs/dashboard.md, "The store";
+// docs/reliability.md, "A consistent database after any crash" and "A full disk").
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>
@@ -22,17 +22,23 @@ struct StoreStatus {
   std::string damage;
   /// False once the server hands out no more work (damage found, or shutting down).
   bool leasing = true;
+  /// Why the store cannot write (StoreHealth::write_error: SQLite's "database or disk is full"
+  /// naming the statement); "" when it can.
+  std::string write_error;
 
   bool damaged() const { return !damage.empty(); }
   bool checking() const { return check == "checking"; }
-  /// "damaged", "checking" or "ok": the banner the page shows (none for "ok").
-  std::string summary() const { return damaged() ? "damaged" : checking() ? "checking" : "ok"; }
+  bool full() const { return !write_error.empty(); }
+  /// "damaged", "full", "checking" or "ok": the banner the page shows (none for "ok").
+  std::string summary() const {
+    return damaged() ? "damaged" : full() ? "full" : checking() ? "checking" : "ok";
+  }
 };
 
 /// The coordinator's store status now.
 StoreStatus store_status(Coordinator& coordinator);
 
-/// {"state", "check", "check_progress", "damage", "leasing"} (docs/dashboard.md).
+/// {"state", "check", "check_progress", "damage", "leasing", "write_error"} (docs/dashboard.md).
 nlohmann::json store_json(const StoreStatus& s);
 
 }  // namespace tessera::server

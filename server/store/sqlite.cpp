@@ -12,9 +12,18 @@ void check(sqlite3* db, int code, std::string_view what) {
   if (code != SQLITE_OK) fail(db, code, what);
 }
 
+/// Counts a failure for lack of space (any extended code of SQLITE_FULL) before it is thrown.
+void note_space_failure(SpaceFailures* full, int code, const std::string& message) {
+  if (full && (code & 0xff) == SQLITE_FULL) {
+    ++full->count;
+    full->last = message;
+  }
+}
+
 }  // namespace
 
-Statement::Statement(sqlite3* db, std::string_view sql, uint64_t* runs) : db_(db), runs_(runs) {
+Statement::Statement(sqlite3* db, std::string_view sql, uint64_t* runs, SpaceFailures* full)
+    : db_(db), runs_(runs), full_(full) {
   sqlite3_stmt* raw = nullptr;
   const int rc = sqlite3_prepare_v3(db, sql.data(), int(sql.size()), SQLITE_PREPARE_PERSISTENT,
                                     &raw, nullptr);
@@ -68,8 +77,10 @@ bool Statement::step() {
   const int rc = sqlite3_step(stmt_.get());
   if (rc == SQLITE_ROW) return true;
   if (rc == SQLITE_DONE) return false;
-  fail(db_, rc, "step \"" + std::string(std::string_view(sqlite3_sql(stmt_.get())).substr(0, 60)) +
-                    "...\"");
+  const std::string what =
+      "step \"" + std::string(std::string_view(sqlite3_sql(stmt_.get())).substr(0, 60)) + "...\"";
+  note_space_failure(full_, rc, what + ": " + sqlite3_errmsg(db_));
+  fail(db_, rc, what);
 }
 
 void Statement::run() {
@@ -143,6 +154,7 @@ void Database::exec(std::string_view sql) {
   if (rc != SQLITE_OK) {
     const std::string message = error ? error : sqlite3_errstr(rc);
     sqlite3_free(error);
+    note_space_failure(&full_, rc, "exec \"" + std::string(sql.substr(0, 60)) + "\": " + message);
     throw SqliteError(rc, "exec: " + message);
   }
 }
@@ -151,7 +163,9 @@ StatementUse Database::prepare(std::string_view sql) {
   // Looked up by the view: a cached statement costs no std::string (nor its allocation).
   auto it = cache_.find(sql);
   if (it == cache_.end()) {
-    it = cache_.emplace(std::string(sql), std::make_unique<Statement>(db_.get(), sql, &statements_))
+    it = cache_
+             .emplace(std::string(sql),
+                      std::make_unique<Statement>(db_.get(), sql, &statements_, &full_))
              .first;
   }
   it->second->reset();

@@ -30,12 +30,22 @@ class SqliteError : public std::runtime_error {
   int code_;
 };
 
+/// Writes a connection could not make for lack of space: SQLITE_FULL (a full disk, or the
+/// database at its max_page_count). Read by StoreHealth, which tells /readyz, the dashboard and
+/// /metrics that the store cannot write.
+struct SpaceFailures {
+  uint64_t count = 0;  ///< statements that failed with SQLITE_FULL since the connection opened
+  std::string last;    ///< the last one's message, naming the statement
+};
+
 /// A prepared statement. Parameters are bound by 1-based index; columns read by 0-based index.
 /// Owned by a Database's statement cache (see Database::prepare) or by its creator.
 class Statement {
  public:
-  /// `runs`, when given, counts each execution (the first step after a reset).
-  Statement(sqlite3* db, std::string_view sql, uint64_t* runs = nullptr);
+  /// `runs`, when given, counts each execution (the first step after a reset); `full`, when
+  /// given, counts the steps that fail with SQLITE_FULL.
+  Statement(sqlite3* db, std::string_view sql, uint64_t* runs = nullptr,
+            SpaceFailures* full = nullptr);
   Statement(const Statement&) = delete;
   Statement& operator=(const Statement&) = delete;
 
@@ -106,6 +116,7 @@ class Statement {
   sqlite3* db_;
   std::unique_ptr<sqlite3_stmt, Finalizer> stmt_;
   uint64_t* runs_;
+  SpaceFailures* full_;
 };
 
 /// A borrowed cached statement, reset when it goes out of scope so that no half-stepped read
@@ -163,6 +174,8 @@ class Database {
 
   /// Counters since the connection opened.
   StoreCounters counters() const;
+  /// The statements (prepared or exec'd) that failed for lack of space since it opened.
+  const SpaceFailures& space_failures() const { return full_; }
 
   int64_t last_insert_rowid() const;
   /// Rows changed by the last INSERT/UPDATE/DELETE.
@@ -177,6 +190,7 @@ class Database {
   std::unique_ptr<sqlite3, Closer> db_;
   std::map<std::string, std::unique_ptr<Statement>, std::less<>> cache_;
   uint64_t statements_ = 0;
+  SpaceFailures full_;
 };
 
 /// A write transaction: BEGIN IMMEDIATE on construction (takes the write lock at once, so two

@@ -72,6 +72,8 @@ TEST(PrometheusText, EveryFamilyHasHelpTypeAndSamples) {
             std::string::npos);
   EXPECT_NE(text.find("# TYPE tessera_store_check_running gauge\ntessera_store_check_running 0\n"),
             std::string::npos);
+  EXPECT_NE(text.find("# TYPE tessera_store_full gauge\ntessera_store_full 0\n"),
+            std::string::npos);
 }
 
 // The three states the page shows a banner for (or none), in /api/store's JSON and the gauges.
@@ -79,7 +81,7 @@ TEST(StoreStatus, CheckingAndDamagedReadTheSameInTheJsonAndTheGauges) {
   using nlohmann::json;
   StoreStatus none;
   EXPECT_EQ(store_json(none), (json{{"state", "ok"}, {"check", "none"}, {"check_progress", nullptr},
-                                    {"damage", ""}, {"leasing", true}}));
+                                    {"damage", ""}, {"leasing", true}, {"write_error", ""}}));
 
   StoreStatus checking;
   checking.check = "checking";
@@ -105,6 +107,26 @@ TEST(StoreStatus, CheckingAndDamagedReadTheSameInTheJsonAndTheGauges) {
   text = prometheus_text(s);
   EXPECT_NE(text.find("tessera_store_check_running 0\n"), std::string::npos) << text;
   EXPECT_NE(text.find("tessera_store_damaged 1\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("tessera_store_full 0\n"), std::string::npos) << text;
+}
+
+// A store that cannot write (a full disk): its banner state, SQLite's words and the gauge.
+TEST(StoreStatus, AFullStoreReadsTheSameInTheJsonAndTheGauge) {
+  StoreStatus full;
+  full.write_error = "step \"INSERT INTO results ...\": database or disk is full";
+  const nlohmann::json j = store_json(full);
+  EXPECT_EQ(j["state"], "full");
+  EXPECT_EQ(j["write_error"], full.write_error);
+  EXPECT_EQ(j["leasing"], true);
+  FarmSnapshotForMetrics s;
+  s.store = full;
+  const std::string text = prometheus_text(s);
+  EXPECT_NE(text.find("# TYPE tessera_store_full gauge\ntessera_store_full 1\n"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("tessera_store_damaged 0\n"), std::string::npos) << text;
+  // Damage outranks a full disk in the banner.
+  full.damage = "database x.db is damaged";
+  EXPECT_EQ(full.summary(), "damaged");
 }
 
 // A coordinator started on a store damaged where start-up does not read: its status says

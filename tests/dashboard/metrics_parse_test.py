@@ -87,6 +87,8 @@ def main():
             assert families["tessera_store_damaged"].type == "gauge"
             assert value("tessera_store_damaged") == 0
             assert value("tessera_store_check_running") == 0
+            assert families["tessera_store_full"].type == "gauge"
+            assert value("tessera_store_full") == 0
             latency = families["tessera_merge_latency_seconds"]
             assert latency.type == "histogram"
             buckets = [s for s in latency.samples if s.name.endswith("_bucket")]
