@@ -80,6 +80,11 @@ void print_status(const v1::JobInfo& job) {
   }
   std::fputs(renderer_builds_text(job).c_str(), stdout);
   if (!job.error().empty()) std::printf("  error     %s\n", job.error().c_str());
+  if (!job.output_error().empty()) {
+    std::printf("  error     output not written: %s (the image is in the server's store; `tessera "
+                "get %llu` asks the server to write it again)\n",
+                job.output_error().c_str(), static_cast<unsigned long long>(job.id()));
+  }
   if (!job.output_exr().empty()) {
     std::printf("  output    %s\n            %s\n", job.output_exr().c_str(),
                 job.output_png().c_str());

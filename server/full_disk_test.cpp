@@ -1,10 +1,12 @@
 // A full output disk: the job that completes while the disk is full stays done with
-// its merged image in the store; `get` answers the final image and writes the files again once
-// space is back, and so does the next server start. ENOSPC comes through the output opener's
-// seam (CoordinatorConfig::output_opener). A full database disk: the store at its PRAGMA
-// max_page_count (CoordinatorConfig::on_store_open) refuses uploads with SQLITE_FULL while reads,
-// the job list, the tile map and the preview still answer, the store reports it cannot write and
-// is not ready, and is ready again once a probe write commits.
+// its merged image in the store and says why its files are missing (output_error, no paths);
+// `get` answers the final image and writes the files again once space is back, and so does the
+// next server start. ENOSPC comes through the output opener's seam
+// (CoordinatorConfig::output_opener); an output folder that cannot be created is a folder under a
+// regular file. A full database disk: the store at its PRAGMA max_page_count
+// (CoordinatorConfig::on_store_open) refuses uploads with SQLITE_FULL while reads, the job list,
+// the tile map and the preview still answer, the store reports it cannot write and is not ready,
+// and is ready again once a probe write commits.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -16,7 +18,9 @@
 #include "accum/accumulation_codec.h"
 #include "coordinator.h"
 #include "fake_clock.h"
+#include "proto_convert.h"
 #include "store_fixture.h"
+#include "wire/job_json.h"
 
 namespace tessera::server {
 namespace {
@@ -75,10 +79,17 @@ TEST(FullDisk, AJobStaysDoneAndItsFilesAreWrittenByTheNextGetOrStart) {
     disk.full = true;
     complete(farm, id);
     EXPECT_GT(disk.refused, 0);
-    const JobRecord job = farm.job(id);
+    JobRecord job = farm.job(id);
     EXPECT_EQ(job.state, JobState::done);
     EXPECT_EQ(job.error, "");
-    EXPECT_FALSE(std::filesystem::exists(job.output_exr));
+    // Why the files are missing, and no paths to them.
+    EXPECT_NE(job.output_error.find(std::generic_category().message(ENOSPC)), std::string::npos)
+        << job.output_error;
+    EXPECT_EQ(job.output_exr, "");
+    EXPECT_EQ(job.output_png, "");
+    EXPECT_EQ(farm.jobs(10).front().output_error, job.output_error);
+    const OutputFiles where = JobOutput(config.output_dir).files(job);
+    EXPECT_FALSE(std::filesystem::exists(where.exr));
     // No half-written or temporary file either.
     EXPECT_TRUE(!std::filesystem::exists(dir / "outputs") || std::filesystem::is_empty(dir / "outputs"));
 
@@ -87,12 +98,17 @@ TEST(FullDisk, AJobStaysDoneAndItsFilesAreWrittenByTheNextGetOrStart) {
     EXPECT_TRUE(image.final);
     EXPECT_EQ(image.spp, 4u);
     EXPECT_FALSE(image.bytes.empty());
-    EXPECT_FALSE(std::filesystem::exists(job.output_exr));
+    EXPECT_FALSE(std::filesystem::exists(where.exr));
+    EXPECT_NE(farm.job(id).output_error, "");
 
-    // Space is back: the next `get` writes both files.
+    // Space is back: the next `get` writes both files, and the job names them.
     disk.full = false;
     image = farm.image(id, "png");
     EXPECT_TRUE(image.final);
+    job = farm.job(id);
+    EXPECT_EQ(job.output_error, "");
+    EXPECT_EQ(job.output_exr, where.exr.string());
+    EXPECT_EQ(job.output_png, where.png.string());
     EXPECT_TRUE(std::filesystem::exists(job.output_exr));
     EXPECT_TRUE(std::filesystem::exists(job.output_png));
     std::filesystem::remove(job.output_exr);
@@ -116,6 +132,47 @@ std::filesystem::path full_disk_fresh_dir(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+TEST(FullDisk, AnOutputFolderThatCannotBeCreatedIsShownWithTheJobUntilTheFilesExist) {
+  const auto dir = full_disk_fresh_dir("folder");
+  // A folder under a regular file cannot be created, whoever runs the test (root included).
+  std::ofstream(dir / "not-a-folder") << "x";
+  testing::FakeClock clock;
+  CoordinatorConfig config;
+  config.db_path = ":memory:";
+  config.output_dir = dir / "not-a-folder" / "outputs";
+  Coordinator farm(config, clock);
+  v1::JobRequestOptions options;
+  options.set_spp(2);
+  options.set_tile_size(8);
+  options.set_batch_spp(2);
+  const int64_t id = farm.submit(testing::tiny_bundle(), options, 0, "test").id;
+  complete(farm, id);
+
+  const JobRecord job = farm.job(id);
+  EXPECT_EQ(job.state, JobState::done);
+  EXPECT_EQ(job.error, "");
+  const std::string folder = (dir / "not-a-folder" / "outputs").string();
+  EXPECT_NE(job.output_error.find(folder + ": cannot create: "), std::string::npos)
+      << job.output_error;
+  EXPECT_EQ(job.output_exr, "");
+  EXPECT_EQ(job.output_png, "");
+  // The job's one JSON (status --json, /api/jobs/{id}): the key, and no paths.
+  const nlohmann::json j = wire::job_json(to_proto(job));
+  EXPECT_EQ(j["output_error"], job.output_error);
+  EXPECT_EQ(j["output_exr"], "");
+  EXPECT_EQ(j["error"], "");
+
+  // The folder can be made now: the next `get` writes the files and the error goes.
+  std::filesystem::remove(dir / "not-a-folder");
+  EXPECT_TRUE(farm.image(id, "exr").final);
+  const JobRecord written = farm.job(id);
+  EXPECT_EQ(written.output_error, "");
+  EXPECT_TRUE(std::filesystem::exists(written.output_exr));
+  EXPECT_TRUE(std::filesystem::exists(written.output_png));
+  EXPECT_EQ(wire::job_json(to_proto(written))["output_error"], "");
+  std::filesystem::remove_all(dir);
 }
 
 /// The store's page count now (every page of the file and its WAL).

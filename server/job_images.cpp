@@ -47,16 +47,11 @@ void JobImages::finish_job(int64_t job_id) {
   const int64_t now = clock_.now_unix_ms();
   record.finished_unix_ms = now;
   // Every unit is merged: the job is done whatever happens to its files. A write that fails (a
-  // full disk) is logged and retried by the next `get` of the job and at the next start; the
-  // merged image stays in the store meanwhile (docs/design.md, "Leases and failures").
+  // full disk, a folder that cannot be created) is logged, shown with the job (describe_output)
+  // and retried by the next `get` of the job and at the next start; the merged image stays in
+  // the store meanwhile (docs/design.md, "Leases and failures").
   const OutputFiles files = output_.files(record);
-  try {
-    output_.write(record, tiles, checkpoint_reader(job_id));
-  } catch (const std::exception& e) {
-    std::cerr << "tessera-server: job " << job_id << " is done but its output was not written: "
-              << e.what() << "; the image stays in the store and is written again by the next"
-              << " `tessera get " << job_id << "` or server start" << std::endl;
-  }
+  write_output(record, tiles, "is done but its output was not written");
   {
     FarmStore::Lock lock(store_);
     {
@@ -127,13 +122,48 @@ void JobImages::rewrite_missing_output(const JobRecord& record) {
   if (std::filesystem::exists(record.output_exr) && std::filesystem::exists(record.output_png)) {
     return;
   }
-  const std::vector<TilePosition> tiles = checkpointed_tiles(record.id);
+  write_output(record, checkpointed_tiles(record.id), "writing its output again failed");
+}
+
+std::string JobImages::write_output(const JobRecord& record, const std::vector<TilePosition>& tiles,
+                                    const std::string& context) {
+  std::string why;
   try {
     output_.write(record, tiles, checkpoint_reader(record.id));
   } catch (const std::exception& e) {
-    std::cerr << "tessera-server: job " << record.id << ": writing its output again failed: "
-              << e.what() << std::endl;
+    why = e.what();
+    if (why.empty()) why = "unknown error";
+    std::cerr << "tessera-server: job " << record.id << " " << context << ": " << why
+              << "; the image stays in the store and is written again by the next `tessera get "
+              << record.id << "` or server start" << std::endl;
   }
+  bool was_missing = false;
+  {
+    std::lock_guard guard(finishing_mu_);
+    if (why.empty()) {
+      was_missing = output_errors_.erase(record.id) > 0;
+    } else {
+      output_errors_[record.id] = why;
+    }
+  }
+  if (was_missing) {
+    std::cerr << "tessera-server: job " << record.id << ": its output is written now" << std::endl;
+  }
+  return why;
+}
+
+void JobImages::forget(int64_t job_id) {
+  std::lock_guard guard(finishing_mu_);
+  output_errors_.erase(job_id);
+}
+
+void JobImages::describe_output(JobRecord& record) {
+  std::lock_guard guard(finishing_mu_);
+  const auto it = output_errors_.find(record.id);
+  if (it == output_errors_.end() || record.state != JobState::done) return;
+  record.output_error = it->second;
+  record.output_exr.clear();  // no paths to files that do not exist
+  record.output_png.clear();
 }
 
 std::vector<TilePosition> JobImages::checkpointed_tiles(int64_t job_id, bool preview) {

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <set>
 #include <string>
@@ -48,11 +49,21 @@ class JobImages {
   void rewrite_missing_outputs();
   /// Whether the job's output is being written (a delete waits). Requires the store's lock.
   bool finishing(int64_t job_id);
+  /// What a caller is told about `record`'s files: when the last write of them failed, its
+  /// reason in output_error and no output paths (the files do not exist); else unchanged.
+  void describe_output(JobRecord& record);
+  /// Forgets a deleted job's output error.
+  void forget(int64_t job_id);
 
  private:
   /// Writes a done job's output files again when one is missing (a full disk when it finished,
-  /// or a file removed since). Failures are logged: the image stays in the store.
+  /// or a file removed since). Failures are logged and kept for describe_output: the image stays
+  /// in the store.
   void rewrite_missing_output(const JobRecord& record);
+  /// Writes the job's files; returns "" or why they were not written (logged as `context`),
+  /// remembered for describe_output until a write succeeds.
+  std::string write_output(const JobRecord& record, const std::vector<TilePosition>& tiles,
+                           const std::string& context);
   /// Every tile's position, with the merged sums checkpointed first. Takes the store's lock.
   /// `preview`: when the store cannot write the checkpoints (a full disk), each tile as of its
   /// last checkpoint rather than an error; files are never written from that.
@@ -69,6 +80,8 @@ class JobImages {
   /// a finish that has begun.
   std::mutex finishing_mu_;
   std::set<int64_t> finishing_;  ///< guarded by finishing_mu_
+  /// Done jobs whose last output write failed, and why; guarded by finishing_mu_.
+  std::map<int64_t, std::string> output_errors_;
 };
 
 }  // namespace tessera::server

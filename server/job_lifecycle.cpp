@@ -119,13 +119,17 @@ JobRecord JobLifecycle::job(int64_t job_id) {
   std::optional<JobRecord> record = store_.jobs().get(job_id);
   if (!record) throw job_not_found(job_id);
   record->read_unix_ms = clock_.now_unix_ms();
+  images_.describe_output(*record);
   return *record;
 }
 
 std::vector<JobRecord> JobLifecycle::jobs(uint32_t limit) {
   FarmStore::ReadLock lock(store_);
   std::vector<JobRecord> out = store_.jobs().list(limit);
-  for (JobRecord& r : out) r.read_unix_ms = clock_.now_unix_ms();
+  for (JobRecord& r : out) {
+    r.read_unix_ms = clock_.now_unix_ms();
+    images_.describe_output(r);
+  }
   return out;
 }
 
@@ -176,6 +180,7 @@ void JobLifecycle::remove(int64_t job_id) {
       case DeleteOutcome::deleted: break;
     }
     intake_.forget_job(job_id);
+    images_.forget(job_id);
     store_.book().drop_job(job_id);
   }
   // The job is gone from the store: its files are nobody's now.

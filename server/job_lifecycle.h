@@ -40,8 +40,10 @@ class JobLifecycle {
   /// resource_exhausted when it has that many unfinished jobs).
   JobRecord submit(const v1::SceneBundle& bundle, const v1::JobRequestOptions& options,
                    int priority, const std::string& client);
-  /// Throws FarmError(not_found).
+  /// Throws FarmError(not_found). A done job whose output could not be written says why
+  /// (JobRecord::output_error) and names no files.
   JobRecord job(int64_t job_id);
+  /// As job(), the newest `limit` jobs.
   std::vector<JobRecord> jobs(uint32_t limit);
   /// The canonical bundle bytes. Throws FarmError(not_found).
   std::string bundle(const std::string& sha256);

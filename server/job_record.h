@@ -43,6 +43,10 @@ struct JobRecord {
   int64_t submitted_unix_ms = 0, started_unix_ms = 0, finished_unix_ms = 0;
   std::string error;
   std::string output_exr, output_png;
+  /// Why a done job's output files could not be written (JobImages::describe_output), "" when
+  /// they were or are not due yet; output_exr and output_png are empty meanwhile. Not stored:
+  /// known from the last write, at the finish, a `get` or the server's start.
+  std::string output_error;
   uint32_t spp_merged = 0;           ///< minimum over tiles of samples per pixel merged
   TileSummary reached;               ///< spp and estimated error over tiles
   uint32_t tiles_finished = 0;       ///< tiles the stopping rule gives no more batches

@@ -43,6 +43,7 @@ v1::JobInfo to_proto(const JobRecord& job) {
   out.set_finished_unix_ms(job.finished_unix_ms);
   out.set_error(job.error);
   out.set_output_exr(job.output_exr);
+  out.set_output_error(job.output_error);
   out.set_output_png(job.output_png);
   for (const std::string& isa : job.isas) out.add_worker_isas(isa);
   for (const std::string& build : job.versions) out.add_renderer_builds(build);

@@ -77,6 +77,7 @@ nlohmann::json job_json(const v1::JobInfo& job) {
       {"error", job.error()},
       {"output_exr", job.output_exr()},
       {"output_png", job.output_png()},
+      {"output_error", job.output_error()},
       {"worker_isas", isas},
       {"renderer_builds", builds},
   };

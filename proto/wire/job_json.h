@@ -19,7 +19,8 @@ namespace tessera::wire {
 /// error_mean, tiles_finished}, counters {units_total, units_done, units_leased, results_merged,
 /// results_dropped, leases_expired, units_released, units_skipped, results_wasted, nan_dropped,
 /// inf_dropped, samples_merged}, submitted_unix_ms, started_unix_ms, finished_unix_ms,
-/// wall_time_s, error ("" unless failed), output_exr, output_png, worker_isas, renderer_builds.
+/// wall_time_s, error ("" unless failed), output_exr, output_png, output_error ("" unless a done
+/// job's files could not be written; the paths are empty then), worker_isas, renderer_builds.
 nlohmann::json job_json(const v1::JobInfo& job);
 
 /// "queued", "running", ...: the state as the JSON and the CLI write it.

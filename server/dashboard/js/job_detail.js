@@ -14,10 +14,13 @@ function renderHeading(j) {
   $('#detail-scene').textContent = `${j.scene_file} · priority ${j.priority}`;
   // Why a job failed comes first: at the top of the page (above the job list, so never below
   // the fold however many jobs there are) and above the job's images.
-  $('#detail-error').hidden = !j.error;
-  $('#detail-error').textContent = j.error ? `Failed: ${j.error}` : '';
-  $('#selected-failure').hidden = !j.error;
-  $('#selected-failure').textContent = j.error ? `Job ${j.id} failed: ${j.error}` : '';
+  // A done job whose files could not be written says so in the same places.
+  const outputError = j.output_error ? `output not written: ${j.output_error}` : '';
+  $('#detail-error').hidden = !j.error && !outputError;
+  $('#detail-error').textContent = j.error ? `Failed: ${j.error}` : outputError;
+  $('#selected-failure').hidden = !j.error && !outputError;
+  $('#selected-failure').textContent = j.error ? `Job ${j.id} failed: ${j.error}`
+    : outputError ? `Job ${j.id}: ${outputError}` : '';
   const final = ['done', 'failed', 'cancelled'].includes(j.state);
   $('#cancel-job').disabled = final;
   $('#set-priority').disabled = final;
