@@ -86,17 +86,27 @@ void StoreHealth::set_damage_observer(std::function<void(const std::string&)> ob
 std::string StoreHealth::unready_reason() {
   if (const std::string d = damage(); !d.empty()) return "the store is damaged: " + d;
   try {
-    FarmStore::ReadLock lock(store_);
+    FarmStore::Lock lock(store_);  // the lease journal written, as every write would
     migrations_applied(store_.db());
   } catch (const SqliteError& e) {
-    return std::string("the store does not answer: ") + e.what();
+    // No space for the journal: write_error says so below.
+    if (e.primary_code() != SQLITE_FULL) {
+      return std::string("the store does not answer: ") + e.what();
+    }
   }
   if (const std::string w = write_error(); !w.empty()) return "the store cannot write: " + w;
   return "";
 }
 
 std::string StoreHealth::write_error() {
+  {
+    std::lock_guard guard(write_mu_);
+    if (write_error_.empty() && store_.db().space_failures().count == space_failures_seen_) {
+      return "";
+    }
+  }
   FarmStore::ReadLock lock(store_);
+  std::lock_guard guard(write_mu_);
   const int64_t now = store_.clock().now_unix_ms();
   const SpaceFailures& failures = store_.db().space_failures();
   if (failures.count != space_failures_seen_) {

@@ -40,7 +40,8 @@ class StoreHealth {
   /// Why the store cannot write, or "": the message of the last write that failed for lack of
   /// space (SQLITE_FULL: a full disk, or the database at its max_page_count), until a probe
   /// write of kProbeBytes commits again, tried at most once per kProbeIntervalMs of the farm's
-  /// clock while the error stands. Logs each change. Takes the store's lock.
+  /// clock while the error stands. Logs each change. Takes the store's lock only after such a
+  /// failure: a healthy store's answer reads one counter.
   std::string write_error();
   /// "" when the store answers a query, no damage was found and it can write (write_error);
   /// else why not, in one line (for /readyz).
@@ -69,10 +70,11 @@ class StoreHealth {
   mutable std::mutex damage_mu_;
   std::string damage_;                                      ///< guarded by damage_mu_
   std::function<void(const std::string&)> damage_observer_;  ///< guarded by damage_mu_
-  // Guarded by the store's lock:
-  uint64_t space_failures_seen_ = 0;  ///< SpaceFailures::count when last looked at
-  std::string write_error_;           ///< why the store cannot write, or ""
-  int64_t probed_unix_ms_ = 0;        ///< when write_error_ was set or last probed
+  // Taken inside the store's lock, never the other way round.
+  std::mutex write_mu_;
+  uint64_t space_failures_seen_ = 0;  ///< SpaceFailures::count when last looked at; write_mu_
+  std::string write_error_;           ///< why the store cannot write, or ""; write_mu_
+  int64_t probed_unix_ms_ = 0;        ///< when write_error_ was set or last probed; write_mu_
   /// Last, so that it is stopped (its thread joined) before anything it calls is destroyed.
   std::unique_ptr<BackgroundIntegrityCheck> check_;
 };

@@ -5,6 +5,7 @@
 
 #include <sqlite3.h>
 
+#include <atomic>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -34,8 +35,10 @@ class SqliteError : public std::runtime_error {
 /// database at its max_page_count). Read by StoreHealth, which tells /readyz, the dashboard and
 /// /metrics that the store cannot write.
 struct SpaceFailures {
-  uint64_t count = 0;  ///< statements that failed with SQLITE_FULL since the connection opened
-  std::string last;    ///< the last one's message, naming the statement
+  /// Statements that failed with SQLITE_FULL since the connection opened; atomic so that a
+  /// healthy store's status is read without the connection's lock.
+  std::atomic<uint64_t> count{0};
+  std::string last;  ///< the last one's message, naming the statement (under the lock)
 };
 
 /// A prepared statement. Parameters are bound by 1-based index; columns read by 0-based index.
