@@ -143,9 +143,9 @@ TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
   EXPECT_TRUE(summary["relative_error"].is_number());
   EXPECT_GT(summary["relative_error"].get<double>(), 0.0);
   EXPECT_FALSE(list["token_required"].get<bool>());
-  // A new store: no check was due, nothing damaged, and the CLI warns of nothing.
+  // A new store: no check was due, nothing damaged, it writes, and the CLI warns of nothing.
   EXPECT_EQ(list["store"], (json{{"state", "ok"}, {"check", "none"}, {"check_progress", nullptr},
-                                 {"damage", ""}, {"leasing", true}}));
+                                 {"damage", ""}, {"leasing", true}, {"write_error", ""}}));
   EXPECT_EQ(get_json("/api/store"), list["store"]);
   const CommandResult listed = farm_->cli({"list"});
   EXPECT_EQ(listed.exit_code, 0) << listed.err;
@@ -355,6 +355,53 @@ TEST(DashboardListener, ABadOrBusyAddressStopsTheServerWithOneLine) {
   EXPECT_NE(r.err.find("--http: 127.0.0.1:70000: port 70000 is out of range [0, 65535]"),
             std::string::npos) << r.err;
   std::filesystem::remove_all(dir);
+}
+
+// An output folder that cannot be created (a regular file where it should be): the job is done,
+// and the API, `tessera status` and its --json say "output not written" and name no files until
+// they exist; once the folder can be made, `tessera get` has them written and the paths appear.
+TEST_F(DashboardApi, AnOutputThatCannotBeWrittenIsShownUntilItIs) {
+  farm_ = std::make_unique<FarmCluster>("dashboard-api-output-error");
+  farm_->start_server();
+  const std::filesystem::path outputs = farm_->dir() / "outputs";
+  std::filesystem::remove_all(outputs);
+  std::ofstream(outputs) << "not a folder";
+  farm_->start_worker({"--threads", "1"});
+  const uint64_t id = farm_->submit({kTiny, "--spp", "2", "--tile", "8"});
+  ASSERT_EQ(farm_->wait_final(id).state(), v1::JOB_STATE_DONE);
+  const std::string job_path = "/api/jobs/" + std::to_string(id);
+
+  const json job = get_json(job_path);
+  EXPECT_EQ(job["state"], "done");
+  EXPECT_EQ(job["error"], "");
+  EXPECT_NE(job["output_error"].get<std::string>().find(outputs.string() + ": cannot create: "),
+            std::string::npos)
+      << job.dump();
+  EXPECT_EQ(job["output_exr"], "");
+  EXPECT_EQ(job["output_png"], "");
+  EXPECT_EQ(get_json("/api/jobs")["jobs"][0]["output_error"], job["output_error"]);
+
+  const CommandResult status = farm_->cli({"status", std::to_string(id)});
+  EXPECT_EQ(status.exit_code, 0) << status.err;
+  EXPECT_NE(status.out.find("error     output not written: " + outputs.string()),
+            std::string::npos)
+      << status.out;
+  const CommandResult status_json = farm_->cli({"status", std::to_string(id), "--json"});
+  const json from_cli = json::parse(status_json.out, nullptr, false);
+  ASSERT_TRUE(from_cli.is_object()) << status_json.out << status_json.err;
+  EXPECT_EQ(from_cli["output_error"], job["output_error"]);
+
+  // The folder can be made now: `get` writes the files, and the job names them.
+  std::filesystem::remove(outputs);
+  const CommandResult fetched =
+      farm_->cli({"get", std::to_string(id), "-o", (farm_->dir() / "fetched.exr").string()});
+  EXPECT_EQ(fetched.exit_code, 0) << fetched.err;
+  const json written = get_json(job_path);
+  EXPECT_EQ(written["output_error"], "");
+  EXPECT_EQ(written["output_exr"], (outputs / ("job-" + std::to_string(id) + ".exr")).string());
+  EXPECT_TRUE(std::filesystem::exists(written["output_exr"].get<std::string>()));
+  EXPECT_TRUE(std::filesystem::exists(written["output_png"].get<std::string>()));
+  if (HasFailure()) farm_->dump_logs();
 }
 
 TEST_F(DashboardApi, PriorityChangesWhatRunsNext) {
