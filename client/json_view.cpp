@@ -36,9 +36,10 @@ nlohmann::json to_json(const v1::WorkerInfo& w) {
       {"isa", w.isa()},
       {"online", w.online()},
       {"last_seen_unix_ms", w.last_seen_unix_ms()},
+      // An idle worker renders no unit: its job, tile and batch are null, not job 0's tile 0.
       {"job_id", w.job_id() == 0 ? nlohmann::json(nullptr) : nlohmann::json(w.job_id())},
-      {"tile", w.tile()},
-      {"batch", w.batch()},
+      {"tile", w.job_id() == 0 ? nlohmann::json(nullptr) : nlohmann::json(w.tile())},
+      {"batch", w.job_id() == 0 ? nlohmann::json(nullptr) : nlohmann::json(w.batch())},
       {"units_held", w.units_held()},
       {"units_done", w.units_done()},
       {"units_lost", w.units_lost()},

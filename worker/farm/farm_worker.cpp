@@ -13,6 +13,7 @@
 #include <functional>
 #include <iostream>
 #include <mutex>
+#include <new>
 #include <optional>
 #include <stdexcept>
 #include <thread>
@@ -493,6 +494,10 @@ class FarmWorker {
         return std::make_unique<Renderer>(scene, options);
       } catch (const SceneError& e) {
         throw UnitFailure(e.what());
+      } catch (const std::bad_alloc&) {
+        // The job's failure says what ran out, not "std::bad_alloc".
+        throw UnitFailure("out of memory building the scene " + bundle->scene_file +
+                          " (its meshes, textures and acceleration structure)");
       } catch (const std::exception& e) {
         // Bad options, or the renderer refusing the scene (an ISA this CPU lacks, ...).
         throw UnitFailure(e.what());
