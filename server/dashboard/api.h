@@ -1,4 +1,5 @@
-// The dashboard's routes on an httplib::Server (docs/dashboard.md lists them):
+// The dashboard's routes, served by the HTTP front (dashboard/http_server.h); docs/dashboard.md
+// lists them:
 //   GET  /, /dashboard.css, /dashboard.js, /js/*.js  the page (embedded in the binary)
 //   GET  /api/jobs, /api/jobs/{id}             JSON
 //   GET  /api/jobs/{id}/preview.png            the merged image so far, sRGB 8-bit
