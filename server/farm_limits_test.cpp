@@ -105,6 +105,16 @@ TEST(Limits, BundleSizeAndFileCount) {
   EXPECT_EQ(farm.coordinator->jobs(100).size(), 1u);  // the refused ones stored nothing
 }
 
+TEST(Limits, ABundleCarriesOnlyTheFilesItsSceneNames) {
+  Farm farm(FarmLimits{});
+  const std::string stray =
+      farm.refusal(bundle(tiny_scene(), {{"notes/unused.bin", std::string(100, 'x')}}));
+  EXPECT_NE(stray.find("\"notes/unused.bin\", a file the scene never names"), std::string::npos)
+      << stray;
+  EXPECT_TRUE(farm.coordinator->jobs(100).empty());
+  EXPECT_EQ(farm.refusal(bundle(tiny_scene())), "");
+}
+
 // Curve segments are primitives as triangles are: a curves shape cannot carry more than the
 // limit past it.
 TEST(Limits, CurveSegmentsCountWithTriangles) {

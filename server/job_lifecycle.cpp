@@ -1,11 +1,15 @@
 #include "job_lifecycle.h"
 
 #include <filesystem>
+#include <set>
+#include <string>
 
 #include "farm_error.h"
 #include "job/job_options.h"
 #include "job_state.h"
+#include "scene/native/json_value.h"
 #include "scene/scene_error.h"
+#include "scene/scene_loader.h"
 #include "store/job_clients_table.h"
 #include "store/jobs_table.h"
 #include "wire/job_options_wire.h"
@@ -19,6 +23,27 @@ FarmError job_already_final(int64_t job_id, JobState state) {
   return FarmError(ErrorCode::failed_precondition, "job " + std::to_string(job_id) +
                                                       " is already " +
                                                       std::string(to_string(state)));
+}
+
+/// A bundle holds its scene file and the files the scene names, nothing else: bytes no render
+/// reads would be stored with the job and sent to every worker. The CLI's bundles are made
+/// from the scene's own list (wire::bundle_from_disk); a raw gRPC client's may carry more.
+void refuse_files_the_scene_never_names(const wire::BundleContents& contents, const Scene& scene) {
+  std::set<std::string> named{contents.scene_file};
+  for (const std::string& file : scene.referenced_files) {
+    try {
+      named.insert(check_bundle_path(file, "referenced file"));  // the bundle's spelling
+    } catch (const SceneError&) {
+      named.insert(file);  // the reader served it, so it is in the bundle as named
+    }
+  }
+  for (const auto& [path, bytes] : contents.files) {
+    if (named.count(path)) continue;
+    throw FarmError(ErrorCode::invalid_argument,
+                    contents.scene_file + ": the bundle carries \"" + printable(path) +
+                        "\", a file the scene never names (a bundle holds the scene file and "
+                        "the files it names, nothing else)");
+  }
 }
 
 }  // namespace
@@ -68,6 +93,7 @@ NewJob JobLifecycle::validated(const v1::SceneBundle& bundle, const v1::JobReque
     throw invalid_argument(contents.scene_file + ": " + e.what());
   }
   check_scene_triangles(scene, limits_);
+  refuse_files_the_scene_never_names(contents, scene);
   JobOptions resolved;
   try {
     resolved = resolve_job_options(scene, wire::overrides_from_proto(options), limits_.job);
