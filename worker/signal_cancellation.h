@@ -1,16 +1,13 @@
 // Ctrl-C and SIGTERM for `tessera-worker render`: the render stops within a few thousand
 // samples per thread (render/cancellation.h) and the command exits without writing an image,
-// instead of leaving the signal's default action to kill it wherever it is. As the farm worker's
-// StopSignal (farm/stop_signal.h): no signal handler and no global, the signals are blocked and
-// a thread of this object takes them with sigtimedwait.
+// instead of leaving the signal's default action to kill it wherever it is. The signals are
+// taken by a SignalThread (signal_thread.h), as the farm worker's StopSignal takes them.
 #pragma once
 
-#include <signal.h>
-
 #include <atomic>
-#include <thread>
 
 #include "render/cancellation.h"
+#include "signal_thread.h"
 
 namespace tessera {
 
@@ -21,8 +18,7 @@ class SignalCancellation {
   /// that waits for them. The first signal cancels `cancel`; a second one ends the process at
   /// once with status 128 + the signal's number, for a render stuck where nothing polls (a
   /// BVH build). The destructor stops the thread and restores the mask.
-  explicit SignalCancellation(RenderCancellation& cancel);
-  ~SignalCancellation();
+  explicit SignalCancellation(RenderCancellation& cancel) : cancel_(cancel) {}
   SignalCancellation(const SignalCancellation&) = delete;
   SignalCancellation& operator=(const SignalCancellation&) = delete;
 
@@ -30,14 +26,11 @@ class SignalCancellation {
   int signal_number() const { return signal_.load(); }
 
  private:
-  void run();
+  void on_signal(int number);
 
   RenderCancellation& cancel_;
-  sigset_t signals_{};
-  sigset_t previous_mask_{};
   std::atomic<int> signal_{0};
-  std::atomic<bool> exit_{false};
-  std::thread thread_;
+  SignalThread signals_{[this](int number) { on_signal(number); }};  ///< last: it stops first
 };
 
 }  // namespace tessera

@@ -1,16 +1,15 @@
-// SIGTERM/SIGINT for the worker without a signal handler or a global: the signals are blocked
-// and a thread takes them with sigtimedwait, then records them here and cancels the call in
-// flight (a long poll) so the worker reacts at once.
+// SIGTERM/SIGINT for the worker (taken by a SignalThread, signal_thread.h): recorded here, and
+// the call in flight (a long poll) cancelled so the worker reacts at once.
 #pragma once
 
 #include <grpcpp/grpcpp.h>
-#include <signal.h>
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
-#include <thread>
+
+#include "signal_thread.h"
 
 namespace tessera::farm {
 
@@ -18,8 +17,7 @@ class StopSignal {
  public:
   /// Blocks SIGTERM and SIGINT in the calling thread (threads started later inherit the mask)
   /// and starts the thread that waits for them. The destructor stops it and restores the mask.
-  StopSignal();
-  ~StopSignal();
+  StopSignal() = default;
   StopSignal(const StopSignal&) = delete;
   StopSignal& operator=(const StopSignal&) = delete;
 
@@ -37,16 +35,11 @@ class StopSignal {
   void request();
 
  private:
-  void run();
-
-  sigset_t signals_{};
-  sigset_t previous_mask_{};
   std::atomic<int> count_{0};
-  std::atomic<bool> exit_{false};
   mutable std::mutex mu_;
   std::condition_variable cv_;
   grpc::ClientContext* cancellable_ = nullptr;  ///< guarded by mu_
-  std::thread thread_;
+  SignalThread signals_{[this](int) { request(); }};  ///< last: it stops first
 };
 
 }  // namespace tessera::farm
