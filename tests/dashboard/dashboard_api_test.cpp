@@ -16,6 +16,7 @@
 
 #include "exr_header.h"
 #include "farm_cluster.h"
+#include "loopback_socket.h"
 #include "image/image_output.h"
 
 namespace tessera::e2e {
@@ -29,17 +30,10 @@ const std::string kTiny = (source_dir() / "tests" / "farm" / "data" / "tiny.json
 /// status code of the answer, or -1 when none came: the server must answer from the headers
 /// alone. The 60 s receive limit only bounds a failing test.
 int status_from_headers_only(int port, const std::string& head) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  const int fd = connect_to_loopback(port);
   if (fd < 0) return -1;
-  timeval limit{60, 0};
-  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(uint16_t(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   int status = -1;
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0 &&
-      ::send(fd, head.data(), head.size(), MSG_NOSIGNAL) == ssize_t(head.size())) {
+  if (::send(fd, head.data(), head.size(), MSG_NOSIGNAL) == ssize_t(head.size())) {
     std::string got;
     char buf[512];
     while (got.find("\r\n") == std::string::npos) {

@@ -16,6 +16,7 @@
 #include <tuple>
 
 #include "farm_cluster.h"
+#include "loopback_socket.h"
 
 namespace tessera::e2e {
 namespace {
@@ -23,24 +24,6 @@ namespace {
 const std::string kFrontTinyScene =
     (source_dir() / "tests" / "farm" / "data" / "tiny.json").string();
 constexpr auto kFrontPatience = std::chrono::seconds(30);
-
-/// A connected socket to 127.0.0.1:port (-1 on failure); its receive limit only bounds a
-/// failing test.
-int front_connect(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  if (fd < 0) return -1;
-  timeval limit{60, 0};
-  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(uint16_t(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  return fd;
-}
 
 bool front_send(int fd, const std::string& text) {
   return ::send(fd, text.data(), text.size(), MSG_NOSIGNAL) == ssize_t(text.size());
@@ -58,7 +41,7 @@ bool front_closed_by_server(int fd) {
 /// Sends a whole request on a fresh connection; returns the status of the answer and its body
 /// (-1 when none came).
 std::pair<int, std::string> front_exchange(int port, const std::string& request) {
-  const int fd = front_connect(port);
+  const int fd = connect_to_loopback(port);
   if (fd < 0) return {-1, ""};
   std::string got;
   if (front_send(fd, request)) {
@@ -93,7 +76,7 @@ class FrontSlowClients {
  public:
   FrontSlowClients(int port, int count) {
     for (int i = 0; i < count; ++i) {
-      const int fd = front_connect(port);
+      const int fd = connect_to_loopback(port);
       if (fd >= 0 && front_send(fd, "GET /api/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\n")) {
         fds_.push_back(fd);
       } else if (fd >= 0) {
@@ -169,7 +152,7 @@ TEST(DashboardHttpFront, SlowClientsOfOneAddressNeverStarveTheProbes) {
       "\r\nContent-Type: application/json\r\nContent-Length: 100\r\n\r\n{";
   std::vector<int> held;
   for (int i = 0; i < 4; ++i) {
-    const int fd = front_connect(port);
+    const int fd = connect_to_loopback(port);
     ASSERT_GE(fd, 0);
     ASSERT_TRUE(front_send(fd, never_ending_body));
     held.push_back(fd);
@@ -195,7 +178,7 @@ TEST(DashboardHttpFront, SlowClientsOfOneAddressNeverStarveTheProbes) {
 TEST(DashboardHttpFront, AHeadThatNeverEndsIsClosedByItsDeadline) {
   FarmCluster farm("dashboard-front-deadline");
   farm.start_server({"--http-head-timeout", "1"});
-  const int fd = front_connect(farm.http_port());
+  const int fd = connect_to_loopback(farm.http_port());
   ASSERT_GE(fd, 0);
   ASSERT_TRUE(front_send(fd, "GET /api/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\n"));
   // A header line every 200 ms: the deadline is on the whole head, not on a silence.
