@@ -1,5 +1,6 @@
 // `tessera status JOB`: a job's state, options, counters, times and what it reached.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <iostream>
@@ -7,6 +8,7 @@
 
 #include "build_text.h"
 #include "command_support.h"
+#include "job/batch_schedule.h"
 #include "job/tile_summary.h"
 #include "json_view.h"
 
@@ -22,16 +24,19 @@ std::string local_time_text(int64_t unix_ms) {
   return buf;
 }
 
-/// The batch schedule: "batch 64", or "batches 1, 1, 2, 4, ... 64" for a progressive one.
+/// The batch schedule: "batch 64", or the first batches of a progressive one from the schedule
+/// itself (core/job/batch_schedule.h): "batches 1, 1, 2, 4, 8, ... 1024 spp".
 std::string batches_text(const v1::ResolvedJobOptions& o) {
-  if (o.batch_schedule() != "progressive") return "batch " + std::to_string(o.batch_spp());
-  std::string text = "batches 1";
-  uint32_t shown = 0;
-  for (uint32_t b = 1; b <= o.batch_spp() && shown < 4; b *= 2, ++shown) {
-    text += ", " + std::to_string(b);
+  const BatchSchedule schedule{
+      batch_kind_from_string(o.batch_schedule()).value_or(BatchKind::fixed), o.batch_spp(),
+      o.spp()};
+  if (schedule.kind == BatchKind::fixed) return "batch " + std::to_string(o.batch_spp());
+  std::string text = "batches";
+  const uint32_t shown = std::min(schedule.count(), 5u);
+  for (uint32_t b = 0; b < shown; ++b) {
+    text += (b ? ", " : " ") + std::to_string(schedule.end(b) - schedule.begin(b));
   }
-  if (shown == 4 && o.batch_spp() > 8) text += ", ...";
-  if (o.batch_spp() > 8) text += " " + std::to_string(o.batch_spp());
+  if (schedule.count() > shown) text += ", ... " + std::to_string(o.batch_spp());
   return text + " spp";
 }
 
