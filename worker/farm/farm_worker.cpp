@@ -274,7 +274,7 @@ class FarmWorker {
         } catch (const Transient& e) {
           if (!unreachable_ && !stop_.requested()) log(std::string(e.what()) + "; retrying");
           unreachable_ = true;
-          stop_.wait_for(backoff_.next());
+          client_.pause_until_reconnected(backoff_.next(), stop_);
         } catch (const UnknownWorker& e) {
           log(std::string(e.what()) + "; registering again");
           worker_id_ = 0;
@@ -609,7 +609,8 @@ class FarmWorker {
             wire::status_line(status));
         return;
       }
-      stop_.wait_for(backoff.next());
+      // A first signal does not end the pause: results in hand are still delivered.
+      client_.pause_until_reconnected(backoff.next(), stop_, 2);
     }
   }
 
@@ -638,7 +639,7 @@ class FarmWorker {
             wire::status_line(status));
         return;
       }
-      stop_.wait_for(backoff.next());
+      client_.pause_until_reconnected(backoff.next(), stop_, 2);
     }
   }
 

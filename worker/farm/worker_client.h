@@ -4,6 +4,7 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <string>
@@ -19,7 +20,9 @@ namespace tessera::farm {
 /// attempt at least every max_ms x wire::kReconnectJitter = 1.2 s, within the 2 s of
 /// docs/farm.md ("Server restart") by which a worker is back after the server returns. Its
 /// LeaseUnit and Register calls wait for the connection (wait_for_ready) rather than fail while
-/// gRPC is between attempts, so the worker's own Backoff (backoff.h) does not add to it.
+/// gRPC is between attempts, and its pauses between tries end when the channel connects
+/// (WorkerClient::pause_until_reconnected), so the worker's own Backoff (backoff.h) does not add
+/// to it.
 inline constexpr wire::ReconnectBackoff kWorkerReconnect{100, 1000, 20'000};
 
 /// The arguments of the worker's channel: wire::channel_arguments(kWorkerReconnect).
@@ -51,11 +54,25 @@ class WorkerClient {
   grpc::Status release(const v1::ReleaseUnitRequest& request, v1::ReleaseUnitResponse* response);
   grpc::Status deregister(const v1::DeregisterRequest& request, v1::DeregisterResponse* response);
 
+  /// The worker's pause between two tries while the server cannot be reached: sleeps up to
+  /// `duration` (its Backoff's delay), but ends as soon as the channel is connected if it was not
+  /// when this client's last failed call returned, or was seen unconnected during the pause (a
+  /// restarted server answers), so that the next call goes out then and not at the end of the
+  /// pause; also ends once `stop` has counted `stop_signals` signals (checked every kStopPoll).
+  /// Returns true when it ended because the channel connected.
+  bool pause_until_reconnected(std::chrono::milliseconds duration, const StopSignal& stop,
+                               int stop_signals = 1);
+  static constexpr std::chrono::milliseconds kStopPoll{100};
+
  private:
   void prepare(grpc::ClientContext& context, std::chrono::milliseconds timeout) const;
+  /// Returns `status`, noting after a failure whether the channel was connected.
+  grpc::Status noted(grpc::Status status);
 
   std::string token_;
+  std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::WorkerService::Stub> stub_;
+  std::atomic<bool> unconnected_at_failure_{false};
 };
 
 }  // namespace tessera::farm

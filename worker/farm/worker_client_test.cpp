@@ -1,9 +1,14 @@
 // The worker's channel carries the reconnect caps docs/farm.md promises ("Server restart"): gRPC
 // tries the server again at least every 1.2 s, inside the worker's 2 s (backoff.h, whose
-// sequence tests/farm/backoff_test.cpp checks).
+// sequence tests/farm/backoff_test.cpp checks); and the worker's pause between two tries ends
+// when a server answers on the channel, not at the end of its backoff.
 #include "worker_client.h"
 
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <optional>
@@ -47,6 +52,95 @@ TEST(WorkerChannel, KeepsTheSharedMessageLimitsAndKeepalive) {
   EXPECT_EQ(worker_channel_int(args, GRPC_ARG_MAX_RECEIVE_MESSAGE_LENGTH), wire::kMaxMessageBytes);
   EXPECT_EQ(worker_channel_int(args, GRPC_ARG_MAX_SEND_MESSAGE_LENGTH), wire::kMaxMessageBytes);
   EXPECT_EQ(worker_channel_int(args, GRPC_ARG_KEEPALIVE_TIME_MS), wire::kKeepaliveTimeMs);
+}
+
+/// A loopback port nothing listens on (bound once by the kernel's choice, then closed).
+int unused_port() {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t size = sizeof addr;
+  if (fd < 0 || bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
+      getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &size) != 0) {
+    if (fd >= 0) close(fd);
+    return 0;
+  }
+  close(fd);
+  return ntohs(addr.sin_port);
+}
+
+/// A gRPC server on `port` whose WorkerService implements nothing (every call: UNIMPLEMENTED):
+/// enough for a channel to connect. nullptr when the port cannot be had.
+struct Listener {
+  v1::WorkerService::Service service;
+  std::unique_ptr<grpc::Server> server;
+  void Shutdown() { server->Shutdown(); }
+};
+std::unique_ptr<Listener> listen_on(int port) {
+  auto listener = std::make_unique<Listener>();
+  grpc::ServerBuilder builder;
+  int selected = 0;
+  builder.AddListeningPort("127.0.0.1:" + std::to_string(port), grpc::InsecureServerCredentials(),
+                           &selected);
+  builder.RegisterService(&listener->service);
+  listener->server = builder.BuildAndStart();
+  if (!listener->server || selected != port) return nullptr;
+  return listener;
+}
+
+// Minutes: far beyond gRPC's reconnect cap, so that only a connection ends the pause early.
+constexpr std::chrono::milliseconds kLongPause = std::chrono::minutes(5);
+
+TEST(WorkerPause, EndsWhenTheServerAnswersAgain) {
+  const int port = unused_port();
+  ASSERT_NE(port, 0);
+  WorkerClient client("127.0.0.1:" + std::to_string(port), "");
+  StopSignal stop;
+  // Nothing listens: a call fails, and the pause after it runs its course.
+  v1::HeartbeatResponse response;
+  EXPECT_FALSE(client.heartbeat({}, &response, std::chrono::milliseconds(200)).ok());
+  EXPECT_FALSE(client.pause_until_reconnected(std::chrono::milliseconds(300), stop));
+  const std::unique_ptr<Listener> server = listen_on(port);
+  ASSERT_TRUE(server);
+  // The server is back: the pause ends because the channel connected, not at its end.
+  EXPECT_TRUE(client.pause_until_reconnected(kLongPause, stop));
+  server->Shutdown();
+}
+
+TEST(WorkerPause, AFailureOverALiveConnectionPausesInFull) {
+  const int port = unused_port();
+  ASSERT_NE(port, 0);
+  const std::unique_ptr<Listener> server = listen_on(port);
+  ASSERT_TRUE(server);
+  WorkerClient client("127.0.0.1:" + std::to_string(port), "");
+  StopSignal stop;
+  // The server answers UNIMPLEMENTED (its WorkerService implements nothing) over a live connection: as a busy store
+  // answering UNAVAILABLE would, the pause is the backoff's, not cut short by the connection.
+  v1::HeartbeatResponse response;
+  EXPECT_EQ(client.heartbeat({}, &response, std::chrono::seconds(20)).error_code(),
+            grpc::StatusCode::UNIMPLEMENTED);
+  EXPECT_FALSE(client.pause_until_reconnected(std::chrono::milliseconds(300), stop));
+  server->Shutdown();
+}
+
+TEST(WorkerPause, ASignalEndsItButADeliveryPauseOutlastsTheFirst) {
+  const int port = unused_port();
+  ASSERT_NE(port, 0);
+  WorkerClient client("127.0.0.1:" + std::to_string(port), "");
+  StopSignal stop;
+  v1::HeartbeatResponse response;
+  EXPECT_FALSE(client.heartbeat({}, &response, std::chrono::milliseconds(200)).ok());
+  stop.request();
+  // The loop's pause ends at the first signal (the worker is leaving)...
+  EXPECT_FALSE(client.pause_until_reconnected(kLongPause, stop));
+  // ...a delivery's does not: results in hand are still delivered once the server is back.
+  const std::unique_ptr<Listener> server = listen_on(port);
+  ASSERT_TRUE(server);
+  EXPECT_TRUE(client.pause_until_reconnected(kLongPause, stop, 2));
+  stop.request();
+  EXPECT_FALSE(client.pause_until_reconnected(kLongPause, stop, 2));
+  server->Shutdown();
 }
 
 }  // namespace
