@@ -147,21 +147,26 @@ std::unique_ptr<tessera::server::DashboardServer> start_dashboard(
   return dashboard;
 }
 
-/// OpenImageIO's ~260 libraries are most of what start-up would cost (BENCHMARKS.md, "Server
-/// start-up time"): loaded beside serving, so that the first preview does not wait for them, and
-/// joined when this goes (never unloaded mid-exit).
+/// OpenImageIO's ~260 libraries are most of what start-up costs (BENCHMARKS.md, "Server start-up
+/// time"): loaded on a thread of their own while the store opens and resumes, and waited for
+/// before the server listens. Not after: while dlopen maps them it holds the dynamic loader's
+/// lock, which every new thread takes (its TLS), and gRPC's server starts a thread as a call
+/// arrives, so a server listening meanwhile answered nothing for the length of the load
+/// (0.4-0.9 s on 2 busy cores, seconds on busier ones) and workers came back that much later.
 class ImageModuleLoader {
  public:
   ImageModuleLoader() : thread_(load) {}
-  ~ImageModuleLoader() { thread_.join(); }
+  ~ImageModuleLoader() { wait(); }
+  /// Returns once the module is loaded (or its load failed and was reported).
+  void wait() {
+    if (thread_.joinable()) thread_.join();
+  }
 
  private:
   static void load() {
     try {
       const auto began = std::chrono::steady_clock::now();
       tessera::server::load_image_module();
-      // tests/load/load_test.cpp waits for this line: the server's CPU after it is what serving
-      // costs, without the module's load.
       std::cout << "tessera-server: image module loaded ("
                 << std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count()
                 << " s)" << std::endl;
@@ -212,6 +217,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   }
   // Before the database is opened: a second server on it is refused, naming the holder.
   const ts::DatabaseLock db_lock(flags.db);
+  ImageModuleLoader image_module_loader;  // beside the store's opening; waited for below
   ts::SystemClock clock;
   ts::FarmMetrics metrics(clock);  // the dashboard's rates, fed by every answered upload
   ts::Coordinator coordinator(coordinator_config(flags), clock);
@@ -225,6 +231,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   ts::JobServiceImpl job_service(coordinator, client_auth,
                                  {&submit_budget, flags.max_texture_values});
   ts::WorkerServiceImpl worker_service(coordinator, worker_auth);
+  image_module_loader.wait();  // before listening: no call waits behind the dynamic loader
   int port = 0;
   const bool open = !client_auth.enabled() && !worker_auth.enabled();
   std::unique_ptr<grpc::Server> server =
@@ -253,7 +260,6 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   }
   // Last: the gRPC port file tells scripts that both listeners are up.
   if (!flags.port_file.empty()) write_port_file(flags.port_file, port);
-  const ImageModuleLoader image_module_loader;  // joined when serve() returns
   serve_until_stopped(flags, stop_signals, coordinator, *dashboard, *server);
   const bool clean = coordinator.checkpoint();
   if (!ts::call_trace::write()) std::cerr << "tessera-server: warning: call trace not written\n";

@@ -270,10 +270,10 @@ void run_load(uint32_t per_call) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   const std::string address = "127.0.0.1:" + std::to_string(std::stoi(e2e::read_text(port_file)));
-  // The server loads its image module (OpenImageIO) on a thread once it listens: a start's
-  // fixed cost too (0.3-0.5 s of CPU; seconds of wall time on a busy machine), not serving's. A
-  // server that says when it has loaded it (server/main.cpp) is measured from then; an older one
-  // from listening.
+  // The server's image module (OpenImageIO) is a start's fixed cost (0.3-0.5 s of CPU; seconds
+  // of wall time on a busy machine), not serving's. Servers load it before they listen
+  // (server/main.cpp); an older build that loaded it after listening is measured from the line
+  // that says it is loaded, one that says nothing from listening.
   if (says_when_module_loaded(server_bin)) {
     while (e2e::read_text(dir / "server.log").find("image module") == std::string::npos) {
       ASSERT_TRUE(server->running()) << e2e::read_text(dir / "server.log");

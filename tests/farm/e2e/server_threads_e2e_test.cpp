@@ -17,6 +17,18 @@
 namespace tessera::e2e {
 namespace {
 
+// The image module (OpenImageIO's libraries) is loaded before the server listens
+// (server/main.cpp): while the dynamic loader maps it no thread can start, and gRPC's server
+// starts one as a call arrives, so a server that listened first answered nothing meanwhile. The
+// port file is the server's last act of starting; by then the log says the module is loaded.
+TEST(ServerThreadsE2E, TheImageModuleIsLoadedBeforeTheServerListens) {
+  FarmCluster farm("server-module");
+  farm.start_server();
+  EXPECT_NE(read_text(farm.dir() / "server-0.log").find("tessera-server: image module loaded ("),
+            std::string::npos)
+      << read_text(farm.dir() / "server-0.log");
+}
+
 TEST(ServerThreadsE2E, IdleThreadsServeTheNextCalls) {
   FarmCluster farm("server-threads");
   const std::filesystem::path trace = farm.dir() / "calls.trace";
