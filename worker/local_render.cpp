@@ -2,15 +2,17 @@
 
 #include <tbb/parallel_for.h>
 
-#include <chrono>
+#include <algorithm>
 #include <mutex>
 
 namespace tessera {
 
 LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
-                             const std::function<void(uint64_t)>& on_progress, IntegratorKind integrator,
-                             KernelIsa kernel, const RenderCancellation* cancel) {
-  const auto start = std::chrono::steady_clock::now();
+                             const std::function<void(const LocalRenderProgress&)>& on_progress,
+                             IntegratorKind integrator, KernelIsa kernel,
+                             const RenderCancellation* cancel, const LocalRenderClock& clock) {
+  const auto now = [&clock] { return clock ? clock() : std::chrono::steady_clock::now(); };
+  const auto start = now();
   LocalRenderResult result;
   result.options = options;
   const Renderer renderer(scene, options, {}, integrator, kernel);
@@ -24,35 +26,68 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
   std::vector<size_t> open(tiles.size());
   for (size_t t = 0; t < tiles.size(); ++t) open[t] = t;
 
-  uint64_t samples_done = 0;
+  LocalRenderProgress progress;
   std::mutex progress_mutex;
   std::vector<Accumulation> batch_results(tiles.size());
-  std::vector<RenderStats> batch_stats(tiles.size());
-  const auto budget = std::chrono::duration<double>(options.time_budget_s);
+  std::vector<char> completed(tiles.size());
+  const bool timed = options.rule == StopRule::time;
+  const auto deadline =
+      start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                  std::chrono::duration<double>(options.time_budget_s));
   bool over_budget = false;
   for (uint32_t b = 0; b < plan.batch_count() && !open.empty(); ++b) {
     // The time rule: batch 0 of every tile always completes (no black tile); no batch starts
     // after the budget. The farm's scheduler applies the same rule (server/scheduler.h).
-    if (options.rule == StopRule::time && b > 0 &&
-        std::chrono::steady_clock::now() - start >= budget) {
+    if (timed && b > 0 && now() >= deadline) {
       over_budget = true;
       break;
     }
+    // A later batch of a time job also stops when the budget passes while it runs, as the farm
+    // cancels the units it no longer awaits: its renders poll a cancellation of their own,
+    // tripped by the user's cancel or by the clock at any poll, so no thread traces more than
+    // one poll's samples (RenderCancellation::kPollSamples) past the budget. Every other batch
+    // stops for the user's cancel alone.
+    const bool cut_by_time = timed && b > 0;
+    RenderCancellation batch_cancel;
+    if (cut_by_time) {
+      batch_cancel.set_poll_hook([&](uint64_t samples) {
+        if ((cancel != nullptr && cancel->poll(samples)) || now() >= deadline) batch_cancel.cancel();
+      });
+    }
+    const RenderCancellation* render_cancel = cut_by_time ? &batch_cancel : cancel;
     const uint32_t begin = plan.batch_begin(b), end = plan.batch_end(b);
+    std::fill(completed.begin(), completed.end(), 0);
     tbb::parallel_for(size_t(0), open.size(), [&](size_t i) {
       const size_t t = open[i];
       RenderStats stats;
-      batch_results[t] = renderer.render(tiles[t], begin, end, &stats, cancel);
+      try {
+        // A unit due after the budget is not begun.
+        if (cut_by_time && ((cancel != nullptr && cancel->cancelled()) || now() >= deadline)) {
+          batch_cancel.cancel();
+        }
+        batch_results[t] = renderer.render(tiles[t], begin, end, &stats, render_cancel);
+        completed[t] = 1;
+      } catch (const RenderCancelled&) {
+        // The user's cancel ends the command with nothing; the budget only drops this unit.
+        if (!cut_by_time || (cancel != nullptr && cancel->cancelled())) throw;
+      }
       const std::lock_guard lock(progress_mutex);
-      batch_stats[t].samples += stats.samples;
-      batch_stats[t].rays += stats.rays;
-      batch_stats[t].shadow_rays += stats.shadow_rays;
-      samples_done += uint64_t(tiles[t].pixel_count()) * (end - begin);
-      if (on_progress) on_progress(samples_done);
+      result.stats.samples += stats.samples;
+      result.stats.rays += stats.rays;
+      result.stats.shadow_rays += stats.shadow_rays;
+      progress.samples_traced += stats.samples;
+      if (completed[t] != 0) progress.samples_done += uint64_t(tiles[t].pixel_count()) * (end - begin);
+      if (on_progress) on_progress(progress);
     });
-    // Merge and judge in tile order; the verdict depends only on the merged data.
+    // Merge and judge in tile order; the verdict depends only on the merged data. A tile whose
+    // unit the budget cut keeps its earlier batches and is done.
     std::vector<size_t> still_open;
+    bool cut = false;
     for (size_t t : open) {
+      if (completed[t] == 0) {
+        cut = true;
+        continue;
+      }
       result.tiles[t].merge(batch_results[t]);
       result.tile_spp[t] = end;
       const TileVerdict v = judge_tile(options.rule, options.noise_target, result.tiles[t], b + 1,
@@ -65,14 +100,13 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
       }
     }
     open = std::move(still_open);
+    if (cut) {
+      over_budget = true;
+      break;
+    }
   }
   if (over_budget) result.reason = StopReason::time_budget;
-  for (const RenderStats& s : batch_stats) {
-    result.stats.samples += s.samples;
-    result.stats.rays += s.rays;
-    result.stats.shadow_rays += s.shadow_rays;
-  }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = std::chrono::duration<double>(now() - start).count();
   return result;
 }
 

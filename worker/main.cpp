@@ -75,7 +75,10 @@ int run_render(const RenderArgs& args) {
   tessera::ProgressBar bar(args.quiet ? nullptr : stderr, total);
   tessera::LocalRenderResult result;
   try {
-    result = tessera::render_job(scene, options, [&](uint64_t done) { bar.update(done); },
+    result = tessera::render_job(scene, options,
+                                 [&](const tessera::LocalRenderProgress& p) {
+                                   bar.update(p.samples_done);
+                                 },
                                  tessera::integrator_kind_from_name(args.integrator),
                                  tessera::kernel_isa_from_name(args.kernel_isa), &cancel);
   } catch (const tessera::RenderCancelled&) {
