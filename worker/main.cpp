@@ -72,12 +72,13 @@ int run_render(const RenderArgs& args) {
     thread_limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(args.threads));
   }
   const uint64_t total = uint64_t(options.width) * uint64_t(options.height) * options.spp;
-  tessera::ProgressBar bar(args.quiet ? nullptr : stderr, total);
+  tessera::ProgressBar bar(args.quiet ? nullptr : stderr, total,
+                           options.rule == tessera::StopRule::time ? options.time_budget_s : 0);
   tessera::LocalRenderResult result;
   try {
     result = tessera::render_job(scene, options,
                                  [&](const tessera::LocalRenderProgress& p) {
-                                   bar.update(p.samples_done);
+                                   bar.update(p.samples_done, p.samples_traced);
                                  },
                                  tessera::integrator_kind_from_name(args.integrator),
                                  tessera::kernel_isa_from_name(args.kernel_isa), &cancel);
@@ -87,7 +88,14 @@ int run_render(const RenderArgs& args) {
                  signal_number == SIGTERM ? "SIGTERM" : "SIGINT");
     return 128 + signal_number;
   }
-  bar.finish(total);
+  // The samples the image holds, which a job that stopped early (time, noise) has fewer of than
+  // its total; the rate counts what was traced, a batch the budget cut included.
+  uint64_t samples_taken = 0;
+  const std::vector<tessera::TileRect> rects = options.plan().tiles();
+  for (size_t t = 0; t < rects.size(); ++t) {
+    samples_taken += uint64_t(rects[t].pixel_count()) * result.tile_spp[t];
+  }
+  bar.finish(samples_taken, result.stats.samples);
 
   const tessera::RgbImage image = tessera::resolve_image(options.width, options.height, result.tiles);
   uint64_t nan = 0, inf = 0;
@@ -143,11 +151,6 @@ int run_render(const RenderArgs& args) {
     }
   }
   const double seconds = result.seconds;
-  uint64_t samples_taken = 0;
-  const std::vector<tessera::TileRect> rects = options.plan().tiles();
-  for (size_t t = 0; t < rects.size(); ++t) {
-    samples_taken += uint64_t(rects[t].pixel_count()) * result.tile_spp[t];
-  }
   std::fprintf(stderr,
                "rendered %dx%d in %.2f s (%s rule, stopped: %s): spp min %u mean %.1f max %u, "
                "%llu samples, %s samples/s, %s rays/s (%llu rays, %llu shadow rays), estimated "

@@ -6,66 +6,88 @@
 
 namespace tessera {
 
-ProgressBar::ProgressBar(std::FILE* stream, uint64_t total_samples)
-    : ProgressBar(stream, total_samples,
+ProgressBar::ProgressBar(std::FILE* stream, uint64_t total_samples, double time_budget_s)
+    : ProgressBar(stream, total_samples, time_budget_s,
                   stream != nullptr && isatty(fileno(stream)) != 0 ? Style::redraw
                                                                    : Style::lines) {}
 
-ProgressBar::ProgressBar(std::FILE* stream, uint64_t total_samples, Style style)
+ProgressBar::ProgressBar(std::FILE* stream, uint64_t total_samples, double time_budget_s,
+                         Style style, Clock clock)
     : stream_(stream),
       style_(style),
       total_(total_samples == 0 ? 1 : total_samples),
-      start_(std::chrono::steady_clock::now()),
+      budget_s_(time_budget_s > 0 ? time_budget_s : 0),
+      clock_(clock ? std::move(clock) : Clock(std::chrono::steady_clock::now)),
+      start_(clock_()),
       last_draw_(start_ - std::chrono::seconds(1)) {}
 
-void ProgressBar::update(uint64_t done_samples) {
-  if (stream_ == nullptr) return;
-  if (style_ == Style::lines) {
-    // A line per tenth of the work: how many depends on the work alone, never on the clock.
-    if (done_samples * 10 / total_ > uint64_t(tenths_printed_)) print_line(done_samples);
-    return;
-  }
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_draw_ < std::chrono::milliseconds(100)) return;
-  last_draw_ = now;
-  draw(done_samples);
+double ProgressBar::elapsed_s() const {
+  return std::chrono::duration<double>(clock_() - start_).count();
 }
 
-void ProgressBar::finish(uint64_t done_samples) {
+double ProgressBar::fraction(uint64_t done, double elapsed) const {
+  const double f = budget_s_ > 0 ? elapsed / budget_s_ : double(done) / double(total_);
+  return std::clamp(f, 0.0, 1.0);
+}
+
+void ProgressBar::update(uint64_t done_samples, uint64_t traced_samples) {
   if (stream_ == nullptr) return;
   if (style_ == Style::lines) {
-    if (tenths_printed_ < 10) print_line(done_samples);
+    // A line per tenth of the work: how many depends on the work alone (for a time job, on the
+    // time of the updates), never on when the lines are drawn.
+    if (int(fraction(done_samples, elapsed_s()) * 10) > tenths_printed_) {
+      print_line(done_samples, traced_samples);
+    }
     return;
   }
-  draw(done_samples);
+  const auto now = clock_();
+  if (now - last_draw_ < std::chrono::milliseconds(100)) return;
+  last_draw_ = now;
+  draw(done_samples, traced_samples, false);
+}
+
+void ProgressBar::finish(uint64_t done_samples, uint64_t traced_samples) {
+  if (stream_ == nullptr) return;
+  if (style_ == Style::lines) {
+    if (tenths_printed_ < 10) print_line(done_samples, traced_samples);
+    return;
+  }
+  draw(done_samples, traced_samples, true);
   std::fputc('\n', stream_);
 }
 
-void ProgressBar::print_line(uint64_t done) {
-  tenths_printed_ = int(std::min<uint64_t>(10, done * 10 / total_));
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const double rate = elapsed > 0 ? double(done) / elapsed : 0;
-  std::fprintf(stream_, "progress %5.1f%%  %ssamples/s  elapsed %s\n",
-               100.0 * double(done) / double(total_), si_count(rate).c_str(),
-               format_duration(elapsed).c_str());
+std::string ProgressBar::elapsed_text(double elapsed) const {
+  std::string text = "elapsed " + format_duration(elapsed);
+  if (budget_s_ > 0) text += " of " + format_duration(budget_s_);
+  return text;
+}
+
+void ProgressBar::print_line(uint64_t done, uint64_t traced) {
+  const double elapsed = elapsed_s();
+  const double f = fraction(done, elapsed);
+  tenths_printed_ = int(f * 10);
+  const double rate = elapsed > 0 ? double(traced) / elapsed : 0;
+  std::fprintf(stream_, "progress %5.1f%%  %ssamples/s  %s\n", 100.0 * f, si_count(rate).c_str(),
+               elapsed_text(elapsed).c_str());
   std::fflush(stream_);
 }
 
-void ProgressBar::draw(uint64_t done) {
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const double fraction = double(done) / double(total_);
+void ProgressBar::draw(uint64_t done, uint64_t traced, bool final) {
+  const double elapsed = elapsed_s();
+  const double f = fraction(done, elapsed);
   const int width = 30;
-  const int filled = int(fraction * width);
+  const int filled = int(f * width);
   std::string bar(size_t(filled), '#');
   bar.resize(size_t(width), '.');
-  const double rate = elapsed > 0 ? double(done) / elapsed : 0;
-  const std::string eta =
-      rate > 0 && done < total_ ? format_duration(double(total_ - done) / rate) : "-";
-  std::fprintf(stream_, "\r[%s] %5.1f%%  %ssamples/s  elapsed %s  ETA %s   ", bar.c_str(),
-               fraction * 100.0, si_count(rate).c_str(), format_duration(elapsed).c_str(),
-               eta.c_str());
+  const double rate = elapsed > 0 ? double(traced) / elapsed : 0;
+  std::string eta = "-";
+  if (!final && budget_s_ > 0) {
+    eta = format_duration(std::max(0.0, budget_s_ - elapsed));
+  } else if (!final && rate > 0 && done < total_) {
+    eta = format_duration(double(total_ - done) / rate);
+  }
+  std::fprintf(stream_, "\r[%s] %5.1f%%  %ssamples/s  %s  ETA %s   ", bar.c_str(), f * 100.0,
+               si_count(rate).c_str(), elapsed_text(elapsed).c_str(), eta.c_str());
   std::fflush(stream_);
 }
 
