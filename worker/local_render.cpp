@@ -42,11 +42,12 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
       over_budget = true;
       break;
     }
-    // A later batch of a time job also stops when the budget passes while it runs, as the farm
-    // cancels the units it no longer awaits: its renders poll a cancellation of their own,
-    // tripped by the user's cancel or by the clock at any poll, so no thread traces more than
-    // one poll's samples (RenderCancellation::kPollSamples) past the budget. Every other batch
-    // stops for the user's cancel alone.
+    // A later batch of a time job also stops when the budget passes while it runs, so that the
+    // budget holds to a poll rather than to a batch (the farm awaits such units, bounded by
+    // their lease): its renders poll a cancellation of their own, tripped by the user's cancel
+    // or by the clock at any poll, so no thread traces more than one poll's samples
+    // (RenderCancellation::kPollSamples) past the budget. Every other batch stops for the
+    // user's cancel alone.
     const bool cut_by_time = timed && b > 0;
     RenderCancellation batch_cancel;
     if (cut_by_time) {

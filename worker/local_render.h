@@ -47,8 +47,9 @@ using LocalRenderClock = std::function<std::chrono::steady_clock::time_point()>;
 /// tile's result merged into that tile in batch order and judged by the job's stopping rule
 /// (judge_tile) — exactly what the farm's server does, so `spp` and `noise` jobs give the farm's
 /// bits. A `time` job keeps the farm's rule (docs/accuracy.md, "Time jobs"): batch 0 of every
-/// tile completes; no batch starts after the budget (counted on `clock` from the call); once the
-/// budget passes during a later batch, that batch's running renders are cancelled within
+/// tile completes and no batch starts after the budget (counted on `clock` from the call).
+/// Where the farm awaits the units in flight, here once the budget passes during a later
+/// batch, that batch's running renders are cancelled within
 /// RenderCancellation::kPollSamples samples per thread (a time poll at each of their cancel
 /// polls) and dropped, so each tile keeps the batches it completed and the image depends only on
 /// which (tile, batch) units completed. `on_progress` is called after each unit ends
