@@ -52,7 +52,9 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
     RenderCancellation batch_cancel;
     if (cut_by_time) {
       batch_cancel.set_poll_hook([&](uint64_t samples) {
-        if ((cancel != nullptr && cancel->poll(samples)) || now() >= deadline) batch_cancel.cancel();
+        if ((cancel != nullptr && cancel->poll(samples)) || now() >= deadline) {
+          batch_cancel.cancel();
+        }
       });
     }
     const RenderCancellation* render_cancel = cut_by_time ? &batch_cancel : cancel;
@@ -77,7 +79,9 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
       result.stats.rays += stats.rays;
       result.stats.shadow_rays += stats.shadow_rays;
       progress.samples_traced += stats.samples;
-      if (completed[t] != 0) progress.samples_done += uint64_t(tiles[t].pixel_count()) * (end - begin);
+      if (completed[t] != 0) {
+        progress.samples_done += uint64_t(tiles[t].pixel_count()) * (end - begin);
+      }
       if (on_progress) on_progress(progress);
     });
     // Merge and judge in tile order; the verdict depends only on the merged data. A tile whose

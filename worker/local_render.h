@@ -58,11 +58,10 @@ using LocalRenderClock = std::function<std::chrono::steady_clock::time_point()>;
 /// either way). `cancel`, when given and cancelled, stops the render within
 /// RenderCancellation::kPollSamples samples per thread and throws RenderCancelled
 /// (cancellation.h); nothing rendered is returned.
-LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
-                             const std::function<void(const LocalRenderProgress&)>& on_progress = {},
-                             IntegratorKind integrator = IntegratorKind::wavefront,
-                             KernelIsa kernel = KernelIsa::automatic,
-                             const RenderCancellation* cancel = nullptr,
-                             const LocalRenderClock& clock = {});
+LocalRenderResult render_job(
+    const Scene& scene, const JobOptions& options,
+    const std::function<void(const LocalRenderProgress&)>& on_progress = {},
+    IntegratorKind integrator = IntegratorKind::wavefront, KernelIsa kernel = KernelIsa::automatic,
+    const RenderCancellation* cancel = nullptr, const LocalRenderClock& clock = {});
 
 }  // namespace tessera

@@ -133,7 +133,9 @@ TEST(LocalRender, ABudgetPassingDuringBatch0StillCompletesItInEveryTile) {
   const LocalRenderResult result = render_job(scene, options, {}, IntegratorKind::wavefront,
                                               KernelIsa::automatic, &user, clock.clock());
   EXPECT_EQ(result.reason, StopReason::time_budget);
-  for (size_t t = 0; t < result.tile_spp.size(); ++t) EXPECT_EQ(result.tile_spp[t], 16u) << "tile " << t;
+  for (size_t t = 0; t < result.tile_spp.size(); ++t) {
+    EXPECT_EQ(result.tile_spp[t], 16u) << "tile " << t;
+  }
   EXPECT_EQ(result.stats.samples, samples_in(result));
   EXPECT_DOUBLE_EQ(result.seconds, options.time_budget_s);
 }

@@ -96,7 +96,8 @@ TEST(ProgressBar, SampleJobEtaFollowsTheRateAndFinishHasNone) {
   std::fclose(tty);
   const std::string first = text.substr(0, text.find('\r', 1));
   const std::string last = text.substr(text.rfind('\r'));
-  EXPECT_NE(first.find(" 20.0%  2.0 ksamples/s  elapsed 2.0 s  ETA 8.0 s"), std::string::npos) << text;
+  EXPECT_NE(first.find(" 20.0%  2.0 ksamples/s  elapsed 2.0 s  ETA 8.0 s"), std::string::npos)
+      << text;
   EXPECT_NE(last.find(" 30.0%  2.0 ksamples/s  elapsed 3.0 s  ETA -"), std::string::npos) << text;
 }
 
