@@ -74,7 +74,13 @@ class Coordinator {
     return lifecycle_.submit(bundle, options, priority, client);
   }
   JobRecord job(int64_t job_id) { return lifecycle_.job(job_id); }
-  std::vector<JobRecord> jobs(uint32_t limit) { return lifecycle_.jobs(limit); }
+  JobPage jobs(const JobQuery& query) { return lifecycle_.jobs(query); }
+  /// The newest `limit` jobs.
+  std::vector<JobRecord> jobs(uint32_t limit) {
+    JobQuery query;
+    query.limit = limit;
+    return jobs(query).jobs;
+  }
   JobRecord cancel(int64_t job_id) { return lifecycle_.cancel(job_id); }
   void remove(int64_t job_id) { lifecycle_.remove(job_id); }
   int apply_retention() { return lifecycle_.apply_retention(); }

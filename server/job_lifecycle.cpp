@@ -149,10 +149,10 @@ JobRecord JobLifecycle::job(int64_t job_id) {
   return *record;
 }
 
-std::vector<JobRecord> JobLifecycle::jobs(uint32_t limit) {
+JobPage JobLifecycle::jobs(const JobQuery& query) {
   FarmStore::ReadLock lock(store_);
-  std::vector<JobRecord> out = store_.jobs().list(limit);
-  for (JobRecord& r : out) {
+  JobPage out = store_.jobs().list(query);
+  for (JobRecord& r : out.jobs) {
     r.read_unix_ms = clock_.now_unix_ms();
     images_.describe_output(r);
   }

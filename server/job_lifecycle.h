@@ -43,8 +43,8 @@ class JobLifecycle {
   /// Throws FarmError(not_found). A done job whose output could not be written says why
   /// (JobRecord::output_error) and names no files.
   JobRecord job(int64_t job_id);
-  /// As job(), the newest `limit` jobs.
-  std::vector<JobRecord> jobs(uint32_t limit);
+  /// As job(), one page of jobs, newest first (JobsTable::page).
+  JobPage jobs(const JobQuery& query);
   /// The canonical bundle bytes. Throws FarmError(not_found).
   std::string bundle(const std::string& sha256);
   /// Throws FarmError: not_found, failed_precondition when already finished.

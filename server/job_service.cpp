@@ -22,6 +22,35 @@ bool is_final_proto(v1::JobState state) {
          state == v1::JOB_STATE_CANCELLED;
 }
 
+/// The listing a ListJobsRequest asks for (job_service.proto). Throws FarmError(invalid_argument)
+/// naming the field for a limit over 1000, a state that is not one, or a cursor past INT64_MAX.
+JobQuery job_query(const v1::ListJobsRequest& request) {
+  JobQuery query;
+  if (request.limit() > 1000) {
+    throw FarmError(ErrorCode::invalid_argument,
+                    "limit must be 0..1000 (0 = 1000), got " + std::to_string(request.limit()));
+  }
+  query.limit = request.limit() == 0 ? 1000 : request.limit();
+  for (const int wanted : request.states()) {
+    constexpr JobState kStates[] = {JobState::queued, JobState::running, JobState::done,
+                                    JobState::failed, JobState::cancelled};
+    const auto* state = std::find_if(std::begin(kStates), std::end(kStates),
+                                     [&](JobState s) { return int(to_proto(s)) == wanted; });
+    if (state == std::end(kStates)) {
+      throw FarmError(ErrorCode::invalid_argument,
+                      "states: " + std::to_string(wanted) +
+                          " is not a job state (QUEUED, RUNNING, DONE, FAILED or CANCELLED)");
+    }
+    query.states.push_back(*state);
+  }
+  if (request.before_id() > uint64_t(INT64_MAX)) {
+    throw FarmError(ErrorCode::invalid_argument,
+                    "before_id must be a job id or 0, got " + std::to_string(request.before_id()));
+  }
+  query.before_id = int64_t(request.before_id());
+  return query;
+}
+
 /// The submitter, for the per-client quota: the peer's address without its port
 /// ("ipv4:10.0.0.7"), so every connection from one host counts together.
 std::string client_of(const grpc::ServerContext& context) {
@@ -89,8 +118,10 @@ grpc::Status JobServiceImpl::ListJobs(grpc::ServerContext* context,
                                       v1::ListJobsResponse* response) {
   return guarded(auth_, *context, "ListJobs", [&] {
     tell_store_damage(coordinator_, *context);
-    const uint32_t limit = request->limit() == 0 ? 1000 : request->limit();
-    for (const JobRecord& job : coordinator_.jobs(limit)) *response->add_jobs() = to_proto(job);
+    const JobPage page = coordinator_.jobs(job_query(*request));
+    for (const JobRecord& job : page.jobs) *response->add_jobs() = to_proto(job);
+    response->set_total(page.total);
+    response->set_next_before_id(uint64_t(page.next_before_id));
     return grpc::Status::OK;
   });
 }

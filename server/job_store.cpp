@@ -56,10 +56,10 @@ std::optional<JobRecord> JobStore::get(int64_t job_id) {
   return record;
 }
 
-std::vector<JobRecord> JobStore::list(uint32_t limit) {
-  std::vector<JobRecord> out = JobsTable(db_).newest(limit);
-  for (JobRecord& r : out) read_contributors(db_, r);
-  return out;
+JobPage JobStore::list(const JobQuery& query) {
+  JobPage page = JobsTable(db_).page(query);
+  for (JobRecord& r : page.jobs) read_contributors(db_, r);
+  return page;
 }
 
 std::vector<int64_t> JobStore::unfinished() { return JobsTable(db_).unfinished(); }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "job_record.h"
+#include "store/jobs_table.h"
 #include "store/sqlite.h"
 #include "store/tiles_table.h"
 
@@ -34,8 +35,8 @@ class JobStore {
   int64_t create(const NewJob& job, int64_t now_unix_ms);
 
   std::optional<JobRecord> get(int64_t job_id);
-  /// Newest first, at most `limit`.
-  std::vector<JobRecord> list(uint32_t limit);
+  /// One page of jobs, newest first, with their contributors (JobsTable::page).
+  JobPage list(const JobQuery& query);
   /// Ids of jobs not final (queued or running), oldest first.
   std::vector<int64_t> unfinished();
   /// Every done job's id and output paths (jobs rows only: cheap at start-up).

@@ -14,6 +14,13 @@
 namespace tessera::server {
 namespace {
 
+/// The newest `limit` jobs (JobStore::list's first page).
+std::vector<JobRecord> newest(JobStore& jobs, uint32_t limit) {
+  JobQuery query;
+  query.limit = limit;
+  return jobs.list(query).jobs;
+}
+
 using testing::StoreFixture;
 
 /// A temporary folder for database files, removed with its contents when the test ends.
@@ -312,18 +319,18 @@ TEST(JobStore, RefusesJobsWithTooManyUnits) {
     EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
     EXPECT_NE(std::string(e.what()).find("--tile or --batch"), std::string::npos) << e.what();
   }
-  EXPECT_TRUE(f.jobs.list(10).empty());
+  EXPECT_TRUE(newest(f.jobs, 10).empty());
 }
 
 TEST(JobStore, ListsNewestFirst) {
   StoreFixture f;
   const int64_t a = f.make_job(8, 8, 8, 1, 1);
   const int64_t b = f.make_job(8, 8, 8, 1, 1);
-  const std::vector<JobRecord> jobs = f.jobs.list(10);
+  const std::vector<JobRecord> jobs = newest(f.jobs, 10);
   ASSERT_EQ(jobs.size(), 2u);
   EXPECT_EQ(jobs[0].id, b);
   EXPECT_EQ(jobs[1].id, a);
-  EXPECT_EQ(f.jobs.list(1).size(), 1u);
+  EXPECT_EQ(newest(f.jobs, 1).size(), 1u);
 }
 
 TEST(JobStore, CancelRevokesUnitsAndIsFinal) {

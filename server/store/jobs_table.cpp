@@ -1,5 +1,8 @@
 #include "store/jobs_table.h"
 
+#include <algorithm>
+#include <array>
+#include <climits>
 #include <cmath>
 #include <stdexcept>
 
@@ -100,10 +103,50 @@ std::optional<JobRecord> read_one(Database& db, int64_t job_id) {
 
 std::optional<JobRecord> JobsTable::get(int64_t job_id) { return read_one(db_, job_id); }
 
-std::vector<JobRecord> JobsTable::newest(uint32_t limit) {
-  static const std::string sql =
-      std::string("SELECT ") + kJobColumns + " FROM jobs j ORDER BY j.id DESC LIMIT ?1";
-  return db_.prepare(sql)->bind_all(int64_t(limit)).rows(read_job);
+namespace {
+
+/// The five slots of a state filter (?1..?5 of the statements below), one per job state: the
+/// filter's states, the first one repeated in the slots left over, so that one statement serves
+/// every filter. `states` is not empty.
+std::array<std::string, 5> state_slots(std::vector<JobState> states) {
+  std::sort(states.begin(), states.end());
+  states.erase(std::unique(states.begin(), states.end()), states.end());
+  std::array<std::string, 5> slots;
+  for (size_t i = 0; i < slots.size(); ++i) slots[i] = s(states[i < states.size() ? i : 0]);
+  return slots;
+}
+
+}  // namespace
+
+JobPage JobsTable::page(const JobQuery& query) {
+  // The page walks the primary key down from the cursor and stops after `limit` matches (so it
+  // reads one more row to tell whether an older one is left). `+j.state` keeps SQLite off
+  // jobs_schedule, whose (state, priority, ...) order would need every match of the state
+  // sorted by id first; the count, which needs no order, uses that index.
+  static const std::string every_sql = std::string("SELECT ") + kJobColumns +
+                                       " FROM jobs j WHERE j.id < ?1 ORDER BY j.id DESC LIMIT ?2";
+  static const std::string some_sql =
+      std::string("SELECT ") + kJobColumns +
+      " FROM jobs j WHERE j.id < ?6 AND +j.state IN (?1, ?2, ?3, ?4, ?5)"
+      " ORDER BY j.id DESC LIMIT ?7";
+  const int64_t before = query.before_id > 0 ? query.before_id : INT64_MAX;
+  const int64_t rows = int64_t(query.limit) + 1;
+  JobPage page;
+  if (query.states.empty()) {
+    page.jobs = db_.prepare(every_sql)->bind_all(before, rows).rows(read_job);
+    page.total = uint64_t(*db_.prepare("SELECT COUNT(*) FROM jobs")->first_row(read_id));
+  } else {
+    const auto [a, b, c, d, e] = state_slots(query.states);
+    page.jobs = db_.prepare(some_sql)->bind_all(a, b, c, d, e, before, rows).rows(read_job);
+    page.total = uint64_t(*db_.prepare("SELECT COUNT(*) FROM jobs WHERE state IN (?1, ?2, ?3, ?4, ?5)")
+                               ->bind_all(a, b, c, d, e)
+                               .first_row(read_id));
+  }
+  if (page.jobs.size() > query.limit) {
+    page.jobs.pop_back();
+    page.next_before_id = page.jobs.back().id;
+  }
+  return page;
 }
 
 std::optional<JobSpec> JobsTable::spec(int64_t job_id) {

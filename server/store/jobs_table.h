@@ -23,6 +23,21 @@ struct MergedCounts {
   uint64_t nan = 0, inf = 0;      ///< samples the merged results dropped
 };
 
+/// Which jobs a listing asks for (JobService.ListJobs, /api/jobs): newest first, one page.
+struct JobQuery {
+  std::vector<JobState> states;  ///< jobs in any of these states; empty = every state
+  int64_t before_id = 0;         ///< only jobs with a smaller id (a page's cursor); 0 = none
+  uint32_t limit = 1000;         ///< at most this many jobs on the page
+};
+
+/// One page of a listing. A cursor (before_id) is stable while jobs are submitted: a new job
+/// has a larger id, so it never shifts a later page the way it would shift an offset.
+struct JobPage {
+  std::vector<JobRecord> jobs;  ///< newest first
+  uint64_t total = 0;           ///< jobs in the query's states, on every page
+  int64_t next_before_id = 0;   ///< the next page's before_id; 0 when no older job matches
+};
+
 /// Farm-wide sums over the jobs of one state (the dashboard's totals).
 struct JobStateTotals {
   uint64_t jobs = 0, units_done = 0, leases_expired = 0, results_dropped = 0, samples_merged = 0;
@@ -35,8 +50,9 @@ class JobsTable {
   // ---- Reads ---------------------------------------------------------------------------------
   /// The job with its counters and tile summary (contributors are JobContributorsTable's).
   std::optional<JobRecord> get(int64_t job_id);
-  /// Newest first, at most `limit`.
-  std::vector<JobRecord> newest(uint32_t limit);
+  /// The query's page, newest first: walks the primary key down from `before_id`, so a page
+  /// costs its rows whatever the number of jobs; `total` is one COUNT(*) over the states.
+  JobPage page(const JobQuery& query);
   /// The options and bundle hash only (the lease path). nullopt when unknown.
   std::optional<JobSpec> spec(int64_t job_id);
   /// The job's state and bundle hash; nullopt when unknown.
