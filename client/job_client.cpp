@@ -72,11 +72,9 @@ v1::JobInfo JobClient::get(uint64_t job_id) {
   return response;
 }
 
-v1::ListJobsResponse JobClient::list(uint32_t limit) {
+v1::ListJobsResponse JobClient::list(const v1::ListJobsRequest& request) {
   grpc::ClientContext context;
   prepare(context, timeout_);
-  v1::ListJobsRequest request;
-  request.set_limit(limit);
   v1::ListJobsResponse response;
   const grpc::Status status = stub_->ListJobs(&context, request, &response);
   store_damage_ = store_damage_of(context);

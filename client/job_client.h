@@ -29,7 +29,8 @@ class JobClient {
 
   v1::JobInfo submit(const v1::SubmitJobRequest& request);
   v1::JobInfo get(uint64_t job_id);
-  v1::ListJobsResponse list(uint32_t limit);
+  /// One page of ListJobs (job_service.proto): the caller follows next_before_id for more.
+  v1::ListJobsResponse list(const v1::ListJobsRequest& request);
   v1::JobInfo cancel(uint64_t job_id);
   v1::GetImageResponse image(uint64_t job_id, v1::ImageFormat format);
   v1::ListWorkersResponse workers();
