@@ -68,6 +68,45 @@ int64_t job_id_of(const HttpRequest& req) {
   return std::stoll(text);
 }
 
+/// The query parameter `name` as a whole number in [1, max]; `fallback` when absent. Throws
+/// FarmError(invalid_argument) naming the parameter.
+int64_t number_param(const HttpRequest& req, std::string_view name, int64_t max, int64_t fallback) {
+  if (!req.has_param(name)) return fallback;
+  const std::string text = req.param(name);
+  const bool digits = !text.empty() && text.size() <= 18 &&
+                      text.find_first_not_of("0123456789") == std::string::npos;
+  if (!digits || std::stoll(text) < 1 || std::stoll(text) > max) {
+    throw FarmError(ErrorCode::invalid_argument, std::string(name) + " must be 1.." +
+                                                     std::to_string(max) + " (got \"" +
+                                                     printable(text) + "\")");
+  }
+  return std::stoll(text);
+}
+
+/// The listing /api/jobs?limit=N&state=S[,S...]&before=ID asks for (docs/dashboard.md). Throws
+/// FarmError(invalid_argument) naming the parameter.
+JobQuery job_query(const HttpRequest& req) {
+  JobQuery query;
+  query.limit = uint32_t(number_param(req, "limit", 1000, 1000));
+  query.before_id = number_param(req, "before", INT64_MAX, 0);
+  if (req.has_param("state")) {
+    const std::string text = req.param("state");
+    for (size_t begin = 0; begin <= text.size();) {
+      const size_t end = std::min(text.find(',', begin), text.size());
+      const std::string name = text.substr(begin, end - begin);
+      const std::optional<JobState> state = job_state_from_string(name);
+      if (!state) {
+        throw FarmError(ErrorCode::invalid_argument,
+                        "state must be queued, running, done, failed or cancelled, or several "
+                        "with commas (got \"" + printable(name) + "\")");
+      }
+      query.states.push_back(*state);
+      begin = end + 1;
+    }
+  }
+  return query;
+}
+
 }  // namespace
 
 /// Everything the routes share; owned by the routes and their handlers' closures.
@@ -116,11 +155,14 @@ class DashboardApi {
     return j;
   }
 
-  json jobs(uint32_t limit) {
+  json jobs(const JobQuery& query) {
     const int64_t now = coordinator_.clock().now_unix_ms();
+    const JobPage page = coordinator_.jobs(query);
     json list = json::array();
-    for (const JobRecord& job : coordinator_.jobs(limit)) list.push_back(job_summary(job, now));
+    for (const JobRecord& job : page.jobs) list.push_back(job_summary(job, now));
     return json{{"jobs", list},
+                {"total", page.total},
+                {"next_before", page.next_before_id > 0 ? json(page.next_before_id) : json(nullptr)},
                 {"server_time_unix_ms", now},
                 {"token_required", !config_.token.empty()},
                 {"samples_per_s", metrics_.farm_samples_per_s()},
@@ -435,18 +477,7 @@ DashboardRoutes::DashboardRoutes(Coordinator& coordinator, const FarmMetrics& me
   }
 
   add("GET", "/api/jobs", [api](const HttpRequest& req, HttpResponse& res) {
-    api->guarded(res, [&] {
-      uint32_t limit = 1000;
-      if (req.has_param("limit")) {
-        const std::string text = req.param("limit");
-        if (text.empty() || text.size() > 6 || text.find_first_not_of("0123456789") != std::string::npos ||
-            std::stoul(text) == 0) {
-          throw FarmError(ErrorCode::invalid_argument, "limit must be 1..999999 (got \"" + text + "\")");
-        }
-        limit = uint32_t(std::stoul(text));
-      }
-      send_json(res, 200, api->jobs(limit));
-    });
+    api->guarded(res, [&] { send_json(res, 200, api->jobs(job_query(req))); });
   });
   add("GET", R"(/api/jobs/(\d+))", [api](const HttpRequest& req, HttpResponse& res) {
     api->guarded(res, [&] { send_json(res, 200, api->job_detail(job_id_of(req))); });

@@ -1,7 +1,8 @@
 // The dashboard's routes, served by the HTTP front (dashboard/http_server.h); docs/dashboard.md
 // lists them:
 //   GET  /, /dashboard.css, /dashboard.js, /js/*.js  the page (embedded in the binary)
-//   GET  /api/jobs, /api/jobs/{id}             JSON
+//   GET  /api/jobs?limit&state&before          a page of jobs, JSON
+//   GET  /api/jobs/{id}                        JSON
 //   GET  /api/jobs/{id}/preview.png            the merged image so far, sRGB 8-bit
 //   GET  /api/jobs/{id}/image.exr              float32 EXR with provenance
 //   GET  /api/workers                          JSON
