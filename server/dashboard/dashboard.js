@@ -5,7 +5,7 @@ import { $ } from './js/dom.js';
 import { rate } from './js/format.js';
 import { installJobActions, message } from './js/job_actions.js';
 import { clearPreview, renderDetail } from './js/job_detail.js';
-import { installJobsList, renderJobs } from './js/jobs_list.js';
+import { installJobsList, jobsPath, renderJobs, takeJobs } from './js/jobs_list.js';
 import { state } from './js/state.js';
 import { renderStore } from './js/store_banner.js';
 import { installTileMetric } from './js/tile_map.js';
@@ -23,15 +23,19 @@ function renderLists() {
 }
 
 async function refresh() {
-  if (state.busy) return;  // a slow server never piles requests up
-  state.busy = true;
+  // A change asked for while a refresh is under way (a page, a filter, a job) runs once it is
+  // done.
+  if (state.busy) { state.again = true; return; }
+  state.busy = true; state.again = false;
   try {
     // The store's state first and on its own: it needs no query, so it is shown even when a
     // damaged store cannot answer for the jobs or the workers.
     const store = await api('/api/store').catch(() => null);
     if (store) renderStore(store);
-    const [jobs, workers] = await Promise.all([api('/api/jobs'), api('/api/workers')]);
-    state.jobs = jobs.jobs;
+    // One page of jobs (jobs_list.js): the bytes of a poll do not grow with the farm's history.
+    const path = jobsPath();
+    const [jobs, workers] = await Promise.all([api(path), api('/api/workers')]);
+    takeJobs(path, jobs);
     state.workers = workers.workers;
     $('#farm-rate').textContent = `${rate(jobs.samples_per_s)} samples/s`;
     if (state.selected === null && state.jobs.length) {
@@ -49,6 +53,7 @@ async function refresh() {
     $('#conn').textContent = `⚠ ${e.message}`;
   } finally {
     state.busy = false;
+    if (state.again) refresh();
   }
 }
 
@@ -59,11 +64,12 @@ function select(id) {
   refresh();
 }
 
-installJobsList(select);
+installJobsList(select, refresh);
 installJobActions(refresh);
 installTokenForm(refresh);
 installTileMetric();
 const fromHash = /job=(\d+)/.exec(location.hash);
 if (fromHash) state.selected = Number(fromHash[1]);
 refresh();
-state.timer = setInterval(refresh, POLL_MS);
+// A slow server never piles polls up: a tick while a refresh is under way is skipped.
+state.timer = setInterval(() => { if (!state.busy) refresh(); }, POLL_MS);

@@ -6,7 +6,10 @@
 //  2. a farm with 50 jobs and 32 registered workers: every row listed, the page still quick; a
 //     failed job's reason shows above its images; the store's banner while its check runs and
 //     when it found damage (escaped, above the job list);
-//  3. the same page at a phone's viewport: no sideways scrolling of the page.
+//  3. the same page at a phone's viewport: no sideways scrolling of the page;
+//  4. more jobs than a page: the total, Older/Newer by the server's cursor (a job submitted
+//     meanwhile shifts nothing), the state filter, every poll asking for one page, and the
+//     selected job beside its list (above it on a narrower screen).
 // Screenshots go to $ARTIFACTS. Waits are bounded by a generous patience, never timed.
 // Environment: TESSERA_BIN_DIR, TESSERA_SOURCE_DIR, TOOLS_DIR (setup.sh), ARTIFACTS,
 // REGISTER_WORKERS (the tessera_register_workers binary).
@@ -286,6 +289,86 @@ try {
     await small.screenshot({ path: path.join(ARTIFACTS, 'dashboard-phone.png') });
     await small.screenshot({ path: path.join(ARTIFACTS, 'dashboard-phone-full.png'), fullPage: true });
     await phone.close();
+  });
+
+  await test('more jobs than a page: the total, pages, the state filter, the job beside its list', async () => {
+    const farm = await startFarm('pages');
+    const tiny = path.join(SRC, 'tests', 'farm', 'data', 'tiny.json');
+    for (let i = 0; i < 12; i += 6) {
+      await Promise.all([0, 1, 2, 3, 4, 5].map(() => submit(farm, [tiny, '--spp', '8'])));
+    }
+    for (const id of [2, 5, 11]) await run(path.join(BIN, 'tessera'), ['--server', farm.grpc, 'cancel', String(id)]);
+    const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const pageErrors = [];
+    page.on('pageerror', (e) => pageErrors.push(String(e)));
+    const asked = [];
+    page.on('request', (r) => {
+      const url = new URL(r.url());
+      if (url.pathname === '/api/jobs') asked.push(url.searchParams.get('limit'));
+    });
+    const rows = (p) => p.locator('#jobs tbody tr').evaluateAll((trs) => trs.map((tr) => Number(tr.dataset.jobId)));
+    const showing = (p, ids) => until(`rows ${ids}`, async () => JSON.stringify(await rows(p)) === JSON.stringify(ids));
+    const heading = (text) => until(`heading ${text}`, async () => (await page.locator('#job-count').textContent()) === text);
+
+    await page.goto(`${farm.http}/?page=5&poll=200`);
+    await showing(page, [12, 11, 10, 9, 8]);
+    await heading('(5 of 12)');
+    check(await page.locator('#jobs-newer').isDisabled(), 'no newer page than the first');
+    await page.locator('#jobs-older').click();
+    await showing(page, [7, 6, 5, 4, 3]);
+    await page.locator('#jobs-older').click();
+    await showing(page, [2, 1]);
+    check(await page.locator('#jobs-older').isDisabled(), 'no older page than the last');
+    await page.locator('#jobs-newer').click();
+    await showing(page, [7, 6, 5, 4, 3]);
+    // A job submitted meanwhile counts, but this page stays where it was.
+    const newest = await submit(farm, [tiny, '--spp', '8']);
+    await heading('(5 of 13)');
+    await showing(page, [7, 6, 5, 4, 3]);
+    await page.locator('#jobs-newest').click();
+    await showing(page, [newest, 12, 11, 10, 9]);
+
+    await page.locator('#job-filter').selectOption('cancelled');
+    await showing(page, [11, 5, 2]);
+    await heading('(3)');
+    check(await page.locator('#jobs-pager').isHidden(), 'one page: no pager');
+    await page.locator('#job-filter').selectOption('queued,running');
+    await showing(page, [newest, 12, 10, 9, 8]);
+    await heading('(5 of 10)');
+    await page.locator('#job-filter').selectOption('failed');
+    await until('no failed jobs', async () => (await rows(page)).length === 0 &&
+      await page.locator('#no-matching-jobs').isVisible());
+    check(await page.locator('#no-jobs').isHidden(), 'the farm has jobs: no "No jobs yet"');
+    await page.locator('#job-filter').selectOption('');
+    await showing(page, [newest, 12, 11, 10, 9]);
+    check(asked.length > 0 && asked.every((limit) => limit === '5'), `every poll asked for one page (${asked})`);
+
+    // The selected job beside the list, not below its rows.
+    await page.locator('#jobs tr[data-job-id="9"]').click();
+    await page.locator('#detail-id', { hasText: '9' }).waitFor({ timeout: PATIENCE_MS });
+    const list = await page.locator('#jobs-section').boundingBox();
+    const detail = await page.locator('#job-detail').boundingBox();
+    check(detail.x >= list.x + list.width && detail.y < list.y + list.height,
+          `the job beside its list (list ${JSON.stringify(list)}, job ${JSON.stringify(detail)})`);
+    await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard-pages.png') });
+    check(pageErrors.length === 0, `no script errors in the page (${pageErrors.join('; ')})`);
+    await page.close();
+
+    // A narrower screen: the job above its list; the default page, 50 jobs.
+    const narrow = await browser.newPage({ viewport: { width: 900, height: 900 } });
+    const askedNarrow = [];
+    narrow.on('request', (r) => {
+      const url = new URL(r.url());
+      if (url.pathname === '/api/jobs') askedNarrow.push(url.searchParams.get('limit'));
+    });
+    await narrow.goto(`${farm.http}/#job=4`);
+    await narrow.locator('#detail-id', { hasText: '4' }).waitFor({ timeout: PATIENCE_MS });
+    await until('13 rows', async () => (await rows(narrow)).length === 13);
+    const above = await narrow.locator('#job-detail').boundingBox();
+    const table = await narrow.locator('#jobs').boundingBox();
+    check(above.y + above.height <= table.y, 'the job above its list on a narrower screen');
+    check(askedNarrow.length > 0 && askedNarrow.every((limit) => limit === '50'), `pages of 50 (${askedNarrow})`);
+    await narrow.close();
   });
 } finally {
   await browser.close();
