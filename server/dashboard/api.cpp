@@ -162,7 +162,8 @@ class DashboardApi {
     for (const JobRecord& job : page.jobs) list.push_back(job_summary(job, now));
     return json{{"jobs", list},
                 {"total", page.total},
-                {"next_before", page.next_before_id > 0 ? json(page.next_before_id) : json(nullptr)},
+                {"next_before",
+                 page.next_before_id > 0 ? json(page.next_before_id) : json(nullptr)},
                 {"server_time_unix_ms", now},
                 {"token_required", !config_.token.empty()},
                 {"samples_per_s", metrics_.farm_samples_per_s()},

@@ -138,9 +138,10 @@ JobPage JobsTable::page(const JobQuery& query) {
   } else {
     const auto [a, b, c, d, e] = state_slots(query.states);
     page.jobs = db_.prepare(some_sql)->bind_all(a, b, c, d, e, before, rows).rows(read_job);
-    page.total = uint64_t(*db_.prepare("SELECT COUNT(*) FROM jobs WHERE state IN (?1, ?2, ?3, ?4, ?5)")
-                               ->bind_all(a, b, c, d, e)
-                               .first_row(read_id));
+    page.total =
+        uint64_t(*db_.prepare("SELECT COUNT(*) FROM jobs WHERE state IN (?1, ?2, ?3, ?4, ?5)")
+                      ->bind_all(a, b, c, d, e)
+                      .first_row(read_id));
   }
   if (page.jobs.size() > query.limit) {
     page.jobs.pop_back();

@@ -43,7 +43,8 @@ std::vector<uint64_t> submit_tiny_jobs(FarmCluster& farm, int count) {
 /// ListJobs of `request`, which must succeed.
 v1::ListJobsResponse list_jobs(FarmCluster& farm, const v1::ListJobsRequest& request) {
   v1::ListJobsResponse response;
-  const grpc::Status status = farm.jobs().ListJobs(FarmCluster::context().get(), request, &response);
+  const grpc::Status status =
+      farm.jobs().ListJobs(FarmCluster::context().get(), request, &response);
   EXPECT_TRUE(status.ok()) << status.error_message();
   return response;
 }
@@ -143,7 +144,8 @@ TEST_F(JobList, GrpcPagesCoverEveryJobOnceWithTheTotalAndTheStateFilter) {
 
   auto refused = [&](const v1::ListJobsRequest& bad, const std::string& field) {
     v1::ListJobsResponse response;
-    const grpc::Status status = farm_->jobs().ListJobs(FarmCluster::context().get(), bad, &response);
+    const grpc::Status status =
+        farm_->jobs().ListJobs(FarmCluster::context().get(), bad, &response);
     EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << field;
     EXPECT_EQ(status.error_message().rfind(field, 0), 0u) << status.error_message();
   };
