@@ -117,8 +117,8 @@ Command add_list_command(CLI::App& app, GlobalOptions& g) {
   std::vector<std::string> names;
   for (const v1::JobState state : kStates) names.push_back(state_name(state));
   cmd->add_option("--state", o->states,
-                  "Only jobs in this state (queued, running, done, failed, cancelled); "
-                  "repeat it or separate states with commas for several")
+                  "Only jobs in this state; repeat it or separate states with commas for "
+                  "several")
       ->delimiter(',')
       ->check(CLI::IsMember(names));
   add_json_flag(cmd, g);

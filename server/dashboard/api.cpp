@@ -83,14 +83,14 @@ int64_t number_param(const HttpRequest& req, std::string_view name, int64_t max,
   return std::stoll(text);
 }
 
-/// The listing /api/jobs?limit=N&state=S[,S...]&before=ID asks for (docs/dashboard.md). Throws
-/// FarmError(invalid_argument) naming the parameter.
+/// The listing /api/jobs?limit=N&state=S[,S...]&before=ID asks for (docs/dashboard.md); `state`
+/// may also be repeated. Throws FarmError(invalid_argument) naming the parameter.
 JobQuery job_query(const HttpRequest& req) {
   JobQuery query;
   query.limit = uint32_t(number_param(req, "limit", 1000, 1000));
   query.before_id = number_param(req, "before", INT64_MAX, 0);
-  if (req.has_param("state")) {
-    const std::string text = req.param("state");
+  for (const auto& [param, text] : req.params) {
+    if (param != "state") continue;
     for (size_t begin = 0; begin <= text.size();) {
       const size_t end = std::min(text.find(',', begin), text.size());
       const std::string name = text.substr(begin, end - begin);

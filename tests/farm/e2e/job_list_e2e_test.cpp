@@ -167,6 +167,7 @@ TEST_F(JobList, ApiPagesCarryTheTotalAndTheNextCursor) {
   EXPECT_EQ(every_api_page("", 7, 25), newest_first(all_));
   EXPECT_EQ(every_api_page("&state=cancelled", 2, 7), newest_first(cancelled_));
   EXPECT_EQ(every_api_page("&state=queued,cancelled", 10, 25), newest_first(all_));
+  EXPECT_EQ(every_api_page("&state=queued&state=cancelled", 25, 25), newest_first(all_));
   // A page is bounded whatever the number of jobs: at most its limit, at most 1000.
   const json first = get_json("/api/jobs?limit=5");
   EXPECT_EQ(first["jobs"].size(), 5u);
