@@ -144,8 +144,8 @@ JobPage JobsTable::page(const JobQuery& query) {
                       .first_row(read_id));
   }
   if (page.jobs.size() > query.limit) {
-    page.jobs.pop_back();
-    page.next_before_id = page.jobs.back().id;
+    page.jobs.resize(query.limit);
+    if (!page.jobs.empty()) page.next_before_id = page.jobs.back().id;
   }
   return page;
 }

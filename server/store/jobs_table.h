@@ -27,7 +27,7 @@ struct MergedCounts {
 struct JobQuery {
   std::vector<JobState> states;  ///< jobs in any of these states; empty = every state
   int64_t before_id = 0;         ///< only jobs with a smaller id (a page's cursor); 0 = none
-  uint32_t limit = 1000;         ///< at most this many jobs on the page
+  uint32_t limit = 1000;         ///< at most this many jobs on the page, >= 1
 };
 
 /// One page of a listing. A cursor (before_id) is stable while jobs are submitted: a new job
