@@ -50,9 +50,9 @@ class RenderCancellation {
     return cancelled();
   }
 
-  /// For tests: `hook(samples)` runs at every poll, on the polling render thread (concurrently
-  /// from several threads), before the flag is read; it may call cancel(). Set it before the
-  /// render starts.
+  /// For tests, and for a local time budget (worker/local_render.cpp): `hook(samples)` runs at
+  /// every poll, on the polling render thread (concurrently from several threads), before the
+  /// flag is read; it may call cancel(). Set it before the render starts.
   void set_poll_hook(std::function<void(uint64_t samples)> hook) { poll_hook_ = std::move(hook); }
 
  private:
