@@ -14,7 +14,9 @@ namespace tessera {
 ///
 /// - <translate x= y= z=/> (missing ones 0) or <translate value="x, y, z"/>;
 /// - <rotate x= y= z= angle=/> or <rotate value="x, y, z" angle=/>: right-handed rotation by
-///   `angle` degrees about the axis (any non-zero length);
+///   `angle` degrees about the axis; Mitsuba does not normalise the axis, and neither does
+///   this (an axis not of unit length also scales and shears; a note on stderr says so); a
+///   zero axis is refused;
 /// - <scale value="s"/> (uniform), <scale value="x, y, z"/> or <scale x= y= z=/> (missing ones
 ///   1); every factor non-zero;
 /// - <matrix value="16 numbers"/> row-major (the last row 0 0 0 1), or 9 numbers for the linear
@@ -32,7 +34,9 @@ Transform read_mitsuba_transform(const MitsubaElement& transform);
 glm::dmat4 mitsuba_look_at(const glm::dvec3& origin, const glm::dvec3& target,
                            const glm::dvec3& up);
 
-/// Mitsuba's rotation by `angle_deg` degrees about `axis` (normalised here), right-handed.
+/// Mitsuba's rotation matrix for `angle_deg` degrees about `axis`, right-handed: c I + (1 - c)
+/// a a^T + s [a]x with the axis as given, not normalised (drjit's rotate, which Mitsuba 3's
+/// Transform4f::rotate calls with the XML's axis), so a non-unit axis scales and shears too.
 glm::dmat4 mitsuba_rotate(const glm::dvec3& axis, double angle_deg);
 
 }  // namespace tessera
