@@ -101,7 +101,11 @@ struct Film {
   PixelFilter filter;  ///< native default box; the Mitsuba importer's default gaussian 0.5
 };
 
-/// Render defaults the scene file carries; a job may override each of them.
+/// Where Tessera's Russian roulette starts unless the scene says (RenderSettings::rr_depth).
+inline constexpr int kDefaultRrDepth = 3;
+
+/// Render settings the scene file carries; a job may override spp, max_depth and seed
+/// (JobOverrides).
 struct RenderSettings {
   int64_t spp = 64;      ///< samples per pixel, >= 1
   int max_depth = -1;    ///< Mitsuba convention: path segments incl. the camera ray; -1 = unbounded
@@ -109,6 +113,10 @@ struct RenderSettings {
   /// Mitsuba's `hide_emitters`: camera rays pass through area emitters and see no environment;
   /// the emitters' light still reaches every surface (and is seen in mirrors).
   bool hide_emitters = false;
+  /// Russian roulette may end a path from its rr_depth-th scattering event on (1 = the first
+  /// surface the camera ray hits), as Mitsuba's path integrator counts its rr_depth; >= 1.
+  /// Where it starts changes the noise, not the image.
+  int rr_depth = kDefaultRrDepth;
 };
 
 // ---------------------------------------------------------------------------------------------

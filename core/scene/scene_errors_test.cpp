@@ -43,7 +43,8 @@ TEST(SceneErrors, UnknownKeys) {
             "camera.fov_deg: unknown key (the camera has: type, position, look_at, up, fov, "
             "fov_axis, aperture_radius, focus_distance, view_size, view_aspect, medium)");
   EXPECT_EQ(error_of(R"({"tessera": 1, "render": {"spp": 4, "threads": 2}})"),
-            "render.threads: unknown key (render has: spp, max_depth, seed, hide_emitters)");
+            "render.threads: unknown key (render has: spp, max_depth, rr_depth, seed, "
+            "hide_emitters)");
   EXPECT_EQ(
       error_of(scene_with_shapes(R"({"type": "sphere", "material": "white", "colour": [1,0,0]})")),
       "shapes[0].colour: unknown key (a \"sphere\" shape has: type, material, emission, power, "

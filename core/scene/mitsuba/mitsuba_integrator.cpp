@@ -1,5 +1,6 @@
 #include "scene/mitsuba/mitsuba_integrator.h"
 
+#include <algorithm>
 #include <initializer_list>
 #include <limits>
 #include <optional>
@@ -21,6 +22,23 @@ int read_max_depth(MitsubaPlugin& integrator) {
             "must be -1 (unbounded) or >= 1 (got " + std::to_string(*depth) + ")");
   }
   return int(*depth);
+}
+
+/// rr_depth as Tessera counts it (RenderSettings::rr_depth: roulette from that scattering event
+/// on, 1 = the camera ray's hit), from the integrator's rr_depth (> 0, Mitsuba's default 5).
+/// Mitsuba's path applies roulette where depth >= rr_depth after the event, as Tessera does;
+/// volpath, volpathmis and ptracer where depth > rr_depth, one event later. Absent, Tessera's
+/// default (kDefaultRrDepth): where roulette starts changes the noise, not the image.
+int read_rr_depth(MitsubaPlugin& integrator) {
+  std::optional<int64_t> rr_depth = integrator.take_integer("rr_depth");
+  if (!rr_depth) return kDefaultRrDepth;
+  if (*rr_depth <= 0) {
+    fail_at(*integrator.property("rr_depth"),
+            "must be > 0 (got " + std::to_string(*rr_depth) + ")");
+  }
+  // Past 2^31 - 2 no path gets there either.
+  const int depth = int(std::min<int64_t>(*rr_depth, std::numeric_limits<int>::max() - 1));
+  return integrator.type() == "path" ? depth : depth + 1;
 }
 
 /// Mitsuba's projective-sampling integrators read a string option from a fixed set and throw on
@@ -155,7 +173,7 @@ MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& element, const M
   MitsubaIntegrator result;
   if (type == "path" || type == "ptracer" || type == "volpath" || type == "volpathmis") {
     result.max_depth = read_max_depth(integrator);
-    integrator.ignore("rr_depth");
+    result.rr_depth = read_rr_depth(integrator);
     if (type == "ptracer") {
       integrator.ignore("samples_per_pass");
       result.note = "the ptracer integrator is rendered by Tessera's path tracer (the same "

@@ -6,6 +6,7 @@
 
 #include "scene/mitsuba/mitsuba_ids.h"
 #include "scene/mitsuba/mitsuba_xml_document.h"
+#include "scene/scene.h"
 
 namespace tessera {
 
@@ -14,6 +15,8 @@ struct MitsubaIntegrator {
   /// Mitsuba's convention, which Tessera's render.max_depth shares: path segments including the
   /// camera ray, -1 unbounded (the default).
   int max_depth = -1;
+  /// RenderSettings::rr_depth: where Russian roulette starts, as Tessera counts it.
+  int rr_depth = kDefaultRrDepth;
   bool hide_emitters = false;
   /// `direct`: its `emitter_samples` as written (1 when absent, and for the others). With
   /// emitter_samples N > 1 Mitsuba 3.9.1's image of a delta light (point, spot, directional,
@@ -49,10 +52,12 @@ struct MitsubaIntegrator {
 /// - `moment`: its R, G, B are its first nested integrator's picture, read as that integrator
 ///   (any of the above); its AOV channels (X, Y, Z and second moments) are not written, and the
 ///   note says so.
-/// rr_depth is accepted and ignored: Tessera's Russian roulette is unbiased too, so where it
-/// starts changes the noise, not the image. Integrators that make another kind of image (aov,
-/// stokes, depth, ...) or are not Mitsuba 3.9.1's (prbvolpath's gradients) are refused, as are max_depth 0 or < -1, with SceneError
-/// naming the element.
+/// rr_depth (> 0) says where Russian roulette starts, as in Mitsuba (path: from depth rr_depth
+/// on; volpath, volpathmis and ptracer: past it); absent, Tessera's own start (kDefaultRrDepth),
+/// since where it starts changes the noise, not the image; Tessera keeps its own survival
+/// probability. Integrators that make another kind of image (stokes, depth, ...) or are not
+/// Mitsuba 3.9.1's (prbvolpath's gradients) are refused, as are max_depth 0 or < -1 and
+/// rr_depth <= 0, with SceneError naming the element.
 MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& integrator,
                                           const MitsubaIds& ids);
 

@@ -509,6 +509,36 @@ TEST(MitsubaIntegrator, PathDepthAndFlags) {
       std::string::npos);
 }
 
+// rr_depth says where Russian roulette starts (mitsuba-data's bsdf_dielectric_diamond.xml writes
+// 1000: none). Mitsuba's path applies it from depth rr_depth on, volpath, volpathmis and ptracer
+// past it; Tessera's rr_depth counts as path does.
+TEST(MitsubaIntegrator, RrDepthSaysWhereRussianRouletteStarts) {
+  auto rr_depth = [](const std::string& type, const std::string& value) {
+    return parse_xml(mitsuba_scene("<integrator type=\"" + type +
+                                   "\"><integer name=\"rr_depth\" value=\"" + value +
+                                   "\"/></integrator>"))
+        .render.rr_depth;
+  };
+  EXPECT_EQ(rr_depth("path", "1000"), 1000);
+  EXPECT_EQ(rr_depth("path", "1"), 1);
+  EXPECT_EQ(rr_depth("volpath", "1000"), 1001);
+  EXPECT_EQ(rr_depth("volpathmis", "5"), 6);
+  EXPECT_EQ(rr_depth("ptracer", "5"), 6);
+  EXPECT_EQ(rr_depth("path", "99999999999"), 2147483646);
+  EXPECT_EQ(parse_xml(mitsuba_scene(R"(<integrator type="moment"><integrator type="path">
+      <integer name="rr_depth" value="7"/></integrator></integrator>)"))
+                .render.rr_depth,
+            7);
+  // Absent: Tessera's own start (noise only; Mitsuba's default would be 5).
+  EXPECT_EQ(parse_xml(mitsuba_scene(R"(<integrator type="path"/>)")).render.rr_depth,
+            kDefaultRrDepth);
+  EXPECT_EQ(parse_xml(mitsuba_scene("")).render.rr_depth, kDefaultRrDepth);
+  const std::string xml = mitsuba_scene(R"(<integrator type="path">
+      <integer name="rr_depth" value="0"/></integrator>)");
+  EXPECT_EQ(xml_error(xml), "test.xml: line " + std::to_string(line_of(xml, "rr_depth")) +
+                                ": <integer name=\"rr_depth\">: must be > 0 (got 0)");
+}
+
 // moment's R, G, B are its first nested integrator's picture (Mitsuba 3.9.1: bit for bit that
 // integrator's image alone, same seed); its AOV channels are not written.
 TEST(MitsubaIntegrator, MomentRendersItsFirstNestedIntegrator) {

@@ -84,6 +84,7 @@ class SceneBuilder {
     result.render.spp = sensor_->spp;
     result.render.seed = sensor_->seed;
     result.render.max_depth = integrator_.max_depth;
+    result.render.rr_depth = integrator_.rr_depth;
     result.render.hide_emitters = integrator_.hide_emitters;
     result.textures = textures_.take();
     result.groups = std::move(groups_);

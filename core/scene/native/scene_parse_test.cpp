@@ -20,6 +20,7 @@ TEST(SceneParse, MinimalSceneHasDocumentedDefaults) {
   EXPECT_EQ(scene.film.height, 256);
   EXPECT_EQ(scene.render.spp, 64);
   EXPECT_EQ(scene.render.max_depth, -1);
+  EXPECT_EQ(scene.render.rr_depth, 3);
   EXPECT_EQ(scene.render.seed, 0u);
   EXPECT_EQ(scene.camera.fov_axis, FovAxis::x);
   EXPECT_EQ(scene.camera.aperture_radius, 0);
@@ -144,6 +145,15 @@ TEST(SceneParse, FilmAndRenderConstraints) {
   EXPECT_EQ(parse(R"({"tessera": 1, "render": {"seed": 18446744073709551615}})").render.seed,
             18446744073709551615u);
   EXPECT_EQ(parse(R"({"tessera": 1, "render": {"max_depth": 1}})").render.max_depth, 1);
+}
+
+TEST(SceneParse, RrDepthSaysWhereRussianRouletteStarts) {
+  EXPECT_EQ(parse(R"({"tessera": 1, "render": {"rr_depth": 1}})").render.rr_depth, 1);
+  EXPECT_EQ(parse(R"({"tessera": 1, "render": {"rr_depth": 1000}})").render.rr_depth, 1000);
+  EXPECT_EQ(error_of(R"({"tessera": 1, "render": {"rr_depth": 0}})"),
+            "render.rr_depth: must be in [1, 2147483647] (got 0)");
+  EXPECT_EQ(error_of(R"({"tessera": 1, "render": {"rr_depth": 2.5}})"),
+            "render.rr_depth: must be an integer (got 2.5)");
 }
 
 TEST(SceneParse, FormatVersion) {

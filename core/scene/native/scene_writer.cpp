@@ -714,6 +714,7 @@ std::string write_scene_json(const Scene& scene, const std::string& comment) {
   out += film_json(scene.film);
   out += "  \"render\": {\"spp\": " + std::to_string(scene.render.spp) +
          ", \"max_depth\": " + std::to_string(scene.render.max_depth) +
+         ", \"rr_depth\": " + std::to_string(scene.render.rr_depth) +
          ", \"seed\": " + std::to_string(scene.render.seed) +
          ", \"hide_emitters\": " + bool_text(scene.render.hide_emitters) + "},\n";
   out += "  \"textures\": " + block(scene.textures.size(), '{', '}', [&](size_t i) {

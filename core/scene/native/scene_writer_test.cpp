@@ -180,6 +180,7 @@ void expect_same_scene(const Scene& a, const Scene& b) {
   EXPECT_EQ(a.film.height, b.film.height);
   EXPECT_EQ(a.render.spp, b.render.spp);
   EXPECT_EQ(a.render.max_depth, b.render.max_depth);
+  EXPECT_EQ(a.render.rr_depth, b.render.rr_depth);
   EXPECT_EQ(a.render.seed, b.render.seed);
   EXPECT_EQ(a.film.filter.kind, b.film.filter.kind);
   EXPECT_TRUE(same_bits(a.film.filter.radius, b.film.filter.radius));
@@ -379,6 +380,7 @@ Scene full_model_scene() {
   Scene s;
   s.film.filter = {FilterKind::gaussian, 1.7000000000000002, 0.4};
   s.render.hide_emitters = true;
+  s.render.rr_depth = 1000;
   Texture wood;
   wood.name = "wood";
   wood.file = "tex/wood.png";

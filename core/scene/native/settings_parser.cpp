@@ -165,7 +165,7 @@ Film parse_film(const JsonValue& value) {
 }
 
 RenderSettings parse_render(const JsonValue& value) {
-  value.expect_object({"spp", "max_depth", "seed", "hide_emitters"}, "render");
+  value.expect_object({"spp", "max_depth", "rr_depth", "seed", "hide_emitters"}, "render");
   RenderSettings render;
   if (std::optional<JsonValue> spp = value.find("spp")) {
     render.spp = spp->integer(1, std::numeric_limits<int64_t>::max());
@@ -177,6 +177,9 @@ RenderSettings parse_render(const JsonValue& value) {
       depth->fail("must be -1 (unbounded) or >= 1 (got " + std::to_string(d) + ")");
     }
     render.max_depth = int(d);
+  }
+  if (std::optional<JsonValue> rr = value.find("rr_depth")) {
+    render.rr_depth = int(rr->integer(1, std::numeric_limits<int>::max()));
   }
   if (std::optional<JsonValue> seed = value.find("seed")) render.seed = seed->unsigned_integer();
   render.hide_emitters = value.boolean_or("hide_emitters", false);

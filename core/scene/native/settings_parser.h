@@ -16,7 +16,8 @@ Camera parse_camera(const JsonValue& value);
 Film parse_film(const JsonValue& value);
 
 /// "render": spp (integer >= 1, default 64), max_depth (-1 = unbounded, the default, or >= 1),
-/// seed (integer >= 0, default 0).
+/// rr_depth (integer >= 1, default kDefaultRrDepth), seed (integer >= 0, default 0),
+/// hide_emitters (default false).
 RenderSettings parse_render(const JsonValue& value);
 
 }  // namespace tessera

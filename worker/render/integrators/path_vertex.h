@@ -36,8 +36,6 @@ inline TexturePoint texture_point(const Hit& hit) {
 /// an independent hash it raised cornell-sphere's 64-spp RMSE by 8 % (0.0410 -> 0.0438, seeds
 /// 0-2; docs/renderer.md, "BSDFs").
 constexpr uint32_t kPairsPerVertex = 4;
-/// Russian roulette starts at this vertex (0 = the camera ray's hit).
-constexpr int kRouletteVertex = 3;
 constexpr float kMaxSurvival = 0.95f;
 /// Roulette spares this many consecutive delta vertices (mirror, smooth glass): a specular
 /// vertex does not branch, and light through glass onto a diffuse point (the caustic paths,
@@ -612,9 +610,11 @@ struct Scatter {
 ///
 /// Lambertian surfaces get next-event estimation (one emitter chosen by power, one point on it
 /// by area, one shadow ray) plus a cosine-weighted bounce; other BSDFs combine both strategies
-/// by multiple importance sampling. Russian roulette from the third bounce on, survival
-/// min(max(beta * eta^2), 0.95), except at the first kFreeSpecularVertices delta vertices in a
-/// row: unbiased, and a path trapped by total internal reflection still ends. `max_depth`
+/// by multiple importance sampling. Russian roulette from the scene's rr_depth-th vertex on
+/// (vertex + 1 >= rr_depth, as Mitsuba's path integrator counts; the third by default),
+/// survival min(max(beta * eta^2), 0.95), except at the first kFreeSpecularVertices delta
+/// vertices in a row: unbiased, and a path trapped by total internal reflection still ends.
+/// `max_depth`
 /// follows Mitsuba (path segments including the camera ray; -1 = unbounded).
 ///
 /// Inlined into both integrators' loops (trace_path in integrator.cpp, the wavefront's lane
@@ -668,7 +668,7 @@ struct Scatter {
                         .init_mixture = init_mixture,
                         .light_importance = light_importance,
                         .pair = kCameraPairs + kPairsPerVertex * uint32_t(vertex),
-                        .roulette = vertex + 1 >= kRouletteVertex,
+                        .roulette = vertex + 1 >= scene.rr_depth(),
                         .have_lights = !scene.lights().empty()};
   const RenderMaterial* m = &scene.material(g.material);
 

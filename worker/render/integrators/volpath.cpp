@@ -12,9 +12,6 @@
 namespace tessera {
 namespace {
 
-/// Russian roulette starts at this scattering event (counted from 1), as trace_path starts it
-/// at its third vertex.
-constexpr int kVolumeRouletteDepth = 3;
 constexpr double kVolumeMaxSurvival = 0.95;
 
 double max_channel(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
@@ -104,9 +101,12 @@ glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth
   float prev_pdf = 0;        // direction density of the last scattering event
   SurfacePoint prev_sp{};    // where it was (ng 0 for a medium point)
   double eta_scale = 1;
+  // Russian roulette starts at the scene's rr_depth-th scattering event (counted from 1), as
+  // trace_path starts it at its rr_depth-th vertex.
+  const int rr_depth = scene.rr_depth();
 
   auto roulette = [&](float u) {
-    if (depth < kVolumeRouletteDepth) return true;
+    if (depth < rr_depth) return true;
     const double survival = std::min(max_channel(beta) * eta_scale, kVolumeMaxSurvival);
     if (!(double(u) < survival)) return false;
     beta /= survival;

@@ -34,7 +34,8 @@ inline constexpr int kMaxShadowCrossings = 256;
 /// BSDFs and masks passed, a thindielectric's straight transmission) neither count toward
 /// max_depth nor change the MIS state, as in Mitsuba's volpath; shadow rays pass through them,
 /// weighed by their transmission, and through media, weighed by the transmittance. Russian
-/// roulette after the third scattering event, survival min(max(beta) eta^2, 0.95).
+/// roulette from the scene's rr_depth-th scattering event on (the third by default), survival
+/// min(max(beta) eta^2, 0.95).
 /// Returns the estimate; NaN/Inf are left for the caller to count.
 glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth, PixelSampler& sampler,
                              PathCounters& counters);

@@ -59,7 +59,8 @@ glm::vec3 transform_vector(const glm::mat4& m, glm::vec3 v) { return glm::mat3(m
 
 TraceableScene::TraceableScene(const Scene& scene, int width, int height, const std::string& isa,
                                const FileReader& reader)
-    : camera_(scene.camera, width, height), hide_emitters_(scene.render.hide_emitters) {
+    : camera_(scene.camera, width, height), hide_emitters_(scene.render.hide_emitters),
+      rr_depth_(scene.render.rr_depth) {
   // Embree's objects are plain handles: when building fails, release what was made, since the
   // destructor does not run for an object that was never constructed.
   try {

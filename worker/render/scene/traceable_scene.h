@@ -92,6 +92,8 @@ class TraceableScene {
   }
   /// Mitsuba's hide_emitters (RenderSettings).
   bool hide_emitters() const { return hide_emitters_; }
+  /// The scattering event Russian roulette starts at, 1 = the camera ray's hit (RenderSettings).
+  int rr_depth() const { return rr_depth_; }
   /// Whether hits carry uv, dpdu and dpdv (only when the scene uses them).
   bool has_uv() const { return need_uv_; }
   /// The instruction set Embree runs with.
@@ -150,6 +152,7 @@ class TraceableScene {
   SpecularTargets specular_targets_;
   CausticGuide caustic_guide_;
   bool hide_emitters_ = false;
+  int rr_depth_ = kDefaultRrDepth;
   std::vector<RenderMedium> media_;
   std::vector<glm::ivec2> medium_sides_;  ///< per top-level geometry; empty without media
   int32_t camera_medium_ = -1;
