@@ -165,7 +165,54 @@ MitsubaIntegrator read_aov(MitsubaPlugin& integrator, const MitsubaIds& ids) {
   return result;
 }
 
+/// Whether Mitsuba's particle tracer cannot show the camera this material's surface or what lies
+/// behind it (mitsuba_ptracer_note).
+bool hidden_from_particle_tracer(const Material& m) {
+  switch (m.type) {
+    case MaterialType::mirror:
+    case MaterialType::glass:
+    case MaterialType::conductor:
+    case MaterialType::thin_glass:
+    case MaterialType::plastic:
+    case MaterialType::polarizer:
+      return true;
+    default:
+      break;
+  }
+  if (!m.opacity.is_constant() || m.opacity.value < 1) return true;  // mask or null BSDF
+  return std::any_of(m.blend.begin(), m.blend.end(), hidden_from_particle_tracer);
+}
+
 }  // namespace
+
+std::string mitsuba_ptracer_note(const Scene& scene) {
+  std::vector<bool> used(scene.materials.size(), false);
+  auto use = [&](uint32_t index) {
+    if (index >= used.size() || used[index]) return;
+    used[index] = true;
+    const int32_t back = scene.materials[index].back;
+    if (back >= 0 && size_t(back) < used.size()) used[size_t(back)] = true;
+  };
+  // Instances name no material; their groups' shapes do.
+  for (const Shape& shape : scene.shapes) {
+    if (shape.kind != Shape::Kind::instance) use(shape.material);
+  }
+  for (const ShapeGroup& group : scene.groups) {
+    for (const Shape& shape : group.shapes) use(shape.material);
+  }
+  std::string names;
+  for (size_t i = 0; i < used.size(); ++i) {
+    if (!used[i] || !hidden_from_particle_tracer(scene.materials[i])) continue;
+    names += (names.empty() ? "\"" : ", \"") + printable(scene.materials[i].name) + "\"";
+  }
+  if (names.empty()) return "the same image (the scene has no smooth or see-through surface)";
+  return "not the same image on the smooth or see-through surfaces the camera sees, directly or "
+         "through other smooth ones: Mitsuba's particle tracer cannot connect them to the camera "
+         "(a smooth lobe has no value toward it; a see-through surface blocks the connection), "
+         "so it leaves them black (smooth plastic: its diffuse base only) where Tessera renders "
+         "them lit; such materials here: " +
+         names;
+}
 
 MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& element, const MitsubaIds& ids) {
   MitsubaPlugin integrator(element, ids);
@@ -176,8 +223,8 @@ MitsubaIntegrator read_mitsuba_integrator(const MitsubaElement& element, const M
     result.rr_depth = read_rr_depth(integrator);
     if (type == "ptracer") {
       integrator.ignore("samples_per_pass");
-      result.note = "the ptracer integrator is rendered by Tessera's path tracer (the same "
-                    "image, other noise)";
+      result.particle_tracer = true;
+      result.note = "the ptracer integrator is rendered by Tessera's path tracer (other noise)";
     } else if (type == "volpath" || type == "volpathmis") {
       // volpathmis weighs its spectral free-flight strategies by MIS: the same image as volpath.
       if (type == "volpathmis") integrator.ignore("use_spectral_mis");

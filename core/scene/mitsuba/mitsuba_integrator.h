@@ -31,13 +31,28 @@ struct MitsubaIntegrator {
   /// `volpath` and `volpathmis` (also nested in `moment`): they render the scene's media;
   /// Mitsuba's other integrators ignore media (the loader then leaves them out).
   bool volumetric = false;
+  /// `ptracer` (also nested in moment or aov): the loader adds to the note what of this scene
+  /// Mitsuba's particle tracer leaves black (mitsuba_ptracer_note).
+  bool particle_tracer = false;
   /// For an integrator Tessera renders as `path`: a line saying so ("" for path itself).
   std::string note;
 };
 
+/// What the image of Mitsuba's particle tracer (ptracer) lacks in `scene`, for the note of a
+/// scene rendered by Tessera's path tracer in its place. The particle tracer connects each
+/// surface it reaches to the camera by a shadow ray and the BSDF's value toward it: a smooth
+/// (delta) lobe has none, and a see-through surface (null BSDF, mask, thindielectric's straight
+/// transmission, polarizer) blocks the shadow ray. So what the camera sees on a smooth or
+/// see-through surface, or through a chain of them, is black in Mitsuba (smooth plastic shows
+/// its diffuse base only), and lit in Tessera. Names the materials of the scene's shapes that
+/// are such surfaces (smooth dielectric, conductor, plastic, thindielectric, polarizer, masks,
+/// null, and blends or two-sided backs holding one), or says the image is the same when none is.
+std::string mitsuba_ptracer_note(const Scene& scene);
+
 /// Reads an integrator whose image is the one Tessera's path tracer makes:
 /// - `path`: max_depth, rr_depth, hide_emitters;
-/// - `ptracer` (light tracing: the same image, other noise): max_depth, rr_depth,
+/// - `ptracer` (light tracing: other noise, and the same image but where the camera sees
+///   smooth or see-through surfaces, mitsuba_ptracer_note): max_depth, rr_depth,
 ///   hide_emitters; samples_per_pass accepted;
 /// - `volpath` and `volpathmis` (media/volpath.h renders their image; without media the same
 ///   as path): max_depth, rr_depth, hide_emitters; volpathmis's use_spectral_mis changes noise

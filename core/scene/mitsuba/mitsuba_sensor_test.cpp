@@ -509,6 +509,48 @@ TEST(MitsubaIntegrator, PathDepthAndFlags) {
       std::string::npos);
 }
 
+// Mitsuba's ptracer connects each surface it reaches to the camera: a smooth lobe has no value
+// toward it and a see-through surface blocks the connection, so smooth glass and mirrors the
+// camera sees are black there. The note names the scene's such materials, and only then says
+// the images differ.
+TEST(MitsubaIntegrator, PtracerNoteNamesTheSmoothSurfacesItCannotShow) {
+  auto note = [](const std::string& shapes) {
+    ::testing::internal::CaptureStderr();
+    parse_xml(mitsuba_scene(R"(<integrator type="ptracer"/>)" + shapes));
+    return ::testing::internal::GetCapturedStderr();
+  };
+  const std::string diffuse = note(R"(<shape type="sphere"><bsdf type="diffuse"/></shape>
+      <shape type="rectangle"><bsdf type="roughconductor"/></shape>)");
+  EXPECT_NE(diffuse.find("the ptracer integrator is rendered by Tessera's path tracer (other "
+                         "noise); the same image (the scene has no smooth or see-through "
+                         "surface)"),
+            std::string::npos)
+      << diffuse;
+  EXPECT_EQ(diffuse.find("black"), std::string::npos) << diffuse;
+  const std::string smooth = note(R"(<bsdf type="dielectric" id="glass"/>
+      <shape type="sphere"><ref id="glass"/></shape>
+      <shape type="rectangle"><bsdf type="conductor"/></shape>
+      <shape type="cube"><bsdf type="diffuse" id="unused_by_the_note"/></shape>)");
+  EXPECT_NE(smooth.find("(other noise); not the same image on the smooth or see-through "
+                        "surfaces the camera sees, directly or through other smooth ones"),
+            std::string::npos)
+      << smooth;
+  EXPECT_NE(smooth.find("so it leaves them black"), std::string::npos) << smooth;
+  EXPECT_NE(smooth.find("such materials here: \"glass\", \"conductor (test.xml line "),
+            std::string::npos)
+      << smooth;
+  EXPECT_EQ(smooth.find("unused_by_the_note"), std::string::npos) << smooth;
+  // See-through surfaces block the particle tracer's connection to the camera too; a path
+  // integrator gets no such note.
+  EXPECT_NE(note(R"(<shape type="rectangle"><bsdf type="mask" id="leaf"><bsdf type="diffuse"/>
+      </bsdf></shape>)").find("such materials here: \"leaf\""),
+            std::string::npos);
+  ::testing::internal::CaptureStderr();
+  parse_xml(mitsuba_scene(R"(<integrator type="path"/><shape type="sphere">
+      <bsdf type="dielectric"/></shape>)"));
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+}
+
 // rr_depth says where Russian roulette starts (mitsuba-data's bsdf_dielectric_diamond.xml writes
 // 1000: none). Mitsuba's path applies it from depth rr_depth on, volpath, volpathmis and ptracer
 // past it; Tessera's rr_depth counts as path does.

@@ -92,6 +92,7 @@ class SceneBuilder {
     result.referenced_files = std::move(referenced_);
     check_mesh_attribute_use(result);
     check_volume_texture_use(result);
+    if (integrator_.particle_tracer) integrator_.note += "; " + mitsuba_ptracer_note(result);
     if (!integrator_.note.empty()) {
       std::fprintf(stderr, "note: %s: line %d: %s\n", integrator_element_->file.c_str(),
                    integrator_element_->line, integrator_.note.c_str());
