@@ -7,8 +7,9 @@
 #
 # For each round and each SERVER_BIN (alternating): a new store, exec to the port file (the
 # server writes it last, after both listeners are up), then the CPU time of the process so far:
-# utime+stime of /proc/PID/stat (10 ms ticks) and the sum over its threads of
-# /proc/PID/task/*/schedstat (ns). Prints one line per start, then the medians.
+# utime+stime of /proc/PID/stat (10 ms ticks; threads that have ended included) and the sum over
+# its live threads of /proc/PID/task/*/schedstat (ns; finer, but blind to a thread that has ended,
+# such as the server's image module loader). Prints one line per start, then the medians.
 set -euo pipefail
 rounds=${1:?usage: startup_cpu.sh ROUNDS SERVER_BIN...}
 shift
@@ -41,7 +42,8 @@ for round in $(seq "$rounds"); do
 done | tee "$tmp/lines"
 for s in "$@"; do
   wall=$(grep -F "$s round" "$tmp/lines" | awk '{print $5}' | sort -g | awk '{v[NR]=$1} END {print v[int((NR+1)/2)]}')
-  cpu=$(grep -F "$s round" "$tmp/lines" | awk '{print $11}' | sort -g | awk '{v[NR]=$1} END {print v[int((NR+1)/2)]}')
-  echo "$s: median wall $wall s, median cpu (schedstat) $cpu s over $rounds starts"
+  cpu=$(grep -F "$s round" "$tmp/lines" | awk '{print $8}' | sort -g | awk '{v[NR]=$1} END {print v[int((NR+1)/2)]}')
+  live=$(grep -F "$s round" "$tmp/lines" | awk '{print $11}' | sort -g | awk '{v[NR]=$1} END {print v[int((NR+1)/2)]}')
+  echo "$s: median wall $wall s, median cpu $cpu s (stat; live threads' schedstat $live s) over $rounds starts"
 done
 echo "load: $(cat /proc/loadavg)"
