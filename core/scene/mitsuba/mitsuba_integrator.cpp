@@ -4,12 +4,13 @@
 #include <initializer_list>
 #include <limits>
 #include <optional>
-#include <vector>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "scene/mitsuba/mitsuba_plugin.h"
 #include "scene/mitsuba/mitsuba_values.h"
+#include "scene/native/json_value.h"
 
 namespace tessera {
 namespace {
