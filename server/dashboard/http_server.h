@@ -63,7 +63,7 @@ class DashboardServer {
   /// seconds at most), and joins. Idempotent.
   void stop();
 
-  class Listener;  ///< the sockets, threads and limits (http_server.cpp)
+  class Listener;  ///< the sockets, threads and limits (http_listener.h)
 
  private:
   Coordinator& coordinator_;
