@@ -11,7 +11,7 @@ namespace tessera::farm {
 /// Delays between attempts to reach the server: 100 ms doubling up to a cap of 2 s, each drawn
 /// in [80 %, 100 %] of its step so that many workers do not retry in lockstep. The cap bounds how
 /// long a worker stays idle after the server comes back: at most 2 s after the outage ends
-/// (tests/farm/backoff_test.cpp, on a fake clock).
+/// (backoff_test.cpp, on a fake clock).
 class Backoff {
  public:
   static constexpr std::chrono::milliseconds kInitial{100};

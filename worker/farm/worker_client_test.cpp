@@ -1,6 +1,6 @@
 // The worker's channel carries the reconnect caps docs/farm.md promises ("Server restart"): gRPC
 // tries the server again at least every 1.2 s, inside the worker's 2 s (backoff.h, whose
-// sequence tests/farm/backoff_test.cpp checks); and the worker's pause between two tries ends
+// sequence backoff_test.cpp checks); and the worker's pause between two tries ends
 // when a server answers on the channel, not at the end of its backoff.
 #include "worker_client.h"
 
