@@ -30,9 +30,13 @@ std::vector<double> powers_of(const Lights& lights, double scene_radius) {
 }
 
 /// Each light's bounds for picking by importance at a point. Lights at infinity weigh their
-/// power through the scene's disc divided by r^2 (an irradiance, as phi / d^2 of the others
-/// is); spot and projector lights are placed like point lights with their own power, with no
-/// bound on their direction (positive wherever they may shine).
+/// power through the scene's disc divided by r^2 (4 pi^2 L for a constant one: 4 pi times the
+/// irradiance bound pi L, as phi / d^2 = 4 pi I / d^2 of a point light is 4 pi times its
+/// irradiance); spot lights weigh as the point light of their intensity, within their cone
+/// only (SpotLight::bounds): weighed by their power instead, a narrow spot's 2 pi (1 - cos) I
+/// made a dim environment outweigh it where it shines. Projector lights are placed like point
+/// lights with their own power, with no bound on their direction (positive wherever they may
+/// shine).
 template <class Lights>
 std::vector<LightBounds> bounds_of(const Lights& lights, const std::vector<Light>& descriptions,
                                    uint32_t area_count, double scene_radius) {
@@ -43,7 +47,7 @@ std::vector<LightBounds> bounds_of(const Lights& lights, const std::vector<Light
         [&](const auto& l) -> LightBounds {
           using T = std::decay_t<decltype(l)>;
           LightBounds b;
-          if constexpr (std::is_same_v<T, AreaLight>) {
+          if constexpr (std::is_same_v<T, AreaLight> || std::is_same_v<T, SpotLight>) {
             b = l.bounds();
           } else if constexpr (std::is_same_v<T, DirectionalLight> ||
                                std::is_same_v<T, ConstantLight> ||

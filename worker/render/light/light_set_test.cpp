@@ -1,6 +1,7 @@
 // The light set: picking by importance at the point (nearer lights more often, none that
 // cannot reach the point, every one that can), the pick probability in every pdf, pdf_area and
-// pdf_environment against sample(), the environment mixture (chi-square), bad lights.
+// pdf_environment against sample(), the environment mixture (chi-square), spot lights beside an
+// environment, bad lights.
 #include "render/light/light_set.h"
 
 #include <gtest/gtest.h>
@@ -14,6 +15,7 @@
 #include <string>
 
 #include "render/light/light_test_support.h"
+#include "render/sampling/warp.h"
 #include "scene/scene_error.h"
 
 namespace tessera {
@@ -298,6 +300,81 @@ TEST(LightSet, EstimatesTheIrradianceOfEveryLightTogether) {
   }
   const double mean = sum / count, se = std::sqrt((sum2 / count - mean * mean) / count);
   EXPECT_NEAR(mean, expected, 5 * se + 1e-3 * expected) << "se " << se;
+}
+
+/// A spot light of intensity `intensity` at (0, 0, 5) shining down -z, beam 20 and cutoff 30
+/// degrees.
+Light spot_down(glm::dvec3 intensity) {
+  glm::dmat4 to_world = glm::translate(glm::dmat4(1.0), {0, 0, 5});
+  to_world = glm::rotate(to_world, glm::radians(180.0), glm::dvec3(1, 0, 0));
+  Light l = light_of(LightKind::spot, intensity, to_world);
+  l.cutoff_angle_deg = 30;
+  l.beam_width_deg = 20;
+  return l;
+}
+
+/// The point on z = 0 seen from the spot_down light at `theta_deg` off its axis (normal +z).
+SurfacePoint below_spot(double theta_deg) {
+  return {{float(5 * std::tan(glm::radians(theta_deg))), 0.0f, 0.0f}, {0, 0, 0}, {0, 0, 1}};
+}
+
+TEST(LightSet, ASpotLightWeighsAsThePointLightOfItsIntensityInsideItsCone) {
+  // Beside a dim constant environment, a narrow spot must keep the pick probability a point
+  // light of its intensity would have where it shines (the two weighed by their irradiance
+  // bounds, I / d^2 against pi L; weighed by its power, 2 pi (1 - cos) I, the spot got 6 % of
+  // the picks below it), and none where it cannot shine, where the environment gets them all.
+  const glm::dvec3 intensity(10, 10, 10);
+  const Light point = light_of(LightKind::point, intensity, glm::translate(glm::dmat4(1.0), {0, 0, 5}));
+  const Light constant = light_of(LightKind::constant, {0.1, 0.1, 0.1});
+  const LightSet with_spot({}, {spot_down(intensity), constant}, test::reader_of("x", ""),
+                           kNoTextures, 5.0f);
+  const LightSet with_point({}, {point, constant}, test::reader_of("x", ""), kNoTextures, 5.0f);
+  const float constant_pdf = 1.0f / (4.0f * kPi);  // uniform over the sphere
+  const glm::vec3 up(0, 0, 1);
+  const auto environment_pick = [&](const LightSet& set, double theta_deg) {
+    return set.pdf_environment(below_spot(theta_deg), up) / constant_pdf;
+  };
+  for (const double theta : {0.0, 10.0, 19.0}) {
+    EXPECT_NEAR(environment_pick(with_spot, theta), environment_pick(with_point, theta), 1e-5f)
+        << "theta " << theta;
+  }
+  const double irradiance_spot = 10.0 / 25.0, irradiance_constant = M_PI * 0.1;
+  EXPECT_NEAR(environment_pick(with_spot, 0.0),
+              irradiance_constant / (irradiance_spot + irradiance_constant), 1e-5);
+  // On the ramp to the cutoff: still picked; beyond it (past the slack): never.
+  EXPECT_LT(environment_pick(with_spot, 29.0), 1.0f);
+  EXPECT_NEAR(environment_pick(with_spot, 31.0), 1.0f, 1e-6f);
+  EXPECT_NEAR(environment_pick(with_spot, 60.0), 1.0f, 1e-6f);
+  test::UniformFloats u(27);
+  for (int i = 0; i < 200; ++i) {
+    EXPECT_FALSE(with_spot.sample(below_spot(31.0), u.next(), u.next2()).delta);
+  }
+}
+
+TEST(LightSet, EstimatesASpotLightAndTheEnvironmentTogether) {
+  // E[radiance * cos / pdf] over sample() is the spot's I falloff cos / d^2 plus the
+  // constant's pi L, inside the beam, on the ramp and outside the cone.
+  const LightSet set({}, {spot_down({10, 10, 10}), light_of(LightKind::constant, {0.1, 0.1, 0.1})},
+                     test::reader_of("x", ""), kNoTextures, 5.0f);
+  const glm::dvec3 n(0, 0, 1);
+  for (const double theta : {5.0, 25.0, 40.0}) {
+    const SurfacePoint ref = below_spot(theta);
+    const double d = 5 / std::cos(glm::radians(theta));
+    const double falloff = theta <= 20 ? 1.0 : theta >= 30 ? 0.0 : (30 - theta) / 10;
+    const double expected = 10 * falloff * std::cos(glm::radians(theta)) / (d * d) + M_PI * 0.1;
+    test::UniformFloats u(28);
+    const int count = 100000;
+    double sum = 0, sum2 = 0;
+    for (int i = 0; i < count; ++i) {
+      const LightSample s = set.sample(ref, u.next(), u.next2());
+      if (!(s.pdf > 0)) continue;
+      const double f = double(s.radiance.y) * std::max(0.0, glm::dot(glm::dvec3(s.wi), n)) / s.pdf;
+      sum += f;
+      sum2 += f * f;
+    }
+    const double mean = sum / count, se = std::sqrt((sum2 / count - mean * mean) / count);
+    EXPECT_NEAR(mean, expected, 5 * se + 1e-4 * expected) << "theta " << theta << ", se " << se;
+  }
 }
 
 TEST(LightSet, NonEmittersGiveNothing) {

@@ -92,4 +92,14 @@ double SpotLight::power() const {
          double(kPi) * ((1.0 - cos_beam) + (cos_beam - cos_cutoff) / 2.0);
 }
 
+LightBounds SpotLight::bounds() const {
+  LightBounds b;
+  b.center = position_;
+  b.phi = 4.0 * double(kPi) * luminance(intensity_.x, intensity_.y, intensity_.z) * texture_mean_;
+  b.w = glm::normalize(glm::inverse(world_to_local_) * glm::vec3(0.0f, 0.0f, 1.0f));
+  b.cos_theta_o = cos_beam_;
+  b.cos_theta_e = std::cos(cutoff_rad_ - beam_rad_);
+  return b;
+}
+
 }  // namespace tessera

@@ -8,6 +8,7 @@
 #include <glm/vec3.hpp>
 
 #include "render/light/area_light.h"
+#include "render/light/light_bounds.h"
 #include "render/light/light_sample.h"
 #include "scene/scene.h"
 
@@ -35,6 +36,12 @@ class SpotLight {
   /// the texture's mean luminance over the disc the cone covers (a 64 x 64 grid of lookups).
   /// Only the light picker uses it: an approximation changes noise, never the expected image.
   double power() const;
+  /// What the light picker weighs it by (pbrt-v4's SpotLight::Bounds): a point light of its
+  /// intensity (phi = 4 pi I, luminance, times the texture's mean, as power() has it) whose
+  /// normals fill the beam (theta_o = beam_width) and which emits up to cutoff - beam_width
+  /// beyond them, so that its importance is 0 only where the falloff is, and a dim light
+  /// elsewhere in the scene cannot outweigh it inside its beam.
+  LightBounds bounds() const;
 
  private:
   glm::vec3 position_;
