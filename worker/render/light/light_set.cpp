@@ -34,9 +34,8 @@ std::vector<double> powers_of(const Lights& lights, double scene_radius) {
 /// irradiance bound pi L, as phi / d^2 = 4 pi I / d^2 of a point light is 4 pi times its
 /// irradiance); spot lights weigh as the point light of their intensity, within their cone
 /// only (SpotLight::bounds): weighed by their power instead, a narrow spot's 2 pi (1 - cos) I
-/// made a dim environment outweigh it where it shines. Projector lights are placed like point
-/// lights with their own power, with no bound on their direction (positive wherever they may
-/// shine).
+/// made a dim environment outweigh it where it shines. Projector lights likewise, within the
+/// cone through their image's corners (ProjectorLight::bounds).
 template <class Lights>
 std::vector<LightBounds> bounds_of(const Lights& lights, const std::vector<Light>& descriptions,
                                    uint32_t area_count, double scene_radius) {
@@ -47,7 +46,8 @@ std::vector<LightBounds> bounds_of(const Lights& lights, const std::vector<Light
         [&](const auto& l) -> LightBounds {
           using T = std::decay_t<decltype(l)>;
           LightBounds b;
-          if constexpr (std::is_same_v<T, AreaLight> || std::is_same_v<T, SpotLight>) {
+          if constexpr (std::is_same_v<T, AreaLight> || std::is_same_v<T, SpotLight> ||
+                        std::is_same_v<T, ProjectorLight>) {
             b = l.bounds();
           } else if constexpr (std::is_same_v<T, DirectionalLight> ||
                                std::is_same_v<T, ConstantLight> ||

@@ -1,7 +1,7 @@
 // The light set: picking by importance at the point (nearer lights more often, none that
 // cannot reach the point, every one that can), the pick probability in every pdf, pdf_area and
-// pdf_environment against sample(), the environment mixture (chi-square), spot lights beside an
-// environment, bad lights.
+// pdf_environment against sample(), the environment mixture (chi-square), spot and projector
+// lights beside an environment, bad lights.
 #include "render/light/light_set.h"
 
 #include <gtest/gtest.h>
@@ -324,7 +324,8 @@ TEST(LightSet, ASpotLightWeighsAsThePointLightOfItsIntensityInsideItsCone) {
   // bounds, I / d^2 against pi L; weighed by its power, 2 pi (1 - cos) I, the spot got 6 % of
   // the picks below it), and none where it cannot shine, where the environment gets them all.
   const glm::dvec3 intensity(10, 10, 10);
-  const Light point = light_of(LightKind::point, intensity, glm::translate(glm::dmat4(1.0), {0, 0, 5}));
+  const Light point =
+      light_of(LightKind::point, intensity, glm::translate(glm::dmat4(1.0), {0, 0, 5}));
   const Light constant = light_of(LightKind::constant, {0.1, 0.1, 0.1});
   const LightSet with_spot({}, {spot_down(intensity), constant}, test::reader_of("x", ""),
                            kNoTextures, 5.0f);
@@ -363,6 +364,45 @@ TEST(LightSet, EstimatesASpotLightAndTheEnvironmentTogether) {
     const double falloff = theta <= 20 ? 1.0 : theta >= 30 ? 0.0 : (30 - theta) / 10;
     const double expected = 10 * falloff * std::cos(glm::radians(theta)) / (d * d) + M_PI * 0.1;
     test::UniformFloats u(28);
+    const int count = 100000;
+    double sum = 0, sum2 = 0;
+    for (int i = 0; i < count; ++i) {
+      const LightSample s = set.sample(ref, u.next(), u.next2());
+      if (!(s.pdf > 0)) continue;
+      const double f = double(s.radiance.y) * std::max(0.0, glm::dot(glm::dvec3(s.wi), n)) / s.pdf;
+      sum += f;
+      sum2 += f * f;
+    }
+    const double mean = sum / count, se = std::sqrt((sum2 / count - mean * mean) / count);
+    EXPECT_NEAR(mean, expected, 5 * se + 1e-4 * expected) << "theta " << theta << ", se " << se;
+  }
+}
+
+TEST(LightSet, AProjectorWeighsAsThePointLightOfItsIntensityInsideItsFrustum) {
+  // A projector of irradiance 10 at (0, 0, 5) shining down -z, fov 60 degrees, square image
+  // (its corners 39.2 degrees off the axis), beside a dim constant environment: on the axis
+  // picked as a point light of intensity pi 10 (their irradiance bounds, pi 10 / d^2 against
+  // pi L), outside the cone through the corners never; and the estimate stays unbiased.
+  glm::dmat4 to_world = glm::translate(glm::dmat4(1.0), {0, 0, 5});
+  to_world = glm::rotate(to_world, glm::radians(180.0), glm::dvec3(1, 0, 0));
+  Light projector = light_of(LightKind::projector, {10, 10, 10}, to_world);
+  projector.fov_x_deg = 60;
+  projector.aspect = 1;
+  const LightSet set({}, {projector, light_of(LightKind::constant, {0.1, 0.1, 0.1})},
+                     test::reader_of("x", ""), kNoTextures, 5.0f);
+  const float constant_pdf = 1.0f / (4.0f * kPi);
+  const glm::vec3 up(0, 0, 1);
+  const double irradiance_projector = M_PI * 10 / 25, irradiance_constant = M_PI * 0.1;
+  EXPECT_NEAR(set.pdf_environment(below_spot(0.0), up) / constant_pdf,
+              irradiance_constant / (irradiance_projector + irradiance_constant), 1e-5);
+  EXPECT_NEAR(set.pdf_environment(below_spot(41.0), up) / constant_pdf, 1.0f, 1e-6f);
+
+  const glm::dvec3 n(0, 0, 1);
+  for (const double theta : {0.0, 25.0, 45.0}) {
+    const SurfacePoint ref = below_spot(theta);
+    // On z = 0 the image is pi E / z^2 wherever it falls (within 30 degrees along x).
+    const double expected = (theta < 30 ? M_PI * 10 / 25 : 0.0) + M_PI * 0.1;
+    test::UniformFloats u(29);
     const int count = 100000;
     double sum = 0, sum2 = 0;
     for (int i = 0; i < count; ++i) {

@@ -72,4 +72,17 @@ double ProjectorLight::power() const {
          area;
 }
 
+LightBounds ProjectorLight::bounds() const {
+  LightBounds b;
+  b.center = position_;
+  b.phi = 4.0 * double(kPi) * double(kPi) * luminance(irradiance_.x, irradiance_.y, irradiance_.z) *
+          texture_mean_;
+  b.w = glm::normalize(glm::inverse(world_to_local_) * glm::vec3(0.0f, 0.0f, 1.0f));
+  // The image's corner at z = 1: (tan(fov_x / 2), tan(fov_x / 2) / aspect, 1).
+  const double tx = double(tan_half_x_), ty = tx / double(aspect_);
+  b.cos_theta_o = float(1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
+  b.cos_theta_e = 1;  // along its normals only (LightImportance allows kReachSlack)
+  return b;
+}
+
 }  // namespace tessera

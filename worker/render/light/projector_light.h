@@ -11,6 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include "render/light/area_light.h"
+#include "render/light/light_bounds.h"
 #include "render/light/light_sample.h"
 #include "scene/scene.h"
 
@@ -37,6 +38,11 @@ class ProjectorLight {
   /// Emitted power, luminance-weighted: pi * irradiance * the image's area at z = 1, times
   /// the texture's mean luminance (a 64 x 64 grid of lookups). Only the light picker uses it.
   double power() const;
+  /// What the light picker weighs it by (pbrt-v4's ProjectionLight::Bounds): a point light of
+  /// its intensity on the axis (phi = 4 pi * pi irradiance, luminance, times the texture's
+  /// mean) whose normals fill the cone through the image's corners, emitting along them only,
+  /// so that its importance is 0 outside that cone.
+  LightBounds bounds() const;
 
  private:
   glm::vec3 position_;

@@ -1,7 +1,8 @@
-// A dim constant environment beside narrow spot lights (tests/data/mitsuba/spot_sphere_constant.xml,
-// mitsuba-data's emitter_spot_no_texture at 32 x 32): the light picker must keep giving the spots
-// the direct-light sample where they shine, so the spot-lit pixels are hardly noisier with the
-// environment than without it, and the image keeps its mean.
+// A dim constant environment beside narrow spot lights
+// (tests/data/mitsuba/spot_sphere_constant.xml, mitsuba-data's emitter_spot_no_texture at
+// 32 x 32): the light picker must keep giving the spots the direct-light sample where they
+// shine, so the spot-lit pixels are hardly noisier with the environment than without it, and
+// the image keeps its mean.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -42,7 +43,9 @@ std::vector<RgbImage> render_seeds(const Scene& scene) {
 std::vector<double> mean_of(const std::vector<RgbImage>& images) {
   std::vector<double> mean(images[0].rgb.size(), 0.0);
   for (const RgbImage& image : images) {
-    for (size_t i = 0; i < mean.size(); ++i) mean[i] += double(image.rgb[i]) / double(images.size());
+    for (size_t i = 0; i < mean.size(); ++i) {
+      mean[i] += double(image.rgb[i]) / double(images.size());
+    }
   }
   return mean;
 }
@@ -62,8 +65,8 @@ double variance_over(const std::vector<RgbImage>& images, const std::vector<bool
 }
 
 TEST(SpotEnvironmentNoise, ADimEnvironmentHardlyAddsNoiseWhereTheSpotsShine) {
-  const Scene with_environment =
-      load_scene_file(std::string(TESSERA_SOURCE_DIR) + "/tests/data/mitsuba/spot_sphere_constant.xml");
+  const Scene with_environment = load_scene_file(std::string(TESSERA_SOURCE_DIR) +
+                                                 "/tests/data/mitsuba/spot_sphere_constant.xml");
   Scene without_environment = with_environment;
   std::erase_if(without_environment.lights,
                 [](const Light& l) { return l.kind == LightKind::constant; });
