@@ -36,7 +36,7 @@ JobOptions time_job(uint32_t batch) {
 }
 
 /// A clock that stands still until the test moves it; read from rendering threads.
-struct FakeClock {
+struct RenderClock {
   std::atomic<int64_t> ns{0};
   LocalRenderClock clock() {
     return [this] { return steady_clock::time_point(std::chrono::nanoseconds(ns.load())); };
@@ -71,7 +71,7 @@ TEST(LocalRender, ABudgetPassingDuringABatchCancelsItsRendersAndKeepsWholeBatche
   ASSERT_EQ(tiles.size(), 4u);
   const uint64_t batch_samples = uint64_t(options.width) * uint64_t(options.height) * 1024;
 
-  FakeClock clock;
+  RenderClock clock;
   RenderCancellation user;  // never cancelled: its poll hook counts what the renders trace
   std::atomic<uint64_t> polled{0};
   user.set_poll_hook([&](uint64_t samples) { polled += samples; });
@@ -127,7 +127,7 @@ TEST(LocalRender, ABudgetPassingDuringABatchCancelsItsRendersAndKeepsWholeBatche
 TEST(LocalRender, ABudgetPassingDuringBatch0StillCompletesItInEveryTile) {
   const Scene scene = test::mixed_room();
   const JobOptions options = time_job(16);
-  FakeClock clock;
+  RenderClock clock;
   RenderCancellation user;
   user.set_poll_hook([&](uint64_t) { clock.set_seconds(options.time_budget_s); });
   const LocalRenderResult result = render_job(scene, options, {}, IntegratorKind::wavefront,
@@ -146,7 +146,7 @@ TEST(LocalRender, TheUsersCancelDuringALaterBatchOfATimeJobThrows) {
   const Scene scene = test::mixed_room();
   const JobOptions options = time_job(16);
   const uint64_t batch_samples = uint64_t(options.width) * uint64_t(options.height) * 16;
-  FakeClock clock;
+  RenderClock clock;
   RenderCancellation user;
   std::atomic<uint64_t> polled{0};
   user.set_poll_hook([&](uint64_t samples) {

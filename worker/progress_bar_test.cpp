@@ -24,7 +24,7 @@ size_t line_count(const std::string& text) {
 }
 
 /// A clock that stands still until the test moves it.
-struct FakeClock {
+struct BarClock {
   std::chrono::steady_clock::time_point now{};
   ProgressBar::Clock clock() {
     return [this] { return now; };
@@ -84,7 +84,7 @@ TEST(ProgressBar, TerminalStyleRedrawsInPlace) {
 TEST(ProgressBar, SampleJobEtaFollowsTheRateAndFinishHasNone) {
   std::FILE* tty = std::tmpfile();
   ASSERT_NE(tty, nullptr);
-  FakeClock clock;
+  BarClock clock;
   {
     ProgressBar bar(tty, 20000, 0, ProgressBar::Style::redraw, clock.clock());
     clock.set_seconds(2);
@@ -106,7 +106,7 @@ TEST(ProgressBar, SampleJobEtaFollowsTheRateAndFinishHasNone) {
 TEST(ProgressBar, TimeJobFollowsTheBudgetAndCountsWhatWasTraced) {
   std::FILE* tty = std::tmpfile();
   ASSERT_NE(tty, nullptr);
-  FakeClock clock;
+  BarClock clock;
   {
     // A 2-second job capped at 100000 spp of 64 x 64 pixels.
     ProgressBar bar(tty, uint64_t(64) * 64 * 100000, 2.0, ProgressBar::Style::redraw,
@@ -133,7 +133,7 @@ TEST(ProgressBar, TimeJobFollowsTheBudgetAndCountsWhatWasTraced) {
 TEST(ProgressBar, TimeJobInALogWritesALinePerTenthOfTheBudget) {
   std::FILE* log = std::tmpfile();
   ASSERT_NE(log, nullptr);
-  FakeClock clock;
+  BarClock clock;
   {
     ProgressBar bar(log, uint64_t(1) << 40, 10.0, ProgressBar::Style::lines, clock.clock());
     for (int k = 1; k * 0.3 < 10.0; ++k) {

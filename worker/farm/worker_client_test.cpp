@@ -92,19 +92,25 @@ std::unique_ptr<Listener> listen_on(int port) {
 // Minutes: far beyond gRPC's reconnect cap, so that only a connection ends the pause early.
 constexpr std::chrono::milliseconds kLongPause = std::chrono::minutes(5);
 
+/// A client of `port`, where nothing listens yet, whose first call has failed.
+std::unique_ptr<WorkerClient> client_after_a_failed_call(int port) {
+  auto client = std::make_unique<WorkerClient>("127.0.0.1:" + std::to_string(port), "");
+  v1::HeartbeatResponse response;
+  EXPECT_FALSE(client->heartbeat({}, &response, std::chrono::milliseconds(200)).ok());
+  return client;
+}
+
 TEST(WorkerPause, EndsWhenTheServerAnswersAgain) {
   const int port = unused_port();
   ASSERT_NE(port, 0);
-  WorkerClient client("127.0.0.1:" + std::to_string(port), "");
-  StopSignal stop;
   // Nothing listens: a call fails, and the pause after it runs its course.
-  v1::HeartbeatResponse response;
-  EXPECT_FALSE(client.heartbeat({}, &response, std::chrono::milliseconds(200)).ok());
-  EXPECT_FALSE(client.pause_until_reconnected(std::chrono::milliseconds(300), stop));
+  const std::unique_ptr<WorkerClient> client = client_after_a_failed_call(port);
+  StopSignal stop;
+  EXPECT_FALSE(client->pause_until_reconnected(std::chrono::milliseconds(300), stop));
   const std::unique_ptr<Listener> server = listen_on(port);
   ASSERT_TRUE(server);
   // The server is back: the pause ends because the channel connected, not at its end.
-  EXPECT_TRUE(client.pause_until_reconnected(kLongPause, stop));
+  EXPECT_TRUE(client->pause_until_reconnected(kLongPause, stop));
   server->Shutdown();
 }
 
@@ -115,8 +121,8 @@ TEST(WorkerPause, AFailureOverALiveConnectionPausesInFull) {
   ASSERT_TRUE(server);
   WorkerClient client("127.0.0.1:" + std::to_string(port), "");
   StopSignal stop;
-  // The server answers UNIMPLEMENTED (its WorkerService implements nothing) over a live connection: as a busy store
-  // answering UNAVAILABLE would, the pause is the backoff's, not cut short by the connection.
+  // The server answers UNIMPLEMENTED (its WorkerService implements nothing) over a live
+  // connection: as for a busy store's UNAVAILABLE, the pause is the backoff's in full.
   v1::HeartbeatResponse response;
   EXPECT_EQ(client.heartbeat({}, &response, std::chrono::seconds(20)).error_code(),
             grpc::StatusCode::UNIMPLEMENTED);
@@ -127,19 +133,17 @@ TEST(WorkerPause, AFailureOverALiveConnectionPausesInFull) {
 TEST(WorkerPause, ASignalEndsItButADeliveryPauseOutlastsTheFirst) {
   const int port = unused_port();
   ASSERT_NE(port, 0);
-  WorkerClient client("127.0.0.1:" + std::to_string(port), "");
+  const std::unique_ptr<WorkerClient> client = client_after_a_failed_call(port);
   StopSignal stop;
-  v1::HeartbeatResponse response;
-  EXPECT_FALSE(client.heartbeat({}, &response, std::chrono::milliseconds(200)).ok());
   stop.request();
   // The loop's pause ends at the first signal (the worker is leaving)...
-  EXPECT_FALSE(client.pause_until_reconnected(kLongPause, stop));
+  EXPECT_FALSE(client->pause_until_reconnected(kLongPause, stop));
   // ...a delivery's does not: results in hand are still delivered once the server is back.
   const std::unique_ptr<Listener> server = listen_on(port);
   ASSERT_TRUE(server);
-  EXPECT_TRUE(client.pause_until_reconnected(kLongPause, stop, 2));
+  EXPECT_TRUE(client->pause_until_reconnected(kLongPause, stop, 2));
   stop.request();
-  EXPECT_FALSE(client.pause_until_reconnected(kLongPause, stop, 2));
+  EXPECT_FALSE(client->pause_until_reconnected(kLongPause, stop, 2));
   server->Shutdown();
 }
 
