@@ -13,6 +13,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "render/light/light_test_support.h"
 #include "render/sampling/warp.h"
@@ -352,6 +353,24 @@ TEST(LightSet, ASpotLightWeighsAsThePointLightOfItsIntensityInsideItsCone) {
   }
 }
 
+/// E[radiance.y * cos / pdf] over 100,000 of set.sample() at `ref` (normal `n`): the irradiance
+/// the light sample estimates, and the estimate's standard error.
+std::pair<double, double> irradiance_estimate(const LightSet& set, const SurfacePoint& ref,
+                                              const glm::dvec3& n, uint32_t seed) {
+  test::UniformFloats u(seed);
+  const int count = 100000;
+  double sum = 0, sum2 = 0;
+  for (int i = 0; i < count; ++i) {
+    const LightSample s = set.sample(ref, u.next(), u.next2());
+    if (!(s.pdf > 0)) continue;
+    const double f = double(s.radiance.y) * std::max(0.0, glm::dot(glm::dvec3(s.wi), n)) / s.pdf;
+    sum += f;
+    sum2 += f * f;
+  }
+  const double mean = sum / count;
+  return {mean, std::sqrt((sum2 / count - mean * mean) / count)};
+}
+
 TEST(LightSet, EstimatesASpotLightAndTheEnvironmentTogether) {
   // E[radiance * cos / pdf] over sample() is the spot's I falloff cos / d^2 plus the
   // constant's pi L, inside the beam, on the ramp and outside the cone.
@@ -363,17 +382,7 @@ TEST(LightSet, EstimatesASpotLightAndTheEnvironmentTogether) {
     const double d = 5 / std::cos(glm::radians(theta));
     const double falloff = theta <= 20 ? 1.0 : theta >= 30 ? 0.0 : (30 - theta) / 10;
     const double expected = 10 * falloff * std::cos(glm::radians(theta)) / (d * d) + M_PI * 0.1;
-    test::UniformFloats u(28);
-    const int count = 100000;
-    double sum = 0, sum2 = 0;
-    for (int i = 0; i < count; ++i) {
-      const LightSample s = set.sample(ref, u.next(), u.next2());
-      if (!(s.pdf > 0)) continue;
-      const double f = double(s.radiance.y) * std::max(0.0, glm::dot(glm::dvec3(s.wi), n)) / s.pdf;
-      sum += f;
-      sum2 += f * f;
-    }
-    const double mean = sum / count, se = std::sqrt((sum2 / count - mean * mean) / count);
+    const auto [mean, se] = irradiance_estimate(set, ref, n, 28);
     EXPECT_NEAR(mean, expected, 5 * se + 1e-4 * expected) << "theta " << theta << ", se " << se;
   }
 }
@@ -402,17 +411,7 @@ TEST(LightSet, AProjectorWeighsAsThePointLightOfItsIntensityInsideItsFrustum) {
     const SurfacePoint ref = below_spot(theta);
     // On z = 0 the image is pi E / z^2 wherever it falls (within 30 degrees along x).
     const double expected = (theta < 30 ? M_PI * 10 / 25 : 0.0) + M_PI * 0.1;
-    test::UniformFloats u(29);
-    const int count = 100000;
-    double sum = 0, sum2 = 0;
-    for (int i = 0; i < count; ++i) {
-      const LightSample s = set.sample(ref, u.next(), u.next2());
-      if (!(s.pdf > 0)) continue;
-      const double f = double(s.radiance.y) * std::max(0.0, glm::dot(glm::dvec3(s.wi), n)) / s.pdf;
-      sum += f;
-      sum2 += f * f;
-    }
-    const double mean = sum / count, se = std::sqrt((sum2 / count - mean * mean) / count);
+    const auto [mean, se] = irradiance_estimate(set, ref, n, 29);
     EXPECT_NEAR(mean, expected, 5 * se + 1e-4 * expected) << "theta " << theta << ", se " << se;
   }
 }
