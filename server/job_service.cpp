@@ -23,20 +23,18 @@ bool is_final_proto(v1::JobState state) {
 }
 
 /// The listing a ListJobsRequest asks for (job_service.proto). Throws FarmError(invalid_argument)
-/// naming the field for a limit over 1000, a state that is not one, or a cursor past INT64_MAX.
+/// naming the field for a limit over kMaxJobPage, a state that is not one, or a cursor past INT64_MAX.
 JobQuery job_query(const v1::ListJobsRequest& request) {
   JobQuery query;
-  if (request.limit() > 1000) {
-    throw FarmError(ErrorCode::invalid_argument,
-                    "limit must be 0..1000 (0 = 1000), got " + std::to_string(request.limit()));
+  if (request.limit() > kMaxJobPage) {
+    throw FarmError(ErrorCode::invalid_argument, "limit must be 0.." + std::to_string(kMaxJobPage) +
+                                                     " (0 = " + std::to_string(kMaxJobPage) +
+                                                     "), got " + std::to_string(request.limit()));
   }
-  query.limit = request.limit() == 0 ? 1000 : request.limit();
+  query.limit = request.limit() == 0 ? kMaxJobPage : request.limit();
   for (const int wanted : request.states()) {
-    constexpr JobState kStates[] = {JobState::queued, JobState::running, JobState::done,
-                                    JobState::failed, JobState::cancelled};
-    const auto* state = std::find_if(std::begin(kStates), std::end(kStates),
-                                     [&](JobState s) { return int(to_proto(s)) == wanted; });
-    if (state == std::end(kStates)) {
+    const std::optional<JobState> state = from_proto(v1::JobState(wanted));
+    if (!state) {
       throw FarmError(ErrorCode::invalid_argument,
                       "states: " + std::to_string(wanted) +
                           " is not a job state (QUEUED, RUNNING, DONE, FAILED or CANCELLED)");

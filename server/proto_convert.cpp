@@ -15,6 +15,17 @@ v1::JobState to_proto(JobState state) {
   return v1::JOB_STATE_UNSPECIFIED;
 }
 
+std::optional<JobState> from_proto(v1::JobState state) {
+  switch (state) {
+    case v1::JOB_STATE_QUEUED: return JobState::queued;
+    case v1::JOB_STATE_RUNNING: return JobState::running;
+    case v1::JOB_STATE_DONE: return JobState::done;
+    case v1::JOB_STATE_FAILED: return JobState::failed;
+    case v1::JOB_STATE_CANCELLED: return JobState::cancelled;
+    default: return std::nullopt;
+  }
+}
+
 v1::JobInfo to_proto(const JobRecord& job) {
   v1::JobInfo out;
   out.set_id(uint64_t(job.id));

@@ -87,7 +87,7 @@ int64_t number_param(const HttpRequest& req, std::string_view name, int64_t max,
 /// may also be repeated. Throws FarmError(invalid_argument) naming the parameter.
 JobQuery job_query(const HttpRequest& req) {
   JobQuery query;
-  query.limit = uint32_t(number_param(req, "limit", 1000, 1000));
+  query.limit = uint32_t(number_param(req, "limit", kMaxJobPage, kMaxJobPage));
   query.before_id = number_param(req, "before", INT64_MAX, 0);
   for (const auto& [param, text] : req.params) {
     if (param != "state") continue;

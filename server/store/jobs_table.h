@@ -23,11 +23,14 @@ struct MergedCounts {
   uint64_t nan = 0, inf = 0;      ///< samples the merged results dropped
 };
 
+/// The most jobs one page of a listing holds (JobService.ListJobs, /api/jobs): the default too.
+inline constexpr uint32_t kMaxJobPage = 1000;
+
 /// Which jobs a listing asks for (JobService.ListJobs, /api/jobs): newest first, one page.
 struct JobQuery {
   std::vector<JobState> states;  ///< jobs in any of these states; empty = every state
   int64_t before_id = 0;         ///< only jobs with a smaller id (a page's cursor); 0 = none
-  uint32_t limit = 1000;         ///< at most this many jobs on the page, >= 1
+  uint32_t limit = kMaxJobPage;  ///< at most this many jobs on the page, >= 1
 };
 
 /// One page of a listing. A cursor (before_id) is stable while jobs are submitted: a new job
