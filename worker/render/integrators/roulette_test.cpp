@@ -12,20 +12,14 @@
 namespace tessera {
 namespace {
 
-/// How many of `n` paths that reach a smooth glass sphere at vertex 6 with throughput 0.05
-/// (survival 0.05 wherever roulette applies) end there, having already scattered at
-/// `specular_run` delta vertices in a row.
-int paths_ended_at_glass(int specular_run, uint32_t n) {
-  Scene s;
-  s.shapes.push_back(test::sphere({0, 0, 0}, 1.0, test::add_material(s, MaterialType::glass, 1.5)));
+/// How many of `n` paths, aimed at the unit sphere of `s` and arriving there as `start` says
+/// (vertex, throughput, ...), end at that vertex (path_vertex returns false).
+int paths_ended_at_sphere(const Scene& s, const PathState& start, uint32_t n) {
   const TraceableScene scene(s, 4, 4, "");
   int ended = 0;
   for (uint32_t i = 0; i < n; ++i) {
-    PathState path{Ray{glm::vec3(0.1f, 0.2f, 5.0f), glm::vec3(0.0f, 0.0f, -1.0f)}};
-    path.vertex = 6;
-    path.beta = glm::vec3(0.05f);
-    path.prev_delta = true;
-    path.specular_run = specular_run;
+    PathState path = start;
+    path.ray = Ray{glm::vec3(0.1f, 0.2f, 5.0f), glm::vec3(0.0f, 0.0f, -1.0f)};
     Hit hit;
     if (!scene.intersect(path.ray, &hit)) ADD_FAILURE() << "the ray misses the sphere";
     PixelSampler sampler(7, 0, 0, i);
@@ -34,6 +28,20 @@ int paths_ended_at_glass(int specular_run, uint32_t n) {
     if (!path_vertex(scene, -1, sampler, path, &hit, &shadow, &has_shadow)) ++ended;
   }
   return ended;
+}
+
+/// How many of `n` paths that reach a smooth glass sphere at vertex 6 with throughput 0.05
+/// (survival 0.05 wherever roulette applies) end there, having already scattered at
+/// `specular_run` delta vertices in a row.
+int paths_ended_at_glass(int specular_run, uint32_t n) {
+  Scene s;
+  s.shapes.push_back(test::sphere({0, 0, 0}, 1.0, test::add_material(s, MaterialType::glass, 1.5)));
+  PathState start{Ray{}};
+  start.vertex = 6;
+  start.beta = glm::vec3(0.05f);
+  start.prev_delta = true;
+  start.specular_run = specular_run;
+  return paths_ended_at_sphere(s, start, n);
 }
 
 TEST(Roulette, SparesTheFirstSpecularVerticesInARow) {
@@ -55,20 +63,10 @@ int paths_ended_at_diffuse(int rr_depth, int vertex, uint32_t n) {
   Scene s;
   s.render.rr_depth = rr_depth;
   s.shapes.push_back(test::sphere({0, 0, 0}, 1.0, test::add_diffuse(s, glm::dvec3(0.5))));
-  const TraceableScene scene(s, 4, 4, "");
-  int ended = 0;
-  for (uint32_t i = 0; i < n; ++i) {
-    PathState path{Ray{glm::vec3(0.1f, 0.2f, 5.0f), glm::vec3(0.0f, 0.0f, -1.0f)}};
-    path.vertex = vertex;
-    path.beta = glm::vec3(0.05f);
-    Hit hit;
-    if (!scene.intersect(path.ray, &hit)) ADD_FAILURE() << "the ray misses the sphere";
-    PixelSampler sampler(7, 0, 0, i);
-    ShadowQuery shadow;
-    bool has_shadow;
-    if (!path_vertex(scene, -1, sampler, path, &hit, &shadow, &has_shadow)) ++ended;
-  }
-  return ended;
+  PathState start{Ray{}};
+  start.vertex = vertex;
+  start.beta = glm::vec3(0.05f);
+  return paths_ended_at_sphere(s, start, n);
 }
 
 TEST(Roulette, StartsAtTheScenesRrDepth) {
