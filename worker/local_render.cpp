@@ -11,7 +11,7 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
                              const std::function<void(const LocalRenderProgress&)>& on_progress,
                              IntegratorKind integrator, KernelIsa kernel,
                              const RenderCancellation* cancel, const LocalRenderClock& clock) {
-  const auto now = [&clock] { return clock ? clock() : std::chrono::steady_clock::now(); };
+  const SteadyClockSource now = or_steady_clock(clock);
   const auto start = now();
   LocalRenderResult result;
   result.options = options;

@@ -13,6 +13,7 @@
 #include "job/stopping_rule.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#include "steady_clock_source.h"
 
 namespace tessera {
 
@@ -39,9 +40,8 @@ struct LocalRenderProgress {
   uint64_t samples_traced = 0;
 };
 
-/// The clock of the time rule; empty: std::chrono::steady_clock. Called from rendering threads
-/// concurrently. Tests inject a fake one.
-using LocalRenderClock = std::function<std::chrono::steady_clock::time_point()>;
+/// The clock of the time rule (steady_clock_source.h).
+using LocalRenderClock = SteadyClockSource;
 
 /// Renders the job: for each batch in order, every tile still open (in parallel), then each
 /// tile's result merged into that tile in batch order and judged by the job's stopping rule

@@ -17,7 +17,7 @@ ProgressBar::ProgressBar(std::FILE* stream, uint64_t total_samples, double time_
       style_(style),
       total_(total_samples == 0 ? 1 : total_samples),
       budget_s_(time_budget_s > 0 ? time_budget_s : 0),
-      clock_(clock ? std::move(clock) : Clock(std::chrono::steady_clock::now)),
+      clock_(or_steady_clock(std::move(clock))),
       start_(clock_()),
       last_draw_(start_ - std::chrono::seconds(1)) {}
 

@@ -6,6 +6,8 @@
 #include <functional>
 #include <string>
 
+#include "steady_clock_source.h"
+
 namespace tessera {
 
 /// Progress of a local render: percent, samples/s, elapsed and ETA. On a terminal one line
@@ -21,7 +23,7 @@ class ProgressBar {
  public:
   enum class Style { redraw, lines };
   /// The bar's time; empty: std::chrono::steady_clock. Tests inject a fake one.
-  using Clock = std::function<std::chrono::steady_clock::time_point()>;
+  using Clock = SteadyClockSource;
   /// `total_samples`: the job's pixel samples (at its cap for a `noise` or `time` job);
   /// `time_budget_s` > 0: a `time` job's budget, which the bar then follows. Redraws when
   /// `stream` is a terminal, plain lines otherwise.
