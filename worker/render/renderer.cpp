@@ -10,6 +10,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "render/integrators/caustic_photons.h"
 #include "render/integrators/integrator.h"
 #include "render/integrators/volpath.h"
 #include "render/scene/packet_tracer.h"
@@ -151,6 +152,7 @@ Renderer::Renderer(const Scene& scene, const JobOptions& options, const FileRead
       options_(options),
       filter_(scene.film.filter),
       scratch_(std::make_unique<Scratch>()) {
+  scene_->set_caustic_guide(build_caustic_guide(*scene_));
   // A scene with media renders with the volumetric path tracer, one path at a time
   // (render_scalar): the wavefront integrator knows surfaces only.
   if (scene_->has_media()) integrator_ = IntegratorKind::scalar;

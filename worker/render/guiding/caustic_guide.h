@@ -5,7 +5,7 @@
 // bounce or a cone toward the whole glass sphere (target_mixture.h) rarely finds the small,
 // bright image of a lamp that the glass makes.
 //
-// Built from the scene alone (TraceableScene), by a deterministic pass: photon i draws its numbers
+// Built from the scene alone (integrators/caustic_photons.h), by a deterministic pass: photon i draws its numbers
 // from a hash of its index and the photons' weights are summed in index order, so every worker of
 // a farm builds the same guide bit for bit (the determinism contract, docs/design.md). The
 // guide's weights are estimates; an error in them changes how well it aims, never what a sample
@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -25,9 +26,6 @@
 #include "render/sampling/sampler.h"
 
 namespace tessera {
-
-class TraceableScene;
-class SpecularTargets;
 
 class CausticGuide {
  public:
@@ -42,6 +40,8 @@ class CausticGuide {
   /// A cell's side, as a fraction of the targets' mean radius (at least 2 / kGridHalf of the
   /// scene's largest coordinate).
   static constexpr float kCellFraction = 0.125f;
+  /// Grid coordinates are clamped to +-kGridHalf (points beyond share the edge cells).
+  static constexpr int32_t kGridHalf = 1 << 19;
   /// A cell's probability of a guided bounce (probability()) is its share of the light the
   /// bounce gathers, E_c / (E_c + E_i): E_c the caustic irradiance its photons carry, E_i the
   /// irradiance one diffuse bounce brings there (estimated at build time from kIndirectSamples
@@ -57,16 +57,54 @@ class CausticGuide {
 
   CausticGuide() = default;
 
-  /// The guide of `scene` (whose lights and specular targets are built): empty when the scene
-  /// has no targets, no lights, or media (the volumetric path tracer does not use the guide),
-  /// or no photon reached a diffuse surface through a target. Photons from a light at
-  /// infinity start on the plane tangent to the target on the light's side, where an occlusion
-  /// test toward the light says whether it reaches them.
-  /// `scene_reach`: the largest magnitude of a coordinate of the scene's bounds (the grid, centred
-  /// on the origin, reaches twice that).
-  static CausticGuide build(const TraceableScene& scene, float scene_reach);
+  /// One photon's arrival at a diffuse surface after at least one specular vertex.
+  struct Deposit {
+    uint64_t key;  ///< its cell (cell_key)
+    glm::vec3 p;   ///< where it arrived
+    glm::vec3 ng;  ///< the surface's normal there, toward where it came from
+    uint16_t bin;  ///< the direction toward where it came from
+    float weight;  ///< its power (luminance), up to a factor common to all photons
+  };
+  /// A cell that received at least kMinPhotons deposits: their count, mean position and mean
+  /// normal, and their weights summed per direction bin (ascending) and in all.
+  struct Candidate {
+    uint64_t key = 0;
+    uint32_t photons = 0;
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f};
+    std::vector<std::pair<uint16_t, float>> bins;
+    float total = 0;
+  };
 
-  /// While a DisabledForTest lives, build() returns an empty guide (tests comparing the image's
+  /// A guide is built in three steps (integrators/caustic_photons.cpp traces the photons):
+  /// an empty guide on a grid of cells of side `cell_side`, whose cell_key() keys the photons'
+  /// deposits; the deposits grouped into candidate cells (group()); the candidates kept whose
+  /// share of the light a bounce gathers is large enough (keep()). Grouping sorts stably and
+  /// sums in photon order, so the same deposits give the same bits on every machine.
+  static CausticGuide on_grid(float cell_side);
+  static std::vector<Candidate> group(std::vector<Deposit> deposits);
+  /// Keeps candidate c when its probability E_c / (E_c + indirect[c]) is at least
+  /// kMinProbability, E_c = its total weight times `power_to_irradiance`. `deposited`: all the
+  /// deposits grouped (photons_deposited()).
+  void keep(const std::vector<Candidate>& candidates, const std::vector<float>& indirect, float power_to_irradiance,
+            uint64_t deposited);
+
+  /// The key of the cell holding point p on a surface whose geometric normal, turned toward
+  /// the viewer, is ng: the grid cube and the dominant axis and sign of ng.
+  [[gnu::always_inline]] uint64_t cell_key(glm::vec3 p, glm::vec3 ng) const {
+    const auto coordinate = [this](float v) {
+      const float g = std::floor(v * inv_cell_);
+      // NaN and anything past the grid go to its edge (the comparisons are false for NaN).
+      const float c = g >= -float(kGridHalf) ? (g <= float(kGridHalf - 1) ? g : float(kGridHalf - 1))
+                                             : -float(kGridHalf);
+      return uint64_t(int64_t(c) + kGridHalf);
+    };
+    const float ax = std::fabs(ng.x), ay = std::fabs(ng.y), az = std::fabs(ng.z);
+    const uint64_t face = ax >= ay && ax >= az ? (ng.x > 0 ? 0 : 1) : ay >= az ? (ng.y > 0 ? 2 : 3) : (ng.z > 0 ? 4 : 5);
+    return (coordinate(p.x) << 43) | (coordinate(p.y) << 23) | (coordinate(p.z) << 3) | face;
+  }
+
+  /// While a DisabledForTest lives, build_caustic_guide() returns an empty guide (tests comparing the image's
   /// mean with and without it). No flag or environment variable reaches it.
   using DisabledForTest = TestSwitch<CausticGuide>::Off;
 
@@ -197,21 +235,6 @@ class CausticGuide {
     float probability = 0;     ///< of a guided bounce
   };
   static constexpr uint64_t kEmptyKey = ~uint64_t(0);
-  /// Grid coordinates are clamped to +-kGridHalf (points beyond share the edge cells).
-  static constexpr int32_t kGridHalf = 1 << 19;
-
-  [[gnu::always_inline]] uint64_t cell_key(glm::vec3 p, glm::vec3 ng) const {
-    const auto coordinate = [this](float v) {
-      const float g = std::floor(v * inv_cell_);
-      // NaN and anything past the grid go to its edge (the comparisons are false for NaN).
-      const float c = g >= -float(kGridHalf) ? (g <= float(kGridHalf - 1) ? g : float(kGridHalf - 1))
-                                             : -float(kGridHalf);
-      return uint64_t(int64_t(c) + kGridHalf);
-    };
-    const float ax = std::fabs(ng.x), ay = std::fabs(ng.y), az = std::fabs(ng.z);
-    const uint64_t face = ax >= ay && ax >= az ? (ng.x > 0 ? 0 : 1) : ay >= az ? (ng.y > 0 ? 2 : 3) : (ng.z > 0 ? 4 : 5);
-    return (coordinate(p.x) << 43) | (coordinate(p.y) << 23) | (coordinate(p.z) << 3) | face;
-  }
 
   float inv_cell_ = 0;
   uint64_t mask_ = 0;

@@ -96,7 +96,14 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
   // uvs and their tangents cost an atan2 and an acos per sphere hit: only where used.
   if (!scene.textures.empty()) need_uv_ = true;
 
-  // Shape groups first: each is an Embree scene of its own that instances place.
+  build_groups(scene);
+  build_shapes(scene);
+  build_media(scene);
+  build_lights(scene, files);
+}
+
+/// Shape groups first: each is an Embree scene of its own that instances place.
+void TraceableScene::build_groups(const Scene& scene) {
   for (const ShapeGroup& group : scene.groups) {
     RTCScene gs = rtcNewScene(device_);
     rtcSetSceneFlags(gs, RTC_SCENE_FLAG_ROBUST);
@@ -119,7 +126,10 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
     rtcCommitScene(gs);
     if (!device_error_.empty()) throw SceneError(group.origin + ": " + device_error_);
   }
+}
 
+/// The top-level shapes, instances of the groups among them.
+void TraceableScene::build_shapes(const Scene& scene) {
   scene_ = rtcNewScene(device_);
   rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
@@ -138,8 +148,10 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
   }
   rtcCommitScene(scene_);
   if (!device_error_.empty()) throw SceneError(device_error_);
+}
 
-  // Media: only when something uses one, so that a scene without pays nothing.
+/// Media: only when something uses one, so that a scene without pays nothing.
+void TraceableScene::build_media(const Scene& scene) {
   for (const Medium& m : scene.media) media_.push_back(make_render_medium(m, scene.textures));
   auto check_medium = [&](int32_t index, const std::string& origin) {
     if (index >= int32_t(media_.size())) throw SceneError(origin + ": medium index out of range");
@@ -160,7 +172,11 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
     }
     for (const Shape& shape : scene.shapes) medium_sides_.push_back({shape.interior, shape.exterior});
   }
+}
 
+/// The lights (area emitters among the shapes, then the scene's lights) and the specular
+/// targets, both sized by the scene's bounds.
+void TraceableScene::build_lights(const Scene& scene, const FileReader& files) {
   std::vector<const Geometry*> area_emitters;
   for (auto& g : geometries_) {
     if (g->emission.x > 0 || g->emission.y > 0 || g->emission.z > 0) {
@@ -173,13 +189,12 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
   RTCBounds bounds;
   rtcGetSceneBounds(scene_, &bounds);
   float scene_radius = 0;
-  float scene_reach = 0;  // the largest coordinate's magnitude
   if (bounds.lower_x <= bounds.upper_x) {
     const glm::vec3 lo(bounds.lower_x, bounds.lower_y, bounds.lower_z);
     const glm::vec3 hi(bounds.upper_x, bounds.upper_y, bounds.upper_z);
     scene_radius = 0.5f * glm::length(hi - lo);
     const glm::vec3 reach = glm::max(glm::abs(lo), glm::abs(hi));
-    scene_reach = std::max(reach.x, std::max(reach.y, reach.z));
+    reach_ = std::max(reach.x, std::max(reach.y, reach.z));
   }
   const TextureSet* textures = textures_.get();
   lights_ = std::make_unique<LightSet>(
@@ -195,7 +210,6 @@ void TraceableScene::build(const Scene& scene, const std::string& isa, const Fil
     }
   }
   specular_targets_ = SpecularTargets(shapes, materials_, scene_radius);
-  caustic_guide_ = CausticGuide::build(*this, scene_reach);
 }
 
 void TraceableScene::release() {

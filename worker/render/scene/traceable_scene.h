@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <embree3/rtcore.h>
@@ -77,8 +78,12 @@ class TraceableScene {
   /// The purely specular shapes that diffuse vertices aim some bounces at (specular_targets.h).
   const SpecularTargets& specular_targets() const { return specular_targets_; }
   /// Where light arrives through those shapes, from which directions (caustic_guide.h); empty
-  /// for a scene without them, lights, or with media.
+  /// until set_caustic_guide() (the renderer builds it: integrators/caustic_photons.h), and for a
+  /// scene without targets, lights, or with media.
   const CausticGuide& caustic_guide() const { return caustic_guide_; }
+  void set_caustic_guide(CausticGuide guide) { caustic_guide_ = std::move(guide); }
+  /// The largest magnitude of a coordinate of the scene's bounds (0 for an empty scene).
+  float reach() const { return reach_; }
   /// Whether some shape bounds a medium or the camera sits in one: the renderer then traces
   /// with the volumetric path tracer (integrators/volpath.h).
   bool has_media() const { return has_media_; }
@@ -110,6 +115,10 @@ class TraceableScene {
 
  private:
   void build(const Scene& scene, const std::string& isa, const FileReader& reader);
+  void build_groups(const Scene& scene);
+  void build_shapes(const Scene& scene);
+  void build_media(const Scene& scene);
+  void build_lights(const Scene& scene, const FileReader& files);
   /// Releases the Embree scenes and device (the Geometry tables are members).
   void release();
   /// Builds the Geometry and Embree geometry of `shape` and attaches it to `target`.
@@ -151,6 +160,7 @@ class TraceableScene {
   std::unique_ptr<LightSet> lights_;
   SpecularTargets specular_targets_;
   CausticGuide caustic_guide_;
+  float reach_ = 0;
   bool hide_emitters_ = false;
   int rr_depth_ = kDefaultRrDepth;
   std::vector<RenderMedium> media_;

@@ -1,6 +1,7 @@
-// The caustic guide (caustic_guide.h): its sampling against its pdf (chi-square), its
-// normalisation, its directions against the light a brute-force trace finds through the glass,
-// the same guide from every build of a scene, and the images' mean unchanged by it.
+// The caustic guide (guiding/caustic_guide.h, built by integrators/caustic_photons.h): its
+// sampling against its pdf (chi-square), its normalisation, its directions against the light a
+// brute-force trace finds through the glass, the same guide from every build of a scene, and the
+// images' mean unchanged by it.
 #include "render/guiding/caustic_guide.h"
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include "render/bsdf/chi_square.h"
 #include "render/bsdf/principled_lobes.h"
 #include "render/bsdf/rough_plastic_tables.h"
+#include "render/integrators/caustic_photons.h"
 #include "render/integrators/path_vertex.h"
 #include "render/renderer.h"
 #include "render/scene/traceable_scene.h"
@@ -31,9 +33,15 @@ namespace caustic_guide_test {
 
 const std::string kSource = TESSERA_SOURCE_DIR;
 
+/// Scene `s` ready to trace at width x height, with its caustic guide built.
+std::unique_ptr<TraceableScene> guided(const Scene& s, int width, int height) {
+  auto scene = std::make_unique<TraceableScene>(s, width, height, "");
+  scene->set_caustic_guide(build_caustic_guide(*scene));
+  return scene;
+}
+
 std::unique_ptr<TraceableScene> load(const std::string& name) {
-  const Scene s = load_scene_file(kSource + "/scenes/" + name);
-  return std::make_unique<TraceableScene>(s, 64, 64, "");
+  return guided(load_scene_file(kSource + "/scenes/" + name), 64, 64);
 }
 
 /// The cell with the most photons.
@@ -387,10 +395,10 @@ TEST(CausticGuide, BuiltTheSameOnOneThreadAndOnAll) {
   const Scene s = load_scene_file(kSource + "/scenes/hexroom.json");
   std::unique_ptr<TraceableScene> one;
   tbb::task_arena single(1);
-  single.execute([&] { one = std::make_unique<TraceableScene>(s, 64, 64, ""); });
-  const TraceableScene all(s, 64, 64, "");
+  single.execute([&] { one = guided(s, 64, 64); });
+  const std::unique_ptr<TraceableScene> all = guided(s, 64, 64);
   const CausticGuide& a = one->caustic_guide();
-  const CausticGuide& b = all.caustic_guide();
+  const CausticGuide& b = all->caustic_guide();
   ASSERT_EQ(a.cell_count(), b.cell_count());
   EXPECT_EQ(a.photons_deposited(), b.photons_deposited());
   for (int c = 0; c < int(a.cell_count()); ++c) {
@@ -426,8 +434,8 @@ TEST(CausticGuide, OnlyScenesWithGlassOrMirrorsAndLightsHaveOne) {
   s.lights.push_back(sun);
   s.camera.position = {0, 4, 6};
   s.camera.look_at = {0, 0, 0};
-  const TraceableScene sunlit(s, 32, 32, "");
-  const CausticGuide& g = sunlit.caustic_guide();
+  const std::unique_ptr<TraceableScene> sunlit = guided(s, 32, 32);
+  const CausticGuide& g = sunlit->caustic_guide();
   ASSERT_FALSE(g.empty());
   const int c = densest_cell(g);
   EXPECT_NEAR(g.cell_position(c).y, 0.0f, 1e-3f);
@@ -452,12 +460,12 @@ TEST(CausticGuide, SceneScaleChangesNeitherTheGuideNorTheMean) {
   // mean agrees within the noise.
   const Scene base = load_scene_file(kSource + "/scenes/cornell-sphere.json");
   const uint32_t spp = 64;
-  const size_t cells = TraceableScene(base, 32, 32, "").caustic_guide().cell_count();
+  const size_t cells = build_caustic_guide(TraceableScene(base, 32, 32, "")).cell_count();
   const Renderer one(base, test::test_job(32, 32, spp));
   const test::Estimate e1 = test::mean_luminance(one.render({0, 0, 32, 32}, 0, spp));
   for (double k : {1e-3, 1e4}) {
     const Scene s = test::scaled(base, k);
-    const size_t scaled = TraceableScene(s, 32, 32, "").caustic_guide().cell_count();
+    const size_t scaled = build_caustic_guide(TraceableScene(s, 32, 32, "")).cell_count();
     EXPECT_NEAR(double(scaled), double(cells), 0.05 * double(cells)) << "scale " << k;
     const Renderer renderer(s, test::test_job(32, 32, spp));
     const Accumulation acc = renderer.render({0, 0, 32, 32}, 0, spp);
@@ -488,15 +496,15 @@ TEST(CausticGuide, ATinyGlassBeadFarFromTheOriginStillGetsItsCaustic) {
   s.shapes.back().emission = {50.0, 50.0, 50.0};  // facing down, toward the bead
   s.camera.position = c + glm::dvec3(0, 0.03, 0.03);
   s.camera.look_at = c;
-  const TraceableScene scene(s, 16, 16, "");
-  const CausticGuide& g = scene.caustic_guide();
+  const std::unique_ptr<TraceableScene> scene = guided(s, 16, 16);
+  const CausticGuide& g = scene->caustic_guide();
   ASSERT_FALSE(g.empty());
   EXPECT_LE(g.cell_count(), 16u);
   expect_same_mean_of(s, "tiny bead", 16, 256);
 }
 
 /// The scene with each diffuse material's albedo a checkerboard (its colour and half of it):
-/// every diffuse vertex then goes through the general Bsdf (path_vertex.h's guided_bsdf_sample).
+/// every diffuse vertex then goes through the general Bsdf (vertex_shading.h's guided_bsdf_sample).
 Scene textured(Scene s) {
   for (Material& m : s.materials) {
     if (m.type != MaterialType::diffuse || !m.reflectance.is_constant()) continue;
@@ -515,7 +523,7 @@ Scene textured(Scene s) {
 /// The scene with each untextured diffuse material a smooth plastic (rough: a rough one, GGX of
 /// alpha 0.3; principled: Mitsuba's principled of roughness 0.5; conductor: a perfect rough
 /// conductor, GGX 0.3, of that colour) over the same colour, IOR 1.5: their bounces take the
-/// guide with Bsdf::caustic_guide_share (path_vertex.h's guided_material).
+/// guide with Bsdf::caustic_guide_share (vertex_shading.h's guided_material).
 Scene plastic(Scene s, bool rough, bool principled = false, bool conductor = false) {
   for (Material& m : s.materials) {
     if (m.type != MaterialType::diffuse || !m.reflectance.is_constant()) continue;
