@@ -1,13 +1,13 @@
 // Ctrl-C and SIGTERM for `tessera-worker render`: the render stops within a few thousand
 // samples per thread (render/cancellation.h) and the command exits without writing an image,
 // instead of leaving the signal's default action to kill it wherever it is. The signals are
-// taken by a SignalThread (signal_thread.h), as the farm worker's StopSignal takes them.
+// taken by a SignalThread (cli/signal_thread.h), as the farm worker's StopSignal takes them.
 #pragma once
 
 #include <atomic>
 
 #include "render/cancellation.h"
-#include "signal_thread.h"
+#include "cli/signal_thread.h"
 
 namespace tessera {
 

@@ -1,4 +1,4 @@
-// SIGTERM/SIGINT for the worker (taken by a SignalThread, signal_thread.h): recorded here, and
+// SIGTERM/SIGINT for the worker (taken by a SignalThread, cli/signal_thread.h): recorded here, and
 // the call in flight (a long poll) cancelled so the worker reacts at once.
 #pragma once
 
@@ -9,7 +9,7 @@
 #include <condition_variable>
 #include <mutex>
 
-#include "signal_thread.h"
+#include "cli/signal_thread.h"
 
 namespace tessera::farm {
 

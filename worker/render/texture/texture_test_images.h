@@ -1,7 +1,10 @@
-// Test support: small images encoded in memory with OpenImageIO, and a FileReader over them.
+// Test support: small images encoded in memory with OpenImageIO (or written to a file), and a
+// FileReader over them.
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -33,6 +36,14 @@ std::string encode_image(const std::string& name, int width, int height, int cha
   }
   const std::vector<unsigned char>& b = out_bytes.buffer();
   return std::string(b.begin(), b.end());
+}
+
+/// An RGB float EXR of `width` x `height` texels (row-major from the top row) written to `path`.
+inline void write_exr(const std::filesystem::path& path, int width, int height, const std::vector<float>& rgb) {
+  const std::string bytes = encode_image(path.filename().string(), width, height, 3, rgb, OIIO::TypeDesc::FLOAT);
+  std::ofstream out(path, std::ios::binary);
+  out << bytes;
+  if (!out.good()) throw std::runtime_error("cannot write " + path.string());
 }
 
 /// A FileReader over files held in memory; a missing one is a SceneError naming it, as the

@@ -1,7 +1,8 @@
 // SIGINT and SIGTERM without a signal handler or a global, for the farm worker's StopSignal
-// (farm/stop_signal.h) and the local render's SignalCancellation (signal_cancellation.h): the
-// signals are blocked and a thread of this object takes them with sigtimedwait and hands each
-// to a callback, which may do anything a thread may (lock, notify, cancel a gRPC call).
+// (worker/farm/stop_signal.h) and the local render's SignalCancellation
+// (worker/signal_cancellation.h): the signals are blocked and a thread of this object takes them
+// with sigtimedwait and hands each to a callback, which may do anything a thread may (lock,
+// notify, cancel a gRPC call).
 #pragma once
 
 #include <signal.h>
