@@ -3,7 +3,7 @@
 #include "accum/accumulation_codec.h"
 #include "accum/film.h"
 #include "farm_error.h"
-#include "job_state.h"
+#include "store/job_state.h"
 #include "store/jobs_table.h"
 #include "store/units_table.h"
 #include "store/workers_table.h"

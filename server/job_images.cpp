@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "farm_error.h"
-#include "job_state.h"
+#include "store/job_state.h"
 
 namespace tessera::server {
 namespace {

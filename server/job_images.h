@@ -14,7 +14,7 @@
 #include "farm_events.h"
 #include "farm_store.h"
 #include "job_output.h"
-#include "job_record.h"
+#include "store/job_record.h"
 
 namespace tessera::server {
 

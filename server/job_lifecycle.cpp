@@ -6,7 +6,7 @@
 
 #include "farm_error.h"
 #include "job/job_options.h"
-#include "job_state.h"
+#include "store/job_state.h"
 #include "scene/native/json_value.h"
 #include "scene/scene_error.h"
 #include "scene/scene_loader.h"

@@ -11,7 +11,7 @@
 #include "farm_limits.h"
 #include "farm_store.h"
 #include "job_images.h"
-#include "job_record.h"
+#include "store/job_record.h"
 #include "result_intake.h"
 #include "tessera/v1/job.pb.h"
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "job_record.h"
+#include "store/job_record.h"
 #include "store/jobs_table.h"
 #include "store/sqlite.h"
 #include "store/tiles_table.h"

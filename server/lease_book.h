@@ -33,7 +33,7 @@
 
 #include "accum/tile_rect.h"
 #include "clock.h"
-#include "job_record.h"
+#include "store/job_record.h"
 #include "job_store.h"
 #include "lease_table.h"
 #include "scheduler.h"

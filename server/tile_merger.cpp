@@ -10,7 +10,7 @@
 #include "job/job_plan.h"
 #include "job/tile_verdict.h"
 #include "job/stopping_rule.h"
-#include "job_state.h"
+#include "store/job_state.h"
 #include "job_store.h"
 #include "store/job_contributors_table.h"
 #include "store/jobs_table.h"

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "job_state.h"
+#include "store/job_state.h"
 
 namespace tessera::server {
 namespace {

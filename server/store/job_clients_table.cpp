@@ -1,6 +1,6 @@
 #include "store/job_clients_table.h"
 
-#include "job_state.h"
+#include "store/job_state.h"
 
 namespace tessera::server {
 

@@ -1,5 +1,5 @@
 // The jobs table: one row per job, its options, state and counters. Every statement on `jobs`
-// is here. Each state change is one event of the job state machine (server/job_state.h) applied
+// is here. Each state change is one event of the job state machine (store/job_state.h) applied
 // as compare-and-set (`... WHERE id = ? AND state = <from>`): it returns false when another call
 // changed the job first. The counters are added in the transaction of the event they count
 // (docs/farm.md, "Where the SQL lives"); the caller holds that transaction.
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "job_record.h"
+#include "store/job_record.h"
 #include "store/sqlite.h"
 
 namespace tessera::server {

@@ -4,7 +4,7 @@
 // inserts the row of batch next_lease (state 'leased') and moves next_lease on. Units that came
 // back from a lease (expired, released) keep their row in `units`, state 'queued'.
 //
-// Every operation here is one of the unit state machine's events (server/job_state.h) applied
+// Every operation here is one of the unit state machine's events (store/job_state.h) applied
 // to the units without a row, as compare-and-set on next_lease or lease_end.
 #pragma once
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "accum/tile_rect.h"
-#include "job_record.h"
+#include "store/job_record.h"
 #include "store/sqlite.h"
 
 namespace tessera::server {

@@ -1,6 +1,6 @@
 // The units table: the rows of work units that were leased at least once (the others wait in
 // store/tile_queue.h). Every statement on `units` is here, each operation one event of the unit
-// state machine (server/job_state.h) applied as compare-and-set: `UPDATE units SET state = <to>
+// state machine (store/job_state.h) applied as compare-and-set: `UPDATE units SET state = <to>
 // ... WHERE ... AND state = <from>` changes nothing when another call got there first, and the
 // caller learns it from the returned count.
 //
@@ -20,7 +20,7 @@
 #include "accum/tile_rect.h"
 #include "job/job_plan.h"
 #include "job/stopping_rule.h"
-#include "job_state.h"
+#include "store/job_state.h"
 #include "store/sqlite.h"
 
 namespace tessera::server {

@@ -272,7 +272,7 @@ void run_load(uint32_t per_call) {
   const std::string address = "127.0.0.1:" + std::to_string(std::stoi(e2e::read_text(port_file)));
   // The server's image module (OpenImageIO) is a start's fixed cost (0.3-0.5 s of CPU; seconds
   // of wall time on a busy machine), not serving's. Servers load it before they listen
-  // (server/main.cpp); an older build that loaded it after listening is measured from the line
+  // (server/app/main.cpp); an older build that loaded it after listening is measured from the line
   // that says it is loaded, one that says nothing from listening.
   if (says_when_module_loaded(server_bin)) {
     while (e2e::read_text(dir / "server.log").find("image module") == std::string::npos) {

@@ -1,4 +1,4 @@
-// The server's gRPC threads are kept between calls (server/main.cpp, kMaxPollers): waves of
+// The server's gRPC threads are kept between calls (server/app/main.cpp, kMaxPollers): waves of
 // concurrent calls are served by the threads the first wave started, not by new ones. Counts
 // the threads that served calls in the server's call trace (TESSERA_CALL_TRACE,
 // server/call_trace.h); no timing is asserted (calls that happen not to overlap need fewer
@@ -18,7 +18,7 @@ namespace tessera::e2e {
 namespace {
 
 // The image module (OpenImageIO's libraries) is loaded before the server listens
-// (server/main.cpp): while the dynamic loader maps it no thread can start, and gRPC's server
+// (server/app/main.cpp): while the dynamic loader maps it no thread can start, and gRPC's server
 // starts one as a call arrives, so a server that listened first answered nothing meanwhile. The
 // port file is the server's last act of starting; by then the log says the module is loaded.
 TEST(ServerThreadsE2E, TheImageModuleIsLoadedBeforeTheServerListens) {

@@ -1,4 +1,4 @@
-#include "job_record.h"
+#include "store/job_record.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "job_state.h"
+#include "store/job_state.h"
 
 #include <gtest/gtest.h>
 

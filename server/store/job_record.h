@@ -10,7 +10,7 @@
 #include "job/job_options.h"
 #include "job/stopping_rule.h"
 #include "job/tile_summary.h"
-#include "job_state.h"
+#include "store/job_state.h"
 
 namespace tessera::server {
 
