@@ -131,6 +131,60 @@ class WorkerThreads {
   bool released_ = false;
 };
 
+
+/// The workers' tallies added up.
+struct TallyTotals {
+  std::vector<double> lease_ms, upload_ms, later_lease_ms;  ///< later: each worker's calls after its first
+  uint64_t accepted = 0, dropped = 0, early = 0, proto_bytes = 0, results = 0;
+  Clock::time_point last;  ///< the last accepted upload (start when none)
+};
+
+/// The tallies' totals; r.final_upload_ms receives the last accepted upload's time.
+TallyTotals totals_of(const std::vector<WorkerTally>& tallies, Clock::time_point start, RunResult& r) {
+  TallyTotals totals;
+  totals.last = start;
+  for (const WorkerTally& t : tallies) {
+    totals.lease_ms.insert(totals.lease_ms.end(), t.lease_ms.begin(), t.lease_ms.end());
+    if (t.lease_ms.size() > 1) {
+      totals.later_lease_ms.insert(totals.later_lease_ms.end(), t.lease_ms.begin() + 1, t.lease_ms.end());
+    }
+    totals.upload_ms.insert(totals.upload_ms.end(), t.upload_ms.begin(), t.upload_ms.end());
+    totals.accepted += t.accepted;
+    totals.dropped += t.dropped;
+    totals.early += t.early;
+    totals.proto_bytes += t.proto_bytes;
+    totals.results += t.results;
+    if (t.accepted > 0 && t.last_accept >= totals.last) {
+      totals.last = t.last_accept;
+      r.final_upload_ms = t.last_accept_upload_ms;
+    }
+  }
+  return totals;
+}
+
+/// Each worker's calls, one line each: kind, worker, begin and end (ns), units, first lease id.
+void write_client_trace(const std::string& path, const std::vector<WorkerTally>& tallies) {
+  std::ofstream out(path);
+  for (size_t w = 0; w < tallies.size(); ++w) {
+    for (const CallRecord& c : tallies[w].calls) {
+      out << c.kind << ' ' << w << ' ' << c.begin_ns << ' ' << c.end_ns << ' ' << c.units << ' ' << c.lease_id
+          << '\n';
+    }
+  }
+}
+
+/// The server's log without its start and stop lines.
+std::vector<std::string> server_log_lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream log(text);
+  for (std::string line; std::getline(log, line);) {
+    if (line.find("listening on") == std::string::npos && line.find("shutting down") == std::string::npos) {
+      lines.push_back(line);
+    }
+  }
+  return lines;
+}
+
 }  // namespace
 
 RunResult run_once(const Options& options, const RunConfig& config, const fs::path& dir,
@@ -198,25 +252,11 @@ RunResult run_once(const Options& options, const RunConfig& config, const fs::pa
   job = get_job(*jobs, job_id);
 
   // Figures.
-  std::vector<double> lease_ms, upload_ms, later_lease_ms;
-  uint64_t accepted = 0, dropped = 0, early = 0, proto_bytes = 0, results = 0;
-  Clock::time_point last = start;
-  for (const WorkerTally& t : tallies) {
-    lease_ms.insert(lease_ms.end(), t.lease_ms.begin(), t.lease_ms.end());
-    if (t.lease_ms.size() > 1) {
-      later_lease_ms.insert(later_lease_ms.end(), t.lease_ms.begin() + 1, t.lease_ms.end());
-    }
-    upload_ms.insert(upload_ms.end(), t.upload_ms.begin(), t.upload_ms.end());
-    accepted += t.accepted;
-    dropped += t.dropped;
-    early += t.early;
-    proto_bytes += t.proto_bytes;
-    results += t.results;
-    if (t.accepted > 0 && t.last_accept >= last) {
-      last = t.last_accept;
-      r.final_upload_ms = t.last_accept_upload_ms;
-    }
-  }
+  TallyTotals t = totals_of(tallies, start, r);
+  std::vector<double>& lease_ms = t.lease_ms;
+  std::vector<double>& upload_ms = t.upload_ms;
+  const uint64_t accepted = t.accepted, results = t.results;
+  const Clock::time_point last = t.last;
   r.client_s = seconds_between(start, last);
   r.client_rate = r.client_s > 0 ? double(accepted) / r.client_s : 0;
   // A cut-off job has no finish time: its interval ends when the last worker stopped.
@@ -227,37 +267,22 @@ RunResult run_once(const Options& options, const RunConfig& config, const fs::pa
   }
   r.lease_p50 = percentile(lease_ms, 50);
   r.lease_p99 = percentile(lease_ms, 99);
-  r.lease_p99_later = percentile(later_lease_ms, 99);
+  r.lease_p99_later = percentile(t.later_lease_ms, 99);
   r.upload_p50 = percentile(upload_ms, 50);
   r.upload_p99 = percentile(upload_ms, 99);
   r.upload_max = upload_ms.empty() ? 0 : *std::max_element(upload_ms.begin(), upload_ms.end());
   r.accum_bytes = bank.mean_bytes();
-  r.proto_bytes = results ? double(proto_bytes) / double(results) : 0;
+  r.proto_bytes = results ? double(t.proto_bytes) / double(results) : 0;
   r.accepted = accepted;
   r.server_cpu_listen_s = server.cpu_at_listening_s();
   r.server_cpu_run_s = server_cpu1 - server_cpu0;
   r.server_cpu_ms = accepted ? (server_cpu1 - server_cpu0) * 1000.0 / double(accepted) : 0;
   r.server_cpu_life_ms = accepted ? server_cpu1 * 1000.0 / double(accepted) : 0;
   r.client_cpu_ms = accepted ? (client_cpu1 - client_cpu0) * 1000.0 / double(accepted) : 0;
-  r.early_fraction = results ? double(early) / double(results) : 0;
-  check_final(job, shared, accepted, dropped, r);
-  if (!trace_prefix.empty()) {
-    std::ofstream out(trace_prefix + ".client");
-    for (size_t w = 0; w < tallies.size(); ++w) {
-      for (const CallRecord& c : tallies[w].calls) {
-        out << c.kind << ' ' << w << ' ' << c.begin_ns << ' ' << c.end_ns << ' ' << c.units << ' '
-            << c.lease_id << '\n';
-      }
-    }
-  }
-
-  std::istringstream log(server.log_text());
-  for (std::string line; std::getline(log, line);) {
-    if (line.find("listening on") == std::string::npos &&
-        line.find("shutting down") == std::string::npos) {
-      r.server_log.push_back(line);
-    }
-  }
+  r.early_fraction = results ? double(t.early) / double(results) : 0;
+  check_final(job, shared, accepted, t.dropped, r);
+  if (!trace_prefix.empty()) write_client_trace(trace_prefix + ".client", tallies);
+  r.server_log = server_log_lines(server.log_text());
   return r;
 }
 

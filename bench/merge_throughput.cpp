@@ -60,6 +60,46 @@ fs::path default_server_bin() {
   return ec ? fs::path("tessera-server") : self.parent_path() / "tessera-server";
 }
 
+/// `reps` runs of one configuration, each printed as it ends; their median.
+RunResult run_configuration(const Options& options, const RunConfig& config, int reps, const fs::path& temp,
+                            int& run_index) {
+  std::vector<RunResult> runs;
+  for (int rep = 0; rep < reps; ++rep) {
+    RunResult r = run_once(options, config, temp / ("run-" + std::to_string(run_index)), run_index);
+    ++run_index;
+    char final_ms[32];
+    std::snprintf(final_ms, sizeof final_ms, "%.1f", r.final_upload_ms);
+    const std::string label = "load " + r.load_before + " -> " + r.load_after +
+                              (r.cut_off ? std::string("; cut off after --max-seconds")
+                                         : std::string("; last upload (completes the job, writes EXR+PNG) ") +
+                                               final_ms + " ms");
+    print_row(r, label.c_str());
+    for (const std::string& p : r.problems) std::printf("    PROBLEM: %s\n", p.c_str());
+    for (size_t i = 0; i < r.server_log.size() && i < 5; ++i) {
+      std::printf("    server: %s\n", r.server_log[i].c_str());
+    }
+    runs.push_back(std::move(r));
+  }
+  return median_of(runs);
+}
+
+/// What the table's columns mean.
+void print_legend() {
+  std::printf(
+      "res/s(client): results accepted / (workers released -> last accepted reply); "
+      "merged/s(server): results_merged / (job's started_unix_ms -> finished_unix_ms: first "
+      "lease to\n"
+      "the last merge; the server stamps finished before writing the output).\n"
+      "proto B/res: protobuf payloads of LeaseUnit request+reply and UploadResult "
+      "request+reply (no gRPC/HTTP2 framing). early%%: uploads sent before the tile's "
+      "previous batch was acknowledged (stored as pending, merged later).\n"
+      "srv CPU ms/res: the server's CPU from the clock's start (every worker registered) to the "
+      "job's end per accepted result; srv CPU s listen: its CPU at listening (exec, linking, "
+      "store, gRPC set-up: a fixed cost of the run);\n"
+      "ms/res life: its CPU from exec to the job's end per result (start-up included). The "
+      "marginal cost per result is the difference of two job sizes (tests/load/capacity.sh).\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -138,26 +178,7 @@ int main(int argc, char** argv) {
       for (uint32_t batch : batches) {
         for (int n : workers) {
           const RunConfig config{tile, batch, n, channel == "shared"};
-          std::vector<RunResult> runs;
-          for (int rep = 0; rep < reps; ++rep) {
-            RunResult r = run_once(options, config,
-                                   temp.path() / ("run-" + std::to_string(run_index)), run_index);
-            ++run_index;
-            char final_ms[32];
-            std::snprintf(final_ms, sizeof final_ms, "%.1f", r.final_upload_ms);
-            const std::string label =
-                "load " + r.load_before + " -> " + r.load_after +
-                (r.cut_off ? std::string("; cut off after --max-seconds")
-                           : std::string("; last upload (completes the job, writes EXR+PNG) ") +
-                                 final_ms + " ms");
-            print_row(r, label.c_str());
-            for (const std::string& p : r.problems) std::printf("    PROBLEM: %s\n", p.c_str());
-            for (size_t i = 0; i < r.server_log.size() && i < 5; ++i) {
-              std::printf("    server: %s\n", r.server_log[i].c_str());
-            }
-            runs.push_back(std::move(r));
-          }
-          medians.push_back(median_of(runs));
+          medians.push_back(run_configuration(options, config, reps, temp.path(), run_index));
         }
       }
     }
@@ -169,19 +190,7 @@ int main(int argc, char** argv) {
       ok = ok && m.problems.empty();
     }
     std::printf("load average at end: %s\n", load_average().c_str());
-    std::printf(
-        "res/s(client): results accepted / (workers released -> last accepted reply); "
-        "merged/s(server): results_merged / (job's started_unix_ms -> finished_unix_ms: first "
-        "lease to\n"
-        "the last merge; the server stamps finished before writing the output).\n"
-        "proto B/res: protobuf payloads of LeaseUnit request+reply and UploadResult "
-        "request+reply (no gRPC/HTTP2 framing). early%%: uploads sent before the tile's "
-        "previous batch was acknowledged (stored as pending, merged later).\n"
-        "srv CPU ms/res: the server's CPU from the clock's start (every worker registered) to the "
-        "job's end per accepted result; srv CPU s listen: its CPU at listening (exec, linking, "
-        "store, gRPC set-up: a fixed cost of the run);\n"
-        "ms/res life: its CPU from exec to the job's end per result (start-up included). The "
-        "marginal cost per result is the difference of two job sizes (tests/load/capacity.sh).\n");
+    print_legend();
     return ok ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tessera-bench-merge: %s\n", e.what());

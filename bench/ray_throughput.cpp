@@ -227,6 +227,44 @@ void compare_renderers(const Renderer& a, const std::string& a_name, const Rende
 
 }  // namespace
 
+/// The renderer's samples and rays per second over whole tiles for about `seconds`, against
+/// Embree's raw rate (`raw`) and the widest packet's per-CPU-second rate (0: not measured).
+void measure_renderer(const Renderer& renderer, const JobOptions& options, uint32_t spp, double seconds,
+                      const Rate& raw, double packet_cpu_rate) {
+  const double raw_rate = raw.wall;
+  RenderStats stats;
+  timespec cpu0, cpu1;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu0);
+  auto t0 = std::chrono::steady_clock::now();
+  uint32_t batch = 0;
+  const std::vector<TileRect> tiles = options.plan().tiles();
+  // Stops at the first tile boundary past `seconds`, so a large image at a high --spp does not
+  // run a whole batch of the frame on a loaded machine (the figure then covers the tiles reached).
+  bool done = false;
+  while (!done) {
+    for (const TileRect& tile : tiles) {
+      renderer.render(tile, batch * spp, (batch + 1) * spp, &stats);
+      if ((done = seconds_since(t0) >= seconds)) break;
+    }
+    ++batch;
+  }
+  const double elapsed = seconds_since(t0);
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu1);
+  const double cpu = double(cpu1.tv_sec - cpu0.tv_sec) + 1e-9 * double(cpu1.tv_nsec - cpu0.tv_nsec);
+  const double render_rays = double(stats.rays + stats.shadow_rays) / elapsed;
+  std::printf("renderer: %.2f M samples/s, %.2f M rays/s (closest-hit %.2f M/s + shadow %.2f M/s), "
+              "%.1f %% of the raw rate\n",
+              double(stats.samples) / elapsed / 1e6, render_rays / 1e6, double(stats.rays) / elapsed / 1e6,
+              double(stats.shadow_rays) / elapsed / 1e6, 100.0 * render_rays / raw_rate);
+  std::printf("renderer per CPU-second (all its threads): %.2f M rays, %.1f %% of the raw per-CPU-second rate\n",
+              double(stats.rays + stats.shadow_rays) / cpu / 1e6,
+              100.0 * double(stats.rays + stats.shadow_rays) / cpu / raw.cpu);
+  if (packet_cpu_rate > 0) {
+    std::printf("renderer per CPU-second: %.1f %% of the widest packet's closest-hit rate\n",
+                100.0 * double(stats.rays + stats.shadow_rays) / cpu / packet_cpu_rate);
+  }
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"Embree's raw ray throughput against the renderer's, on one scene"};
   std::string scene_file;
@@ -310,36 +348,6 @@ int main(int argc, char** argv) {
   const Renderer renderer(scene, options, {}, integrator_kind_from_name(integrator), kernel);
   std::printf("renderer integrator: %s, kernel %s\n", integrator_kind_name(renderer.integrator()),
               renderer.kernel_isa().c_str());
-  RenderStats stats;
-  timespec cpu0, cpu1;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu0);
-  auto t0 = std::chrono::steady_clock::now();
-  uint32_t batch = 0;
-  const std::vector<TileRect> tiles = options.plan().tiles();
-  // Stops at the first tile boundary past `seconds`, so a large image at a high --spp does not
-  // run a whole batch of the frame on a loaded machine (the figure then covers the tiles reached).
-  bool done = false;
-  while (!done) {
-    for (const TileRect& tile : tiles) {
-      renderer.render(tile, batch * spp, (batch + 1) * spp, &stats);
-      if ((done = seconds_since(t0) >= seconds)) break;
-    }
-    ++batch;
-  }
-  const double elapsed = seconds_since(t0);
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu1);
-  const double cpu = double(cpu1.tv_sec - cpu0.tv_sec) + 1e-9 * double(cpu1.tv_nsec - cpu0.tv_nsec);
-  const double render_rays = double(stats.rays + stats.shadow_rays) / elapsed;
-  std::printf("renderer: %.2f M samples/s, %.2f M rays/s (closest-hit %.2f M/s + shadow %.2f M/s), "
-              "%.1f %% of the raw rate\n",
-              double(stats.samples) / elapsed / 1e6, render_rays / 1e6, double(stats.rays) / elapsed / 1e6,
-              double(stats.shadow_rays) / elapsed / 1e6, 100.0 * render_rays / raw_rate);
-  std::printf("renderer per CPU-second (all its threads): %.2f M rays, %.1f %% of the raw per-CPU-second rate\n",
-              double(stats.rays + stats.shadow_rays) / cpu / 1e6,
-              100.0 * double(stats.rays + stats.shadow_rays) / cpu / raw.cpu);
-  if (packet_cpu_rate > 0) {
-    std::printf("renderer per CPU-second: %.1f %% of the widest packet's closest-hit rate\n",
-                100.0 * double(stats.rays + stats.shadow_rays) / cpu / packet_cpu_rate);
-  }
+  measure_renderer(renderer, options, spp, seconds, raw, packet_cpu_rate);
   return 0;
 }

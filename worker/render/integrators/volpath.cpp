@@ -58,7 +58,7 @@ glm::dvec3 shadow_transmittance(const TraceableScene& scene, glm::vec3 origin, c
   glm::vec3 o = origin;
   const bool at_infinity = std::isinf(ls.distance);
   const glm::vec3 target = at_infinity ? glm::vec3(0.0f) : offset_ray_origin(ls.point, -ls.wi);
-  // As set_shadow_ray (path_vertex.h): a delta light's ray ends short of it.
+  // As set_shadow_ray (vertex_shading.h): a delta light's ray ends short of it.
   const float end = ls.delta ? path_vertex_detail::kDeltaShadowEnd : 1.0f;
   for (int crossing = 0; crossing < kMaxShadowCrossings; ++crossing) {
     Ray r{o, ls.wi, std::numeric_limits<float>::infinity()};
@@ -86,166 +86,199 @@ glm::dvec3 shadow_transmittance(const TraceableScene& scene, glm::vec3 origin, c
   return glm::dvec3(0.0);
 }
 
+/// One volumetric path between its events: what it has gathered, its throughput, the medium it
+/// is in, and the state the next emitter hit's MIS weight reads. trace_volume_path() runs its
+/// events in order; each step says whether the path goes on.
+class VolumePath {
+ public:
+  enum class Step { surface, next, end };
+
+  VolumePath(const TraceableScene& scene, int max_depth, PixelSampler& sampler, PathCounters& counters)
+      : scene_(scene), lights_(scene.lights()), textures_(scene.textures()), sampler_(sampler), counters_(counters),
+        max_depth_(max_depth), have_lights_(!lights_.empty()), hide_(scene.hide_emitters()),
+        medium_(scene.camera_medium()), rr_depth_(scene.rr_depth()) {}
+
+  bool depth_left() const { return !(max_depth_ >= 0 && depth_ >= max_depth_); }
+  bool in_medium() const { return medium_ >= 0; }
+  const glm::dvec3& radiance() const { return radiance_; }
+
+  /// The medium before the hit at t_hit (infinity: none): its transmittance, or a scattering
+  /// event there (Step::next) with its light sample and phase-function bounce.
+  Step through_medium(Ray& ray, uint32_t pair, float t_hit);
+  /// The ray escaped: the environment's light.
+  void escape(const Ray& ray);
+  /// The surface at `hit`: its emission, a mask's null part (Step::next without an event), its
+  /// light sample and BSDF bounce.
+  Step at_surface(Ray& ray, uint32_t pair, Hit& hit);
+
+ private:
+  /// Russian roulette from the rr_depth-th scattering event on (counted from 1), as trace_path
+  /// starts it at its rr_depth-th vertex.
+  bool roulette(float u) {
+    if (depth_ < rr_depth_) return true;
+    const double survival = std::min(max_channel(beta_) * eta_scale_, kVolumeMaxSurvival);
+    if (!(double(u) < survival)) return false;
+    beta_ /= survival;
+    return true;
+  }
+
+  const TraceableScene& scene_;
+  const LightSet& lights_;
+  const TextureSet& textures_;
+  PixelSampler& sampler_;
+  PathCounters& counters_;
+  const int max_depth_;
+  const bool have_lights_;
+  const bool hide_;
+  glm::dvec3 radiance_{0.0}, beta_{1.0};
+  int32_t medium_;
+  int depth_ = 0;             ///< scattering events so far (null interactions do not count)
+  bool count_direct_ = true;  ///< an emitter hit counts fully: camera ray, delta chain, no NEE
+  float prev_pdf_ = 0;        ///< direction density of the last scattering event
+  SurfacePoint prev_sp_{};    ///< where it was (ng 0 for a medium point)
+  double eta_scale_ = 1;
+  const int rr_depth_;
+};
+
+VolumePath::Step VolumePath::through_medium(Ray& ray, uint32_t pair, float t_hit) {
+  const RenderMedium& m = scene_.medium(medium_);
+  sampler_.set_pair(pair);
+  const glm::vec2 u_flight = sampler_.get2d();
+  TrackingStream stream(stream_key(sampler_, pair + 5, 0));
+  const FreeFlight flight = m.sample_flight(ray.o, ray.d, t_hit, u_flight.x, u_flight.y, stream, textures_);
+  beta_ *= flight.weight;
+  if (!(max_channel(beta_) > 0)) return Step::end;
+  if (!flight.scattered) return Step::surface;
+  const glm::vec3 p = ray.o + flight.t * ray.d;
+  ++depth_;
+  if (!depth_left()) return Step::end;
+  const SurfacePoint sp{p, glm::vec3(0.0f), glm::vec3(0.0f)};
+  sampler_.set_pair(pair + 1);
+  const glm::vec2 u_choice = sampler_.get2d_independent();
+  if (m.sample_emitters && have_lights_) {
+    sampler_.set_pair(pair + 2);
+    const LightSample ls = lights_.sample(sp, u_choice.x, sampler_.get2d());
+    if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
+      const float phase = m.phase.eval(ray.d, ls.wi);
+      TrackingStream shadow_stream(stream_key(sampler_, pair + 5, 1));
+      const glm::dvec3 tr = shadow_transmittance(scene_, p, ls, medium_, shadow_stream, counters_);
+      const float w = ls.delta ? 1.0f : path_vertex_detail::mis_weight(ls.pdf, phase);
+      radiance_ += beta_ * glm::dvec3(ls.radiance) * tr * (double(phase) * double(w) / double(ls.pdf));
+    }
+  }
+  sampler_.set_pair(pair + 3);
+  const PhaseSample ps = m.phase.sample(ray.d, sampler_.get2d());
+  beta_ *= double(ps.weight);
+  prev_pdf_ = ps.pdf;
+  prev_sp_ = sp;
+  count_direct_ = !m.sample_emitters;
+  ray = Ray{p, ps.wi, std::numeric_limits<float>::infinity()};
+  return roulette(u_choice.y) ? Step::next : Step::end;
+}
+
+void VolumePath::escape(const Ray& ray) {
+  if (lights_.has_environment() && !(depth_ == 0 && hide_)) {
+    const glm::vec3 le = lights_.environment(ray.d);
+    const float w = path_vertex_detail::environment_weight(lights_, count_direct_, prev_pdf_, prev_sp_, ray.d);
+    radiance_ += beta_ * glm::dvec3(le) * double(w);
+  }
+}
+
+VolumePath::Step VolumePath::at_surface(Ray& ray, uint32_t pair, Hit& hit) {
+  using namespace path_vertex_detail;
+  const Geometry& g = *hit.geometry;
+  const glm::vec3 wo = -ray.d;
+  const glm::vec3 ng_front = hit.sp.ng;
+  // Mitsuba's volpath hides an emitter the camera sees by leaving its emission out; the
+  // surface is shaded all the same (its path integrator and trace_path let the ray pass).
+  if (g.emitter >= 0 && !(depth_ == 0 && hide_)) {
+    const glm::vec3 le = lights_.emitted(g, hit.primitive, hit.uv, hit.sp.ng, wo);
+    if (le != glm::vec3(0.0f)) {
+      const float w = emitter_hit_weight(lights_, count_direct_, prev_pdf_, prev_sp_, hit);
+      radiance_ += beta_ * glm::dvec3(le) * double(w);
+    }
+  }
+  const RenderMaterial* m = &scene_.material(g.material);
+  float opacity = 1;
+  if (m->masked()) {
+    opacity = opacity_at(*m, textures_, hit);
+    sampler_.set_pair(pair + 4);
+    if (sampler_.get2d().y >= opacity) {
+      // Passes straight on: a mask's null part. No scattering event: depth and the MIS state stay.
+      medium_ = medium_after(scene_, hit, ng_front, ray.d, medium_);
+      ray.o = offset_ray_origin(hit.sp, ray.d);
+      ray.t_max = std::numeric_limits<float>::infinity();
+      return Step::next;
+    }
+  }
+  SurfacePoint sp = hit.sp;
+  m = facing_material(scene_, m, wo, sp, hit);
+  if (!m) return Step::end;  // one-sided surfaces are black from behind
+  const ShadingFrame shading = shading_frame(hit, *m, textures_, scene_.has_uv(), wo);
+  const Bsdf bsdf(bsdf_params(*m, textures_, texture_point(hit)));
+  const glm::vec3 wo_local = shading.frame.to_local(wo);
+  sampler_.set_pair(pair + 1);
+  const glm::vec2 u_choice = sampler_.get2d_independent();
+  // Mitsuba's volpath samples a light only where the next segment may still count.
+  if (have_lights_ && bsdf.has_smooth_lobe() && (max_depth_ < 0 || depth_ + 1 < max_depth_)) {
+    sampler_.set_pair(pair + 2);
+    const LightSample ls = lights_.sample(sp, u_choice.x, sampler_.get2d());
+    if (const std::optional<LightTerm> lt = light_term(bsdf, shading, wo_local, ls, *m, sp, opacity)) {
+      const glm::vec3 origin = offset_ray_origin(sp, ls.wi);
+      const int32_t shadow_medium = medium_after(scene_, hit, ng_front, ls.wi, medium_);
+      TrackingStream shadow_stream(stream_key(sampler_, pair + 5, 1));
+      const glm::dvec3 tr = shadow_transmittance(scene_, origin, ls, shadow_medium, shadow_stream, counters_);
+      radiance_ += beta_ * glm::dvec3(lt->f) * glm::dvec3(ls.radiance) * tr * (double(lt->w) / double(ls.pdf));
+    }
+  }
+  sampler_.set_pair(pair + 4);
+  const float u_lobe = sampler_.get2d().x;
+  sampler_.set_pair(pair + 3);
+  const glm::vec2 u_bsdf = sampler_.get2d();
+  const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
+  if (!bs) return Step::end;
+  const std::optional<ScatteredDirection> out = scattered_direction(shading, *bs, *m, sp);
+  if (!out) return Step::end;
+  const glm::vec3 wi = out->wi;
+  beta_ *= glm::dvec3(bs->weight * out->perturbation);
+  if (!(max_channel(beta_) > 0)) return Step::end;
+  // A thindielectric's straight transmission is a null interaction in Mitsuba (its BSDF
+  // samples it as BSDFFlags::Null): no depth, no new MIS state.
+  const bool null_event = m->type == MaterialType::thin_glass && glm::dot(wi, ng_front) * glm::dot(wo, ng_front) < 0;
+  medium_ = medium_after(scene_, hit, ng_front, wi, medium_);
+  ray = Ray{offset_ray_origin(sp, wi), wi, std::numeric_limits<float>::infinity()};
+  if (null_event) return Step::next;
+  ++depth_;
+  eta_scale_ *= double(bs->eta) * double(bs->eta);
+  prev_pdf_ = bs->pdf * opacity;
+  prev_sp_ = sp;
+  count_direct_ = bs->delta;
+  return roulette(u_choice.y) ? Step::next : Step::end;
+}
+
 }  // namespace
 
 glm::dvec3 trace_volume_path(const TraceableScene& scene, Ray ray, int max_depth, PixelSampler& sampler,
                              PathCounters& counters) {
-  const LightSet& lights = scene.lights();
-  const TextureSet& textures = scene.textures();
-  const bool have_lights = !lights.empty();
-  const bool hide = scene.hide_emitters();
-  glm::dvec3 radiance(0.0), beta(1.0);
-  int32_t medium = scene.camera_medium();
-  int depth = 0;            // scattering events so far (null interactions do not count)
-  bool count_direct = true;  // an emitter hit counts fully: camera ray, delta chain, no NEE
-  float prev_pdf = 0;        // direction density of the last scattering event
-  SurfacePoint prev_sp{};    // where it was (ng 0 for a medium point)
-  double eta_scale = 1;
-  // Russian roulette starts at the scene's rr_depth-th scattering event (counted from 1), as
-  // trace_path starts it at its rr_depth-th vertex.
-  const int rr_depth = scene.rr_depth();
-
-  auto roulette = [&](float u) {
-    if (depth < rr_depth) return true;
-    const double survival = std::min(max_channel(beta) * eta_scale, kVolumeMaxSurvival);
-    if (!(double(u) < survival)) return false;
-    beta /= survival;
-    return true;
-  };
-
-  for (uint32_t event = 0; event < kMaxVolumeEvents; ++event) {
-    if (max_depth >= 0 && depth >= max_depth) break;
+  VolumePath path(scene, max_depth, sampler, counters);
+  for (uint32_t event = 0; event < kMaxVolumeEvents && path.depth_left(); ++event) {
     const uint32_t pair = kCameraPairs + kVolumePairsPerEvent * event;
     Hit hit;
     ++counters.rays;
     const bool found = scene.intersect(ray, &hit);
     const float t_hit = found ? glm::length(hit.sp.p - ray.o) : std::numeric_limits<float>::infinity();
-
-    // ------------------------------------------------------------- the medium before the hit
-    if (medium >= 0) {
-      const RenderMedium& m = scene.medium(medium);
-      sampler.set_pair(pair);
-      const glm::vec2 u_flight = sampler.get2d();
-      TrackingStream stream(stream_key(sampler, pair + 5, 0));
-      const FreeFlight flight = m.sample_flight(ray.o, ray.d, t_hit, u_flight.x, u_flight.y, stream, textures);
-      beta *= flight.weight;
-      if (!(max_channel(beta) > 0)) break;
-      if (flight.scattered) {
-        const glm::vec3 p = ray.o + flight.t * ray.d;
-        ++depth;
-        if (max_depth >= 0 && depth >= max_depth) break;
-        const SurfacePoint sp{p, glm::vec3(0.0f), glm::vec3(0.0f)};
-        sampler.set_pair(pair + 1);
-        const glm::vec2 u_choice = sampler.get2d_independent();
-        if (m.sample_emitters && have_lights) {
-          sampler.set_pair(pair + 2);
-          const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
-          if (ls.pdf > 0 && ls.radiance != glm::vec3(0.0f)) {
-            const float phase = m.phase.eval(ray.d, ls.wi);
-            TrackingStream shadow_stream(stream_key(sampler, pair + 5, 1));
-            const glm::dvec3 tr = shadow_transmittance(scene, p, ls, medium, shadow_stream, counters);
-            const float w = ls.delta ? 1.0f : path_vertex_detail::mis_weight(ls.pdf, phase);
-            radiance += beta * glm::dvec3(ls.radiance) * tr * (double(phase) * double(w) / double(ls.pdf));
-          }
-        }
-        sampler.set_pair(pair + 3);
-        const PhaseSample ps = m.phase.sample(ray.d, sampler.get2d());
-        beta *= double(ps.weight);
-        prev_pdf = ps.pdf;
-        prev_sp = sp;
-        count_direct = !m.sample_emitters;
-        ray = Ray{p, ps.wi, std::numeric_limits<float>::infinity()};
-        if (!roulette(u_choice.y)) break;
-        continue;
-      }
+    if (path.in_medium()) {
+      const VolumePath::Step step = path.through_medium(ray, pair, t_hit);
+      if (step == VolumePath::Step::end) break;
+      if (step == VolumePath::Step::next) continue;
     }
-
-    // ------------------------------------------------------------- escaped: the environment
     if (!found) {
-      if (lights.has_environment() && !(depth == 0 && hide)) {
-        const glm::vec3 le = lights.environment(ray.d);
-        const float w = path_vertex_detail::environment_weight(lights, count_direct, prev_pdf, prev_sp, ray.d);
-        radiance += beta * glm::dvec3(le) * double(w);
-      }
+      path.escape(ray);
       break;
     }
-
-    // ------------------------------------------------------------- the surface
-    const Geometry& g = *hit.geometry;
-    const glm::vec3 wo = -ray.d;
-    const glm::vec3 ng_front = hit.sp.ng;
-    // Passes straight on: a mask's null part. No scattering event: depth and the MIS state stay.
-    auto pass_through = [&]() {
-      medium = medium_after(scene, hit, ng_front, ray.d, medium);
-      ray.o = offset_ray_origin(hit.sp, ray.d);
-      ray.t_max = std::numeric_limits<float>::infinity();
-    };
-    // Mitsuba's volpath hides an emitter the camera sees by leaving its emission out; the
-    // surface is shaded all the same (its path integrator and trace_path let the ray pass).
-    if (g.emitter >= 0 && !(depth == 0 && hide)) {
-      const glm::vec3 le = lights.emitted(g, hit.primitive, hit.uv, hit.sp.ng, wo);
-      if (le != glm::vec3(0.0f)) {
-        const float w = path_vertex_detail::emitter_hit_weight(lights, count_direct, prev_pdf, prev_sp, hit);
-        radiance += beta * glm::dvec3(le) * double(w);
-      }
-    }
-    const RenderMaterial* m = &scene.material(g.material);
-    float opacity = 1;
-    if (m->masked()) {
-      opacity = path_vertex_detail::opacity_at(*m, textures, hit);
-      sampler.set_pair(pair + 4);
-      if (sampler.get2d().y >= opacity) {
-        pass_through();
-        continue;
-      }
-    }
-    SurfacePoint sp = hit.sp;
-    m = path_vertex_detail::facing_material(scene, m, wo, sp, hit);
-    if (!m) break;  // one-sided surfaces are black from behind
-    const path_vertex_detail::ShadingFrame shading = path_vertex_detail::shading_frame(hit, *m, textures, scene.has_uv(), wo);
-    const Bsdf bsdf(bsdf_params(*m, textures, path_vertex_detail::texture_point(hit)));
-    const glm::vec3 wo_local = shading.frame.to_local(wo);
-    sampler.set_pair(pair + 1);
-    const glm::vec2 u_choice = sampler.get2d_independent();
-    // Mitsuba's volpath samples a light only where the next segment may still count.
-    if (have_lights && bsdf.has_smooth_lobe() && (max_depth < 0 || depth + 1 < max_depth)) {
-      sampler.set_pair(pair + 2);
-      const LightSample ls = lights.sample(sp, u_choice.x, sampler.get2d());
-      if (const std::optional<path_vertex_detail::LightTerm> lt =
-              path_vertex_detail::light_term(bsdf, shading, wo_local, ls, *m, sp, opacity)) {
-        const glm::vec3 origin = offset_ray_origin(sp, ls.wi);
-        const int32_t shadow_medium = medium_after(scene, hit, ng_front, ls.wi, medium);
-        TrackingStream shadow_stream(stream_key(sampler, pair + 5, 1));
-        const glm::dvec3 tr = shadow_transmittance(scene, origin, ls, shadow_medium, shadow_stream, counters);
-        radiance += beta * glm::dvec3(lt->f) * glm::dvec3(ls.radiance) * tr * (double(lt->w) / double(ls.pdf));
-      }
-    }
-    sampler.set_pair(pair + 4);
-    const float u_lobe = sampler.get2d().x;
-    sampler.set_pair(pair + 3);
-    const glm::vec2 u_bsdf = sampler.get2d();
-    const std::optional<BsdfSample> bs = bsdf.sample(wo_local, u_lobe, u_bsdf);
-    if (!bs) break;
-    const std::optional<path_vertex_detail::ScatteredDirection> out =
-        path_vertex_detail::scattered_direction(shading, *bs, *m, sp);
-    if (!out) break;
-    const glm::vec3 wi = out->wi;
-    beta *= glm::dvec3(bs->weight * out->perturbation);
-    if (!(max_channel(beta) > 0)) break;
-    // A thindielectric's straight transmission is a null interaction in Mitsuba (its BSDF
-    // samples it as BSDFFlags::Null): no depth, no new MIS state.
-    const bool null_event = m->type == MaterialType::thin_glass && glm::dot(wi, ng_front) * glm::dot(wo, ng_front) < 0;
-    medium = medium_after(scene, hit, ng_front, wi, medium);
-    ray = Ray{offset_ray_origin(sp, wi), wi, std::numeric_limits<float>::infinity()};
-    if (null_event) continue;
-    ++depth;
-    eta_scale *= double(bs->eta) * double(bs->eta);
-    prev_pdf = bs->pdf * opacity;
-    prev_sp = sp;
-    count_direct = bs->delta;
-    if (!roulette(u_choice.y)) break;
+    if (path.at_surface(ray, pair, hit) == VolumePath::Step::end) break;
   }
-  return radiance;
+  return path.radiance();
 }
 
 }  // namespace tessera
