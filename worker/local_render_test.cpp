@@ -109,10 +109,13 @@ TEST(LocalRender, ABudgetPassingDuringABatchCancelsItsRendersAndKeepsWholeBatche
   EXPECT_GE(with_batch_1, 1);  // the unit whose completion passed the budget
   EXPECT_LT(with_batch_1, 4);  // two threads' last passes cannot finish three 64k-sample units
 
-  // The image, progress and metadata tell what the image holds; the rate counts all traced.
+  // The image, progress and metadata tell what the image holds; the rate counts all traced,
+  // the cancelled render's samples too. (Whether the other thread's render was under way when
+  // the budget passed is the scheduler's choice: on a loaded machine it may not have started,
+  // and then nothing traced is left out of the image.)
   EXPECT_EQ(last.samples_done, samples_in(result));
   EXPECT_EQ(last.samples_traced, result.stats.samples);
-  EXPECT_GT(result.stats.samples, samples_in(result));
+  EXPECT_GE(result.stats.samples, samples_in(result));
 
   const Renderer renderer(scene, options);
   for (size_t t = 0; t < tiles.size(); ++t) {
