@@ -5,6 +5,7 @@
 
 #include "accum/accumulation_codec.h"
 #include "accum/film.h"
+#include "job/provenance.h"
 #include "job/tile_summary.h"
 #include "wire/job_options_wire.h"
 
@@ -29,40 +30,26 @@ JobOutput::JobOutput(std::filesystem::path output_dir, ImageFileOpener opener)
 }
 
 std::map<std::string, std::string> JobOutput::provenance(const JobRecord& job) {
-  std::map<std::string, std::string> m;
-  m["tessera:job_id"] = std::to_string(job.id);
-  m["tessera:scene_file"] = job.scene_file;
-  m["tessera:scene_sha256"] = job.bundle_sha256;
-  m["tessera:job_options"] = wire::options_to_json(job.options);
-  // job_options' batch_spp is the cap of a progressive schedule (docs/farm.md, "Batches").
-  m["tessera:batch_schedule"] = std::string(to_string(job.options.batch_kind));
-  m["tessera:spp"] = std::to_string(job.spp_merged);
-  m["tessera:spp_min"] = std::to_string(job.reached.spp_min);
-  m["tessera:spp_mean"] = std::to_string(job.reached.spp_mean);
-  m["tessera:spp_max"] = std::to_string(job.reached.spp_max);
-  m["tessera:stop_rule"] = std::string(to_string(job.options.rule));
-  m["tessera:stop_reason"] = std::string(to_string(job.stop_reason));
-  m["tessera:tile_error_max"] = std::to_string(job.reached.error_max);
-  m["tessera:tile_error_mean"] = std::to_string(job.reached.error_mean);
-  m["tessera:samples_merged"] = std::to_string(job.counters.samples_merged);
-  if (job.options.rule == StopRule::noise) {
-    m["tessera:noise_target"] = std::to_string(job.options.noise_target);
-    m["tessera:max_spp"] = std::to_string(job.options.spp);
-  } else if (job.options.rule == StopRule::time) {
-    m["tessera:time_budget_s"] = std::to_string(job.options.time_budget_s);
-    m["tessera:max_spp"] = std::to_string(job.options.spp);
-  }
+  Provenance p;
+  p.scene_file = job.scene_file;
   // A worker's build names its commit, compiler, Embree and C library, with commas
-  // (worker/render/renderer_build.h): builds are separated by "; ". More than one means the
-  // image is not one build's bits (docs/design.md, "The determinism contract").
-  m["tessera:renderer_version"] = joined(job.versions, "; ");
-  m["tessera:isa"] = joined(job.isas);
-  m["tessera:nan_dropped"] = std::to_string(job.counters.nan_dropped);
-  m["tessera:inf_dropped"] = std::to_string(job.counters.inf_dropped);
+  // (worker/render/renderer_build.h): builds are separated by "; ".
+  p.renderer = joined(job.versions, "; ");
+  p.isa = joined(job.isas);
+  p.options = &job.options;
+  p.stop_reason = job.stop_reason;
+  p.spp = job.spp_merged;
+  p.reached = job.reached;
+  p.nan_dropped = job.counters.nan_dropped;
+  p.inf_dropped = job.counters.inf_dropped;
   if (job.started_unix_ms > 0 && job.finished_unix_ms >= job.started_unix_ms) {
-    m["tessera:wall_time_s"] = std::to_string(double(job.finished_unix_ms - job.started_unix_ms) / 1000.0);
+    p.wall_time_s = double(job.finished_unix_ms - job.started_unix_ms) / 1000.0;
   }
-  return m;
+  p.job_id = job.id;
+  p.scene_sha256 = job.bundle_sha256;
+  p.options_json = wire::options_to_json(job.options);
+  p.samples_merged = job.counters.samples_merged;
+  return provenance_metadata(p);
 }
 
 OutputFiles JobOutput::files(const JobRecord& job) const {
