@@ -32,7 +32,7 @@
 #include "render/math/frame.h"
 #include "render/sampling/warp.h"
 #include "render/scene/traceable_scene.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 using namespace tessera;
 

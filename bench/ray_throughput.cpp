@@ -40,7 +40,7 @@
 #include "render/sampling/warp.h"
 #include "render/scene/packet_tracer.h"
 #include "render/scene/traceable_scene.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 using namespace tessera;
 

@@ -11,7 +11,7 @@
 #include "job/tile_summary.h"
 #include "json_view.h"
 #include "progress_view.h"
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 
 namespace tessera::client {
 namespace {

@@ -22,7 +22,7 @@
 
 #include "scene/mitsuba/mitsuba_xml_loader.h"
 #include "scene/scene_error.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 #include "scene/native/scene_writer.h"
 
 namespace {

@@ -21,7 +21,7 @@
 #include <string_view>
 
 #include "scene/scene_error.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 #ifndef TESSERA_FUZZ_FORMAT
 #error "define TESSERA_FUZZ_FORMAT (1 json, 2 obj, 3 ply, 4 serialized)"

@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "farm_error.h"
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "store/sqlite.h"
 #include "wire/bearer_token.h"
 

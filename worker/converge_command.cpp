@@ -10,7 +10,7 @@
 
 #include "converge.h"
 #include "job/job_flags.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 namespace {

@@ -18,7 +18,7 @@
 #include "accum/film.h"
 #include "job/job_options.h"
 #include "local_render.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera::extremes_test {
 

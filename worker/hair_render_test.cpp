@@ -17,7 +17,7 @@
 #include "mitsuba_mean_test_support.h"
 #include "render/renderer.h"
 #include "render/test_statistics.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 namespace {

@@ -28,7 +28,7 @@
 #include "progress_bar.h"
 #include "render/renderer_build.h"
 #include "scene/scene_error.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 #include "scene/native/scene_writer.h"
 #include "signal_cancellation.h"
 #ifdef TESSERA_HAVE_FARM

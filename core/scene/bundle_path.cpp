@@ -1,13 +1,14 @@
-// check_bundle_path and join_bundle_path (scene_loader.h): the rules that keep a scene's files
+// check_bundle_path and join_bundle_path (bundle_path.h): the rules that keep a scene's files
 // inside its bundle.
+#include "scene/bundle_path.h"
+
 #include <algorithm>
 #include <cctype>
 #include <string>
 #include <vector>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/scene_error.h"
-#include "scene/scene_loader.h"
 
 namespace tessera {
 namespace {

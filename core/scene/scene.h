@@ -3,6 +3,11 @@
 // This is the description, not the render-ready scene: the worker turns it
 // into an immutable Embree scene (worker/render/scene/traceable_scene.h). Everything here is plain data
 // so that the server and the client can parse and validate scenes without linking the renderer.
+//
+// core/scene/ in layers, each including only those below it: this folder, the model (this
+// Scene, SceneError, transforms, bundle paths and file readers, image and grid checks); mesh/,
+// the mesh files; native/, scene format v1 (and its writer); mitsuba/, the Mitsuba 3 importer,
+// which builds on native/'s parsers; loader/, scene files on disk of either format, on top.
 #pragma once
 
 #include <cmath>
@@ -18,11 +23,11 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include "scene/mesh/mesh_attribute.h"
+#include "scene/mesh_attribute.h"
 
 namespace tessera {
 
-struct VolumeGridFile;  // scene/mesh/volume_grid_file.h
+struct VolumeGridFile;  // scene/volume_grid_file.h
 
 /// Which image axis the camera's field of view spans (diagonal: the image's diagonal, Mitsuba's
 /// fov_axis "diagonal" and its focal_length).
@@ -560,7 +565,7 @@ struct Scene {
   /// Files the scene references, relative to the bundle root ('/'-separated, no "..").
   /// Together with the scene file they are the job's bundle.
   std::vector<std::string> referenced_files;
-  /// The reader the scene was loaded with (scene_loader.h), kept so that whoever builds a
+  /// The reader the scene was loaded with (file_reader.h), kept so that whoever builds a
   /// renderer from it can read the files it references (textures, environment maps) without
   /// knowing where they live: a folder on disk or a bundle in memory. Set by the loaders; the
   /// caller keeps what it reads from (the bundle) alive while a renderer is built. Not part of

@@ -1,4 +1,5 @@
-// Helpers shared by the scene library's tests (core/scene/*_test.cpp).
+// Helpers shared by the scene library's tests (core/scene/**/*_test.cpp), over the scene model
+// alone: every folder's tests may use them.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -7,9 +8,9 @@
 #include <map>
 #include <string>
 
+#include "scene/file_reader.h"
 #include "scene/scene.h"
 #include "scene/scene_error.h"
-#include "scene/scene_loader.h"
 
 namespace tessera::testing {
 
@@ -20,28 +21,6 @@ inline FileReader memory_reader(std::map<std::string, std::string> files) {
     if (it == files.end()) throw SceneError(path + ": no such file in the scene's folder");
     return it->second;
   };
-}
-
-/// A scene with a "white" diffuse material and the given shapes (JSON array elements).
-inline std::string scene_with_shapes(const std::string& shapes, const std::string& extra = "") {
-  return R"({"tessera": 1, "materials": {"white": {"type": "diffuse", "reflectance": [0.8, 0.8, 0.8]},
-             "mirror": {"type": "mirror"}, "glass": {"type": "glass"}}, )" +
-         extra + R"("shapes": [)" + shapes + "]}";
-}
-
-inline Scene parse(const std::string& json, std::map<std::string, std::string> files = {}) {
-  return parse_scene(json, memory_reader(std::move(files)));
-}
-
-/// The message parse_scene throws for `json`, or "(no error)".
-inline std::string error_of(const std::string& json,
-                            std::map<std::string, std::string> files = {}) {
-  try {
-    parse(json, std::move(files));
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 /// The geometric normal (from the winding) of triangle `t`, unit length.

@@ -1,4 +1,4 @@
-// Test helper: the bytes of a Mitsuba `.vol` grid file (core/scene/mesh/volume_grid_file.h),
+// Test helper: the bytes of a Mitsuba `.vol` grid file (core/scene/volume_grid_file.h),
 // for the volume texture's tests in core/ and worker/.
 #pragma once
 

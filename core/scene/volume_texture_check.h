@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-#include "scene/mesh/volume_grid_file.h"
+#include "scene/volume_grid_file.h"
 #include "scene/scene.h"
 
 namespace tessera {

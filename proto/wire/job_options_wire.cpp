@@ -5,7 +5,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 
 namespace tessera::wire {
 

@@ -11,7 +11,7 @@
 #include <string_view>
 
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 #include "tessera/v1/job.pb.h"
 
 namespace tessera::wire {

@@ -20,7 +20,7 @@
 #include "farm_error.h"
 #include "job_output.h"
 #include "proto_convert.h"
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "wire/job_json.h"
 #include "wire/job_options_wire.h"
 

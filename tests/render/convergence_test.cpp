@@ -9,7 +9,7 @@
 #include "converge.h"
 #include "image_compare.h"
 #include "render/test_statistics.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 namespace {

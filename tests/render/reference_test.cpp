@@ -9,7 +9,7 @@
 #include "image_compare.h"
 #include "local_render.h"
 #include "render/testing/test_scenes.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 namespace {

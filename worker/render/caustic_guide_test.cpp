@@ -24,7 +24,7 @@
 #include "render/scene/traceable_scene.h"
 #include "render/test_statistics.h"
 #include "render/testing/test_scenes.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 // A named namespace, not an anonymous one: the sanitizer pass builds the tests as unity files,

@@ -10,7 +10,7 @@
 #include "render/integrators/path_vertex.h"
 #include "render/testing/test_scenes.h"
 #include "renderer.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 #include "test_statistics.h"
 
 namespace tessera {

@@ -12,7 +12,7 @@
 #include "render/math/ray.h"
 #include "render/sampling/sampler.h"
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 #include "wavefront/kernel_isa.h"
 
 namespace tessera {

@@ -22,7 +22,7 @@
 #include "render/scene/traceable_scene.h"
 #include "render/test_statistics.h"
 #include "render/testing/test_scenes.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 namespace {

@@ -19,7 +19,7 @@
 #include "render/testing/test_scenes.h"
 #include "render/wavefront/kernel_isa.h"
 #include "render/wavefront/wavefront_integrator.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 namespace {

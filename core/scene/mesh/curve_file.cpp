@@ -3,7 +3,7 @@
 #include <charconv>
 #include <cmath>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/scene_error.h"
 
 namespace tessera {

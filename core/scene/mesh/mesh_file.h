@@ -1,5 +1,6 @@
 // Mesh files a "mesh" shape names: OBJ (with MTL), PLY and Mitsuba's serialized, chosen by
-// extension.
+// extension. mesh/ reads files into the model (core/scene/) and includes nothing above it
+// (the layers: scene.h).
 #pragma once
 
 #include <cstddef>
@@ -9,7 +10,7 @@
 #include <vector>
 
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/file_reader.h"
 #include "scene/mesh/triangle_mesh.h"
 
 namespace tessera {

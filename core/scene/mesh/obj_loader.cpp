@@ -9,7 +9,7 @@
 #include <system_error>
 #include <unordered_map>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/mesh/mesh_limits.h"
 #include "scene/mesh/mtl_material.h"
 #include "scene/mesh/obj_material_reader.h"

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/file_reader.h"
 #include "scene/mesh/triangle_mesh.h"
 
 namespace tessera {

@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "scene/bundle_path.h"
 #include "scene/scene_error.h"
 
 namespace tessera {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/scene_loader.h"
+#include "scene/file_reader.h"
 
 namespace tessera {
 

@@ -5,7 +5,7 @@
 #include <string_view>
 #include <vector>
 
-#include "scene/mesh/mesh_attribute.h"
+#include "scene/mesh_attribute.h"
 #include "scene/mesh/ply_header.h"
 
 namespace tessera {

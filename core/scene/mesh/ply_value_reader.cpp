@@ -5,7 +5,7 @@
 #include <cstring>
 #include <limits>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/scene_error.h"
 
 namespace tessera {

@@ -12,85 +12,18 @@
 
 #include "scene/mesh/mesh_file.h"
 #include "scene/scene_error.h"
+#include "scene/mesh/serialized_test_files.h"
 #include "scene/scene_test_support.h"
 
 namespace tessera {
 namespace {
 
-/// Little-endian bytes, appended value by value.
-class Bytes {
- public:
-  template <typename T>
-  Bytes& put(T v) {
-    unsigned char raw[sizeof(T)];
-    std::memcpy(raw, &v, sizeof(T));  // the test machines are little-endian (x86-64)
-    data.append(reinterpret_cast<const char*>(raw), sizeof(T));
-    return *this;
-  }
-  Bytes& text(const std::string& s) {
-    data += s;
-    data += '\0';
-    return *this;
-  }
-  std::string data;
-};
-
-/// One shape as the format stores it.
-struct ShapeSpec {
-  uint32_t flags = 0x1000;
-  std::string name = "shape";
-  std::vector<double> positions;  // 3 per vertex
-  std::vector<double> normals;
-  std::vector<double> uvs;
-  std::vector<double> colors;
-  std::vector<uint32_t> indices;  // 3 per triangle
-};
-
-std::string compress(const std::string& raw) {
-  uLongf size = compressBound(raw.size());
-  std::string out(size, '\0');
-  EXPECT_EQ(compress2(reinterpret_cast<Bytef*>(out.data()), &size,
-                      reinterpret_cast<const Bytef*>(raw.data()), raw.size(), 9),
-            Z_OK);
-  out.resize(size);
-  return out;
-}
-
-std::string shape_bytes(const ShapeSpec& s, uint16_t version) {
-  bool doubles = (s.flags & 0x2000) != 0;
-  Bytes body;
-  body.put<uint32_t>(s.flags);
-  if (version == 4) body.text(s.name);
-  body.put<uint64_t>(s.positions.size() / 3).put<uint64_t>(s.indices.size() / 3);
-  for (const std::vector<double>* array : {&s.positions, &s.normals, &s.uvs, &s.colors}) {
-    for (double v : *array) doubles ? body.put<double>(v) : body.put<float>(float(v));
-  }
-  for (uint32_t i : s.indices) body.put<uint32_t>(i);
-  Bytes head;
-  head.put<uint16_t>(0x041C).put<uint16_t>(version);
-  return head.data + compress(body.data);
-}
-
-/// A whole file: the shapes one after the other, then the dictionary of offsets and the count.
-std::string file_bytes(const std::vector<ShapeSpec>& shapes, uint16_t version = 4) {
-  std::string file;
-  std::vector<uint64_t> offsets;
-  for (const ShapeSpec& s : shapes) {
-    offsets.push_back(file.size());
-    file += shape_bytes(s, version);
-  }
-  Bytes tail;
-  for (uint64_t o : offsets) version == 4 ? tail.put<uint64_t>(o) : tail.put<uint32_t>(uint32_t(o));
-  tail.put<uint32_t>(uint32_t(shapes.size()));
-  return file + tail.data;
-}
-
-ShapeSpec quad(double z) {
-  ShapeSpec s;
-  s.positions = {0, 0, z, 1, 0, z, 1, 1, z, 0, 1, z};
-  s.indices = {0, 1, 2, 0, 2, 3};
-  return s;
-}
+using testing::Bytes;
+using testing::compress;
+using testing::file_bytes;
+using testing::quad;
+using testing::shape_bytes;
+using testing::ShapeSpec;
 
 std::string serialized_error(const std::string& bytes, int shape_index = 0) {
   try {
@@ -303,32 +236,6 @@ TEST(SerializedLoader, MeshFileLoadsTheChosenShape) {
   ASSERT_EQ(parts.size(), 1u);
   EXPECT_EQ(parts[0].mesh.positions[0].z, 5);
   EXPECT_EQ(files_read, std::vector<std::string>{"meshes/two.serialized"});
-}
-
-TEST(SerializedLoader, NativeMeshShapeTakesShapeIndexAndKeepsUvs) {
-  std::vector<ShapeSpec> shapes = {quad(0), quad(3)};
-  shapes[1].flags |= 0x2;
-  shapes[1].uvs = {0, 0, 1, 0, 1, 1, 0, 1};
-  std::map<std::string, std::string> files = {{"m.serialized", file_bytes(shapes)}};
-  Scene scene = testing::parse(
-      testing::scene_with_shapes(
-          R"({"type": "mesh", "file": "m.serialized", "shape_index": 1, "material": "white"})"),
-      files);
-  ASSERT_EQ(scene.shapes.size(), 1u);
-  EXPECT_EQ(scene.shapes[0].positions[0].z, 3);
-  ASSERT_EQ(scene.shapes[0].uvs.size(), 4u);
-  EXPECT_EQ(scene.shapes[0].uvs[2], glm::dvec2(1, 1));
-  EXPECT_EQ(scene.referenced_files, std::vector<std::string>{"m.serialized"});
-  EXPECT_EQ(testing::error_of(testing::scene_with_shapes(
-                                  R"({"type": "mesh", "file": "m.serialized", "shape_index": -1,
-                                      "material": "white"})"),
-                              files),
-            "shapes[0].shape_index: must be in [0, 2147483647] (got -1)");
-  EXPECT_EQ(testing::error_of(testing::scene_with_shapes(
-                                  R"({"type": "mesh", "file": "m.serialized", "shape_index": 2,
-                                      "material": "white"})"),
-                              files),
-            "shapes[0].file: m.serialized: shape_index 2 out of range (the file holds 2 shapes)");
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 #include <optional>
 #include <vector>
 
-#include "scene/mesh/mesh_attribute.h"
+#include "scene/mesh_attribute.h"
 #include "scene/transform.h"
 
 namespace tessera {

@@ -7,7 +7,7 @@
 #include "scene/mitsuba/mitsuba_ior.h"
 #include "scene/mitsuba/mitsuba_metals.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 
 namespace tessera {
 namespace {

@@ -8,7 +8,7 @@
 #include <limits>
 #include <numbers>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 
 namespace tessera {
 namespace {

@@ -8,7 +8,8 @@
 #include "scene/mitsuba/mitsuba_plugin.h"
 #include "scene/mitsuba/mitsuba_sensor.h"
 #include "scene/mitsuba/mitsuba_transform.h"
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
+#include "scene/scene_error.h"
 
 namespace tessera {
 namespace {

@@ -2,7 +2,8 @@
 
 #include <algorithm>
 
-#include "scene/native/json_value.h"
+#include "scene/bundle_path.h"
+#include "scene/message_text.h"
 #include "scene/scene_error.h"
 
 namespace tessera {

@@ -8,7 +8,8 @@
 #include <vector>
 
 #include "scene/mitsuba/mitsuba_xml_document.h"
-#include "scene/scene_loader.h"
+#include "scene/file_reader.h"
+#include "scene/mitsuba/mitsuba_reach.h"
 
 namespace tessera {
 

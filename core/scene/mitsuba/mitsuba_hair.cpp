@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 
 namespace tessera {
 namespace {

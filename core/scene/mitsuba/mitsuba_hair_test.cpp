@@ -4,7 +4,8 @@
 
 #include "scene/mitsuba/mitsuba_test_support.h"
 #include "scene/native/scene_writer.h"
-#include "scene/scene_loader.h"
+#include "scene/file_reader.h"
+#include "scene/native/scene_parser.h"
 
 namespace tessera {
 namespace {

@@ -3,7 +3,7 @@
 #include <array>
 #include <string_view>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 
 namespace tessera {
 

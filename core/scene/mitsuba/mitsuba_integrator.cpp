@@ -10,7 +10,7 @@
 
 #include "scene/mitsuba/mitsuba_plugin.h"
 #include "scene/mitsuba/mitsuba_values.h"
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 
 namespace tessera {
 namespace {

@@ -4,7 +4,7 @@
 #include <set>
 
 #include "scene/mitsuba/mitsuba_plugin.h"
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/native/medium_parser.h"
 
 namespace tessera {

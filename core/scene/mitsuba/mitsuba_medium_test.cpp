@@ -3,7 +3,7 @@
 
 #include "scene/mitsuba/mitsuba_test_support.h"
 #include "scene/native/scene_writer.h"
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
 #include "scene/volume_grid_test_bytes.h"
 
 namespace tessera {

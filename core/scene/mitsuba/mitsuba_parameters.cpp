@@ -4,7 +4,7 @@
 #include <cctype>
 #include <pugixml.hpp>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/scene_error.h"
 
 namespace tessera {

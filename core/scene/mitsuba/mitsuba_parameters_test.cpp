@@ -3,16 +3,13 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-
 #include "scene/mitsuba/mitsuba_test_support.h"
-#include "scene/scene_loader.h"
 
 namespace tessera {
 namespace {
 
 using testing::parse_xml;
+using testing::sampler_scene;
 using testing::xml_error;
 
 std::string define_error(const std::string& text) {
@@ -47,14 +44,6 @@ TEST(MitsubaParameters, BadDefinesNameWhatIsWrong) {
   } catch (const SceneError& e) {
     EXPECT_STREQ(e.what(), "-D spp given twice");
   }
-}
-
-/// A scene using $depth, with `defaults` right after its root tag and `tail` at its end.
-std::string sampler_scene(const std::string& defaults, const std::string& tail = "") {
-  return "<?xml version=\"1.0\"?>\n<scene\n       version=\"3.0.0\">" + defaults +
-         "\n" + testing::mitsuba_sensor() +
-         "<integrator type=\"path\"><integer name=\"max_depth\" value=\"$depth\"/></integrator>\n"
-         + tail + "\n</scene>\n";
 }
 
 TEST(MitsubaParameters, OverrideDefaultsAndKeepLineNumbers) {
@@ -103,29 +92,6 @@ TEST(MitsubaParameters, EmptyRootAndNoParametersLeaveTheTextAlone) {
             "<scene version=\"3.0.0\"/>");
   EXPECT_EQ(with_mitsuba_parameters("<scene version=\"3.0.0\"></scene>", "a.xml", {}),
             "<scene version=\"3.0.0\"></scene>");
-}
-
-TEST(MitsubaParameters, LoadSceneBundleAppliesThemAndKeepsTheText) {
-  namespace fs = std::filesystem;
-  const fs::path folder = fs::temp_directory_path() / ("tessera_define_" + std::to_string(::getpid()));
-  fs::create_directories(folder);
-  const std::string xml = sampler_scene("");
-  std::ofstream(folder / "scene.xml") << xml;
-  std::ofstream(folder / "scene.json") << "{}";
-  const SceneOnDisk loaded = load_scene_bundle(folder / "scene.xml", std::nullopt, {{"depth", "2"}});
-  EXPECT_EQ(loaded.scene.render.max_depth, 2);
-  EXPECT_EQ(loaded.scene_text, with_mitsuba_parameters(xml, "scene.xml", {{"depth", "2"}}));
-  EXPECT_EQ(load_scene_bundle(folder / "scene.xml", std::nullopt, {{"depth", "2"}}).scene_text,
-            loaded.scene_text);
-  try {
-    load_scene_file(folder / "scene.json", std::nullopt, {{"depth", "2"}});
-    FAIL() << "-D on a native scene was accepted";
-  } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("-D sets parameters of Mitsuba 3 XML scenes"),
-              std::string::npos)
-        << e.what();
-  }
-  fs::remove_all(folder);
 }
 
 }  // namespace

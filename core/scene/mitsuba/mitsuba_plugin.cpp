@@ -4,7 +4,7 @@
 #include <array>
 #include <cctype>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/mitsuba/mitsuba_transform.h"
 #include "scene/mitsuba/mitsuba_values.h"
 

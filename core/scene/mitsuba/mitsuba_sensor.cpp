@@ -7,7 +7,7 @@
 #include <limits>
 #include <numbers>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
 #include "scene/mitsuba/mitsuba_values.h"
 

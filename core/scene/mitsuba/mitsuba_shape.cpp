@@ -6,12 +6,12 @@
 #include <limits>
 #include <numbers>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/mesh/curve_file.h"
 #include "scene/mesh/mesh_file.h"
 #include "scene/native/curve_shape.h"
 #include "scene/native/sdfgrid_shape.h"
-#include "scene/mesh/volume_grid_file.h"
+#include "scene/volume_grid_file.h"
 #include "scene/mitsuba/mitsuba_emitter.h"
 #include "scene/mitsuba/mitsuba_plugin.h"
 #include "scene/mitsuba/mitsuba_shape_geometry.h"

@@ -12,7 +12,6 @@
 #include "scene/mitsuba/mitsuba_texture.h"
 #include "scene/mitsuba/mitsuba_xml_document.h"
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
 
 namespace tessera {
 

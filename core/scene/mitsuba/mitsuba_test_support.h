@@ -1,4 +1,5 @@
-// Helpers shared by the Mitsuba importer's tests (core/scene/mitsuba/_test.cpp).
+// Helpers shared by the tests that import Mitsuba scenes (core/scene/mitsuba/*_test.cpp, and
+// loader/ tests reading them from disk).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -30,6 +31,14 @@ inline std::string mitsuba_sensor() {
 inline std::string mitsuba_scene(const std::string& body, const std::string& sensor = "") {
   return "<scene version=\"3.0.0\">\n" + (sensor.empty() ? mitsuba_sensor() : sensor) + body +
          "\n</scene>\n";
+}
+
+/// A scene using $depth, with `defaults` right after its root tag and `tail` at its end.
+inline std::string sampler_scene(const std::string& defaults, const std::string& tail = "") {
+  return "<?xml version=\"1.0\"?>\n<scene\n       version=\"3.0.0\">" + defaults +
+         "\n" + mitsuba_sensor() +
+         "<integrator type=\"path\"><integer name=\"max_depth\" value=\"$depth\"/></integrator>\n"
+         + tail + "\n</scene>\n";
 }
 
 inline Scene parse_xml(const std::string& xml, std::map<std::string, std::string> files = {}) {

@@ -6,7 +6,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/scene_error.h"
 #include "scene/volume_texture_check.h"
 

@@ -8,7 +8,7 @@
 #include <numbers>
 #include <optional>
 
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/mitsuba/mitsuba_values.h"
 
 namespace tessera {

@@ -4,7 +4,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "scene/mesh/volume_grid_file.h"
+#include "scene/volume_grid_file.h"
 #include "scene/mitsuba/mitsuba_test_support.h"
 #include "scene/volume_grid_test_bytes.h"
 

@@ -4,8 +4,9 @@
 #include <cctype>
 #include <pugixml.hpp>
 
+#include "scene/bundle_path.h"
 #include "scene/mitsuba/mitsuba_file_resolver.h"
-#include "scene/native/json_value.h"
+#include "scene/message_text.h"
 #include "scene/scene_error.h"
 
 namespace tessera {

@@ -12,7 +12,8 @@
 #include <utility>
 #include <vector>
 
-#include "scene/scene_loader.h"
+#include "scene/file_reader.h"
+#include "scene/mitsuba/mitsuba_reach.h"
 
 namespace tessera {
 

@@ -4,14 +4,16 @@
 // everything else with the element's file, line and what Tessera supports instead: a scene is
 // never silently rendered differently from how Mitsuba would render it (up to noise). The
 // result is an ordinary Scene; `tessera-worker convert` writes it as native JSON
-// (scene_writer.h), which reads back to the same Scene bit for bit.
+// (scene_writer.h), which reads back to the same Scene bit for bit. mitsuba/ builds on the
+// model, mesh/ and native/; only loader/ builds on it (the layers: scene.h).
 #pragma once
 
 #include <string>
 #include <string_view>
 
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/file_reader.h"
+#include "scene/mitsuba/mitsuba_reach.h"
 
 namespace tessera {
 
@@ -22,7 +24,7 @@ namespace tessera {
 /// rendered as `path` (ptracer, volpath, direct) is noted on stderr. Throws
 /// SceneError("<file>: line <L>: <element>: <what is wrong>"), BundleEscapeError for a path
 /// that leaves the bundle root. `reach` bounds the names of included and referenced files
-/// (MitsubaReach, scene_loader.h).
+/// (MitsubaReach, mitsuba_reach.h).
 Scene parse_mitsuba_scene(std::string_view xml, const std::string& file_name,
                           const FileReader& reader,
                           const std::string& root_name = "the bundle root",

@@ -1,136 +1,21 @@
-// The importer on whole scenes: the reference Cornell box against Mitsuba's own world-space
-// geometry, dispatch by file name, and top-level refusals.
+// The importer on whole scenes: sensors, objects used by reference, top-level elements and
+// refusals (the reference Cornell box read from disk: loader/scene_files_test.cpp).
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <glm/geometric.hpp>
-#include <nlohmann/json.hpp>
 
 #include "scene/mitsuba/mitsuba_test_support.h"
 #include "scene/mitsuba/mitsuba_transform.h"
+#include "scene/native/scene_parser.h"
 #include "scene/native/scene_writer.h"
-#include "scene/scene_loader.h"
 
 namespace tessera {
 namespace {
 
-using testing::expect_near;
-using testing::face_center;
-using testing::face_normal;
-using testing::kSourceDir;
 using testing::line_of;
 using testing::mitsuba_scene;
 using testing::parse_xml;
 using testing::xml_error;
-
-const std::string kCbox = kSourceDir + "/tests/data/reference/cbox/";
-
-nlohmann::json resolved() {
-  std::ifstream in(kCbox + "resolved.json");
-  return nlohmann::json::parse(in);
-}
-
-glm::dvec3 vec(const nlohmann::json& j) {
-  return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
-}
-
-const Shape& shape_with_id(const Scene& s, const std::string& id) {
-  for (const Shape& shape : s.shapes) {
-    if (shape.origin.find("id=\"" + id + "\"") != std::string::npos) return shape;
-  }
-  throw std::runtime_error("no shape " + id);
-}
-
-TEST(MitsubaScene, ReferenceCornellBoxLoads) {
-  Scene s = load_scene_file(kCbox + "mitsuba.xml");
-  EXPECT_EQ(s.film.width, 256);
-  EXPECT_EQ(s.film.height, 256);
-  EXPECT_EQ(s.render.spp, 64);       // $spp's default
-  EXPECT_EQ(s.render.max_depth, 8);  // $max_depth's default
-  EXPECT_EQ(s.render.seed, 0u);
-  ASSERT_EQ(s.shapes.size(), 8u);
-  size_t triangles = 0;
-  for (const Shape& shape : s.shapes) triangles += shape.indices.size();
-  EXPECT_EQ(triangles, 5 * 2 + 2 + 2 * 12u);
-  ASSERT_EQ(s.materials.size(), 3u);
-  EXPECT_EQ(s.materials[0].name, "white");
-  EXPECT_EQ(s.materials[0].reflectance.value, glm::dvec3(0.885809, 0.698859, 0.666422));
-  const Shape& light = shape_with_id(s, "light");
-  EXPECT_EQ(light.emission, glm::dvec3(18.387, 13.9873, 6.75357));
-  EXPECT_EQ(s.materials[light.material].name, "white");
-  EXPECT_TRUE(s.referenced_files.empty());
-}
-
-TEST(MitsubaScene, ReferenceCornellBoxMatchesMitsubasWorldSpaceGeometry) {
-  Scene s = load_scene_file(kCbox + "mitsuba.xml");
-  nlohmann::json r = resolved();
-  for (const nlohmann::json& quad : r["quads"]) {
-    std::string name = quad["name"];
-    std::string id = name.substr(
-        0, name.find("-box") == std::string::npos ? name.size() : name.find("-box") + 4);
-    const Shape& shape = shape_with_id(s, id);
-    glm::dvec3 center(0);
-    for (const nlohmann::json& v : quad["vertices"]) {
-      glm::dvec3 p = vec(v);
-      center += p / 4.0;
-      double nearest = 1e9;
-      for (const glm::dvec3& q : shape.positions) nearest = std::min(nearest, glm::length(p - q));
-      EXPECT_LT(nearest, 1e-6) << name;
-    }
-    // The face over this quad's centre faces the way Mitsuba's does.
-    bool found = false;
-    for (size_t t = 0; t < shape.indices.size(); ++t) {
-      glm::dvec3 n = face_normal(shape, t);
-      if (glm::dot(n, vec(quad["normal"])) > 1 - 1e-6 &&
-          std::abs(glm::dot(face_center(shape, t) - center, n)) < 1e-6) {
-        found = true;
-      }
-    }
-    EXPECT_TRUE(found) << name;
-  }
-}
-
-TEST(MitsubaScene, TransformOperationsComposeAsMitsubasMatrices) {
-  // resolved.json gives each box as T * Ry * S; mitsuba.xml writes the product Mitsuba
-  // computed. Written as operations in document order (scale, rotate, translate), they agree.
-  nlohmann::json boxes = resolved()["boxes"];
-  Scene s = load_scene_file(kCbox + "mitsuba.xml");
-  for (const std::string id : {"large-box", "small-box"}) {
-    const nlohmann::json& b = boxes[id];
-    char ops[512];
-    std::snprintf(ops, sizeof ops,
-                  "<shape type=\"cube\" id=\"%s\"><transform name=\"to_world\">"
-                  "<scale x=\"%.17g\" y=\"%.17g\" z=\"%.17g\"/><rotate y=\"1\" angle=\"%.17g\"/>"
-                  "<translate x=\"%.17g\" y=\"%.17g\" z=\"%.17g\"/></transform></shape>",
-                  id.c_str(), b["scale"][0].get<double>(), b["scale"][1].get<double>(),
-                  b["scale"][2].get<double>(), b["rotate_y_deg"].get<double>(),
-                  b["translate"][0].get<double>(), b["translate"][1].get<double>(),
-                  b["translate"][2].get<double>());
-    Scene mine = parse_xml(mitsuba_scene(ops));
-    const Shape& want = shape_with_id(s, id);
-    const Shape& got = mine.shapes.at(0);
-    ASSERT_EQ(got.positions.size(), want.positions.size());
-    for (size_t i = 0; i < got.positions.size(); ++i) {
-      expect_near(got.positions[i], want.positions[i], 1e-7);  // the XML's floats: 1e-7
-    }
-  }
-}
-
-TEST(MitsubaScene, LoadSceneFileAndParseSceneAnyChooseByExtension) {
-  std::string xml = mitsuba_scene("<shape type=\"cube\"/>");
-  FileReader none = testing::memory_reader({});
-  EXPECT_EQ(parse_scene_any("scene.XML", xml, none).shapes.size(), 1u);
-  EXPECT_EQ(parse_scene_any("scene.xml", xml, none).shapes.size(), 1u);
-  // Not XML by name: read as JSON, which this is not.
-  try {
-    parse_scene_any("scene.json", xml, none);
-    ADD_FAILURE() << "no error";
-  } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("scene.json: line 1, column 1"), std::string::npos);
-  }
-  std::string json = R"({"tessera": 1})";
-  EXPECT_EQ(parse_scene_any("s.json", json, none).shapes.size(), 0u);
-}
 
 TEST(MitsubaScene, TheSceneNeedsASensor) {
   EXPECT_EQ(xml_error("<scene version=\"3.0.0\">\n<shape type=\"cube\"/>\n</scene>"),

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "scene/bundle_path.h"
 #include "scene/mesh/curve_file.h"
 #include "scene/native/transform_parser.h"
 #include "scene/scene_error.h"

@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "scene/native/scene_writer.h"
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
 
 namespace tessera {
 namespace {

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "scene/native/scene_writer.h"
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
 
 namespace tessera {
 namespace {

@@ -1,11 +1,11 @@
-// printable(): how a message quotes input (core/scene/native/json_value.h).
+// printable(): how a message quotes input (core/scene/message_text.h).
 #include "scene/native/json_value.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
 
 namespace tessera {
 namespace {

@@ -4,7 +4,7 @@
 #include <bit>
 
 #include "scene/native/scene_writer.h"
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
 #include "scene/volume_grid_test_bytes.h"
 
 namespace tessera {

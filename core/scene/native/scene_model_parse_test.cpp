@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
 
 namespace tessera {
 namespace {

@@ -5,7 +5,7 @@
 #include <iterator>
 #include <numbers>
 
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
 
 namespace tessera {
 namespace {

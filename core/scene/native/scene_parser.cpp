@@ -3,6 +3,7 @@
 #include <map>
 
 #include "scene/mesh/mesh_attribute_use.h"
+#include "scene/native/json_document.h"
 #include "scene/native/light_parser.h"
 #include "scene/native/material_parser.h"
 #include "scene/native/medium_parser.h"
@@ -90,6 +91,22 @@ Scene parse_native_scene(const JsonValue& root, const FileReader& reader) {
   scene.materials = materials.take();
   check_mesh_attribute_use(scene);
   check_volume_texture_use(scene);
+  return scene;
+}
+
+Scene parse_scene_text(std::string_view json_text, const std::string& source_name,
+                       const FileReader& reader) {
+  Json document = parse_json_document(json_text, source_name);
+  if (!document.is_object()) {
+    throw SceneError(source_name + ": a scene must be a JSON object ({\"tessera\": 1, ...})");
+  }
+  JsonValue root(document, "");
+  return parse_native_scene(root, reader);
+}
+
+Scene parse_scene(std::string_view json_text, const FileReader& reader) {
+  Scene scene = parse_scene_text(json_text, "scene", reader);
+  scene.files = reader;
   return scene;
 }
 

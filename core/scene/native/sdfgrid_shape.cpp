@@ -5,7 +5,7 @@
 
 #include "scene/native/transform_parser.h"
 #include "scene/scene_error.h"
-#include "scene/scene_loader.h"
+#include "scene/bundle_path.h"
 
 namespace tessera {
 namespace {

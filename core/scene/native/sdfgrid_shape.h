@@ -8,7 +8,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "scene/mesh/volume_grid_file.h"
+#include "scene/volume_grid_file.h"
 #include "scene/native/json_value.h"
 #include "scene/native/shape_parser.h"
 #include "scene/scene.h"

@@ -1,5 +1,5 @@
-// "sdfgrid" shapes: the native format (file and inline), the writer's round trip, the Mitsuba
-// importer (inside shapegroups too), and each kind of bad grid refused naming where it is.
+// "sdfgrid" shapes: the native format (file and inline), the writer's round trip, and each kind
+// of bad grid refused naming where it is (the Mitsuba importer's: mitsuba_sdfgrid_test.cpp).
 #include "scene/native/sdfgrid_shape.h"
 
 #include <gtest/gtest.h>
@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstring>
 
-#include "scene/mitsuba/mitsuba_test_support.h"
 #include "scene/native/scene_writer.h"
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
+#include "scene/native/sdfgrid_test_grids.h"
 
 namespace tessera {
 namespace {
@@ -18,39 +18,9 @@ using testing::error_of;
 using testing::parse;
 using testing::scene_with_shapes;
 
-/// A Mitsuba .vol file (version 3, float32) of the given grid.
-std::string vol_file(uint32_t nx, uint32_t ny, uint32_t nz, uint32_t channels, const std::vector<float>& values) {
-  std::string out = "VOL";
-  out.push_back(char(3));
-  auto put = [&](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
-  const int32_t header[5] = {1, int32_t(nx), int32_t(ny), int32_t(nz), int32_t(channels)};
-  put(header, sizeof(header));
-  const float box[6] = {0, 0, 0, 1, 1, 1};
-  put(box, sizeof(box));
-  put(values.data(), values.size() * sizeof(float));
-  return out;
-}
+using testing::sphere_values;
 
-/// Distance to a sphere of radius 0.3 around (0.5, 0.5, 0.5), sampled on n^3 points of [0, 1]^3.
-std::vector<float> sphere_values(uint32_t n) {
-  std::vector<float> v;
-  for (uint32_t z = 0; z < n; ++z) {
-    for (uint32_t y = 0; y < n; ++y) {
-      for (uint32_t x = 0; x < n; ++x) {
-        const glm::dvec3 p = glm::dvec3(x, y, z) / double(n - 1);
-        v.push_back(float(glm::length(p - glm::dvec3(0.5)) - 0.3));
-      }
-    }
-  }
-  return v;
-}
-
-const std::map<std::string, std::string> kFiles = {
-    {"ball.vol", vol_file(5, 5, 5, 1, sphere_values(5))},
-    {"two.vol", vol_file(2, 2, 2, 2, std::vector<float>(16, -1.0f))},
-    {"flat.vol", vol_file(1, 4, 4, 1, std::vector<float>(16, -1.0f))},
-    {"solid.vol", vol_file(3, 3, 3, 1, std::vector<float>(27, 0.5f))},
-};
+const std::map<std::string, std::string>& kFiles = testing::kSdfGridFiles;
 
 TEST(SdfGridShape, CountsTheVoxelsThatCanHoldTheSurface) {
   EXPECT_EQ(sdf_surface_voxel_count({2, 2, 2}, {1, 1, 1, 1, 1, 1, 1, -1}), 1u);
@@ -136,73 +106,6 @@ TEST(SdfGridShape, ErrorsNameThePathAndTheFile) {
   EXPECT_EQ(shape_error(R"({"type": "sdfgrid", "resolution": [2, 1, 2], "values": [1, -1, 1, 1],
       "material": "white"})"),
             "shapes[0].resolution[1]: must be in [2, 1048576] (got 1)");
-}
-
-using testing::mitsuba_scene;
-using testing::parse_xml;
-using testing::xml_error;
-using testing::line_of;
-
-TEST(SdfGridShape, MitsubaSdfgridInAShapegroup) {
-  Scene s = parse_xml(mitsuba_scene(R"(
-    <shape type="shapegroup" id="g"><shape type="sdfgrid">
-      <string name="filename" value="ball.vol"/><string name="normals" value="analytic"/>
-      <transform name="to_world"><scale value="3"/></transform></shape></shape>
-    <shape type="instance"><ref id="g"/></shape>
-    <shape type="sdfgrid"><string name="filename" value="ball.vol"/></shape>)"),
-                      kFiles);
-  ASSERT_EQ(s.groups.size(), 1u);
-  ASSERT_EQ(s.groups[0].shapes.size(), 1u);
-  const Shape& in_group = s.groups[0].shapes[0];
-  EXPECT_EQ(in_group.kind, Shape::Kind::sdfgrid);
-  EXPECT_EQ(in_group.sdf_normals, SdfNormals::analytic);
-  EXPECT_EQ(in_group.to_world[1][1], 3.0);
-  ASSERT_EQ(s.shapes.size(), 2u);
-  EXPECT_EQ(s.shapes[1].kind, Shape::Kind::sdfgrid);
-  EXPECT_EQ(s.shapes[1].sdf_normals, SdfNormals::smooth);
-  EXPECT_EQ(s.referenced_files, (std::vector<std::string>{"ball.vol"}));
-}
-
-TEST(SdfGridShape, MitsubaErrorsNameTheElementFileAndLine) {
-  auto grid = [](const std::string& inside) {
-    return mitsuba_scene("<shape type=\"sdfgrid\">\n" + inside + "\n</shape>");
-  };
-  const std::string missing = grid(R"(<string name="filename" value="none.vol"/>)");
-  std::string e = xml_error(missing, kFiles);
-  EXPECT_NE(e.find("line " + std::to_string(line_of(missing, "none.vol"))), std::string::npos) << e;
-  EXPECT_NE(e.find("none.vol"), std::string::npos) << e;
-  const std::string solid = grid(R"(<string name="filename" value="solid.vol"/>)");
-  e = xml_error(solid, kFiles);
-  EXPECT_NE(e.find("line " + std::to_string(line_of(solid, "solid.vol"))), std::string::npos) << e;
-  EXPECT_NE(e.find("solid.vol: no voxel of the SDF grid holds the surface"), std::string::npos) << e;
-  e = xml_error(grid(R"(<string name="filename" value="two.vol"/>)"), kFiles);
-  EXPECT_NE(e.find("two.vol: an SDF grid has 1 channel, this file has 2"), std::string::npos) << e;
-  e = xml_error(grid(R"(<string name="filename" value="flat.vol"/>)"), kFiles);
-  EXPECT_NE(e.find("at least 2 samples along each axis"), std::string::npos) << e;
-  e = xml_error(grid(R"(<string name="filename" value="ball.vol"/><boolean name="flip_normals" value="true"/>)"),
-                kFiles);
-  EXPECT_NE(e.find("an sdfgrid has no flip_normals"), std::string::npos) << e;
-  e = xml_error(grid(R"(<string name="filename" value="ball.vol"/><emitter type="area"/>)"), kFiles);
-  EXPECT_NE(e.find("an sdfgrid cannot emit light"), std::string::npos) << e;
-  e = xml_error(grid(R"(<string name="filename" value="ball.vol"/><string name="normals" value="flat"/>)"),
-                kFiles);
-  EXPECT_NE(e.find("unknown normals \"flat\" (expected smooth or analytic)"), std::string::npos) << e;
-  e = xml_error(grid(R"(<string name="normals" value="smooth"/>)"), kFiles);
-  EXPECT_NE(e.find("missing <string name=\"filename\">"), std::string::npos) << e;
-}
-
-TEST(SdfGridShape, MitsubaClipPlanesThatCouldHideAGridAreRefused) {
-  // The camera at (0, 0, 5) looks down -z; the grid's box spans z in [0, 1].
-  const std::string sensor = R"(<sensor type="perspective">
-    <float name="fov" value="40"/><float name="near_clip" value="4.5"/>
-    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="64"/><integer name="height" value="48"/>
-      <rfilter type="box"/></film></sensor>
-)";
-  const std::string grid = R"(<shape type="sdfgrid"><string name="filename" value="ball.vol"/></shape>)";
-  EXPECT_NE(xml_error(mitsuba_scene(grid, sensor), kFiles).find("near_clip 4.5 could hide part of"),
-            std::string::npos);
-  EXPECT_EQ(xml_error(mitsuba_scene(grid), kFiles), "(no error)");
 }
 
 }  // namespace

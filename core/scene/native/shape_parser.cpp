@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "scene/bundle_path.h"
 #include "scene/mesh/mesh_file.h"
 #include "scene/native/curve_shape.h"
 #include "scene/native/sdfgrid_shape.h"

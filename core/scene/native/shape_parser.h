@@ -10,7 +10,7 @@
 #include "scene/native/medium_parser.h"
 #include "scene/native/texture_parser.h"
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/file_reader.h"
 
 namespace tessera {
 

@@ -6,7 +6,8 @@
 
 #include "scene/native/transform_parser.h"
 #include "scene/scene_error.h"
-#include "scene/scene_loader.h"
+#include "scene/file_reader.h"
+#include "scene/bundle_path.h"
 #include "scene/volume_texture_check.h"
 
 namespace tessera {

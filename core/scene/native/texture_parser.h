@@ -9,7 +9,7 @@
 
 #include "scene/native/json_value.h"
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/file_reader.h"
 
 namespace tessera {
 

@@ -4,9 +4,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "scene/mesh/volume_grid_file.h"
+#include "scene/volume_grid_file.h"
 #include "scene/native/scene_writer.h"
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
 #include "scene/volume_grid_test_bytes.h"
 
 namespace tessera {

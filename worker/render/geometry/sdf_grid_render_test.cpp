@@ -16,7 +16,7 @@
 #include "mitsuba_mean_test_support.h"
 #include "render/integrators/integrator.h"
 #include "render/renderer.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 namespace {

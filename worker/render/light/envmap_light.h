@@ -23,7 +23,7 @@
 
 #include "render/light/piecewise_constant.h"
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 

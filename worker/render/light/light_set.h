@@ -20,7 +20,7 @@
 #include "render/light/spot_light.h"
 #include "render/math/ray_offset.h"
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 

@@ -25,7 +25,7 @@
 
 #include "render/sampling/chi_square_p_value.h"
 #include "scene/scene_error.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera::test {
 

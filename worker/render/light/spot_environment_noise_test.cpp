@@ -16,7 +16,7 @@
 #include "job/job_options.h"
 #include "local_render.h"
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 namespace {

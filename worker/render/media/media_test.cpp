@@ -14,7 +14,7 @@
 #include "render/renderer.h"
 #include "render/test_statistics.h"
 #include "render/testing/test_scenes.h"
-#include "scene/mesh/volume_grid_file.h"
+#include "scene/volume_grid_file.h"
 
 namespace tessera {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <glm/matrix.hpp>
 
-#include "scene/mesh/volume_grid_file.h"
+#include "scene/volume_grid_file.h"
 
 namespace tessera {
 namespace {

@@ -13,7 +13,7 @@
 #include "render/sampling/warp.h"
 #include "render/scene/traceable_scene.h"
 #include "render/testing/test_scenes.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 namespace {

@@ -19,7 +19,7 @@
 #include "render/sampling/warp.h"
 #include "render/scene/traceable_scene.h"
 #include "render/testing/test_scenes.h"
-#include "scene/mesh/volume_grid_file.h"
+#include "scene/volume_grid_file.h"
 #include "scene/native/sdfgrid_shape.h"
 
 namespace tessera {

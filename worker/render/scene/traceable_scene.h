@@ -25,7 +25,7 @@
 #include "render/media/medium.h"
 #include "render/texture/texture_set.h"
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 

@@ -14,7 +14,7 @@
 #include "raw_constant.h"
 #include "volume_texture.h"
 #include "scene/scene.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 

@@ -15,7 +15,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "scene/scene_error.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera::test {
 

@@ -7,7 +7,7 @@
 
 #include "job/job_options.h"
 #include "mitsuba_mean_test_support.h"
-#include "scene/scene_loader.h"
+#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 namespace {

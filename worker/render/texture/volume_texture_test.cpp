@@ -9,7 +9,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "scene/mesh/volume_grid_file.h"
+#include "scene/volume_grid_file.h"
 #include "scene/volume_grid_test_bytes.h"
 #include "texture_set.h"
 

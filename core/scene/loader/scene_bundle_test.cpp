@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "scene/loader/scene_loader.h"
 #include "scene/scene_test_support.h"
 
 namespace tessera {

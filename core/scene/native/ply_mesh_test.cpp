@@ -10,7 +10,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
 
 namespace tessera {
 namespace {

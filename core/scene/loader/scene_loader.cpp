@@ -1,31 +1,18 @@
-// parse_scene, load_scene_file and parse_scene_any (scene_loader.h): the top level of scene format
-// v1, and the choice between it and Mitsuba XML by file name.
-#include "scene/scene_loader.h"
+// load_scene_bundle, load_scene_file and parse_scene_any (scene_loader.h): reading a scene file
+// from disk, and the choice between scene format v1 and Mitsuba XML by file name.
+#include "scene/loader/scene_loader.h"
 
 #include <cctype>
 #include <cstdint>
 #include <fstream>
 #include <iterator>
 
-#include "scene/native/json_document.h"
-#include "scene/native/json_value.h"
 #include "scene/mitsuba/mitsuba_xml_loader.h"
 #include "scene/scene_error.h"
 #include "scene/native/scene_parser.h"
 
 namespace tessera {
 namespace {
-
-/// Parses scene text; `source_name` names it in JSON syntax errors.
-Scene parse_scene_text(std::string_view json_text, const std::string& source_name,
-                       const FileReader& reader) {
-  Json document = parse_json_document(json_text, source_name);
-  if (!document.is_object()) {
-    throw SceneError(source_name + ": a scene must be a JSON object ({\"tessera\": 1, ...})");
-  }
-  JsonValue root(document, "");
-  return parse_native_scene(root, reader);
-}
 
 bool is_mitsuba_xml(const std::string& file_name) {
   if (file_name.size() < 4) return false;
@@ -52,12 +39,6 @@ std::string read_scene_file(const std::filesystem::path& scene_file) {
 }
 
 }  // namespace
-
-Scene parse_scene(std::string_view json_text, const FileReader& reader) {
-  Scene scene = parse_scene_text(json_text, "scene", reader);
-  scene.files = reader;
-  return scene;
-}
 
 Scene load_scene_file(const std::filesystem::path& scene_file,
                       const std::optional<std::filesystem::path>& root,

@@ -1,7 +1,7 @@
 // Mitsuba's .vol grid files: a grid written the way Mitsuba 3 writes one reads back value for
 // value in Mitsuba's order; every malformed header, a truncated file and non-finite values are
 // refused naming the file and what is wrong.
-#include "scene/mesh/volume_grid_file.h"
+#include "scene/volume_grid_file.h"
 
 #include <gtest/gtest.h>
 

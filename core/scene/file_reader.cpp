@@ -1,11 +1,13 @@
-// folder_reader (scene_loader.h): reading a scene's files from its folder on disk.
+// folder_reader (file_reader.h): reading a scene's files from its folder on disk.
+#include "scene/file_reader.h"
+
 #include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <system_error>
 
 #include "scene/scene_error.h"
-#include "scene/scene_loader.h"
+#include "scene/bundle_path.h"
 
 namespace tessera {
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-#include "scene/mesh/volume_grid_file.h"
+#include "scene/volume_grid_file.h"
 
 #include <bit>
 #include <cmath>

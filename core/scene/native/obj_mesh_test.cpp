@@ -1,7 +1,7 @@
 // OBJ meshes with MTL materials: the McGuire Cornell boxes and small files written here.
 #include <gtest/gtest.h>
 
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
 
 namespace tessera {
 namespace {

@@ -3,8 +3,8 @@
 
 #include <filesystem>
 
-#include "scene/scene_loader.h"
-#include "scene/scene_test_support.h"
+#include "scene/loader/scene_loader.h"
+#include "scene/native/native_test_support.h"
 
 namespace tessera {
 namespace {

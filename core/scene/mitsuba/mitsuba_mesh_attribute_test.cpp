@@ -1,6 +1,6 @@
 // Mitsuba's mesh attributes: read from PLY files under Mitsuba's names, carried by the native
 // format (writer round trip), and refused where a material needs one its shape lacks.
-#include "scene/mesh/mesh_attribute.h"
+#include "scene/mesh_attribute.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 
 #include "scene/mitsuba/mitsuba_test_support.h"
 #include "scene/native/scene_writer.h"
-#include "scene/scene_test_support.h"
+#include "scene/native/native_test_support.h"
 
 namespace tessera {
 namespace {

@@ -1,4 +1,4 @@
-#include "scene/mesh/mesh_attribute.h"
+#include "scene/mesh_attribute.h"
 
 #include <cmath>
 
