@@ -11,8 +11,8 @@
 #include "render/cancellation.h"
 #include "render/math/ray.h"
 #include "render/sampling/sampler.h"
+#include "scene/file_reader.h"
 #include "scene/scene.h"
-#include "scene/loader/scene_loader.h"
 #include "wavefront/kernel_isa.h"
 
 namespace tessera {

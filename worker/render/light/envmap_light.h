@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "render/light/piecewise_constant.h"
+#include "scene/file_reader.h"
 #include "scene/scene.h"
-#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 

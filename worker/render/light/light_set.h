@@ -19,8 +19,8 @@
 #include "render/light/projector_light.h"
 #include "render/light/spot_light.h"
 #include "render/math/ray_offset.h"
+#include "scene/file_reader.h"
 #include "scene/scene.h"
-#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 

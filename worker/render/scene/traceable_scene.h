@@ -24,8 +24,8 @@
 #include "render/math/ray_offset.h"
 #include "render/media/medium.h"
 #include "render/texture/texture_set.h"
+#include "scene/file_reader.h"
 #include "scene/scene.h"
-#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 

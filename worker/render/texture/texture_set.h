@@ -13,8 +13,8 @@
 #include "mesh_attribute_table.h"
 #include "raw_constant.h"
 #include "volume_texture.h"
+#include "scene/file_reader.h"
 #include "scene/scene.h"
-#include "scene/loader/scene_loader.h"
 
 namespace tessera {
 
@@ -34,7 +34,7 @@ class TextureSet {
   TextureSet() = default;
 
   /// Opens the scene's textures; bitmap files are read through `reader` (bundle paths, the
-  /// FileReader of core/scene/scene_loader.h: bytes in memory, no file on disk guaranteed).
+  /// FileReader of core/scene/file_reader.h: bytes in memory, no file on disk guaranteed).
   /// Throws SceneError naming the texture's origin and file when an image cannot be read or
   /// decoded, has no pixels, or holds NaN/Inf/negative values.
   TextureSet(const std::vector<Texture>& textures, const FileReader& reader);
