@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "image/image_output.h"
+#include "scene/image_check.h"
 
 namespace tessera {
 
@@ -29,10 +30,15 @@ struct ImageIo {
   void (*stream_write_rows)(void*, const RgbImage&, const std::vector<ExtraChannel>&);
   std::string (*stream_finish)(void*);
   void (*stream_delete)(void*);
+  // The checks of scene/image_check.h (check_image_bytes and probe_image_bytes call these).
+  ImageCheck (*check_image_bytes)(const std::string&, std::string_view, uint64_t);
+  ImageHeader (*probe_image_bytes)(const std::string&, std::string_view);
 };
 
-/// OpenImageIO's table (oiio_image_io.cpp).
+/// OpenImageIO's table (oiio_image_io.cpp, its checks in oiio_image_check.cpp).
 const ImageIo& oiio_image_io();
+ImageCheck oiio_check_image_bytes(const std::string& path, std::string_view bytes, uint64_t max_values);
+ImageHeader oiio_probe_image_bytes(const std::string& path, std::string_view bytes);
 
 /// The table the image functions call: oiio_image_io() where OpenImageIO is linked in
 /// (linked_image_io.cpp), the image module's copy of it elsewhere (image_module_loader.cpp,

@@ -1,30 +1,23 @@
-// The image module: OpenImageIO's code (oiio_image_io.cpp, scene/image_check.cpp) built as a
+// The image module: OpenImageIO's code (oiio_image_io.cpp, oiio_image_check.cpp) built as a
 // shared object that tessera-server and the tessera client embed and load at their first image
 // (image_module_loader.cpp), so that neither maps OpenImageIO's ~250 libraries at start
 // (tests/dashboard/start_libraries.sh checks it).
 #pragma once
 
 #include <cstdint>
-#include <string>
-#include <string_view>
-#include <vector>
 
 #include "image/image_io.h"
-#include "scene/image_check.h"
 
 namespace tessera {
 
 /// Bumped with any change of ImageModule or ImageIo; the loader refuses a module of another
 /// version.
-inline constexpr uint32_t kImageModuleVersion = 4;
+inline constexpr uint32_t kImageModuleVersion = 5;
 
-/// What the module exports: the image functions' table and the bundle's image check and probe.
+/// What the module exports: the image functions' table.
 struct ImageModule {
   uint32_t version = kImageModuleVersion;
   const ImageIo* io = nullptr;
-  ImageCheck (*check_image_bytes)(const std::string&, std::string_view, uint64_t) = nullptr;
-  std::vector<std::string> (*scene_image_files)(const Scene&) = nullptr;
-  ImageHeader (*probe_image_bytes)(const std::string&, std::string_view) = nullptr;
 };
 
 /// Loads the image module now (a no-op once loaded), so that the first image call does not

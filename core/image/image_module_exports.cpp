@@ -3,10 +3,6 @@
 
 extern "C" __attribute__((visibility("default"))) const tessera::ImageModule*
 tessera_image_module() {
-  static const tessera::ImageModule module{tessera::kImageModuleVersion,
-                                           &tessera::oiio_image_io(),
-                                           &tessera::check_image_bytes,
-                                           &tessera::scene_image_files,
-                                           &tessera::probe_image_bytes};
+  static const tessera::ImageModule module{tessera::kImageModuleVersion, &tessera::oiio_image_io()};
   return &module;
 }

@@ -3,10 +3,6 @@
 // module is embedded in the executable (a container copies one file) and loaded from an
 // anonymous memory file (memfd_create). Never unloaded: its functions stay valid for the
 // process's life.
-//
-// check_image_bytes, probe_image_bytes and scene_image_files (scene/image_check.h) are defined
-// here too, calling the module's: their body in scene/image_check.cpp is linked into the module,
-// and an executable that links this file leaves scene/image_check.o, and OpenImageIO with it, out.
 #include <dlfcn.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -83,18 +79,5 @@ const ImageModule& image_module() {
 void load_image_module() { image_module(); }
 
 const ImageIo& image_io() { return *image_module().io; }
-
-ImageCheck check_image_bytes(const std::string& path, std::string_view bytes,
-                             uint64_t max_values) {
-  return image_module().check_image_bytes(path, bytes, max_values);
-}
-
-ImageHeader probe_image_bytes(const std::string& path, std::string_view bytes) {
-  return image_module().probe_image_bytes(path, bytes);
-}
-
-std::vector<std::string> scene_image_files(const Scene& scene) {
-  return image_module().scene_image_files(scene);
-}
 
 }  // namespace tessera

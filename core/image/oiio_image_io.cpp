@@ -399,9 +399,10 @@ void stream_delete(void* stream) { delete static_cast<OiioStream*>(stream); }
 }  // namespace
 
 const ImageIo& oiio_image_io() {
-  static const ImageIo table{&oiio_write_image,  &oiio_encode_image, &oiio_read_image,
-                             &stream_open,       &stream_open_in_memory,
-                             &stream_write_rows, &stream_finish,    &stream_delete};
+  static const ImageIo table{&oiio_write_image,       &oiio_encode_image, &oiio_read_image,
+                             &stream_open,            &stream_open_in_memory,
+                             &stream_write_rows,      &stream_finish,    &stream_delete,
+                             &oiio_check_image_bytes, &oiio_probe_image_bytes};
   return table;
 }
 

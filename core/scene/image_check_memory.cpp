@@ -1,6 +1,5 @@
-// image_check_memory (scene/image_check.h): apart from image_check.cpp, which only the image
-// module links where OpenImageIO is loaded late (image/image_module.h), so that tessera-server
-// can estimate a check without OpenImageIO.
+// image_check_memory (scene/image_check.h): from an image's header alone, without OpenImageIO,
+// so that tessera-server can estimate a check before it loads the image module.
 #include <algorithm>
 #include <iterator>
 #include <string_view>

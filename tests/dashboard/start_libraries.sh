@@ -11,7 +11,7 @@ libs=$(ldd "$bin")
 count=$(wc -l <<<"$libs")
 echo "$bin: $count shared libraries at start"
 if grep -i openimageio <<<"$libs"; then
-  echo "FAIL: $bin loads OpenImageIO at start (an OpenImageIO call outside core/image/oiio_image_io.cpp and core/scene/image_check.cpp?)" >&2
+  echo "FAIL: $bin loads OpenImageIO at start (an OpenImageIO call outside core/image/oiio_image_io.cpp and core/image/oiio_image_check.cpp?)" >&2
   exit 1
 fi
 if [ "$count" -gt 120 ]; then

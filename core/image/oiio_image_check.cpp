@@ -1,4 +1,6 @@
-#include "scene/image_check.h"
+// OpenImageIO's image checks (scene/image_check.h), reached through the image functions' table
+// (image/image_io.h): linked in, or inside the image module.
+#include "image/image_io.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -71,7 +73,7 @@ std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path,
 
 }  // namespace
 
-ImageHeader probe_image_bytes(const std::string& path, std::string_view bytes) {
+ImageHeader oiio_probe_image_bytes(const std::string& path, std::string_view bytes) {
   if (bytes.empty()) throw SceneError(path + ": empty file, not an image");
   OIIO::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
   std::unique_ptr<OIIO::ImageInput> in = open_image(path, memory);
@@ -85,7 +87,7 @@ ImageHeader probe_image_bytes(const std::string& path, std::string_view bytes) {
   return header;
 }
 
-ImageCheck check_image_bytes(const std::string& path, std::string_view bytes,
+ImageCheck oiio_check_image_bytes(const std::string& path, std::string_view bytes,
                              uint64_t max_values) {
   if (bytes.empty()) throw SceneError(path + ": empty file, not an image");
   OIIO::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
@@ -110,20 +112,6 @@ ImageCheck check_image_bytes(const std::string& path, std::string_view bytes,
   }
   in->close();
   return {spec.width, spec.height, spec.nchannels, in->format_name()};
-}
-
-std::vector<std::string> scene_image_files(const Scene& scene) {
-  std::vector<std::string> files;
-  auto add = [&files](const std::string& file) {
-    if (std::find(files.begin(), files.end(), file) == files.end()) files.push_back(file);
-  };
-  for (const Texture& texture : scene.textures) {
-    if (texture.kind == TextureKind::bitmap) add(texture.file);
-  }
-  for (const Light& light : scene.lights) {
-    if (light.kind == LightKind::envmap) add(light.file);
-  }
-  return files;
 }
 
 }  // namespace tessera
