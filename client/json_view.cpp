@@ -34,6 +34,7 @@ nlohmann::json to_json(const v1::WorkerInfo& w) {
       {"name", w.name()},
       {"threads", w.threads()},
       {"isa", w.isa()},
+      {"build", w.build()},
       {"online", w.online()},
       {"last_seen_unix_ms", w.last_seen_unix_ms()},
       // An idle worker renders no unit: its job, tile and batch are null, not job 0's tile 0.

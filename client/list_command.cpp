@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "build_text.h"
 #include "command_support.h"
 #include "json_view.h"
 
@@ -73,7 +74,7 @@ void print_jobs(const std::vector<v1::JobInfo>& jobs) {
     const std::string size =
         std::to_string(job.options().width()) + "x" + std::to_string(job.options().height());
     std::printf("%6llu  %-9s  %6.1f%%  %8d  %-11s  %-24s  %s\n",
-                static_cast<unsigned long long>(job.id()), state_name(job.state()).c_str(),
+                static_cast<unsigned long long>(job.id()), state_text(job).c_str(),
                 100.0 * job.progress(), job.priority(), size.c_str(),
                 rule_text(job.options()).c_str(), job.scene_file().c_str());
   }

@@ -61,7 +61,7 @@ void print_status(const v1::JobInfo& job) {
   const auto& c = job.counters();
   std::printf("job %llu: %s, %.1f %% \u2014 every tile has at least %u of %u spp, "
               "priority %d\n",
-              static_cast<unsigned long long>(job.id()), state_name(job.state()).c_str(),
+              static_cast<unsigned long long>(job.id()), state_text(job).c_str(),
               100.0 * job.progress(), job.spp_merged(), o.spp(), job.priority());
   std::printf("  scene     %s (bundle sha256 %s)\n", job.scene_file().c_str(),
               job.bundle_sha256().c_str());

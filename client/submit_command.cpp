@@ -23,6 +23,7 @@ struct SubmitOptions {
   std::vector<std::string> defines;  ///< -D name=value: Mitsuba parameters (docs/mitsuba.md)
   JobOverrides overrides;
   int priority = 0;
+  bool any_build = false;  ///< --any-build: not pinned to one renderer build
   bool wait = false;
   std::string output;  ///< implies wait
 };
@@ -38,6 +39,7 @@ v1::SubmitJobRequest submit_request(const SubmitOptions& s) {
   v1::SubmitJobRequest request;
   *request.mutable_bundle() = wire::bundle_to_proto(bundle);
   *request.mutable_options() = wire::overrides_to_proto(s.overrides);
+  if (s.any_build) request.mutable_options()->set_any_build(true);
   request.set_priority(s.priority);
   return request;
 }
@@ -85,6 +87,9 @@ Command add_submit_command(CLI::App& app, GlobalOptions& g) {
   cli::add_define_option(cmd, s->defines);
   add_job_override_flags(cmd, s->overrides);
   cmd->add_option("--priority", s->priority, "Higher runs first (default 0)");
+  cmd->add_flag("--any-build", s->any_build,
+                "Lease the job to workers of every renderer build (default: only to the build "
+                "of the worker its first unit goes to; the image is then one build's bits)");
   cmd->add_flag("--wait", s->wait, "Follow the job until it ends (progress on stderr)");
   cmd->add_option("-o,--output", s->output,
                   "Write the final image here (.exr or .png); implies --wait");

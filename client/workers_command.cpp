@@ -11,19 +11,20 @@ namespace tessera::client {
 namespace {
 
 void print_workers(const v1::ListWorkersResponse& workers) {
-  std::printf("%4s  %-24s  %-7s  %7s  %-7s  %-22s  %4s  %6s  %5s\n", "ID", "NAME", "STATUS",
-              "THREADS", "ISA", "UNIT", "HELD", "DONE", "LOST");
+  std::printf("%4s  %-24s  %-7s  %7s  %-7s  %-22s  %4s  %6s  %5s  %s\n", "ID", "NAME", "STATUS",
+              "THREADS", "ISA", "UNIT", "HELD", "DONE", "LOST", "BUILD");
   for (const auto& w : workers.workers()) {
     const std::string unit = w.job_id() == 0 ? "-"
                                              : "job " + std::to_string(w.job_id()) + " t" +
                                                    std::to_string(w.tile()) + " b" +
                                                    std::to_string(w.batch());
-    std::printf("%4llu  %-24s  %-7s  %7u  %-7s  %-22s  %4u  %6llu  %5llu\n",
+    std::printf("%4llu  %-24s  %-7s  %7u  %-7s  %-22s  %4u  %6llu  %5llu  %s\n",
                 static_cast<unsigned long long>(w.id()), w.name().c_str(),
                 w.online() ? "online" : "offline", w.threads(),
                 w.isa().empty() ? "-" : w.isa().c_str(), unit.c_str(), w.units_held(),
                 static_cast<unsigned long long>(w.units_done()),
-                static_cast<unsigned long long>(w.units_lost()));
+                static_cast<unsigned long long>(w.units_lost()),
+                w.build().empty() ? "-" : w.build().c_str());
     if (!w.health_warning().empty()) {
       std::printf("      warning: %s\n", w.health_warning().c_str());
     }

@@ -1,5 +1,8 @@
 #include "coordinator.h"
 
+#include <algorithm>
+#include <set>
+
 namespace tessera::server {
 
 Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
@@ -25,6 +28,32 @@ std::optional<LeasedUnit> Coordinator::lease(int64_t worker_id, std::chrono::mil
   std::vector<LeasedUnit> units = lease_units(worker_id, 1, wait, cancelled);
   if (units.empty()) return std::nullopt;
   return std::move(units.front());
+}
+
+JobRecord Coordinator::job(int64_t job_id) {
+  std::vector<JobRecord> one{lifecycle_.job(job_id)};
+  note_waiting_for_build(one);
+  return std::move(one.front());
+}
+
+JobPage Coordinator::jobs(const JobQuery& query) {
+  JobPage page = lifecycle_.jobs(query);
+  note_waiting_for_build(page.jobs);
+  return page;
+}
+
+void Coordinator::note_waiting_for_build(std::vector<JobRecord>& jobs) {
+  const auto pinned_and_active = [](const JobRecord& j) {
+    return j.pinned_build && (j.state == JobState::queued || j.state == JobState::running);
+  };
+  if (std::none_of(jobs.begin(), jobs.end(), pinned_and_active)) return;  // no workers read
+  std::set<std::string> online;
+  for (const WorkerRecord& w : presence_.workers()) {
+    if (presence_.online(w)) online.insert(w.info.version);
+  }
+  for (JobRecord& j : jobs) {
+    j.waiting_for_build = pinned_and_active(j) && !online.contains(*j.pinned_build);
+  }
 }
 
 StoreCounters Coordinator::store_counters() {

@@ -73,8 +73,8 @@ class Coordinator {
                    int priority, const std::string& client = "") {
     return lifecycle_.submit(bundle, options, priority, client);
   }
-  JobRecord job(int64_t job_id) { return lifecycle_.job(job_id); }
-  JobPage jobs(const JobQuery& query) { return lifecycle_.jobs(query); }
+  JobRecord job(int64_t job_id);
+  JobPage jobs(const JobQuery& query);
   /// The newest `limit` jobs.
   std::vector<JobRecord> jobs(uint32_t limit) {
     JobQuery query;
@@ -94,6 +94,9 @@ class Coordinator {
   /// From memory, no store read: whether the job may still change state (queued or running:
   /// in the lease book); false once it ended (done, failed, cancelled, deleted) or if unknown.
   bool job_in_progress(int64_t job_id) { return store_.book().has_job(job_id); }
+
+  /// Sets waiting_for_build on the jobs pinned to a build no online worker has.
+  void note_waiting_for_build(std::vector<JobRecord>& jobs);
 
   // ---- Workers (WorkerPresence) --------------------------------------------------------------
   std::vector<WorkerRecord> workers() { return presence_.workers(); }

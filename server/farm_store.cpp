@@ -1,6 +1,7 @@
 #include "farm_store.h"
 
 #include <iostream>
+#include <utility>
 
 #include "call_trace.h"
 #include "store/integrity.h"
@@ -47,9 +48,11 @@ void FarmStore::flush_leases() {
     ~Traced() { call_trace::record("flush", began, call_trace::now_ns(), int64_t(grants)); }
   } traced{began_ns, grants.size()};
   std::vector<std::optional<int64_t>> unit_ids;
+  pins_.learned.clear();
+  pins_.refused.clear();
   try {
     Transaction tx(db_);
-    unit_ids = write_grants(db_, leases_, grants);
+    unit_ids = write_grants(db_, leases_, grants, &pins_);
     for (const auto& [worker_id, at] : touches) {
       int64_t& written = touched_unix_ms_[worker_id];
       if (at - written < touch_interval_ms()) continue;
@@ -57,6 +60,7 @@ void FarmStore::flush_leases() {
       written = at;
     }
     tx.commit();
+    pins_.known.merge(pins_.learned);
   } catch (...) {
     book_.restore_journal(std::move(grants));
     for (const auto& [worker_id, at] : touches) book_.touch(worker_id, at);
@@ -70,6 +74,7 @@ void FarmStore::flush_leases() {
               << " lease(s) written after the lease book dropped them: requeued" << std::endl;
     for (const Lease& l : leases_.expire(orphans)) reload_job(l.job_id);
   }
+  for (int64_t id : std::exchange(pins_.refused, {})) reload_job(id);
 }
 
 void FarmStore::reload_job(int64_t job_id) {

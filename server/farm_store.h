@@ -105,6 +105,9 @@ class FarmStore {
   /// When each worker's last_seen was last written (guarded by mu_): a call within
   /// touch_interval_ms() of it writes nothing (workers are never removed, so the worker exists).
   std::map<int64_t, int64_t> touched_unix_ms_;
+  /// Renderer build pins of the jobs leased since the start (flush_leases; a few dozen bytes a
+  /// job): a flush reads a job's pin from the store once.
+  GrantPins pins_;
 };
 
 }  // namespace tessera::server

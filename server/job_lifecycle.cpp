@@ -109,6 +109,7 @@ NewJob JobLifecycle::validated(const v1::SceneBundle& bundle, const v1::JobReque
   job.scene_file = contents.scene_file;
   job.options = resolved;
   job.priority = priority;
+  job.any_build = options.has_any_build() && options.any_build();
   return job;
 }
 

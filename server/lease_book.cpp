@@ -27,6 +27,8 @@ std::optional<LeaseBookJob> load_lease_book_job(Database& db, JobStore& jobs, in
   job.queue = TileQueue(db).rows(job_id);
   job.units = UnitsTable(db).live(job_id);
   job.failures = FailuresTable(db).of_job(job_id);
+  job.any_build = record->any_build;
+  job.pinned_build = record->pinned_build;
   return job;
 }
 
@@ -38,9 +40,10 @@ void LeaseBook::set_health_policy(const WorkerHealthPolicy& policy) {
   scheduler_.set_block_policy(policy.failures_to_block, policy.forgive_ms);
 }
 
-void LeaseBook::add_worker(int64_t worker_id) {
+void LeaseBook::add_worker(int64_t worker_id, const std::string& build) {
   std::lock_guard lock(mu_);
-  workers_.insert(worker_id);
+  workers_[worker_id] = build;
+  scheduler_.set_worker_build(worker_id, build);
 }
 
 bool LeaseBook::knows_worker(int64_t worker_id) {
@@ -106,6 +109,8 @@ void LeaseBook::put_job(LeaseBookJob in) {
   policy.running = in.state == JobState::running;
   policy.started_unix_ms = policy.running ? in.started_unix_ms : 0;
   policy.noise = in.spec.options.rule == StopRule::noise;
+  policy.any_build = in.any_build;
+  policy.build = in.pinned_build;
   if (in.spec.options.rule == StopRule::time) {
     policy.time_budget_ms = std::llround(in.spec.options.time_budget_s * 1000.0);
   }
@@ -147,7 +152,7 @@ void LeaseBook::put_job(LeaseBookJob in) {
     }
     const Lease& l = g->lease;
     const Scheduler::Pick unit{l.job_id, l.tile, l.batch, g->unborn ? 0 : l.unit_id, g->unborn};
-    if (!scheduler_.take(unit, g->at_unix_ms)) {
+    if (!scheduler_.take(unit, g->at_unix_ms, g->build)) {
       ++voided_;
       g = journal_.erase(g);
       continue;
@@ -244,6 +249,8 @@ std::vector<LeasedUnit> LeaseBook::lease_up_to(int64_t worker_id, uint32_t max_u
              (job.plan.batch_end(p.batch) - job.plan.batch_begin(p.batch));
     };
   }
+  const auto known = workers_.find(worker_id);
+  const std::string build = known == workers_.end() ? std::string() : known->second;
   for (const Scheduler::Pick& p :
        scheduler_.pick(worker_id, now, max_units - out.size(), bound)) {
     Lease lease;
@@ -255,7 +262,7 @@ std::vector<LeasedUnit> LeaseBook::lease_up_to(int64_t worker_id, uint32_t max_u
     lease.worker_id = worker_id;
     lease.expires_unix_ms = now + lease_ms_;
     add_lease(lease);
-    journal_.push_back(Grant{lease, p.unborn, now});
+    journal_.push_back(Grant{lease, p.unborn, now, build});
     ++granted_;
     out.push_back(leased_unit(jobs_.at(p.job_id), lease));
   }
@@ -359,12 +366,40 @@ std::vector<Lease> LeaseBook::recorded(const std::vector<Grant>& grants,
   return orphans;
 }
 
+namespace {
+
+/// Whether a grant of `job_id` to a worker of `build` may be written (write_grants).
+bool grant_admitted(JobsTable& jobs, GrantPins& pins, int64_t job_id, const std::string& build) {
+  const JobPin* pin = nullptr;
+  if (const auto k = pins.known.find(job_id); k != pins.known.end()) pin = &k->second;
+  if (const auto l = pins.learned.find(job_id); !pin && l != pins.learned.end()) pin = &l->second;
+  if (!pin) {
+    const std::optional<JobPin> read = jobs.pin_build(job_id, build);
+    if (!read) return true;  // a deleted job: record_grant refuses its grant as before
+    pin = &pins.learned.emplace(job_id, *read).first->second;
+  }
+  if (pin->admits(build)) return true;
+  pins.refused.insert(job_id);
+  return false;
+}
+
+}  // namespace
+
 std::vector<std::optional<int64_t>> write_grants(Database& db, LeaseTable& leases,
-                                                 const std::vector<LeaseBook::Grant>& grants) {
+                                                 const std::vector<LeaseBook::Grant>& grants,
+                                                 GrantPins* pins) {
+  GrantPins local;
+  GrantPins& p = pins ? *pins : local;
   std::vector<std::optional<int64_t>> unit_ids;
   unit_ids.reserve(grants.size());
   std::map<int64_t, int64_t> started;  // job -> its first lease written here
+  JobsTable jobs(db);
   for (const LeaseBook::Grant& g : grants) {
+    // Not expected to refuse (the book pins as it leases): a unit of another build than the job's.
+    if (!grant_admitted(jobs, p, g.lease.job_id, g.build)) {
+      unit_ids.push_back(std::nullopt);
+      continue;
+    }
     const std::optional<int64_t> unit = leases.record_grant(g.lease, g.unborn);
     if (!unit && g.unborn) {
       try {
@@ -376,7 +411,6 @@ std::vector<std::optional<int64_t>> write_grants(Database& db, LeaseTable& lease
     if (unit) started.try_emplace(g.lease.job_id, g.at_unix_ms);
     unit_ids.push_back(unit);
   }
-  JobsTable jobs(db);
   for (const auto& [job_id, at] : started) jobs.start(job_id, at);  // queued -> running
   return unit_ids;
 }

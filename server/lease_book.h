@@ -68,6 +68,8 @@ struct LeaseBookJob {
   std::vector<TileQueueRow> queue;           ///< the unborn units of each tile
   std::vector<LiveUnit> units;               ///< rows queued or leased
   std::vector<JobWorkerFailures> failures;   ///< per worker, for blocks
+  bool any_build = false;                    ///< JobRecord's
+  std::optional<std::string> pinned_build;   ///< JobRecord's
 };
 
 /// Reads what the book keeps of `job_id` from the store (call under the store's lock, after
@@ -84,7 +86,9 @@ class LeaseBook {
   void set_health_policy(const WorkerHealthPolicy& policy);
 
   // ---- Workers ----------------------------------------------------------------------------
-  void add_worker(int64_t worker_id);
+  /// A worker of renderer build `build` (WorkerRegistration::version): it leases units of jobs
+  /// pinned to that build or not pinned yet (Scheduler).
+  void add_worker(int64_t worker_id, const std::string& build);
   bool knows_worker(int64_t worker_id);
   /// The worker called at `now_unix_ms` (its last_seen is written with the journal).
   void touch(int64_t worker_id, int64_t now_unix_ms);
@@ -140,6 +144,7 @@ class LeaseBook {
     Lease lease;          ///< unit_id is 0 for an unborn unit until written
     bool unborn = false;  ///< the unit had no row (store/tile_queue.h)
     int64_t at_unix_ms = 0;  ///< when granted (a queued job starts then)
+    std::string build;       ///< the worker's renderer build (the job's pin, JobsTable::admit_build)
   };
   /// Takes the journal, oldest first (empty: nothing to write).
   std::vector<Grant> take_journal();
@@ -174,7 +179,7 @@ class LeaseBook {
   IdSource new_id_;
   std::mutex mu_;  ///< guards everything below (never held while the store is used)
   Scheduler scheduler_;
-  std::set<int64_t> workers_;
+  std::map<int64_t, std::string> workers_;  ///< id -> renderer build
   std::map<int64_t, int64_t> touches_;
   std::map<int64_t, Job> jobs_;
   std::map<std::string, Lease> leases_;                     ///< by lease id
@@ -184,14 +189,27 @@ class LeaseBook {
   uint64_t granted_ = 0, voided_ = 0;
 };
 
+/// What write_grants knows and learns of jobs' renderer build pins (JobsTable::pin_build).
+struct GrantPins {
+  /// Pins read or made by earlier committed writes: a pin never moves and a job id is never
+  /// reused, so a job found here costs no statement.
+  std::map<int64_t, JobPin> known;
+  /// Pins read or made by this write: merge into `known` once its transaction commits.
+  std::map<int64_t, JobPin> learned;
+  /// Jobs a grant was refused for (a worker of another build than the job's pin).
+  std::set<int64_t> refused;
+};
+
 /// Writes `grants` (LeaseBook::take_journal) to the store: each unit leased with the grant's
 /// id and expiry (LeaseTable::record_grant), each job of a lease written started (queued ->
-/// running at its grant's time). A grant of an unborn unit the store refuses (its tile closed or
-/// its job ended after the book granted it) leaves a cancelled row, so that its result is
-/// dropped as a cancelled unit's. Call inside a transaction. Returns the unit ids to hand to
-/// LeaseBook::recorded.
+/// running at its grant's time) and pinned to its first grant's build (JobsTable::pin_build,
+/// in this transaction). A grant to a worker of another build than the job's pin is refused
+/// (nullopt) and its job put in `pins->refused`: reload it into the book (its unit is still
+/// leasable in the store). Without `pins`, every job's pin is read. Call inside a transaction.
+/// Returns the unit ids to hand to LeaseBook::recorded.
 std::vector<std::optional<int64_t>> write_grants(Database& db, LeaseTable& leases,
-                                                 const std::vector<LeaseBook::Grant>& grants);
+                                                 const std::vector<LeaseBook::Grant>& grants,
+                                                 GrantPins* pins = nullptr);
 
 /// The book's due leases (expiry is the book's: heartbeats extend leases there) back to the
 /// queue, in the store and then in the book. Requires the journal written. Returns how many

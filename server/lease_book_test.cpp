@@ -407,7 +407,7 @@ LeaseBookJob two_tile_job() {
 TEST(LeaseBook, AGrantTheStoreNoLongerAllowsIsVoidWhenTheJobIsPutAgain) {
   testing::FakeClock clock;
   LeaseBook book(clock, 1000);
-  book.add_worker(1);
+  book.add_worker(1, "");
   LeaseBookJob job = two_tile_job();
   book.put_job(job);
   const std::vector<LeasedUnit> got = book.lease_up_to(1, 2);
@@ -436,7 +436,7 @@ TEST(LeaseBook, AGrantTheStoreNoLongerAllowsIsVoidWhenTheJobIsPutAgain) {
 TEST(LeaseBook, LeasesBeingDeliveredAreExtendedButNotReturnedOrCounted) {
   testing::FakeClock clock;
   LeaseBook book(clock, 1000);
-  book.add_worker(1);
+  book.add_worker(1, "");
   book.put_job(two_tile_job());
   const std::vector<LeasedUnit> first = book.lease_up_to(1, 2);
   ASSERT_EQ(first.size(), 2u);
@@ -461,7 +461,7 @@ TEST(LeaseBook, LeasesBeingDeliveredAreExtendedButNotReturnedOrCounted) {
 TEST(LeaseBook, HeldLeasesCountAgainstTheSampleBound) {
   testing::FakeClock clock;
   LeaseBook book(clock, 1000);
-  book.add_worker(1);
+  book.add_worker(1, "");
   book.put_job(two_tile_job());  // units of 64 samples
   EXPECT_EQ(book.lease_up_to(1, 8, {}, 0).size(), 1u);
   EXPECT_EQ(book.lease_up_to(1, 8, {}, 0).size(), 1u);    // the same one, nothing new

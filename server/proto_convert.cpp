@@ -67,6 +67,9 @@ v1::JobInfo to_proto(const JobRecord& job) {
   reached->set_error_max(job.reached.error_max);
   reached->set_error_mean(job.reached.error_mean);
   reached->set_tiles_finished(job.tiles_finished);
+  out.set_any_build(job.any_build);
+  out.set_pinned_build(job.pinned_build.value_or(""));
+  out.set_waiting_for_build(job.waiting_for_build);
   return out;
 }
 
@@ -90,6 +93,7 @@ v1::WorkerInfo to_proto(const WorkerRecord& w, bool online) {
   out.set_inf_dropped(w.inf_dropped);
   out.set_health_warning(w.health_warning);
   out.set_units_held(w.units_held);
+  out.set_build(w.info.version);
   return out;
 }
 

@@ -89,6 +89,23 @@ bool Scheduler::blocked(const State& s, int64_t worker_id, int64_t now) const {
          f->second.second > now - forgive_ms_;
 }
 
+bool Scheduler::admits(const State& s, const std::string& build) {
+  return s.job.any_build || !s.job.build || *s.job.build == build;
+}
+
+void Scheduler::pin(State& s, const std::string& build) {
+  if (!s.job.any_build && !s.job.build) s.job.build = build;
+}
+
+void Scheduler::set_worker_build(int64_t worker_id, const std::string& build) {
+  worker_builds_[worker_id] = build;
+}
+
+std::optional<std::string> Scheduler::pinned_build(int64_t job_id) const {
+  const auto it = jobs_.find(job_id);
+  return it == jobs_.end() ? std::nullopt : it->second.job.build;
+}
+
 void Scheduler::start(State& s, int64_t at) {
   if (s.job.running) return;
   s.job.running = true;  // queued -> running on its first lease (JobsTable::start)
@@ -142,11 +159,14 @@ std::vector<Scheduler::Pick> Scheduler::pick(int64_t worker_id, int64_t now_unix
                                              const SampleBound& bound) {
   std::vector<Pick> out;
   uint64_t samples = 0;
+  static const std::string kNoBuild;
+  const auto known = worker_builds_.find(worker_id);
+  const std::string& build = known == worker_builds_.end() ? kNoBuild : known->second;
   for (const OrderKey& key : order_) {
     if (out.size() >= n) break;
     State& s = jobs_.at(std::get<2>(key));
     if (s.open.empty() && s.requeued.empty()) continue;
-    if (blocked(s, worker_id, now_unix_ms)) continue;
+    if (blocked(s, worker_id, now_unix_ms) || !admits(s, build)) continue;
     Pick p;
     while (out.size() < n && next_unit(s, now_unix_ms, p)) {
       if (bound.samples_of) {
@@ -160,6 +180,7 @@ std::vector<Scheduler::Pick> Scheduler::pick(int64_t worker_id, int64_t now_unix
         samples += unit;
       }
       take_next(s, p, now_unix_ms);
+      pin(s, build);  // in the same pick: a worker of another build never gets a unit of it
       out.push_back(p);
     }
   }
@@ -170,10 +191,11 @@ std::vector<Scheduler::Pick> Scheduler::pick(int64_t worker_id, int64_t now_unix
   return pick(worker_id, now_unix_ms, n, SampleBound{});
 }
 
-bool Scheduler::take(const Pick& unit, int64_t at_unix_ms) {
+bool Scheduler::take(const Pick& unit, int64_t at_unix_ms, const std::string& build) {
   const auto it = jobs_.find(unit.job_id);
   if (it == jobs_.end() || unit.tile >= it->second.job.tiles.size()) return false;
   State& s = it->second;
+  if (!admits(s, build)) return false;
   if (unit.unborn) {
     const Tile& t = s.job.tiles[unit.tile];
     if (t.next_lease != unit.batch || unit.batch >= t.lease_end) return false;
@@ -182,6 +204,7 @@ bool Scheduler::take(const Pick& unit, int64_t at_unix_ms) {
     return false;
   }
   start(s, at_unix_ms);
+  pin(s, build);
   return true;
 }
 

@@ -12,6 +12,9 @@
 //   every tile gets its first batch, nothing else starts;
 // - a `noise` tile is leased at most kNoiseLookahead batches past its merged prefix
 //   (speculation the rule may waste, never a change of bits: see tile_merger.h);
+// - a job is leased only to workers of its pinned renderer build; a job not pinned yet is pinned
+//   to the build of the worker its first unit goes to (unless it is any_build), so that no two
+//   builds render units of one job (docs/design.md, "The determinism contract");
 // - one call's units may be bounded by their samples (SampleBound, the lease's budget: see
 //   leasing.h): the picks stop at the first unit that would go over it, so a call never skips
 //   a large unit for smaller ones of a later job.
@@ -23,7 +26,9 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
+#include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -60,6 +65,8 @@ class Scheduler {
     std::vector<Requeued> requeued;
     /// Failures per worker: (count, last failure time).
     std::map<int64_t, std::pair<int64_t, int64_t>> failures;
+    bool any_build = false;            ///< leased to workers of every build
+    std::optional<std::string> build;  ///< the build it is pinned to; nullopt: not yet
   };
   /// A unit picked for a worker: unit_id 0 and `unborn` when it has no row yet.
   struct Pick {
@@ -82,6 +89,9 @@ class Scheduler {
   /// WorkerHealthPolicy's blocking half (server/lease_table.h).
   void set_block_policy(int failures_to_block, int64_t forgive_ms);
 
+  /// The worker's renderer build (a worker never set is of build "").
+  void set_worker_build(int64_t worker_id, const std::string& build);
+
   /// Puts (or replaces) a job. A job that is neither queued nor running is not put: drop it.
   void put_job(const Job& job);
   void drop_job(int64_t job_id);
@@ -99,10 +109,13 @@ class Scheduler {
                          const SampleBound& bound);
   /// pick() with no bound on the samples.
   std::vector<Pick> pick(int64_t worker_id, int64_t now_unix_ms, size_t n);
-  /// Takes the given unit, picked earlier (the book applies its unwritten grants again after a
-  /// job was put again): false when the job no longer has it leasable.
-  bool take(const Pick& unit, int64_t at_unix_ms);
+  /// Takes the given unit, picked earlier for a worker of `build` (the book applies its unwritten
+  /// grants again after a job was put again): false when the job no longer has it leasable or
+  /// is pinned to another build.
+  bool take(const Pick& unit, int64_t at_unix_ms, const std::string& build = "");
 
+  /// The build the job is pinned to (nullopt: not yet, any_build, or unknown).
+  std::optional<std::string> pinned_build(int64_t job_id) const;
   /// For tests: the job's start time as the policy sees it (0: queued or unknown).
   int64_t started_unix_ms(int64_t job_id) const;
 
@@ -125,6 +138,10 @@ class Scheduler {
   /// Leases the tile's next unborn unit: moves its next_lease on, keeping s.open in step.
   void lease_unborn(State& s, uint32_t tile);
   bool blocked(const State& s, int64_t worker_id, int64_t now) const;
+  /// Whether a worker of `build` may lease the job's units (pinned to it, not pinned, any).
+  static bool admits(const State& s, const std::string& build);
+  /// The job's first unit went to a worker of `build`: pinned to it unless any_build.
+  static void pin(State& s, const std::string& build);
   /// The job's first leasable unit (not taken), or false.
   bool next_unit(const State& s, int64_t now, Pick& out) const;
   /// Takes `unit`, which next_unit() just gave.
@@ -134,6 +151,7 @@ class Scheduler {
   int failures_to_block_ = 2;
   int64_t forgive_ms_ = 600'000;
   std::map<int64_t, State> jobs_;
+  std::map<int64_t, std::string> worker_builds_;
   std::set<OrderKey> order_;
 };
 

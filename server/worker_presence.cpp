@@ -22,7 +22,7 @@ int64_t WorkerPresence::register_worker(const WorkerRegistration& info) {
   {
     FarmStore::Lock lock(store_);
     id = store_.workers().register_worker(info, clock_.now_unix_ms());
-    store_.book().add_worker(id);
+    store_.book().add_worker(id, info.version);
     rates_.set_threads(id, info.threads);
   }
   events_.notify(true);
@@ -72,7 +72,7 @@ void WorkerPresence::touch_in_memory(int64_t worker_id, uint64_t call) {
     FarmStore::Lock lock(store_);
     const std::optional<WorkerRecord> known = store_.workers().get(worker_id);
     if (!known) throw unknown_worker(worker_id);
-    book.add_worker(worker_id);
+    book.add_worker(worker_id, known->info.version);
     rates_.set_threads(worker_id, known->info.threads);
   }
   book.touch(worker_id, clock_.now_unix_ms());  // last_seen written by the next flush

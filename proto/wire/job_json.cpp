@@ -78,6 +78,9 @@ nlohmann::json job_json(const v1::JobInfo& job) {
       {"output_exr", job.output_exr()},
       {"output_png", job.output_png()},
       {"output_error", job.output_error()},
+      {"any_build", job.any_build()},
+      {"pinned_build", job.pinned_build().empty() ? json(nullptr) : json(job.pinned_build())},
+      {"waiting_for_build", job.waiting_for_build()},
       {"worker_isas", isas},
       {"renderer_builds", builds},
   };

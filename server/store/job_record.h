@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,12 @@ struct JobRecord {
   int64_t read_unix_ms = 0;          ///< when the record was read (for a running job's wall time)
   std::vector<std::string> isas;     ///< distinct ISAs of accepted results, sorted
   std::vector<std::string> versions; ///< distinct renderer versions of accepted results, sorted
+  bool any_build = false;  ///< submitted with --any-build: leased to workers of every build
+  /// The renderer build every lease of the job goes to (its first lease's worker's); nullopt
+  /// before its first lease, and always for an any_build job.
+  std::optional<std::string> pinned_build;
+  /// Filled by the coordinator: pinned, not final, and no online worker is of its build.
+  bool waiting_for_build = false;
 
   /// Samples merged over samples asked, in [0, 1]; exactly 1 when every unit is merged. For
   /// `noise` and `time` jobs, units settled (done or skipped) over units (a time job: at least
@@ -94,6 +101,7 @@ struct NewJob {
   std::string bundle_bytes;  ///< canonical serialization, stored once per hash
   JobOptions options;
   int priority = 0;
+  bool any_build = false;  ///< --any-build: never pinned to one renderer build
 };
 
 }  // namespace tessera::server

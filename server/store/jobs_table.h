@@ -46,6 +46,13 @@ struct JobStateTotals {
   uint64_t jobs = 0, units_done = 0, leases_expired = 0, results_dropped = 0, samples_merged = 0;
 };
 
+/// Which renderer builds a job's leases may go to (JobsTable::pin_build).
+struct JobPin {
+  bool any_build = false;  ///< every build
+  std::string build;       ///< otherwise this one
+  bool admits(const std::string& worker_build) const { return any_build || build == worker_build; }
+};
+
 class JobsTable {
  public:
   explicit JobsTable(Database& db) : db_(db) {}
@@ -77,6 +84,10 @@ class JobsTable {
                  uint64_t units_total, int64_t now_unix_ms);
   /// JobEvent::start: queued -> running, its first lease at `now_unix_ms`.
   bool start(int64_t job_id, int64_t now_unix_ms);
+  /// The job's renderer build pin after pinning it to `build` when it had none and is not
+  /// any_build (its first lease: docs/design.md, "The determinism contract"); nullopt for an
+  /// unknown job. A pin never moves.
+  std::optional<JobPin> pin_build(int64_t job_id, const std::string& build);
   /// JobEvent::cancel (from `from`): -> cancelled at `now_unix_ms`, stop reason `cancelled`.
   bool cancel(int64_t job_id, JobState from, int64_t now_unix_ms);
   /// JobEvent::fail (from `from`): -> failed at `now_unix_ms` with `message`.

@@ -288,6 +288,18 @@ INSERT INTO tile_checkpoints (job_id, tile, accumulation)
   ORDER BY job_id, tile;
 ALTER TABLE tiles DROP COLUMN accumulation;
 )sql"},
+      {11, "jobs pinned to one renderer build", R"sql(
+-- A job is leased only to workers of one renderer build (docs/design.md, "The determinism
+-- contract"): pinned_build is the build of the worker its first lease went to (NULL: not
+-- leased yet), any_build = 1 when it was submitted with --any-build (never pinned).
+ALTER TABLE jobs ADD COLUMN any_build INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN pinned_build TEXT;
+-- Jobs with accepted results keep what they had: one build -> pinned to it, several -> any.
+UPDATE jobs SET pinned_build = (SELECT MIN(version) FROM job_contributors c WHERE c.job_id = jobs.id)
+  WHERE (SELECT COUNT(DISTINCT version) FROM job_contributors c WHERE c.job_id = jobs.id) = 1;
+UPDATE jobs SET any_build = 1
+  WHERE (SELECT COUNT(DISTINCT version) FROM job_contributors c WHERE c.job_id = jobs.id) > 1;
+)sql"},
   };
   return kMigrations;
 }

@@ -1,4 +1,5 @@
-// Numbers as the page shows them: durations, rates, percentages, relative errors ('—' for none).
+// Numbers as the page shows them: durations, rates, percentages, relative errors ('—' for none);
+// a job's state with what it says about renderer builds.
 export function duration(s) {
   if (s === null || s === undefined || !isFinite(s)) return '—';
   s = Math.max(0, Math.round(s));
@@ -13,3 +14,9 @@ export function rate(v) {
 }
 export function percent(x) { return (100 * x).toFixed(x >= 1 ? 0 : 1) + ' %'; }
 export function errorText(e) { return e === null || e === undefined ? '—' : (100 * e).toFixed(2) + ' %'; }
+// Beside the state: several builds rendered it (--any-build), or no online worker is of its build.
+export function jobStateText(j) {
+  const builds = (j.renderer_builds || []).length;
+  return j.state + (builds > 1 ? ` (${builds} renderer builds)` : '')
+    + (j.waiting_for_build ? ' (waiting for its build)' : '');
+}

@@ -2,7 +2,7 @@
 // tile map, and its options, progress and provenance.
 import { imageUrl } from './api.js';
 import { $, dl } from './dom.js';
-import { duration, errorText, percent, rate } from './format.js';
+import { duration, errorText, jobStateText, percent, rate } from './format.js';
 import { provenanceRows } from './provenance.js';
 import { state } from './state.js';
 import { drawTileMap } from './tile_map.js';
@@ -10,7 +10,8 @@ import { drawTileMap } from './tile_map.js';
 function renderHeading(j) {
   $('#detail-id').textContent = j.id;
   const st = $('#detail-state');
-  st.textContent = j.state; st.className = `state state-${j.state}`;
+  st.textContent = jobStateText(j);
+  st.className = `state state-${j.state}`;
   $('#detail-scene').textContent = `${j.scene_file} · priority ${j.priority}`;
   // Why a job failed comes first: at the top of the page (above the job list, so never below
   // the fold however many jobs there are) and above the job's images.
@@ -61,7 +62,9 @@ function renderFacts(j) {
     ['ETA', j.state === 'running' ? duration(j.eta_s) : '—'], ['est. error', errorText(j.relative_error)],
     ['units done', `${c.units_done} / ${c.units_total}`], ['leased now', c.units_leased],
     ['leases expired', c.leases_expired], ['results dropped', c.results_dropped],
-    ['NaN / Inf dropped', `${c.nan_dropped} / ${c.inf_dropped}`]]);
+    ['NaN / Inf dropped', `${c.nan_dropped} / ${c.inf_dropped}`],
+    ['renderer build', j.any_build ? 'any (--any-build)' : (j.pinned_build || 'not pinned yet (no unit leased)')],
+    ...(j.waiting_for_build ? [['waiting', `no online worker of build ${j.pinned_build}`]] : [])]);
   // Workers of other builds may give other bits for the same unit (docs/design.md).
   const builds = j.renderer_builds || [];
   dl($('#detail-provenance'), [...provenanceRows(j.provenance), ...(builds.length > 1

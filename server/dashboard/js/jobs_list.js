@@ -2,7 +2,7 @@
 // click on a row selects its job. Newer/Older walk the pages by the server's cursor (`before`)
 // and the state filter narrows them, so each poll fetches one page whatever the number of jobs.
 import { $, esc } from './dom.js';
-import { duration, errorText, percent, rate } from './format.js';
+import { duration, errorText, jobStateText, percent, rate } from './format.js';
 import { state } from './state.js';
 
 // Rows on a page: 50, or `/?page=N` (1..1000).
@@ -13,7 +13,7 @@ function jobRow(j) {
   const sel = j.id === state.selected ? ' class="selected"' : '';
   return `<tr data-job-id="${j.id}" data-state="${esc(j.state)}"${sel}>
     <td class="num">${j.id}</td><td class="scene" title="${esc(j.scene_file)}">${esc(j.scene_file)}</td>
-    <td><span class="state state-${esc(j.state)}">${esc(j.state)}</span></td>
+    <td><span class="state state-${esc(j.state)}">${esc(jobStateText(j))}</span></td>
     <td class="progress-col"><div class="bar" data-progress="${j.progress}"><span style="width:${(100 * j.progress).toFixed(2)}%"></span><b>${percent(j.progress)}</b></div></td>
     <td class="num">${j.spp_merged}/${j.options.spp}</td><td class="num wide">${rate(j.samples_per_s)}</td>
     <td class="num wide">${duration(j.wall_time_s)}</td><td class="num">${j.state === 'running' ? duration(j.eta_s) : '—'}</td>

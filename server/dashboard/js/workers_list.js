@@ -1,5 +1,5 @@
 // The workers table: one row per registered worker, what it renders, the units it holds and its
-// counts.
+// counts and its renderer build.
 import { $, esc } from './dom.js';
 import { duration, rate } from './format.js';
 import { state } from './state.js';
@@ -11,7 +11,8 @@ function workerRow(w) {
     <td><span class="state state-${esc(w.state)}">${esc(w.state)}</span></td><td>${unit}</td>
     <td class="num">${w.units_held ?? 0}</td>
     <td class="num">${rate(w.samples_per_s)}</td><td class="num wide">${duration(w.last_seen_s)} ago</td>
-    <td class="num wide">${w.units_done}</td><td class="num">${w.failures}</td></tr>`;
+    <td class="num wide">${w.units_done}</td><td class="num">${w.failures}</td>
+    <td class="wide build">${esc(w.version || '—')}</td></tr>`;
 }
 
 export function renderWorkers() {
