@@ -19,5 +19,28 @@ TEST(RendererBuildsText, ALineABuildAndAWarningWhenThereAreSeveral) {
       << text;
 }
 
+TEST(RendererBuildsText, ThePinAndAJobWaitingForItsBuild) {
+  v1::JobInfo job;
+  job.set_state(v1::JOB_STATE_RUNNING);
+  job.set_pinned_build("build A");
+  EXPECT_EQ(renderer_builds_text(job), "  pinned    build A\n");
+  EXPECT_EQ(state_text(job), "running");
+  job.set_waiting_for_build(true);
+  EXPECT_EQ(renderer_builds_text(job),
+            "  pinned    build A\n  waiting   no online worker of build build A\n");
+  EXPECT_EQ(state_text(job), "running (waiting for its build)");
+}
+
+TEST(RendererBuildsText, AnAnyBuildJobSaysItsBuildsBesideItsState) {
+  v1::JobInfo job;
+  job.set_state(v1::JOB_STATE_DONE);
+  job.set_any_build(true);
+  job.add_renderer_builds("build A");
+  job.add_renderer_builds("build B");
+  EXPECT_NE(renderer_builds_text(job).find("  pinned    no: submitted with --any-build"),
+            std::string::npos);
+  EXPECT_EQ(state_text(job), "done (2 renderer builds)");
+}
+
 }  // namespace
 }  // namespace tessera::client

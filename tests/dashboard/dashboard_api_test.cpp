@@ -210,6 +210,9 @@ TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
   EXPECT_EQ(w["failures"], 0);
   EXPECT_TRUE(w["online"].get<bool>());
   EXPECT_TRUE(w["state"] == "idle" || w["state"] == "busy");
+  // The job is pinned to its one worker's renderer build, which is online.
+  EXPECT_EQ(detail["pinned_build"], w["version"]);
+  EXPECT_FALSE(detail["waiting_for_build"].get<bool>());
 
   httplib::Result metrics = get("/metrics");
   ASSERT_TRUE(metrics);
