@@ -180,7 +180,10 @@ TEST(BuildPin, MigrationPinsJobsToTheBuildOfTheirResults) {
   nj.options.spp = nj.options.batch_spp = 1;
   const int64_t one = jobs.create(nj, 0), several = jobs.create(nj, 0), none = jobs.create(nj, 0);
   const auto contributed = [&](int64_t job, const std::string& version) {
-    db.prepare("INSERT INTO job_contributors VALUES (?, 'avx2', ?)")->bind(1, job).bind(2, version).run();
+    db.prepare("INSERT INTO job_contributors VALUES (?, 'avx2', ?)")
+        ->bind(1, job)
+        .bind(2, version)
+        .run();
   };
   contributed(one, "build A");
   contributed(several, "build A");

@@ -144,7 +144,7 @@ class LeaseBook {
     Lease lease;          ///< unit_id is 0 for an unborn unit until written
     bool unborn = false;  ///< the unit had no row (store/tile_queue.h)
     int64_t at_unix_ms = 0;  ///< when granted (a queued job starts then)
-    std::string build;       ///< the worker's renderer build (the job's pin, JobsTable::admit_build)
+    std::string build;       ///< the worker's renderer build (JobsTable::pin_build)
   };
   /// Takes the journal, oldest first (empty: nothing to write).
   std::vector<Grant> take_journal();

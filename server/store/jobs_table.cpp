@@ -299,7 +299,10 @@ std::optional<JobPin> JobsTable::pin_build(int64_t job_id, const std::string& bu
     pin.build = q->text(1);
     return pin;
   }
-  db_.prepare("UPDATE jobs SET pinned_build = ? WHERE id = ?")->bind(1, build).bind(2, job_id).run();
+  db_.prepare("UPDATE jobs SET pinned_build = ? WHERE id = ?")
+      ->bind(1, build)
+      .bind(2, job_id)
+      .run();
   return pin;
 }
 

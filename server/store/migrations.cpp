@@ -295,7 +295,8 @@ ALTER TABLE tiles DROP COLUMN accumulation;
 ALTER TABLE jobs ADD COLUMN any_build INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN pinned_build TEXT;
 -- Jobs with accepted results keep what they had: one build -> pinned to it, several -> any.
-UPDATE jobs SET pinned_build = (SELECT MIN(version) FROM job_contributors c WHERE c.job_id = jobs.id)
+UPDATE jobs
+  SET pinned_build = (SELECT MIN(version) FROM job_contributors c WHERE c.job_id = jobs.id)
   WHERE (SELECT COUNT(DISTINCT version) FROM job_contributors c WHERE c.job_id = jobs.id) = 1;
 UPDATE jobs SET any_build = 1
   WHERE (SELECT COUNT(DISTINCT version) FROM job_contributors c WHERE c.job_id = jobs.id) > 1;

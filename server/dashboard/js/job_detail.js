@@ -63,7 +63,8 @@ function renderFacts(j) {
     ['units done', `${c.units_done} / ${c.units_total}`], ['leased now', c.units_leased],
     ['leases expired', c.leases_expired], ['results dropped', c.results_dropped],
     ['NaN / Inf dropped', `${c.nan_dropped} / ${c.inf_dropped}`],
-    ['renderer build', j.any_build ? 'any (--any-build)' : (j.pinned_build || 'not pinned yet (no unit leased)')],
+    ['renderer build', j.any_build ? 'any (--any-build)'
+      : (j.pinned_build || 'not pinned yet (no unit leased)')],
     ...(j.waiting_for_build ? [['waiting', `no online worker of build ${j.pinned_build}`]] : [])]);
   // Workers of other builds may give other bits for the same unit (docs/design.md).
   const builds = j.renderer_builds || [];

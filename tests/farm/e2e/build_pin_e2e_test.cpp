@@ -13,7 +13,8 @@
 namespace tessera::e2e {
 namespace {
 
-const std::string kBuildPinScene = (source_dir() / "tests" / "farm" / "data" / "tiny.json").string();
+const std::string kBuildPinScene =
+    (source_dir() / "tests" / "farm" / "data" / "tiny.json").string();
 
 uint64_t register_build(FarmCluster& farm, const std::string& name, const std::string& build) {
   v1::RegisterRequest request;
@@ -64,7 +65,9 @@ TEST(BuildPinE2E, AnotherBuildGetsNoUnitOfAPinnedJobThroughARestart) {
   const CommandResult workers = farm.cli({"workers", "--json"});
   ASSERT_EQ(workers.exit_code, 0) << workers.err;
   std::set<std::string> builds;
-  for (const nlohmann::json& w : nlohmann::json::parse(workers.out)) builds.insert(w.value("build", ""));
+  for (const nlohmann::json& w : nlohmann::json::parse(workers.out)) {
+    builds.insert(w.value("build", ""));
+  }
   EXPECT_EQ(builds, (std::set<std::string>{"build A", "build B"}));
 
   // Build A's only worker stops: the job says what it waits for.
