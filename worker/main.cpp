@@ -5,6 +5,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <new>
@@ -21,6 +22,7 @@
 #include "cli/output_path.h"
 #include "cli/usage_exit.h"
 #include "converge_command.h"
+#include "denoise/denoised_outputs.h"
 #include "image/image_output.h"
 #include "job/job_flags.h"
 #include "job/tile_summary.h"
@@ -49,11 +51,63 @@ struct RenderArgs {
   std::string kernel_isa = "auto";       ///< --kernel-isa (render/wavefront/kernel_isa.h)
   bool half = false;
   bool quiet = false;
+  bool denoise = false;      ///< --denoise: NAME.denoised.EXT beside each output
+  std::string oidn_library;  ///< --oidn-library ("" = TESSERA_OIDN_LIBRARY, then the search)
 };
 
 std::optional<std::filesystem::path> bundle_root(const std::string& root) {
   if (root.empty()) return std::nullopt;
   return std::filesystem::path(root);
+}
+
+/// The denoiser of a render that asks for one (null otherwise), made before the scene is read:
+/// a render whose denoising cannot run is refused up front (DenoiserUnavailable, exit 1).
+std::unique_ptr<tessera::Denoiser> make_denoiser(const RenderArgs& args) {
+  if (!args.denoise) return nullptr;
+  for (const std::string& out : tessera::denoised_output_paths(args.outputs)) {
+    tessera::cli::check_output_path(out, {".exr", ".png"});
+  }
+  const auto library = tessera::OidnLibrary::load(tessera::oidn_library_candidates(
+      tessera::named_oidn_library(args.oidn_library), tessera::configured_oidn_library()));
+  return std::make_unique<tessera::Denoiser>(library, args.threads);
+}
+
+/// The raw image's provenance (EXR header attributes, PNG text chunks).
+std::map<std::string, std::string> render_metadata(const RenderArgs& args,
+                                                   const tessera::JobOptions& options,
+                                                   const tessera::LocalRenderResult& result,
+                                                   const tessera::TileSummary& summary,
+                                                   double rel_error, uint64_t nan_inf) {
+  std::map<std::string, std::string> metadata = {
+      {"tessera:renderer", "tessera-worker " + tessera::renderer_build()},
+      {"tessera:scene_file", std::filesystem::path(args.scene).filename().string()},
+      {"tessera:spp", std::to_string(summary.spp_min)},
+      {"tessera:spp_min", std::to_string(summary.spp_min)},
+      {"tessera:spp_mean", std::to_string(summary.spp_mean)},
+      {"tessera:spp_max", std::to_string(summary.spp_max)},
+      {"tessera:stop_rule", std::string(tessera::to_string(options.rule))},
+      {"tessera:stop_reason", std::string(tessera::to_string(result.reason))},
+      {"tessera:max_depth", std::to_string(options.max_depth)},
+      {"tessera:seed", std::to_string(options.seed)},
+      {"tessera:tile", std::to_string(options.tile_size)},
+      {"tessera:batch", std::to_string(options.batch_spp)},
+      {"tessera:batch_schedule", std::string(tessera::to_string(options.batch_kind))},
+      {"tessera:isa", result.isa},
+      {"tessera:kernel_isa", result.kernel_isa},
+      {"tessera:estimated_relative_error", std::to_string(rel_error)},
+      {"tessera:tile_error_max", std::to_string(summary.error_max)},
+      {"tessera:tile_error_mean", std::to_string(summary.error_mean)},
+      {"tessera:nan_inf_dropped", std::to_string(nan_inf)},
+      {"tessera:wall_time_s", std::to_string(result.seconds)},
+  };
+  if (options.rule == tessera::StopRule::noise) {
+    metadata["tessera:noise_target"] = std::to_string(options.noise_target);
+    metadata["tessera:max_spp"] = std::to_string(options.spp);
+  } else if (options.rule == tessera::StopRule::time) {
+    metadata["tessera:time_budget_s"] = std::to_string(options.time_budget_s);
+    metadata["tessera:max_spp"] = std::to_string(options.spp);
+  }
+  return metadata;
 }
 
 int run_render(const RenderArgs& args) {
@@ -63,6 +117,7 @@ int run_render(const RenderArgs& args) {
   const tessera::SignalCancellation signals(cancel);
   // Every output is checked before the scene is read: a render never runs to be thrown away.
   for (const std::string& out : args.outputs) tessera::cli::check_output_path(out, {".exr", ".png"});
+  const std::unique_ptr<tessera::Denoiser> denoiser = make_denoiser(args);
   const tessera::Scene scene = tessera::load_scene_file(args.scene, bundle_root(args.root),
                                                         tessera::parse_mitsuba_defines(args.defines));
   const tessera::JobOptions options = tessera::resolve_job_options(scene, args.overrides);
@@ -108,35 +163,7 @@ int run_render(const RenderArgs& args) {
 
   tessera::ImageWriteOptions write;
   write.half = args.half;
-  write.metadata = {
-      {"tessera:renderer", "tessera-worker " + tessera::renderer_build()},
-      {"tessera:scene_file", std::filesystem::path(args.scene).filename().string()},
-      {"tessera:spp", std::to_string(summary.spp_min)},
-      {"tessera:spp_min", std::to_string(summary.spp_min)},
-      {"tessera:spp_mean", std::to_string(summary.spp_mean)},
-      {"tessera:spp_max", std::to_string(summary.spp_max)},
-      {"tessera:stop_rule", std::string(tessera::to_string(options.rule))},
-      {"tessera:stop_reason", std::string(tessera::to_string(result.reason))},
-      {"tessera:max_depth", std::to_string(options.max_depth)},
-      {"tessera:seed", std::to_string(options.seed)},
-      {"tessera:tile", std::to_string(options.tile_size)},
-      {"tessera:batch", std::to_string(options.batch_spp)},
-      {"tessera:batch_schedule", std::string(tessera::to_string(options.batch_kind))},
-      {"tessera:isa", result.isa},
-      {"tessera:kernel_isa", result.kernel_isa},
-      {"tessera:estimated_relative_error", std::to_string(rel_error)},
-      {"tessera:tile_error_max", std::to_string(summary.error_max)},
-      {"tessera:tile_error_mean", std::to_string(summary.error_mean)},
-      {"tessera:nan_inf_dropped", std::to_string(nan + inf)},
-      {"tessera:wall_time_s", std::to_string(result.seconds)},
-  };
-  if (options.rule == tessera::StopRule::noise) {
-    write.metadata["tessera:noise_target"] = std::to_string(options.noise_target);
-    write.metadata["tessera:max_spp"] = std::to_string(options.spp);
-  } else if (options.rule == tessera::StopRule::time) {
-    write.metadata["tessera:time_budget_s"] = std::to_string(options.time_budget_s);
-    write.metadata["tessera:max_spp"] = std::to_string(options.spp);
-  }
+  write.metadata = render_metadata(args, options, result, summary, rel_error, nan + inf);
   if (options.rule != tessera::StopRule::spp) {
     write.extra_channels.push_back({"spp", tessera::spp_channel(options.width, options.height,
                                                                options.plan().tiles(),
@@ -168,6 +195,12 @@ int run_render(const RenderArgs& args) {
                tessera::error_text(summary.error_mean, summary.spp_max).c_str(),
                static_cast<unsigned long long>(nan + inf),
                result.isa.c_str(), result.kernel_isa.c_str());
+  if (denoiser) {
+    const double denoise_s =
+        tessera::write_denoised_outputs(*denoiser, image, {}, args.outputs, write);
+    std::fprintf(stderr, "denoised in %.2f s with %s\n", denoise_s,
+                 denoiser->description(false).c_str());
+  }
   return 0;
 }
 
@@ -248,6 +281,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "baseline", "avx2", "avx512"}));
   render_cmd->add_flag("--half", render.half, "Write EXR as half floats (clamped to half's range)");
   render_cmd->add_flag("-q,--quiet", render.quiet, "No progress bar");
+  render_cmd->add_flag("--denoise", render.denoise,
+                       "Also write NAME.denoised.exr (and .png for a PNG output) beside each output, "
+                       "denoised by Intel Open Image Denoise (scripts/install-deps.sh installs it); "
+                       "the raw image is unchanged");
+  render_cmd->add_option("--oidn-library", render.oidn_library,
+                         "libOpenImageDenoise.so.2 to load for --denoise (default: "
+                         "TESSERA_OIDN_LIBRARY, else the one found at build time, else the system's)");
 
   ConvertArgs convert;
   CLI::App* convert_cmd = app.add_subcommand(

@@ -1,0 +1,96 @@
+#include "denoise/denoiser.h"
+
+#include <stdexcept>
+#include <utility>
+
+namespace tessera {
+namespace {
+
+void check_size(const RgbImage& color, const RgbImage& guide, const char* name) {
+  if (guide.width != color.width || guide.height != color.height ||
+      guide.rgb.size() != color.rgb.size()) {
+    throw std::runtime_error(std::string("denoise: the ") + name + " guide is " +
+                             std::to_string(guide.width) + "x" + std::to_string(guide.height) +
+                             ", the image " + std::to_string(color.width) + "x" +
+                             std::to_string(color.height));
+  }
+}
+
+/// OIDN takes images through non-const pointers; it only reads its inputs.
+void* input(const RgbImage& image) { return const_cast<float*>(image.rgb.data()); }
+
+}  // namespace
+
+Denoiser::Denoiser(std::shared_ptr<const OidnLibrary> library, int threads)
+    : library_(std::move(library)) {
+  const oidn::Api& api = library_->api();
+  device_ = api.new_device(oidn::kDeviceTypeCpu);
+  if (device_ == nullptr) {
+    throw std::runtime_error("Open Image Denoise: no CPU device (" + library_->path() + ")");
+  }
+  if (threads > 0) api.set_device_int(device_, "numThreads", threads);
+  api.commit_device(device_);
+  try {
+    check("creating its CPU device");
+  } catch (...) {
+    api.release_device(device_);
+    throw;
+  }
+}
+
+Denoiser::~Denoiser() { library_->api().release_device(device_); }
+
+void Denoiser::check(const char* what) const {
+  const char* message = nullptr;
+  if (library_->api().get_device_error(device_, &message) != oidn::kErrorNone) {
+    throw std::runtime_error(std::string("Open Image Denoise, ") + what + ": " +
+                             (message != nullptr ? message : "unknown error"));
+  }
+}
+
+std::string Denoiser::version() const {
+  const int v = library_->api().get_device_int(device_, "version");  // major*10000+minor*100+patch
+  return std::to_string(v / 10000) + "." + std::to_string(v / 100 % 100) + "." +
+         std::to_string(v % 100);
+}
+
+std::string Denoiser::description(bool guided) const {
+  return "Intel Open Image Denoise " + version() + " (RT filter, hdr, " +
+         (guided ? "albedo and normal guides)" : "colour only)");
+}
+
+RgbImage Denoiser::denoise(const RgbImage& color, const DenoiseGuides& guides,
+                           bool clean_guides) const {
+  const bool guided = guides.albedo != nullptr && guides.normal != nullptr;
+  if (guided) {
+    check_size(color, *guides.albedo, "albedo");
+    check_size(color, *guides.normal, "normal");
+  }
+  RgbImage out{color.width, color.height, std::vector<float>(color.rgb.size())};
+  if (color.rgb.empty()) return out;
+  const oidn::Api& api = library_->api();
+  const oidn::Filter filter = api.new_filter(device_, "RT");
+  check("creating its RT filter");
+  const auto set = [&](const char* name, void* pixels) {
+    api.set_shared_filter_image(filter, name, pixels, oidn::kFormatFloat3, size_t(color.width),
+                                size_t(color.height), 0, 0, 0);
+  };
+  set("color", input(color));
+  if (guided) {
+    set("albedo", input(*guides.albedo));
+    set("normal", input(*guides.normal));
+    api.set_filter_bool(filter, "cleanAux", clean_guides);
+  }
+  set("output", out.rgb.data());
+  api.set_filter_bool(filter, "hdr", true);
+  api.commit_filter(filter);
+  api.execute_filter(filter);
+  const char* message = nullptr;
+  const int error = api.get_device_error(device_, &message);
+  const std::string text = message != nullptr ? message : "unknown error";
+  api.release_filter(filter);
+  if (error != oidn::kErrorNone) throw std::runtime_error("Open Image Denoise: " + text);
+  return out;
+}
+
+}  // namespace tessera

@@ -1,0 +1,92 @@
+// `tessera-worker render --denoise` end to end, with the real Open Image Denoise (label "slow").
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <unistd.h>
+#include <algorithm>
+
+#include <gtest/gtest.h>
+
+#include "image_compare.h"
+#include "image/image_output.h"
+
+namespace tessera {
+namespace {
+
+const std::string kSource = TESSERA_SOURCE_DIR;
+
+/// A fresh folder for one test's files.
+std::filesystem::path denoise_test_dir(const std::string& name) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("tessera_denoise_test_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+/// Runs tessera-worker render on the Cornell box at `spp` with `flags`; returns its status.
+int render_cornell(int spp, const std::string& flags, const std::filesystem::path& out) {
+  const std::string command = std::string(TESSERA_WORKER) + " render " + kSource +
+                              "/scenes/cornell.json -q --spp " + std::to_string(spp) + " " + flags +
+                              " -o " + out.string();
+  return std::system(command.c_str());
+}
+
+/// RMSE against `ref` over the pixels where every channel of `ref` is at most 1 (`lit` false)
+/// or where one is above (`lit` true: the light).
+double masked_rmse(const RgbImage& img, const RgbImage& ref, bool lit) {
+  double sum = 0;
+  size_t n = 0;
+  for (size_t p = 0; p < ref.rgb.size() / 3; ++p) {
+    const float* r = &ref.rgb[p * 3];
+    if ((std::max({r[0], r[1], r[2]}) > 1.0f) != lit) continue;
+    for (int c = 0; c < 3; ++c) sum += std::pow(double(img.rgb[p * 3 + c]) - r[c], 2);
+    n += 3;
+  }
+  return std::sqrt(sum / double(n));
+}
+
+std::string file_bytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(CornellDenoise, EightSamplesDenoisedAreWithinAThirdOfTheRawError) {
+  const std::filesystem::path dir = denoise_test_dir("cornell");
+  ASSERT_EQ(render_cornell(8, "", dir / "raw.exr"), 0);
+  ASSERT_EQ(render_cornell(8, "--denoise", dir / "c.exr") , 0);
+  const RgbImage ref = read_image(kSource + "/tests/data/reference/cbox/ref_unbounded.exr");
+  const RgbImage raw = read_image(dir / "raw.exr");
+  const RgbImage with_flag = read_image(dir / "c.exr");
+  const RgbImage denoised = read_image(dir / "c.denoised.exr");
+  // The raw image's bits do not depend on the flag.
+  ASSERT_EQ(raw.rgb.size(), with_flag.rgb.size());
+  EXPECT_EQ(std::memcmp(raw.rgb.data(), with_flag.rgb.data(), raw.rgb.size() * sizeof(float)), 0);
+  const double raw_error = masked_rmse(raw, ref, false), error = masked_rmse(denoised, ref, false);
+  std::printf("8 spp, pixels where the reference <= 1: RMSE raw %.5f, denoised %.5f (%.1fx); "
+              "on the light: raw %.4f, denoised %.4f\n",
+              raw_error, error, raw_error / error, masked_rmse(raw, ref, true),
+              masked_rmse(denoised, ref, true));
+  EXPECT_LE(error, raw_error / 3);
+  // The denoised file names the denoiser and its version.
+  EXPECT_NE(file_bytes(dir / "c.denoised.exr").find("Intel Open Image Denoise 2."), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CornellDenoise, APngOutputGetsADenoisedPngAndExr) {
+  const std::filesystem::path dir = denoise_test_dir("png");
+  ASSERT_EQ(render_cornell(1, "--denoise --width 64 --height 64", dir / "a.png"), 0);
+  EXPECT_TRUE(std::filesystem::exists(dir / "a.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "a.denoised.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "a.denoised.exr"));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace tessera
