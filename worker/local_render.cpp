@@ -10,7 +10,8 @@ namespace tessera {
 LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
                              const std::function<void(const LocalRenderProgress&)>& on_progress,
                              IntegratorKind integrator, KernelIsa kernel,
-                             const RenderCancellation* cancel, const LocalRenderClock& clock) {
+                             const RenderCancellation* cancel, const LocalRenderClock& clock,
+                             bool with_guides) {
   const SteadyClockSource now = or_steady_clock(clock);
   const auto start = now();
   LocalRenderResult result;
@@ -21,6 +22,7 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
   const JobPlan plan = options.plan();
   const std::vector<TileRect> tiles = plan.tiles();
   for (const TileRect& t : tiles) result.tiles.emplace_back(t);
+  if (with_guides) result.guides.assign(tiles.size(), GuideTile{});
   result.tile_spp.assign(tiles.size(), 0);
   result.tile_error.assign(tiles.size(), 0.0);
   std::vector<size_t> open(tiles.size());
@@ -29,6 +31,7 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
   LocalRenderProgress progress;
   std::mutex progress_mutex;
   std::vector<Accumulation> batch_results(tiles.size());
+  std::vector<GuideTile> batch_guides(with_guides ? tiles.size() : 0);
   std::vector<char> completed(tiles.size());
   const bool timed = options.rule == StopRule::time;
   const auto deadline =
@@ -69,6 +72,7 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
           batch_cancel.cancel();
         }
         batch_results[t] = renderer.render(tiles[t], begin, end, &stats, render_cancel);
+        if (with_guides) batch_guides[t] = renderer.render_guides(tiles[t], begin, end);
         completed[t] = 1;
       } catch (const RenderCancelled&) {
         // The user's cancel ends the command with nothing; the budget only drops this unit.
@@ -94,6 +98,7 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
         continue;
       }
       result.tiles[t].merge(batch_results[t]);
+      if (with_guides) result.guides[t].merge(batch_guides[t]);
       result.tile_spp[t] = end;
       const TileVerdict v = judge_tile(options.rule, options.noise_target, result.tiles[t], b + 1,
                                        plan.batch_count(), end);

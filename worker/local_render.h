@@ -20,6 +20,9 @@ namespace tessera {
 struct LocalRenderResult {
   JobOptions options;
   std::vector<Accumulation> tiles;       ///< merged, in JobPlan::tiles() order
+  /// The denoiser's guides of each tile (render_job's `with_guides`; empty otherwise), merged
+  /// batch by batch as `tiles` are.
+  std::vector<GuideTile> guides;
   std::vector<uint32_t> tile_spp;        ///< samples per pixel merged into each tile
   std::vector<double> tile_error;        ///< each tile's estimated relative error (judge_tile)
   StopReason reason = StopReason::none;  ///< why the job stopped (max over tiles' reasons)
@@ -57,11 +60,13 @@ using LocalRenderClock = SteadyClockSource;
 /// renderer's path order and `kernel` the instruction set of its wavefront loop (the same bits
 /// either way). `cancel`, when given and cancelled, stops the render within
 /// RenderCancellation::kPollSamples samples per thread and throws RenderCancelled
-/// (cancellation.h); nothing rendered is returned.
+/// (cancellation.h); nothing rendered is returned. `with_guides` also renders each unit's
+/// denoiser guides (Renderer::render_guides) into `guides`; the colour is the same either way.
 LocalRenderResult render_job(
     const Scene& scene, const JobOptions& options,
     const std::function<void(const LocalRenderProgress&)>& on_progress = {},
     IntegratorKind integrator = IntegratorKind::wavefront, KernelIsa kernel = KernelIsa::automatic,
-    const RenderCancellation* cancel = nullptr, const LocalRenderClock& clock = {});
+    const RenderCancellation* cancel = nullptr, const LocalRenderClock& clock = {},
+    bool with_guides = false);
 
 }  // namespace tessera

@@ -52,6 +52,7 @@ struct RenderArgs {
   bool half = false;
   bool quiet = false;
   bool denoise = false;      ///< --denoise: NAME.denoised.EXT beside each output
+  bool guides = false;       ///< --guides: the raw EXR also holds the denoiser's guides
   std::string oidn_library;  ///< --oidn-library ("" = TESSERA_OIDN_LIBRARY, then the search)
 };
 
@@ -136,7 +137,8 @@ int run_render(const RenderArgs& args) {
                                    bar.update(p.samples_done, p.samples_traced);
                                  },
                                  tessera::integrator_kind_from_name(args.integrator),
-                                 tessera::kernel_isa_from_name(args.kernel_isa), &cancel);
+                                 tessera::kernel_isa_from_name(args.kernel_isa), &cancel, {},
+                                 args.denoise || args.guides);
   } catch (const tessera::RenderCancelled&) {
     const int signal_number = signals.signal_number();
     std::fprintf(stderr, "\ntessera-worker: render cancelled by %s; no image written\n",
@@ -169,7 +171,16 @@ int run_render(const RenderArgs& args) {
                                                                options.plan().tiles(),
                                                                result.tile_spp)});
   }
-  for (const std::string& out : args.outputs) tessera::write_image(image, out, write);
+  const tessera::GuideImages guides =
+      result.guides.empty() ? tessera::GuideImages{}
+                            : tessera::resolve_guides(options.width, options.height, result.guides);
+  tessera::ImageWriteOptions raw_write = write;
+  if (args.guides) {
+    for (tessera::ExtraChannel& c : tessera::guide_channels(guides)) {
+      raw_write.extra_channels.push_back(std::move(c));
+    }
+  }
+  for (const std::string& out : args.outputs) tessera::write_image(image, out, raw_write);
 
   for (const tessera::Accumulation& t : result.tiles) {
     for (const tessera::DroppedSample& d : t.dropped_examples) {
@@ -196,10 +207,10 @@ int run_render(const RenderArgs& args) {
                static_cast<unsigned long long>(nan + inf),
                result.isa.c_str(), result.kernel_isa.c_str());
   if (denoiser) {
-    const double denoise_s =
-        tessera::write_denoised_outputs(*denoiser, image, {}, args.outputs, write);
+    const double denoise_s = tessera::write_denoised_outputs(
+        *denoiser, image, {&guides.albedo, &guides.normal}, args.outputs, write);
     std::fprintf(stderr, "denoised in %.2f s with %s\n", denoise_s,
-                 denoiser->description(false).c_str());
+                 denoiser->description(true).c_str());
   }
   return 0;
 }
@@ -285,6 +296,9 @@ int main(int argc, char** argv) {
                        "Also write NAME.denoised.exr (and .png for a PNG output) beside each output, "
                        "denoised by Intel Open Image Denoise (scripts/install-deps.sh installs it); "
                        "the raw image is unchanged");
+  render_cmd->add_flag("--guides", render.guides,
+                       "Also render the denoiser's guides (albedo and normal at the first non-specular "
+                       "surface) into the EXR outputs, as channels albedo.R/G/B and N.X/Y/Z");
   render_cmd->add_option("--oidn-library", render.oidn_library,
                          "libOpenImageDenoise.so.2 to load for --denoise (default: "
                          "TESSERA_OIDN_LIBRARY, else the one found at build time, else the system's)");

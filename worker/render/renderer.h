@@ -9,6 +9,7 @@
 #include "job/job_options.h"
 #include "render/camera/pixel_filter.h"
 #include "render/cancellation.h"
+#include "render/guides/guide_tile.h"
 #include "render/math/ray.h"
 #include "render/sampling/sampler.h"
 #include "scene/file_reader.h"
@@ -73,6 +74,11 @@ class Renderer {
   Accumulation render(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end,
                       RenderStats* stats = nullptr,
                       const RenderCancellation* cancel = nullptr) const;
+
+  /// The denoiser's guides of the same unit (render/guides/): each sample's camera ray, as
+  /// render() draws it, followed by trace_guide; summed per pixel in sample order. Defined in
+  /// render/guides/guide_render.cpp; a render that does not ask for guides never calls it.
+  GuideTile render_guides(const TileRect& tile, uint32_t sample_begin, uint32_t sample_end) const;
 
   const JobOptions& options() const;
   /// The instruction set Embree uses, for provenance ("avx2", ...).
