@@ -72,7 +72,9 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
           batch_cancel.cancel();
         }
         batch_results[t] = renderer.render(tiles[t], begin, end, &stats, render_cancel);
-        if (with_guides) batch_guides[t] = renderer.render_guides(tiles[t], begin, end);
+        if (with_guides && begin < kGuideSamples) {
+          batch_guides[t] = renderer.render_guides(tiles[t], begin, std::min(end, kGuideSamples));
+        }
         completed[t] = 1;
       } catch (const RenderCancelled&) {
         // The user's cancel ends the command with nothing; the budget only drops this unit.
@@ -98,7 +100,7 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
         continue;
       }
       result.tiles[t].merge(batch_results[t]);
-      if (with_guides) result.guides[t].merge(batch_guides[t]);
+      if (with_guides && begin < kGuideSamples) result.guides[t].merge(batch_guides[t]);
       result.tile_spp[t] = end;
       const TileVerdict v = judge_tile(options.rule, options.noise_target, result.tiles[t], b + 1,
                                        plan.batch_count(), end);

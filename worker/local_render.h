@@ -60,8 +60,9 @@ using LocalRenderClock = SteadyClockSource;
 /// renderer's path order and `kernel` the instruction set of its wavefront loop (the same bits
 /// either way). `cancel`, when given and cancelled, stops the render within
 /// RenderCancellation::kPollSamples samples per thread and throws RenderCancelled
-/// (cancellation.h); nothing rendered is returned. `with_guides` also renders each unit's
-/// denoiser guides (Renderer::render_guides) into `guides`; the colour is the same either way.
+/// (cancellation.h); nothing rendered is returned. `with_guides` also renders the denoiser's
+/// guides of each unit's samples below kGuideSamples (Renderer::render_guides) into `guides`;
+/// the colour is the same either way.
 LocalRenderResult render_job(
     const Scene& scene, const JobOptions& options,
     const std::function<void(const LocalRenderProgress&)>& on_progress = {},

@@ -76,7 +76,7 @@ TEST(CornellDenoise, EightSamplesDenoisedAreWithinAThirdOfTheRawError) {
   // The raw image's R, G, B bits do not depend on the flags; --guides adds its channels.
   EXPECT_TRUE(same_bits(raw, read_image(dir / "d.exr")));
   EXPECT_TRUE(same_bits(raw, read_image(dir / "g.exr")));
-  EXPECT_TRUE(same_bits(denoised, read_image(dir / "g.denoised.exr")));
+  EXPECT_LT(test::rmse(denoised, read_image(dir / "g.denoised.exr")), 1e-4);
   const std::string guided_raw = file_bytes(dir / "g.exr");
   for (const char* channel : {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z"}) {
     EXPECT_NE(guided_raw.find(channel), std::string::npos) << channel;

@@ -12,6 +12,11 @@
 
 namespace tessera {
 
+/// Guides come from a pixel's first kGuideSamples samples at most: by then they have converged
+/// (exact albedo and normals on Lambertian surfaces, antialiased edges), and a long render
+/// does not pay for them again and again.
+inline constexpr uint32_t kGuideSamples = 64;
+
 struct GuideTile {
   TileRect rect;
   std::vector<double> albedo;   ///< 3 per pixel, row-major in the tile: sums

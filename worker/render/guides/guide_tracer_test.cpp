@@ -108,6 +108,20 @@ TEST(GuideRender, ALocalRenderWithGuidesKeepsItsColourBitsAndItsGuidesAreRepeata
   }
 }
 
+TEST(GuideRender, ALongRenderTakesGuidesFromItsFirstSamplesOnly) {
+  JobOptions options = guide_job(100, 24);
+  options.width = 8;
+  options.height = 6;
+  const LocalRenderResult r = render_job(test::mixed_room(), options, {}, IntegratorKind::wavefront,
+                                         KernelIsa::automatic, nullptr, {}, /*with_guides=*/true);
+  ASSERT_EQ(r.guides.size(), 1u);
+  EXPECT_EQ(r.tile_spp[0], 100u);
+  for (uint32_t n : r.guides[0].count) EXPECT_EQ(n, kGuideSamples);
+  const Renderer renderer(test::mixed_room(), options);
+  const GuideTile whole = renderer.render_guides(TileRect{0, 0, 8, 6}, 0, kGuideSamples);
+  EXPECT_EQ(whole.count, r.guides[0].count);
+}
+
 TEST(GuideTile, ResolvedIntoMeansAndExrChannels) {
   GuideTile tile(TileRect{1, 0, 2, 1});
   tile.albedo = {1.0, 0.5, 0.25};
