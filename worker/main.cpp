@@ -111,6 +111,27 @@ std::map<std::string, std::string> render_metadata(const RenderArgs& args,
   return metadata;
 }
 
+/// Writes the raw `image` to every output (under --guides with the guides as EXR channels) and,
+/// given a denoiser, the denoised image beside each, guided by the render's guides. Returns the
+/// seconds the denoising took (0 without a denoiser).
+double write_outputs(const RenderArgs& args, const tessera::JobOptions& options,
+                     const tessera::RgbImage& image, const tessera::LocalRenderResult& result,
+                     const tessera::ImageWriteOptions& write, const tessera::Denoiser* denoiser) {
+  const tessera::GuideImages guides =
+      result.guides.empty() ? tessera::GuideImages{}
+                            : tessera::resolve_guides(options.width, options.height, result.guides);
+  tessera::ImageWriteOptions raw_write = write;
+  if (args.guides) {
+    for (tessera::ExtraChannel& c : tessera::guide_channels(guides)) {
+      raw_write.extra_channels.push_back(std::move(c));
+    }
+  }
+  for (const std::string& out : args.outputs) tessera::write_image(image, out, raw_write);
+  if (denoiser == nullptr) return 0;
+  return tessera::write_denoised_outputs(*denoiser, image, {&guides.albedo, &guides.normal},
+                                         args.outputs, write);
+}
+
 int run_render(const RenderArgs& args) {
   // First, before any thread starts: Ctrl-C and SIGTERM then cancel the render (the threads
   // inherit the blocked signals) rather than kill the process wherever it is.
@@ -171,16 +192,7 @@ int run_render(const RenderArgs& args) {
                                                                options.plan().tiles(),
                                                                result.tile_spp)});
   }
-  const tessera::GuideImages guides =
-      result.guides.empty() ? tessera::GuideImages{}
-                            : tessera::resolve_guides(options.width, options.height, result.guides);
-  tessera::ImageWriteOptions raw_write = write;
-  if (args.guides) {
-    for (tessera::ExtraChannel& c : tessera::guide_channels(guides)) {
-      raw_write.extra_channels.push_back(std::move(c));
-    }
-  }
-  for (const std::string& out : args.outputs) tessera::write_image(image, out, raw_write);
+  const double denoise_s = write_outputs(args, options, image, result, write, denoiser.get());
 
   for (const tessera::Accumulation& t : result.tiles) {
     for (const tessera::DroppedSample& d : t.dropped_examples) {
@@ -207,8 +219,6 @@ int run_render(const RenderArgs& args) {
                static_cast<unsigned long long>(nan + inf),
                result.isa.c_str(), result.kernel_isa.c_str());
   if (denoiser) {
-    const double denoise_s = tessera::write_denoised_outputs(
-        *denoiser, image, {&guides.albedo, &guides.normal}, args.outputs, write);
     std::fprintf(stderr, "denoised in %.2f s with %s\n", denoise_s,
                  denoiser->description(true).c_str());
   }
