@@ -1,12 +1,13 @@
 #include "denoise/denoiser.h"
 
+#include <memory>
 #include <stdexcept>
 #include <utility>
 
 namespace tessera {
 namespace {
 
-void check_size(const RgbImage& color, const RgbImage& guide, const char* name) {
+void check_guide_size(const RgbImage& color, const RgbImage& guide, const char* name) {
   if (guide.width != color.width || guide.height != color.height ||
       guide.rgb.size() != color.rgb.size()) {
     throw std::runtime_error(std::string("denoise: the ") + name + " guide is " +
@@ -17,7 +18,7 @@ void check_size(const RgbImage& color, const RgbImage& guide, const char* name) 
 }
 
 /// OIDN takes images through non-const pointers; it only reads its inputs.
-void* input(const RgbImage& image) { return const_cast<float*>(image.rgb.data()); }
+void* oidn_input(const RgbImage& image) { return const_cast<float*>(image.rgb.data()); }
 
 }  // namespace
 
@@ -63,33 +64,32 @@ RgbImage Denoiser::denoise(const RgbImage& color, const DenoiseGuides& guides,
                            bool clean_guides) const {
   const bool guided = guides.albedo != nullptr && guides.normal != nullptr;
   if (guided) {
-    check_size(color, *guides.albedo, "albedo");
-    check_size(color, *guides.normal, "normal");
+    check_guide_size(color, *guides.albedo, "albedo");
+    check_guide_size(color, *guides.normal, "normal");
   }
   RgbImage out{color.width, color.height, std::vector<float>(color.rgb.size())};
   if (color.rgb.empty()) return out;
   const oidn::Api& api = library_->api();
-  const oidn::Filter filter = api.new_filter(device_, "RT");
+  // Released on every way out, an error's included.
+  const std::unique_ptr<oidn::FilterImpl, oidn::ReleaseFilterFn> filter(
+      api.new_filter(device_, "RT"), api.release_filter);
   check("creating its RT filter");
   const auto set = [&](const char* name, void* pixels) {
-    api.set_shared_filter_image(filter, name, pixels, oidn::kFormatFloat3, size_t(color.width),
-                                size_t(color.height), 0, 0, 0);
+    api.set_shared_filter_image(filter.get(), name, pixels, oidn::kFormatFloat3,
+                                size_t(color.width), size_t(color.height), 0, 0, 0);
   };
-  set("color", input(color));
+  set("color", oidn_input(color));
   if (guided) {
-    set("albedo", input(*guides.albedo));
-    set("normal", input(*guides.normal));
-    api.set_filter_bool(filter, "cleanAux", clean_guides);
+    set("albedo", oidn_input(*guides.albedo));
+    set("normal", oidn_input(*guides.normal));
+    api.set_filter_bool(filter.get(), "cleanAux", clean_guides);
   }
   set("output", out.rgb.data());
-  api.set_filter_bool(filter, "hdr", true);
-  api.commit_filter(filter);
-  api.execute_filter(filter);
-  const char* message = nullptr;
-  const int error = api.get_device_error(device_, &message);
-  const std::string text = message != nullptr ? message : "unknown error";
-  api.release_filter(filter);
-  if (error != oidn::kErrorNone) throw std::runtime_error("Open Image Denoise: " + text);
+  api.set_filter_bool(filter.get(), "hdr", true);
+  api.commit_filter(filter.get());
+  check("setting up its RT filter");
+  api.execute_filter(filter.get());
+  check("denoising");
   return out;
 }
 
