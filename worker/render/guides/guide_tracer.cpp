@@ -5,7 +5,7 @@
 #include <glm/common.hpp>
 
 #include "render/integrators/integrator.h"
-#include "render/integrators/path_vertex.h"
+#include "render/integrators/vertex_shading.h"
 
 namespace tessera {
 
