@@ -7,6 +7,42 @@
 
 namespace tessera {
 
+namespace {
+
+/// Merges batch `b`'s completed units into `result` in tile order and judges each tile; the
+/// verdict depends only on the merged data. `open` keeps the tiles still open; a tile whose unit
+/// the budget cut keeps its earlier batches and is done. Returns whether a unit was cut.
+bool merge_batch(const JobOptions& options, const JobPlan& plan, uint32_t b,
+                 const std::vector<Accumulation>& batch_results,
+                 const std::vector<GuideTile>& batch_guides, const std::vector<char>& completed,
+                 LocalRenderResult& result, std::vector<size_t>& open) {
+  const uint32_t begin = plan.batch_begin(b), end = plan.batch_end(b);
+  const bool with_guides = !result.guides.empty();
+  std::vector<size_t> still_open;
+  bool cut = false;
+  for (size_t t : open) {
+    if (completed[t] == 0) {
+      cut = true;
+      continue;
+    }
+    result.tiles[t].merge(batch_results[t]);
+    if (with_guides && begin < kGuideSamples) result.guides[t].merge(batch_guides[t]);
+    result.tile_spp[t] = end;
+    const TileVerdict v = judge_tile(options.rule, options.noise_target, result.tiles[t], b + 1,
+                                     plan.batch_count(), end);
+    result.tile_error[t] = v.relative_error;
+    if (v.finished) {
+      if (result.reason != StopReason::max_spp) result.reason = v.reason;
+    } else {
+      still_open.push_back(t);
+    }
+  }
+  open = std::move(still_open);
+  return cut;
+}
+
+}  // namespace
+
 LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
                              const std::function<void(const LocalRenderProgress&)>& on_progress,
                              IntegratorKind integrator, KernelIsa kernel,
@@ -90,28 +126,8 @@ LocalRenderResult render_job(const Scene& scene, const JobOptions& options,
       }
       if (on_progress) on_progress(progress);
     });
-    // Merge and judge in tile order; the verdict depends only on the merged data. A tile whose
-    // unit the budget cut keeps its earlier batches and is done.
-    std::vector<size_t> still_open;
-    bool cut = false;
-    for (size_t t : open) {
-      if (completed[t] == 0) {
-        cut = true;
-        continue;
-      }
-      result.tiles[t].merge(batch_results[t]);
-      if (with_guides && begin < kGuideSamples) result.guides[t].merge(batch_guides[t]);
-      result.tile_spp[t] = end;
-      const TileVerdict v = judge_tile(options.rule, options.noise_target, result.tiles[t], b + 1,
-                                       plan.batch_count(), end);
-      result.tile_error[t] = v.relative_error;
-      if (v.finished) {
-        if (result.reason != StopReason::max_spp) result.reason = v.reason;
-      } else {
-        still_open.push_back(t);
-      }
-    }
-    open = std::move(still_open);
+    const bool cut =
+        merge_batch(options, plan, b, batch_results, batch_guides, completed, result, open);
     if (cut) {
       over_budget = true;
       break;
