@@ -25,6 +25,7 @@
 #include "denoise/denoised_outputs.h"
 #include "image/image_output.h"
 #include "job/job_flags.h"
+#include "job/provenance.h"
 #include "job/tile_summary.h"
 #include "local_render.h"
 #include "progress_bar.h"
@@ -78,37 +79,21 @@ std::map<std::string, std::string> render_metadata(const RenderArgs& args,
                                                    const tessera::JobOptions& options,
                                                    const tessera::LocalRenderResult& result,
                                                    const tessera::TileSummary& summary,
-                                                   double rel_error, uint64_t nan_inf) {
-  std::map<std::string, std::string> metadata = {
-      {"tessera:renderer", "tessera-worker " + tessera::renderer_build()},
-      {"tessera:scene_file", std::filesystem::path(args.scene).filename().string()},
-      {"tessera:spp", std::to_string(summary.spp_min)},
-      {"tessera:spp_min", std::to_string(summary.spp_min)},
-      {"tessera:spp_mean", std::to_string(summary.spp_mean)},
-      {"tessera:spp_max", std::to_string(summary.spp_max)},
-      {"tessera:stop_rule", std::string(tessera::to_string(options.rule))},
-      {"tessera:stop_reason", std::string(tessera::to_string(result.reason))},
-      {"tessera:max_depth", std::to_string(options.max_depth)},
-      {"tessera:seed", std::to_string(options.seed)},
-      {"tessera:tile", std::to_string(options.tile_size)},
-      {"tessera:batch", std::to_string(options.batch_spp)},
-      {"tessera:batch_schedule", std::string(tessera::to_string(options.batch_kind))},
-      {"tessera:isa", result.isa},
-      {"tessera:kernel_isa", result.kernel_isa},
-      {"tessera:estimated_relative_error", std::to_string(rel_error)},
-      {"tessera:tile_error_max", std::to_string(summary.error_max)},
-      {"tessera:tile_error_mean", std::to_string(summary.error_mean)},
-      {"tessera:nan_inf_dropped", std::to_string(nan_inf)},
-      {"tessera:wall_time_s", std::to_string(result.seconds)},
-  };
-  if (options.rule == tessera::StopRule::noise) {
-    metadata["tessera:noise_target"] = std::to_string(options.noise_target);
-    metadata["tessera:max_spp"] = std::to_string(options.spp);
-  } else if (options.rule == tessera::StopRule::time) {
-    metadata["tessera:time_budget_s"] = std::to_string(options.time_budget_s);
-    metadata["tessera:max_spp"] = std::to_string(options.spp);
-  }
-  return metadata;
+                                                   double rel_error, uint64_t nan, uint64_t inf) {
+  tessera::Provenance p;
+  p.scene_file = std::filesystem::path(args.scene).filename().string();
+  p.renderer = tessera::renderer_build();  // as a farm worker registers it
+  p.isa = result.isa;
+  p.options = &options;
+  p.stop_reason = result.reason;
+  p.spp = summary.spp_min;
+  p.reached = summary;
+  p.nan_dropped = nan;
+  p.inf_dropped = inf;
+  p.wall_time_s = result.seconds;
+  p.kernel_isa = result.kernel_isa;
+  p.estimated_relative_error = rel_error;
+  return tessera::provenance_metadata(p);
 }
 
 /// Writes the raw `image` to every output (under --guides with the guides as EXR channels) and,
@@ -186,7 +171,7 @@ int run_render(const RenderArgs& args) {
 
   tessera::ImageWriteOptions write;
   write.half = args.half;
-  write.metadata = render_metadata(args, options, result, summary, rel_error, nan + inf);
+  write.metadata = render_metadata(args, options, result, summary, rel_error, nan, inf);
   if (options.rule != tessera::StopRule::spp) {
     write.extra_channels.push_back({"spp", tessera::spp_channel(options.width, options.height,
                                                                options.plan().tiles(),

@@ -5,9 +5,9 @@ import { duration, errorText } from './format.js';
 const PROVENANCE_LABELS = {
   scene_sha256: 'scene SHA-256', spp_min: 'spp min', spp_mean: 'spp mean', spp_max: 'spp max',
   stop_rule: 'stopping rule', stop_reason: 'stopped', max_depth: 'max depth', tile: 'tile size',
-  batch: 'batch spp', isa: 'ISA', estimated_relative_error: 'est. error',
+  batch: 'batch spp', isa: 'ISA', kernel_isa: 'kernel ISA', estimated_relative_error: 'est. error',
   tile_error_max: 'tile error max', tile_error_mean: 'tile error mean',
-  nan_inf_dropped: 'NaN / Inf dropped', wall_time_s: 'wall time', noise_target: 'noise target',
+  wall_time_s: 'wall time', noise_target: 'noise target',
   time_budget_s: 'time budget', max_spp: 'max spp', scene_file: 'scene',
   worker_isas: 'worker ISAs', renderer_version: 'renderer', job_id: 'job',
   samples_merged: 'samples merged', nan_dropped: 'NaN dropped', inf_dropped: 'Inf dropped',
