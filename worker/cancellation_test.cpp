@@ -13,19 +13,15 @@
 #include "local_render.h"
 #include "render/cancellation.h"
 #include "render/renderer.h"
+#include "render/test_statistics.h"
 #include "render/testing/test_scenes.h"
 
 namespace tessera {
 namespace {
 
 JobOptions cancellation_job(uint32_t spp) {
-  JobOptions o;
-  o.width = 24;
-  o.height = 18;
-  o.spp = spp;
-  o.seed = 11;
+  JobOptions o = test::test_job(24, 18, spp);
   o.tile_size = 16;
-  o.batch_spp = spp;
   return o;
 }
 

@@ -9,17 +9,14 @@
 
 #include "local_render.h"
 #include "render/renderer.h"
+#include "render/test_statistics.h"
 #include "render/testing/test_scenes.h"
 
 namespace tessera {
 namespace {
 
 JobOptions guide_job(uint32_t spp, uint32_t batch) {
-  JobOptions o;
-  o.width = 40;
-  o.height = 30;
-  o.spp = spp;
-  o.seed = 7;
+  JobOptions o = test::test_job(40, 30, spp, -1, 7);
   o.tile_size = 16;
   o.batch_spp = batch;
   return o;
