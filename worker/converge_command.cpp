@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 
@@ -49,6 +50,16 @@ void ConvergeCommand::add_to(CLI::App& parent) {
   app->add_option("--csv", csv, "Write the table as CSV");
   app->add_option("--md", markdown, "Write the table as Markdown (it is printed to stdout as well)");
   app->add_option("--plot", plot, "Write the plot (.png)");
+  app->add_option("--images", images,
+                  "Write each level's image to DIR/raw-SPP.exr (and DIR/denoised-SPP.exr), for "
+                  "metrics of one's own");
+  app->add_flag("--denoise", denoise,
+                "Also denoise each level's image (Intel Open Image Denoise, guided by albedo and "
+                "normal as render --denoise) and measure it at its time: the guides' and the "
+                "denoising's included");
+  app->add_option("--oidn-library", oidn_library,
+                  "libOpenImageDenoise.so.2 to load for --denoise (default: TESSERA_OIDN_LIBRARY, "
+                  "else the one scripts/install-deps.sh installed, else the system's)");
   app->add_option("--fit-from", fit_from, "Fit the slopes from this spp on (default 4)")
       ->check(CLI::PositiveNumber);
   optional_option(app, "--spp", overrides.spp, "Largest spp (default 1024); levels are powers of two up to it");
@@ -65,6 +76,12 @@ int ConvergeCommand::run() const {
   if (!plot.empty() && std::filesystem::path(plot).extension() != ".png") {
     throw std::invalid_argument("--plot " + plot + ": the plot must be a .png");
   }
+  if (!images.empty() && !std::filesystem::is_directory(images)) {
+    throw std::invalid_argument("--images " + images + ": not a directory");
+  }
+  // Made before the scene is read: a run whose denoising cannot run is refused up front.
+  const std::unique_ptr<Denoiser> denoiser =
+      denoise ? std::make_unique<Denoiser>(OidnLibrary::load_for_flag(oidn_library), threads) : nullptr;
   const Scene s = load_scene_file(scene);
   RgbImage ref;
   try {
@@ -85,9 +102,23 @@ int ConvergeCommand::run() const {
 
   std::optional<tbb::global_control> limit;
   if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
-  ConvergenceResult result = measure_convergence(s, options, ref, fit_from, [&](const ConvergenceRow& r) {
-    if (!quiet) std::fprintf(stderr, "converge: %u spp, %.2f s, RMSE %.5f\n", r.spp, r.seconds, r.rmse);
-  });
+  ConvergenceHooks hooks;
+  hooks.denoiser = denoiser.get();
+  hooks.on_row = [&](const ConvergenceRow& r) {
+    if (quiet) return;
+    std::fprintf(stderr, "converge: %u spp, %.2f s, RMSE %.5f", r.spp, r.seconds, r.rmse);
+    if (r.denoised) std::fprintf(stderr, "; denoised %.2f s, RMSE %.5f", r.denoised->seconds, r.denoised->rmse);
+    std::fputc('\n', stderr);
+  };
+  if (!images.empty()) {
+    hooks.on_images = [&](uint32_t spp, const RgbImage& raw, const RgbImage* denoised_image) {
+      const std::filesystem::path dir(images);
+      const std::string level = std::to_string(spp) + ".exr";
+      write_image(raw, (dir / ("raw-" + level)).string());
+      if (denoised_image) write_image(*denoised_image, (dir / ("denoised-" + level)).string());
+    };
+  }
+  ConvergenceResult result = measure_convergence(s, options, ref, fit_from, hooks);
   result.scene_name = std::filesystem::path(scene).filename().string();
   const std::string md = convergence_markdown(result);
   std::fputs(md.c_str(), stdout);

@@ -13,6 +13,9 @@ struct ConvergeCommand {
   std::string scene;
   std::string reference;
   std::string csv, markdown, plot;
+  std::string images;        ///< --images DIR: each level's raw (and denoised) image as EXR
+  bool denoise = false;      ///< --denoise: each level denoised and measured as well
+  std::string oidn_library;  ///< --oidn-library
   JobOverrides overrides;
   uint32_t fit_from = 4;
   int threads = 0;

@@ -27,6 +27,7 @@ constexpr float kGrid[3] = {0.86f, 0.86f, 0.86f};
 constexpr float kGrey[3] = {0.55f, 0.55f, 0.55f};
 constexpr float kRmseColor[3] = {0.12f, 0.47f, 0.71f};    // blue
 constexpr float kRelMseColor[3] = {0.85f, 0.37f, 0.01f};  // orange
+constexpr float kDenoisedColor[3] = {0.17f, 0.63f, 0.17f};  // green
 
 /// A log-log panel: data coordinates to pixels.
 struct Panel {
@@ -94,11 +95,17 @@ std::string power_label(int e) {
   return "1e" + std::to_string(e);
 }
 
-/// One log-log panel of both errors against x (spp or seconds), with the fitted RMSE line.
+/// A series of points: x and y, paired.
+struct Series {
+  std::vector<double> x, y;
+};
+
+/// One log-log panel of both errors against x (spp or seconds), with the fitted RMSE line, and
+/// the denoised image's RMSE (`denoised`, empty when the run did not denoise).
 void draw_panel(Canvas& canvas, const Panel& p, const std::vector<double>& x,
                 const std::vector<double>& rmse, const std::vector<double>& relmse,
                 double rmse_slope, double relmse_slope, double fit_from, const std::string& xlabel,
-                const std::string& slope_unit) {
+                const std::string& slope_unit, const Series& denoised) {
   using AX = IBA::TextAlignX;
   using AY = IBA::TextAlignY;
   for (int e = int(std::ceil(p.lx0)); e <= int(std::floor(p.lx1)); ++e) {
@@ -117,14 +124,17 @@ void draw_panel(Canvas& canvas, const Panel& p, const std::vector<double>& x,
   canvas.line(p.x0, p.y0, p.x1, p.y0, kBlack);
   canvas.text((p.x0 + p.x1) / 2, p.y1 + 26, xlabel, 16, AX::Center, AY::Top);
 
-  const auto series = [&](const std::vector<double>& y, const float* c, double slope) {
-    for (size_t i = 0; i < x.size(); ++i) {
-      if (!(x[i] > 0) || !(y[i] > 0)) continue;
-      canvas.marker(p.px(x[i]), p.py(y[i]), c);
-      if (i > 0 && x[i - 1] > 0 && y[i - 1] > 0) {
-        canvas.line(p.px(x[i - 1]), p.py(y[i - 1]), p.px(x[i]), p.py(y[i]), c);
+  const auto points = [&](const std::vector<double>& xs, const std::vector<double>& ys, const float* c) {
+    for (size_t i = 0; i < xs.size(); ++i) {
+      if (!(xs[i] > 0) || !(ys[i] > 0)) continue;
+      canvas.marker(p.px(xs[i]), p.py(ys[i]), c);
+      if (i > 0 && xs[i - 1] > 0 && ys[i - 1] > 0) {
+        canvas.line(p.px(xs[i - 1]), p.py(ys[i - 1]), p.px(xs[i]), p.py(ys[i]), c);
       }
     }
+  };
+  const auto series = [&](const std::vector<double>& y, const float* c, double slope) {
+    points(x, y, c);
     if (!std::isfinite(slope)) return;
     // The fitted line through the geometric mean of the fitted points.
     double sx = 0, sy = 0, xmin = std::numeric_limits<double>::infinity(), xmax = 0;
@@ -151,6 +161,7 @@ void draw_panel(Canvas& canvas, const Panel& p, const std::vector<double>& x,
   }
   series(rmse, kRmseColor, rmse_slope);
   series(relmse, kRelMseColor, relmse_slope);
+  points(denoised.x, denoised.y, kDenoisedColor);
 
   char label[96];
   std::snprintf(label, sizeof label, "RMSE, fitted slope %.3f %s", rmse_slope, slope_unit.c_str());
@@ -161,6 +172,10 @@ void draw_panel(Canvas& canvas, const Panel& p, const std::vector<double>& x,
   canvas.text(p.x1 - 290, p.y0 + 40, label, 14, AX::Left, AY::Center);
   canvas.line(p.x1 - 306, p.y0 + 62, p.x1 - 294, p.y0 + 62, kGrey, 2);
   canvas.text(p.x1 - 290, p.y0 + 62, "slope -0.5 (plain Monte Carlo)", 14, AX::Left, AY::Center);
+  if (!denoised.x.empty()) {
+    canvas.marker(p.x1 - 300, p.y0 + 84, kDenoisedColor);
+    canvas.text(p.x1 - 290, p.y0 + 84, "RMSE denoised (guides and denoising timed)", 14, AX::Left, AY::Center);
+  }
   canvas.text(p.x0, p.y0 - 6, "error", 14, AX::Left, AY::Bottom);
 }
 
@@ -169,15 +184,22 @@ void draw_panel(Canvas& canvas, const Panel& p, const std::vector<double>& x,
 void write_convergence_plot(const ConvergenceResult& result, const std::string& path, int width,
                             int height, const std::string& font) {
   std::vector<double> spp, seconds, rmse, relmse;
+  Series denoised_by_spp, denoised_by_time;
   for (const ConvergenceRow& r : result.rows) {
     spp.push_back(r.spp);
     seconds.push_back(r.seconds);
     rmse.push_back(r.rmse);
     relmse.push_back(r.relmse);
+    if (r.denoised) {
+      denoised_by_spp.x.push_back(r.spp);
+      denoised_by_spp.y.push_back(r.denoised->rmse);
+      denoised_by_time.x.push_back(r.denoised->seconds);
+      denoised_by_time.y.push_back(r.denoised->rmse);
+    }
   }
   // Shared y range over both errors, whole decades.
   double ymin = std::numeric_limits<double>::infinity(), ymax = 0;
-  for (const std::vector<double>* v : {&rmse, &relmse}) {
+  for (const std::vector<double>* v : {&rmse, &relmse, &denoised_by_spp.y}) {
     for (double y : *v) {
       if (y > 0) {
         ymin = std::min(ymin, y);
@@ -194,8 +216,9 @@ void write_convergence_plot(const ConvergenceResult& result, const std::string& 
   double ly0, ly1, sx0, sx1, tx0, tx1;
   decades(ymin, ymax, &ly0, &ly1);
   decades(spp.empty() ? 1.0 : spp.front(), spp.empty() ? 10.0 : spp.back(), &sx0, &sx1);
-  decades(seconds.empty() ? 0.1 : std::max(1e-6, seconds.front()),
-          seconds.empty() ? 1.0 : std::max(1e-6, seconds.back()), &tx0, &tx1);
+  const double last_second = std::max(seconds.empty() ? 1.0 : seconds.back(),
+                                      denoised_by_time.x.empty() ? 0.0 : denoised_by_time.x.back());
+  decades(seconds.empty() ? 0.1 : std::max(1e-6, seconds.front()), std::max(1e-6, last_second), &tx0, &tx1);
 
   Canvas canvas(width, height, font.empty() ? "DejaVuSans" : font);
   const int margin_l = 70, margin_r = 20, top = 50, bottom = height - 60, gap = 80;
@@ -209,13 +232,13 @@ void write_convergence_plot(const ConvergenceResult& result, const std::string& 
                 result.options.max_depth);
   canvas.text(width / 2, 14, title, 18, IBA::TextAlignX::Center, IBA::TextAlignY::Top);
   draw_panel(canvas, by_spp, spp, rmse, relmse, result.fit.rmse_vs_spp, result.fit.relmse_vs_spp,
-             result.fit.spp_from, "samples per pixel", "");
+             result.fit.spp_from, "samples per pixel", "", denoised_by_spp);
   double t_from = std::numeric_limits<double>::infinity();
   for (const ConvergenceRow& r : result.rows) {
     if (r.spp >= result.fit.spp_from) t_from = std::min(t_from, r.seconds);
   }
   draw_panel(canvas, by_time, seconds, rmse, relmse, result.fit.rmse_vs_seconds,
-             result.fit.relmse_vs_seconds, t_from, "wall time (s)", "");
+             result.fit.relmse_vs_seconds, t_from, "wall time (s)", "", denoised_by_time);
   canvas.write(path);
 }
 

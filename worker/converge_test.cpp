@@ -111,6 +111,41 @@ TEST(Converge, TooFewLevelsToFitSaySo) {
             std::string::npos);
 }
 
+TEST(Converge, EachLevelsImageGoesToTheHookWithoutADenoiser) {
+  const double exact = 0.7 / (1 - 0.5);
+  const RgbImage ref = constant(4, 4, float(exact), float(exact), float(exact));
+  ConvergenceHooks hooks;
+  std::vector<uint32_t> levels;
+  std::vector<double> rmses;
+  hooks.on_images = [&](uint32_t spp, const RgbImage& raw, const RgbImage* denoised) {
+    levels.push_back(spp);
+    rmses.push_back(image_rmse(raw, ref));
+    EXPECT_EQ(denoised, nullptr);
+  };
+  const ConvergenceResult r =
+      measure_convergence(test::furnace_scene(true, 0.5, 0.7), test::test_job(4, 4, 8), ref, 4, hooks);
+  EXPECT_EQ(levels, (std::vector<uint32_t>{1, 2, 4, 8}));
+  ASSERT_EQ(r.rows.size(), 4u);
+  for (size_t i = 0; i < r.rows.size(); ++i) {
+    EXPECT_EQ(rmses[i], r.rows[i].rmse);
+    EXPECT_FALSE(r.rows[i].denoised.has_value());
+  }
+  EXPECT_EQ(convergence_markdown(r).find("Denoised"), std::string::npos);
+  EXPECT_EQ(convergence_csv(r).find("denoised"), std::string::npos);
+}
+
+TEST(RawRmseAt, InterpolatesLogLogBetweenTheRowsAround) {
+  std::vector<ConvergenceRow> rows(3);
+  rows[0].seconds = 1, rows[0].rmse = 0.4;
+  rows[1].seconds = 4, rows[1].rmse = 0.2;  // RMSE ~ time^-1/2
+  rows[2].seconds = 16, rows[2].rmse = 0.1;
+  EXPECT_NEAR(raw_rmse_at(rows, 2), 0.4 / std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(raw_rmse_at(rows, 8), 0.2 / std::sqrt(2.0), 1e-12);
+  EXPECT_DOUBLE_EQ(raw_rmse_at(rows, 4), 0.2);
+  EXPECT_TRUE(std::isnan(raw_rmse_at(rows, 0.5)));  // before the first row
+  EXPECT_TRUE(std::isnan(raw_rmse_at(rows, 17)));   // beyond the run
+}
+
 TEST(Converge, ReferenceOfAnotherSizeIsAnError) {
   const Scene scene = test::furnace_scene(true, 0.5, 1.0);
   EXPECT_THROW(measure_convergence(scene, test::test_job(8, 8, 4), constant(4, 4, 1, 1, 1), 4),

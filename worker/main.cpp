@@ -69,9 +69,8 @@ std::unique_ptr<tessera::Denoiser> make_denoiser(const RenderArgs& args) {
   for (const std::string& out : tessera::denoised_output_paths(args.outputs)) {
     tessera::cli::check_output_path(out, {".exr", ".png"});
   }
-  const auto library = tessera::OidnLibrary::load(tessera::oidn_library_candidates(
-      tessera::named_oidn_library(args.oidn_library), tessera::configured_oidn_library()));
-  return std::make_unique<tessera::Denoiser>(library, args.threads);
+  return std::make_unique<tessera::Denoiser>(tessera::OidnLibrary::load_for_flag(args.oidn_library),
+                                             args.threads);
 }
 
 /// The raw image's provenance (EXR header attributes, PNG text chunks).

@@ -13,8 +13,7 @@ namespace tessera {
 namespace {
 
 std::shared_ptr<const OidnLibrary> installed_oidn() {
-  return OidnLibrary::load(
-      oidn_library_candidates(named_oidn_library(""), configured_oidn_library()));
+  return OidnLibrary::load_for_flag("");
 }
 
 /// A smooth image (a horizontal ramp from 0.2 to 0.8 in every channel), and the same with

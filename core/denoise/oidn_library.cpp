@@ -86,4 +86,8 @@ std::shared_ptr<const OidnLibrary> OidnLibrary::load(const std::vector<std::stri
       "TESSERA_OIDN_LIBRARY (tried: " + tried + ")");
 }
 
+std::shared_ptr<const OidnLibrary> OidnLibrary::load_for_flag(const std::string& flag) {
+  return load(oidn_library_candidates(named_oidn_library(flag), configured_oidn_library()));
+}
+
 }  // namespace tessera

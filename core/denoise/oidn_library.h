@@ -43,6 +43,9 @@ class OidnLibrary {
   /// Loads the first candidate that loads and has every function of oidn::Api. Throws
   /// DenoiserUnavailable naming each candidate tried and why it failed.
   static std::shared_ptr<const OidnLibrary> load(const std::vector<std::string>& candidates);
+  /// The library a program's `--oidn-library` flag (`flag`; "" = not given) stands for: load()
+  /// of the candidates from named_oidn_library(flag) and configured_oidn_library().
+  static std::shared_ptr<const OidnLibrary> load_for_flag(const std::string& flag);
 
   /// What load() returns: `api` resolved from the library at `path`.
   OidnLibrary(const oidn::Api& api, std::string path) : api_(api), path_(std::move(path)) {}
