@@ -8,7 +8,7 @@ perceptual metric, pip `flip-evaluator`) of every level's two images, interpolat
 image's RMSE and FLIP at each denoised row's time (log-log, as converge does), and prints one
 Markdown table per scene with the crossover: the first level from which plain Monte Carlo, given
 the denoised image's time, is closer in that metric. With --crops X,Y,W,H it also cuts that
-window of the reference, the raw and the denoised image at each of --crop-spp as PNGs.
+window of the reference, the raw and the denoised image at each of --crop-spp's levels as PNGs.
 
 Usage (repository root; any Python with numpy and flip-evaluator):
   python3 bench/denoise_study.py --out out/denoise --spp 1024 --threads 2 \\
@@ -86,7 +86,7 @@ def crops(args, name, reference):
     out = os.path.join(args.out, name)
     window = f"{w}x{h}+{x}+{y}"
     images = [("reference", reference)]
-    for spp in args.crop_spp:
+    for spp in (int(v) for v in args.crop_spp.split(",")):
         images += [(f"raw-{spp}", os.path.join(out, f"raw-{spp}.exr")),
                    (f"denoised-{spp}", os.path.join(out, f"denoised-{spp}.exr"))]
     for label, path in images:
@@ -105,7 +105,7 @@ def main():
     parser.add_argument("--converge-arg", action="append", default=[],
                         help="passed on to converge, e.g. --converge-arg=--max-depth=8")
     parser.add_argument("--crops", help="X,Y,W,H: a window cut from each scene's images")
-    parser.add_argument("--crop-spp", type=int, nargs="*", default=[4, 64])
+    parser.add_argument("--crop-spp", default="4,64", help="the levels cropped, e.g. 4,64")
     args = parser.parse_args()
     for item in args.scenes:
         name, _, files = item.partition("=")
