@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <set>
 
+#include "farm_error.h"
+#include "store/quarantine_table.h"
+
 namespace tessera::server {
 
 Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
@@ -20,6 +23,7 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
                  config.retention_days),
       views_(store_, intake_),
       health_(store_, events_, config.db_path) {
+  store_.checks().set_wait_ms(config.check_wait_ms);
   if (config.on_store_open) config.on_store_open(store_.db());
 }
 
@@ -33,12 +37,14 @@ std::optional<LeasedUnit> Coordinator::lease(int64_t worker_id, std::chrono::mil
 JobRecord Coordinator::job(int64_t job_id) {
   std::vector<JobRecord> one{lifecycle_.job(job_id)};
   note_waiting_for_build(one);
+  note_checks(one);
   return std::move(one.front());
 }
 
 JobPage Coordinator::jobs(const JobQuery& query) {
   JobPage page = lifecycle_.jobs(query);
   note_waiting_for_build(page.jobs);
+  note_checks(page.jobs);
   return page;
 }
 
@@ -54,6 +60,31 @@ void Coordinator::note_waiting_for_build(std::vector<JobRecord>& jobs) {
   for (JobRecord& j : jobs) {
     j.waiting_for_build = pinned_and_active(j) && !online.contains(*j.pinned_build);
   }
+}
+
+void Coordinator::note_checks(std::vector<JobRecord>& jobs) {
+  for (JobRecord& j : jobs) {
+    if (j.verify_rate <= 0) continue;
+    const CheckCounts counts = store_.checks().counts_of_job(j.id);
+    j.units_checked = counts.checked;
+    j.units_unverified = counts.unverified;
+  }
+}
+
+std::string Coordinator::release_worker(int64_t worker_id) {
+  FarmStore::Lock lock(store_);
+  const std::optional<WorkerRecord> worker = store_.workers().get(worker_id);
+  if (!worker) {
+    throw FarmError(ErrorCode::not_found, "no worker " + std::to_string(worker_id));
+  }
+  const std::string& name = worker->info.name;
+  const bool stored = QuarantineTable(store_.db()).remove(name);
+  if (!store_.checks().release(name) && !stored) {
+    throw FarmError(ErrorCode::failed_precondition, "worker " + std::to_string(worker_id) +
+                                                        " (" + name + ") is not quarantined");
+  }
+  events_.notify(true);
+  return name;
 }
 
 StoreCounters Coordinator::store_counters() {

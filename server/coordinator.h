@@ -47,6 +47,8 @@ struct CoordinatorConfig {
   /// Decoded tiles kept in memory between merges, at most this many bytes (--merge-cache-mb;
   /// server/merge_cache.h).
   size_t merge_cache_bytes = MergeCache::kDefaultBudgetBytes;
+  /// A result held for a spot check merges unchecked after this long (--check-wait-s).
+  int64_t check_wait_ms = SpotChecks::kDefaultWaitMs;
   /// Opens the output files (empty: ImageFileStream); tests inject a full disk here.
   ImageFileOpener output_opener;
   /// Called with the store's connection once the coordinator is built (the store opened and
@@ -97,6 +99,8 @@ class Coordinator {
 
   /// Sets waiting_for_build on the jobs pinned to a build no online worker has.
   void note_waiting_for_build(std::vector<JobRecord>& jobs);
+  /// Sets the jobs' spot-check counters (SpotChecks, since the start).
+  void note_checks(std::vector<JobRecord>& jobs);
 
   // ---- Workers (WorkerPresence) --------------------------------------------------------------
   std::vector<WorkerRecord> workers() { return presence_.workers(); }
@@ -129,7 +133,18 @@ class Coordinator {
                          const std::string& message) {
     return leasing_.release(worker_id, lease_id, reason, message);
   }
-  int expire_leases() { return leasing_.expire_leases(); }
+  /// Expired leases back to the queue, and the spot checks' bounded wait (sweep_checks).
+  int expire_leases() {
+    const int expired = leasing_.expire_leases();
+    intake_.sweep_checks();
+    return expired;
+  }
+  /// Ends the quarantine of the worker's name (server/spot_checks.h); returns the name. Throws
+  /// FarmError: not_found for an unknown worker, failed_precondition when not quarantined.
+  std::string release_worker(int64_t worker_id);
+  /// Spot checks' counters since the start (server/spot_checks.h), and quarantined workers.
+  CheckCounts check_totals() { return store_.checks().totals(); }
+  size_t quarantined_workers() { return store_.checks().quarantined_count(); }
   /// Graceful shutdown, first step: no more leases (LeaseUnit answers "no work"), long polls
   /// and watches end. Uploads, heartbeats and releases still work, so results in flight commit.
   void stop_leasing() { events_.changes.stop(); }

@@ -6,6 +6,7 @@
 #include "call_trace.h"
 #include "store/integrity.h"
 #include "store/migrations.h"
+#include "store/quarantine_table.h"
 #include "store/workers_table.h"
 
 namespace tessera::server {
@@ -30,8 +31,10 @@ FarmStore::FarmStore(const std::string& db_path, const Clock& clock, int64_t lea
       jobs_(db_),
       workers_(db_),
       leases_(db_, jobs_, clock_, lease_ms),
-      book_(clock_, lease_ms) {
+      book_(clock_, lease_ms),
+      checks_(clock_, lease_ms) {
   migrate(db_, clock_.now_unix_ms());
+  checks_.load_quarantines(QuarantineTable(db_).all());
   leases_.set_health_policy(health);
   book_.set_health_policy(health);
   for (int64_t id : jobs_.unfinished()) reload_job(id);

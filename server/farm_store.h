@@ -17,6 +17,7 @@
 #include "lease_book.h"
 #include "lease_table.h"
 #include "priority_mutex.h"
+#include "spot_checks.h"
 #include "store/sqlite.h"
 #include "worker_registry.h"
 
@@ -76,13 +77,15 @@ class FarmStore {
   /// The lock itself: upload groups take it Deferring (server/priority_mutex.h), and call
   /// flush_leases() themselves.
   PriorityMutex& mutex() { return mu_; }
-  // The components below require the lock; book() does not (it has its own mutex, taken inside
-  // the store's lock, never the other way round).
+  // The components below require the lock; book() and checks() do not (each has its own mutex,
+  // taken inside the store's lock, never the other way round; checks() before book()).
   Database& db() { return db_; }
   JobStore& jobs() { return jobs_; }
   WorkerRegistry& workers() { return workers_; }
   LeaseTable& leases() { return leases_; }
   LeaseBook& book() { return book_; }
+  /// Spot checks and quarantines (server/spot_checks.h): like book(), its own mutex.
+  SpotChecks& checks() { return checks_; }
   int64_t lease_ms() const { return leases_.lease_ms(); }
   const Clock& clock() const { return clock_; }
 
@@ -102,6 +105,7 @@ class FarmStore {
   WorkerRegistry workers_;
   LeaseTable leases_;
   LeaseBook book_;
+  SpotChecks checks_;
   /// When each worker's last_seen was last written (guarded by mu_): a call within
   /// touch_interval_ms() of it writes nothing (workers are never removed, so the worker exists).
   std::map<int64_t, int64_t> touched_unix_ms_;

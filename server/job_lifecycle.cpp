@@ -110,6 +110,11 @@ NewJob JobLifecycle::validated(const v1::SceneBundle& bundle, const v1::JobReque
   job.options = resolved;
   job.priority = priority;
   job.any_build = options.has_any_build() && options.any_build();
+  job.verify_rate = options.has_verify_rate() ? options.verify_rate() : 0.0;
+  if (!(job.verify_rate >= 0.0 && job.verify_rate <= 1.0)) {
+    throw invalid_argument("verify rate must be in [0, 1] (0: no spot checks); got " +
+                           std::to_string(options.verify_rate()));
+  }
   return job;
 }
 

@@ -29,6 +29,7 @@ std::optional<LeaseBookJob> load_lease_book_job(Database& db, JobStore& jobs, in
   job.failures = FailuresTable(db).of_job(job_id);
   job.any_build = record->any_build;
   job.pinned_build = record->pinned_build;
+  job.verify_rate = record->verify_rate;
   return job;
 }
 
@@ -64,8 +65,10 @@ std::map<int64_t, int64_t> LeaseBook::take_touches() {
 
 void LeaseBook::add_lease(const Lease& lease) {
   leases_[lease.lease_id] = lease;
-  by_worker_[lease.worker_id].push_back(lease.lease_id);
-  by_expiry_.insert({lease.expires_unix_ms, lease.lease_id});
+  if (!held_.contains(lease.lease_id)) {
+    by_worker_[lease.worker_id].push_back(lease.lease_id);
+    by_expiry_.insert({lease.expires_unix_ms, lease.lease_id});
+  }
   if (const auto j = jobs_.find(lease.job_id); j != jobs_.end()) {
     j->second.leased[{lease.tile, lease.batch}] = lease.lease_id;
   }
@@ -115,6 +118,7 @@ void LeaseBook::put_job(LeaseBookJob in) {
     policy.time_budget_ms = std::llround(in.spec.options.time_budget_s * 1000.0);
   }
   Job job;
+  job.verify_rate = in.verify_rate;
   job.spec = std::move(in.spec);
   job.plan = job.spec.options.plan();
   policy.tiles.resize(in.tiles.size());
@@ -176,7 +180,10 @@ void LeaseBook::drop_job(int64_t job_id) {
   scheduler_.drop_job(job_id);
   const auto it = jobs_.find(job_id);
   if (it == jobs_.end()) return;
-  for (const auto& [key, id] : std::map(it->second.leased)) remove_lease(id);
+  for (const auto& [key, id] : std::map(it->second.leased)) {
+    remove_lease(id);
+    held_.erase(id);
+  }
   jobs_.erase(it);
 }
 
@@ -274,6 +281,7 @@ std::optional<int64_t> LeaseBook::extend(int64_t worker_id, const std::string& l
   const auto it = leases_.find(lease_id);
   if (it == leases_.end() || it->second.worker_id != worker_id) return std::nullopt;
   Lease& l = it->second;
+  if (held_.contains(lease_id)) return clock_.now_unix_ms() + lease_ms_;  // delivered, held
   const int64_t expires = std::max(l.expires_unix_ms, clock_.now_unix_ms() + lease_ms_);
   by_expiry_.erase({l.expires_unix_ms, lease_id});
   l.expires_unix_ms = expires;
@@ -291,6 +299,43 @@ std::optional<Lease> LeaseBook::find(int64_t worker_id, const std::string& lease
 void LeaseBook::ended(const std::string& lease_id) {
   std::lock_guard lock(mu_);
   remove_lease(lease_id);
+  held_.erase(lease_id);
+}
+
+void LeaseBook::hold(const std::string& lease_id) {
+  std::lock_guard lock(mu_);
+  const auto it = leases_.find(lease_id);
+  if (it == leases_.end() || !held_.insert(lease_id).second) return;
+  const Lease& l = it->second;
+  by_expiry_.erase({l.expires_unix_ms, lease_id});
+  if (const auto w = by_worker_.find(l.worker_id); w != by_worker_.end()) {
+    std::erase(w->second, lease_id);
+    if (w->second.empty()) by_worker_.erase(w);
+  }
+}
+
+std::optional<LeasedUnit> LeaseBook::describe(int64_t worker_id, const std::string& lease_id) {
+  std::lock_guard lock(mu_);
+  const auto it = leases_.find(lease_id);
+  if (it == leases_.end() || it->second.worker_id != worker_id) return std::nullopt;
+  const auto j = jobs_.find(it->second.job_id);
+  if (j == jobs_.end()) return std::nullopt;
+  return leased_unit(j->second, it->second);
+}
+
+std::vector<Lease> LeaseBook::leases_of(int64_t worker_id) {
+  std::lock_guard lock(mu_);
+  std::vector<Lease> out;
+  if (const auto w = by_worker_.find(worker_id); w != by_worker_.end()) {
+    for (const std::string& id : w->second) out.push_back(leases_.at(id));
+  }
+  return out;
+}
+
+double LeaseBook::verify_rate(int64_t job_id) {
+  std::lock_guard lock(mu_);
+  const auto j = jobs_.find(job_id);
+  return j == jobs_.end() ? 0.0 : j->second.verify_rate;
 }
 
 std::vector<Lease> LeaseBook::due(int64_t now_unix_ms) {
@@ -307,6 +352,7 @@ std::vector<Lease> LeaseBook::due(int64_t now_unix_ms) {
 void LeaseBook::requeued(const Lease& lease) {
   std::lock_guard lock(mu_);
   remove_lease(lease.lease_id);
+  held_.erase(lease.lease_id);
   scheduler_.requeued(lease.job_id, {lease.batch, lease.tile, lease.unit_id});
 }
 

@@ -70,6 +70,7 @@ struct LeaseBookJob {
   std::vector<JobWorkerFailures> failures;   ///< per worker, for blocks
   bool any_build = false;                    ///< JobRecord's
   std::optional<std::string> pinned_build;   ///< JobRecord's
+  double verify_rate = 0;                    ///< JobRecord's (server/spot_checks.h)
 };
 
 /// Reads what the book keeps of `job_id` from the store (call under the store's lock, after
@@ -127,6 +128,15 @@ class LeaseBook {
   std::optional<Lease> find(int64_t worker_id, const std::string& lease_id);
   /// The lease ended in the store (its result accepted or dropped): forgotten.
   void ended(const std::string& lease_id);
+  /// Its result is held for a spot check (server/spot_checks.h): the lease stays current until
+  /// ended() or requeued(), but is never due and never handed back to its worker.
+  void hold(const std::string& lease_id);
+  /// The unit of the worker's current lease `lease_id`, as leased; nullopt when not current.
+  std::optional<LeasedUnit> describe(int64_t worker_id, const std::string& lease_id);
+  /// The leases the worker holds (held ones left out).
+  std::vector<Lease> leases_of(int64_t worker_id);
+  /// The job's spot-check rate; 0 for a job not in the book.
+  double verify_rate(int64_t job_id);
   /// Leases whose expiry is before `now_unix_ms`, all written to the store (unit ids known).
   std::vector<Lease> due(int64_t now_unix_ms);
   /// The store requeued the lease's unit (expired or released): the unit is leasable again.
@@ -168,6 +178,7 @@ class LeaseBook {
     std::vector<TileRect> rects;
     /// Live leases of the job: (tile, batch) -> lease id.
     std::map<std::pair<uint32_t, uint32_t>, std::string> leased;
+    double verify_rate = 0;
   };
 
   void add_lease(const Lease& lease);
@@ -185,6 +196,7 @@ class LeaseBook {
   std::map<std::string, Lease> leases_;                     ///< by lease id
   std::map<int64_t, std::vector<std::string>> by_worker_;   ///< in grant order
   std::set<std::pair<int64_t, std::string>> by_expiry_;
+  std::set<std::string> held_;  ///< leases whose results wait for a spot check (hold())
   std::vector<Grant> journal_;
   uint64_t granted_ = 0, voided_ = 0;
 };

@@ -35,8 +35,7 @@ std::vector<LeasedUnit> Leasing::lease_units(int64_t worker_id, uint32_t max_uni
     presence_.touch_in_memory(worker_id, call);
     // Read at each look: a result delivered while the call waits moves the budget.
     const uint64_t budget = lease_sample_budget(presence_.rates().of(worker_id));
-    std::vector<LeasedUnit> units =
-        store_.book().lease_up_to(worker_id, std::max(1u, max_units), delivering, budget);
+    std::vector<LeasedUnit> units = lease_with_checks(worker_id, max_units, delivering, budget);
     if (!units.empty()) {
       events_.notify(false);  // progress (the job may have started); no work for others
       return units;
@@ -50,9 +49,30 @@ std::vector<LeasedUnit> Leasing::lease_units(int64_t worker_id, uint32_t max_uni
   }
 }
 
+std::vector<LeasedUnit> Leasing::lease_with_checks(int64_t worker_id, uint32_t max_units,
+                                                   const std::vector<std::string>& delivering,
+                                                   uint64_t budget) {
+  // A quarantined worker gets no work; a spot check it may render goes first (a held result
+  // waits for it: server/spot_checks.h).
+  SpotChecks& checks = store_.checks();
+  if (checks.quarantined(worker_id)) return {};
+  std::vector<LeasedUnit> units =
+      store_.book().lease_up_to(worker_id, std::max(1u, max_units), delivering, budget);
+  if (std::optional<LeasedUnit> check = checks.lease_check(worker_id)) {
+    units.insert(units.begin(), std::move(*check));
+  }
+  return units;
+}
+
+std::optional<int64_t> Leasing::extend(int64_t worker_id, const std::string& lease_id) {
+  std::optional<int64_t> expires = store_.book().extend(worker_id, lease_id);
+  if (!expires) expires = store_.checks().extend(worker_id, lease_id);
+  return expires;
+}
+
 std::optional<int64_t> Leasing::heartbeat(int64_t worker_id, const std::string& lease_id) {
   presence_.touch_in_memory(worker_id, presence_.begin_call());
-  return store_.book().extend(worker_id, lease_id);
+  return extend(worker_id, lease_id);
 }
 
 std::vector<std::optional<int64_t>> Leasing::heartbeat_all(
@@ -65,13 +85,18 @@ std::vector<std::optional<int64_t>> Leasing::heartbeat_all(
   presence_.touch_in_memory(worker_id, presence_.begin_call());
   std::vector<std::optional<int64_t>> out;
   out.reserve(lease_ids.size());
-  for (const std::string& id : lease_ids) out.push_back(store_.book().extend(worker_id, id));
+  for (const std::string& id : lease_ids) out.push_back(extend(worker_id, id));
   return out;
 }
 
 ReleaseOutcome Leasing::release(int64_t worker_id, const std::string& lease_id,
                                 ReleaseReason reason, const std::string& message) {
   ReleaseOutcome outcome;
+  if (store_.checks().give_back(worker_id, lease_id)) {  // a spot check's: another may take it
+    events_.notify(true);
+    outcome.released = true;
+    return outcome;
+  }
   {
     FarmStore::Lock lock(store_);
     presence_.touch_or_throw(worker_id, presence_.begin_call());

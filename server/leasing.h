@@ -72,6 +72,14 @@ class Leasing {
   int expire_leases();
 
  private:
+  /// One look for work: nothing for a quarantined worker, else the book's leases with a spot
+  /// check the worker may render first (server/spot_checks.h).
+  std::vector<LeasedUnit> lease_with_checks(int64_t worker_id, uint32_t max_units,
+                                            const std::vector<std::string>& delivering,
+                                            uint64_t budget);
+  /// A lease's heartbeat: the book's lease, or else a spot check's.
+  std::optional<int64_t> extend(int64_t worker_id, const std::string& lease_id);
+
   FarmStore& store_;
   WorkerPresence& presence_;
   FarmEvents& events_;

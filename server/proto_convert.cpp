@@ -70,6 +70,9 @@ v1::JobInfo to_proto(const JobRecord& job) {
   out.set_any_build(job.any_build);
   out.set_pinned_build(job.pinned_build.value_or(""));
   out.set_waiting_for_build(job.waiting_for_build);
+  out.set_verify_rate(job.verify_rate);
+  out.set_units_checked(job.units_checked);
+  out.set_units_unverified(job.units_unverified);
   return out;
 }
 
@@ -94,6 +97,18 @@ v1::WorkerInfo to_proto(const WorkerRecord& w, bool online) {
   out.set_health_warning(w.health_warning);
   out.set_units_held(w.units_held);
   out.set_build(w.info.version);
+  out.set_state(w.quarantine ? "quarantined" : online ? "online" : "offline");
+  if (w.quarantine) {
+    v1::WorkerQuarantine* q = out.mutable_quarantine();
+    q->set_job_id(uint64_t(w.quarantine->job_id));
+    q->set_tile(w.quarantine->tile);
+    q->set_batch(w.quarantine->batch);
+    q->set_time_unix_ms(w.quarantine->time_unix_ms);
+    q->set_reason(w.quarantine->reason);
+    for (const int64_t id : w.quarantine->finished_jobs) q->add_finished_jobs(uint64_t(id));
+  }
+  out.set_checks(w.checks);
+  out.set_mismatches(w.mismatches);
   return out;
 }
 

@@ -33,16 +33,28 @@ std::vector<AcceptOutcome> ResultIntake::upload_all(const std::vector<UnitResult
     }
     uploads.push_back({&results[i], &decoded[i]});
   }
+  call_trace::record("decode", decode_ns, call_trace::now_ns(), int64_t(results.size()));
+  // Results of jobs with spot checks, check leases' and quarantined workers' go through the
+  // checks (spot_check_intake.cpp); the others as they always did.
+  LeaseBook& book = store_.book();
+  if (store_.checks().wants(results, [&book](int64_t job) { return book.verify_rate(job); })) {
+    return upload_checked(results, decoded, received);
+  }
+  return commit_and_answer(uploads, received);
+}
+
+std::vector<AcceptOutcome> ResultIntake::commit_and_answer(
+    const std::vector<TileMerger::Upload>& uploads,
+    std::chrono::steady_clock::time_point received) {
   // The worker was checked (and its last call recorded) by tile_pixels; workers are never
   // removed.
   UploadCall call;
   call.uploads = &uploads;
   const int64_t commit_ns = call_trace::now_ns();
-  call_trace::record("decode", decode_ns, commit_ns, int64_t(results.size()));
   commits_.run(call);
-  call_trace::record("commit_wait", commit_ns, call_trace::now_ns(), int64_t(results.size()));
+  call_trace::record("commit_wait", commit_ns, call_trace::now_ns(), int64_t(uploads.size()));
   if (call.error) std::rethrow_exception(call.error);
-  answered(results, call.outcomes,
+  answered(uploads, call.outcomes,
            std::chrono::duration<double>(std::chrono::steady_clock::now() - received).count());
   return call.outcomes;
 }
@@ -103,20 +115,21 @@ void ResultIntake::forget_job(int64_t job_id) {
                     tile_rects_.lower_bound({job_id + 1, 0}));
 }
 
-void ResultIntake::answered(const std::vector<UnitResult>& results,
+void ResultIntake::answered(const std::vector<TileMerger::Upload>& uploads,
                             const std::vector<AcceptOutcome>& outcomes, double seconds) {
   std::set<int64_t> complete;
   bool frees_work = false;
-  for (size_t i = 0; i < results.size(); ++i) {
+  for (size_t i = 0; i < uploads.size(); ++i) {
+    const UnitResult& r = *uploads[i].result;
     if (observer_) {
-      observer_->record_result(results[i].worker_id, results[i].job_id, outcomes[i].accepted,
-                               outcomes[i].samples, seconds);
+      observer_->record_result(r.worker_id, r.job_id, outcomes[i].accepted, outcomes[i].samples,
+                               seconds);
     }
     // The worker's rate, which bounds its next leases (leasing.h, lease_sample_budget).
     if (outcomes[i].accepted) {
-      presence_.rates().record(results[i].worker_id, outcomes[i].samples, results[i].render_ms);
+      presence_.rates().record(r.worker_id, outcomes[i].samples, r.render_ms);
     }
-    if (outcomes[i].job_complete) complete.insert(results[i].job_id);
+    if (outcomes[i].job_complete) complete.insert(r.job_id);
     frees_work = frees_work || outcomes[i].frees_work;
   }
   // Progress for watchers; idle workers' long polls only when a merge may have let a unit be

@@ -4,6 +4,7 @@
 // follows what was merged, and a job whose last unit merged is handed to be finished.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <exception>
 #include <functional>
@@ -52,6 +53,10 @@ class ResultIntake {
   /// Forgets a deleted job's tiles. Requires the store's lock.
   void forget_job(int64_t job_id);
 
+  /// The spot checks' bounded wait and expired check leases (SpotChecks::sweep): held results
+  /// due merge unchecked. Called by the lease reaper (spot_check_intake.cpp).
+  void sweep_checks();
+
   /// Every answered upload is reported to `observer`; nullptr reports nothing.
   void set_observer(UploadObserver* observer) { observer_ = observer; }
   /// Upload calls waiting for a group's commit, and the groups and calls committed so far.
@@ -89,8 +94,21 @@ class ResultIntake {
   /// Reports the answered call to the observer, records the worker's rate from its accepted
   /// results (WorkerRates), wakes watchers (and idle workers when a merge may have freed work)
   /// and finishes the jobs it completed.
-  void answered(const std::vector<UnitResult>& results, const std::vector<AcceptOutcome>& outcomes,
-                double seconds);
+  void answered(const std::vector<TileMerger::Upload>& uploads,
+                const std::vector<AcceptOutcome>& outcomes, double seconds);
+  /// Commits the uploads (group commit) and answers them; throws the call's error.
+  std::vector<AcceptOutcome> commit_and_answer(const std::vector<TileMerger::Upload>& uploads,
+                                               std::chrono::steady_clock::time_point received);
+  // ---- Spot checks (spot_check_intake.cpp) ----
+  /// upload_all for a call with results SpotChecks routes (held, compared, dropped).
+  std::vector<AcceptOutcome> upload_checked(const std::vector<UnitResult>& results,
+                                            std::vector<Accumulation>& decoded,
+                                            std::chrono::steady_clock::time_point received);
+  /// Merges results released by the checks; their leases go back to the queue if that fails.
+  void merge_released(std::vector<HeldResult>& released,
+                      std::chrono::steady_clock::time_point received);
+  /// Stores new quarantines and hands back the leases the routing let go; wakes idle workers.
+  void apply_checks(const SpotChecks::Routing& routing);
   /// Commits a group of upload calls (GroupCommit's commit): one transaction for all, or, when
   /// that fails, one per call, each call getting its own outcome or error.
   void commit_uploads(const std::vector<UploadCall*>& calls);

@@ -23,6 +23,7 @@ int64_t WorkerPresence::register_worker(const WorkerRegistration& info) {
     FarmStore::Lock lock(store_);
     id = store_.workers().register_worker(info, clock_.now_unix_ms());
     store_.book().add_worker(id, info.version);
+    store_.checks().add_worker(id, info.name, info.version);
     rates_.set_threads(id, info.threads);
   }
   events_.notify(true);
@@ -49,6 +50,10 @@ std::vector<WorkerRecord> WorkerPresence::workers() {
   for (WorkerRecord& w : list) {
     w.health_warning = health_warning(w, nan_report_fraction_);
     if (const auto h = held.find(w.id); h != held.end()) w.units_held = uint32_t(h->second);
+    w.quarantine = store_.checks().quarantine_of(w.id);
+    const CheckCounts counts = store_.checks().counts_of_worker(w.id);
+    w.checks = counts.checked;
+    w.mismatches = counts.mismatches;
   }
   return list;
 }
@@ -73,9 +78,12 @@ void WorkerPresence::touch_in_memory(int64_t worker_id, uint64_t call) {
     const std::optional<WorkerRecord> known = store_.workers().get(worker_id);
     if (!known) throw unknown_worker(worker_id);
     book.add_worker(worker_id, known->info.version);
+    store_.checks().add_worker(worker_id, known->info.name, known->info.version);
     rates_.set_threads(worker_id, known->info.threads);
   }
-  book.touch(worker_id, clock_.now_unix_ms());  // last_seen written by the next flush
+  const int64_t now = clock_.now_unix_ms();
+  book.touch(worker_id, now);  // last_seen written by the next flush
+  store_.checks().seen(worker_id, now);  // online for spot checks
   call_trace::record("touch", began_ns, call_trace::now_ns());
 }
 

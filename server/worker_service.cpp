@@ -210,4 +210,13 @@ grpc::Status WorkerServiceImpl::Deregister(grpc::ServerContext* context,
   });
 }
 
+grpc::Status WorkerServiceImpl::ReleaseWorker(grpc::ServerContext* context,
+                                              const v1::ReleaseWorkerRequest* request,
+                                              v1::ReleaseWorkerResponse* response) {
+  return guarded(auth_, *context, "ReleaseWorker", [&] {
+    response->set_name(coordinator_.release_worker(worker_id_of(request->worker_id())));
+    return grpc::Status::OK;
+  });
+}
+
 }  // namespace tessera::server

@@ -35,6 +35,8 @@ class WorkerServiceImpl final : public v1::WorkerService::Service {
                            v1::ReleaseUnitResponse* response) override;
   grpc::Status Deregister(grpc::ServerContext* context, const v1::DeregisterRequest* request,
                           v1::DeregisterResponse* response) override;
+  grpc::Status ReleaseWorker(grpc::ServerContext* context, const v1::ReleaseWorkerRequest* request,
+                             v1::ReleaseWorkerResponse* response) override;
 
  private:
   Coordinator& coordinator_;

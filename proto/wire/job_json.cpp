@@ -81,6 +81,9 @@ nlohmann::json job_json(const v1::JobInfo& job) {
       {"any_build", job.any_build()},
       {"pinned_build", job.pinned_build().empty() ? json(nullptr) : json(job.pinned_build())},
       {"waiting_for_build", job.waiting_for_build()},
+      {"verify_rate", job.verify_rate()},
+      {"units_checked", job.units_checked()},
+      {"units_unverified", job.units_unverified()},
       {"worker_isas", isas},
       {"renderer_builds", builds},
   };

@@ -180,6 +180,12 @@ void add_store_flags(CLI::App& app, Flags& flags) {
       ->envname("TESSERA_RETENTION_DAYS")
       ->check(CLI::Range(0.0, 36500.0))
       ->capture_default_str();
+  app.add_option("--check-wait-s", flags.check_wait_seconds,
+                 "a result held for a spot check merges unchecked (counted unverified) when no"
+                 " other worker delivered the check within this many seconds")
+      ->envname("TESSERA_CHECK_WAIT_S")
+      ->check(CLI::Range(0.0, 86400.0))
+      ->capture_default_str();
   app.add_option("--http-port-file", flags.http_port_file,
                  "write the HTTP port chosen to this file once listening (for --http HOST:0)")
       ->envname("TESSERA_HTTP_PORT_FILE");
@@ -244,6 +250,7 @@ CoordinatorConfig coordinator_config(const Flags& flags) {
   config.nan_report_fraction = flags.nan_report_fraction;
   config.retention_days = flags.retention_days;
   config.merge_cache_bytes = size_t(flags.merge_cache_mb) << 20;
+  config.check_wait_ms = int64_t(flags.check_wait_seconds * 1000.0);
   return config;
 }
 

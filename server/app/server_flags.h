@@ -34,6 +34,7 @@ struct Flags {
   double nan_report_fraction = 1e-3;
   double retention_days = 0;  ///< --retention-days (0: keep finished jobs)
   uint64_t merge_cache_mb = 1024;  ///< --merge-cache-mb
+  double check_wait_seconds = 60;  ///< --check-wait-s (spot checks' bounded wait)
   std::string http_port_file;
   std::vector<std::string> allowed_hosts;  ///< --allowed-host (repeatable)
   int http_connections_per_client = 16;    ///< --http-connections-per-client

@@ -63,6 +63,10 @@ struct JobRecord {
   std::optional<std::string> pinned_build;
   /// Filled by the coordinator: pinned, not final, and no online worker is of its build.
   bool waiting_for_build = false;
+  double verify_rate = 0;  ///< spot checks' sampled fraction of units (0: none)
+  /// Filled by the coordinator (SpotChecks, since the server started): units checked and
+  /// agreed, units merged without the check they were due.
+  uint64_t units_checked = 0, units_unverified = 0;
 
   /// Samples merged over samples asked, in [0, 1]; exactly 1 when every unit is merged. For
   /// `noise` and `time` jobs, units settled (done or skipped) over units (a time job: at least
@@ -102,6 +106,7 @@ struct NewJob {
   JobOptions options;
   int priority = 0;
   bool any_build = false;  ///< --any-build: never pinned to one renderer build
+  double verify_rate = 0;  ///< --verify: spot checks' sampled fraction of units
 };
 
 }  // namespace tessera::server

@@ -35,7 +35,7 @@ constexpr const char* kJobColumns = R"sql(
   NOT EXISTS (SELECT 1 FROM units u WHERE u.job_id = j.id AND u.state IN ('queued', 'leased'))
     AND NOT EXISTS (SELECT 1 FROM tile_queue q WHERE q.job_id = j.id
                     AND q.next_lease < q.lease_end),
-  j.batch_schedule, j.any_build, j.pinned_build
+  j.batch_schedule, j.any_build, j.pinned_build, j.verify_rate
 )sql";
 
 JobRecord read_job(const Statement& q) {
@@ -91,6 +91,7 @@ JobRecord read_job(const Statement& q) {
   r.any_build = q.int64(c++) != 0;
   if (!q.is_null(c)) r.pinned_build = q.text(c);
   ++c;
+  r.verify_rate = q.real(c++);
   return r;
 }
 
@@ -261,6 +262,12 @@ int64_t JobsTable::insert(const NewJob& job, uint32_t tile_count, uint32_t batch
   // Its own statement, only when set: the insert above runs on every schema since version 7
   // (the migration tests make jobs on older schemas).
   if (job.any_build) db_.prepare("UPDATE jobs SET any_build = 1 WHERE id = ?")->bind(1, id).run();
+  if (job.verify_rate > 0) {
+    db_.prepare("UPDATE jobs SET verify_rate = ? WHERE id = ?")
+        ->bind(1, job.verify_rate)
+        .bind(2, id)
+        .run();
+  }
   return id;
 }
 

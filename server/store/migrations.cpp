@@ -301,6 +301,22 @@ UPDATE jobs
 UPDATE jobs SET any_build = 1
   WHERE (SELECT COUNT(DISTINCT version) FROM job_contributors c WHERE c.job_id = jobs.id) > 1;
 )sql"},
+      {12, "spot checks: a job's verify rate, quarantined workers", R"sql(
+-- verify_rate: the fraction of a job's units rendered twice and compared (0: none; jobs from
+-- before spot checks have none). A quarantined worker is known by its name, which outlives its
+-- registrations (docs/reliability.md, "Spot checks"); no foreign key: a quarantine outlives its
+-- job.
+ALTER TABLE jobs ADD COLUMN verify_rate REAL NOT NULL DEFAULT 0;
+CREATE TABLE worker_quarantines (
+  worker_name TEXT PRIMARY KEY,
+  job_id INTEGER NOT NULL,
+  tile INTEGER NOT NULL,
+  batch INTEGER NOT NULL,
+  quarantined_unix_ms INTEGER NOT NULL,
+  reason TEXT NOT NULL,
+  finished_jobs TEXT NOT NULL  -- done jobs with its results then: "3,5,8"
+);
+)sql"},
   };
   return kMigrations;
 }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "store/quarantine_table.h"
 #include "store/sqlite.h"
 
 namespace tessera::server {
@@ -35,6 +36,10 @@ struct WorkerRecord {
   /// The unit it holds a lease on, if any (the oldest of its leases when it holds several).
   std::optional<int64_t> job_id;
   uint32_t tile = 0, batch = 0;
+  /// Filled by the coordinator from its spot checks (server/spot_checks.h): set when the
+  /// worker's name is quarantined; checks its results took part in, and mismatches among them.
+  std::optional<Quarantine> quarantine;
+  uint64_t checks = 0, mismatches = 0;
 };
 
 class WorkersTable {
