@@ -9,6 +9,7 @@
 
 #include "accum/accumulation_codec.h"
 #include "call_errors.h"
+#include "fault_seam.h"
 #include "render/renderer_build.h"
 #include "scene/scene_error.h"
 #include "wire/job_options_wire.h"
@@ -47,6 +48,9 @@ FarmWorker::FarmWorker(const FarmWorkerConfig& config, StopSignal& stop)
       arena_(config.threads > 0 ? config.threads : tbb::task_arena::automatic) {}
 
 int FarmWorker::run() {
+  if (fault_flip_bit_requested()) {
+    log("TESSERA_FAULT_FLIP_BIT=1: one bit of every result is flipped (a test seam)");
+  }
   log("serving " + config_.server + " with " + std::to_string(threads()) +
       " thread(s), bundle cache " + bundles_.dir().string());
   try {
@@ -324,7 +328,9 @@ std::optional<v1::UploadResultRequest> FarmWorker::render(
   request.set_job_id(unit.job_id());
   request.set_tile(unit.tile());
   request.set_batch(unit.batch());
-  request.set_accumulation(encode_accumulation(rendered.result, kUploadEffort));
+  const bool faulty = fault_flip_bit_requested();  // a test seam (fault_seam.h)
+  const Accumulation flipped = faulty ? with_one_bit_flipped(rendered.result) : Accumulation();
+  request.set_accumulation(encode_accumulation(faulty ? flipped : rendered.result, kUploadEffort));
   request.set_isa(renderer->isa());
   request.set_render_ms(uint32_t(rendered.elapsed.count()));
   return request;
