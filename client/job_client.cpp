@@ -46,7 +46,8 @@ JobClient::JobClient(const std::string& server, std::string token, const wire::C
     : server_(server),
       token_(std::move(token)),
       timeout_(timeout),
-      stub_(v1::JobService::NewStub(wire::make_channel(server, tls))) {}
+      channel_(wire::make_channel(server, tls)),
+      stub_(v1::JobService::NewStub(channel_)) {}
 
 void JobClient::prepare(grpc::ClientContext& context, std::chrono::milliseconds timeout) const {
   wire::prepare_context(context, token_, timeout);
@@ -109,6 +110,17 @@ v1::ListWorkersResponse JobClient::workers() {
   v1::ListWorkersResponse response;
   check(stub_->ListWorkers(&context, v1::ListWorkersRequest{}, &response), server_);
   return response;
+}
+
+std::string JobClient::release_worker(uint64_t worker_id) {
+  grpc::ClientContext context;
+  prepare(context, timeout_);
+  v1::ReleaseWorkerRequest request;
+  request.set_worker_id(worker_id);
+  v1::ReleaseWorkerResponse response;
+  check(v1::WorkerService::NewStub(channel_)->ReleaseWorker(&context, request, &response),
+        server_);
+  return response.name();
 }
 
 v1::JobInfo JobClient::watch(uint64_t job_id,

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tessera/v1/job_service.grpc.pb.h"
+#include "tessera/v1/worker_service.grpc.pb.h"
 #include "wire/transport_security.h"
 
 namespace tessera::client {
@@ -34,6 +35,9 @@ class JobClient {
   v1::JobInfo cancel(uint64_t job_id);
   v1::GetImageResponse image(uint64_t job_id, v1::ImageFormat format);
   v1::ListWorkersResponse workers();
+  /// Ends the worker's quarantine (WorkerService.ReleaseWorker: the token must be the server's
+  /// worker token); returns the worker's name.
+  std::string release_worker(uint64_t worker_id);
 
   /// What the last get() or list() answer said of the server's store: its one-line damage
   /// report when the server found its database damaged (it hands out no more work), else "".
@@ -54,6 +58,7 @@ class JobClient {
   std::string server_;
   std::string token_;
   std::chrono::milliseconds timeout_;
+  std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::JobService::Stub> stub_;
   std::string store_damage_;
 };

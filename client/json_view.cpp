@@ -28,6 +28,23 @@ std::string reason_name(v1::StopReason reason) {
 
 nlohmann::json to_json(const v1::JobInfo& job) { return wire::job_json(job); }
 
+namespace {
+
+/// A quarantined worker's {job, tile, batch, time_unix_ms, reason, finished_jobs}; else null.
+nlohmann::json quarantine_json(const v1::WorkerInfo& w) {
+  if (!w.has_quarantine()) return nullptr;
+  const v1::WorkerQuarantine& q = w.quarantine();
+  return {{"job", q.job_id()},
+          {"tile", q.tile()},
+          {"batch", q.batch()},
+          {"time_unix_ms", q.time_unix_ms()},
+          {"reason", q.reason()},
+          {"finished_jobs",
+           std::vector<uint64_t>(q.finished_jobs().begin(), q.finished_jobs().end())}};
+}
+
+}  // namespace
+
 nlohmann::json to_json(const v1::WorkerInfo& w) {
   return {
       {"id", w.id()},
@@ -48,6 +65,10 @@ nlohmann::json to_json(const v1::WorkerInfo& w) {
       {"nan_dropped", w.nan_dropped()},
       {"inf_dropped", w.inf_dropped()},
       {"health_warning", w.health_warning()},
+      {"state", w.state().empty() ? (w.online() ? "online" : "offline") : w.state()},
+      {"quarantine", quarantine_json(w)},
+      {"checks", w.checks()},
+      {"mismatches", w.mismatches()},
   };
 }
 

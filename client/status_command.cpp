@@ -73,6 +73,12 @@ void print_status(const v1::JobInfo& job) {
               c.units_done(), c.units_leased(), c.results_merged());
   std::printf("  retries   %u stale results dropped, %u leases expired, %u units handed back\n",
               c.results_dropped(), c.leases_expired(), c.units_released());
+  if (job.verify_rate() > 0) {
+    std::printf("  checks    %g %% of units and each worker's first: %llu checked, %llu "
+                "unverified\n",
+                job.verify_rate() * 100.0, static_cast<unsigned long long>(job.units_checked()),
+                static_cast<unsigned long long>(job.units_unverified()));
+  }
   std::printf("  times     submitted %s, started %s, finished %s\n",
               local_time_text(job.submitted_unix_ms()).c_str(),
               local_time_text(job.started_unix_ms()).c_str(),

@@ -24,6 +24,7 @@ struct SubmitOptions {
   JobOverrides overrides;
   int priority = 0;
   bool any_build = false;  ///< --any-build: not pinned to one renderer build
+  double verify = 0.01;    ///< --verify: spot checks' fraction of units (docs/reliability.md)
   bool wait = false;
   std::string output;  ///< implies wait
 };
@@ -40,6 +41,7 @@ v1::SubmitJobRequest submit_request(const SubmitOptions& s) {
   *request.mutable_bundle() = wire::bundle_to_proto(bundle);
   *request.mutable_options() = wire::overrides_to_proto(s.overrides);
   if (s.any_build) request.mutable_options()->set_any_build(true);
+  request.mutable_options()->set_verify_rate(s.verify);
   request.set_priority(s.priority);
   return request;
 }
@@ -90,6 +92,11 @@ Command add_submit_command(CLI::App& app, GlobalOptions& g) {
   cmd->add_flag("--any-build", s->any_build,
                 "Lease the job to workers of every renderer build (default: only to the build "
                 "of the worker its first unit goes to; the image is then one build's bits)");
+  cmd->add_option("--verify", s->verify,
+                  "Spot checks: this fraction of units, and each worker's first, is rendered "
+                  "again by another worker and compared bit for bit (0: none)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   cmd->add_flag("--wait", s->wait, "Follow the job until it ends (progress on stderr)");
   cmd->add_option("-o,--output", s->output,
                   "Write the final image here (.exr or .png); implies --wait");
