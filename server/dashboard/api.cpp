@@ -181,6 +181,14 @@ class DashboardApi {
     return j;
   }
 
+  /// A quarantined worker's {job, tile, batch, time_unix_ms, reason}; null when not.
+  static json quarantine_json(const std::optional<Quarantine>& q) {
+    if (!q) return nullptr;
+    return json{{"job", q->job_id}, {"tile", q->tile}, {"batch", q->batch},
+                {"time_unix_ms", q->time_unix_ms}, {"reason", q->reason},
+                {"finished_jobs", q->finished_jobs}};
+  }
+
   json workers() {
     json list = json::array();
     const int64_t now = coordinator_.clock().now_unix_ms();
@@ -194,7 +202,13 @@ class DashboardApi {
           {"threads", w.info.threads},
           {"isa", w.info.isa},
           {"version", w.info.version},
-          {"state", !online ? "offline" : w.job_id ? "busy" : "idle"},
+          {"state", w.quarantine ? "quarantined"
+                    : !online    ? "offline"
+                    : w.job_id   ? "busy"
+                                 : "idle"},
+          {"quarantine", quarantine_json(w.quarantine)},
+          {"checks", w.checks},
+          {"mismatches", w.mismatches},
           {"online", online},
           {"unit", unit},
           {"units_held", w.units_held},
@@ -215,6 +229,8 @@ class DashboardApi {
     try {
       s.totals = coordinator_.totals();
       for (const WorkerRecord& w : coordinator_.workers()) s.workers_online += coordinator_.online(w);
+      s.checks = coordinator_.check_totals();
+      s.workers_quarantined = coordinator_.quarantined_workers();
     } catch (const SqliteError&) {
       // A damaged store may not answer the totals' queries: the store's gauges (which need no
       // query) must still say so, so /metrics leaves out only the families read from it.

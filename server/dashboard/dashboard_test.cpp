@@ -57,6 +57,8 @@ TEST(PrometheusText, EveryFamilyHasHelpTypeAndSamples) {
   s.totals.units_done = 12;
   s.totals.workers = 3;
   s.workers_online = 2;
+  s.checks = {5, 1, 2};
+  s.workers_quarantined = 1;
   s.merge.count = 4;
   s.merge.cumulative.fill(4);
   const std::string text = prometheus_text(s);
@@ -64,6 +66,11 @@ TEST(PrometheusText, EveryFamilyHasHelpTypeAndSamples) {
   EXPECT_NE(text.find("tessera_jobs{state=\"done\"} 2\n"), std::string::npos);
   EXPECT_NE(text.find("tessera_units_done_total 12\n"), std::string::npos);
   EXPECT_NE(text.find("tessera_workers{state=\"offline\"} 1\n"), std::string::npos);
+  EXPECT_NE(text.find("tessera_workers_quarantined 1\n"), std::string::npos);
+  EXPECT_NE(text.find("tessera_spot_checks_total{outcome=\"checked\"} 5\n"), std::string::npos);
+  EXPECT_NE(text.find("tessera_spot_checks_total{outcome=\"mismatch\"} 1\n"), std::string::npos);
+  EXPECT_NE(text.find("tessera_spot_checks_total{outcome=\"unverified\"} 2\n"),
+            std::string::npos);
   EXPECT_NE(text.find("tessera_merge_latency_seconds_bucket{le=\"0.0025\"} 4\n"), std::string::npos);
   EXPECT_NE(text.find("tessera_merge_latency_seconds_bucket{le=\"+Inf\"} 4\n"), std::string::npos);
   EXPECT_EQ(text.back(), '\n');

@@ -77,7 +77,20 @@ std::string prometheus_text(const FarmSnapshotForMetrics& s) {
     w.sample("tessera_workers", "state=\"online\"", std::to_string(s.workers_online));
     w.sample("tessera_workers", "state=\"offline\"",
              std::to_string(s.totals.workers - s.workers_online));
+    // docs/reliability.md, "Spot checks": alert on tessera_workers_quarantined > 0.
+    w.single("tessera_workers_quarantined", "gauge",
+             "Worker names quarantined (a spot check found their result wrong).",
+             s.workers_quarantined);
   }
+  w.family("tessera_spot_checks_total", "counter",
+           "Spot checks since the server started: units whose two results agreed (checked), "
+           "results that disagreed with the verdict (mismatch), results merged without the "
+           "check they were due (unverified).");
+  w.sample("tessera_spot_checks_total", "outcome=\"checked\"", std::to_string(s.checks.checked));
+  w.sample("tessera_spot_checks_total", "outcome=\"mismatch\"",
+           std::to_string(s.checks.mismatches));
+  w.sample("tessera_spot_checks_total", "outcome=\"unverified\"",
+           std::to_string(s.checks.unverified));
   // The store (docs/reliability.md, "A consistent database after any crash"): alert on
   // tessera_store_damaged == 1; the server then hands out no more work.
   w.single("tessera_store_damaged", "gauge",

@@ -14,6 +14,8 @@ namespace tessera::server {
 struct FarmSnapshotForMetrics {
   FarmTotals totals;
   uint64_t workers_online = 0;
+  CheckCounts checks;                ///< spot checks since the server started
+  uint64_t workers_quarantined = 0;  ///< worker names quarantined now
   double samples_per_s = 0;
   uint64_t results_accepted = 0;          ///< since the server started
   uint64_t results_dropped_session = 0;   ///< since the server started
