@@ -90,14 +90,15 @@ void FarmCluster::kill_server() {
   ASSERT_TRUE(server_->wait_for(kPatience).has_value());
 }
 
-size_t FarmCluster::start_worker(const std::vector<std::string>& extra) {
+size_t FarmCluster::start_worker(const std::vector<std::string>& extra,
+                                 const std::vector<std::string>& env) {
   const size_t index = workers_.size();
   std::vector<std::string> argv = {TESSERA_WORKER_BIN, "--server", address(), "--cache",
                                    (dir_ / "cache").string(), "--name",
                                    "e2e-worker-" + std::to_string(index)};
   argv.insert(argv.end(), extra.begin(), extra.end());
   workers_.push_back(
-      std::make_unique<Process>(argv, dir_ / ("worker-" + std::to_string(index) + ".log")));
+      std::make_unique<Process>(argv, dir_ / ("worker-" + std::to_string(index) + ".log"), env));
   return index;
 }
 

@@ -37,8 +37,10 @@ class FarmCluster {
   void start_server(const std::vector<std::string>& extra = {});
   /// SIGKILL, then wait for the process to be gone.
   void kill_server();
-  /// Starts tessera-worker --server ... with its own log; returns its index.
-  size_t start_worker(const std::vector<std::string>& extra = {});
+  /// Starts tessera-worker --server ... with its own log, `env` ("NAME=value") added to its
+  /// environment; returns its index.
+  size_t start_worker(const std::vector<std::string>& extra = {},
+                      const std::vector<std::string>& env = {});
   Process& worker(size_t index) { return *workers_.at(index); }
 
   /// From now on the test's stubs connect with `tls`, and every CLI run gets `cli_flags`

@@ -211,9 +211,10 @@ Accumulation synthetic(const v1::WorkUnit& u) {
 TEST(FarmE2E, DuplicateAndStaleResultsAreDroppedAndCounted) {
   FarmCluster farm("stale");
   farm.start_server({"--lease-seconds", "1"});
-  // 8x8, one tile, two batches of one sample: two units.
+  // 8x8, one tile, two batches of one sample: two units; no spot checks (each worker's first
+  // result would wait for another's: SpotCheckE2E).
   const uint64_t id = farm.submit({kTiny, "--width", "8", "--height", "8", "--tile", "8", "--spp",
-                                   "2", "--batch", "1"});
+                                   "2", "--batch", "1", "--verify", "0"});
   ASSERT_NE(id, 0u);
   auto& api = farm.workers_api();
   const auto register_worker = [&](const std::string& name) {
@@ -305,7 +306,7 @@ TEST(FarmE2E, ResultsArrivingOutOfOrderAreMergedInBatchOrder) {
   FarmCluster farm("order");
   farm.start_server();
   const uint64_t id = farm.submit({kTiny, "--width", "4", "--height", "4", "--tile", "4", "--spp",
-                                   "3", "--batch", "1"});
+                                   "3", "--batch", "1", "--verify", "0"});  // merged as they come
   ASSERT_NE(id, 0u);
   auto& api = farm.workers_api();
   std::vector<uint64_t> workers;
