@@ -6,6 +6,7 @@
 
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 
 #include <unistd.h>
@@ -255,6 +256,21 @@ TEST(SpotChecks, AQuarantineIsStoredByNameWithTheFinishedJobsItTouched) {
   EXPECT_TRUE(table.remove("render7"));
   EXPECT_FALSE(table.remove("render7"));
   EXPECT_TRUE(table.all().empty());
+}
+
+TEST(SpotChecks, ARateOutsideZeroToOneIsRefusedNamingIt) {
+  SpotCheckFarm f;
+  for (const double rate : {-0.1, 1.5, std::nan("")}) {
+    try {
+      f.farm->submit(testing::tiny_bundle(), spot_check_job(rate), 0);
+      ADD_FAILURE() << rate << " was accepted";
+    } catch (const FarmError& e) {
+      EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
+      EXPECT_NE(std::string(e.what()).find("verify rate must be in [0, 1]"), std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_DOUBLE_EQ(f.farm->submit(testing::tiny_bundle(), spot_check_job(0), 0).verify_rate, 0);
 }
 
 TEST(SpotChecks, AJobWithoutChecksIsNotRouted) {
