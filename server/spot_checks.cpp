@@ -242,9 +242,13 @@ void SpotChecks::route_result(size_t i, const UnitResult& r, Accumulation& decod
   }
   if (!open_check(r, decoded, *unit, first, out)) {
     out.merge.push_back(i);
-    ++totals_.unverified;
-    ++jobs_[r.job_id].unverified;
-    ++workers_[r.worker_id].counts.unverified;
+    // A worker alone of its build tries its first-unit check again at each result (another
+    // worker may have come) but counts one unverified first unit, not one per result.
+    if (sampled_unit || first_unverified_.insert(jw).second) {
+      ++totals_.unverified;
+      ++jobs_[r.job_id].unverified;
+      ++workers_[r.worker_id].counts.unverified;
+    }
     return;
   }
   out.answers[i] = answer;

@@ -207,6 +207,7 @@ class SpotChecks {
   /// Workers new to a job whose first check is open: their other results wait here.
   std::map<JobWorker, std::vector<HeldResult>> probation_;
   std::set<JobWorker> proven_;  ///< passed a check in the job
+  std::set<JobWorker> first_unverified_;  ///< its first unit merged unchecked (nobody to check)
   std::map<int64_t, CheckCounts> jobs_;
   CheckCounts totals_;
 };

@@ -240,6 +240,13 @@ TEST(SpotChecks, WithNoOtherWorkerOfTheBuildAResultMergesAtOnceUnverified) {
   EXPECT_TRUE(f.deliver(f.lease(a).front()).accepted);
   EXPECT_EQ(f.merged(job), 1u);
   EXPECT_EQ(f.farm->job(job).units_unverified, 1u);
+  // A job checking only first units (1e-9) counts the lone worker's first unit once.
+  const int64_t second = f.farm->submit(testing::tiny_bundle(), spot_check_job(1e-9), 0).id;
+  for (int round = 0; round < 8 && f.merged(second) < 4; ++round) {
+    for (const LeasedUnit& u : f.lease(a, 4)) f.deliver(u);
+  }
+  EXPECT_EQ(f.merged(second), 4u);
+  EXPECT_EQ(f.farm->job(second).units_unverified, 1u);
 }
 
 TEST(SpotChecks, AQuarantineIsStoredByNameWithTheFinishedJobsItTouched) {

@@ -210,6 +210,10 @@ TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
   EXPECT_EQ(w["failures"], 0);
   EXPECT_TRUE(w["online"].get<bool>());
   EXPECT_TRUE(w["state"] == "idle" || w["state"] == "busy");
+  // Alone of its build: nothing checked (its results merged unverified), not quarantined.
+  EXPECT_TRUE(w["quarantine"].is_null());
+  EXPECT_EQ(w["checks"], 0);
+  EXPECT_EQ(w["mismatches"], 0);
   // The job is pinned to its one worker's renderer build, which is online.
   EXPECT_EQ(detail["pinned_build"], w["version"]);
   EXPECT_FALSE(detail["waiting_for_build"].get<bool>());
@@ -222,6 +226,8 @@ TEST_F(DashboardApi, EveryReadEndpointOnAFinishedJob) {
   EXPECT_NE(metrics->body.find("tessera_jobs{state=\"done\"} 1\n"), std::string::npos);
   EXPECT_NE(metrics->body.find("tessera_units_done_total 16\n"), std::string::npos);
   EXPECT_NE(metrics->body.find("tessera_merge_latency_seconds_count 16\n"), std::string::npos);
+  EXPECT_NE(metrics->body.find("tessera_spot_checks_total{outcome=\"checked\"} 0\n"),
+            std::string::npos);
 
   // The page and its assets come from the binary.
   httplib::Result page = get("/");
