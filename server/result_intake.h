@@ -10,6 +10,7 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <set>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -107,8 +108,12 @@ class ResultIntake {
   /// Merges results released by the checks; their leases go back to the queue if that fails.
   void merge_released(std::vector<HeldResult>& released,
                       std::chrono::steady_clock::time_point received);
-  /// Stores new quarantines and hands back the leases the routing let go; wakes idle workers.
+  /// Stores new quarantines, starts their workers' tiles in unfinished jobs again
+  /// (redo_tiles_of) and hands back the leases the routing let go; wakes idle workers.
   void apply_checks(const SpotChecks::Routing& routing);
+  /// Every tile of a queued or running job with a unit the worker's name delivered starts again
+  /// from zero (store/tile_redo.h); returns their jobs (reload them). Requires the lock.
+  std::set<int64_t> redo_tiles_of(const std::string& worker_name);
   /// Commits a group of upload calls (GroupCommit's commit): one transaction for all, or, when
   /// that fails, one per call, each call getting its own outcome or error.
   void commit_uploads(const std::vector<UploadCall*>& calls);

@@ -7,6 +7,7 @@
 
 #include "result_intake.h"
 #include "store/quarantine_table.h"
+#include "store/tile_redo.h"
 
 namespace tessera::server {
 
@@ -19,6 +20,8 @@ std::vector<AcceptOutcome> ResultIntake::upload_checked(
       [&book](const UnitResult& r) { return book.describe(r.worker_id, r.lease_id); }};
   SpotChecks::Routing routing = store_.checks().route(results, decoded, context);
   for (const std::string& lease_id : routing.hold) book.hold(lease_id);
+  // Quarantines first: their tiles start again before anything of this call can end a job.
+  apply_checks(routing);
   std::vector<TileMerger::Upload> uploads;
   for (const size_t i : routing.merge) uploads.push_back({&results[i], &decoded[i]});
   std::vector<AcceptOutcome> out(results.size());
@@ -32,7 +35,6 @@ std::vector<AcceptOutcome> ResultIntake::upload_checked(
     error = std::current_exception();  // after the released results, which are not the call's
   }
   merge_released(routing.released, received);
-  apply_checks(routing);
   if (error) std::rethrow_exception(error);
   for (const auto& [i, answer] : routing.answers) out[i] = answer;
   return out;
@@ -77,6 +79,9 @@ void ResultIntake::apply_checks(const SpotChecks::Routing& routing) {
                 << (finished.empty() ? " none" : finished) << "\n";
       for (const Lease& l : book.leases_of(worker_id)) requeue.emplace_back(worker_id, l.lease_id);
     }
+    for (const auto& [worker_id, named] : routing.quarantined) {
+      for (const int64_t job_id : redo_tiles_of(named.first)) jobs.insert(job_id);
+    }
     for (const auto& [worker_id, lease_id] : requeue) {
       const std::optional<Lease> lease = book.find(worker_id, lease_id);
       store_.leases().release(worker_id, lease_id, ReleaseReason::shutdown, "quarantined");
@@ -90,12 +95,33 @@ void ResultIntake::apply_checks(const SpotChecks::Routing& routing) {
   }
 }
 
+std::set<int64_t> ResultIntake::redo_tiles_of(const std::string& worker_name) {
+  const std::vector<std::pair<int64_t, uint32_t>> tiles =
+      tiles_delivered_by(store_.db(), worker_name);
+  std::set<int64_t> jobs;
+  if (tiles.empty()) return jobs;
+  Transaction tx(store_.db());
+  for (const auto& [job_id, tile] : tiles) {
+    redo_tile(store_.db(), job_id, tile);
+    jobs.insert(job_id);
+  }
+  tx.commit();
+  std::string named;
+  for (const int64_t job_id : jobs) {
+    forget_job(job_id);  // its decoded tiles and waiting results in memory are stale
+    named += " " + std::to_string(job_id);
+  }
+  std::cerr << "tessera-server: " << tiles.size() << " tile(s) with results of " << worker_name
+            << " start again from zero, in job(s)" << named << "\n";
+  return jobs;
+}
+
 void ResultIntake::sweep_checks() {
   LeaseBook& book = store_.book();
   SpotChecks::Routing routing =
       store_.checks().sweep([&book](int64_t job_id) { return book.has_job(job_id); });
-  merge_released(routing.released, std::chrono::steady_clock::now());
   apply_checks(routing);
+  merge_released(routing.released, std::chrono::steady_clock::now());
 }
 
 }  // namespace tessera::server

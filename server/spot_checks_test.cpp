@@ -17,6 +17,7 @@
 #include "fake_clock.h"
 #include "store/migrations.h"
 #include "store/quarantine_table.h"
+#include "store/tiles_table.h"
 #include "store_fixture.h"
 
 namespace tessera::server {
@@ -57,6 +58,8 @@ struct SpotCheckFarm {
     config.db_path = db;
     config.lease_ms = 10'000;
     config.check_wait_ms = wait_ms;
+    config.output_dir = std::filesystem::temp_directory_path() /
+                        ("spot_checks_out_" + std::to_string(::getpid()));
     farm = std::make_unique<Coordinator>(config, clock);
   }
   std::vector<LeasedUnit> lease(int64_t worker, uint32_t max_units = 1) {
@@ -207,6 +210,74 @@ TEST(SpotChecks, AMismatchIsDecidedByAThirdWorkerAndTheOneThatDisagreesIsQuarant
     EXPECT_FALSE(f.lease(again).empty());
     EXPECT_THROW(f.farm->release_worker(again), FarmError);  // not quarantined any more
   }
+  std::filesystem::remove(db);
+}
+
+// A worker that passed its first check and then went bad: its unchecked result merged; when a
+// later check catches it, its tile starts again from zero and the job ends with good bits only.
+TEST(SpotChecks, AWorkerCaughtLaterHasTheTilesItTouchedRenderedAgain) {
+  const std::filesystem::path db = std::filesystem::temp_directory_path() /
+                                   ("spot_checks_redo_" + std::to_string(::getpid()) + ".db");
+  std::filesystem::remove(db);
+  int64_t job = 0;
+  {
+    SpotCheckFarm f(db.string());
+    const int64_t a = f.farm->register_worker({"turns-bad", 1, "avx2", "build"});
+    const int64_t b = f.farm->register_worker({"b", 1, "avx2", "build"});
+    const int64_t c = f.farm->register_worker({"c", 1, "avx2", "build"});
+    job = f.farm->submit(testing::tiny_bundle(), spot_check_job(1e-9), 0).id;
+    // a's first unit (batch 0) is checked by b and agrees: both proven.
+    EXPECT_TRUE(f.deliver(f.lease(a).front()).accepted);
+    const std::vector<LeasedUnit> bs = f.lease(b);  // the check, then batch 1
+    ASSERT_EQ(bs.size(), 2u);
+    for (const LeasedUnit& u : bs) EXPECT_TRUE(f.deliver(u).accepted);
+    EXPECT_EQ(f.merged(job), 2u);
+    // a goes bad: batch 2 merges unchecked.
+    const LeasedUnit bad = f.lease(a).front();
+    ASSERT_EQ(bad.lease.batch, 2u);
+    EXPECT_TRUE(f.deliver(bad, true).accepted);
+    EXPECT_EQ(f.merged(job), 3u);
+    // c's first unit (batch 3) is checked: a takes the check and disagrees, b decides.
+    const LeasedUnit last = f.lease(c).front();
+    ASSERT_EQ(last.lease.batch, 3u);
+    EXPECT_TRUE(f.deliver(last).accepted);
+    const LeasedUnit check_by_a = f.lease(a).front();
+    ASSERT_EQ(check_by_a.lease.batch, 3u);
+    EXPECT_TRUE(f.deliver(check_by_a, true).accepted);
+    const LeasedUnit check_by_b = f.lease(b).front();
+    ASSERT_EQ(check_by_b.lease.batch, 3u);
+    EXPECT_TRUE(f.deliver(check_by_b).accepted);
+    ASSERT_TRUE(f.worker(a).quarantine.has_value());
+    // The tile started again: nothing merged, the job still running, its counters consistent.
+    JobRecord record = f.farm->job(job);
+    EXPECT_EQ(record.state, JobState::running);
+    EXPECT_EQ(record.counters.results_merged, 0u);
+    EXPECT_EQ(record.counters.units_done, 0u);
+    for (int round = 0; round < 12 && f.farm->job(job).state != JobState::done; ++round) {
+      for (const int64_t worker : {b, c}) {
+        for (const LeasedUnit& u : f.lease(worker)) f.deliver(u);
+      }
+    }
+    record = f.farm->job(job);
+    EXPECT_EQ(record.state, JobState::done);
+    EXPECT_EQ(record.counters.results_merged, 4u);
+    EXPECT_EQ(record.counters.units_done, 4u);
+    EXPECT_EQ(record.counters.samples_merged, 4u * 64u);
+  }
+  // The stored tile is the four good batches, bit for bit.
+  Database store(db.string());
+  const std::optional<std::string> stored = TilesTable(store).checkpoint(job, 0);
+  ASSERT_TRUE(stored.has_value());
+  LeasedUnit unit;
+  unit.rect = TileRect{0, 0, 8, 8};
+  Accumulation expected(unit.rect);
+  for (uint32_t b = 0; b < 4; ++b) {
+    unit.lease.batch = b;
+    unit.sample_begin = b;
+    unit.sample_end = b + 1;
+    expected.merge(spot_check_sums(unit));
+  }
+  EXPECT_TRUE(SpotChecks::same_bits(decode_accumulation(*stored), expected));
   std::filesystem::remove(db);
 }
 
