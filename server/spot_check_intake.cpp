@@ -1,7 +1,8 @@
 // ResultIntake's side of spot checks (server/spot_checks.h): a call's results routed through
-// SpotChecks (merged now, held, compared, or dropped for a quarantined worker), the results the
-// checks release merged like any other, new quarantines stored, and the leases let go handed
-// back to the queue.
+// SpotChecks (merged now, held, compared, or dropped for a quarantined worker); new quarantines
+// stored, the quarantined worker's tiles in unfinished jobs started again (store/tile_redo.h)
+// and the leases let go handed back to the queue, all before anything of the call merges; then
+// the results the checks release merged like any other.
 #include <iostream>
 #include <set>
 
