@@ -9,7 +9,7 @@
 #include "job/job_options.h"
 #include "render/camera/pixel_filter.h"
 #include "render/cancellation.h"
-#include "render/guides/guide_tile.h"
+#include "accum/guide_tile.h"
 #include "render/math/ray.h"
 #include "render/sampling/sampler.h"
 #include "scene/file_reader.h"

@@ -1,4 +1,4 @@
-#include "render/guides/guide_tile.h"
+#include "accum/guide_tile.h"
 
 #include <stdexcept>
 
