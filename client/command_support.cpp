@@ -67,9 +67,22 @@ v1::ImageFormat format_of(const std::string& output) {
   return lower_extension(output) == ".exr" ? v1::IMAGE_FORMAT_EXR : v1::IMAGE_FORMAT_PNG;
 }
 
-v1::GetImageResponse download(JobClient& client, uint64_t job_id, const std::string& output) {
+void add_denoise_flags(CLI::App* cmd, bool& denoise, bool& guides) {
+  CLI::Option* with = cmd->add_flag(
+      "--denoise", denoise,
+      "When done, the server also writes job-N.denoised.exr and .png, denoised by Intel Open "
+      "Image Denoise with albedo and normal guides (fetch it with `tessera get N --denoised`); "
+      "the raw image is unchanged");
+  cmd->add_flag("--guides", guides,
+                "With --denoise: the raw EXR also holds the guides as channels albedo.R/G/B, "
+                "N.X/Y/Z")
+      ->needs(with);
+}
+
+v1::GetImageResponse download(JobClient& client, uint64_t job_id, const std::string& output,
+                             bool denoised) {
   const v1::ImageFormat format = format_of(output);
-  v1::GetImageResponse image = client.image(job_id, format);
+  v1::GetImageResponse image = client.image(job_id, format, denoised);
   write_file(output, image.data());
   return image;
 }

@@ -30,7 +30,11 @@ int fail(const std::string& line);
 v1::ImageFormat format_of(const std::string& output);
 
 /// Downloads the job's image to `output`; returns what it wrote.
-v1::GetImageResponse download(JobClient& client, uint64_t job_id, const std::string& output);
+/// --denoise and --guides of `tessera submit` (--guides needs --denoise).
+void add_denoise_flags(CLI::App* cmd, bool& denoise, bool& guides);
+
+v1::GetImageResponse download(JobClient& client, uint64_t job_id, const std::string& output,
+                             bool denoised = false);
 
 /// Watches until final: a progress bar on stderr (plain lines when it is no terminal), or with
 /// `json_lines` each update as a JSON line on stdout. Returns the last update.

@@ -93,12 +93,13 @@ v1::JobInfo JobClient::cancel(uint64_t job_id) {
   return response;
 }
 
-v1::GetImageResponse JobClient::image(uint64_t job_id, v1::ImageFormat format) {
+v1::GetImageResponse JobClient::image(uint64_t job_id, v1::ImageFormat format, bool denoised) {
   grpc::ClientContext context;
   prepare(context, std::max(timeout_, kTransferTimeout));
   v1::GetImageRequest request;
   request.set_job_id(job_id);
   request.set_format(format);
+  if (denoised) request.set_denoised(true);
   v1::GetImageResponse response;
   check(stub_->GetImage(&context, request, &response), server_);
   return response;

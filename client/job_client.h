@@ -33,7 +33,8 @@ class JobClient {
   /// One page of ListJobs (job_service.proto): the caller follows next_before_id for more.
   v1::ListJobsResponse list(const v1::ListJobsRequest& request);
   v1::JobInfo cancel(uint64_t job_id);
-  v1::GetImageResponse image(uint64_t job_id, v1::ImageFormat format);
+  /// `denoised`: the denoised image of a job submitted with --denoise.
+  v1::GetImageResponse image(uint64_t job_id, v1::ImageFormat format, bool denoised = false);
   v1::ListWorkersResponse workers();
   /// Ends the worker's quarantine (WorkerService.ReleaseWorker: the token must be the server's
   /// worker token); returns the worker's name.

@@ -100,6 +100,13 @@ void print_status(const v1::JobInfo& job) {
     std::printf("  output    %s\n            %s\n", job.output_exr().c_str(),
                 job.output_png().c_str());
   }
+  if (!job.output_denoised_exr().empty()) {
+    std::printf("  denoised  %s\n            %s\n", job.output_denoised_exr().c_str(),
+                job.output_denoised_png().c_str());
+  }
+  if (!job.denoise_error().empty()) {
+    std::printf("  error     not denoised: %s\n", job.denoise_error().c_str());
+  }
 }
 
 int status(const GlobalOptions& g, uint64_t job_id) {

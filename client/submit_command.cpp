@@ -25,6 +25,8 @@ struct SubmitOptions {
   int priority = 0;
   bool any_build = false;  ///< --any-build: not pinned to one renderer build
   double verify = 0.01;    ///< --verify: spot checks' fraction of units (docs/reliability.md)
+  bool denoise = false;    ///< --denoise: the server writes a denoised image too
+  bool guides = false;     ///< --guides: the raw EXR keeps the denoiser's guides
   bool wait = false;
   std::string output;  ///< implies wait
 };
@@ -42,6 +44,8 @@ v1::SubmitJobRequest submit_request(const SubmitOptions& s) {
   *request.mutable_options() = wire::overrides_to_proto(s.overrides);
   if (s.any_build) request.mutable_options()->set_any_build(true);
   request.mutable_options()->set_verify_rate(s.verify);
+  if (s.denoise) request.mutable_options()->set_denoise(true);
+  if (s.guides) request.mutable_options()->set_guides(true);
   request.set_priority(s.priority);
   return request;
 }
@@ -97,6 +101,7 @@ Command add_submit_command(CLI::App& app, GlobalOptions& g) {
                   "again by another worker and compared bit for bit (0: none)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  add_denoise_flags(cmd, s->denoise, s->guides);
   cmd->add_flag("--wait", s->wait, "Follow the job until it ends (progress on stderr)");
   cmd->add_option("-o,--output", s->output,
                   "Write the final image here (.exr or .png); implies --wait");

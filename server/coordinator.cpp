@@ -13,7 +13,7 @@ Coordinator::Coordinator(const CoordinatorConfig& config, const Clock& clock)
       store_(config.db_path, clock_, config.lease_ms, config.health),
       presence_(store_, events_, clock_, config.nan_report_fraction),
       images_(store_, events_, clock_, JobOutput(config.output_dir, config.output_opener),
-              [this](int64_t job_id) { intake_.checkpoint_job(job_id); }),
+              [this](int64_t job_id) { intake_.checkpoint_job(job_id); }, config.denoise),
       intake_(store_, presence_, events_, clock_, config.merge_cache_bytes,
               [this](int64_t job_id) { images_.finish_job(job_id); },
               config.before_upload_commit),

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,6 +56,8 @@ struct CoordinatorConfig {
   /// migrated); tests make the store's disk full through it (PRAGMA max_page_count). Empty in
   /// the server.
   std::function<void(Database&)> on_store_open;
+  /// Denoises the jobs that ask for it (server/job_denoise.h); null: such jobs are refused.
+  std::shared_ptr<JobDenoise> denoise;
   /// Called as each upload group's commit begins, before it takes the store lock, with the
   /// number of results the group holds (tests line calls up here); empty in the server.
   std::function<void(size_t results)> before_upload_commit;
@@ -90,8 +93,8 @@ class Coordinator {
     return lifecycle_.set_priority(job_id, priority);
   }
   std::string bundle(const std::string& sha256) { return lifecycle_.bundle(sha256); }
-  JobImage image(int64_t job_id, const std::string& format) {
-    return images_.image(job_id, format);
+  JobImage image(int64_t job_id, const std::string& format, bool denoised = false) {
+    return images_.image(job_id, format, denoised);
   }
   /// From memory, no store read: whether the job may still change state (queued or running:
   /// in the lease book); false once it ended (done, failed, cancelled, deleted) or if unknown.

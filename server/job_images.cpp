@@ -1,26 +1,12 @@
 #include "job_images.h"
 
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "farm_error.h"
 #include "store/job_state.h"
 
 namespace tessera::server {
-namespace {
-
-std::optional<std::string> read_whole_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return std::move(ss).str();
-}
-
-}  // namespace
-
 bool JobImages::finishing(int64_t job_id) {
   std::lock_guard lock(finishing_mu_);
   return finishing_.contains(job_id);
@@ -52,6 +38,7 @@ void JobImages::finish_job(int64_t job_id) {
   // the store meanwhile (docs/design.md, "Leases and failures").
   const OutputFiles files = output_.files(record);
   write_output(record, tiles, "is done but its output was not written");
+  if (record.denoise) write_denoised(record, tiles);
   {
     FarmStore::Lock lock(store_);
     {
@@ -65,7 +52,7 @@ void JobImages::finish_job(int64_t job_id) {
   events_.notify(true);
 }
 
-JobImage JobImages::image(int64_t job_id, const std::string& format) {
+JobImage JobImages::image(int64_t job_id, const std::string& format, bool denoised) {
   if (format != "exr" && format != "png") throw invalid_argument("image format must be exr or png");
   JobRecord record;
   {
@@ -79,16 +66,20 @@ JobImage JobImages::image(int64_t job_id, const std::string& format) {
   out.spp = record.spp_merged;
   out.width = record.options.width;
   out.height = record.options.height;
+  if (denoised) {
+    denoised_image(record, format, out);
+    return out;
+  }
   if (out.final) {
     const std::string& path = format == "exr" ? record.output_exr : record.output_png;
-    if (std::optional<std::string> bytes = read_whole_file(path)) {
+    if (std::optional<std::string> bytes = read_output_file(path)) {
       out.bytes = std::move(*bytes);
       return out;
     }
     // The file is missing (it could not be written, or was removed): the merged tiles are still
     // in the store. Write the files again, and encode the answer from the tiles.
     rewrite_missing_output(record);
-    if (std::optional<std::string> bytes = read_whole_file(path)) {
+    if (std::optional<std::string> bytes = read_output_file(path)) {
       out.bytes = std::move(*bytes);
       return out;
     }
@@ -107,7 +98,7 @@ void JobImages::rewrite_missing_outputs() {
     done = store_.jobs().done_outputs();
   }
   for (const DoneOutput& d : done) {
-    if (std::filesystem::exists(d.exr) && std::filesystem::exists(d.png)) continue;
+    if (std::filesystem::exists(d.exr) && std::filesystem::exists(d.png) && !d.denoise) continue;
     std::optional<JobRecord> record;
     {
       FarmStore::Lock lock(store_);
@@ -119,17 +110,24 @@ void JobImages::rewrite_missing_outputs() {
 
 void JobImages::rewrite_missing_output(const JobRecord& record) {
   if (record.state != JobState::done) return;
-  if (std::filesystem::exists(record.output_exr) && std::filesystem::exists(record.output_png)) {
-    return;
-  }
-  write_output(record, checkpointed_tiles(record.id), "writing its output again failed");
+  const auto both = [](const std::filesystem::path& a, const std::filesystem::path& b) {
+    return std::filesystem::exists(a) && std::filesystem::exists(b);
+  };
+  const bool raw_missing = !both(record.output_exr, record.output_png);
+  const OutputFiles denoised = output_.denoised_files(record);
+  const bool denoised_missing = record.denoise && !both(denoised.exr, denoised.png);
+  if (!raw_missing && !denoised_missing) return;
+  const std::vector<TilePosition> tiles = checkpointed_tiles(record.id);
+  if (raw_missing) write_output(record, tiles, "writing its output again failed");
+  if (denoised_missing) write_denoised(record, tiles);
 }
 
 std::string JobImages::write_output(const JobRecord& record, const std::vector<TilePosition>& tiles,
                                     const std::string& context) {
   std::string why;
   try {
-    output_.write(record, tiles, checkpoint_reader(record.id));
+    output_.write(record, tiles, checkpoint_reader(record.id),
+                  record.guides ? guide_reader(record, tiles) : TileGuideReader{});
   } catch (const std::exception& e) {
     why = e.what();
     if (why.empty()) why = "unknown error";
@@ -155,10 +153,19 @@ std::string JobImages::write_output(const JobRecord& record, const std::vector<T
 void JobImages::forget(int64_t job_id) {
   std::lock_guard guard(finishing_mu_);
   output_errors_.erase(job_id);
+  denoise_errors_.erase(job_id);
 }
 
 void JobImages::describe_output(JobRecord& record) {
   std::lock_guard guard(finishing_mu_);
+  if (record.denoise && record.state == JobState::done) {
+    const OutputFiles denoised = output_.denoised_files(record);
+    if (std::filesystem::exists(denoised.exr)) record.output_denoised_exr = denoised.exr.string();
+    if (std::filesystem::exists(denoised.png)) record.output_denoised_png = denoised.png.string();
+    if (const auto it = denoise_errors_.find(record.id); it != denoise_errors_.end()) {
+      record.denoise_error = it->second;
+    }
+  }
   const auto it = output_errors_.find(record.id);
   if (it == output_errors_.end() || record.state != JobState::done) return;
   record.output_error = it->second;

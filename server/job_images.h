@@ -7,12 +7,14 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <string>
 
 #include "farm_events.h"
 #include "farm_store.h"
+#include "job_denoise.h"
 #include "job_output.h"
 #include "store/job_record.h"
 
@@ -31,26 +33,35 @@ class JobImages {
   /// (TileMerger::checkpoint_job); called under the store's lock before the tiles are read.
   using CheckpointSums = std::function<void(int64_t job_id)>;
 
+  /// `denoise` null: jobs asking for denoise are refused (JobDenoise::check_submit).
   JobImages(FarmStore& store, FarmEvents& events, const Clock& clock, JobOutput output,
-            CheckpointSums checkpoint_sums)
+            CheckpointSums checkpoint_sums, std::shared_ptr<JobDenoise> denoise = nullptr)
       : store_(store),
         events_(events),
         clock_(clock),
         output_(std::move(output)),
-        checkpoint_sums_(std::move(checkpoint_sums)) {}
+        checkpoint_sums_(std::move(checkpoint_sums)),
+        denoise_(std::move(denoise)) {}
+
+  /// At submit, for a job asking for denoise: throws FarmError when this server cannot
+  /// denoise it (JobDenoise::check_submit).
+  void check_denoise(int width, int height) const;
 
   /// Writes the output of a running job whose every unit is merged (or whose time is up) and
   /// marks it done (or failed with the reason). Does nothing for a job that is not running, is
   /// being finished by another call, or is not ready to stop.
   void finish_job(int64_t job_id);
   /// `format` is "exr" or "png". The final output when the job is done, else a preview.
-  JobImage image(int64_t job_id, const std::string& format);
+  /// `denoised` (a denoise job's only, else FarmError failed_precondition): the denoised file
+  /// when done, else the merged tiles so far denoised now.
+  JobImage image(int64_t job_id, const std::string& format, bool denoised = false);
   /// At start-up: the done jobs whose output could not be written (a full disk) get their files.
   void rewrite_missing_outputs();
   /// Whether the job's output is being written (a delete waits). Requires the store's lock.
   bool finishing(int64_t job_id);
   /// What a caller is told about `record`'s files: when the last write of them failed, its
-  /// reason in output_error and no output paths (the files do not exist); else unchanged.
+  /// reason in output_error and no output paths (the files do not exist); else unchanged. A
+  /// done denoise job's denoised files, when they exist, or why they were not written.
   void describe_output(JobRecord& record);
   /// Forgets a deleted job's output error.
   void forget(int64_t job_id);
@@ -70,6 +81,16 @@ class JobImages {
   std::vector<TilePosition> checkpointed_tiles(int64_t job_id, bool preview = false);
   /// Reads a job's tile checkpoints for JobOutput::write, each under the store's lock.
   TileCheckpointReader checkpoint_reader(int64_t job_id);
+  /// Reads a denoise job's merged guides of each of `tiles` (merge_tile_guides), each tile's
+  /// rows under the store's lock and merged outside it.
+  TileGuideReader guide_reader(const JobRecord& record, std::vector<TilePosition> tiles);
+  /// A denoise job's merged image (and its guides, when every tile has them) denoised.
+  JobDenoise::Denoised denoised(const JobRecord& record, const std::vector<TilePosition>& tiles);
+  /// Writes a done denoise job's denoised files; a failure is logged and remembered for
+  /// describe_output until a write succeeds.
+  void write_denoised(const JobRecord& record, const std::vector<TilePosition>& tiles);
+  /// The denoised image a caller asks for (image() with `denoised`).
+  void denoised_image(const JobRecord& record, const std::string& format, JobImage& out);
 
   FarmStore& store_;
   FarmEvents& events_;
@@ -82,6 +103,9 @@ class JobImages {
   std::set<int64_t> finishing_;  ///< guarded by finishing_mu_
   /// Done jobs whose last output write failed, and why; guarded by finishing_mu_.
   std::map<int64_t, std::string> output_errors_;
+  std::shared_ptr<JobDenoise> denoise_;
+  /// Done denoise jobs whose last denoised write failed, and why; guarded by finishing_mu_.
+  std::map<int64_t, std::string> denoise_errors_;
 };
 
 }  // namespace tessera::server

@@ -115,6 +115,10 @@ NewJob JobLifecycle::validated(const v1::SceneBundle& bundle, const v1::JobReque
     throw invalid_argument("verify rate must be in [0, 1] (0: no spot checks); got " +
                            std::to_string(options.verify_rate()));
   }
+  job.denoise = options.has_denoise() && options.denoise();
+  job.guides = job.denoise && options.has_guides() && options.guides();
+  if (options.guides() && !job.denoise) throw invalid_argument("--guides needs --denoise");
+  if (job.denoise) images_.check_denoise(resolved.width, resolved.height);
   return job;
 }
 
@@ -212,11 +216,13 @@ void JobLifecycle::remove(int64_t job_id) {
       case DeleteOutcome::deleted: break;
     }
     intake_.forget_job(job_id);
+    images_.describe_output(*record);  // its denoised files too
     images_.forget(job_id);
     store_.book().drop_job(job_id);
   }
   // The job is gone from the store: its files are nobody's now.
-  for (const std::string& file : {record->output_exr, record->output_png}) {
+  for (const std::string& file : {record->output_exr, record->output_png,
+                                   record->output_denoised_exr, record->output_denoised_png}) {
     std::error_code ec;
     if (!file.empty()) std::filesystem::remove(file, ec);
   }

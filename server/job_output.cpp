@@ -1,10 +1,14 @@
 #include "job_output.h"
 
+#include <algorithm>
+#include <fstream>
 #include <map>
+#include <sstream>
 #include <system_error>
 
 #include "accum/accumulation_codec.h"
 #include "accum/film.h"
+#include "denoise/denoised_outputs.h"
 #include "job/provenance.h"
 #include "job/tile_summary.h"
 #include "wire/job_options_wire.h"
@@ -19,6 +23,14 @@ std::string joined(const std::vector<std::string>& items, const char* separator 
 }
 
 }  // namespace
+
+std::optional<std::string> read_output_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return std::move(ss).str();
+}
 
 JobOutput::JobOutput(std::filesystem::path output_dir, ImageFileOpener opener)
     : dir_(std::move(output_dir)), opener_(std::move(opener)) {
@@ -59,8 +71,8 @@ OutputFiles JobOutput::files(const JobRecord& job) const {
 }
 
 void JobOutput::for_each_band(const JobRecord& job, const std::vector<TilePosition>& tiles,
-                              const TileCheckpointReader& checkpoint,
-                              const std::function<void(const RgbImage&, const std::vector<ExtraChannel>&)>& band_fn) {
+                              const TileCheckpointReader& checkpoint, const TileGuideReader& guides,
+                              const BandFn& band_fn) {
   const int width = job.options.width, height = job.options.height;
   const std::string what = "job " + std::to_string(job.id) + "'s image";
   // The rows of tiles, top to bottom, each tile's index in x order.
@@ -82,6 +94,7 @@ void JobOutput::for_each_band(const JobRecord& job, const std::vector<TilePositi
     band.rgb.assign(size_t(width) * size_t(rows) * 3, 0.0f);
     std::vector<TileRect> band_rects;  // the row's tiles in the band's rows, and their spp
     std::vector<uint32_t> band_spp;
+    std::vector<GuideTile> band_guides;  // the row's tiles' guides in the band's rows
     for (const uint32_t t : row) {
       const TilePosition& tile = tiles[t];
       if (tile.rect.y1 - tile.rect.y0 != rows || tile.rect.x0 < 0 || tile.rect.x1 > width) {
@@ -101,8 +114,18 @@ void JobOutput::for_each_band(const JobRecord& job, const std::vector<TilePositi
         band_rects.push_back({tile.rect.x0, 0, tile.rect.x1, rows});
         band_spp.push_back(tile.next_batch == 0 ? 0 : plan.batch_end(tile.next_batch - 1));
       }
+      if (guides) {
+        band_guides.push_back(guides(t));
+        band_guides.back().rect = {tile.rect.x0, 0, tile.rect.x1, rows};
+      }
     }
     if (with_spp) extra[0].values = spp_channel(width, rows, band_rects, band_spp);
+    extra.resize(with_spp ? 1 : 0);
+    if (guides) {
+      for (ExtraChannel& c : guide_channels(resolve_guides(width, rows, band_guides))) {
+        extra.push_back(std::move(c));
+      }
+    }
     band_fn(band, extra);
     next_row = y0 + rows;
   }
@@ -117,11 +140,17 @@ ImageWriteOptions JobOutput::file_options(const JobRecord& job) {
   options.metadata = provenance(job);
   // For `noise` and `time` jobs, each pixel's merged samples per pixel (its tile's), after R, G, B.
   if (job.options.rule != StopRule::spp) options.extra_channels = {{"spp", {}}};
+  if (job.guides) {
+    for (const char* name : {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z"}) {
+      options.extra_channels.push_back({name, {}});
+    }
+  }
   return options;
 }
 
 OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TilePosition>& tiles,
-                             const TileCheckpointReader& checkpoint) const {
+                             const TileCheckpointReader& checkpoint,
+                             const TileGuideReader& guides) const {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec) throw std::runtime_error(dir_.string() + ": cannot create: " + ec.message());
@@ -129,7 +158,8 @@ OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TilePositio
   const OutputFiles out = files(job);
   ImageFileStream exr = opener_(out.exr, job.options.width, job.options.height, options);
   ImageFileStream png = opener_(out.png, job.options.width, job.options.height, options);
-  for_each_band(job, tiles, checkpoint, [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
+  const TileGuideReader with_guides = job.guides ? guides : TileGuideReader{};
+  for_each_band(job, tiles, checkpoint, with_guides, [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
     exr.write_rows(band, extra);
     png.write_rows(band);
   });
@@ -139,15 +169,63 @@ OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TilePositio
 }
 
 std::string JobOutput::encode(const JobRecord& job, const std::vector<TilePosition>& tiles,
-                              const TileCheckpointReader& checkpoint, const std::string& format) {
+                              const TileCheckpointReader& checkpoint, const std::string& format,
+                              const TileGuideReader& guides) {
   ImageWriteOptions options = file_options(job);
   if (format != "exr") options.extra_channels.clear();
   ImageFileStream stream = ImageFileStream::in_memory(format, job.options.width, job.options.height, options);
-  for_each_band(job, tiles, checkpoint, [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
+  const TileGuideReader with_guides = job.guides && format == "exr" ? guides : TileGuideReader{};
+  for_each_band(job, tiles, checkpoint, with_guides, [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
     stream.write_rows(band, format == "exr" ? extra : std::vector<ExtraChannel>{});
   });
   stream.finish();
   return stream.take_bytes();
+}
+
+RgbImage JobOutput::assemble(const JobRecord& job, const std::vector<TilePosition>& tiles,
+                             const TileCheckpointReader& checkpoint) {
+  RgbImage image{job.options.width, job.options.height,
+                 std::vector<float>(size_t(job.options.width) * size_t(job.options.height) * 3)};
+  size_t at = 0;
+  for_each_band(job, tiles, checkpoint, {}, [&](const RgbImage& band, const std::vector<ExtraChannel>&) {
+    std::copy(band.rgb.begin(), band.rgb.end(), image.rgb.begin() + ptrdiff_t(at));
+    at += band.rgb.size();
+  });
+  return image;
+}
+
+OutputFiles JobOutput::denoised_files(const JobRecord& job) const {
+  const OutputFiles raw = files(job);
+  const std::vector<std::string> paths = denoised_output_paths({raw.exr.string(), raw.png.string()});
+  // [stem.denoised.exr, stem.denoised.png] (the PNG's EXR is the first one).
+  return {paths.at(0), paths.at(1)};
+}
+
+ImageWriteOptions JobOutput::denoised_options(const JobRecord& job, const std::string& denoiser,
+                                              double seconds) {
+  ImageWriteOptions options;
+  options.metadata = provenance(job);
+  options.metadata["tessera:denoiser"] = denoiser;
+  options.metadata["tessera:denoise_s"] = std::to_string(seconds);
+  return options;
+}
+
+OutputFiles JobOutput::write_denoised(const JobRecord& job, const RgbImage& denoised,
+                                      const std::string& denoiser, double seconds) const {
+  const ImageWriteOptions options = denoised_options(job, denoiser, seconds);
+  const OutputFiles out = denoised_files(job);
+  for (const std::filesystem::path& path : {out.exr, out.png}) {
+    ImageFileStream file = opener_(path, denoised.width, denoised.height, options);
+    file.write_rows(denoised);
+    file.finish();
+  }
+  return out;
+}
+
+std::string JobOutput::encode_denoised(const JobRecord& job, const RgbImage& denoised,
+                                       const std::string& denoiser, double seconds,
+                                       const std::string& format) {
+  return encode_image(denoised, format, denoised_options(job, denoiser, seconds));
 }
 
 }  // namespace tessera::server

@@ -192,8 +192,9 @@ grpc::Status JobServiceImpl::GetImage(grpc::ServerContext* context,
     if (format != v1::IMAGE_FORMAT_EXR && format != v1::IMAGE_FORMAT_PNG) {
       throw FarmError(ErrorCode::invalid_argument, "unknown image format");
     }
-    JobImage image =
-        coordinator_.image(job_id_of(request->job_id()), format == v1::IMAGE_FORMAT_EXR ? "exr" : "png");
+    JobImage image = coordinator_.image(job_id_of(request->job_id()),
+                                        format == v1::IMAGE_FORMAT_EXR ? "exr" : "png",
+                                        request->denoised());
     response->set_data(std::move(image.bytes));
     response->set_format(format);
     response->set_final(image.final);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "accum/guide_tile.h"
 #include "call_trace.h"
 #include "store/jobs_table.h"
 
@@ -209,8 +210,12 @@ void LeaseBook::tile_merged(int64_t job_id, uint32_t tile, uint32_t next_batch, 
 }
 
 LeasedUnit LeaseBook::leased_unit(const Job& job, const Lease& lease) const {
-  return LeasedUnit{lease, job.rects[lease.tile], job.plan.batch_begin(lease.batch),
-                    job.plan.batch_end(lease.batch), job.spec.options, job.spec.bundle_sha256};
+  LeasedUnit unit{lease, job.rects[lease.tile], job.plan.batch_begin(lease.batch),
+                  job.plan.batch_end(lease.batch), job.spec.options, job.spec.bundle_sha256};
+  if (job.spec.guides && unit.sample_begin < kGuideSamples) {
+    unit.guide_sample_end = std::min(unit.sample_end, kGuideSamples);
+  }
+  return unit;
 }
 
 std::vector<LeasedUnit> LeaseBook::lease_up_to(int64_t worker_id, uint32_t max_units,

@@ -52,6 +52,9 @@ struct LeasedUnit {
   uint32_t sample_begin = 0, sample_end = 0;
   JobOptions options;
   std::string bundle_sha256;
+  /// A denoise job's unit over the guides' first samples renders their guides too, of samples
+  /// [sample_begin, guide_sample_end); 0: no guides.
+  uint32_t guide_sample_end = 0;
   /// Pixel samples the unit renders: the tile's pixels times the batch's samples per pixel.
   uint64_t samples() const { return uint64_t(rect.pixel_count()) * (sample_end - sample_begin); }
 };

@@ -73,6 +73,11 @@ v1::JobInfo to_proto(const JobRecord& job) {
   out.set_verify_rate(job.verify_rate);
   out.set_units_checked(job.units_checked);
   out.set_units_unverified(job.units_unverified);
+  out.set_denoise(job.denoise);
+  out.set_guides(job.guides);
+  out.set_output_denoised_exr(job.output_denoised_exr);
+  out.set_output_denoised_png(job.output_denoised_png);
+  out.set_denoise_error(job.denoise_error);
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "accum/accumulation_codec.h"
+#include "accum/guide_tile_codec.h"
 #include "call_trace.h"
 #include "farm_error.h"
 
@@ -14,6 +15,17 @@ namespace {
 /// Names result i in errors when the call carries several.
 std::string which_result(const std::vector<UnitResult>& results, size_t i) {
   return results.size() > 1 ? "result " + std::to_string(i) + ": " : std::string();
+}
+
+/// A result's guides (a denoise job's) decode and cover its tile, checked outside the lock;
+/// they are stored as uploaded.
+void check_guides(const UnitResult& r, const TileRect& rect, const std::string& which) {
+  if (r.guides.empty()) return;
+  try {
+    decode_guide_tile(r.guides, rect);
+  } catch (const CodecError& e) {
+    throw invalid_argument(which + "guides do not decode: " + e.what());
+  }
 }
 
 }  // namespace
@@ -31,6 +43,7 @@ std::vector<AcceptOutcome> ResultIntake::upload_all(const std::vector<UnitResult
     } catch (const CodecError& e) {
       throw invalid_argument(which_result(results, i) + "result does not decode: " + e.what());
     }
+    check_guides(results[i], decoded[i].rect, which_result(results, i));
     uploads.push_back({&results[i], &decoded[i]});
   }
   call_trace::record("decode", decode_ns, call_trace::now_ns(), int64_t(results.size()));

@@ -12,6 +12,7 @@
 #include "job/stopping_rule.h"
 #include "store/job_state.h"
 #include "job_store.h"
+#include "store/guide_results_table.h"
 #include "store/job_contributors_table.h"
 #include "store/jobs_table.h"
 #include "store/results_table.h"
@@ -134,6 +135,8 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, Accumulatio
   for (uint32_t n : decoded.count) outcome.samples += n;
   staged.ledger.delivered(r.worker_id, outcome.samples, decoded.nan_dropped, decoded.inf_dropped);
   staged.ledger.contributed({r.job_id, r.worker_id, r.isa});
+  // A denoise job's guides (checked by the intake) wait for the image in a table of their own.
+  if (!r.guides.empty()) GuideResultsTable(db_).put(r.job_id, r.tile, r.batch, r.guides);
   MergedCounts merged;
   if (r.batch == unit.next_batch) {
     merged = merge(r, unit, decoded, staged, outcome);

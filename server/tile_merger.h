@@ -49,6 +49,7 @@ struct UnitResult {
   std::string encoded;  ///< encode_accumulation bytes, as uploaded (stored if it must wait)
   std::string isa;      ///< the ISA the worker rendered with
   uint32_t render_ms = 0;  ///< wall time the worker says it rendered the unit (its rate)
+  std::string guides;      ///< encode_guide_tile bytes of a denoise job's unit; empty: none
 };
 
 struct AcceptOutcome {

@@ -45,6 +45,7 @@ void fill_unit(const LeasedUnit& unit, v1::WorkUnit* u) {
   u->set_sample_end(unit.sample_end);
   *u->mutable_options() = wire::options_to_proto(unit.options);
   u->set_bundle_sha256(unit.bundle_sha256);
+  if (unit.guide_sample_end > 0) u->set_guide_sample_end(unit.guide_sample_end);
 }
 
 }  // namespace
@@ -136,6 +137,7 @@ UnitResult result_of(const v1::UploadResultRequest& request, uint64_t worker_id)
   result.encoded = request.accumulation();
   result.isa = request.isa();
   result.render_ms = request.render_ms();
+  result.guides = request.guides();
   return result;
 }
 

@@ -1,7 +1,8 @@
 // The denoiser's guides (denoise/denoiser.h) of one tile: per pixel, the sums over its samples
-// of the albedo and the shading normal that each camera sample found (guide_tracer.h), summed
-// in sample order and merged batch by batch in batch order, as a tile's colour is, so that they
-// depend only on (seed, pixel, sample) and never on threads or tiling.
+// of the albedo and the shading normal that each camera sample found (the worker's
+// render/guides/guide_tracer.h), summed in sample order and merged batch by batch in batch
+// order, as a tile's colour is, so that they depend only on (seed, pixel, sample) and never on
+// threads or tiling. In core: the server merges a farm job's guides (server/job_guides.h).
 #pragma once
 
 #include <cstdint>

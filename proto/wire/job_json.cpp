@@ -84,6 +84,11 @@ nlohmann::json job_json(const v1::JobInfo& job) {
       {"verify_rate", job.verify_rate()},
       {"units_checked", job.units_checked()},
       {"units_unverified", job.units_unverified()},
+      {"denoise", job.denoise()},
+      {"guides", job.guides()},
+      {"output_denoised_exr", job.output_denoised_exr()},
+      {"output_denoised_png", job.output_denoised_png()},
+      {"denoise_error", job.denoise_error()},
       {"worker_isas", isas},
       {"renderer_builds", builds},
   };

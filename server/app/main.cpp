@@ -220,13 +220,19 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   ImageModuleLoader image_module_loader;  // beside the store's opening; waited for below
   ts::SystemClock clock;
   ts::FarmMetrics metrics(clock);  // the dashboard's rates, fed by every answered upload
-  ts::Coordinator coordinator(coordinator_config(flags), clock);
+  // The server's memory budget: submit checks and denoises (server/job_denoise.h) reserve in it.
+  ts::SubmitBudget submit_budget(flags.submit_memory_mb << 20);
+  ts::CoordinatorConfig config = coordinator_config(flags);
+  config.denoise = std::make_shared<ts::JobDenoise>(
+      tessera::oidn_library_candidates(tessera::named_oidn_library(flags.oidn_library),
+                                       tessera::configured_oidn_library()),
+      &submit_budget);
+  ts::Coordinator coordinator(config, clock);
   coordinator.set_upload_observer(&metrics);
   const int resumed = coordinator.resume();
 
   tessera::wire::BearerTokenCheck client_auth(tokens.client);
   tessera::wire::BearerTokenCheck worker_auth(tokens.worker);
-  ts::SubmitBudget submit_budget(flags.submit_memory_mb << 20);
   metrics.set_submit_budget(&submit_budget);
   ts::JobServiceImpl job_service(coordinator, client_auth,
                                  {&submit_budget, flags.max_texture_values});

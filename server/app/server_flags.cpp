@@ -205,6 +205,10 @@ void add_submit_flags(CLI::App& app, Flags& flags) {
                "environment maps); the default, a 16384 x 8192 RGBA map, is also the local CLI's "
                "limit and the most this flag allows")
       ->check(CLI::Range(uint64_t(1), kMaxImageValues));
+  app.add_option("--oidn-library", flags.oidn_library,
+                 "libOpenImageDenoise.so.2 for jobs submitted with --denoise (default: "
+                 "TESSERA_OIDN_LIBRARY, else the one found at build time, else the system's); "
+                 "without it such jobs are refused");
 }
 
 }  // namespace

@@ -41,6 +41,7 @@ struct Flags {
   double http_head_timeout_s = 10;         ///< --http-head-timeout
   uint64_t submit_memory_mb = 2048;                ///< --submit-memory-mb
   uint64_t max_texture_values = kMaxImageValues;  ///< --max-texture-values
+  std::string oidn_library;  ///< --oidn-library ("" = TESSERA_OIDN_LIBRARY, then the search)
 };
 
 /// Registers every flag of tessera-server on `app`, bound to `flags`.

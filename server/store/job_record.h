@@ -67,6 +67,11 @@ struct JobRecord {
   /// Filled by the coordinator (SpotChecks, since the server started): units checked and
   /// agreed, units merged without the check they were due.
   uint64_t units_checked = 0, units_unverified = 0;
+  bool denoise = false;  ///< --denoise: denoised files beside the raw ones (server/job_denoise.h)
+  bool guides = false;   ///< --guides: the raw EXR holds the denoiser's guides as channels
+  /// Filled by the coordinator for a done denoise job: its denoised files once written, or why
+  /// they were not. Not stored: the files' existence is the state.
+  std::string output_denoised_exr, output_denoised_png, denoise_error;
 
   /// Samples merged over samples asked, in [0, 1]; exactly 1 when every unit is merged. For
   /// `noise` and `time` jobs, units settled (done or skipped) over units (a time job: at least
@@ -91,12 +96,15 @@ struct TileRecord {
 struct JobSpec {
   JobOptions options;
   std::string bundle_sha256;
+  /// The job denoises: its units over the guides' first samples render the guides too.
+  bool guides = false;
 };
 
 /// Where a done job's output files are.
 struct DoneOutput {
   int64_t job_id = 0;
   std::string exr, png;
+  bool denoise = false;  ///< its denoised files are due too
 };
 
 struct NewJob {
@@ -107,6 +115,8 @@ struct NewJob {
   int priority = 0;
   bool any_build = false;  ///< --any-build: never pinned to one renderer build
   double verify_rate = 0;  ///< --verify: spot checks' sampled fraction of units
+  bool denoise = false;    ///< --denoise
+  bool guides = false;     ///< --guides (with denoise)
 };
 
 }  // namespace tessera::server

@@ -35,7 +35,7 @@ constexpr const char* kJobColumns = R"sql(
   NOT EXISTS (SELECT 1 FROM units u WHERE u.job_id = j.id AND u.state IN ('queued', 'leased'))
     AND NOT EXISTS (SELECT 1 FROM tile_queue q WHERE q.job_id = j.id
                     AND q.next_lease < q.lease_end),
-  j.batch_schedule, j.any_build, j.pinned_build, j.verify_rate
+  j.batch_schedule, j.any_build, j.pinned_build, j.verify_rate, j.denoise, j.guides
 )sql";
 
 JobRecord read_job(const Statement& q) {
@@ -92,6 +92,8 @@ JobRecord read_job(const Statement& q) {
   if (!q.is_null(c)) r.pinned_build = q.text(c);
   ++c;
   r.verify_rate = q.real(c++);
+  r.denoise = q.int64(c++) != 0;
+  r.guides = q.int64(c++) != 0;
   return r;
 }
 
@@ -157,7 +159,7 @@ JobPage JobsTable::page(const JobQuery& query) {
 std::optional<JobSpec> JobsTable::spec(int64_t job_id) {
   auto q = db_.prepare(
       "SELECT width, height, spp, max_depth, seed, tile_size, batch_spp, isa, stop_rule,"
-      " time_budget_ms, noise_target, bundle_sha256, batch_schedule FROM jobs WHERE id = ?");
+      " time_budget_ms, noise_target, bundle_sha256, batch_schedule, denoise FROM jobs WHERE id = ?");
   q->bind(1, job_id);
   if (!q->step()) return std::nullopt;
   JobSpec spec;
@@ -175,6 +177,7 @@ std::optional<JobSpec> JobsTable::spec(int64_t job_id) {
   o.noise_target = q->real(10);
   spec.bundle_sha256 = q->text(11);
   o.batch_kind = batch_kind_from_string(q->text(12)).value_or(BatchKind::fixed);
+  spec.guides = q->int64(13) != 0;
   return spec;
 }
 
@@ -194,9 +197,12 @@ std::vector<int64_t> JobsTable::unfinished() {
 }
 
 std::vector<DoneOutput> JobsTable::done_outputs() {
-  return db_.prepare("SELECT id, output_exr, output_png FROM jobs WHERE state = ? ORDER BY id")
+  return db_
+      .prepare("SELECT id, output_exr, output_png, denoise FROM jobs WHERE state = ? ORDER BY id")
       ->bind_all(s(JobState::done))
-      .rows([](const Statement& r) { return DoneOutput{r.int64(0), r.text(1), r.text(2)}; });
+      .rows([](const Statement& r) {
+        return DoneOutput{r.int64(0), r.text(1), r.text(2), r.int64(3) != 0};
+      });
 }
 
 std::vector<int64_t> JobsTable::finished_before(int64_t before) {
@@ -266,6 +272,11 @@ int64_t JobsTable::insert(const NewJob& job, uint32_t tile_count, uint32_t batch
     db_.prepare("UPDATE jobs SET verify_rate = ? WHERE id = ?")
         ->bind(1, job.verify_rate)
         .bind(2, id)
+        .run();
+  }
+  if (job.denoise) {
+    db_.prepare("UPDATE jobs SET denoise = 1, guides = ? WHERE id = ?")
+        ->bind_all(int64_t(job.guides), id)
         .run();
   }
   return id;

@@ -317,6 +317,23 @@ CREATE TABLE worker_quarantines (
   finished_jobs TEXT NOT NULL  -- done jobs with its results then: "3,5,8"
 );
 )sql"},
+      {13, "denoising: the jobs' flags and their units' guides", R"sql(
+-- denoise = 1: the job's workers render the denoiser's guides over each pixel's first samples
+-- and the server writes job-N.denoised.exr beside the raw files; guides = 1: the raw EXR holds
+-- the guides as channels too.
+ALTER TABLE jobs ADD COLUMN denoise INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN guides INTEGER NOT NULL DEFAULT 0;
+-- The guides of each accepted unit that has them (encode_guide_tile, as uploaded), merged per
+-- tile in batch order over the tile's merged batches when the image is written.
+CREATE TABLE guide_results (
+  job_id  INTEGER NOT NULL,
+  tile    INTEGER NOT NULL,
+  batch   INTEGER NOT NULL,
+  guides  BLOB NOT NULL,
+  PRIMARY KEY (job_id, tile, batch),
+  FOREIGN KEY (job_id, tile) REFERENCES tiles (job_id, tile) ON DELETE CASCADE
+);
+)sql"},
   };
   return kMigrations;
 }

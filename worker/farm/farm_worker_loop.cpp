@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "accum/accumulation_codec.h"
+#include "accum/guide_tile_codec.h"
 #include "call_errors.h"
 #include "fault_seam.h"
 #include "render/renderer_build.h"
@@ -333,6 +334,15 @@ std::optional<v1::UploadResultRequest> FarmWorker::render(
   request.set_accumulation(encode_accumulation(faulty ? flipped : rendered.result, kUploadEffort));
   request.set_isa(renderer->isa());
   request.set_render_ms(uint32_t(rendered.elapsed.count()));
+  // A denoise job's unit over the guides' first samples: its guides too, as a local render's.
+  if (unit.guide_sample_end() > unit.sample_begin()) {
+    GuideTile guides;
+    arena_.execute([&] {
+      guides = renderer->render_guides(tile, unit.sample_begin(),
+                                       std::min(unit.guide_sample_end(), unit.sample_end()));
+    });
+    request.set_guides(encode_guide_tile(guides, kUploadEffort));
+  }
   return request;
 }
 
