@@ -357,7 +357,9 @@ std::string exact_route(std::string_view path) {
 void send_image(DashboardApi& api, const HttpRequest& req, HttpResponse& res,
                 const std::string& format) {
   api.guarded(res, [&] {
-    const JobImage image = api.coordinator().image(job_id_of(req), format);
+    // ?denoised=1: a --denoise job's denoised image (the file when done, else denoised now).
+    const JobImage image =
+        api.coordinator().image(job_id_of(req), format, req.param("denoised") == "1");
     res.set_header("Cache-Control", "no-store");
     res.set_header("X-Tessera-Final", image.final ? "true" : "false");
     res.set_header("X-Tessera-Spp", std::to_string(image.spp));

@@ -29,19 +29,27 @@ function renderHeading(j) {
 }
 
 // A new preview only when more results are merged; fetched with the token, then swapped in.
+// A --denoise job shows its raw or denoised image (the toggle); the server denoises a running
+// job's preview on each request, so the denoised one is asked again only when its spp grows.
 function renderPreview(j) {
-  const key = `${j.id}:${j.counters.results_merged}:${j.state}`;
+  const denoised = j.denoise && state.imageKind === 'denoised';
+  $('#image-kind').hidden = !j.denoise;
+  const key = denoised ? `${j.id}:denoised:${j.spp_merged}:${j.state}`
+    : `${j.id}:${j.counters.results_merged}:${j.state}`;
   if (key === state.previewKey) return;
   state.previewKey = key;
-  imageUrl(`${j.preview_url}?v=${encodeURIComponent(key)}`).then((url) => {
+  const url = `${j.preview_url}?${denoised ? 'denoised=1&' : ''}v=${encodeURIComponent(key)}`;
+  imageUrl(url).then((url) => {
     if (!url) return;
     if (state.detail?.id !== j.id || state.previewKey !== key) { URL.revokeObjectURL(url); return; }
     const p = $('#preview');
     if (p.src.startsWith('blob:')) URL.revokeObjectURL(p.src);
     p.src = url;
     p.dataset.version = key;
+    // The error estimate is the raw image's, denoised or not: the denoiser's own error is unknown.
     $('#preview-caption').textContent =
-      `${j.spp_merged} spp merged${j.state === 'done' ? ' (final)' : ''} · ${j.options.width}×${j.options.height}`;
+      `${denoised ? 'denoised · ' : ''}${j.spp_merged} spp merged${j.state === 'done' ? ' (final)' : ''}`
+      + ` · ${j.options.width}×${j.options.height} · raw est. error ${errorText(j.relative_error)}`;
   });
 }
 
@@ -80,6 +88,17 @@ export function renderDetail() {
   renderPreview(j);
   drawTileMap(j);
   renderFacts(j);
+}
+
+/// Switches a --denoise job's preview between its raw and denoised image.
+export function installImageKind() {
+  for (const r of document.querySelectorAll('input[name="image-kind"]')) {
+    r.addEventListener('change', () => {
+      state.imageKind = r.value;
+      state.previewKey = '';
+      if (state.detail) renderPreview(state.detail);
+    });
+  }
 }
 
 /// Forgets the preview shown (a job was selected; the next detail fetches its own).

@@ -4,6 +4,8 @@
 // newest), `newer` the cursors of the pages before it (for Newer), `total` the jobs that
 // match, `nextBefore` the next page's cursor (null on the last page). `again`: a refresh was
 // asked for while one was under way.
+// `imageKind`: the preview shown of a --denoise job, 'raw' or 'denoised'.
 export const state = { jobs: [], workers: [], selected: null, detail: null, previewKey: '',
+                       imageKind: 'raw',
                        metric: 'spp', timer: null, busy: false, again: false,
                        filter: '', before: null, newer: [], total: 0, nextBefore: null };
