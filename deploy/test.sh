@@ -210,9 +210,10 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
-# A small build context: the host's binaries and the image scripts only.
+# A small build context: the host's binaries, its Open Image Denoise and the image scripts only.
 mkdir -p "$WORK/ctx/build/bin" "$WORK/ctx/deploy"
 cp "$BIN/tessera-server" "$BIN/tessera-worker" "$BIN/tessera" "$WORK/ctx/build/bin/"
+"$ROOT/scripts/install-deps.sh" --oidn-runtime "$WORK/ctx/build/oidn"
 cp -r "$DEPLOY/bin" "$WORK/ctx/deploy/"
 t0=$SECONDS
 for target in server worker; do
@@ -235,6 +236,13 @@ for pair in "$SERVER_IMAGE tessera-server" "$WORKER_IMAGE tessera-worker"; do
   [ -n "$(pod image inspect --format '{{.Config.Healthcheck}}' "$1" | grep -v '<nil>')" ] \
     || die "$1 has no HEALTHCHECK"
 done
+# The images carry Open Image Denoise: the worker denoises a 16x16 render.
+if ! pod run --rm --entrypoint tessera-worker -v "$ROOT/scenes:/scenes:ro" "$WORKER_IMAGE" \
+    render /scenes/cornell.json --width 16 --height 16 --spp 1 --denoise -q -o /tmp/d.exr \
+    >"$WORK/denoise.log" 2>&1; then
+  cat "$WORK/denoise.log" >&2
+  die "$WORKER_IMAGE cannot denoise (Open Image Denoise missing from the image?)"
+fi
 
 # ---- 3. the farm
 TOKEN="$(od -An -tx1 -N32 /dev/urandom | tr -d ' \n')"

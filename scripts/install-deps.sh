@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Tessera builds and runs with; with --test, also what the test
 # suite needs (scripts/test.sh passes it); then Intel Open Image Denoise (install_oidn below).
+# With --oidn-only, Open Image Denoise alone (and Python to install it). With --oidn-runtime DEST,
+# nothing is installed: the installed library's files a binary needs at run time (the library,
+# its core, CPU device and TBB) are copied into DEST (the container images, deploy/Dockerfile).
 # Idempotent.
 set -euo pipefail
 
@@ -10,6 +13,24 @@ set -euo pipefail
 # libOpenImageDenoise.so.2 there at configure time (TESSERA_OIDN_LIBRARY). Skipped when present.
 OIDN_PREFIX="${TESSERA_OIDN_PREFIX:-/opt/tessera-oidn}"
 OIDN_WHEEL="pyoidn==2.5.1.0"
+# The runtime files of the installed OIDN (55 of the wheel's 171 MB: no GPU devices) into $1. Its
+# run path is $ORIGIN/../lib, so DEST should be a folder named lib.
+copy_oidn_runtime() {
+  local lib
+  lib="$(ls -d "$OIDN_PREFIX"/lib/python3*/site-packages/pyoidn/oidn/lib 2>/dev/null | sort | tail -1)"
+  if [ -z "$lib" ]; then
+    echo "install-deps: no Open Image Denoise under $OIDN_PREFIX: run scripts/install-deps.sh" >&2
+    exit 1
+  fi
+  mkdir -p "$1"
+  cp "$lib/libOpenImageDenoise.so.2" "$lib"/libOpenImageDenoise_core.so.* \
+     "$lib"/libOpenImageDenoise_device_cpu.so.* "$lib/libtbb.so.12" "$1/"
+}
+if [ "${1:-}" = "--oidn-runtime" ]; then
+  copy_oidn_runtime "${2:?usage: install-deps.sh --oidn-runtime DEST}"
+  exit 0
+fi
+
 install_oidn() {
   local installed
   installed="$("$OIDN_PREFIX/bin/python3" -m pip show pyoidn 2>/dev/null || true)"
@@ -31,6 +52,7 @@ PACKAGES=(
   python3 python3-venv   # python3-venv: Open Image Denoise's virtual environment
   fonts-dejavu-core   # the labels of tessera-worker converge's plot
 )
+if [ "${1:-}" = "--oidn-only" ]; then PACKAGES=(ca-certificates python3 python3-venv); fi
 if [ "${1:-}" = "--test" ]; then
   PACKAGES+=(
     iproute2 clang-14 libclang-rt-14-dev   # tests/faults (ip netns); fuzz/run.sh (libFuzzer)
