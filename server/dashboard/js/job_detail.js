@@ -57,7 +57,9 @@ function renderFacts(j) {
   const o = j.options;
   dl($('#detail-options'), [['size', `${o.width}×${o.height}`], ['spp', o.spp],
     ['max depth', o.max_depth], ['seed', o.seed], ['tile', o.tile_size], ['batch', o.batch_schedule === 'progressive' ? `1, 1, 2, 4, … up to ${o.batch_spp} spp` : `${o.batch_spp} spp`],
-    ['isa', o.isa || 'auto'], ['units', `${j.counters.units_total} (${j.tile_count} tiles × ${j.batch_count} batches)`]]);
+    ['isa', o.isa || 'auto'], ['units', `${j.counters.units_total} (${j.tile_count} tiles × ${j.batch_count} batches)`],
+    ...(j.denoise ? [['denoise', j.guides ? 'yes, guides in the EXR' : 'yes']] : []),
+    ...(j.denoise_error ? [['not denoised', j.denoise_error]] : [])]);
   const c = j.counters;
   const rule = j.stop_rule === 'time' ? `time ${j.options.time_budget_s} s (max ${j.options.spp} spp)`
     : j.stop_rule === 'noise' ? `noise ${j.options.noise_target} (max ${j.options.spp} spp)` : `${j.options.spp} spp`;

@@ -9,7 +9,9 @@
 //  3. the same page at a phone's viewport: no sideways scrolling of the page;
 //  4. more jobs than a page: the total, Older/Newer by the server's cursor (a job submitted
 //     meanwhile shifts nothing), the state filter, every poll asking for one page, and the
-//     selected job beside its list (above it on a narrower screen).
+//     selected job beside its list (above it on a narrower screen);
+//  5. a --denoise job: a raw / denoised toggle (none for a plain job) swaps the preview, whose
+//     caption keeps the raw image's error estimate.
 // Screenshots go to $ARTIFACTS. Waits are bounded by a generous patience, never timed.
 // Environment: TESSERA_BIN_DIR, TESSERA_SOURCE_DIR, TOOLS_DIR (setup.sh), ARTIFACTS,
 // REGISTER_WORKERS (the tessera_register_workers binary).
@@ -369,6 +371,46 @@ try {
     check(above.y + above.height <= table.y, 'the job above its list on a narrower screen');
     check(askedNarrow.length > 0 && askedNarrow.every((limit) => limit === '50'), `pages of 50 (${askedNarrow})`);
     await narrow.close();
+  });
+
+  await test('a --denoise job\'s image toggles between raw and denoised, keeping the raw error', async () => {
+    const farm = await startFarm('denoise');
+    start('denoise-worker', [path.join(BIN, 'tessera-worker'), '--server', farm.grpc, '--threads', '1',
+      '--cache', path.join(farm.dir, 'cache')]);
+    const cornell = path.join(SRC, 'scenes', 'cornell.json');
+    const plain = await submit(farm, [cornell, '--width', '48', '--height', '48', '--spp', '16']);
+    const id = await submit(farm, [cornell, '--width', '48', '--height', '48', '--spp', '16', '--denoise']);
+    const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const pageErrors = [];
+    page.on('pageerror', (e) => pageErrors.push(String(e)));
+    const denoisedAsked = [];
+    page.on('request', (r) => { if (r.url().includes('denoised=1')) denoisedAsked.push(r.url()); });
+    await page.goto(`${farm.http}/?poll=200#job=${plain}`);
+    await until('the plain job done', async () => (await rowState(page, plain)) === 'done');
+    check(await page.locator('#image-kind').isHidden(), 'no raw / denoised toggle for a plain job');
+    await page.locator(`#jobs tr[data-job-id="${id}"]`).click();
+    await until('the denoise job done in the page', async () =>
+      (await page.locator('#preview').getAttribute('data-version'))?.startsWith(`${id}:`) &&
+      (await page.locator('#preview').getAttribute('data-version')).endsWith(':done'));
+    check(await page.locator('#image-kind').isVisible(), 'a raw / denoised toggle for a --denoise job');
+    const hash = async () => createHash('sha256').update(await page.locator('#preview').screenshot()).digest('hex');
+    const raw = await hash();
+    const rawCaption = await page.locator('#preview-caption').textContent();
+    await page.locator('input[name="image-kind"][value="denoised"]').check();
+    await until('the denoised preview', async () =>
+      (await page.locator('#preview').getAttribute('data-version'))?.includes(':denoised:'));
+    check(denoisedAsked.length > 0, 'the page asked for ?denoised=1');
+    check(await hash() !== raw, 'the denoised image differs from the raw one');
+    const caption = await page.locator('#preview-caption').textContent();
+    check(caption.startsWith('denoised') && caption.includes('raw est. error'),
+          `the caption says denoised and keeps the raw error (${caption})`);
+    check(rawCaption.endsWith(caption.slice(caption.indexOf('raw est. error'))),
+          `the same raw error estimate both ways (${rawCaption} / ${caption})`);
+    await page.screenshot({ path: path.join(ARTIFACTS, 'dashboard-denoised.png') });
+    await page.locator('input[name="image-kind"][value="raw"]').check();
+    await until('the raw preview again', async () => (await hash()) === raw);
+    check(pageErrors.length === 0, `no script errors in the page (${pageErrors.join('; ')})`);
+    await page.close();
   });
 } finally {
   await browser.close();
