@@ -86,8 +86,9 @@ JobImage JobImages::image(int64_t job_id, const std::string& format, bool denois
   }
   // A row of tiles at a time, as the files are written: tiles merged meanwhile show what they
   // have when their row is read.
-  out.bytes = JobOutput::encode(record, checkpointed_tiles(job_id, /*preview=*/true),
-                                checkpoint_reader(job_id), format);
+  const std::vector<TilePosition> tiles = checkpointed_tiles(job_id, /*preview=*/true);
+  out.bytes = JobOutput::encode(record, tiles, checkpoint_reader(job_id), format,
+                                record.guides ? guide_reader(record, tiles) : TileGuideReader{});
   return out;
 }
 

@@ -135,12 +135,12 @@ void JobOutput::for_each_band(const JobRecord& job, const std::vector<TilePositi
   }
 }
 
-ImageWriteOptions JobOutput::file_options(const JobRecord& job) {
+ImageWriteOptions JobOutput::file_options(const JobRecord& job, bool guides) {
   ImageWriteOptions options;
   options.metadata = provenance(job);
   // For `noise` and `time` jobs, each pixel's merged samples per pixel (its tile's), after R, G, B.
   if (job.options.rule != StopRule::spp) options.extra_channels = {{"spp", {}}};
-  if (job.guides) {
+  if (guides) {
     for (const char* name : {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z"}) {
       options.extra_channels.push_back({name, {}});
     }
@@ -154,11 +154,11 @@ OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TilePositio
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec) throw std::runtime_error(dir_.string() + ": cannot create: " + ec.message());
-  const ImageWriteOptions options = file_options(job);
+  const TileGuideReader with_guides = job.guides ? guides : TileGuideReader{};
+  const ImageWriteOptions options = file_options(job, bool(with_guides));
   const OutputFiles out = files(job);
   ImageFileStream exr = opener_(out.exr, job.options.width, job.options.height, options);
   ImageFileStream png = opener_(out.png, job.options.width, job.options.height, options);
-  const TileGuideReader with_guides = job.guides ? guides : TileGuideReader{};
   for_each_band(job, tiles, checkpoint, with_guides, [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
     exr.write_rows(band, extra);
     png.write_rows(band);
@@ -171,10 +171,10 @@ OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TilePositio
 std::string JobOutput::encode(const JobRecord& job, const std::vector<TilePosition>& tiles,
                               const TileCheckpointReader& checkpoint, const std::string& format,
                               const TileGuideReader& guides) {
-  ImageWriteOptions options = file_options(job);
+  const TileGuideReader with_guides = job.guides && format == "exr" ? guides : TileGuideReader{};
+  ImageWriteOptions options = file_options(job, bool(with_guides));
   if (format != "exr") options.extra_channels.clear();
   ImageFileStream stream = ImageFileStream::in_memory(format, job.options.width, job.options.height, options);
-  const TileGuideReader with_guides = job.guides && format == "exr" ? guides : TileGuideReader{};
   for_each_band(job, tiles, checkpoint, with_guides, [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
     stream.write_rows(band, format == "exr" ? extra : std::vector<ExtraChannel>{});
   });

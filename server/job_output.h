@@ -91,8 +91,8 @@ class JobOutput {
   static void for_each_band(const JobRecord& job, const std::vector<TilePosition>& tiles,
                             const TileCheckpointReader& checkpoint, const TileGuideReader& guides,
                             const BandFn& band_fn);
-  /// Provenance and the extra channels' names of the job's files.
-  static ImageWriteOptions file_options(const JobRecord& job);
+  /// Provenance and the extra channels' names of the job's files; the guides' with `guides`.
+  static ImageWriteOptions file_options(const JobRecord& job, bool guides);
   /// Provenance of the job's denoised files (no extra channels).
   static ImageWriteOptions denoised_options(const JobRecord& job, const std::string& denoiser,
                                             double seconds);

@@ -100,6 +100,10 @@ TEST(DenoiseE2E, GuidesSurviveAServerRestart) {
   const uint64_t id = farm.submit(denoise_job_args({"--denoise", "--guides"}, "400"));
   farm.wait_job(id, [](const v1::JobInfo& j) { return j.counters().results_merged() > 0; },
                 "a merged result");
+  // The preview (or the final image) of a --guides job holds the guide channels too.
+  const auto preview = farm.dir() / "preview.exr";
+  ASSERT_EQ(farm.cli({"get", std::to_string(id), "-o", preview.string()}).exit_code, 0);
+  EXPECT_EQ(image_channel(preview, "N.Z").size(), size_t(48 * 40));
   farm.kill_server();
   farm.start_server();  // same database, same port: the worker carries on
   const v1::JobInfo done = farm.wait_final(id);
