@@ -16,7 +16,8 @@ void JobImages::check_denoise(int width, int height) const {
 }
 
 TileGuideReader JobImages::guide_reader(const JobRecord& record, std::vector<TilePosition> tiles) {
-  return [this, id = record.id, plan = record.options.plan(), tiles = std::move(tiles)](uint32_t t) {
+  const JobPlan plan = record.options.plan();
+  return [this, id = record.id, plan, tiles = std::move(tiles)](uint32_t t) {
     GuideRows rows;
     {
       FarmStore::ReadLock lock(store_);

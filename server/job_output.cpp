@@ -159,10 +159,11 @@ OutputFiles JobOutput::write(const JobRecord& job, const std::vector<TilePositio
   const OutputFiles out = files(job);
   ImageFileStream exr = opener_(out.exr, job.options.width, job.options.height, options);
   ImageFileStream png = opener_(out.png, job.options.width, job.options.height, options);
-  for_each_band(job, tiles, checkpoint, with_guides, [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
-    exr.write_rows(band, extra);
-    png.write_rows(band);
-  });
+  for_each_band(job, tiles, checkpoint, with_guides,
+                [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
+                  exr.write_rows(band, extra);
+                  png.write_rows(band);
+                });
   exr.finish();
   png.finish();
   return out;
@@ -175,9 +176,10 @@ std::string JobOutput::encode(const JobRecord& job, const std::vector<TilePositi
   ImageWriteOptions options = file_options(job, bool(with_guides));
   if (format != "exr") options.extra_channels.clear();
   ImageFileStream stream = ImageFileStream::in_memory(format, job.options.width, job.options.height, options);
-  for_each_band(job, tiles, checkpoint, with_guides, [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
-    stream.write_rows(band, format == "exr" ? extra : std::vector<ExtraChannel>{});
-  });
+  for_each_band(job, tiles, checkpoint, with_guides,
+                [&](const RgbImage& band, const std::vector<ExtraChannel>& extra) {
+                  stream.write_rows(band, format == "exr" ? extra : std::vector<ExtraChannel>{});
+                });
   stream.finish();
   return stream.take_bytes();
 }
@@ -187,16 +189,18 @@ RgbImage JobOutput::assemble(const JobRecord& job, const std::vector<TilePositio
   RgbImage image{job.options.width, job.options.height,
                  std::vector<float>(size_t(job.options.width) * size_t(job.options.height) * 3)};
   size_t at = 0;
-  for_each_band(job, tiles, checkpoint, {}, [&](const RgbImage& band, const std::vector<ExtraChannel>&) {
-    std::copy(band.rgb.begin(), band.rgb.end(), image.rgb.begin() + ptrdiff_t(at));
-    at += band.rgb.size();
-  });
+  for_each_band(job, tiles, checkpoint, {},
+                [&](const RgbImage& band, const std::vector<ExtraChannel>&) {
+                  std::copy(band.rgb.begin(), band.rgb.end(), image.rgb.begin() + ptrdiff_t(at));
+                  at += band.rgb.size();
+                });
   return image;
 }
 
 OutputFiles JobOutput::denoised_files(const JobRecord& job) const {
   const OutputFiles raw = files(job);
-  const std::vector<std::string> paths = denoised_output_paths({raw.exr.string(), raw.png.string()});
+  const std::vector<std::string> paths =
+      denoised_output_paths({raw.exr.string(), raw.png.string()});
   // [stem.denoised.exr, stem.denoised.png] (the PNG's EXR is the first one).
   return {paths.at(0), paths.at(1)};
 }

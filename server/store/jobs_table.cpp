@@ -159,7 +159,8 @@ JobPage JobsTable::page(const JobQuery& query) {
 std::optional<JobSpec> JobsTable::spec(int64_t job_id) {
   auto q = db_.prepare(
       "SELECT width, height, spp, max_depth, seed, tile_size, batch_spp, isa, stop_rule,"
-      " time_budget_ms, noise_target, bundle_sha256, batch_schedule, denoise FROM jobs WHERE id = ?");
+      " time_budget_ms, noise_target, bundle_sha256, batch_schedule, denoise FROM jobs"
+      " WHERE id = ?");
   q->bind(1, job_id);
   if (!q->step()) return std::nullopt;
   JobSpec spec;

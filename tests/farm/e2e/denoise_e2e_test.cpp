@@ -115,7 +115,8 @@ TEST(DenoiseE2E, GuidesSurviveAServerRestart) {
 
 TEST(DenoiseE2E, AServerWithoutTheLibraryRefusesDenoiseAndRendersOtherJobs) {
   FarmCluster farm("denoise-missing");
-  farm.start_server({"--oidn-library", (farm.dir() / "none" / "libOpenImageDenoise.so.2").string()});
+  const auto missing = farm.dir() / "none" / "libOpenImageDenoise.so.2";
+  farm.start_server({"--oidn-library", missing.string()});
   farm.start_worker({"--threads", "1"});
   std::vector<std::string> refused{"submit"};
   for (const std::string& a : denoise_job_args({"--denoise"})) refused.push_back(a);
