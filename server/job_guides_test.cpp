@@ -1,5 +1,6 @@
 // A denoise job's guides as the server merges them (job_guides.h): the stored rows of a tile's
 // merged batches added in batch order, as the local render adds them; a missing row refused.
+// Guides uploaded with a result are stored only where the unit asked for them.
 // The JobDenoise refusals that need no library: an unloadable library, a working set over the
 // server's memory budget (checked first).
 #include "job_guides.h"
@@ -11,6 +12,8 @@
 #include "accum/guide_tile_codec.h"
 #include "farm_error.h"
 #include "job_denoise.h"
+#include "store/guide_results_table.h"
+#include "store_fixture.h"
 
 namespace tessera::server {
 namespace {
@@ -69,6 +72,42 @@ TEST(JobGuides, RefusesAMergedBatchWithoutItsGuides) {
     EXPECT_STREQ(e.what(),
                  "job 7 tile 3: no guides for merged batch 1 (rendered by a worker without them?)");
   }
+}
+
+/// A result of `lease` (4x4 tile, 1 spp) carrying guides.
+UnitResult guided_result_for(const Lease& lease, Accumulation& acc) {
+  acc = testing::StoreFixture::synthetic({0, 0, 4, 4}, lease.batch, 1);
+  UnitResult r = testing::result_for(lease, acc);
+  r.guides = encode_guide_tile(guide_tile_of_batch({0, 0, 4, 4}, lease.batch));
+  return r;
+}
+
+TEST(JobGuides, StoredForADenoiseJobRefusedForAnother) {
+  testing::StoreFixture f;
+  const int64_t plain = f.make_job(4, 4, 4, 2, 1);
+  const int64_t w = f.make_worker();
+  Accumulation acc;
+  const Lease plain_lease = *f.book.lease_next(w);
+  ASSERT_EQ(plain_lease.job_id, plain);
+  try {
+    f.merger.accept(guided_result_for(plain_lease, acc), acc);
+    FAIL() << "guides stored for a job without denoise";
+  } catch (const FarmError& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
+    EXPECT_NE(std::string(e.what()).find("did not ask for"), std::string::npos) << e.what();
+  }
+  // The lease stays current: the same result without guides is accepted.
+  Accumulation again = testing::StoreFixture::synthetic({0, 0, 4, 4}, 0, 1);
+  EXPECT_TRUE(f.merger.accept(testing::result_for(plain_lease, again), again).accepted);
+
+  f.db.prepare("UPDATE jobs SET denoise = 1 WHERE id = ?")->bind(1, plain).run();
+  const Lease next = *f.book.lease_next(w);
+  EXPECT_TRUE(f.merger.accept(guided_result_for(next, acc), acc).accepted);
+  std::vector<uint32_t> stored;
+  GuideResultsTable(f.db).for_each_below(plain, 0, 2, [&](uint32_t b, const std::string&) {
+    stored.push_back(b);
+  });
+  EXPECT_EQ(stored, std::vector<uint32_t>{next.batch});
 }
 
 TEST(JobDenoiseRefusals, AMissingLibraryRefusesAtSubmitNamingTheFlag) {

@@ -6,6 +6,7 @@
 
 #include "accum/accumulation_codec.h"
 #include "accum/film.h"
+#include "accum/guide_tile.h"
 #include "farm_error.h"
 #include "job/job_plan.h"
 #include "job/tile_verdict.h"
@@ -135,8 +136,8 @@ AcceptOutcome TileMerger::accept_in_transaction(const UnitResult& r, Accumulatio
   for (uint32_t n : decoded.count) outcome.samples += n;
   staged.ledger.delivered(r.worker_id, outcome.samples, decoded.nan_dropped, decoded.inf_dropped);
   staged.ledger.contributed({r.job_id, r.worker_id, r.isa});
-  // A denoise job's guides (checked by the intake) wait for the image in a table of their own.
-  if (!r.guides.empty()) GuideResultsTable(db_).put(r.job_id, r.tile, r.batch, r.guides);
+  // A denoise job's guides (decoded by the intake) wait for the image in a table of their own.
+  if (!r.guides.empty()) store_guides(r, unit);
   MergedCounts merged;
   if (r.batch == unit.next_batch) {
     merged = merge(r, unit, decoded, staged, outcome);
@@ -159,6 +160,18 @@ UnitForResult TileMerger::unit_for(const UnitResult& r, const Accumulation& deco
   }
   validate(r, *unit, decoded);
   return std::move(*unit);
+}
+
+void TileMerger::store_guides(const UnitResult& r, const UnitForResult& unit) {
+  // Only what the unit's lease asked for (WorkUnit.guide_sample_end): a denoise job's unit over
+  // the guides' first samples. Anything else is the worker's mistake, refused as a bad result.
+  if (unit.plan.batch_begin(r.batch) >= kGuideSamples ||
+      !GuideResultsTable(db_).put(r.job_id, r.tile, r.batch, r.guides)) {
+    throw FarmError(ErrorCode::invalid_argument,
+                    "result for job " + std::to_string(r.job_id) + " tile " +
+                        std::to_string(r.tile) + " batch " + std::to_string(r.batch) +
+                        " carries guides its unit did not ask for");
+  }
 }
 
 AcceptOutcome TileMerger::drop_stale(const UnitResult& r, const UnitForResult& unit) {

@@ -164,6 +164,9 @@ class TileMerger {
                                       Staged& staged);
   /// The result's unit, with `decoded` checked against it (FarmError as accept()).
   UnitForResult unit_for(const UnitResult& result, const Accumulation& decoded);
+  /// Stores the accepted result's guides; FarmError(invalid_argument) when its unit did not ask
+  /// for them (a job without denoise, a batch past the guides' samples).
+  void store_guides(const UnitResult& result, const UnitForResult& unit);
   /// The result of a lease that is not the unit's current one: counted and dropped.
   AcceptOutcome drop_stale(const UnitResult& result, const UnitForResult& unit);
   /// Merges the result (the tile's next batch) and its waiting successors, and stores the

@@ -2,15 +2,17 @@
 
 namespace tessera::server {
 
-void GuideResultsTable::put(int64_t job_id, uint32_t tile, uint32_t batch,
+bool GuideResultsTable::put(int64_t job_id, uint32_t tile, uint32_t batch,
                             const std::string& encoded) {
   db_.prepare(
-         "INSERT OR REPLACE INTO guide_results (job_id, tile, batch, guides) VALUES (?, ?, ?, ?)")
+         "INSERT OR REPLACE INTO guide_results (job_id, tile, batch, guides)"
+         " SELECT ?1, ?2, ?3, ?4 FROM jobs WHERE id = ?1 AND denoise = 1")
       ->bind(1, job_id)
       .bind(2, tile)
       .bind(3, batch)
       .bind_blob_borrowed(4, encoded)  // `encoded` outlives the run
       .run();
+  return db_.changes() == 1;
 }
 
 void GuideResultsTable::for_each_below(

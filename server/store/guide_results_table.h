@@ -18,9 +18,10 @@ class GuideResultsTable {
  public:
   explicit GuideResultsTable(Database& db) : db_(db) {}
 
-  /// The accepted unit's guides. The unit's compare-and-set lets one result per unit through;
-  /// a row already there (the same unit accepted before a restart) is replaced.
-  void put(int64_t job_id, uint32_t tile, uint32_t batch, const std::string& encoded);
+  /// The accepted unit's guides, stored only when its job was submitted with denoise; returns
+  /// false (nothing stored) otherwise. The unit's compare-and-set lets one result per unit
+  /// through; a row already there (the same unit accepted before a restart) is replaced.
+  bool put(int64_t job_id, uint32_t tile, uint32_t batch, const std::string& encoded);
 
   /// Calls `each(batch, bytes)` for the tile's rows below `next_batch`, in batch order.
   void for_each_below(int64_t job_id, uint32_t tile, uint32_t next_batch,
