@@ -333,16 +333,20 @@ std::optional<v1::UploadResultRequest> FarmWorker::render(
   const Accumulation flipped = faulty ? with_one_bit_flipped(rendered.result) : Accumulation();
   request.set_accumulation(encode_accumulation(faulty ? flipped : rendered.result, kUploadEffort));
   request.set_isa(renderer->isa());
-  request.set_render_ms(uint32_t(rendered.elapsed.count()));
-  // A denoise job's unit over the guides' first samples: its guides too, as a local render's.
+  milliseconds render_ms = rendered.elapsed;
+  // A denoise job's unit over the guides' first samples: its guides too, as a local render's
+  // (their time counts in the unit's, which sizes the worker's leases).
   if (unit.guide_sample_end() > unit.sample_begin()) {
+    const auto start = std::chrono::steady_clock::now();
     GuideTile guides;
     arena_.execute([&] {
       guides = renderer->render_guides(tile, unit.sample_begin(),
                                        std::min(unit.guide_sample_end(), unit.sample_end()));
     });
     request.set_guides(encode_guide_tile(guides, kUploadEffort));
+    render_ms += std::chrono::duration_cast<milliseconds>(std::chrono::steady_clock::now() - start);
   }
+  request.set_render_ms(uint32_t(render_ms.count()));
   return request;
 }
 
