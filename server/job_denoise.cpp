@@ -57,22 +57,23 @@ void JobDenoise::check_submit(int width, int height) const {
   }
 }
 
-JobDenoise::Denoised JobDenoise::denoise(const std::string& what, const RgbImage& color,
-                                         const GuideImages& guides) {
+JobDenoise::Denoised JobDenoise::denoise(const std::string& what, int width, int height,
+                                         const std::function<Input()>& input) {
   const std::shared_ptr<const OidnLibrary> loaded = library();
   std::optional<SubmitBudget::Reservation> reserved;
   std::lock_guard lock(mu_);
   if (budget_ != nullptr) {
-    reserved.emplace(budget_->reserve(working_set_bytes(color.width, color.height), what,
-                                      "denoising", budget_wait_));
+    reserved.emplace(
+        budget_->reserve(working_set_bytes(width, height), what, "denoising", budget_wait_));
   }
   if (!denoiser_) denoiser_ = std::make_unique<Denoiser>(loaded);
-  const bool guided = !guides.albedo.rgb.empty() && !guides.normal.rgb.empty();
-  const DenoiseGuides with = guided ? DenoiseGuides{&guides.albedo, &guides.normal}
+  const Input in = input();
+  const bool guided = !in.guides.albedo.rgb.empty() && !in.guides.normal.rgb.empty();
+  const DenoiseGuides with = guided ? DenoiseGuides{&in.guides.albedo, &in.guides.normal}
                                     : DenoiseGuides{};
   const auto start = std::chrono::steady_clock::now();
   Denoised out;
-  out.image = denoiser_->denoise(color, with);
+  out.image = denoiser_->denoise(in.color, with);
   out.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.denoiser = denoiser_->description(guided);

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -44,16 +45,23 @@ class JobDenoise {
   /// memory budget (INVALID_ARGUMENT). Throws FarmError.
   void check_submit(int width, int height) const;
 
+  /// What a denoise takes: the colour and its guides (both images set, else colour alone).
+  struct Input {
+    RgbImage color;
+    GuideImages guides;
+  };
   struct Denoised {
     RgbImage image;
     std::string denoiser;  ///< Denoiser::description, for the file's provenance
     double seconds = 0;    ///< the filter alone
   };
-  /// `color` denoised with `guides` (both images set, else colour alone), after the denoises
-  /// before it (one at a time), its working set reserved in the budget for the time. Throws
+  /// Waits for the denoises before it (one at a time), reserves the working set of a width x
+  /// height image in the budget (`what` names it there), and only then calls `input()` for the
+  /// image, so that assembling it is counted too; returns it denoised. Throws
   /// DenoiserUnavailable, FarmError from the budget (resource_exhausted when it stays taken),
-  /// std::runtime_error with OIDN's message.
-  Denoised denoise(const std::string& what, const RgbImage& color, const GuideImages& guides);
+  /// std::runtime_error with OIDN's message, and what `input` throws.
+  Denoised denoise(const std::string& what, int width, int height,
+                   const std::function<Input()>& input);
 
  private:
   /// The library, loaded by the first call that needs it; its error otherwise.

@@ -33,12 +33,14 @@ TEST(JobDenoise, DenoisesWithGuidesNamingTheDenoiser) {
   GuideImages guides{{32, 24, std::vector<float>(32 * 24 * 3, 0.5f)},
                      {32, 24, std::vector<float>(32 * 24 * 3, 0.0f)}};
   for (size_t i = 2; i < guides.normal.rgb.size(); i += 3) guides.normal.rgb[i] = 1.0f;
-  const JobDenoise::Denoised out = denoise.denoise("job 1's denoise", color, guides);
+  const JobDenoise::Denoised out =
+      denoise.denoise("job 1's denoise", 32, 24, [&] { return JobDenoise::Input{color, guides}; });
   EXPECT_EQ(out.image.width, 32);
   EXPECT_EQ(out.image.rgb.size(), color.rgb.size());
   EXPECT_NE(out.denoiser.find("Open Image Denoise"), std::string::npos) << out.denoiser;
   EXPECT_NE(out.denoiser.find("albedo and normal"), std::string::npos) << out.denoiser;
-  EXPECT_NE(denoise.denoise("job 2's denoise", color, {}).denoiser.find("colour only"),
+  const auto colour_only = [&] { return JobDenoise::Input{color, {}}; };
+  EXPECT_NE(denoise.denoise("job 2's denoise", 32, 24, colour_only).denoiser.find("colour only"),
             std::string::npos);
   const SubmitBudget::Counters c = budget.counters();
   EXPECT_EQ(c.reserved_bytes, 0u);  // released once done
@@ -52,7 +54,10 @@ TEST(JobDenoise, RunsOneDenoiseAtATime) {
   const RgbImage color = noisy_grey(64, 64);
   std::vector<std::thread> threads;
   for (int i = 0; i < 3; ++i) {
-    threads.emplace_back([&, i] { denoise.denoise("job " + std::to_string(i), color, {}); });
+    threads.emplace_back([&, i] {
+      denoise.denoise("job " + std::to_string(i), 64, 64,
+                      [&] { return JobDenoise::Input{color, {}}; });
+    });
   }
   for (std::thread& t : threads) t.join();
   EXPECT_EQ(budget.counters().admitted, 3u);

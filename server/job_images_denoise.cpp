@@ -36,18 +36,23 @@ JobDenoise::Denoised JobImages::denoised(const JobRecord& record,
   if (!denoise_) {
     throw FarmError(ErrorCode::failed_precondition, "this server was started without a denoiser");
   }
-  const RgbImage color = JobOutput::assemble(record, tiles, checkpoint_reader(record.id));
-  GuideImages guides;
-  try {
-    const TileGuideReader read = guide_reader(record, tiles);
-    std::vector<GuideTile> all;
-    for (uint32_t t = 0; t < uint32_t(tiles.size()); ++t) all.push_back(read(t));
-    guides = resolve_guides(record.options.width, record.options.height, all);
-  } catch (const std::exception& e) {
-    std::cerr << "tessera-server: " << e.what() << "; job " << record.id
-              << " is denoised from its colour alone" << std::endl;
-  }
-  return denoise_->denoise("job " + std::to_string(record.id) + "'s denoise", color, guides);
+  // Assembled once the denoise has its turn and its memory.
+  const auto input = [&] {
+    JobDenoise::Input in;
+    in.color = JobOutput::assemble(record, tiles, checkpoint_reader(record.id));
+    try {
+      const TileGuideReader read = guide_reader(record, tiles);
+      std::vector<GuideTile> all;
+      for (uint32_t t = 0; t < uint32_t(tiles.size()); ++t) all.push_back(read(t));
+      in.guides = resolve_guides(record.options.width, record.options.height, all);
+    } catch (const std::exception& e) {
+      std::cerr << "tessera-server: " << e.what() << "; job " << record.id
+                << " is denoised from its colour alone" << std::endl;
+    }
+    return in;
+  };
+  return denoise_->denoise("job " + std::to_string(record.id) + "'s denoise",
+                           record.options.width, record.options.height, input);
 }
 
 void JobImages::write_denoised(const JobRecord& record, const std::vector<TilePosition>& tiles) {
