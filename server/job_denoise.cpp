@@ -34,8 +34,8 @@ std::string JobDenoise::unavailable() const {
 JobDenoise::~JobDenoise() = default;
 
 uint64_t JobDenoise::working_set_bytes(int width, int height) {
-  constexpr uint64_t kBytesPerPixel = 48 + 56 + 64;
-  constexpr uint64_t kFixedBytes = uint64_t(256) << 20;
+  constexpr uint64_t kBytesPerPixel = 768;
+  constexpr uint64_t kFixedBytes = uint64_t(64) << 20;
   return uint64_t(width) * uint64_t(height) * kBytesPerPixel + kFixedBytes;
 }
 
@@ -60,8 +60,9 @@ void JobDenoise::check_submit(int width, int height) const {
 JobDenoise::Denoised JobDenoise::denoise(const std::string& what, int width, int height,
                                          const std::function<Input()>& input) {
   const std::shared_ptr<const OidnLibrary> loaded = library();
-  std::optional<SubmitBudget::Reservation> reserved;
   std::lock_guard lock(mu_);
+  // Released before the lock (declared after it), so the next denoise never overlaps it.
+  std::optional<SubmitBudget::Reservation> reserved;
   if (budget_ != nullptr) {
     reserved.emplace(
         budget_->reserve(working_set_bytes(width, height), what, "denoising", budget_wait_));

@@ -35,9 +35,11 @@ class JobDenoise {
   /// what was tried and how to install it.
   std::string unavailable() const;
 
-  /// What denoising a width x height image may take: the colour, albedo, normal and output
-  /// images in float (48 bytes a pixel), the guides' sums while they merge (56) and OIDN's own
-  /// buffers (about 64 more, and 256 MiB of weights and scratch), as reserved in the budget.
+  /// What denoising a width x height image may take, as reserved in the budget: 768 bytes a
+  /// pixel and 64 MiB. The server's peak grew by 213 MB, 793 MB and 3,100 MB denoising 512,
+  /// 1024 and 2048 px squares (VmHWM with and without --denoise --guides, Cornell box at 1 spp):
+  /// about 750 bytes a pixel (OIDN's buffers the most of it; the colour, guides and output in
+  /// float 48, the guides' sums while they merge 56) and 25 MB.
   static uint64_t working_set_bytes(int width, int height);
 
   /// Why a job of width x height asking for denoise is refused at submit ("" when it is not):
