@@ -11,7 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "accum/film.h"
-#include "render/guides/guide_tile.h"
+#include "accum/guide_tile.h"
 #include "render/renderer.h"
 
 namespace tessera {

@@ -65,7 +65,7 @@ glm::dvec3 image_mean(const RgbImage& image);
 /// What a convergence run does beside measuring the raw image; every member optional.
 struct ConvergenceHooks {
   /// Set: each level's image is also denoised, guided by the albedo and normal of its first
-  /// kGuideSamples samples (render/guides/guide_tile.h) as `tessera-worker render --denoise`
+  /// kGuideSamples samples (accum/guide_tile.h) as `tessera-worker render --denoise`
   /// is, and measured.
   const Denoiser* denoiser = nullptr;
   /// Called after each level with its row.
