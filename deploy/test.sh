@@ -298,8 +298,19 @@ say "job $JOB submitted (${JOB_ARGS[*]}): $units_total units"
 # Scale down to one worker mid-job: once the three are rendering, stop two with SIGTERM.
 some_done() { [ "$(poll 'd["counters"]["units_done"]' status "$JOB")" -ge 6 ] 2>/dev/null; }
 wait_for 120 some_done || die "job $JOB did not start within 120 s"
-# Freeze the three workers so that the progress read is the progress at the scale-down.
-pod pause "$RUN-w1" "$RUN-w2" "$RUN-w3" >/dev/null
+# Freeze the three workers so that the progress read is the progress at the scale-down. The
+# cgroup freezer can give up on a loaded machine (runc: "unable to freeze") while a worker is busy
+# in the kernel: thaw what froze and try again.
+freeze_workers() {
+  local attempt
+  for attempt in 1 2 3 4 5; do
+    pod pause "$RUN-w1" "$RUN-w2" "$RUN-w3" >/dev/null 2>&1 && return 0
+    pod unpause "$RUN-w1" "$RUN-w2" "$RUN-w3" >/dev/null 2>&1 || true
+    sleep 1
+  done
+  return 1
+}
+freeze_workers || die "the workers could not be paused (podman pause failed 5 times)"
 read -r state progress < <(cli status "$JOB" --json | json 'd["state"], d["progress"]')
 pod unpause "$RUN-w1" "$RUN-w2" "$RUN-w3" >/dev/null
 say "at the scale-down: state $state, progress $progress"
