@@ -12,7 +12,7 @@ namespace tessera::server {
 namespace {
 
 std::vector<std::string> installed_candidates() {
-  return oidn_library_candidates(named_oidn_library(""), configured_oidn_library());
+  return oidn_library_candidates_for_flag("");
 }
 
 /// A flat grey image with a little deterministic noise, and flat guides.

@@ -86,8 +86,12 @@ std::shared_ptr<const OidnLibrary> OidnLibrary::load(const std::vector<std::stri
       "TESSERA_OIDN_LIBRARY (tried: " + tried + ")");
 }
 
+std::vector<std::string> oidn_library_candidates_for_flag(const std::string& flag) {
+  return oidn_library_candidates(named_oidn_library(flag), configured_oidn_library());
+}
+
 std::shared_ptr<const OidnLibrary> OidnLibrary::load_for_flag(const std::string& flag) {
-  return load(oidn_library_candidates(named_oidn_library(flag), configured_oidn_library()));
+  return load(oidn_library_candidates_for_flag(flag));
 }
 
 }  // namespace tessera

@@ -37,6 +37,10 @@ std::string named_oidn_library(const std::string& flag);
 /// The path recorded at configure time ("" when CMake found none).
 std::string configured_oidn_library();
 
+/// The candidates a program's `--oidn-library` flag (`flag`; "" = not given) stands for:
+/// oidn_library_candidates of named_oidn_library(flag) and configured_oidn_library().
+std::vector<std::string> oidn_library_candidates_for_flag(const std::string& flag);
+
 /// One loaded library: its functions, never unloaded (OIDN's threads may outlive a device).
 class OidnLibrary {
  public:
@@ -44,7 +48,7 @@ class OidnLibrary {
   /// DenoiserUnavailable naming each candidate tried and why it failed.
   static std::shared_ptr<const OidnLibrary> load(const std::vector<std::string>& candidates);
   /// The library a program's `--oidn-library` flag (`flag`; "" = not given) stands for: load()
-  /// of the candidates from named_oidn_library(flag) and configured_oidn_library().
+  /// of oidn_library_candidates_for_flag(flag).
   static std::shared_ptr<const OidnLibrary> load_for_flag(const std::string& flag);
 
   /// What load() returns: `api` resolved from the library at `path`.

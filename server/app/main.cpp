@@ -224,9 +224,7 @@ int serve(const Flags& flags, const sigset_t& stop_signals) {
   ts::SubmitBudget submit_budget(flags.submit_memory_mb << 20);
   ts::CoordinatorConfig config = coordinator_config(flags);
   config.denoise = std::make_shared<ts::JobDenoise>(
-      tessera::oidn_library_candidates(tessera::named_oidn_library(flags.oidn_library),
-                                       tessera::configured_oidn_library()),
-      &submit_budget);
+      tessera::oidn_library_candidates_for_flag(flags.oidn_library), &submit_budget);
   ts::Coordinator coordinator(config, clock);
   coordinator.set_upload_observer(&metrics);
   const int resumed = coordinator.resume();
